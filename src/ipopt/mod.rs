@@ -1,0 +1,19 @@
+//! A safe API over IPOPT's C interface: a trait for sparse NLPs, typed options, and a solve that
+//! never lets a Rust panic cross into C and never runs two MUMPS factorisations at once.
+
+mod check;
+mod hs071;
+mod nlp;
+mod options;
+mod solve;
+mod status;
+
+pub use hs071::{Hs071, HS071_OPTIMUM};
+pub use check::{check_derivatives, DerivativeOrder, DerivativeReport};
+pub use nlp::{EvalError, Nlp};
+pub use options::{OptionValue, Options};
+pub use solve::{solve, Error, Solution, Timing};
+pub use status::Status;
+
+/// Version of the IPOPT library this binary links, as pkg-config reported it at build time.
+pub const IPOPT_VERSION: &str = env!("CODESIGN_IPOPT_VERSION");

@@ -1,0 +1,89 @@
+//! Typed IPOPT options.
+
+use std::path::PathBuf;
+
+/// The value of one IPOPT option, typed as IPOPT registers it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum OptionValue {
+    /// A string option, e.g. `hessian_approximation = exact`.
+    Str(String),
+    /// An integer option, e.g. `max_iter = 3000`.
+    Int(i32),
+    /// A real option, e.g. `tol = 1e-8`.
+    Num(f64),
+}
+
+/// The options of one solve, applied in the order they were set.
+///
+/// By default IPOPT's banner and iteration log are silenced (`print_level = 0`); [`Options::verbose`]
+/// turns the log back on. An option IPOPT rejects makes the solve fail with
+/// [`crate::ipopt::Error::InvalidOption`] naming it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Options {
+    pub(crate) entries: Vec<(String, OptionValue)>,
+    pub(crate) verbose: bool,
+    pub(crate) output_file: Option<(PathBuf, i32)>,
+}
+
+impl Options {
+    /// Empty options: IPOPT's defaults, with output silenced.
+    pub fn new() -> Options {
+        Options::default()
+    }
+
+    /// Sets a string option.
+    pub fn str(mut self, name: &str, value: &str) -> Options {
+        self.set(name, OptionValue::Str(value.to_owned()));
+        self
+    }
+
+    /// Sets an integer option.
+    pub fn int(mut self, name: &str, value: i32) -> Options {
+        self.set(name, OptionValue::Int(value));
+        self
+    }
+
+    /// Sets a real option.
+    pub fn num(mut self, name: &str, value: f64) -> Options {
+        self.set(name, OptionValue::Num(value));
+        self
+    }
+
+    /// Shows IPOPT's banner and iteration log on standard output (print level 5 unless
+    /// `print_level` is set explicitly).
+    pub fn verbose(mut self, verbose: bool) -> Options {
+        self.verbose = verbose;
+        self
+    }
+
+    /// Also writes IPOPT's log to `path` at `print_level` (0-12), independent of the console.
+    pub fn output_file(mut self, path: impl Into<PathBuf>, print_level: i32) -> Options {
+        self.output_file = Some((path.into(), print_level));
+        self
+    }
+
+    /// The value set for `name`, if any.
+    pub fn get(&self, name: &str) -> Option<&OptionValue> {
+        self.entries.iter().find(|(key, _)| key == name).map(|(_, value)| value)
+    }
+
+    fn set(&mut self, name: &str, value: OptionValue) {
+        match self.entries.iter_mut().find(|(key, _)| key == name) {
+            Some(entry) => entry.1 = value,
+            None => self.entries.push((name.to_owned(), value)),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn later_values_replace_earlier_ones() {
+        let options = Options::new().num("tol", 1e-6).int("max_iter", 10).num("tol", 1e-8);
+        assert_eq!(options.get("tol"), Some(&OptionValue::Num(1e-8)));
+        assert_eq!(options.entries.len(), 2);
+        assert_eq!(options.get("mu_strategy"), None);
+    }
+}

@@ -1,0 +1,487 @@
+//! One solve: the problem handed to IPOPT through its C interface, callbacks guarded.
+
+use super::{EvalError, Nlp, OptionValue, Options, Status};
+use ipopt_sys as sys;
+use std::ffi::{c_void, CString};
+use std::fmt;
+use std::os::raw::c_char;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+/// MUMPS, IPOPT's linear solver here, keeps global state and is not thread-safe: every solve in
+/// this process holds this lock from the creation of its IPOPT problem to its release.
+static SOLVER_LOCK: Mutex<()> = Mutex::new(());
+
+/// Why a solve could not produce a [`Solution`]. (A solve that ran and failed to converge is not
+/// an error: it is a `Solution` with a non-success [`Status`].)
+#[derive(Clone, Debug, PartialEq)]
+pub enum Error {
+    /// IPOPT rejected an option: unknown name, wrong type or value out of range.
+    InvalidOption {
+        /// The option's name.
+        name: String,
+        /// The value given, as text.
+        value: String,
+    },
+    /// The problem's description is inconsistent (sizes, sparsity indices, bounds).
+    InvalidProblem(String),
+    /// A callback returned an error or panicked; IPOPT was stopped.
+    Callback {
+        /// Which callback: `objective`, `gradient`, `constraints`, `jacobian` or `hessian`.
+        callback: &'static str,
+        /// The error's or the panic's message.
+        message: String,
+    },
+    /// IPOPT could not open the requested log file.
+    OutputFile(String),
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::InvalidOption { name, value } => {
+                write!(f, "IPOPT rejected option `{name}` = {value}")
+            }
+            Error::InvalidProblem(message) => write!(f, "invalid NLP: {message}"),
+            Error::Callback { callback, message } => {
+                write!(f, "the {callback} callback failed: {message}")
+            }
+            Error::OutputFile(path) => write!(f, "IPOPT could not open its log file {path}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// Wall-clock time of a solve, split into time spent in the problem's callbacks and the rest
+/// (IPOPT itself: linear algebra, line search, bookkeeping).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Timing {
+    /// From the creation of the IPOPT problem to its release.
+    pub total: Duration,
+    /// Summed time inside the evaluation callbacks.
+    pub callbacks: Duration,
+    /// `total - callbacks`.
+    pub ipopt: Duration,
+}
+
+/// The result of a solve that ran.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solution {
+    /// IPOPT's return status.
+    pub status: Status,
+    /// The final primal point (length n).
+    pub x: Vec<f64>,
+    /// The constraint values g(x) at the final point (length m).
+    pub g: Vec<f64>,
+    /// Multipliers of the constraints (length m), in IPOPT's sign convention.
+    pub lambda: Vec<f64>,
+    /// Multipliers of the lower variable bounds (length n, >= 0).
+    pub z_lower: Vec<f64>,
+    /// Multipliers of the upper variable bounds (length n, >= 0).
+    pub z_upper: Vec<f64>,
+    /// f(x) at the final point.
+    pub objective: f64,
+    /// Iterations taken (the last iteration index IPOPT reported).
+    pub iterations: usize,
+    /// Where the time went.
+    pub timing: Timing,
+}
+
+/// Everything the C callbacks need, reached through IPOPT's user-data pointer.
+struct Context<'a, P: Nlp> {
+    problem: &'a mut P,
+    jacobian: Vec<(sys::Index, sys::Index)>,
+    hessian: Vec<(sys::Index, sys::Index)>,
+    callback_time: Duration,
+    iterations: sys::Index,
+    error: Option<Error>,
+}
+
+/// Owns an `IpoptProblem` and frees it exactly once.
+struct Handle(sys::IpoptProblem);
+
+impl Drop for Handle {
+    fn drop(&mut self) {
+        // SAFETY: the pointer came from CreateIpoptProblem, is non-null, and is freed only here.
+        unsafe { sys::FreeIpoptProblem(self.0) }
+    }
+}
+
+/// Solves `problem` with `options`, starting from [`Nlp::initial_point`].
+///
+/// Solves are serialised process-wide (MUMPS is not thread-safe): a second thread calling this
+/// waits until the first has finished.
+pub fn solve<P: Nlp>(problem: &mut P, options: &Options) -> Result<Solution, Error> {
+    let _guard = SOLVER_LOCK.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    let start = Instant::now();
+
+    let n = problem.num_variables();
+    let m = problem.num_constraints();
+    let (mut x_l, mut x_u) = (vec![0.0; n], vec![0.0; n]);
+    let (mut g_l, mut g_u) = (vec![0.0; m], vec![0.0; m]);
+    problem.variable_bounds(&mut x_l, &mut x_u);
+    problem.constraint_bounds(&mut g_l, &mut g_u);
+    check_bounds("variable", &x_l, &x_u)?;
+    check_bounds("constraint", &g_l, &g_u)?;
+    let jacobian = checked_structure("Jacobian", problem.jacobian_structure(), m, n, false)?;
+    let hessian = checked_structure("Hessian", problem.hessian_structure(), n, n, true)?;
+    let mut x = vec![0.0; n];
+    problem.initial_point(&mut x);
+    if let Some(i) = x.iter().position(|value| !value.is_finite()) {
+        return Err(Error::InvalidProblem(format!("initial point x[{i}] = {} is not finite", x[i])));
+    }
+
+    let (n_index, m_index) = (to_index(n, "variables")?, to_index(m, "constraints")?);
+    let (nnz_jac, nnz_hess) = (to_index(jacobian.len(), "Jacobian")?, to_index(hessian.len(), "Hessian")?);
+    // SAFETY: the bound arrays have lengths n and m and are copied by IPOPT; the callbacks are
+    // instantiated for P and receive the Context below as their user data.
+    let raw = unsafe {
+        sys::CreateIpoptProblem(
+            n_index,
+            x_l.as_mut_ptr(),
+            x_u.as_mut_ptr(),
+            m_index,
+            g_l.as_mut_ptr(),
+            g_u.as_mut_ptr(),
+            nnz_jac,
+            nnz_hess,
+            0,
+            Some(eval_f::<P>),
+            Some(eval_g::<P>),
+            Some(eval_grad_f::<P>),
+            Some(eval_jac_g::<P>),
+            Some(eval_h::<P>),
+        )
+    };
+    if raw.is_null() {
+        return Err(Error::InvalidProblem("IPOPT refused to create the problem".to_owned()));
+    }
+    let handle = Handle(raw);
+    apply_options(&handle, options)?;
+    // SAFETY: the handle is valid; the callback has the signature IPOPT expects.
+    unsafe { sys::SetIntermediateCallback(handle.0, Some(intermediate::<P>)) };
+
+    let mut context = Context {
+        problem,
+        jacobian,
+        hessian,
+        callback_time: Duration::ZERO,
+        iterations: 0,
+        error: None,
+    };
+    let mut g = vec![0.0; m];
+    let mut lambda = vec![0.0; m];
+    let (mut z_lower, mut z_upper) = (vec![0.0; n], vec![0.0; n]);
+    let mut objective = f64::NAN;
+    // SAFETY: all output arrays have the sizes IPOPT was given; the context outlives the call and
+    // is only touched through the user-data pointer while IPOPT runs.
+    let code = unsafe {
+        sys::IpoptSolve(
+            handle.0,
+            x.as_mut_ptr(),
+            g.as_mut_ptr(),
+            &mut objective,
+            lambda.as_mut_ptr(),
+            z_lower.as_mut_ptr(),
+            z_upper.as_mut_ptr(),
+            (&mut context as *mut Context<P>).cast::<c_void>(),
+        )
+    };
+    drop(handle);
+    let total = start.elapsed();
+
+    if let Some(error) = context.error {
+        return Err(error);
+    }
+    let status = Status::from_code(code);
+    if status == Status::InvalidOption {
+        // Options whose values are checked only when the solve starts.
+        return Err(Error::InvalidOption {
+            name: "(checked at solve start)".to_owned(),
+            value: "see IPOPT's log with --verbose".to_owned(),
+        });
+    }
+    Ok(Solution {
+        status,
+        x,
+        g,
+        lambda,
+        z_lower,
+        z_upper,
+        objective,
+        iterations: usize::try_from(context.iterations).unwrap_or(0),
+        timing: Timing {
+            total,
+            callbacks: context.callback_time,
+            ipopt: total.saturating_sub(context.callback_time),
+        },
+    })
+}
+
+fn to_index(count: usize, what: &str) -> Result<sys::Index, Error> {
+    sys::Index::try_from(count)
+        .map_err(|_| Error::InvalidProblem(format!("too many {what} entries for IPOPT: {count}")))
+}
+
+fn check_bounds(kind: &str, lower: &[f64], upper: &[f64]) -> Result<(), Error> {
+    for (i, (&lo, &up)) in lower.iter().zip(upper).enumerate() {
+        if lo.is_nan() || up.is_nan() || lo > up {
+            return Err(Error::InvalidProblem(format!(
+                "{kind} {i} has bounds [{lo}, {up}]"
+            )));
+        }
+    }
+    Ok(())
+}
+
+fn checked_structure(
+    name: &str,
+    entries: Vec<(usize, usize)>,
+    rows: usize,
+    cols: usize,
+    lower_triangle: bool,
+) -> Result<Vec<(sys::Index, sys::Index)>, Error> {
+    entries
+        .into_iter()
+        .enumerate()
+        .map(|(k, (row, col))| {
+            if row >= rows || col >= cols {
+                return Err(Error::InvalidProblem(format!(
+                    "{name} entry {k} at ({row}, {col}) lies outside {rows} x {cols}"
+                )));
+            }
+            if lower_triangle && col > row {
+                return Err(Error::InvalidProblem(format!(
+                    "{name} entry {k} at ({row}, {col}) is above the diagonal"
+                )));
+            }
+            Ok((to_index(row, name)?, to_index(col, name)?))
+        })
+        .collect()
+}
+
+fn apply_options(handle: &Handle, options: &Options) -> Result<(), Error> {
+    let print_level = if options.verbose { 5 } else { 0 };
+    let mut entries = vec![("print_level".to_owned(), OptionValue::Int(print_level))];
+    if !options.verbose {
+        // IPOPT 3.11 prints its banner at any print level unless this undocumented option is set.
+        entries.push(("sb".to_owned(), OptionValue::Str("yes".to_owned())));
+    }
+    entries.extend(options.entries.iter().cloned());
+    for (name, value) in &entries {
+        let key = c_string(name)?;
+        // SAFETY: the handle is valid and the strings are NUL-terminated; IPOPT copies them.
+        let accepted = unsafe {
+            match value {
+                OptionValue::Str(text) => sys::AddIpoptStrOption(
+                    handle.0,
+                    key.as_ptr() as *mut c_char,
+                    c_string(text)?.as_ptr() as *mut c_char,
+                ),
+                OptionValue::Int(number) => {
+                    sys::AddIpoptIntOption(handle.0, key.as_ptr() as *mut c_char, *number)
+                }
+                OptionValue::Num(number) => {
+                    sys::AddIpoptNumOption(handle.0, key.as_ptr() as *mut c_char, *number)
+                }
+            }
+        };
+        if accepted == 0 {
+            return Err(Error::InvalidOption {
+                name: name.clone(),
+                value: match value {
+                    OptionValue::Str(text) => format!("\"{text}\""),
+                    OptionValue::Int(number) => number.to_string(),
+                    OptionValue::Num(number) => number.to_string(),
+                },
+            });
+        }
+    }
+    if let Some((path, level)) = &options.output_file {
+        let file = c_string(&path.to_string_lossy())?;
+        // SAFETY: valid handle, NUL-terminated path.
+        let opened =
+            unsafe { sys::OpenIpoptOutputFile(handle.0, file.as_ptr() as *mut c_char, *level) };
+        if opened == 0 {
+            return Err(Error::OutputFile(path.display().to_string()));
+        }
+    }
+    Ok(())
+}
+
+fn c_string(text: &str) -> Result<CString, Error> {
+    CString::new(text).map_err(|_| Error::InvalidOption {
+        name: text.to_owned(),
+        value: "(contains a NUL byte)".to_owned(),
+    })
+}
+
+/// Runs one callback body with the problem: times it, and turns an `Err` or a panic into a stored
+/// error and `FALSE`, so that nothing unwinds into C. Once an error is stored every later callback
+/// returns `FALSE` at once and the intermediate callback stops IPOPT.
+///
+/// # Safety
+/// `user_data` must be the `Context<P>` passed to `IpoptSolve`.
+unsafe fn guarded<P: Nlp>(
+    user_data: sys::UserDataPtr,
+    callback: &'static str,
+    body: impl FnOnce(&mut P) -> Result<(), EvalError>,
+) -> sys::Bool {
+    let context = &mut *user_data.cast::<Context<P>>();
+    if context.error.is_some() {
+        return 0;
+    }
+    let start = Instant::now();
+    let outcome = catch_unwind(AssertUnwindSafe(|| body(context.problem)));
+    context.callback_time += start.elapsed();
+    let message = match outcome {
+        Ok(Ok(())) => return 1,
+        Ok(Err(error)) => error.0,
+        Err(payload) => {
+            let text = payload
+                .downcast_ref::<&str>()
+                .map(|text| (*text).to_owned())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "(non-text panic payload)".to_owned());
+            format!("panicked: {text}")
+        }
+    };
+    context.error = Some(Error::Callback { callback, message });
+    0
+}
+
+/// # Safety
+/// IPOPT passes a pointer to `len` valid numbers (or null when `len` is 0).
+unsafe fn slice<'a>(ptr: *const sys::Number, len: sys::Index) -> &'a [f64] {
+    match usize::try_from(len) {
+        Ok(len) if len > 0 && !ptr.is_null() => std::slice::from_raw_parts(ptr, len),
+        _ => &[],
+    }
+}
+
+/// # Safety
+/// IPOPT passes a pointer to `len` writable numbers (or null when `len` is 0).
+unsafe fn slice_mut<'a>(ptr: *mut sys::Number, len: sys::Index) -> &'a mut [f64] {
+    match usize::try_from(len) {
+        Ok(len) if len > 0 && !ptr.is_null() => std::slice::from_raw_parts_mut(ptr, len),
+        _ => &mut [],
+    }
+}
+
+unsafe extern "C" fn eval_f<P: Nlp>(
+    n: sys::Index,
+    x: *mut sys::Number,
+    new_x: sys::Bool,
+    obj_value: *mut sys::Number,
+    user_data: sys::UserDataPtr,
+) -> sys::Bool {
+    let x = slice(x, n);
+    guarded::<P>(user_data, "objective", |problem| {
+        *obj_value = problem.objective(x, new_x != 0)?;
+        Ok(())
+    })
+}
+
+unsafe extern "C" fn eval_grad_f<P: Nlp>(
+    n: sys::Index,
+    x: *mut sys::Number,
+    new_x: sys::Bool,
+    grad_f: *mut sys::Number,
+    user_data: sys::UserDataPtr,
+) -> sys::Bool {
+    let (x, gradient) = (slice(x, n), slice_mut(grad_f, n));
+    guarded::<P>(user_data, "gradient", |problem| problem.gradient(x, new_x != 0, gradient))
+}
+
+unsafe extern "C" fn eval_g<P: Nlp>(
+    n: sys::Index,
+    x: *mut sys::Number,
+    new_x: sys::Bool,
+    m: sys::Index,
+    g: *mut sys::Number,
+    user_data: sys::UserDataPtr,
+) -> sys::Bool {
+    let (x, g) = (slice(x, n), slice_mut(g, m));
+    guarded::<P>(user_data, "constraints", |problem| problem.constraints(x, new_x != 0, g))
+}
+
+/// Writes a stored sparsity structure into IPOPT's index arrays.
+///
+/// # Safety
+/// `rows` and `cols` point to `structure.len()` writable indices.
+unsafe fn write_structure(
+    structure: &[(sys::Index, sys::Index)],
+    rows: *mut sys::Index,
+    cols: *mut sys::Index,
+) {
+    for (k, &(row, col)) in structure.iter().enumerate() {
+        *rows.add(k) = row;
+        *cols.add(k) = col;
+    }
+}
+
+unsafe extern "C" fn eval_jac_g<P: Nlp>(
+    n: sys::Index,
+    x: *mut sys::Number,
+    new_x: sys::Bool,
+    _m: sys::Index,
+    nele_jac: sys::Index,
+    i_row: *mut sys::Index,
+    j_col: *mut sys::Index,
+    values: *mut sys::Number,
+    user_data: sys::UserDataPtr,
+) -> sys::Bool {
+    if values.is_null() {
+        let context = &*user_data.cast::<Context<P>>();
+        write_structure(&context.jacobian, i_row, j_col);
+        return 1;
+    }
+    let (x, values) = (slice(x, n), slice_mut(values, nele_jac));
+    guarded::<P>(user_data, "jacobian", |problem| problem.jacobian_values(x, new_x != 0, values))
+}
+
+unsafe extern "C" fn eval_h<P: Nlp>(
+    n: sys::Index,
+    x: *mut sys::Number,
+    new_x: sys::Bool,
+    obj_factor: sys::Number,
+    m: sys::Index,
+    lambda: *mut sys::Number,
+    _new_lambda: sys::Bool,
+    nele_hess: sys::Index,
+    i_row: *mut sys::Index,
+    j_col: *mut sys::Index,
+    values: *mut sys::Number,
+    user_data: sys::UserDataPtr,
+) -> sys::Bool {
+    if values.is_null() {
+        let context = &*user_data.cast::<Context<P>>();
+        write_structure(&context.hessian, i_row, j_col);
+        return 1;
+    }
+    let (x, lambda, values) = (slice(x, n), slice(lambda, m), slice_mut(values, nele_hess));
+    guarded::<P>(user_data, "hessian", |problem| {
+        problem.hessian_values(x, new_x != 0, obj_factor, lambda, values)
+    })
+}
+
+unsafe extern "C" fn intermediate<P: Nlp>(
+    _alg_mod: sys::Index,
+    iter_count: sys::Index,
+    _obj_value: sys::Number,
+    _inf_pr: sys::Number,
+    _inf_du: sys::Number,
+    _mu: sys::Number,
+    _d_norm: sys::Number,
+    _regularization_size: sys::Number,
+    _alpha_du: sys::Number,
+    _alpha_pr: sys::Number,
+    _ls_trials: sys::Index,
+    user_data: sys::UserDataPtr,
+) -> sys::Bool {
+    let context = &mut *user_data.cast::<Context<P>>();
+    context.iterations = iter_count;
+    sys::Bool::from(context.error.is_none())
+}

@@ -1,0 +1,6 @@
+//! Co-design of the gear ratios and the motion of robots with parallel (belt) transmissions.
+//!
+//! The data flow one way: the robot model, its rigid-body dynamics, the trajectory problem, the
+//! IPOPT solve, the design loop, and the reports.
+
+pub mod ipopt;
