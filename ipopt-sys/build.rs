@@ -53,7 +53,8 @@ fn main() {
     }
 
     // bindgen panics when it cannot load libclang; turn that into the same clear message.
-    let generated = std::panic::catch_unwind(std::panic::AssertUnwindSafe(move || builder.generate()));
+    let generated =
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(move || builder.generate()));
     let bindings = match generated {
         Ok(Ok(bindings)) => bindings,
         Ok(Err(error)) => fail(&format!(
@@ -72,6 +73,9 @@ fn main() {
 /// Stops the build with one message that says what is missing and how to install it.
 fn fail(message: &str) -> ! {
     eprintln!("\nerror: {message}\n");
-    println!("cargo:warning={}", message.lines().next().unwrap_or(message));
+    println!(
+        "cargo:warning={}",
+        message.lines().next().unwrap_or(message)
+    );
     std::process::exit(1);
 }

@@ -3,4 +3,6 @@
 //! The data flow one way: the robot model, its rigid-body dynamics, the trajectory problem, the
 //! IPOPT solve, the design loop, and the reports.
 
+pub mod cli;
 pub mod ipopt;
+pub mod model;

@@ -56,10 +56,17 @@ impl Nlp for Hs071 {
     }
 
     fn jacobian_structure(&self) -> Vec<(usize, usize)> {
-        (0..2).flat_map(|row| (0..4).map(move |col| (row, col))).collect()
+        (0..2)
+            .flat_map(|row| (0..4).map(move |col| (row, col)))
+            .collect()
     }
 
-    fn jacobian_values(&mut self, x: &[f64], _new_x: bool, values: &mut [f64]) -> Result<(), EvalError> {
+    fn jacobian_values(
+        &mut self,
+        x: &[f64],
+        _new_x: bool,
+        values: &mut [f64],
+    ) -> Result<(), EvalError> {
         values[0] = x[1] * x[2] * x[3];
         values[1] = x[0] * x[2] * x[3];
         values[2] = x[0] * x[1] * x[3];
@@ -71,7 +78,9 @@ impl Nlp for Hs071 {
     }
 
     fn hessian_structure(&self) -> Vec<(usize, usize)> {
-        (0..4).flat_map(|row| (0..=row).map(move |col| (row, col))).collect()
+        (0..4)
+            .flat_map(|row| (0..=row).map(move |col| (row, col)))
+            .collect()
     }
 
     fn hessian_values(
@@ -107,7 +116,11 @@ mod tests {
     fn solves_to_the_published_optimum() {
         let solution = solve(&mut Hs071, &Options::new().num("tol", 1e-8)).unwrap();
         assert_eq!(solution.status, Status::SolveSucceeded);
-        assert!((solution.objective - HS071_OPTIMUM).abs() < 1e-6, "{}", solution.objective);
+        assert!(
+            (solution.objective - HS071_OPTIMUM).abs() < 1e-6,
+            "{}",
+            solution.objective
+        );
         let expected = [1.0, 4.742_999_64, 3.821_149_98, 1.379_408_29];
         for (got, want) in solution.x.iter().zip(expected) {
             assert!((got - want).abs() < 1e-6, "{:?}", solution.x);

@@ -8,8 +8,8 @@ mod options;
 mod solve;
 mod status;
 
-pub use hs071::{Hs071, HS071_OPTIMUM};
 pub use check::{check_derivatives, DerivativeOrder, DerivativeReport};
+pub use hs071::{Hs071, HS071_OPTIMUM};
 pub use nlp::{EvalError, Nlp};
 pub use options::{OptionValue, Options};
 pub use solve::{solve, Error, Solution, Timing};

@@ -64,7 +64,10 @@ impl Options {
 
     /// The value set for `name`, if any.
     pub fn get(&self, name: &str) -> Option<&OptionValue> {
-        self.entries.iter().find(|(key, _)| key == name).map(|(_, value)| value)
+        self.entries
+            .iter()
+            .find(|(key, _)| key == name)
+            .map(|(_, value)| value)
     }
 
     fn set(&mut self, name: &str, value: OptionValue) {
@@ -81,7 +84,10 @@ mod tests {
 
     #[test]
     fn later_values_replace_earlier_ones() {
-        let options = Options::new().num("tol", 1e-6).int("max_iter", 10).num("tol", 1e-8);
+        let options = Options::new()
+            .num("tol", 1e-6)
+            .int("max_iter", 10)
+            .num("tol", 1e-8);
         assert_eq!(options.get("tol"), Some(&OptionValue::Num(1e-8)));
         assert_eq!(options.entries.len(), 2);
         assert_eq!(options.get("mu_strategy"), None);

@@ -114,7 +114,9 @@ impl Drop for Handle {
 /// Solves are serialised process-wide (MUMPS is not thread-safe): a second thread calling this
 /// waits until the first has finished.
 pub fn solve<P: Nlp>(problem: &mut P, options: &Options) -> Result<Solution, Error> {
-    let _guard = SOLVER_LOCK.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    let _guard = SOLVER_LOCK
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
     let start = Instant::now();
 
     let n = problem.num_variables();
@@ -130,11 +132,17 @@ pub fn solve<P: Nlp>(problem: &mut P, options: &Options) -> Result<Solution, Err
     let mut x = vec![0.0; n];
     problem.initial_point(&mut x);
     if let Some(i) = x.iter().position(|value| !value.is_finite()) {
-        return Err(Error::InvalidProblem(format!("initial point x[{i}] = {} is not finite", x[i])));
+        return Err(Error::InvalidProblem(format!(
+            "initial point x[{i}] = {} is not finite",
+            x[i]
+        )));
     }
 
     let (n_index, m_index) = (to_index(n, "variables")?, to_index(m, "constraints")?);
-    let (nnz_jac, nnz_hess) = (to_index(jacobian.len(), "Jacobian")?, to_index(hessian.len(), "Hessian")?);
+    let (nnz_jac, nnz_hess) = (
+        to_index(jacobian.len(), "Jacobian")?,
+        to_index(hessian.len(), "Hessian")?,
+    );
     // SAFETY: the bound arrays have lengths n and m and are copied by IPOPT; the callbacks are
     // instantiated for P and receive the Context below as their user data.
     let raw = unsafe {
@@ -156,7 +164,9 @@ pub fn solve<P: Nlp>(problem: &mut P, options: &Options) -> Result<Solution, Err
         )
     };
     if raw.is_null() {
-        return Err(Error::InvalidProblem("IPOPT refused to create the problem".to_owned()));
+        return Err(Error::InvalidProblem(
+            "IPOPT refused to create the problem".to_owned(),
+        ));
     }
     let handle = Handle(raw);
     apply_options(&handle, options)?;
@@ -392,7 +402,9 @@ unsafe extern "C" fn eval_grad_f<P: Nlp>(
     user_data: sys::UserDataPtr,
 ) -> sys::Bool {
     let (x, gradient) = (slice(x, n), slice_mut(grad_f, n));
-    guarded::<P>(user_data, "gradient", |problem| problem.gradient(x, new_x != 0, gradient))
+    guarded::<P>(user_data, "gradient", |problem| {
+        problem.gradient(x, new_x != 0, gradient)
+    })
 }
 
 unsafe extern "C" fn eval_g<P: Nlp>(
@@ -404,7 +416,9 @@ unsafe extern "C" fn eval_g<P: Nlp>(
     user_data: sys::UserDataPtr,
 ) -> sys::Bool {
     let (x, g) = (slice(x, n), slice_mut(g, m));
-    guarded::<P>(user_data, "constraints", |problem| problem.constraints(x, new_x != 0, g))
+    guarded::<P>(user_data, "constraints", |problem| {
+        problem.constraints(x, new_x != 0, g)
+    })
 }
 
 /// Writes a stored sparsity structure into IPOPT's index arrays.
@@ -439,7 +453,9 @@ unsafe extern "C" fn eval_jac_g<P: Nlp>(
         return 1;
     }
     let (x, values) = (slice(x, n), slice_mut(values, nele_jac));
-    guarded::<P>(user_data, "jacobian", |problem| problem.jacobian_values(x, new_x != 0, values))
+    guarded::<P>(user_data, "jacobian", |problem| {
+        problem.jacobian_values(x, new_x != 0, values)
+    })
 }
 
 unsafe extern "C" fn eval_h<P: Nlp>(

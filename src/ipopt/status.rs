@@ -79,7 +79,10 @@ impl Status {
 
     /// Whether the point returned is a local optimum (to the strict or the acceptable tolerance).
     pub fn is_success(self) -> bool {
-        matches!(self, Status::SolveSucceeded | Status::SolvedToAcceptableLevel)
+        matches!(
+            self,
+            Status::SolveSucceeded | Status::SolvedToAcceptableLevel
+        )
     }
 
     /// Maps the integer code `IpoptSolve` returned (a C enum, so any value is possible).
@@ -121,12 +124,18 @@ mod tests {
 
     #[test]
     fn names_match_ipopt_spelling() {
-        assert_eq!(Status::from_code(raw::Solve_Succeeded).name(), "Solve_Succeeded");
+        assert_eq!(
+            Status::from_code(raw::Solve_Succeeded).name(),
+            "Solve_Succeeded"
+        );
         assert_eq!(
             Status::from_code(raw::Infeasible_Problem_Detected).name(),
             "Infeasible_Problem_Detected"
         );
-        assert_eq!(Status::from_code(raw::Internal_Error).to_string(), "Internal_Error");
+        assert_eq!(
+            Status::from_code(raw::Internal_Error).to_string(),
+            "Internal_Error"
+        );
         assert!(Status::SolvedToAcceptableLevel.is_success());
         assert!(!Status::RestorationFailed.is_success());
     }

@@ -1,0 +1,354 @@
+//! The task file: every default of the co-design problem that is not in the URDF.
+//!
+//! A task file (JSON, e.g. `robots/tasks/pick_place.json`) names the robot's URDF, the tool point
+//! and payload, the motion to make, the cost weights, the Cartesian box, the motors, the
+//! transmission's structure with its design space, the limit modes and the solver settings.
+//! Units are SI throughout: m, kg, s, rad, N m. Frames: the world is the URDF's root link.
+
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// A whole task file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Task {
+    /// Path of the robot's URDF, relative to the task file's folder.
+    pub robot: PathBuf,
+    /// Gravity in the world frame, m/s^2.
+    pub gravity: [f64; 3],
+    /// The tool centre point whose position the Cartesian box constrains.
+    pub tcp: PointOnLink,
+    /// The payload: a point mass fixed to a link.
+    pub payload: Payload,
+    /// The motion: start and goal poses, horizon and discretisation.
+    pub motion: Motion,
+    /// The weights of the trajectory cost.
+    pub weights: Weights,
+    /// The soft Cartesian box on the TCP, per world axis (absent axes are free).
+    pub cartesian_box: CartesianBox,
+    /// The motors driving the transmission.
+    pub motors: Motors,
+    /// The transmission's structure, original design and design space.
+    pub transmission: TransmissionSpec,
+    /// How actuator limits become joint-space limits.
+    pub limit_modes: LimitModes,
+    /// IPOPT settings of single trajectory solves.
+    pub solver: SolverSettings,
+}
+
+/// A point fixed in a link's frame.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointOnLink {
+    /// The link's name in the URDF.
+    pub link: String,
+    /// Coordinates in the link's frame, m.
+    pub point: [f64; 3],
+}
+
+/// A point-mass payload.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Payload {
+    /// Mass in kg (0 for none); overridden by `--payload`.
+    pub mass_kg: f64,
+    /// Where it is attached.
+    pub at: PointOnLink,
+}
+
+/// The motion to plan.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Motion {
+    /// Joint positions at t = 0, rad (joint order of the URDF chain from the root).
+    pub start: Vec<f64>,
+    /// Joint positions at t = horizon, rad.
+    pub goal: Vec<f64>,
+    /// Duration T, s.
+    pub horizon_s: f64,
+    /// Number of intervals N (nodes 0..=N).
+    pub steps: usize,
+}
+
+/// Weights of J = sum_k wq |q_k|^2 + wv |v_k|^2 + wu |u_k|^2 + box penalties.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Weights {
+    /// wq, per rad^2.
+    pub position: f64,
+    /// wv, per (rad/s)^2.
+    pub velocity: f64,
+    /// wu, per (N m)^2.
+    pub control: f64,
+}
+
+/// A soft interval on one world coordinate of the TCP: penalty weight * violation^2.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SoftInterval {
+    /// Lower and upper bound, m.
+    pub range: [f64; 2],
+    /// rho, per m^2.
+    pub weight: f64,
+}
+
+/// The soft Cartesian box, per world axis.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CartesianBox {
+    /// World x.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x: Option<SoftInterval>,
+    /// World y.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub y: Option<SoftInterval>,
+    /// World z.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub z: Option<SoftInterval>,
+}
+
+/// Limits of every motor (all motors alike).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Motors {
+    /// |tau_u| limit, N m.
+    pub torque_limit_nm: f64,
+    /// |qd_u| limit, rad/s.
+    pub speed_limit_rad_s: f64,
+}
+
+/// One entry of the transmission matrix G: a constant or a signed design ratio.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum MatrixEntry {
+    /// A fixed number.
+    Constant(f64),
+    /// `"r2"` or `"-r4"`: plus or minus the named ratio (1-based).
+    Ratio(String),
+}
+
+/// The transmission: motor angles q_u = G(r) q, joint torques tau = G(r)^T tau_u.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TransmissionSpec {
+    /// G(r), row i = motor i, column j = joint j.
+    pub matrix: Vec<Vec<MatrixEntry>>,
+    /// The original design r.
+    pub original: Vec<f64>,
+    /// Bounds [lower, upper] of each ratio.
+    pub bounds: Vec<[f64; 2]>,
+    /// Order constraints between ratios, e.g. `"r3 <= r2"`, `"r2 < r1"`.
+    pub order: Vec<String>,
+}
+
+/// How actuator limits are mapped to joint space.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LimitMode {
+    /// Elementwise G^T (torque) or G^-1 (speed) applied to the bound vectors, as the paper prints.
+    Paper,
+    /// The tightest symmetric box containing the true polytope: sum_j |G_ji| * limit.
+    Interval,
+    /// The true limits as linear constraints.
+    Exact,
+}
+
+/// The limit modes of a run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LimitModes {
+    /// Joint torque bounds of the joint-space problem.
+    pub torque: LimitMode,
+    /// Joint speed bounds (both problems).
+    pub speed: LimitMode,
+}
+
+/// IPOPT settings for one trajectory solve.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSettings {
+    /// Convergence tolerance `tol`.
+    pub tol: f64,
+    /// `max_iter`.
+    pub max_iter: u32,
+}
+
+/// A task file that could not be read or does not make sense; names the file and the field.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TaskError {
+    /// The file.
+    pub path: PathBuf,
+    /// What is wrong, naming the field.
+    pub message: String,
+}
+
+impl fmt::Display for TaskError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "task file {}: {}", self.path.display(), self.message)
+    }
+}
+
+impl std::error::Error for TaskError {}
+
+impl Task {
+    /// Reads and checks a task file. The robot path is resolved against the file's folder.
+    pub fn load(path: &Path) -> Result<Task, TaskError> {
+        let error = |message: String| TaskError {
+            path: path.to_owned(),
+            message,
+        };
+        let text = std::fs::read_to_string(path).map_err(|e| error(format!("cannot read: {e}")))?;
+        let mut task: Task = serde_json::from_str(&text).map_err(|e| error(e.to_string()))?;
+        task.validate().map_err(error)?;
+        if task.robot.is_relative() {
+            let folder = path.parent().unwrap_or(Path::new("."));
+            task.robot = folder.join(&task.robot);
+        }
+        Ok(task)
+    }
+
+    /// Checks every number for sense; the message names the offending field.
+    pub fn validate(&self) -> Result<(), String> {
+        let finite = |name: &str, values: &[f64]| -> Result<(), String> {
+            match values.iter().position(|v| !v.is_finite()) {
+                Some(i) => Err(format!("{name}[{i}] is not a finite number")),
+                None => Ok(()),
+            }
+        };
+        finite("gravity", &self.gravity)?;
+        finite("tcp.point", &self.tcp.point)?;
+        finite("payload.at.point", &self.payload.at.point)?;
+        if !(self.payload.mass_kg.is_finite() && self.payload.mass_kg >= 0.0) {
+            return Err(format!(
+                "payload.mass_kg = {} must be >= 0",
+                self.payload.mass_kg
+            ));
+        }
+        finite("motion.start", &self.motion.start)?;
+        finite("motion.goal", &self.motion.goal)?;
+        if self.motion.start.len() != self.motion.goal.len() {
+            return Err(format!(
+                "motion.start has {} joints but motion.goal has {}",
+                self.motion.start.len(),
+                self.motion.goal.len()
+            ));
+        }
+        if !(self.motion.horizon_s.is_finite() && self.motion.horizon_s > 0.0) {
+            return Err(format!(
+                "motion.horizon_s = {} must be > 0",
+                self.motion.horizon_s
+            ));
+        }
+        if self.motion.steps == 0 {
+            return Err("motion.steps must be at least 1".to_owned());
+        }
+        let weights = [
+            ("weights.position", self.weights.position),
+            ("weights.velocity", self.weights.velocity),
+            ("weights.control", self.weights.control),
+        ];
+        for (name, value) in weights {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(format!("{name} = {value} must be >= 0"));
+            }
+        }
+        let axes = [
+            ("x", &self.cartesian_box.x),
+            ("y", &self.cartesian_box.y),
+            ("z", &self.cartesian_box.z),
+        ];
+        for (axis, interval) in axes {
+            if let Some(SoftInterval {
+                range: [lo, hi],
+                weight,
+            }) = interval
+            {
+                if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                    return Err(format!(
+                        "cartesian_box.{axis}.range [{lo}, {hi}] must be finite with lower < upper"
+                    ));
+                }
+                if !(weight.is_finite() && *weight >= 0.0) {
+                    return Err(format!(
+                        "cartesian_box.{axis}.weight = {weight} must be >= 0"
+                    ));
+                }
+            }
+        }
+        for (name, value) in [
+            ("motors.torque_limit_nm", self.motors.torque_limit_nm),
+            ("motors.speed_limit_rad_s", self.motors.speed_limit_rad_s),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(format!("{name} = {value} must be > 0"));
+            }
+        }
+        if !(self.solver.tol.is_finite() && self.solver.tol > 0.0) {
+            return Err(format!("solver.tol = {} must be > 0", self.solver.tol));
+        }
+        Ok(())
+    }
+
+    /// The time step h = T / N, s.
+    pub fn step_s(&self) -> f64 {
+        self.motion.horizon_s / self.motion.steps as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn default_task_path() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json")
+    }
+
+    #[test]
+    fn default_task_loads_with_the_spec_values() {
+        let task = Task::load(&default_task_path()).unwrap();
+        assert_eq!(task.motion.steps, 50);
+        assert!((task.step_s() - 0.016).abs() < 1e-15);
+        assert!((task.motion.start[1] - 0.6 * std::f64::consts::PI).abs() < 1e-15);
+        assert_eq!(task.transmission.original, vec![6.0, 3.0, 1.0, 1.0]);
+        assert_eq!(task.limit_modes.torque, LimitMode::Paper);
+        assert!(task.robot.ends_with("belt_arm.urdf"));
+        assert!(task
+            .robot
+            .starts_with(default_task_path().parent().unwrap()));
+    }
+
+    #[test]
+    fn errors_name_the_file_and_field() {
+        let text = std::fs::read_to_string(default_task_path()).unwrap();
+        let dir = std::env::temp_dir().join(format!("codesign-task-test-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let cases = [
+            (
+                "\"horizon_s\": 0.8",
+                "\"horizon_s\": -1",
+                "motion.horizon_s",
+            ),
+            ("\"steps\": 50", "\"stepz\": 50", "stepz"),
+            ("\"mass_kg\": 0.0", "\"mass_kg\": -2", "payload.mass_kg"),
+            ("[-1.0, 0.4]", "[0.4, -1.0]", "cartesian_box.y.range"),
+            ("\"torque\": \"paper\"", "\"torque\": \"papr\"", "papr"),
+        ];
+        for (k, (from, to, field)) in cases.into_iter().enumerate() {
+            assert!(text.contains(from));
+            let path = dir.join(format!("case{k}.json"));
+            std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+            let message = Task::load(&path).unwrap_err().to_string();
+            assert!(message.contains(field), "{message}");
+            assert!(message.contains(&path.display().to_string()), "{message}");
+        }
+        let missing = Task::load(&dir.join("absent.json"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            missing.contains("absent.json") && missing.contains("cannot read"),
+            "{missing}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
