@@ -1,7 +1,7 @@
 //! IPOPT's own derivative checker, run on any [`Nlp`] and read back as a report.
 
 use super::{solve, Error, Nlp, Options};
-use std::path::PathBuf;
+use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Which derivatives IPOPT's checker compares with its finite differences.
@@ -55,7 +55,7 @@ pub fn check_derivatives<P: Nlp>(
     parse_report(&text, &log)
 }
 
-fn parse_report(text: &str, log: &PathBuf) -> Result<DerivativeReport, Error> {
+fn parse_report(text: &str, log: &Path) -> Result<DerivativeReport, Error> {
     let flagged: Vec<String> = text
         .lines()
         .filter(|line| line.starts_with('*'))

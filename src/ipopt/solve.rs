@@ -501,3 +501,274 @@ unsafe extern "C" fn intermediate<P: Nlp>(
     context.iterations = iter_count;
     sys::Bool::from(context.error.is_none())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ipopt::{check_derivatives, DerivativeOrder, Hs071};
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Arc;
+
+    /// HS071 with something wrong in one callback.
+    struct Faulty {
+        fault: Fault,
+        active: Option<Arc<AtomicUsize>>,
+        max_active: Option<Arc<AtomicUsize>>,
+    }
+
+    enum Fault {
+        None,
+        PanicInHessian,
+        ErrorInConstraints,
+        WrongGradient,
+    }
+
+    impl Faulty {
+        fn new(fault: Fault) -> Faulty {
+            Faulty {
+                fault,
+                active: None,
+                max_active: None,
+            }
+        }
+
+        /// Counts how many solves are inside a callback at the same moment.
+        fn enter(&self) {
+            if let (Some(active), Some(max)) = (&self.active, &self.max_active) {
+                let now = active.fetch_add(1, Ordering::SeqCst) + 1;
+                max.fetch_max(now, Ordering::SeqCst);
+                std::thread::sleep(Duration::from_micros(50));
+                active.fetch_sub(1, Ordering::SeqCst);
+            }
+        }
+    }
+
+    impl Nlp for Faulty {
+        fn num_variables(&self) -> usize {
+            4
+        }
+        fn num_constraints(&self) -> usize {
+            2
+        }
+        fn variable_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
+            Hs071.variable_bounds(lower, upper)
+        }
+        fn constraint_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
+            Hs071.constraint_bounds(lower, upper)
+        }
+        fn initial_point(&self, x: &mut [f64]) {
+            Hs071.initial_point(x)
+        }
+        fn objective(&mut self, x: &[f64], new_x: bool) -> Result<f64, EvalError> {
+            self.enter();
+            Hs071.objective(x, new_x)
+        }
+        fn gradient(&mut self, x: &[f64], new_x: bool, g: &mut [f64]) -> Result<(), EvalError> {
+            Hs071.gradient(x, new_x, g)?;
+            if let Fault::WrongGradient = self.fault {
+                g[2] += 0.5;
+            }
+            Ok(())
+        }
+        fn constraints(&mut self, x: &[f64], new_x: bool, g: &mut [f64]) -> Result<(), EvalError> {
+            if let Fault::ErrorInConstraints = self.fault {
+                return Err(EvalError::from("constraint evaluation refused"));
+            }
+            Hs071.constraints(x, new_x, g)
+        }
+        fn jacobian_structure(&self) -> Vec<(usize, usize)> {
+            Hs071.jacobian_structure()
+        }
+        fn jacobian_values(
+            &mut self,
+            x: &[f64],
+            new_x: bool,
+            v: &mut [f64],
+        ) -> Result<(), EvalError> {
+            Hs071.jacobian_values(x, new_x, v)
+        }
+        fn hessian_structure(&self) -> Vec<(usize, usize)> {
+            Hs071.hessian_structure()
+        }
+        fn hessian_values(
+            &mut self,
+            x: &[f64],
+            new_x: bool,
+            obj_factor: f64,
+            lambda: &[f64],
+            values: &mut [f64],
+        ) -> Result<(), EvalError> {
+            if let Fault::PanicInHessian = self.fault {
+                panic!("hessian exploded");
+            }
+            Hs071.hessian_values(x, new_x, obj_factor, lambda, values)
+        }
+    }
+
+    /// min x0 + x1 with x0 + x1 >= 3 inside the box [0, 1]^2: no feasible point.
+    struct Infeasible;
+
+    impl Nlp for Infeasible {
+        fn num_variables(&self) -> usize {
+            2
+        }
+        fn num_constraints(&self) -> usize {
+            1
+        }
+        fn variable_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
+            lower.fill(0.0);
+            upper.fill(1.0);
+        }
+        fn constraint_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
+            lower[0] = 3.0;
+            upper[0] = f64::INFINITY;
+        }
+        fn initial_point(&self, x: &mut [f64]) {
+            x.fill(0.5);
+        }
+        fn objective(&mut self, x: &[f64], _: bool) -> Result<f64, EvalError> {
+            Ok(x[0] + x[1])
+        }
+        fn gradient(&mut self, _: &[f64], _: bool, g: &mut [f64]) -> Result<(), EvalError> {
+            g.fill(1.0);
+            Ok(())
+        }
+        fn constraints(&mut self, x: &[f64], _: bool, g: &mut [f64]) -> Result<(), EvalError> {
+            g[0] = x[0] * x[0] + x[1];
+            Ok(())
+        }
+        fn jacobian_structure(&self) -> Vec<(usize, usize)> {
+            vec![(0, 0), (0, 1)]
+        }
+        fn jacobian_values(&mut self, x: &[f64], _: bool, v: &mut [f64]) -> Result<(), EvalError> {
+            v[0] = 2.0 * x[0];
+            v[1] = 1.0;
+            Ok(())
+        }
+        fn hessian_structure(&self) -> Vec<(usize, usize)> {
+            vec![(0, 0)]
+        }
+        fn hessian_values(
+            &mut self,
+            _: &[f64],
+            _: bool,
+            _: f64,
+            lambda: &[f64],
+            values: &mut [f64],
+        ) -> Result<(), EvalError> {
+            values[0] = 2.0 * lambda[0];
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn infeasible_problem_is_reported_as_infeasible() {
+        let solution = solve(&mut Infeasible, &Options::new()).unwrap();
+        assert_eq!(solution.status, Status::InfeasibleProblemDetected);
+        assert!(!solution.status.is_success());
+    }
+
+    #[test]
+    fn panic_in_a_callback_becomes_an_error() {
+        let error = solve(&mut Faulty::new(Fault::PanicInHessian), &Options::new()).unwrap_err();
+        match error {
+            Error::Callback { callback, message } => {
+                assert_eq!(callback, "hessian");
+                assert!(message.contains("hessian exploded"), "{message}");
+            }
+            other => panic!("unexpected {other:?}"),
+        }
+    }
+
+    #[test]
+    fn error_in_a_callback_stops_the_solve() {
+        let error =
+            solve(&mut Faulty::new(Fault::ErrorInConstraints), &Options::new()).unwrap_err();
+        assert_eq!(
+            error,
+            Error::Callback {
+                callback: "constraints",
+                message: "constraint evaluation refused".to_owned()
+            }
+        );
+    }
+
+    #[test]
+    fn bad_options_are_rejected_by_name() {
+        let unknown = solve(&mut Hs071, &Options::new().num("tolerance_of_doom", 1.0));
+        assert!(
+            matches!(&unknown, Err(Error::InvalidOption { name, .. }) if name == "tolerance_of_doom"),
+            "{unknown:?}"
+        );
+        let wrong_value = solve(&mut Hs071, &Options::new().str("mu_strategy", "sideways"));
+        assert!(
+            matches!(&wrong_value, Err(Error::InvalidOption { name, .. }) if name == "mu_strategy"),
+            "{wrong_value:?}"
+        );
+        let wrong_type = solve(&mut Hs071, &Options::new().str("tol", "small"));
+        assert!(
+            matches!(wrong_type, Err(Error::InvalidOption { .. })),
+            "{wrong_type:?}"
+        );
+    }
+
+    #[test]
+    fn derivative_checker_catches_a_wrong_gradient() {
+        let mut problem = Faulty::new(Fault::WrongGradient);
+        let report =
+            check_derivatives(&mut problem, &Options::new(), DerivativeOrder::First).unwrap();
+        assert!(report.errors >= 1, "{report:?}");
+        assert!(
+            report.flagged.iter().any(|line| line.contains("grad_f")),
+            "{report:?}"
+        );
+    }
+
+    #[test]
+    fn concurrent_solves_are_serialised() {
+        let active = Arc::new(AtomicUsize::new(0));
+        let max_active = Arc::new(AtomicUsize::new(0));
+        let threads: Vec<_> = (0..4)
+            .map(|_| {
+                let (active, max_active) = (Arc::clone(&active), Arc::clone(&max_active));
+                std::thread::spawn(move || {
+                    let mut problem = Faulty {
+                        fault: Fault::None,
+                        active: Some(active),
+                        max_active: Some(max_active),
+                    };
+                    (0..5)
+                        .map(|_| solve(&mut problem, &Options::new()).unwrap().objective)
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        for thread in threads {
+            for objective in thread.join().unwrap() {
+                assert!((objective - crate::ipopt::HS071_OPTIMUM).abs() < 1e-6);
+            }
+        }
+        assert_eq!(max_active.load(Ordering::SeqCst), 1);
+    }
+
+    /// Resident set size of this process in pages.
+    fn resident_pages() -> usize {
+        let statm = std::fs::read_to_string("/proc/self/statm").unwrap();
+        statm.split_whitespace().nth(1).unwrap().parse().unwrap()
+    }
+
+    #[test]
+    fn many_solves_do_not_grow_the_process() {
+        let options = Options::new();
+        for _ in 0..200 {
+            solve(&mut Hs071, &options).unwrap();
+        }
+        let before = resident_pages();
+        for _ in 0..2000 {
+            solve(&mut Hs071, &options).unwrap();
+        }
+        let grown_kib = resident_pages().saturating_sub(before) * 4;
+        // A leaked IPOPT problem costs tens of KiB: 2000 of them would be tens of MiB.
+        assert!(grown_kib < 2048, "grew by {grown_kib} KiB over 2000 solves");
+    }
+}
