@@ -1,6 +1,8 @@
 //! The command line: one subcommand per module, each a thin layer over the library.
 
+mod common;
 mod doctor;
+mod solve;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -17,6 +19,8 @@ pub struct Cli {
 enum Command {
     /// Check the installation: IPOPT version, a solve of HS071, IPOPT's derivative checker.
     Doctor(doctor::Args),
+    /// Solve the trajectory problem of one design and report cost, feasibility and trajectory.
+    Solve(solve::Args),
 }
 
 /// Parses the command line, runs the subcommand, prints any error on stderr and returns the
@@ -25,6 +29,7 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Command::Doctor(args) => doctor::run(&args),
+        Command::Solve(args) => solve::run(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

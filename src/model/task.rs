@@ -143,7 +143,7 @@ pub struct TransmissionSpec {
 }
 
 /// How actuator limits are mapped to joint space.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum LimitMode {
     /// Elementwise G^T (torque) or G^-1 (speed) applied to the bound vectors, as the paper prints.
@@ -155,7 +155,7 @@ pub enum LimitMode {
 }
 
 /// The limit modes of a run.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LimitModes {
     /// Joint torque bounds of the joint-space problem.
