@@ -534,3 +534,181 @@ impl Nlp for TrajectoryProblem<'_> {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ipopt::{check_derivatives, DerivativeOrder, Options};
+    use crate::model::task::{LimitMode, LimitModes, Task};
+    use crate::model::Robot;
+    use std::path::Path;
+
+    fn task() -> Task {
+        Task::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json")).unwrap()
+    }
+
+    fn formulation(space: Space, torque: LimitMode, speed: LimitMode, payload: f64) -> Formulation {
+        let mut task = task();
+        task.payload.mass_kg = payload;
+        let robot = Robot::load(&task).unwrap();
+        Formulation::new(&task, robot, space, LimitModes { torque, speed }).unwrap()
+    }
+
+    /// Every combination of space and modes (torque modes only matter in joint space).
+    fn all_formulations() -> Vec<Formulation> {
+        let modes = [LimitMode::Paper, LimitMode::Interval, LimitMode::Exact];
+        let mut list = Vec::new();
+        for speed in modes {
+            list.push(formulation(Space::Actuation, LimitMode::Paper, speed, 1.0));
+            for torque in modes {
+                list.push(formulation(Space::Joint, torque, speed, 1.0));
+            }
+        }
+        list
+    }
+
+    /// A small deterministic generator for test points.
+    struct Lcg(u64);
+    impl Lcg {
+        fn uniform(&mut self) -> f64 {
+            self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// A point near the initial guess with every variable moved: the TCP leaves the box at some
+    /// nodes, so the penalty's derivatives are exercised too.
+    fn random_point(problem: &TrajectoryProblem<'_>, seed: u64) -> Vec<f64> {
+        let mut x = vec![0.0; problem.num_variables()];
+        problem.initial_point(&mut x);
+        let mut rng = Lcg(seed);
+        for value in &mut x {
+            *value += 0.6 * (rng.uniform() - 0.5);
+        }
+        x
+    }
+
+    #[test]
+    fn sparse_derivatives_match_finite_differences() {
+        for f in all_formulations() {
+            let mut problem = f.problem(&[7.0, 4.0, 2.0, 1.5]).unwrap();
+            let (n, m) = (problem.num_variables(), problem.num_constraints());
+            let x = random_point(&problem, 7);
+            let lambda: Vec<f64> = {
+                let mut rng = Lcg(11);
+                (0..m).map(|_| rng.uniform() - 0.5).collect()
+            };
+            let obj_factor = 0.7;
+            let mut gradient = vec![0.0; n];
+            problem.gradient(&x, true, &mut gradient).unwrap();
+            let mut jacobian = vec![0.0; f.jacobian_nonzeros()];
+            problem.jacobian_values(&x, false, &mut jacobian).unwrap();
+            let mut hessian = vec![0.0; f.hessian_nonzeros()];
+            problem.hessian_values(&x, false, obj_factor, &lambda, &mut hessian).unwrap();
+            let mut dense_jacobian = DMatrix::zeros(m, n);
+            for (&(r, c), &value) in f.jacobian.iter().zip(&jacobian) {
+                dense_jacobian[(r, c)] += value;
+            }
+            let mut dense_hessian = DMatrix::zeros(n, n);
+            for (&(r, c), &value) in f.hessian.iter().zip(&hessian) {
+                dense_hessian[(r, c)] += value;
+                if r != c {
+                    dense_hessian[(c, r)] += value;
+                }
+            }
+            // Central differences of the objective/constraints and of the Lagrangian's gradient.
+            let lagrangian_gradient = |problem: &mut TrajectoryProblem<'_>, x: &[f64]| {
+                let mut grad = vec![0.0; n];
+                problem.gradient(x, true, &mut grad).unwrap();
+                let mut values = vec![0.0; f.jacobian_nonzeros()];
+                problem.jacobian_values(x, false, &mut values).unwrap();
+                let mut out: Vec<f64> = grad.iter().map(|g| obj_factor * g).collect();
+                for (&(r, c), &value) in f.jacobian.iter().zip(&values) {
+                    out[c] += lambda[r] * value;
+                }
+                out
+            };
+            let step = 1e-6;
+            for j in 0..n {
+                let (mut plus, mut minus) = (x.clone(), x.clone());
+                plus[j] += step;
+                minus[j] -= step;
+                let fd = (problem.objective(&plus, true).unwrap() - problem.objective(&minus, true).unwrap()) / (2.0 * step);
+                assert!((fd - gradient[j]).abs() <= 1e-5 * (1.0 + fd.abs()), "gradient[{j}]: {} vs fd {fd}", gradient[j]);
+                let (mut g_plus, mut g_minus) = (vec![0.0; m], vec![0.0; m]);
+                problem.constraints(&plus, true, &mut g_plus).unwrap();
+                problem.constraints(&minus, true, &mut g_minus).unwrap();
+                for i in 0..m {
+                    let fd = (g_plus[i] - g_minus[i]) / (2.0 * step);
+                    let exact = dense_jacobian[(i, j)];
+                    assert!((fd - exact).abs() <= 1e-5 * (1.0 + fd.abs()), "jacobian ({i}, {j}): {exact} vs fd {fd}");
+                }
+                let (l_plus, l_minus) = (lagrangian_gradient(&mut problem, &plus), lagrangian_gradient(&mut problem, &minus));
+                for i in 0..n {
+                    let fd = (l_plus[i] - l_minus[i]) / (2.0 * step);
+                    let exact = dense_hessian[(i, j)];
+                    assert!((fd - exact).abs() <= 1e-5 * (1.0 + fd.abs()), "hessian ({i}, {j}): {exact} vs fd {fd}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn ipopt_derivative_checker_finds_nothing() {
+        for f in all_formulations() {
+            for (point, radius) in [("initial guess", 0.0), ("random interior point", 0.05)] {
+                let mut problem = f.problem(&[6.0, 3.0, 1.0, 1.0]).unwrap();
+                let options = Options::new()
+                    .num("point_perturbation_radius", radius)
+                    .num("derivative_test_perturbation", 1e-7)
+                    .num("derivative_test_tol", 1e-4);
+                let report = check_derivatives(&mut problem, &options, DerivativeOrder::Second).unwrap();
+                assert_eq!(
+                    report.errors,
+                    0,
+                    "{} space, modes {:?}, {point}: {:?}",
+                    f.space(),
+                    f.modes(),
+                    &report.flagged[..report.flagged.len().min(10)]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn pattern_is_lower_triangular_and_unique() {
+        for f in all_formulations() {
+            let mut seen = std::collections::HashSet::new();
+            for &(r, c) in &f.hessian {
+                assert!(r >= c);
+                assert!(seen.insert((r, c)), "duplicate Hessian entry ({r}, {c})");
+            }
+            let mut seen = std::collections::HashSet::new();
+            for &entry in &f.jacobian {
+                assert!(seen.insert(entry), "duplicate Jacobian entry {entry:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn original_design_has_the_papers_joint_torque_bounds() {
+        let f = formulation(Space::Joint, LimitMode::Paper, LimitMode::Exact, 0.0);
+        let problem = f.problem(&[6.0, 3.0, 1.0, 1.0]).unwrap();
+        let (mut lower, mut upper) = (vec![0.0; problem.num_variables()], vec![0.0; problem.num_variables()]);
+        problem.variable_bounds(&mut lower, &mut upper);
+        let layout = f.layout();
+        let expected = [18.7, 8.5, 3.4, 0.0];
+        for (i, bound) in expected.iter().enumerate() {
+            let u = layout.u(3, i);
+            assert!((upper[u] - bound).abs() < 1e-12 && (lower[u] + bound).abs() < 1e-12, "joint {i}: [{}, {}]", lower[u], upper[u]);
+        }
+    }
+
+    #[test]
+    fn invalid_designs_are_rejected() {
+        let f = formulation(Space::Actuation, LimitMode::Paper, LimitMode::Exact, 0.0);
+        for ratios in [[10.0, 3.0, 1.0, 1.0], [6.0, 6.0, 1.0, 1.0], [6.0, 2.0, 3.0, 1.0], [f64::NAN, 3.0, 1.0, 1.0]] {
+            assert!(f.problem(&ratios).is_err(), "{ratios:?} accepted");
+        }
+    }
+}
