@@ -2,7 +2,9 @@
 
 mod common;
 mod doctor;
+mod optimize;
 mod solve;
+mod worker;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -21,6 +23,11 @@ enum Command {
     Doctor(doctor::Args),
     /// Solve the trajectory problem of one design and report cost, feasibility and trajectory.
     Solve(solve::Args),
+    /// Co-design: search the gear ratios with CMA-ES, solving each design in worker processes.
+    Optimize(optimize::Args),
+    /// Evaluate designs sent on stdin (the worker process of `optimize`; not for direct use).
+    #[command(hide = true)]
+    Worker,
 }
 
 /// Parses the command line, runs the subcommand, prints any error on stderr and returns the
@@ -30,6 +37,8 @@ pub fn main() -> ExitCode {
     let outcome = match cli.command {
         Command::Doctor(args) => doctor::run(&args),
         Command::Solve(args) => solve::run(&args),
+        Command::Optimize(args) => optimize::run(&args),
+        Command::Worker => worker::run(),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
