@@ -6,3 +6,4 @@
 pub mod cli;
 pub mod ipopt;
 pub mod model;
+pub mod transmission;
