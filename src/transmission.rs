@@ -128,7 +128,8 @@ impl Transmission {
     /// with 1 <= i <= number of ratios (= number of bounds), as many original values as bounds,
     /// finite bounds with lower <= upper, finite original values, and order strings
     /// `r<i> <= r<j>` or `r<i> < r<j>` with i != j. Errors name the field, e.g.
-    /// `transmission.matrix[2][1]` (0-based indices).
+    /// `transmission.matrix[2][1]` (0-based indices). The original design is not held to the
+    /// design space here: [`Transmission::check_design`] does that.
     pub fn from_spec(spec: &TransmissionSpec) -> Result<Transmission, String> {
         let count = spec.bounds.len();
         if spec.original.len() != count {
