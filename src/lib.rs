@@ -4,6 +4,7 @@
 //! IPOPT solve, the design loop, and the reports.
 
 pub mod cli;
+pub mod design;
 pub mod dynamics;
 pub mod ipopt;
 pub mod model;
