@@ -3,15 +3,15 @@
 use super::common::ModelArgs;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::log::EvaluationLog;
-use crate::design::optimize::{optimize, GenerationSummary, Progress};
+use crate::design::optimize::{optimize, Progress};
 use crate::design::workers::{Pool, WorkerSetup};
 use crate::model::task::{LimitMode, LimitModes};
 use crate::problem::{Formulation, Space};
 use crate::report::files::write_json;
+use crate::report::codesign::{OptimizeDocument, OptimizeInputs};
 use crate::report::trajectory::ToolInfo;
-use crate::solver::{solve_design, SolveSettings, TrajectoryResult};
+use crate::solver::{solve_design, SolveSettings};
 use indicatif::{ProgressBar, ProgressStyle};
-use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -58,39 +58,6 @@ pub struct Args {
     pub resume: bool,
 }
 
-/// The JSON file `codesign optimize` writes.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct OptimizeDocument {
-    /// Program and solver versions.
-    pub tool: ToolInfo,
-    /// The run's settings.
-    pub inputs: serde_json::Value,
-    /// The best design found.
-    pub best_ratios: Vec<f64>,
-    /// Its cost.
-    pub best_cost: f64,
-    /// The full solve of the best design.
-    pub best_result: Option<TrajectoryResult>,
-    /// The original design.
-    pub original_ratios: Vec<f64>,
-    /// The original design's cost (the penalty when infeasible).
-    pub original_cost: f64,
-    /// The full solve of the original design.
-    pub original_result: Option<TrajectoryResult>,
-    /// Per generation: best, median, feasible count.
-    pub generations: Vec<GenerationSummary>,
-    /// Inner solves of the run (including replayed ones).
-    pub evaluations: usize,
-    /// Evaluations replayed from the log on resume.
-    pub replayed: usize,
-    /// Median wall time of an inner solve, s.
-    pub median_solve_seconds: f64,
-    /// Why CMA-ES stopped.
-    pub stop_reason: String,
-    /// Wall time of this invocation, s.
-    pub wall_seconds: f64,
-}
-
 struct Bar(ProgressBar);
 
 impl Progress for Bar {
@@ -134,25 +101,26 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
         ftol: 1e-6,
         xtol: 1e-6,
     };
-    let inputs = serde_json::json!({
-        "task_file": args.model.task.display().to_string(),
-        "task": task,
-        "space": args.space,
-        "payload_kg": task.payload.mass_kg,
-        "limit_modes": modes,
-        "seed": args.seed,
-        "population": args.population,
-        "generations": args.generations,
-        "sigma0": args.sigma,
-        "penalty": args.penalty,
-        "ftol": settings.ftol,
-        "xtol": settings.xtol,
-    });
+    let inputs = OptimizeInputs {
+        task_file: args.model.task.display().to_string(),
+        task: task.clone(),
+        space: args.space,
+        payload_kg: task.payload.mass_kg,
+        limit_modes: modes,
+        seed: args.seed,
+        population: args.population,
+        generations: args.generations,
+        sigma0: args.sigma,
+        penalty: args.penalty,
+        ftol: settings.ftol,
+        xtol: settings.xtol,
+    };
+    let header = serde_json::to_value(&inputs).map_err(|e| e.to_string())?;
     let log_file = log_path(out);
     let (mut log, finished) = if args.resume {
-        EvaluationLog::resume(&log_file, inputs.clone())?
+        EvaluationLog::resume(&log_file, header)?
     } else {
-        (EvaluationLog::create(&log_file, inputs.clone())?, Default::default())
+        (EvaluationLog::create(&log_file, header)?, Default::default())
     };
     let workers = args.workers.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     let program = std::env::current_exe().map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
@@ -189,6 +157,7 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
         original_result,
         generations: outcome.generations,
         evaluations: outcome.evaluations.len(),
+        costs: outcome.evaluations.iter().map(|e| e.cost).collect(),
         replayed: outcome.replayed,
         median_solve_seconds: seconds.get(seconds.len() / 2).copied().unwrap_or(f64::NAN),
         stop_reason: outcome.stop_reason,

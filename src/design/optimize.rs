@@ -81,34 +81,33 @@ pub fn optimize(
         replayed: 0,
         stop_reason: String::new(),
     };
-    let mut generation = 0;
-    loop {
-        let designs = if generation == 0 { cmaes.initial_population() } else { cmaes.ask() };
-        let evaluations = evaluate_generation(generation, &designs, pool, log, finished, &mut outcome, progress)?;
-        let costs: Vec<f64> = evaluations.iter().map(|e| e.cost).collect();
-        if generation == 0 {
-            cmaes.tell_initial(&costs);
-        } else {
-            cmaes.tell(&costs);
-        }
-        outcome.generations.push(GenerationSummary {
-            generation,
-            best: costs.iter().copied().fold(f64::INFINITY, f64::min),
-            median: median(&costs),
-            feasible: evaluations.iter().filter(|e| e.feasible).count(),
-            evaluated: evaluations.len(),
-        });
-        outcome.evaluations.extend(evaluations);
-        if let Some(reason) = cmaes.stop_reason() {
-            outcome.stop_reason = reason.to_string();
-            break;
-        }
-        generation += 1;
+    let initial = cmaes.initial_population();
+    let mut evaluations = evaluate_generation(0, &initial, pool, log, finished, &mut outcome, progress)?;
+    cmaes.tell_initial(&record(0, evaluations, &mut outcome))?;
+    while let Some(designs) = cmaes.ask() {
+        let generation = cmaes.generation() + 1;
+        evaluations = evaluate_generation(generation, &designs, pool, log, finished, &mut outcome, progress)?;
+        cmaes.tell(&record(generation, evaluations, &mut outcome))?;
     }
-    let (best, cost) = cmaes.best();
+    outcome.stop_reason = cmaes.stop_reason().map_or_else(|| "stopped".to_owned(), |reason| reason.to_string());
+    let (best, cost) = cmaes.best().ok_or("CMA-ES has no best design")?;
     outcome.best_ratios = best.to_vec();
     outcome.best_cost = cost;
     Ok(outcome)
+}
+
+/// Adds a generation's evaluations to the outcome and returns their costs.
+fn record(generation: usize, evaluations: Vec<Evaluation>, outcome: &mut OptimizeOutcome) -> Vec<f64> {
+    let costs: Vec<f64> = evaluations.iter().map(|e| e.cost).collect();
+    outcome.generations.push(GenerationSummary {
+        generation,
+        best: costs.iter().copied().fold(f64::INFINITY, f64::min),
+        median: median(&costs),
+        feasible: evaluations.iter().filter(|e| e.feasible).count(),
+        evaluated: evaluations.len(),
+    });
+    outcome.evaluations.extend(evaluations);
+    costs
 }
 
 fn evaluate_generation(
