@@ -3,7 +3,9 @@
 mod common;
 mod doctor;
 mod optimize;
+mod reproduce;
 mod solve;
+mod table;
 mod worker;
 
 use clap::{Parser, Subcommand};
@@ -25,6 +27,10 @@ enum Command {
     Solve(solve::Args),
     /// Co-design: search the gear ratios with CMA-ES, solving each design in worker processes.
     Optimize(optimize::Args),
+    /// Reproduce the paper's experiment: original designs, co-design per payload, table, plots.
+    Reproduce(reproduce::Args),
+    /// Rebuild the paper's table from result files of `solve` and `optimize`.
+    Table(table::Args),
     /// Evaluate designs sent on stdin (the worker process of `optimize`; not for direct use).
     #[command(hide = true)]
     Worker,
@@ -38,6 +44,8 @@ pub fn main() -> ExitCode {
         Command::Doctor(args) => doctor::run(&args),
         Command::Solve(args) => solve::run(&args),
         Command::Optimize(args) => optimize::run(&args),
+        Command::Reproduce(args) => reproduce::run(&args),
+        Command::Table(args) => table::run(&args),
         Command::Worker => worker::run(),
     };
     match outcome {
