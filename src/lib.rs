@@ -4,5 +4,6 @@
 //! IPOPT solve, the design loop, and the reports.
 
 pub mod cli;
+pub mod dynamics;
 pub mod ipopt;
 pub mod model;
