@@ -8,3 +8,6 @@ mod urdf;
 
 pub use error::ModelError;
 pub use robot::Robot;
+
+#[cfg(test)]
+mod tests;

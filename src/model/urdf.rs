@@ -159,8 +159,8 @@ impl<'a> Tree<'a> {
                             return Err(self.error(
                                 element,
                                 format!(
-                                    "moves a second body from link '{}', whose body joint '{taken}' \
-                                     already moves: only serial chains are supported",
+                                    "is a second moving joint on the body of link '{}', which \
+                                     already carries joint '{taken}': only serial chains are supported",
                                     self.robot.links[link].name
                                 ),
                             ));
