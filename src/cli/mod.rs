@@ -1,6 +1,7 @@
 //! The command line: one subcommand per module, each a thin layer over the library.
 
 mod doctor;
+mod dynamics;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -17,6 +18,8 @@ pub struct Cli {
 enum Command {
     /// Check the installation: IPOPT version, a solve of HS071, IPOPT's derivative checker.
     Doctor(doctor::Args),
+    /// Evaluate the robot's dynamics and TCP kinematics, with derivatives, at one state (JSON).
+    Dynamics(dynamics::Args),
 }
 
 /// Parses the command line, runs the subcommand, prints any error on stderr and returns the
@@ -25,6 +28,7 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Command::Doctor(args) => doctor::run(&args),
+        Command::Dynamics(args) => dynamics::run(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
