@@ -45,8 +45,17 @@ fn prints_a_reference_sample() {
     let case = &vectors["cases"][1];
     let sample: &Map<String, Value> = case["samples"][3].as_object().unwrap();
     let payload = case["payload_kg"].as_f64().unwrap();
-    let mut args = vec!["dynamics".to_owned(), "--payload".to_owned(), payload.to_string()];
-    for (flag, key) in [("--q", "q"), ("--v", "v"), ("--a", "a"), ("--lambda", "lambda_")] {
+    let mut args = vec![
+        "dynamics".to_owned(),
+        "--payload".to_owned(),
+        payload.to_string(),
+    ];
+    for (flag, key) in [
+        ("--q", "q"),
+        ("--v", "v"),
+        ("--a", "a"),
+        ("--lambda", "lambda_"),
+    ] {
         args.push(flag.to_owned());
         args.push(list(&sample[key]));
     }
@@ -83,8 +92,14 @@ fn bad_input_is_refused_naming_the_flag() {
         (vec!["--q", "0.1,0.2,0.3"], "--q has 3 values"),
         (vec!["--q", "0,0,0,0", "--v", "1,NaN,0,0"], "--v: value 2"),
         (vec!["--q", "0,0,0,0", "--payload", "-2"], "--payload"),
-        (vec!["--q", "0,0,0,0", "--robot", "absent.urdf"], "absent.urdf"),
-        (vec!["--q", "0,0,0,0", "--task", "absent.json"], "absent.json"),
+        (
+            vec!["--q", "0,0,0,0", "--robot", "absent.urdf"],
+            "absent.urdf",
+        ),
+        (
+            vec!["--q", "0,0,0,0", "--task", "absent.json"],
+            "absent.json",
+        ),
         (vec!["--q", "0,zero,0,0"], "--q"),
     ];
     for (flags, expected) in cases {

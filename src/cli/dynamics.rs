@@ -12,7 +12,11 @@ use std::path::PathBuf;
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Task file (JSON) giving the URDF, gravity, tool point and payload point.
-    #[arg(long, value_name = "FILE", default_value = "robots/tasks/pick_place.json")]
+    #[arg(
+        long,
+        value_name = "FILE",
+        default_value = "robots/tasks/pick_place.json"
+    )]
     task: PathBuf,
     /// URDF of the robot; overrides the task's `robot`.
     #[arg(long, value_name = "URDF")]
@@ -21,16 +25,37 @@ pub struct Args {
     #[arg(long, value_name = "KG", allow_negative_numbers = true)]
     payload: Option<f64>,
     /// Joint positions, rad, one per joint, comma-separated.
-    #[arg(long, value_name = "Q1,Q2,..", value_delimiter = ',', allow_hyphen_values = true, required = true)]
+    #[arg(
+        long,
+        value_name = "Q1,Q2,..",
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        required = true
+    )]
     q: Vec<f64>,
     /// Joint velocities, rad/s [default: 0].
-    #[arg(long, value_name = "V1,V2,..", value_delimiter = ',', allow_hyphen_values = true)]
+    #[arg(
+        long,
+        value_name = "V1,V2,..",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
     v: Option<Vec<f64>>,
     /// Joint accelerations, rad/s^2 [default: 0].
-    #[arg(long, value_name = "A1,A2,..", value_delimiter = ',', allow_hyphen_values = true)]
+    #[arg(
+        long,
+        value_name = "A1,A2,..",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
     a: Option<Vec<f64>>,
     /// Weights of the joint torques in the Hessian of lambda . tau [default: 0].
-    #[arg(long, value_name = "L1,L2,..", value_delimiter = ',', allow_hyphen_values = true)]
+    #[arg(
+        long,
+        value_name = "L1,L2,..",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
     lambda: Option<Vec<f64>>,
 }
 

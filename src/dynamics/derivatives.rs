@@ -91,7 +91,10 @@ impl Dynamics {
             let m_j = &motion[j];
             tau[j] = s_j.dot(&m_j.f);
             // Column j above the diagonal: S_i . (force of joint j's carried bodies).
-            let by_q = s_j.cross_force(&m_j.f) + m_j.ic_sdd + m_j.ic_rate_sd + m_j.sd.cross_force(&m_j.momentum);
+            let by_q = s_j.cross_force(&m_j.f)
+                + m_j.ic_sdd
+                + m_j.ic_rate_sd
+                + m_j.sd.cross_force(&m_j.momentum);
             let by_v = m_j.ic_sd * 2.0 + m_j.ic_rate_s + s_j.cross_force(&m_j.momentum);
             for i in 0..j {
                 let s_i = &frames[i].s;

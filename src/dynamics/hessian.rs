@@ -53,7 +53,11 @@ impl Dynamics {
         for i in 0..n {
             let s_i = &frames[i].s;
             let (m_i, l_i) = (&motion[i], &adjoint[i]);
-            let v_before = if i == 0 { Motion::default() } else { motion[i - 1].v };
+            let v_before = if i == 0 {
+                Motion::default()
+            } else {
+                motion[i - 1].v
+            };
             for j in 0..n {
                 let s_j = &frames[j].s;
                 let (m_j, l_j) = (&motion[j], &adjoint[j]);

@@ -64,7 +64,13 @@ impl Dynamics {
     }
 
     /// RNEA at q with v and a, each 0 when None.
-    fn inverse_dynamics(&mut self, q: &[f64], v: Option<&[f64]>, a: Option<&[f64]>, tau: &mut [f64]) {
+    fn inverse_dynamics(
+        &mut self,
+        q: &[f64],
+        v: Option<&[f64]>,
+        a: Option<&[f64]>,
+        tau: &mut [f64],
+    ) {
         self.expect_joints("the torque output", tau);
         self.update_frames(q);
         let mut v_parent = Motion::default();
@@ -96,7 +102,7 @@ fn cholesky_in_place(matrix: &mut DMatrix<f64>) -> bool {
         for k in 0..j {
             diagonal -= matrix[(j, k)] * matrix[(j, k)];
         }
-        if !(diagonal > 0.0) {
+        if !(diagonal.is_finite() && diagonal > 0.0) {
             return false;
         }
         let root = diagonal.sqrt();

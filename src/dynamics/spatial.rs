@@ -227,7 +227,10 @@ mod tests {
     use nalgebra::{Matrix6, Rotation3, Vector6};
 
     fn motion(x: [f64; 6]) -> Motion {
-        Motion::new(Vector3::new(x[0], x[1], x[2]), Vector3::new(x[3], x[4], x[5]))
+        Motion::new(
+            Vector3::new(x[0], x[1], x[2]),
+            Vector3::new(x[3], x[4], x[5]),
+        )
     }
 
     fn m6(m: &Motion) -> Vector6<f64> {
@@ -251,9 +254,12 @@ mod tests {
 
     fn crm(m: &Motion) -> Matrix6<f64> {
         let mut out = Matrix6::zeros();
-        out.fixed_view_mut::<3, 3>(0, 0).copy_from(&m.ang.cross_matrix());
-        out.fixed_view_mut::<3, 3>(3, 3).copy_from(&m.ang.cross_matrix());
-        out.fixed_view_mut::<3, 3>(3, 0).copy_from(&m.lin.cross_matrix());
+        out.fixed_view_mut::<3, 3>(0, 0)
+            .copy_from(&m.ang.cross_matrix());
+        out.fixed_view_mut::<3, 3>(3, 3)
+            .copy_from(&m.ang.cross_matrix());
+        out.fixed_view_mut::<3, 3>(3, 0)
+            .copy_from(&m.lin.cross_matrix());
         out
     }
 

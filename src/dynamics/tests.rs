@@ -14,7 +14,11 @@ fn default_task() -> Task {
 }
 
 fn belt_arm(payload_kg: f64) -> Dynamics {
-    Dynamics::new(Robot::load(&default_task()).unwrap().with_payload(payload_kg))
+    Dynamics::new(
+        Robot::load(&default_task())
+            .unwrap()
+            .with_payload(payload_kg),
+    )
 }
 
 /// A small deterministic generator (SplitMix64) for random states and models.
@@ -130,14 +134,22 @@ fn every_field_of_every_reference_sample_agrees() {
             check("tau (rnea_derivatives)", vector(&tau), &vector(&s.tau));
             check("dtau_dq", rows(&dq), &s.dtau_dq);
             check("dtau_dv", rows(&dv), &s.dtau_dv);
-            check("mass_matrix (rnea_derivatives)", rows(&mass), &s.mass_matrix);
+            check(
+                "mass_matrix (rnea_derivatives)",
+                rows(&mass),
+                &s.mass_matrix,
+            );
             dynamics.rnea(&s.q, &s.v, &s.a, &mut tau);
             check("tau", vector(&tau), &vector(&s.tau));
             dynamics.mass_matrix(&s.q, &mut mass);
             check("mass_matrix", rows(&mass), &s.mass_matrix);
             let mut b = vec![0.0; n];
             dynamics.nonlinear_effects(&s.q, &s.v, &mut b);
-            check("nonlinear_effects", vector(&b), &vector(&s.nonlinear_effects));
+            check(
+                "nonlinear_effects",
+                vector(&b),
+                &vector(&s.nonlinear_effects),
+            );
             dynamics.gravity_torques(&s.q, &mut b);
             check("gravity", vector(&b), &vector(&s.gravity));
             let mut a = vec![0.0; n];
@@ -148,11 +160,19 @@ fn every_field_of_every_reference_sample_agrees() {
                 &vector(&s.forward_dynamics_of_tau),
             );
             let p = dynamics.tcp_position(&s.q);
-            check("tcp_position", vector(p.as_slice()), &vector(&s.tcp_position));
+            check(
+                "tcp_position",
+                vector(p.as_slice()),
+                &vector(&s.tcp_position),
+            );
             let mut jacobian = DMatrix::zeros(3, n);
             dynamics.tcp_jacobian(&s.q, &mut jacobian);
             check("tcp_jacobian", rows(&jacobian), &s.tcp_jacobian);
-            let mut hessians = [DMatrix::zeros(n, n), DMatrix::zeros(n, n), DMatrix::zeros(n, n)];
+            let mut hessians = [
+                DMatrix::zeros(n, n),
+                DMatrix::zeros(n, n),
+                DMatrix::zeros(n, n),
+            ];
             dynamics.tcp_hessians(&s.q, &mut hessians);
             check("tcp_hessian_y", rows(&hessians[1]), &s.tcp_hessian_y);
             check("tcp_hessian_z", rows(&hessians[2]), &s.tcp_hessian_z);
@@ -170,7 +190,7 @@ fn every_field_of_every_reference_sample_agrees() {
 /// in the middle of a body and a continuous joint.
 fn random_chain_urdf(random: &mut Random) -> String {
     let mut text = String::from("<robot name=\"random\">\n");
-    let mut link = |name: &str, random: &mut Random| {
+    let link = |name: &str, random: &mut Random| {
         // Principal moments meeting the triangle inequality, turned by a random rotation.
         let principal = [
             random.uniform(0.01, 0.05),
@@ -251,11 +271,7 @@ fn random_chain(payload_kg: f64) -> Dynamics {
 }
 
 /// Central differences of `f` (R^m -> R^k) at x, column per input.
-fn central_differences(
-    x: &[f64],
-    k: usize,
-    mut f: impl FnMut(&[f64], &mut [f64]),
-) -> DMatrix<f64> {
+fn central_differences(x: &[f64], k: usize, mut f: impl FnMut(&[f64], &mut [f64])) -> DMatrix<f64> {
     let step = 1e-6;
     let mut out = DMatrix::zeros(k, x.len());
     let (mut plus, mut minus) = (vec![0.0; k], vec![0.0; k]);
@@ -326,7 +342,13 @@ fn check_against_differences(mut dynamics: Dynamics, seed: u64) {
         assert_matrix("g", &column(&g), &column(&expected), 1e-13, 0.0);
         let mut solved = vec![0.0; n];
         dynamics.forward_dynamics(&q, &v, &tau, &mut solved);
-        assert_matrix("forward dynamics", &column(&solved), &column(&a), 1e-10, 0.0);
+        assert_matrix(
+            "forward dynamics",
+            &column(&solved),
+            &column(&a),
+            1e-10,
+            0.0,
+        );
 
         // The Hessian against differences of the analytic gradient (lambda^T of each derivative).
         let mut hessian = DMatrix::zeros(3 * n, 3 * n);
@@ -362,7 +384,11 @@ fn check_against_differences(mut dynamics: Dynamics, seed: u64) {
             out.copy_from_slice(position_of.tcp_position(x).as_slice())
         });
         assert_matrix("TCP Jacobian", &jacobian, &fd, 1e-8, 1e-9);
-        let mut hessians = [DMatrix::zeros(n, n), DMatrix::zeros(n, n), DMatrix::zeros(n, n)];
+        let mut hessians = [
+            DMatrix::zeros(n, n),
+            DMatrix::zeros(n, n),
+            DMatrix::zeros(n, n),
+        ];
         dynamics.tcp_hessians(&q, &mut hessians);
         for (axis, hessian) in hessians.iter().enumerate() {
             let mut jacobian_of = dynamics.clone();

@@ -83,7 +83,10 @@ fn fixed_joints_merge_mass_properties_and_keep_link_frames() {
     task.payload.at.link = "b".into();
     let robot = Robot::from_urdf_str(two_links, "two.urdf", &task).unwrap();
     assert_eq!(robot.dof(), 1);
-    assert_eq!(robot.position_limits(), [(f64::NEG_INFINITY, f64::INFINITY)]);
+    assert_eq!(
+        robot.position_limits(),
+        [(f64::NEG_INFINITY, f64::INFINITY)]
+    );
     assert_eq!(robot.chain().bodies[0].axis, Vector3::y());
     // By hand: mass 4 at (0.25, 0, 0); b's inertia turned by 90 degrees about z is
     // diag(0.2, 0.3, 0.1); each half adds 2 * 0.25^2 about y and z.
@@ -95,7 +98,11 @@ fn fixed_joints_merge_mass_properties_and_keep_link_frames() {
     let got = robot.chain().bodies[0].mass;
     assert_eq!(got.mass, expected.mass);
     assert!((got.com - expected.com).norm() < 1e-15);
-    assert!((got.inertia - expected.inertia).norm() < 1e-15, "{}", got.inertia);
+    assert!(
+        (got.inertia - expected.inertia).norm() < 1e-15,
+        "{}",
+        got.inertia
+    );
     // The tool link sits 0.1 m along b's y, which is -x of a: at (0.4, 0, 0) in the body frame.
     assert!((robot.tcp().point - Vector3::new(0.4, 0.0, 0.0)).norm() < 1e-15);
     assert!((robot.payload_point().point - Vector3::new(0.5, 0.0, 0.15)).norm() < 1e-15);
@@ -203,7 +210,9 @@ fn unknown_task_links_and_unreadable_files_are_named() {
     task.tcp.link = "link_9".into();
     let message = Robot::load(&task).unwrap_err().to_string();
     assert!(
-        message.contains("belt_arm.urdf") && message.contains("task tcp.link") && message.contains("'link_9'"),
+        message.contains("belt_arm.urdf")
+            && message.contains("task tcp.link")
+            && message.contains("'link_9'"),
         "{message}"
     );
     let mut task = self::task();
@@ -217,10 +226,18 @@ fn unknown_task_links_and_unreadable_files_are_named() {
         message.starts_with("/nonexistent/arm.urdf: file: cannot read"),
         "{message}"
     );
-    let message = load("<robot name=\"r\"><link name=\"a\"").unwrap_err().to_string();
-    assert!(message.contains("test.urdf: robot: not a readable URDF"), "{message}");
+    let message = load("<robot name=\"r\"><link name=\"a\"")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("test.urdf: robot: not a readable URDF"),
+        "{message}"
+    );
     let message = load("<robot name=\"r\"><link name=\"a\"/></robot>")
         .unwrap_err()
         .to_string();
-    assert!(message.contains("no revolute or continuous joint"), "{message}");
+    assert!(
+        message.contains("no revolute or continuous joint"),
+        "{message}"
+    );
 }

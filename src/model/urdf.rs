@@ -40,7 +40,10 @@ impl<'a> Tree<'a> {
         let mut link_index = HashMap::new();
         for (i, link) in robot.links.iter().enumerate() {
             if link_index.insert(link.name.as_str(), i).is_some() {
-                return Err(error(format!("link '{}'", link.name), "is declared twice".into()));
+                return Err(error(
+                    format!("link '{}'", link.name),
+                    "is declared twice".into(),
+                ));
             }
         }
         if robot.links.is_empty() {
@@ -181,10 +184,7 @@ impl<'a> Tree<'a> {
             }
         }
         if chain.bodies.is_empty() {
-            return Err(self.error(
-                "robot".into(),
-                "has no revolute or continuous joint".into(),
-            ));
+            return Err(self.error("robot".into(), "has no revolute or continuous joint".into()));
         }
         for (i, body) in chain.bodies.iter().enumerate() {
             if body.mass.mass <= 0.0 {
@@ -317,7 +317,11 @@ fn pose(origin: &Pose) -> Option<Placement> {
     let [roll, pitch, yaw] = origin.rpy.0;
     let translation = Vector3::from(origin.xyz.0);
     let rotation = Rotation3::from_euler_angles(roll, pitch, yaw).into_inner();
-    (translation.iter().chain(origin.rpy.0.iter()).all(|v| v.is_finite())).then_some(Placement {
+    (translation
+        .iter()
+        .chain(origin.rpy.0.iter())
+        .all(|v| v.is_finite()))
+    .then_some(Placement {
         rotation,
         translation,
     })
@@ -342,8 +346,7 @@ fn loop_through(robot: &urdf_rs::Robot, parent_joint: &[Option<usize>], start: u
     }
     let first = link;
     let mut names = Vec::new();
-    loop {
-        let Some(j) = parent_joint[link] else { break };
+    while let Some(j) = parent_joint[link] {
         names.push(format!("'{}'", robot.joints[j].name));
         match link_of(&robot.joints[j].parent.link) {
             Some(parent) if parent != first => link = parent,
