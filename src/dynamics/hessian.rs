@@ -131,7 +131,6 @@ impl Dynamics {
             j += inertia.rate(lambda);
             body.p = p;
             body.psi = psi;
-            body.j = j;
             body.ic_sigma = m.ic.apply(&body.sigma);
             body.ic_rate_sigma = m.ic_rate.apply(&body.sigma);
             body.j_s = j.apply(&frame.s);

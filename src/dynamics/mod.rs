@@ -98,11 +98,10 @@ struct BodyAdjoint {
     /// Lambda_i = sum_(k <= i) lambda_k S_k, and sigma_i = Lambda_(i-1) x S_i.
     lambda: Motion,
     sigma: Motion,
-    /// Composites over k >= i: P_i = sum I_k Lambda_k, psi_i and J_i = sum rate of I_k under Lambda_k.
+    /// Composites over k >= i: P_i = sum I_k Lambda_k and psi_i.
     p: Force,
     psi: Force,
-    j: Inertia,
-    /// Applied to the body's own vectors.
+    /// IC_i, dIC_i and J_i = sum_(k >= i) rate(I_k, Lambda_k) applied to the body's own vectors.
     ic_sigma: Force,
     ic_rate_sigma: Force,
     j_s: Force,

@@ -80,14 +80,6 @@ impl Add for Motion {
     }
 }
 
-impl Sub for Motion {
-    type Output = Motion;
-    #[inline]
-    fn sub(self, m: Motion) -> Motion {
-        Motion::new(self.ang - m.ang, self.lin - m.lin)
-    }
-}
-
 impl Mul<f64> for Motion {
     type Output = Motion;
     #[inline]
@@ -204,15 +196,6 @@ impl AddAssign for Inertia {
         self.mass += other.mass;
         self.first_moment += other.first_moment;
         self.rotational += other.rotational;
-    }
-}
-
-impl Add for Inertia {
-    type Output = Inertia;
-    #[inline]
-    fn add(mut self, other: Inertia) -> Inertia {
-        self += other;
-        self
     }
 }
 
