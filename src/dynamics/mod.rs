@@ -25,6 +25,10 @@ use nalgebra::{DMatrix, Matrix3, Vector3};
 use spatial::{Force, Inertia, Motion};
 
 /// The dynamics of a [`Robot`], with preallocated scratch space for allocation-free evaluation.
+///
+/// # Panics
+/// Every method panics if a joint slice (q, v, a, lambda, tau, ...) does not have `dof()`
+/// entries: that is a bug of the caller (the command line checks user input before calling).
 #[derive(Clone, Debug)]
 pub struct Dynamics {
     robot: Robot,

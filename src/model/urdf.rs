@@ -12,7 +12,7 @@
 use super::chain::{Body, Chain, LinkFrame, MassProperties, Placement};
 use super::error::ModelError;
 use nalgebra::{Matrix3, Rotation3, Vector3};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use urdf_rs::{JointType, Pose};
 
 /// Reads the URDF text `urdf`; `file` names it in errors.
@@ -49,13 +49,13 @@ impl<'a> Tree<'a> {
         if robot.links.is_empty() {
             return Err(error("robot".into(), "has no <link>".into()));
         }
-        let mut joint_names = HashMap::new();
+        let mut joint_names = HashSet::new();
         let mut child_joints = vec![Vec::new(); robot.links.len()];
         let mut parent_joint: Vec<Option<usize>> = vec![None; robot.links.len()];
         let mut child_link = Vec::with_capacity(robot.joints.len());
         for (j, joint) in robot.joints.iter().enumerate() {
             let element = format!("joint '{}'", joint.name);
-            if joint_names.insert(joint.name.as_str(), j).is_some() {
+            if !joint_names.insert(joint.name.as_str()) {
                 return Err(error(element, "is declared twice".into()));
             }
             let find = |role: &str, name: &str| {
