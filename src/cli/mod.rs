@@ -2,6 +2,7 @@
 
 mod common;
 mod doctor;
+mod dynamics;
 mod optimize;
 mod reproduce;
 mod solve;
@@ -23,6 +24,8 @@ pub struct Cli {
 enum Command {
     /// Check the installation: IPOPT version, a solve of HS071, IPOPT's derivative checker.
     Doctor(doctor::Args),
+    /// Evaluate the robot's dynamics and TCP kinematics, with derivatives, at one state (JSON).
+    Dynamics(dynamics::Args),
     /// Solve the trajectory problem of one design and report cost, feasibility and trajectory.
     Solve(solve::Args),
     /// Co-design: search the gear ratios with CMA-ES, solving each design in worker processes.
@@ -42,6 +45,7 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Command::Doctor(args) => doctor::run(&args),
+        Command::Dynamics(args) => dynamics::run(&args),
         Command::Solve(args) => solve::run(&args),
         Command::Optimize(args) => optimize::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
