@@ -4,7 +4,7 @@
 //! returns a [`TrajectoryResult`]: status, feasibility, cost, timing, the trajectory with joint and
 //! motor torques and the TCP path, and the largest violation of each constraint family.
 
-use crate::ipopt::{self, Nlp, Options, Solution};
+use crate::ipopt::{self, Options, Solution};
 use crate::problem::{Formulation, Space, TrajectoryProblem};
 use crate::transmission::{DesignError, JointLimits};
 use serde::{Deserialize, Serialize};
