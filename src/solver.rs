@@ -119,15 +119,25 @@ pub struct TrajectoryResult {
     pub trajectory: Trajectory,
 }
 
-/// IPOPT options of a trajectory solve: the task's `tol` and `max_iter`, exact Hessian, MUMPS.
+/// IPOPT options of a trajectory solve: exact Hessian, MUMPS, the task's `tol`, `max_iter` and
+/// further `options` (validated when the task was loaded).
 pub fn ipopt_options(formulation: &Formulation, settings: &SolveSettings) -> Options {
     let solver = &formulation.task().solver;
-    Options::new()
-        .num("tol", solver.tol)
-        .int("max_iter", i32::try_from(solver.max_iter).unwrap_or(i32::MAX))
+    let mut options = Options::new()
         .str("hessian_approximation", "exact")
         .str("linear_solver", "mumps")
-        .verbose(settings.verbose)
+        .num("tol", solver.tol)
+        .int("max_iter", i32::try_from(solver.max_iter).unwrap_or(i32::MAX))
+        .verbose(settings.verbose);
+    for (name, value) in &solver.options {
+        options = match (value.as_i64().and_then(|v| i32::try_from(v).ok()), value.as_f64(), value.as_str()) {
+            (Some(integer), _, _) => options.int(name, integer),
+            (None, Some(number), _) => options.num(name, number),
+            (None, None, Some(text)) => options.str(name, text),
+            _ => options,
+        };
+    }
+    options
 }
 
 /// Solves the trajectory problem of design `ratios` from the SPEC's initial guess.
