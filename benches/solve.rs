@@ -15,18 +15,21 @@ fn median(mut samples: Vec<f64>) -> f64 {
 }
 
 fn main() {
-    let task = Task::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json"))
-        .expect("the default task loads");
+    let task =
+        Task::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json"))
+            .expect("the default task loads");
     for space in [Space::Actuation, Space::Joint] {
         let robot = Robot::load(&task).expect("the robot loads");
-        let formulation = Formulation::new(&task, robot, space, task.limit_modes).expect("formulation");
+        let formulation =
+            Formulation::new(&task, robot, space, task.limit_modes).expect("formulation");
         let original = task.transmission.original.clone();
         let settings = SolveSettings::default();
         for _ in 0..3 {
             solve_design(&formulation, &original, &settings).expect("solves");
         }
-        let runs: Vec<_> =
-            (0..30).map(|_| solve_design(&formulation, &original, &settings).expect("solves")).collect();
+        let runs: Vec<_> = (0..30)
+            .map(|_| solve_design(&formulation, &original, &settings).expect("solves"))
+            .collect();
         let total = median(runs.iter().map(|r| r.solve_seconds.total).collect());
         let callbacks = median(runs.iter().map(|r| r.solve_seconds.callbacks).collect());
         let ipopt = median(runs.iter().map(|r| r.solve_seconds.ipopt).collect());

@@ -127,10 +127,17 @@ pub fn ipopt_options(formulation: &Formulation, settings: &SolveSettings) -> Opt
         .str("hessian_approximation", "exact")
         .str("linear_solver", "mumps")
         .num("tol", solver.tol)
-        .int("max_iter", i32::try_from(solver.max_iter).unwrap_or(i32::MAX))
+        .int(
+            "max_iter",
+            i32::try_from(solver.max_iter).unwrap_or(i32::MAX),
+        )
         .verbose(settings.verbose);
     for (name, value) in &solver.options {
-        options = match (value.as_i64().and_then(|v| i32::try_from(v).ok()), value.as_f64(), value.as_str()) {
+        options = match (
+            value.as_i64().and_then(|v| i32::try_from(v).ok()),
+            value.as_f64(),
+            value.as_str(),
+        ) {
             (Some(integer), _, _) => options.int(name, integer),
             (None, Some(number), _) => options.num(name, number),
             (None, None, Some(text)) => options.str(name, text),
@@ -195,7 +202,9 @@ fn read_result(problem: &mut TrajectoryProblem<'_>, solution: &Solution) -> Traj
             let tau = problem.joint_torques(&u);
             let mut rnea = vec![0.0; n];
             dynamics.rnea(&q, &v, &a, &mut rnea);
-            violations.dynamics = violations.dynamics.max(max_abs(rnea.iter().zip(&tau).map(|(r, t)| r - t)));
+            violations.dynamics = violations
+                .dynamics
+                .max(max_abs(rnea.iter().zip(&tau).map(|(r, t)| r - t)));
             let q_next = slice(layout.q(k + 1, 0));
             let v_next = slice(layout.v(k + 1, 0));
             for i in 0..n {
@@ -214,16 +223,25 @@ fn read_result(problem: &mut TrajectoryProblem<'_>, solution: &Solution) -> Traj
     for (k, pose) in [(0, &task.motion.start), (steps, &task.motion.goal)] {
         violations.boundary = violations
             .boundary
-            .max(max_abs(trajectory.q[k].iter().zip(pose.iter()).map(|(q, p)| q - p)))
+            .max(max_abs(
+                trajectory.q[k].iter().zip(pose.iter()).map(|(q, p)| q - p),
+            ))
             .max(max_abs(trajectory.v[k].iter().copied()));
     }
     let modes = f.modes();
     let speed = coupling.speed_limits(modes.speed, task.motors.speed_limit_rad_s);
-    violations.speed_limits = trajectory.v.iter().map(|v| limit_violation(&speed, v)).fold(0.0, f64::max);
+    violations.speed_limits = trajectory
+        .v
+        .iter()
+        .map(|v| limit_violation(&speed, v))
+        .fold(0.0, f64::max);
     let control = match f.space() {
         Space::Actuation => {
             let t = task.motors.torque_limit_nm;
-            JointLimits::Box { lower: vec![-t; n], upper: vec![t; n] }
+            JointLimits::Box {
+                lower: vec![-t; n],
+                upper: vec![t; n],
+            }
         }
         Space::Joint => coupling.torque_limits(modes.torque, task.motors.torque_limit_nm),
     };
@@ -243,8 +261,16 @@ fn read_result(problem: &mut TrajectoryProblem<'_>, solution: &Solution) -> Traj
             callbacks: solution.timing.callbacks.as_secs_f64(),
             ipopt: solution.timing.ipopt.as_secs_f64(),
         },
-        max_motor_torque: trajectory.motor_torque.iter().flatten().fold(0.0, |m, t| m.max(t.abs())),
-        max_motor_speed: trajectory.motor_speed.iter().flatten().fold(0.0, |m, w| m.max(w.abs())),
+        max_motor_torque: trajectory
+            .motor_torque
+            .iter()
+            .flatten()
+            .fold(0.0, |m, t| m.max(t.abs())),
+        max_motor_speed: trajectory
+            .motor_speed
+            .iter()
+            .flatten()
+            .fold(0.0, |m, w| m.max(w.abs())),
         violations,
         trajectory,
     }
@@ -260,7 +286,10 @@ fn limit_violation(limits: &JointLimits, values: &[f64]) -> f64 {
             .fold(0.0, f64::max),
         JointLimits::Linear { matrix, limit } => {
             let mapped = matrix * nalgebra::DVector::from_column_slice(values);
-            mapped.iter().map(|m| outside(*m, -limit, *limit)).fold(0.0, f64::max)
+            mapped
+                .iter()
+                .map(|m| outside(*m, -limit, *limit))
+                .fold(0.0, f64::max)
         }
     }
 }

@@ -23,7 +23,12 @@ fn reference_costs_are_reproduced() {
             other => panic!("unknown space {other}"),
         };
         task.payload.mass_kg = case["payload_kg"].as_f64().unwrap();
-        let ratios: Vec<f64> = case["ratios"].as_array().unwrap().iter().map(|r| r.as_f64().unwrap()).collect();
+        let ratios: Vec<f64> = case["ratios"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| r.as_f64().unwrap())
+            .collect();
         let robot = Robot::load(&task).unwrap();
         let formulation = Formulation::new(&task, robot, space, task.limit_modes).unwrap();
         let result = solve_design(&formulation, &ratios, &SolveSettings::default()).unwrap();
@@ -34,7 +39,15 @@ fn reference_costs_are_reproduced() {
             task.payload.mass_kg, result.status, result.iterations, case["iterations"], result.cost
         );
         assert_eq!(result.status, case["status"].as_str().unwrap());
-        assert!(relative < 1e-6, "J = {} against {expected}: relative error {relative:e}", result.cost);
-        assert!(result.violations.dynamics < 1e-6 && result.violations.integration < 1e-6, "{:?}", result.violations);
+        assert!(
+            relative < 1e-6,
+            "J = {} against {expected}: relative error {relative:e}",
+            result.cost
+        );
+        assert!(
+            result.violations.dynamics < 1e-6 && result.violations.integration < 1e-6,
+            "{:?}",
+            result.violations
+        );
     }
 }

@@ -7,7 +7,10 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("codesign-optimize-cli-{}-{name}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!(
+        "codesign-optimize-cli-{}-{name}",
+        std::process::id()
+    ));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
@@ -16,7 +19,15 @@ fn scratch(name: &str) -> PathBuf {
 fn start(out: &Path, resume: bool) -> Child {
     let mut command = Command::new(env!("CARGO_BIN_EXE_codesign"));
     command
-        .args(["optimize", "--space", "actuation", "--payload", "1", "--seed", "3"])
+        .args([
+            "optimize",
+            "--space",
+            "actuation",
+            "--payload",
+            "1",
+            "--seed",
+            "3",
+        ])
         .args(["--population", "8", "--generations", "3", "--workers", "2"])
         .arg("--out")
         .arg(out)
@@ -31,7 +42,11 @@ fn start(out: &Path, resume: bool) -> Child {
 
 fn finish(child: Child) {
     let output = child.wait_with_output().unwrap();
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
 }
 
 fn read(out: &Path) -> Value {
@@ -39,14 +54,18 @@ fn read(out: &Path) -> Value {
 }
 
 fn log_entries(out: &Path) -> usize {
-    std::fs::read_to_string(out.with_extension("log.jsonl")).map_or(0, |text| text.lines().count().saturating_sub(1))
+    std::fs::read_to_string(out.with_extension("log.jsonl"))
+        .map_or(0, |text| text.lines().count().saturating_sub(1))
 }
 
 /// Waits until the run's log holds at least `count` evaluations.
 fn wait_for_entries(out: &Path, count: usize) {
     let start = Instant::now();
     while log_entries(out) < count {
-        assert!(start.elapsed() < Duration::from_secs(300), "the run did not progress");
+        assert!(
+            start.elapsed() < Duration::from_secs(300),
+            "the run did not progress"
+        );
         std::thread::sleep(Duration::from_millis(20));
     }
 }
@@ -55,11 +74,20 @@ fn wait_for_entries(out: &Path, count: usize) {
 fn children(parent: u32) -> Vec<u32> {
     let mut found = Vec::new();
     for entry in std::fs::read_dir("/proc").unwrap().flatten() {
-        let Ok(pid) = entry.file_name().to_string_lossy().parse::<u32>() else { continue };
-        let Ok(stat) = std::fs::read_to_string(entry.path().join("stat")) else { continue };
+        let Ok(pid) = entry.file_name().to_string_lossy().parse::<u32>() else {
+            continue;
+        };
+        let Ok(stat) = std::fs::read_to_string(entry.path().join("stat")) else {
+            continue;
+        };
         // Fields after the command name, which is in parentheses: state, ppid, ...
         let after = &stat[stat.rfind(')').unwrap() + 2..];
-        if after.split_whitespace().nth(1).and_then(|p| p.parse::<u32>().ok()) == Some(parent) {
+        if after
+            .split_whitespace()
+            .nth(1)
+            .and_then(|p| p.parse::<u32>().ok())
+            == Some(parent)
+        {
             found.push(pid);
         }
     }
@@ -88,7 +116,11 @@ fn a_killed_worker_and_an_interrupted_run_change_nothing() {
     wait_for_entries(&killed, 5);
     let workers = children(child.id());
     assert!(!workers.is_empty(), "no worker processes found");
-    Command::new("kill").arg("-9").arg(workers[0].to_string()).status().unwrap();
+    Command::new("kill")
+        .arg("-9")
+        .arg(workers[0].to_string())
+        .status()
+        .unwrap();
     finish(child);
     same_result(&reference, &read(&killed));
 
@@ -99,7 +131,7 @@ fn a_killed_worker_and_an_interrupted_run_change_nothing() {
     child.kill().unwrap();
     child.wait().unwrap();
     let before = log_entries(&resumed);
-    assert!(before >= 12 && before < 32, "{before}");
+    assert!((12..32).contains(&before), "{before}");
     assert!(!resumed.exists());
     finish(start(&resumed, true));
     let result = read(&resumed);

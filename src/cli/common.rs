@@ -17,7 +17,7 @@ pub struct ModelArgs {
     #[arg(long, value_name = "URDF")]
     pub robot: Option<PathBuf>,
     /// Payload at the task's payload point, kg; overrides the task's `payload.mass_kg`.
-    #[arg(long, value_name = "KG")]
+    #[arg(long, value_name = "KG", allow_negative_numbers = true)]
     pub payload: Option<f64>,
 }
 
@@ -30,7 +30,9 @@ impl ModelArgs {
         }
         if let Some(payload) = self.payload {
             if !(payload.is_finite() && payload >= 0.0) {
-                return Err(format!("--payload {payload}: the payload must be a finite mass >= 0 kg"));
+                return Err(format!(
+                    "--payload {payload}: the payload must be a finite mass >= 0 kg"
+                ));
             }
             task.payload.mass_kg = payload;
         }

@@ -7,8 +7,8 @@ use crate::design::optimize::{optimize, Progress};
 use crate::design::workers::{Pool, WorkerSetup};
 use crate::model::task::{LimitMode, LimitModes};
 use crate::problem::{Formulation, Space};
-use crate::report::files::write_json;
 use crate::report::codesign::{OptimizeDocument, OptimizeInputs};
+use crate::report::files::write_json;
 use crate::report::trajectory::ToolInfo;
 use crate::solver::{solve_design, SolveSettings};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -87,12 +87,22 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
         return Err(format!("--penalty {}: must be finite", args.penalty));
     }
     if !(args.solve_timeout.is_finite() && args.solve_timeout > 0.0) {
-        return Err(format!("--solve-timeout {}: must be a positive number of seconds", args.solve_timeout));
+        return Err(format!(
+            "--solve-timeout {}: must be a positive number of seconds",
+            args.solve_timeout
+        ));
     }
-    let formulation = Formulation::new(&task, robot, args.space, modes).map_err(|e| e.to_string())?;
+    let formulation =
+        Formulation::new(&task, robot, args.space, modes).map_err(|e| e.to_string())?;
     let mut worker_task = task.clone();
-    worker_task.robot = std::fs::canonicalize(&task.robot).map_err(|e| format!("robot {}: {e}", task.robot.display()))?;
-    let setup = WorkerSetup { task: worker_task, space: args.space, modes, penalty: args.penalty };
+    worker_task.robot = std::fs::canonicalize(&task.robot)
+        .map_err(|e| format!("robot {}: {e}", task.robot.display()))?;
+    let setup = WorkerSetup {
+        task: worker_task,
+        space: args.space,
+        modes,
+        penalty: args.penalty,
+    };
     let settings = CmaesSettings {
         population: args.population,
         generations: args.generations,
@@ -120,19 +130,40 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
     let (mut log, finished) = if args.resume {
         EvaluationLog::resume(&log_file, header)?
     } else {
-        (EvaluationLog::create(&log_file, header)?, Default::default())
+        (
+            EvaluationLog::create(&log_file, header)?,
+            Default::default(),
+        )
     };
-    let workers = args.workers.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let program = std::env::current_exe().map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
-    let mut pool = Pool::new(program, &setup, workers, Duration::from_secs_f64(args.solve_timeout))?;
+    let workers = args
+        .workers
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let program = std::env::current_exe()
+        .map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
+    let mut pool = Pool::new(
+        program,
+        &setup,
+        workers,
+        Duration::from_secs_f64(args.solve_timeout),
+    )?;
     let bar = ProgressBar::new((args.population * (args.generations + 1)) as u64);
     bar.set_style(
         ProgressStyle::with_template("{prefix} [{elapsed_precise}] {bar:30} {pos}/{len} {msg}")
             .map_err(|e| e.to_string())?,
     );
-    bar.set_prefix(format!("{} {} kg seed {}", args.space, task.payload.mass_kg, args.seed));
+    bar.set_prefix(format!(
+        "{} {} kg seed {}",
+        args.space, task.payload.mass_kg, args.seed
+    ));
     let mut progress = Bar(bar);
-    let outcome = optimize(settings, formulation.transmission().bounds(), &mut pool, &mut log, &finished, &mut progress)?;
+    let outcome = optimize(
+        settings,
+        formulation.transmission().bounds(),
+        &mut pool,
+        &mut log,
+        &finished,
+        &mut progress,
+    )?;
     progress.0.finish();
     drop(pool);
 
@@ -144,7 +175,12 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
         Some(result) if result.feasible => result.cost,
         _ => args.penalty,
     };
-    let mut seconds: Vec<f64> = outcome.evaluations.iter().filter(|e| e.iterations > 0).map(|e| e.seconds).collect();
+    let mut seconds: Vec<f64> = outcome
+        .evaluations
+        .iter()
+        .filter(|e| e.iterations > 0)
+        .map(|e| e.seconds)
+        .collect();
     seconds.sort_by(f64::total_cmp);
     let document = OptimizeDocument {
         tool: ToolInfo::current(),
@@ -170,8 +206,14 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
 /// Runs `codesign optimize` and prints a summary.
 pub fn run(args: &Args) -> Result<(), String> {
     let out = args.out.clone().unwrap_or_else(|| {
-        let payload = args.model.payload.map_or_else(|| "task".to_owned(), |p| format!("{p}kg"));
-        PathBuf::from(format!("optimize-{}-{payload}-seed{}.json", args.space, args.seed))
+        let payload = args
+            .model
+            .payload
+            .map_or_else(|| "task".to_owned(), |p| format!("{p}kg"));
+        PathBuf::from(format!(
+            "optimize-{}-{payload}-seed{}.json",
+            args.space, args.seed
+        ))
     });
     let document = run_case(args, &out)?;
     println!(
@@ -184,6 +226,10 @@ pub fn run(args: &Args) -> Result<(), String> {
         document.median_solve_seconds * 1e3,
         document.stop_reason
     );
-    println!("result written to {} (evaluation log {})", out.display(), log_path(&out).display());
+    println!(
+        "result written to {} (evaluation log {})",
+        out.display(),
+        log_path(&out).display()
+    );
     Ok(())
 }

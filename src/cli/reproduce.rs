@@ -54,7 +54,13 @@ pub fn run(args: &Args) -> Result<(), String> {
     let seeds = args.seeds.unwrap_or(if args.quick { 2 } else { 5 });
     let population = args.population.unwrap_or(if args.quick { 16 } else { 100 });
     let generations = args.generations.unwrap_or(if args.quick { 8 } else { 30 });
-    let out_dir = args.out_dir.clone().unwrap_or_else(|| PathBuf::from(if args.quick { "results/quick" } else { "results" }));
+    let out_dir = args.out_dir.clone().unwrap_or_else(|| {
+        PathBuf::from(if args.quick {
+            "results/quick"
+        } else {
+            "results"
+        })
+    });
     for folder in ["original", "runs", "plots"] {
         create_folder(&out_dir.join(folder))?;
     }
@@ -66,15 +72,21 @@ pub fn run(args: &Args) -> Result<(), String> {
             let mut case_task = task.clone();
             case_task.payload.mass_kg = payload;
             let robot = Robot::load(&case_task).map_err(|e| e.to_string())?;
-            let formulation = Formulation::new(&case_task, robot, space, case_task.limit_modes).map_err(|e| e.to_string())?;
+            let formulation = Formulation::new(&case_task, robot, space, case_task.limit_modes)
+                .map_err(|e| e.to_string())?;
             let ratios = case_task.transmission.original.clone();
-            let result = solve_design(&formulation, &ratios, &SolveSettings::default()).map_err(|e| e.to_string())?;
+            let result = solve_design(&formulation, &ratios, &SolveSettings::default())
+                .map_err(|e| e.to_string())?;
             println!(
                 "original design, {space} space, {payload} kg: {} J = {:.4} ({} iterations)",
                 result.status, result.cost, result.iterations
             );
             let name = format!("{space}-{payload}kg");
-            write_plots(&out_dir.join("plots").join(format!("original-{name}")), &formulation, &result)?;
+            write_plots(
+                &out_dir.join("plots").join(format!("original-{name}")),
+                &formulation,
+                &result,
+            )?;
             let document = SolveDocument {
                 tool: ToolInfo::current(),
                 inputs: SolveInputs {
@@ -87,7 +99,10 @@ pub fn run(args: &Args) -> Result<(), String> {
                 },
                 result,
             };
-            write_json(&out_dir.join("original").join(format!("{name}.json")), &document)?;
+            write_json(
+                &out_dir.join("original").join(format!("{name}.json")),
+                &document,
+            )?;
             files.push(ResultFile::Solve(Box::new(document)));
         }
     }
@@ -97,7 +112,11 @@ pub fn run(args: &Args) -> Result<(), String> {
         for space in SPACES {
             for seed in 0..seeds {
                 let case = OptimizeArgs {
-                    model: ModelArgs { task: args.task.clone(), robot: None, payload: Some(payload) },
+                    model: ModelArgs {
+                        task: args.task.clone(),
+                        robot: None,
+                        payload: Some(payload),
+                    },
                     space,
                     seed,
                     population,
@@ -111,7 +130,9 @@ pub fn run(args: &Args) -> Result<(), String> {
                     out: None,
                     resume: args.resume,
                 };
-                let out = out_dir.join("runs").join(format!("{space}-{payload}kg-seed{seed}.json"));
+                let out = out_dir
+                    .join("runs")
+                    .join(format!("{space}-{payload}kg-seed{seed}.json"));
                 let document = run_case(&case, &out)?;
                 println!(
                     "co-design, {space} space, {payload} kg, seed {seed}: best r = {:?}, J = {:.4} ({} evaluations)",
@@ -125,11 +146,20 @@ pub fn run(args: &Args) -> Result<(), String> {
     let mut radar_cases = Vec::new();
     for payload in CODESIGNED {
         for space in SPACES {
-            let case: Vec<&OptimizeDocument> =
-                runs.iter().filter(|d| d.inputs.payload_kg == payload && d.inputs.space == space).collect();
+            let case: Vec<&OptimizeDocument> = runs
+                .iter()
+                .filter(|d| d.inputs.payload_kg == payload && d.inputs.space == space)
+                .collect();
             let name = format!("{space}-{payload}kg");
-            cost_evolution_chart(&format!("CMA-ES cost per evaluation: {space} space, {payload} kg"), &case)
-                .write(&out_dir.join("plots").join(format!("cost_evolution-{name}.svg")))?;
+            cost_evolution_chart(
+                &format!("CMA-ES cost per evaluation: {space} space, {payload} kg"),
+                &case,
+            )
+            .write(
+                &out_dir
+                    .join("plots")
+                    .join(format!("cost_evolution-{name}.svg")),
+            )?;
             let best = case
                 .iter()
                 .filter_map(|d| d.best_result.as_ref().filter(|r| r.feasible))
@@ -138,15 +168,24 @@ pub fn run(args: &Args) -> Result<(), String> {
                 let mut case_task = task.clone();
                 case_task.payload.mass_kg = payload;
                 let robot = Robot::load(&case_task).map_err(|e| e.to_string())?;
-                let formulation = Formulation::new(&case_task, robot, space, case_task.limit_modes).map_err(|e| e.to_string())?;
-                write_plots(&out_dir.join("plots").join(format!("best-{name}")), &formulation, best)?;
+                let formulation = Formulation::new(&case_task, robot, space, case_task.limit_modes)
+                    .map_err(|e| e.to_string())?;
+                write_plots(
+                    &out_dir.join("plots").join(format!("best-{name}")),
+                    &formulation,
+                    best,
+                )?;
                 radar_cases.push((format!("{space}, {payload} kg"), best.ratios.clone()));
             }
         }
     }
     let upper: Vec<f64> = task.transmission.bounds.iter().map(|b| b[1]).collect();
-    radar_chart("Optimal gear ratios (r_i / upper bound)", &radar_cases, &upper)
-        .write(&out_dir.join("plots").join("optimal_ratios.svg"))?;
+    radar_chart(
+        "Optimal gear ratios (r_i / upper bound)",
+        &radar_cases,
+        &upper,
+    )
+    .write(&out_dir.join("plots").join("optimal_ratios.svg"))?;
 
     files.extend(runs.into_iter().map(|d| ResultFile::Optimize(Box::new(d))));
     let mut notes = Vec::new();
@@ -156,9 +195,15 @@ pub fn run(args: &Args) -> Result<(), String> {
              Run `codesign reproduce` without --quick for the full experiment."
         ));
     }
-    notes.push(format!("Wall time of this reproduction: {:.1} min.", started.elapsed().as_secs_f64() / 60.0));
+    notes.push(format!(
+        "Wall time of this reproduction: {:.1} min.",
+        started.elapsed().as_secs_f64() / 60.0
+    ));
     let table = build_table(&files, notes);
-    write_atomic(&out_dir.join("paper_table.md"), table.to_markdown().as_bytes())?;
+    write_atomic(
+        &out_dir.join("paper_table.md"),
+        table.to_markdown().as_bytes(),
+    )?;
     write_json(&out_dir.join("paper_table.json"), &table)?;
     print!("{}", table.to_markdown());
     println!("results written to {}", out_dir.display());

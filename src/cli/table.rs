@@ -17,13 +17,21 @@ pub struct Args {
 
 /// Reads the files, builds the table, writes or prints it.
 pub fn run(args: &Args) -> Result<(), String> {
-    let files = args.files.iter().map(|path| read_result_file(path)).collect::<Result<Vec<_>, _>>()?;
+    let files = args
+        .files
+        .iter()
+        .map(|path| read_result_file(path))
+        .collect::<Result<Vec<_>, _>>()?;
     let table = build_table(&files, Vec::new());
     match &args.out {
         Some(path) => {
             write_atomic(path, table.to_markdown().as_bytes())?;
             write_json(&path.with_extension("json"), &table)?;
-            println!("table written to {} and {}", path.display(), path.with_extension("json").display());
+            println!(
+                "table written to {} and {}",
+                path.display(),
+                path.with_extension("json").display()
+            );
         }
         None => print!("{}", table.to_markdown()),
     }

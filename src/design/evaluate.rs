@@ -45,14 +45,22 @@ pub fn evaluate(formulation: &Formulation, ratios: &[f64], penalty: f64) -> Eval
     match solve_design(formulation, ratios, &SolveSettings::default()) {
         Ok(result) => Evaluation {
             ratios: ratios.to_vec(),
-            cost: if result.feasible { result.cost } else { penalty },
+            cost: if result.feasible {
+                result.cost
+            } else {
+                penalty
+            },
             feasible: result.feasible,
             status: result.status,
             iterations: result.iterations,
             seconds: result.solve_seconds.total,
             reason: result.reason,
         },
-        Err(SolveError::Design(error)) => Evaluation::penalised(ratios, penalty, "Invalid_Design", error.to_string()),
-        Err(SolveError::Ipopt(error)) => Evaluation::penalised(ratios, penalty, "Solver_Error", error.to_string()),
+        Err(SolveError::Design(error)) => {
+            Evaluation::penalised(ratios, penalty, "Invalid_Design", error.to_string())
+        }
+        Err(SolveError::Ipopt(error)) => {
+            Evaluation::penalised(ratios, penalty, "Solver_Error", error.to_string())
+        }
     }
 }

@@ -33,7 +33,11 @@ pub struct LogEntry {
     pub evaluation: Evaluation,
 }
 
+/// Finished evaluations of a log by (generation, index).
+pub type Finished = HashMap<(usize, usize), Evaluation>;
+
 /// An open log, appended to line by line.
+#[derive(Debug)]
 pub struct EvaluationLog {
     path: PathBuf,
     file: File,
@@ -51,21 +55,42 @@ impl EvaluationLog {
                 format!("cannot create the evaluation log {}: {e}", path.display())
             }
         })?;
-        let header = LogHeader { format: FORMAT.to_owned(), run };
+        let header = LogHeader {
+            format: FORMAT.to_owned(),
+            run,
+        };
         let line = serde_json::to_string(&header).map_err(|e| e.to_string())?;
-        writeln!(file, "{line}").and_then(|()| file.sync_data()).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        Ok(EvaluationLog { path: path.to_owned(), file })
+        writeln!(file, "{line}")
+            .and_then(|()| file.sync_data())
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        Ok(EvaluationLog {
+            path: path.to_owned(),
+            file,
+        })
     }
 
     /// Reopens the log at `path` of the same `run`, returning its finished evaluations by
     /// (generation, index). Fails when the file is missing or belongs to another run.
-    pub fn resume(path: &Path, run: serde_json::Value) -> Result<(EvaluationLog, HashMap<(usize, usize), Evaluation>), String> {
-        let mut file = OpenOptions::new().read(true).write(true).open(path).map_err(|e| format!("cannot resume from {}: {e}", path.display()))?;
+    pub fn resume(
+        path: &Path,
+        run: serde_json::Value,
+    ) -> Result<(EvaluationLog, Finished), String> {
+        let mut file = OpenOptions::new()
+            .read(true)
+            .write(true)
+            .open(path)
+            .map_err(|e| format!("cannot resume from {}: {e}", path.display()))?;
         let mut reader = BufReader::new(&mut file);
         let mut header_line = String::new();
-        reader.read_line(&mut header_line).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-        let header: LogHeader = serde_json::from_str(&header_line)
-            .map_err(|e| format!("{} is not an evaluation log (first line: {e})", path.display()))?;
+        reader
+            .read_line(&mut header_line)
+            .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+        let header: LogHeader = serde_json::from_str(&header_line).map_err(|e| {
+            format!(
+                "{} is not an evaluation log (first line: {e})",
+                path.display()
+            )
+        })?;
         if header.format != FORMAT {
             return Err(format!("{} is not an evaluation log", path.display()));
         }
@@ -80,7 +105,9 @@ impl EvaluationLog {
         let mut line = String::new();
         loop {
             line.clear();
-            let read = reader.read_line(&mut line).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+            let read = reader
+                .read_line(&mut line)
+                .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
             if read == 0 || !line.ends_with('\n') {
                 break;
             }
@@ -92,8 +119,16 @@ impl EvaluationLog {
                 Err(_) => break,
             }
         }
-        file.set_len(valid_end).and_then(|()| file.seek(SeekFrom::End(0))).map_err(|e| format!("cannot truncate {}: {e}", path.display()))?;
-        Ok((EvaluationLog { path: path.to_owned(), file }, finished))
+        file.set_len(valid_end)
+            .and_then(|()| file.seek(SeekFrom::End(0)))
+            .map_err(|e| format!("cannot truncate {}: {e}", path.display()))?;
+        Ok((
+            EvaluationLog {
+                path: path.to_owned(),
+                file,
+            },
+            finished,
+        ))
     }
 
     /// Appends one entry and flushes it to disk.
@@ -126,6 +161,24 @@ mod tests {
     }
 
     #[test]
+    fn designs_read_back_equal_bit_for_bit() {
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        for _ in 0..1000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let value = 1.0 + 8.0 * (state >> 11) as f64 / (1u64 << 53) as f64;
+            let original = entry(1, 2, value);
+            let text = serde_json::to_string(&original).unwrap();
+            let back: LogEntry = serde_json::from_str(&text).unwrap();
+            assert_eq!(
+                back.evaluation.ratios[3].to_bits(),
+                original.evaluation.ratios[3].to_bits()
+            );
+        }
+    }
+
+    #[test]
     fn resumes_its_own_run_and_drops_a_torn_last_line() {
         let path = std::env::temp_dir().join(format!("codesign-log-{}.jsonl", std::process::id()));
         let _ = std::fs::remove_file(&path);
@@ -134,7 +187,9 @@ mod tests {
         log.append(&entry(0, 0, 1.5)).unwrap();
         log.append(&entry(0, 1, 2.5)).unwrap();
         drop(log);
-        assert!(EvaluationLog::create(&path, run.clone()).unwrap_err().contains("--resume"));
+        assert!(EvaluationLog::create(&path, run.clone())
+            .unwrap_err()
+            .contains("--resume"));
         let mut file = OpenOptions::new().append(true).open(&path).unwrap();
         write!(file, "{{\"generation\": 0, \"ind").unwrap();
         drop(file);

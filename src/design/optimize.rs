@@ -3,10 +3,9 @@
 
 use super::cmaes::{Cmaes, CmaesSettings};
 use super::evaluate::Evaluation;
-use super::log::{EvaluationLog, LogEntry};
+use super::log::{EvaluationLog, Finished, LogEntry};
 use super::workers::Pool;
 use serde::{Deserialize, Serialize};
-use std::collections::HashMap;
 
 /// The cost statistics of one generation.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -67,7 +66,7 @@ pub fn optimize(
     bounds: &[[f64; 2]],
     pool: &mut Pool,
     log: &mut EvaluationLog,
-    finished: &HashMap<(usize, usize), Evaluation>,
+    finished: &Finished,
     progress: &mut dyn Progress,
 ) -> Result<OptimizeOutcome, String> {
     let lower = bounds.iter().map(|b| b[0]).collect();
@@ -82,14 +81,25 @@ pub fn optimize(
         stop_reason: String::new(),
     };
     let initial = cmaes.initial_population();
-    let mut evaluations = evaluate_generation(0, &initial, pool, log, finished, &mut outcome, progress)?;
+    let mut evaluations =
+        evaluate_generation(0, &initial, pool, log, finished, &mut outcome, progress)?;
     cmaes.tell_initial(&record(0, evaluations, &mut outcome))?;
     while let Some(designs) = cmaes.ask() {
         let generation = cmaes.generation() + 1;
-        evaluations = evaluate_generation(generation, &designs, pool, log, finished, &mut outcome, progress)?;
+        evaluations = evaluate_generation(
+            generation,
+            &designs,
+            pool,
+            log,
+            finished,
+            &mut outcome,
+            progress,
+        )?;
         cmaes.tell(&record(generation, evaluations, &mut outcome))?;
     }
-    outcome.stop_reason = cmaes.stop_reason().map_or_else(|| "stopped".to_owned(), |reason| reason.to_string());
+    outcome.stop_reason = cmaes
+        .stop_reason()
+        .map_or_else(|| "stopped".to_owned(), |reason| reason.to_string());
     let (best, cost) = cmaes.best().ok_or("CMA-ES has no best design")?;
     outcome.best_ratios = best.to_vec();
     outcome.best_cost = cost;
@@ -97,7 +107,11 @@ pub fn optimize(
 }
 
 /// Adds a generation's evaluations to the outcome and returns their costs.
-fn record(generation: usize, evaluations: Vec<Evaluation>, outcome: &mut OptimizeOutcome) -> Vec<f64> {
+fn record(
+    generation: usize,
+    evaluations: Vec<Evaluation>,
+    outcome: &mut OptimizeOutcome,
+) -> Vec<f64> {
     let costs: Vec<f64> = evaluations.iter().map(|e| e.cost).collect();
     outcome.generations.push(GenerationSummary {
         generation,
@@ -115,7 +129,7 @@ fn evaluate_generation(
     designs: &[Vec<f64>],
     pool: &mut Pool,
     log: &mut EvaluationLog,
-    finished: &HashMap<(usize, usize), Evaluation>,
+    finished: &Finished,
     outcome: &mut OptimizeOutcome,
     progress: &mut dyn Progress,
 ) -> Result<Vec<Evaluation>, String> {
@@ -136,7 +150,11 @@ fn evaluate_generation(
     let solved = pool.evaluate_all(&pending, |index, evaluation| {
         *best = best.min(evaluation.cost);
         progress.evaluated(*best);
-        log.append(&LogEntry { generation, index, evaluation: evaluation.clone() })
+        log.append(&LogEntry {
+            generation,
+            index,
+            evaluation: evaluation.clone(),
+        })
     })?;
     for ((index, _), evaluation) in pending.iter().zip(solved) {
         slots[*index] = Some(evaluation);

@@ -66,13 +66,17 @@ pub fn serve(input: impl BufRead, mut output: impl Write) -> Result<(), String> 
         Some(line) => line.map_err(|e| format!("worker: cannot read its setup: {e}"))?,
         None => return Ok(()),
     };
-    let setup: WorkerSetup =
-        serde_json::from_str(&setup_line).map_err(|e| format!("worker: malformed setup line: {e}"))?;
+    let setup: WorkerSetup = serde_json::from_str(&setup_line)
+        .map_err(|e| format!("worker: malformed setup line: {e}"))?;
     let formulation = setup.formulation()?;
     for line in lines {
         let line = line.map_err(|e| format!("worker: cannot read a request: {e}"))?;
-        let request: Request = serde_json::from_str(&line).map_err(|e| format!("worker: malformed request: {e}"))?;
-        let response = Response { id: request.id, evaluation: evaluate(&formulation, &request.ratios, setup.penalty) };
+        let request: Request =
+            serde_json::from_str(&line).map_err(|e| format!("worker: malformed request: {e}"))?;
+        let response = Response {
+            id: request.id,
+            evaluation: evaluate(&formulation, &request.ratios, setup.penalty),
+        };
         let text = serde_json::to_string(&response).map_err(|e| format!("worker: {e}"))?;
         writeln!(output, "{text}")
             .and_then(|()| output.flush())
@@ -113,7 +117,12 @@ pub struct Pool {
 
 impl Pool {
     /// Starts `count` workers running `program worker` (normally this executable).
-    pub fn new(program: PathBuf, setup: &WorkerSetup, count: usize, timeout: Duration) -> Result<Pool, String> {
+    pub fn new(
+        program: PathBuf,
+        setup: &WorkerSetup,
+        count: usize,
+        timeout: Duration,
+    ) -> Result<Pool, String> {
         if count == 0 {
             return Err("--workers must be at least 1".to_owned());
         }
@@ -150,7 +159,8 @@ impl Pool {
             .map_err(|e| format!("cannot start worker {}: {e}", self.program.display()))?;
         let mut stdin = child.stdin.take().ok_or("worker has no stdin")?;
         let stdout = child.stdout.take().ok_or("worker has no stdout")?;
-        writeln!(stdin, "{}", self.setup_line).map_err(|e| format!("cannot send the setup to a worker: {e}"))?;
+        writeln!(stdin, "{}", self.setup_line)
+            .map_err(|e| format!("cannot send the setup to a worker: {e}"))?;
         self.incarnations += 1;
         let incarnation = self.incarnations;
         let sender = self.sender.clone();
@@ -167,7 +177,12 @@ impl Pool {
             }
             let _ = sender.send((slot, incarnation, None));
         });
-        Ok(Worker { child, stdin, incarnation, job: None })
+        Ok(Worker {
+            child,
+            stdin,
+            incarnation,
+            job: None,
+        })
     }
 
     /// Replaces the worker in `slot` (killing it if it still runs) and returns its job, if any.
@@ -186,8 +201,14 @@ impl Pool {
         designs: &[(usize, Vec<f64>)],
         mut done: impl FnMut(usize, &Evaluation) -> Result<(), String>,
     ) -> Result<Vec<Evaluation>, String> {
-        let mut queue: VecDeque<Job> =
-            designs.iter().map(|(id, ratios)| Job { id: *id, ratios: ratios.clone(), attempt: 0 }).collect();
+        let mut queue: VecDeque<Job> = designs
+            .iter()
+            .map(|(id, ratios)| Job {
+                id: *id,
+                ratios: ratios.clone(),
+                attempt: 0,
+            })
+            .collect();
         let mut results: Vec<Option<Evaluation>> = vec![None; designs.len()];
         let position = |id: usize| designs.iter().position(|(d, _)| *d == id);
         let mut remaining = designs.len();
@@ -197,8 +218,11 @@ impl Pool {
                     continue;
                 }
                 let Some(job) = queue.pop_front() else { break };
-                let line = serde_json::to_string(&Request { id: job.id, ratios: job.ratios.clone() })
-                    .map_err(|e| e.to_string())?;
+                let line = serde_json::to_string(&Request {
+                    id: job.id,
+                    ratios: job.ratios.clone(),
+                })
+                .map_err(|e| e.to_string())?;
                 let deadline = Instant::now() + self.timeout;
                 let worker = &mut self.workers[slot];
                 let sent = writeln!(worker.stdin, "{line}").and_then(|()| worker.stdin.flush());
@@ -208,8 +232,14 @@ impl Pool {
                     continue;
                 }
             }
-            let next_deadline = self.workers.iter().filter_map(|w| w.job.as_ref().map(|(_, d)| *d)).min();
-            let wait = next_deadline.map_or(self.timeout, |d| d.saturating_duration_since(Instant::now()));
+            let next_deadline = self
+                .workers
+                .iter()
+                .filter_map(|w| w.job.as_ref().map(|(_, d)| *d))
+                .min();
+            let wait = next_deadline.map_or(self.timeout, |d| {
+                d.saturating_duration_since(Instant::now())
+            });
             let mut failed: Vec<(usize, String)> = Vec::new();
             match self.receiver.recv_timeout(wait) {
                 Ok((slot, incarnation, line)) => {
@@ -221,8 +251,18 @@ impl Pool {
                             let response: Response = match serde_json::from_str(&line) {
                                 Ok(response) => response,
                                 Err(e) => {
-                                    failed.push((slot, format!("worker sent a malformed answer: {e}")));
-                                    self.retry_or_penalise(failed, &mut queue, &mut results, &position, &mut remaining, &mut done)?;
+                                    failed.push((
+                                        slot,
+                                        format!("worker sent a malformed answer: {e}"),
+                                    ));
+                                    self.retry_or_penalise(
+                                        failed,
+                                        &mut queue,
+                                        &mut results,
+                                        &position,
+                                        &mut remaining,
+                                        &mut done,
+                                    )?;
                                     continue;
                                 }
                             };
@@ -244,13 +284,25 @@ impl Pool {
                     let now = Instant::now();
                     for (slot, worker) in self.workers.iter().enumerate() {
                         if matches!(&worker.job, Some((_, deadline)) if *deadline <= now) {
-                            failed.push((slot, format!("solve exceeded {:.0} s", self.timeout.as_secs_f64())));
+                            failed.push((
+                                slot,
+                                format!("solve exceeded {:.0} s", self.timeout.as_secs_f64()),
+                            ));
                         }
                     }
                 }
-                Err(RecvTimeoutError::Disconnected) => return Err("all worker readers stopped".to_owned()),
+                Err(RecvTimeoutError::Disconnected) => {
+                    return Err("all worker readers stopped".to_owned())
+                }
             }
-            self.retry_or_penalise(failed, &mut queue, &mut results, &position, &mut remaining, &mut done)?;
+            self.retry_or_penalise(
+                failed,
+                &mut queue,
+                &mut results,
+                &position,
+                &mut remaining,
+                &mut done,
+            )?;
         }
         Ok(results.into_iter().flatten().collect())
     }
@@ -266,14 +318,27 @@ impl Pool {
         done: &mut impl FnMut(usize, &Evaluation) -> Result<(), String>,
     ) -> Result<(), String> {
         for (slot, reason) in failed {
-            let Some(mut job) = self.replace(slot)? else { continue };
+            let Some(mut job) = self.replace(slot)? else {
+                continue;
+            };
             if job.attempt == 0 {
-                eprintln!("warning: {reason} on design {:?}; retrying it on a fresh worker", job.ratios);
+                eprintln!(
+                    "warning: {reason} on design {:?}; retrying it on a fresh worker",
+                    job.ratios
+                );
                 job.attempt += 1;
                 queue.push_front(job);
             } else if let Some(index) = position(job.id) {
-                eprintln!("warning: {reason} again on design {:?}; scoring it {}", job.ratios, self.penalty);
-                let evaluation = Evaluation::penalised(&job.ratios, self.penalty, "Worker_Failed", format!("{reason}, twice"));
+                eprintln!(
+                    "warning: {reason} again on design {:?}; scoring it {}",
+                    job.ratios, self.penalty
+                );
+                let evaluation = Evaluation::penalised(
+                    &job.ratios,
+                    self.penalty,
+                    "Worker_Failed",
+                    format!("{reason}, twice"),
+                );
                 done(job.id, &evaluation)?;
                 results[index] = Some(evaluation);
                 *remaining -= 1;

@@ -297,7 +297,9 @@ impl Task {
                 || value.as_f64().is_some_and(f64::is_finite)
                 || value.is_string();
             if !valid {
-                return Err(format!("solver.options.{name} = {value} must be an integer, a number or a string"));
+                return Err(format!(
+                    "solver.options.{name} = {value} must be an integer, a number or a string"
+                ));
             }
         }
         Ok(())

@@ -36,7 +36,13 @@ impl Layout {
             }
         }
         row_base.push(row);
-        Layout { dof, steps, speed_rows, torque_rows, row_base }
+        Layout {
+            dof,
+            steps,
+            speed_rows,
+            torque_rows,
+            row_base,
+        }
     }
 
     /// Number of variables: 4nN + 2n.
@@ -95,7 +101,11 @@ impl Layout {
 
     /// Row of (G^-T u_k)[i], the motor torque, when it exists (torque rows, k < N).
     pub fn torque_row(&self, k: usize, i: usize) -> Option<usize> {
-        let speed = if self.speed_rows && k > 0 { self.dof } else { 0 };
+        let speed = if self.speed_rows && k > 0 {
+            self.dof
+        } else {
+            0
+        };
         (self.torque_rows && k < self.steps).then(|| self.row_base[k] + 3 * self.dof + speed + i)
     }
 }
@@ -107,7 +117,9 @@ mod tests {
     /// Every variable and row index is used exactly once.
     #[test]
     fn indices_cover_without_overlap() {
-        for (speed_rows, torque_rows) in [(false, false), (true, false), (false, true), (true, true)] {
+        for (speed_rows, torque_rows) in
+            [(false, false), (true, false), (false, true), (true, true)]
+        {
             let layout = Layout::new(3, 5, speed_rows, torque_rows);
             let mut columns = vec![0; layout.num_variables()];
             let mut rows = vec![0; layout.num_constraints()];
@@ -122,12 +134,21 @@ mod tests {
                         rows[layout.velocity_row(k, i)] += 1;
                         rows[layout.position_row(k, i)] += 1;
                     }
-                    layout.speed_row(k, i).into_iter().for_each(|r| rows[r] += 1);
-                    layout.torque_row(k, i).into_iter().for_each(|r| rows[r] += 1);
+                    layout
+                        .speed_row(k, i)
+                        .into_iter()
+                        .for_each(|r| rows[r] += 1);
+                    layout
+                        .torque_row(k, i)
+                        .into_iter()
+                        .for_each(|r| rows[r] += 1);
                 }
             }
             assert!(columns.iter().all(|&c| c == 1), "{columns:?}");
-            assert!(rows.iter().all(|&c| c == 1), "{speed_rows} {torque_rows}: {rows:?}");
+            assert!(
+                rows.iter().all(|&c| c == 1),
+                "{speed_rows} {torque_rows}: {rows:?}"
+            );
         }
     }
 }

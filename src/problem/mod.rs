@@ -92,7 +92,10 @@ impl Formulation {
                 transmission.dof()
             )));
         }
-        for (name, pose) in [("motion.start", &task.motion.start), ("motion.goal", &task.motion.goal)] {
+        for (name, pose) in [
+            ("motion.start", &task.motion.start),
+            ("motion.goal", &task.motion.goal),
+        ] {
             if pose.len() != n {
                 return Err(FormulationError(format!(
                     "task: {name} has {} values but the robot has {n} joints",
@@ -108,7 +111,9 @@ impl Formulation {
                 }
             }
         }
-        let mut g_pattern = transmission.matrix(transmission.original()).map(|g| f64::from(u8::from(g != 0.0)));
+        let mut g_pattern = transmission
+            .matrix(transmission.original())
+            .map(|g| f64::from(u8::from(g != 0.0)));
         for i in 0..transmission.num_ratios() {
             let derivative = transmission.matrix_derivative(i);
             g_pattern.zip_apply(&derivative, |p, d| {
@@ -118,7 +123,8 @@ impl Formulation {
             });
         }
         let speed_rows = modes.speed == crate::model::task::LimitMode::Exact;
-        let torque_rows = space == Space::Joint && modes.torque == crate::model::task::LimitMode::Exact;
+        let torque_rows =
+            space == Space::Joint && modes.torque == crate::model::task::LimitMode::Exact;
         let layout = Layout::new(n, task.motion.steps, speed_rows, torque_rows);
         let mut formulation = Formulation {
             task: task.clone(),

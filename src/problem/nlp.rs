@@ -84,7 +84,11 @@ impl<'a> TrajectoryProblem<'a> {
             nodes: vec![NodeEval::zeros(n); formulation.layout.steps],
             level: Level::Nothing,
             rnea_hessian: DMatrix::zeros(3 * n, 3 * n),
-            tcp_hessians: [DMatrix::zeros(n, n), DMatrix::zeros(n, n), DMatrix::zeros(n, n)],
+            tcp_hessians: [
+                DMatrix::zeros(n, n),
+                DMatrix::zeros(n, n),
+                DMatrix::zeros(n, n),
+            ],
             cost_qq: DMatrix::zeros(n, n),
         })
     }
@@ -106,14 +110,20 @@ impl<'a> TrajectoryProblem<'a> {
 
     /// Joint torques of control u at a node: G^T u (actuation space) or u (joint space), N m.
     pub fn joint_torques(&self, u: &[f64]) -> Vec<f64> {
-        (&self.control_map * nalgebra::DVector::from_column_slice(u)).iter().copied().collect()
+        (&self.control_map * nalgebra::DVector::from_column_slice(u))
+            .iter()
+            .copied()
+            .collect()
     }
 
     /// Motor torques of control u at a node: u (actuation space) or G^-T u (joint space), N m.
     pub fn motor_torques(&self, u: &[f64]) -> Vec<f64> {
         match self.formulation.space {
             Space::Actuation => u.to_vec(),
-            Space::Joint => (&self.motor_of_joint * nalgebra::DVector::from_column_slice(u)).iter().copied().collect(),
+            Space::Joint => (&self.motor_of_joint * nalgebra::DVector::from_column_slice(u))
+                .iter()
+                .copied()
+                .collect(),
         }
     }
 
@@ -126,7 +136,10 @@ impl<'a> TrajectoryProblem<'a> {
             return Ok(());
         }
         if let Some(i) = x.iter().position(|value| !value.is_finite()) {
-            return Err(EvalError(format!("variable {i} is {} at the evaluation point", x[i])));
+            return Err(EvalError(format!(
+                "variable {i} is {} at the evaluation point",
+                x[i]
+            )));
         }
         let layout = &self.formulation.layout;
         let n = layout.dof;
@@ -175,17 +188,34 @@ fn box_axes(f: &Formulation) -> impl Iterator<Item = (usize, [f64; 2], f64)> + '
         .filter_map(|(axis, interval)| interval.as_ref().map(|s| (axis, s.range, s.weight)))
 }
 
+/// The design-dependent matrices the Jacobian's values come from.
+struct JacobianData<'m> {
+    /// d(tau)/d(u): G^T or the identity.
+    control_map: &'m DMatrix<f64>,
+    /// Structural non-zeros of `control_map`.
+    control_pattern: &'m DMatrix<f64>,
+    /// G and its pattern, when motor speeds are linear rows.
+    speed: Option<(&'m DMatrix<f64>, &'m DMatrix<f64>)>,
+    /// G^-T, when motor torques are linear rows.
+    torque: Option<&'m DMatrix<f64>>,
+    /// Time step h, s.
+    h: f64,
+}
+
 /// Visits the Jacobian's structural non-zeros in their fixed order.
 fn visit_jacobian(
     layout: &Layout,
-    control_map: &DMatrix<f64>,
-    control_pattern: &DMatrix<f64>,
-    speed: Option<(&DMatrix<f64>, &DMatrix<f64>)>,
-    torque: Option<&DMatrix<f64>>,
-    h: f64,
+    data: &JacobianData<'_>,
     nodes: &[NodeEval],
     mut emit: impl FnMut(usize, usize, f64),
 ) {
+    let JacobianData {
+        control_map,
+        control_pattern,
+        speed,
+        torque,
+        h,
+    } = *data;
     let n = layout.dof;
     for (k, node) in nodes.iter().enumerate() {
         for i in 0..n {
@@ -255,16 +285,18 @@ pub(super) fn jacobian_pattern(formulation: &Formulation) -> Vec<(usize, usize)>
     let pattern = control_pattern(formulation);
     let dense = DMatrix::from_element(n, n, 1.0);
     let mut entries = Vec::new();
-    visit_jacobian(
-        layout,
-        &pattern,
-        &pattern,
-        layout.speed_rows.then_some((&formulation.g_pattern, &formulation.g_pattern)),
-        layout.torque_rows.then_some(&dense),
-        0.0,
-        &nodes,
-        |row, col, _| entries.push((row, col)),
-    );
+    let data = JacobianData {
+        control_map: &pattern,
+        control_pattern: &pattern,
+        speed: layout
+            .speed_rows
+            .then_some((&formulation.g_pattern, &formulation.g_pattern)),
+        torque: layout.torque_rows.then_some(&dense),
+        h: 0.0,
+    };
+    visit_jacobian(layout, &data, &nodes, |row, col, _| {
+        entries.push((row, col))
+    });
     entries
 }
 
@@ -292,7 +324,10 @@ pub(super) fn hessian_pattern(formulation: &Formulation) -> Vec<(usize, usize)> 
     (0..layout.steps)
         .flat_map(|k| {
             let base = layout.q(k, 0);
-            formulation.node_hessian.iter().map(move |&(i, j)| (base + i, base + j))
+            formulation
+                .node_hessian
+                .iter()
+                .map(move |&(i, j)| (base + i, base + j))
         })
         .collect()
 }
@@ -313,23 +348,38 @@ impl Nlp for TrajectoryProblem<'_> {
         lower.fill(f64::NEG_INFINITY);
         upper.fill(f64::INFINITY);
         let limits = f.dynamics.robot().position_limits();
-        let speed = self.coupling.speed_limits(f.modes.speed, task.motors.speed_limit_rad_s);
+        let speed = self
+            .coupling
+            .speed_limits(f.modes.speed, task.motors.speed_limit_rad_s);
         let torque = match f.space {
             Space::Actuation => {
                 let t = task.motors.torque_limit_nm;
-                JointLimits::Box { lower: vec![-t; n], upper: vec![t; n] }
+                JointLimits::Box {
+                    lower: vec![-t; n],
+                    upper: vec![t; n],
+                }
             }
-            Space::Joint => self.coupling.torque_limits(f.modes.torque, task.motors.torque_limit_nm),
+            Space::Joint => self
+                .coupling
+                .torque_limits(f.modes.torque, task.motors.torque_limit_nm),
         };
         for k in 0..=layout.steps {
             for i in 0..n {
                 let (q, v) = (layout.q(k, i), layout.v(k, i));
                 (lower[q], upper[q]) = limits[i];
-                if let JointLimits::Box { lower: lo, upper: hi } = &speed {
+                if let JointLimits::Box {
+                    lower: lo,
+                    upper: hi,
+                } = &speed
+                {
                     (lower[v], upper[v]) = (lo[i], hi[i]);
                 }
                 if k < layout.steps {
-                    if let JointLimits::Box { lower: lo, upper: hi } = &torque {
+                    if let JointLimits::Box {
+                        lower: lo,
+                        upper: hi,
+                    } = &torque
+                    {
                         let u = layout.u(k, i);
                         (lower[u], upper[u]) = (lo[i], hi[i]);
                     }
@@ -350,7 +400,10 @@ impl Nlp for TrajectoryProblem<'_> {
         let layout = &f.layout;
         lower.fill(0.0);
         upper.fill(0.0);
-        let (w, t) = (f.task.motors.speed_limit_rad_s, f.task.motors.torque_limit_nm);
+        let (w, t) = (
+            f.task.motors.speed_limit_rad_s,
+            f.task.motors.torque_limit_nm,
+        );
         for k in 0..layout.steps {
             for i in 0..layout.dof {
                 if let Some(row) = layout.speed_row(k, i) {
@@ -417,7 +470,8 @@ impl Nlp for TrajectoryProblem<'_> {
                 let (c, sign) = box_violation(range, node.tcp[axis]);
                 if c > 0.0 {
                     for j in 0..n {
-                        gradient[layout.q(k, j)] += 2.0 * weight * c * sign * node.tcp_jacobian[(axis, j)];
+                        gradient[layout.q(k, j)] +=
+                            2.0 * weight * c * sign * node.tcp_jacobian[(axis, j)];
                     }
                 }
             }
@@ -436,8 +490,10 @@ impl Nlp for TrajectoryProblem<'_> {
             for i in 0..n {
                 let applied: f64 = (0..n).map(|j| self.control_map[(i, j)] * u[j]).sum();
                 g[layout.dynamics_row(k, i)] = node.tau[i] - applied;
-                g[layout.velocity_row(k, i)] = x[layout.v(k + 1, i)] - x[layout.v(k, i)] - h * x[layout.a(k, i)];
-                g[layout.position_row(k, i)] = x[layout.q(k + 1, i)] - x[layout.q(k, i)] - h * x[layout.v(k + 1, i)];
+                g[layout.velocity_row(k, i)] =
+                    x[layout.v(k + 1, i)] - x[layout.v(k, i)] - h * x[layout.a(k, i)];
+                g[layout.position_row(k, i)] =
+                    x[layout.q(k + 1, i)] - x[layout.q(k, i)] - h * x[layout.v(k + 1, i)];
                 if let Some(row) = layout.speed_row(k, i) {
                     g[row] = (0..n).map(|j| g_matrix[(i, j)] * x[layout.v(k, j)]).sum();
                 }
@@ -453,25 +509,30 @@ impl Nlp for TrajectoryProblem<'_> {
         self.formulation.jacobian.clone()
     }
 
-    fn jacobian_values(&mut self, x: &[f64], new_x: bool, values: &mut [f64]) -> Result<(), EvalError> {
+    fn jacobian_values(
+        &mut self,
+        x: &[f64],
+        new_x: bool,
+        values: &mut [f64],
+    ) -> Result<(), EvalError> {
         self.evaluate(x, new_x, Level::Derivatives)?;
         let f = self.formulation;
         let layout = &f.layout;
         let pattern = control_pattern(f);
         let mut next = 0;
-        visit_jacobian(
-            layout,
-            &self.control_map,
-            &pattern,
-            layout.speed_rows.then_some((self.coupling.matrix(), &f.g_pattern)),
-            layout.torque_rows.then_some(&self.motor_of_joint),
-            f.step_s(),
-            &self.nodes,
-            |_, _, value| {
-                values[next] = value;
-                next += 1;
-            },
-        );
+        let data = JacobianData {
+            control_map: &self.control_map,
+            control_pattern: &pattern,
+            speed: layout
+                .speed_rows
+                .then_some((self.coupling.matrix(), &f.g_pattern)),
+            torque: layout.torque_rows.then_some(&self.motor_of_joint),
+            h: f.step_s(),
+        };
+        visit_jacobian(layout, &data, &self.nodes, |_, _, value| {
+            values[next] = value;
+            next += 1;
+        });
         Ok(())
     }
 
@@ -497,7 +558,8 @@ impl Nlp for TrajectoryProblem<'_> {
             let v = &x[layout.v(k, 0)..layout.v(k, 0) + n];
             let a = &x[layout.a(k, 0)..layout.a(k, 0) + n];
             let multipliers = &lambda[layout.dynamics_row(k, 0)..layout.dynamics_row(k, 0) + n];
-            self.dynamics.rnea_hessian(q, v, a, multipliers, &mut self.rnea_hessian);
+            self.dynamics
+                .rnea_hessian(q, v, a, multipliers, &mut self.rnea_hessian);
             // The cost's Hessian in q: 2 wq I, plus 2 rho (J^T J + c sign H) per violated axis.
             self.cost_qq.fill_with_identity();
             self.cost_qq *= 2.0 * w.position;
@@ -513,7 +575,8 @@ impl Nlp for TrajectoryProblem<'_> {
                     for i in 0..n {
                         for j in 0..n {
                             let jj = node.tcp_jacobian[(axis, i)] * node.tcp_jacobian[(axis, j)];
-                            self.cost_qq[(i, j)] += 2.0 * weight * (jj + c * sign * self.tcp_hessians[axis][(i, j)]);
+                            self.cost_qq[(i, j)] +=
+                                2.0 * weight * (jj + c * sign * self.tcp_hessians[axis][(i, j)]);
                         }
                     }
                 }
@@ -522,7 +585,11 @@ impl Nlp for TrajectoryProblem<'_> {
                 let (cost, dynamics) = if i < n {
                     (self.cost_qq[(i, j)], self.rnea_hessian[(i, j)])
                 } else if i < 3 * n {
-                    let cost = if i < 2 * n && i == j { 2.0 * w.velocity } else { 0.0 };
+                    let cost = if i < 2 * n && i == j {
+                        2.0 * w.velocity
+                    } else {
+                        0.0
+                    };
                     (cost, self.rnea_hessian[(i, j)])
                 } else {
                     (2.0 * w.control, 0.0)
@@ -544,11 +611,16 @@ mod tests {
     use std::path::Path;
 
     fn task() -> Task {
-        Task::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json")).unwrap()
+        Task::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json"))
+            .unwrap()
     }
 
+    /// The default task with 5 steps: every block of the full problem's structure (first, inner
+    /// and last nodes) is there, and IPOPT 3.11's derivative checker, whose cost grows with the
+    /// fourth power of the size, takes 0.1 s instead of 10 minutes.
     fn formulation(space: Space, torque: LimitMode, speed: LimitMode, payload: f64) -> Formulation {
         let mut task = task();
+        task.motion.steps = 5;
         task.payload.mass_kg = payload;
         let robot = Robot::load(&task).unwrap();
         Formulation::new(&task, robot, space, LimitModes { torque, speed }).unwrap()
@@ -571,7 +643,10 @@ mod tests {
     struct Lcg(u64);
     impl Lcg {
         fn uniform(&mut self) -> f64 {
-            self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (self.0 >> 11) as f64 / (1u64 << 53) as f64
         }
     }
@@ -604,12 +679,14 @@ mod tests {
             let mut jacobian = vec![0.0; f.jacobian_nonzeros()];
             problem.jacobian_values(&x, false, &mut jacobian).unwrap();
             let mut hessian = vec![0.0; f.hessian_nonzeros()];
-            problem.hessian_values(&x, false, obj_factor, &lambda, &mut hessian).unwrap();
-            let mut dense_jacobian = DMatrix::zeros(m, n);
+            problem
+                .hessian_values(&x, false, obj_factor, &lambda, &mut hessian)
+                .unwrap();
+            let mut dense_jacobian = DMatrix::<f64>::zeros(m, n);
             for (&(r, c), &value) in f.jacobian.iter().zip(&jacobian) {
                 dense_jacobian[(r, c)] += value;
             }
-            let mut dense_hessian = DMatrix::zeros(n, n);
+            let mut dense_hessian = DMatrix::<f64>::zeros(n, n);
             for (&(r, c), &value) in f.hessian.iter().zip(&hessian) {
                 dense_hessian[(r, c)] += value;
                 if r != c {
@@ -633,21 +710,36 @@ mod tests {
                 let (mut plus, mut minus) = (x.clone(), x.clone());
                 plus[j] += step;
                 minus[j] -= step;
-                let fd = (problem.objective(&plus, true).unwrap() - problem.objective(&minus, true).unwrap()) / (2.0 * step);
-                assert!((fd - gradient[j]).abs() <= 1e-5 * (1.0 + fd.abs()), "gradient[{j}]: {} vs fd {fd}", gradient[j]);
+                let fd = (problem.objective(&plus, true).unwrap()
+                    - problem.objective(&minus, true).unwrap())
+                    / (2.0 * step);
+                assert!(
+                    (fd - gradient[j]).abs() <= 1e-5 * (1.0 + fd.abs()),
+                    "gradient[{j}]: {} vs fd {fd}",
+                    gradient[j]
+                );
                 let (mut g_plus, mut g_minus) = (vec![0.0; m], vec![0.0; m]);
                 problem.constraints(&plus, true, &mut g_plus).unwrap();
                 problem.constraints(&minus, true, &mut g_minus).unwrap();
                 for i in 0..m {
                     let fd = (g_plus[i] - g_minus[i]) / (2.0 * step);
                     let exact = dense_jacobian[(i, j)];
-                    assert!((fd - exact).abs() <= 1e-5 * (1.0 + fd.abs()), "jacobian ({i}, {j}): {exact} vs fd {fd}");
+                    assert!(
+                        (fd - exact).abs() <= 1e-5 * (1.0 + fd.abs()),
+                        "jacobian ({i}, {j}): {exact} vs fd {fd}"
+                    );
                 }
-                let (l_plus, l_minus) = (lagrangian_gradient(&mut problem, &plus), lagrangian_gradient(&mut problem, &minus));
+                let (l_plus, l_minus) = (
+                    lagrangian_gradient(&mut problem, &plus),
+                    lagrangian_gradient(&mut problem, &minus),
+                );
                 for i in 0..n {
                     let fd = (l_plus[i] - l_minus[i]) / (2.0 * step);
                     let exact = dense_hessian[(i, j)];
-                    assert!((fd - exact).abs() <= 1e-5 * (1.0 + fd.abs()), "hessian ({i}, {j}): {exact} vs fd {fd}");
+                    assert!(
+                        (fd - exact).abs() <= 1e-5 * (1.0 + fd.abs()),
+                        "hessian ({i}, {j}): {exact} vs fd {fd}"
+                    );
                 }
             }
         }
@@ -662,7 +754,8 @@ mod tests {
                     .num("point_perturbation_radius", radius)
                     .num("derivative_test_perturbation", 1e-7)
                     .num("derivative_test_tol", 1e-4);
-                let report = check_derivatives(&mut problem, &options, DerivativeOrder::Second).unwrap();
+                let report =
+                    check_derivatives(&mut problem, &options, DerivativeOrder::Second).unwrap();
                 assert_eq!(
                     report.errors,
                     0,
@@ -694,20 +787,34 @@ mod tests {
     fn original_design_has_the_papers_joint_torque_bounds() {
         let f = formulation(Space::Joint, LimitMode::Paper, LimitMode::Exact, 0.0);
         let problem = f.problem(&[6.0, 3.0, 1.0, 1.0]).unwrap();
-        let (mut lower, mut upper) = (vec![0.0; problem.num_variables()], vec![0.0; problem.num_variables()]);
+        assert_eq!(f.layout().steps, 5);
+        let (mut lower, mut upper) = (
+            vec![0.0; problem.num_variables()],
+            vec![0.0; problem.num_variables()],
+        );
         problem.variable_bounds(&mut lower, &mut upper);
         let layout = f.layout();
         let expected = [18.7, 8.5, 3.4, 0.0];
         for (i, bound) in expected.iter().enumerate() {
             let u = layout.u(3, i);
-            assert!((upper[u] - bound).abs() < 1e-12 && (lower[u] + bound).abs() < 1e-12, "joint {i}: [{}, {}]", lower[u], upper[u]);
+            assert!(
+                (upper[u] - bound).abs() < 1e-12 && (lower[u] + bound).abs() < 1e-12,
+                "joint {i}: [{}, {}]",
+                lower[u],
+                upper[u]
+            );
         }
     }
 
     #[test]
     fn invalid_designs_are_rejected() {
         let f = formulation(Space::Actuation, LimitMode::Paper, LimitMode::Exact, 0.0);
-        for ratios in [[10.0, 3.0, 1.0, 1.0], [6.0, 6.0, 1.0, 1.0], [6.0, 2.0, 3.0, 1.0], [f64::NAN, 3.0, 1.0, 1.0]] {
+        for ratios in [
+            [10.0, 3.0, 1.0, 1.0],
+            [6.0, 6.0, 1.0, 1.0],
+            [6.0, 2.0, 3.0, 1.0],
+            [f64::NAN, 3.0, 1.0, 1.0],
+        ] {
             assert!(f.problem(&ratios).is_err(), "{ratios:?} accepted");
         }
     }

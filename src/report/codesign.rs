@@ -73,7 +73,6 @@ pub struct OptimizeDocument {
     pub wall_seconds: f64,
 }
 
-
 /// The cost of every evaluation of each run, in order (the paper's figure 6); log scale, so the
 /// penalised designs show as a band at the penalty.
 pub fn cost_evolution_chart(title: &str, runs: &[&OptimizeDocument]) -> Chart {
@@ -85,7 +84,12 @@ pub fn cost_evolution_chart(title: &str, runs: &[&OptimizeDocument]) -> Chart {
             .iter()
             .map(|run| Series {
                 name: format!("seed {}", run.inputs.seed),
-                points: run.costs.iter().enumerate().map(|(i, &c)| (i as f64, c)).collect(),
+                points: run
+                    .costs
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &c)| (i as f64, c))
+                    .collect(),
             })
             .collect(),
         guides: Vec::new(),
@@ -102,11 +106,18 @@ pub fn radar_chart(title: &str, cases: &[(String, Vec<f64>)], upper: &[f64]) -> 
         (radius * angle.cos(), radius * angle.sin())
     };
     let mut series: Vec<Series> = (0..n)
-        .map(|i| Series { name: format!("r{} (max {})", i + 1, upper[i]), points: vec![(0.0, 0.0), point(i, 1.0)] })
+        .map(|i| Series {
+            name: format!("r{} (max {})", i + 1, upper[i]),
+            points: vec![(0.0, 0.0), point(i, 1.0)],
+        })
         .collect();
-    series.extend(cases.iter().map(|(name, ratios)| Series {
-        name: name.clone(),
-        points: (0..=n).map(|i| point(i % n, ratios[i % n] / upper[i % n])).collect(),
+    series.extend(cases.iter().map(|(name, ratios)| {
+        Series {
+            name: name.clone(),
+            points: (0..=n)
+                .map(|i| point(i % n, ratios[i % n] / upper[i % n]))
+                .collect(),
+        }
     }));
     Chart {
         title: title.to_owned(),

@@ -13,7 +13,11 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
     let name = path
         .file_name()
         .ok_or_else(|| format!("cannot write {}: not a file path", path.display()))?;
-    let temporary = folder.join(format!(".{}.tmp{}", name.to_string_lossy(), std::process::id()));
+    let temporary = folder.join(format!(
+        ".{}.tmp{}",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
     let written = std::fs::File::create(&temporary)
         .and_then(|mut file| file.write_all(bytes).and_then(|()| file.sync_all()))
         .and_then(|()| std::fs::rename(&temporary, path));
@@ -33,7 +37,8 @@ pub fn write_json<T: serde::Serialize>(path: &Path, value: &T) -> Result<(), Str
 
 /// Creates `folder` and its parents; errors name it.
 pub fn create_folder(folder: &Path) -> Result<(), String> {
-    std::fs::create_dir_all(folder).map_err(|error| format!("cannot create folder {}: {error}", folder.display()))
+    std::fs::create_dir_all(folder)
+        .map_err(|error| format!("cannot create folder {}: {error}", folder.display()))
 }
 
 #[cfg(test)]
@@ -47,7 +52,8 @@ mod tests {
         let path = folder.join("out.json");
         write_json(&path, &serde_json::json!({"a": 1})).unwrap();
         write_json(&path, &serde_json::json!({"a": 2})).unwrap();
-        let read: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let read: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
         assert_eq!(read["a"], 2);
         let leftovers = std::fs::read_dir(&folder).unwrap().count();
         assert_eq!(leftovers, 1, "temporary files left behind");

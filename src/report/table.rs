@@ -17,10 +17,15 @@ pub enum ResultFile {
 
 /// Reads a result file, telling its kind by its fields; errors name the file.
 pub fn read_result_file(path: &Path) -> Result<ResultFile, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
     let value: serde_json::Value =
         serde_json::from_str(&text).map_err(|e| format!("{}: not JSON: {e}", path.display()))?;
-    let kind = if value.get("best_ratios").is_some() { "optimize" } else { "solve" };
+    let kind = if value.get("best_ratios").is_some() {
+        "optimize"
+    } else {
+        "solve"
+    };
     let parsed = if kind == "optimize" {
         serde_json::from_value(value).map(|d| ResultFile::Optimize(Box::new(d)))
     } else {
@@ -43,9 +48,19 @@ const PAPER: [(f64, Space, &str, &str); 6] = [
     (0.0, Space::Joint, "(6, 3, 1, 1): 66.77", "-"),
     (0.0, Space::Actuation, "(6, 3, 1, 1): 50.99", "-"),
     (1.0, Space::Joint, "infeasible", "(9, 4.09, 3, 3): 146.42"),
-    (1.0, Space::Actuation, "(6, 3, 1, 1): 161.21", "(9, 5.62, 3, 1.8): 71.55"),
+    (
+        1.0,
+        Space::Actuation,
+        "(6, 3, 1, 1): 161.21",
+        "(9, 5.62, 3, 1.8): 71.55",
+    ),
     (3.0, Space::Joint, "infeasible", "none feasible"),
-    (3.0, Space::Actuation, "(6, 3, 1, 1): 526.45", "(9, 4.62, 3, 3): 159.42"),
+    (
+        3.0,
+        Space::Actuation,
+        "(6, 3, 1, 1): 526.45",
+        "(9, 4.62, 3, 3): 159.42",
+    ),
 ];
 
 /// One design's outcome in the table.
@@ -120,14 +135,26 @@ fn cell(result: &crate::solver::TrajectoryResult) -> DesignCell {
 }
 
 fn row_mut(rows: &mut Vec<TableRow>, payload_kg: f64, space: Space) -> &mut TableRow {
-    let index = match rows.iter().position(|r| r.payload_kg == payload_kg && r.space == space) {
+    let index = match rows
+        .iter()
+        .position(|r| r.payload_kg == payload_kg && r.space == space)
+    {
         Some(index) => index,
         None => {
             let paper = PAPER
                 .iter()
                 .find(|(p, s, _, _)| *p == payload_kg && *s == space)
-                .map(|(_, _, before, after)| PaperValues { before: (*before).to_owned(), after: (*after).to_owned() });
-            rows.push(TableRow { payload_kg, space, before: None, after: None, paper });
+                .map(|(_, _, before, after)| PaperValues {
+                    before: (*before).to_owned(),
+                    after: (*after).to_owned(),
+                });
+            rows.push(TableRow {
+                payload_kg,
+                space,
+                before: None,
+                after: None,
+                paper,
+            });
             rows.len() - 1
         }
     };
@@ -142,12 +169,15 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
         if let ResultFile::Solve(doc) = file {
             let original = &doc.inputs.task.transmission.original;
             if doc.result.ratios == *original {
-                row_mut(&mut rows, doc.inputs.payload_kg, doc.inputs.space).before = Some(cell(&doc.result));
+                row_mut(&mut rows, doc.inputs.payload_kg, doc.inputs.space).before =
+                    Some(cell(&doc.result));
             }
         }
     }
     for file in files {
-        let ResultFile::Optimize(doc) = file else { continue };
+        let ResultFile::Optimize(doc) = file else {
+            continue;
+        };
         let row = row_mut(&mut rows, doc.inputs.payload_kg, doc.inputs.space);
         if row.before.is_none() {
             row.before = doc.original_result.as_ref().map(cell);
@@ -163,7 +193,11 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
         after.per_seed.push((doc.inputs.seed, doc.best_cost));
         after.evaluations += doc.evaluations;
         if let Some(result) = doc.best_result.as_ref().filter(|r| r.feasible) {
-            if after.best.as_ref().is_none_or(|best| result.cost < best.cost) {
+            if after
+                .best
+                .as_ref()
+                .is_none_or(|best| result.cost < best.cost)
+            {
                 after.best = Some(cell(result));
             }
         }
@@ -173,23 +207,37 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
             let mut medians: Vec<f64> = files
                 .iter()
                 .filter_map(|f| match f {
-                    ResultFile::Optimize(d) if d.inputs.payload_kg == row.payload_kg && d.inputs.space == row.space => {
+                    ResultFile::Optimize(d)
+                        if d.inputs.payload_kg == row.payload_kg && d.inputs.space == row.space =>
+                    {
                         Some(d.median_solve_seconds)
                     }
                     _ => None,
                 })
                 .collect();
             medians.sort_by(f64::total_cmp);
-            after.median_solve_seconds = medians.get(medians.len() / 2).copied().unwrap_or(f64::NAN);
+            after.median_solve_seconds =
+                medians.get(medians.len() / 2).copied().unwrap_or(f64::NAN);
             after.per_seed.sort_by_key(|(seed, _)| *seed);
         }
     }
-    rows.sort_by(|a, b| a.payload_kg.total_cmp(&b.payload_kg).then((a.space as u8).cmp(&(b.space as u8))));
-    PaperTable { tool: ToolInfo::current(), rows, notes }
+    rows.sort_by(|a, b| {
+        a.payload_kg
+            .total_cmp(&b.payload_kg)
+            .then((a.space as u8).cmp(&(b.space as u8)))
+    });
+    PaperTable {
+        tool: ToolInfo::current(),
+        rows,
+        notes,
+    }
 }
 
 fn ratios_text(ratios: &[f64]) -> String {
-    let parts: Vec<String> = ratios.iter().map(|r| format!("{}", (r * 100.0).round() / 100.0)).collect();
+    let parts: Vec<String> = ratios
+        .iter()
+        .map(|r| format!("{}", (r * 100.0).round() / 100.0))
+        .collect();
     format!("({})", parts.join(", "))
 }
 
@@ -197,7 +245,11 @@ fn design_text(cell: &DesignCell) -> String {
     if cell.feasible {
         format!("{}: {:.2}", ratios_text(&cell.ratios), cell.cost)
     } else {
-        format!("{}: infeasible ({})", ratios_text(&cell.ratios), cell.status)
+        format!(
+            "{}: infeasible ({})",
+            ratios_text(&cell.ratios),
+            cell.status
+        )
     }
 }
 
@@ -217,18 +269,36 @@ impl PaperTable {
         text.push_str("| payload | space | before (ours) | before (paper) | after (ours) | after (paper) | seeds: best J | inner solves | median solve |\n");
         text.push_str("|---|---|---|---|---|---|---|---|---|\n");
         for row in &self.rows {
-            let before = row.before.as_ref().map_or_else(|| "-".to_owned(), design_text);
+            let before = row
+                .before
+                .as_ref()
+                .map_or_else(|| "-".to_owned(), design_text);
             let (after, seeds, solves, median) = match &row.after {
                 Some(after) => (
-                    after.best.as_ref().map_or_else(|| "none feasible".to_owned(), design_text),
-                    after.per_seed.iter().map(|(s, c)| format!("{s}: {c:.2}")).collect::<Vec<_>>().join(", "),
+                    after
+                        .best
+                        .as_ref()
+                        .map_or_else(|| "none feasible".to_owned(), design_text),
+                    after
+                        .per_seed
+                        .iter()
+                        .map(|(s, c)| format!("{s}: {c:.2}"))
+                        .collect::<Vec<_>>()
+                        .join(", "),
                     after.evaluations.to_string(),
                     format!("{:.1} ms", after.median_solve_seconds * 1e3),
                 ),
-                None => ("-".to_owned(), "-".to_owned(), "-".to_owned(), "-".to_owned()),
+                None => (
+                    "-".to_owned(),
+                    "-".to_owned(),
+                    "-".to_owned(),
+                    "-".to_owned(),
+                ),
             };
-            let (paper_before, paper_after) =
-                row.paper.as_ref().map_or(("-", "-"), |p| (p.before.as_str(), p.after.as_str()));
+            let (paper_before, paper_after) = row
+                .paper
+                .as_ref()
+                .map_or(("-", "-"), |p| (p.before.as_str(), p.after.as_str()));
             text.push_str(&format!(
                 "| {} kg | {} | {before} | {paper_before} | {after} | {paper_after} | {seeds} | {solves} | {median} |\n",
                 row.payload_kg, row.space

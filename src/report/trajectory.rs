@@ -71,18 +71,31 @@ fn per_joint(time: &[f64], rows: &[Vec<f64>], label: &str) -> Vec<Series> {
 
 /// Writes the plots of a solve into `folder`: joint positions, joint torques and motor torques
 /// with their limits, and the TCP path in the world y-z plane with the Cartesian box.
-pub fn write_plots(folder: &Path, formulation: &Formulation, result: &TrajectoryResult) -> Result<(), String> {
+pub fn write_plots(
+    folder: &Path,
+    formulation: &Formulation,
+    result: &TrajectoryResult,
+) -> Result<(), String> {
     super::files::create_folder(folder)?;
     let task = formulation.task();
     let t = &result.trajectory;
     let title = format!(
         "{} space, r = ({}), payload {} kg",
         formulation.space(),
-        result.ratios.iter().map(|r| format!("{r:.3}")).collect::<Vec<_>>().join(", "),
+        result
+            .ratios
+            .iter()
+            .map(|r| format!("{r:.3}"))
+            .collect::<Vec<_>>()
+            .join(", "),
         task.payload.mass_kg
     );
     let limits = formulation.dynamics().robot().position_limits();
-    let position_guides = limits.iter().flat_map(|&(lo, hi)| [lo, hi]).filter(|v| v.is_finite()).map(Guide::Horizontal);
+    let position_guides = limits
+        .iter()
+        .flat_map(|&(lo, hi)| [lo, hi])
+        .filter(|v| v.is_finite())
+        .map(Guide::Horizontal);
     let positions = Chart {
         title: format!("Joint positions: {title}"),
         x_label: "time [s]".into(),
@@ -94,9 +107,16 @@ pub fn write_plots(folder: &Path, formulation: &Formulation, result: &Trajectory
     let control_time = &t.time[..t.joint_torque.len()];
     let torque_guides = match formulation.space() {
         Space::Joint => {
-            let coupling = formulation.transmission().coupling(&result.ratios).map_err(|e| e.to_string())?;
+            let coupling = formulation
+                .transmission()
+                .coupling(&result.ratios)
+                .map_err(|e| e.to_string())?;
             match coupling.torque_limits(formulation.modes().torque, task.motors.torque_limit_nm) {
-                JointLimits::Box { lower, upper } => lower.into_iter().chain(upper).map(Guide::Horizontal).collect(),
+                JointLimits::Box { lower, upper } => lower
+                    .into_iter()
+                    .chain(upper)
+                    .map(Guide::Horizontal)
+                    .collect(),
                 JointLimits::Linear { .. } => Vec::new(),
             }
         }
@@ -131,7 +151,15 @@ pub fn write_plots(folder: &Path, formulation: &Formulation, result: &Trajectory
         title: format!("TCP path: {title}"),
         x_label: "world y [m]".into(),
         y_label: "world z [m]".into(),
-        series: vec![Series { name: "TCP".into(), points: t.tcp_y.iter().copied().zip(t.tcp_z.iter().copied()).collect() }],
+        series: vec![Series {
+            name: "TCP".into(),
+            points: t
+                .tcp_y
+                .iter()
+                .copied()
+                .zip(t.tcp_z.iter().copied())
+                .collect(),
+        }],
         guides: box_guides,
         log_y: false,
     };
