@@ -4,5 +4,11 @@
 //! IPOPT solve, the design loop, and the reports.
 
 pub mod cli;
+pub mod design;
+pub mod dynamics;
 pub mod ipopt;
 pub mod model;
+pub mod problem;
+pub mod report;
+pub mod solver;
+pub mod transmission;

@@ -1,6 +1,13 @@
 //! The command line: one subcommand per module, each a thin layer over the library.
 
+mod common;
 mod doctor;
+mod dynamics;
+mod optimize;
+mod reproduce;
+mod solve;
+mod table;
+mod worker;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -17,6 +24,19 @@ pub struct Cli {
 enum Command {
     /// Check the installation: IPOPT version, a solve of HS071, IPOPT's derivative checker.
     Doctor(doctor::Args),
+    /// Evaluate the robot's dynamics and TCP kinematics, with derivatives, at one state (JSON).
+    Dynamics(dynamics::Args),
+    /// Solve the trajectory problem of one design and report cost, feasibility and trajectory.
+    Solve(solve::Args),
+    /// Co-design: search the gear ratios with CMA-ES, solving each design in worker processes.
+    Optimize(optimize::Args),
+    /// Reproduce the paper's experiment: original designs, co-design per payload, table, plots.
+    Reproduce(reproduce::Args),
+    /// Rebuild the paper's table from result files of `solve` and `optimize`.
+    Table(table::Args),
+    /// Evaluate designs sent on stdin (the worker process of `optimize`; not for direct use).
+    #[command(hide = true)]
+    Worker,
 }
 
 /// Parses the command line, runs the subcommand, prints any error on stderr and returns the
@@ -25,6 +45,12 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Command::Doctor(args) => doctor::run(&args),
+        Command::Dynamics(args) => dynamics::run(&args),
+        Command::Solve(args) => solve::run(&args),
+        Command::Optimize(args) => optimize::run(&args),
+        Command::Reproduce(args) => reproduce::run(&args),
+        Command::Table(args) => table::run(&args),
+        Command::Worker => worker::run(),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,3 +1,13 @@
 //! The robot model and the task: what is read from files before any computation.
 
+pub mod chain;
+mod error;
+mod robot;
 pub mod task;
+mod urdf;
+
+pub use error::ModelError;
+pub use robot::Robot;
+
+#[cfg(test)]
+mod tests;

@@ -6,6 +6,7 @@
 //! Units are SI throughout: m, kg, s, rad, N m. Frames: the world is the URDF's root link.
 
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -143,7 +144,7 @@ pub struct TransmissionSpec {
 }
 
 /// How actuator limits are mapped to joint space.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum LimitMode {
     /// Elementwise G^T (torque) or G^-1 (speed) applied to the bound vectors, as the paper prints.
@@ -155,7 +156,7 @@ pub enum LimitMode {
 }
 
 /// The limit modes of a run.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LimitModes {
     /// Joint torque bounds of the joint-space problem.
@@ -172,6 +173,10 @@ pub struct SolverSettings {
     pub tol: f64,
     /// `max_iter`.
     pub max_iter: u32,
+    /// Further IPOPT options by name: JSON integers set integer options, other numbers real
+    /// options, strings string options (e.g. `"mumps_pivot_order": 6`).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub options: BTreeMap<String, serde_json::Value>,
 }
 
 /// A task file that could not be read or does not make sense; names the file and the field.
@@ -286,6 +291,16 @@ impl Task {
         }
         if !(self.solver.tol.is_finite() && self.solver.tol > 0.0) {
             return Err(format!("solver.tol = {} must be > 0", self.solver.tol));
+        }
+        for (name, value) in &self.solver.options {
+            let valid = value.as_i64().is_some_and(|v| i32::try_from(v).is_ok())
+                || value.as_f64().is_some_and(f64::is_finite)
+                || value.is_string();
+            if !valid {
+                return Err(format!(
+                    "solver.options.{name} = {value} must be an integer, a number or a string"
+                ));
+            }
         }
         Ok(())
     }

@@ -1,0 +1,42 @@
+//! Flags shared by the commands that load a task and a robot.
+
+use crate::model::task::Task;
+use crate::model::Robot;
+use std::path::PathBuf;
+
+/// The default task file, relative to the working directory (the repository root).
+pub const DEFAULT_TASK: &str = "robots/tasks/pick_place.json";
+
+/// Where the task and robot come from, and the payload.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ModelArgs {
+    /// Task file (JSON): motion, weights, box, motors, transmission, limit modes, solver.
+    #[arg(long, value_name = "FILE", default_value = DEFAULT_TASK)]
+    pub task: PathBuf,
+    /// URDF of the robot; overrides the task's `robot`.
+    #[arg(long, value_name = "URDF")]
+    pub robot: Option<PathBuf>,
+    /// Payload at the task's payload point, kg; overrides the task's `payload.mass_kg`.
+    #[arg(long, value_name = "KG", allow_negative_numbers = true)]
+    pub payload: Option<f64>,
+}
+
+impl ModelArgs {
+    /// Loads the task (with the overrides applied) and the robot carrying the payload.
+    pub fn load(&self) -> Result<(Task, Robot), String> {
+        let mut task = Task::load(&self.task).map_err(|e| e.to_string())?;
+        if let Some(robot) = &self.robot {
+            task.robot = robot.clone();
+        }
+        if let Some(payload) = self.payload {
+            if !(payload.is_finite() && payload >= 0.0) {
+                return Err(format!(
+                    "--payload {payload}: the payload must be a finite mass >= 0 kg"
+                ));
+            }
+            task.payload.mass_kg = payload;
+        }
+        let robot = Robot::load(&task).map_err(|e| e.to_string())?;
+        Ok((task, robot))
+    }
+}

@@ -1,0 +1,179 @@
+//! `codesign dynamics`: every dynamics quantity of the robot at one state, as one JSON object with
+//! the keys of a sample of `dynamics_vectors.json`.
+
+use crate::dynamics::Dynamics;
+use crate::model::task::Task;
+use crate::model::Robot;
+use nalgebra::DMatrix;
+use serde::Serialize;
+use std::path::PathBuf;
+
+/// Flags of `codesign dynamics`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Task file (JSON) giving the URDF, gravity, tool point and payload point.
+    #[arg(
+        long,
+        value_name = "FILE",
+        default_value = "robots/tasks/pick_place.json"
+    )]
+    task: PathBuf,
+    /// URDF of the robot; overrides the task's `robot`.
+    #[arg(long, value_name = "URDF")]
+    robot: Option<PathBuf>,
+    /// Payload at the task's payload point, kg [default: the task's payload.mass_kg].
+    #[arg(long, value_name = "KG", allow_negative_numbers = true)]
+    payload: Option<f64>,
+    /// Joint positions, rad, one per joint, comma-separated.
+    #[arg(
+        long,
+        value_name = "Q1,Q2,..",
+        value_delimiter = ',',
+        allow_hyphen_values = true,
+        required = true
+    )]
+    q: Vec<f64>,
+    /// Joint velocities, rad/s [default: 0].
+    #[arg(
+        long,
+        value_name = "V1,V2,..",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
+    v: Option<Vec<f64>>,
+    /// Joint accelerations, rad/s^2 [default: 0].
+    #[arg(
+        long,
+        value_name = "A1,A2,..",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
+    a: Option<Vec<f64>>,
+    /// Weights of the joint torques in the Hessian of lambda . tau [default: 0].
+    #[arg(
+        long,
+        value_name = "L1,L2,..",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
+    lambda: Option<Vec<f64>>,
+}
+
+/// The printed object: the inputs and everything computed from them (SI units, world frame).
+#[derive(Serialize)]
+struct Output {
+    q: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    tau: Vec<f64>,
+    mass_matrix: Vec<Vec<f64>>,
+    nonlinear_effects: Vec<f64>,
+    gravity: Vec<f64>,
+    forward_dynamics_of_tau: Vec<f64>,
+    dtau_dq: Vec<Vec<f64>>,
+    dtau_dv: Vec<Vec<f64>>,
+    tcp_position: Vec<f64>,
+    tcp_jacobian: Vec<Vec<f64>>,
+    tcp_hessian_y: Vec<Vec<f64>>,
+    tcp_hessian_z: Vec<Vec<f64>>,
+    #[serde(rename = "lambda_")]
+    lambda: Vec<f64>,
+    hessian_lambda_tau: Vec<Vec<f64>>,
+}
+
+/// Loads the robot, evaluates everything at the given state and prints it as JSON on stdout.
+pub fn run(args: &Args) -> Result<(), String> {
+    let mut task = Task::load(&args.task).map_err(|e| e.to_string())?;
+    if let Some(robot) = &args.robot {
+        task.robot = robot.clone();
+    }
+    if let Some(payload) = args.payload {
+        if !(payload.is_finite() && payload >= 0.0) {
+            return Err(format!(
+                "--payload {payload}: the payload must be a finite mass >= 0 kg"
+            ));
+        }
+        task.payload.mass_kg = payload;
+    }
+    let robot = Robot::load(&task).map_err(|e| e.to_string())?;
+    let n = robot.dof();
+    let joints = robot.joint_names().join(", ");
+    let state = |flag: &str, values: Option<&Vec<f64>>| -> Result<Vec<f64>, String> {
+        let Some(values) = values else {
+            return Ok(vec![0.0; n]);
+        };
+        if values.len() != n {
+            return Err(format!(
+                "--{flag} has {} values but the robot has {n} joints ({joints})",
+                values.len()
+            ));
+        }
+        match values.iter().position(|x| !x.is_finite()) {
+            Some(i) => Err(format!(
+                "--{flag}: value {} ({}) is not a finite number",
+                i + 1,
+                values[i]
+            )),
+            None => Ok(values.clone()),
+        }
+    };
+    let q = state("q", Some(&args.q))?;
+    let v = state("v", args.v.as_ref())?;
+    let a = state("a", args.a.as_ref())?;
+    let lambda = state("lambda", args.lambda.as_ref())?;
+    println!("{}", evaluate(Dynamics::new(robot), q, v, a, lambda)?);
+    Ok(())
+}
+
+/// Everything at (q, v, a) with weights lambda, as pretty-printed JSON.
+fn evaluate(
+    mut dynamics: Dynamics,
+    q: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    lambda: Vec<f64>,
+) -> Result<String, String> {
+    let n = dynamics.dof();
+    let square = || DMatrix::zeros(n, n);
+    let mut tau = vec![0.0; n];
+    let (mut dtau_dq, mut dtau_dv, mut mass) = (square(), square(), square());
+    dynamics.rnea_derivatives(&q, &v, &a, &mut tau, &mut dtau_dq, &mut dtau_dv, &mut mass);
+    let mut nonlinear_effects = vec![0.0; n];
+    dynamics.nonlinear_effects(&q, &v, &mut nonlinear_effects);
+    let mut gravity = vec![0.0; n];
+    dynamics.gravity_torques(&q, &mut gravity);
+    let mut forward_dynamics_of_tau = vec![0.0; n];
+    dynamics.forward_dynamics(&q, &v, &tau, &mut forward_dynamics_of_tau);
+    let mut tcp_jacobian = DMatrix::zeros(3, n);
+    dynamics.tcp_jacobian(&q, &mut tcp_jacobian);
+    let mut tcp_hessians = [square(), square(), square()];
+    dynamics.tcp_hessians(&q, &mut tcp_hessians);
+    let mut hessian = DMatrix::zeros(3 * n, 3 * n);
+    dynamics.rnea_hessian(&q, &v, &a, &lambda, &mut hessian);
+    let output = Output {
+        tcp_position: dynamics.tcp_position(&q).as_slice().to_vec(),
+        q,
+        v,
+        a,
+        tau,
+        mass_matrix: rows(&mass),
+        nonlinear_effects,
+        gravity,
+        forward_dynamics_of_tau,
+        dtau_dq: rows(&dtau_dq),
+        dtau_dv: rows(&dtau_dv),
+        tcp_jacobian: rows(&tcp_jacobian),
+        tcp_hessian_y: rows(&tcp_hessians[1]),
+        tcp_hessian_z: rows(&tcp_hessians[2]),
+        lambda,
+        hessian_lambda_tau: rows(&hessian),
+    };
+    serde_json::to_string_pretty(&output).map_err(|e| e.to_string())
+}
+
+fn rows(matrix: &DMatrix<f64>) -> Vec<Vec<f64>> {
+    matrix
+        .row_iter()
+        .map(|row| row.iter().copied().collect())
+        .collect()
+}

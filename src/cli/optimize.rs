@@ -1,0 +1,235 @@
+//! `codesign optimize`: co-design of one case (space, payload, seed) with CMA-ES.
+
+use super::common::ModelArgs;
+use crate::design::cmaes::CmaesSettings;
+use crate::design::log::EvaluationLog;
+use crate::design::optimize::{optimize, Progress};
+use crate::design::workers::{Pool, WorkerSetup};
+use crate::model::task::{LimitMode, LimitModes};
+use crate::problem::{Formulation, Space};
+use crate::report::codesign::{OptimizeDocument, OptimizeInputs};
+use crate::report::files::write_json;
+use crate::report::trajectory::ToolInfo;
+use crate::solver::{solve_design, SolveSettings};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Flags of `codesign optimize`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// Joint torques (baseline) or motor torques (the paper's method) as controls.
+    #[arg(long, value_enum, default_value = "actuation")]
+    pub space: Space,
+    /// Seed of CMA-ES's random numbers.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// CMA-ES population size lambda.
+    #[arg(long, default_value_t = 100)]
+    pub population: usize,
+    /// CMA-ES generations after the initial population.
+    #[arg(long, default_value_t = 30)]
+    pub generations: usize,
+    /// Initial step size, relative to the width of the design box.
+    #[arg(long, default_value_t = 0.3)]
+    pub sigma: f64,
+    /// Fitness of invalid or infeasible designs.
+    #[arg(long, default_value_t = 1e6)]
+    pub penalty: f64,
+    /// Worker processes (default: one per core).
+    #[arg(long, value_name = "N")]
+    pub workers: Option<usize>,
+    /// A solve taking longer than this (s) counts as a hung worker.
+    #[arg(long, value_name = "S", default_value_t = 600.0)]
+    pub solve_timeout: f64,
+    /// Joint torque limit mode of the joint-space problem; default: the task's.
+    #[arg(long, value_enum, value_name = "MODE")]
+    pub torque_mode: Option<LimitMode>,
+    /// Joint speed limit mode; default: the task's.
+    #[arg(long, value_enum, value_name = "MODE")]
+    pub speed_mode: Option<LimitMode>,
+    /// Result file (JSON); the evaluation log is written beside it as FILE.log.jsonl.
+    #[arg(long, value_name = "FILE.json")]
+    pub out: Option<PathBuf>,
+    /// Continue an interrupted run from its evaluation log.
+    #[arg(long)]
+    pub resume: bool,
+}
+
+struct Bar(ProgressBar);
+
+impl Progress for Bar {
+    fn evaluated(&mut self, best: f64) {
+        self.0.inc(1);
+        self.0.set_message(format!("best J {best:.4}"));
+    }
+}
+
+/// The evaluation log beside a result file: `x.json` -> `x.log.jsonl`.
+pub fn log_path(out: &Path) -> PathBuf {
+    out.with_extension("log.jsonl")
+}
+
+/// Runs one co-design case and writes its document; returns it.
+pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
+    let started = Instant::now();
+    let (task, robot) = args.model.load()?;
+    let modes = LimitModes {
+        torque: args.torque_mode.unwrap_or(task.limit_modes.torque),
+        speed: args.speed_mode.unwrap_or(task.limit_modes.speed),
+    };
+    if !(args.sigma.is_finite() && args.sigma > 0.0) {
+        return Err(format!("--sigma {}: must be a positive number", args.sigma));
+    }
+    if !args.penalty.is_finite() {
+        return Err(format!("--penalty {}: must be finite", args.penalty));
+    }
+    if !(args.solve_timeout.is_finite() && args.solve_timeout > 0.0) {
+        return Err(format!(
+            "--solve-timeout {}: must be a positive number of seconds",
+            args.solve_timeout
+        ));
+    }
+    let formulation =
+        Formulation::new(&task, robot, args.space, modes).map_err(|e| e.to_string())?;
+    let mut worker_task = task.clone();
+    worker_task.robot = std::fs::canonicalize(&task.robot)
+        .map_err(|e| format!("robot {}: {e}", task.robot.display()))?;
+    let setup = WorkerSetup {
+        task: worker_task,
+        space: args.space,
+        modes,
+        penalty: args.penalty,
+    };
+    let settings = CmaesSettings {
+        population: args.population,
+        generations: args.generations,
+        sigma0: args.sigma,
+        seed: args.seed,
+        ftol: 1e-6,
+        xtol: 1e-6,
+    };
+    let inputs = OptimizeInputs {
+        task_file: args.model.task.display().to_string(),
+        task: task.clone(),
+        space: args.space,
+        payload_kg: task.payload.mass_kg,
+        limit_modes: modes,
+        seed: args.seed,
+        population: args.population,
+        generations: args.generations,
+        sigma0: args.sigma,
+        penalty: args.penalty,
+        ftol: settings.ftol,
+        xtol: settings.xtol,
+    };
+    let header = serde_json::to_value(&inputs).map_err(|e| e.to_string())?;
+    let log_file = log_path(out);
+    let (mut log, finished) = if args.resume {
+        EvaluationLog::resume(&log_file, header)?
+    } else {
+        (
+            EvaluationLog::create(&log_file, header)?,
+            Default::default(),
+        )
+    };
+    let workers = args
+        .workers
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let program = std::env::current_exe()
+        .map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
+    let mut pool = Pool::new(
+        program,
+        &setup,
+        workers,
+        Duration::from_secs_f64(args.solve_timeout),
+    )?;
+    let bar = ProgressBar::new((args.population * (args.generations + 1)) as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{prefix} [{elapsed_precise}] {bar:30} {pos}/{len} {msg}")
+            .map_err(|e| e.to_string())?,
+    );
+    bar.set_prefix(format!(
+        "{} {} kg seed {}",
+        args.space, task.payload.mass_kg, args.seed
+    ));
+    let mut progress = Bar(bar);
+    let outcome = optimize(
+        settings,
+        formulation.transmission().bounds(),
+        &mut pool,
+        &mut log,
+        &finished,
+        &mut progress,
+    )?;
+    progress.0.finish();
+    drop(pool);
+
+    let solve = |ratios: &[f64]| solve_design(&formulation, ratios, &SolveSettings::default()).ok();
+    let best_result = solve(&outcome.best_ratios);
+    let original_ratios = formulation.transmission().original().to_vec();
+    let original_result = solve(&original_ratios);
+    let original_cost = match &original_result {
+        Some(result) if result.feasible => result.cost,
+        _ => args.penalty,
+    };
+    let mut seconds: Vec<f64> = outcome
+        .evaluations
+        .iter()
+        .filter(|e| e.iterations > 0)
+        .map(|e| e.seconds)
+        .collect();
+    seconds.sort_by(f64::total_cmp);
+    let document = OptimizeDocument {
+        tool: ToolInfo::current(),
+        inputs,
+        best_ratios: outcome.best_ratios,
+        best_cost: outcome.best_cost,
+        best_result,
+        original_ratios,
+        original_cost,
+        original_result,
+        generations: outcome.generations,
+        evaluations: outcome.evaluations.len(),
+        costs: outcome.evaluations.iter().map(|e| e.cost).collect(),
+        replayed: outcome.replayed,
+        median_solve_seconds: seconds.get(seconds.len() / 2).copied().unwrap_or(f64::NAN),
+        stop_reason: outcome.stop_reason,
+        wall_seconds: started.elapsed().as_secs_f64(),
+    };
+    write_json(out, &document)?;
+    Ok(document)
+}
+
+/// Runs `codesign optimize` and prints a summary.
+pub fn run(args: &Args) -> Result<(), String> {
+    let out = args.out.clone().unwrap_or_else(|| {
+        let payload = args
+            .model
+            .payload
+            .map_or_else(|| "task".to_owned(), |p| format!("{p}kg"));
+        PathBuf::from(format!(
+            "optimize-{}-{payload}-seed{}.json",
+            args.space, args.seed
+        ))
+    });
+    let document = run_case(args, &out)?;
+    println!(
+        "best r = ({}) with J = {:.6} (original design: J = {:.6}); {} evaluations ({} replayed), median solve {:.1} ms; {}",
+        document.best_ratios.iter().map(|r| format!("{r:.4}")).collect::<Vec<_>>().join(", "),
+        document.best_cost,
+        document.original_cost,
+        document.evaluations,
+        document.replayed,
+        document.median_solve_seconds * 1e3,
+        document.stop_reason
+    );
+    println!(
+        "result written to {} (evaluation log {})",
+        out.display(),
+        log_path(&out).display()
+    );
+    Ok(())
+}

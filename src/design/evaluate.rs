@@ -1,0 +1,66 @@
+//! The fitness of one design (SPEC section 4): its optimal trajectory cost, or a penalty.
+
+use crate::problem::Formulation;
+use crate::solver::{solve_design, SolveError, SolveSettings};
+use serde::{Deserialize, Serialize};
+
+/// The outcome of evaluating one design, as logged and as the optimiser sees it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Evaluation {
+    /// The design r.
+    pub ratios: Vec<f64>,
+    /// The fitness: the optimal cost J when the design is valid and feasible, else the penalty.
+    pub cost: f64,
+    /// Whether the design is valid and its trajectory problem was solved.
+    pub feasible: bool,
+    /// IPOPT's status, or `Invalid_Design` / `Worker_Failed` when IPOPT did not decide.
+    pub status: String,
+    /// IPOPT iterations (0 when no solve ran).
+    pub iterations: usize,
+    /// Wall time of the solve, s.
+    pub seconds: f64,
+    /// Why the design was penalised.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+}
+
+impl Evaluation {
+    /// A penalised design that was never solved.
+    pub fn penalised(ratios: &[f64], penalty: f64, status: &str, reason: String) -> Evaluation {
+        Evaluation {
+            ratios: ratios.to_vec(),
+            cost: penalty,
+            feasible: false,
+            status: status.to_owned(),
+            iterations: 0,
+            seconds: 0.0,
+            reason: Some(reason),
+        }
+    }
+}
+
+/// Solves the trajectory problem of `ratios` and scores it; never fails: an invalid design, an
+/// infeasible problem or a solver error all score `penalty` with the reason recorded.
+pub fn evaluate(formulation: &Formulation, ratios: &[f64], penalty: f64) -> Evaluation {
+    match solve_design(formulation, ratios, &SolveSettings::default()) {
+        Ok(result) => Evaluation {
+            ratios: ratios.to_vec(),
+            cost: if result.feasible {
+                result.cost
+            } else {
+                penalty
+            },
+            feasible: result.feasible,
+            status: result.status,
+            iterations: result.iterations,
+            seconds: result.solve_seconds.total,
+            reason: result.reason,
+        },
+        Err(SolveError::Design(error)) => {
+            Evaluation::penalised(ratios, penalty, "Invalid_Design", error.to_string())
+        }
+        Err(SolveError::Ipopt(error)) => {
+            Evaluation::penalised(ratios, penalty, "Solver_Error", error.to_string())
+        }
+    }
+}

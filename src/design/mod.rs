@@ -1,0 +1,9 @@
+//! The outer, design level: CMA-ES over the design ratios, driven ask/tell so that designs are
+//! evaluated elsewhere (worker processes, or a log replayed on resumption).
+
+pub mod cmaes;
+pub mod evaluate;
+pub mod log;
+pub mod optimize;
+pub mod rng;
+pub mod workers;

@@ -1,0 +1,358 @@
+//! Worker processes that evaluate designs, one solve at a time each.
+//!
+//! MUMPS is not thread-safe, so parallel evaluation runs in separate processes: `codesign worker`
+//! reads a [`WorkerSetup`] line and then one [`Request`] per line on stdin, and answers each with
+//! one [`Response`] line on stdout. The [`Pool`] feeds them, and replaces a worker that crashes or
+//! exceeds the time limit: its design is retried once on a fresh worker, then penalised with the
+//! reason. One bad design never stops a run, and the results do not depend on the worker count.
+
+use super::evaluate::{evaluate, Evaluation};
+use crate::model::task::{LimitModes, Task};
+use crate::model::Robot;
+use crate::problem::{Formulation, Space};
+use serde::{Deserialize, Serialize};
+use std::collections::VecDeque;
+use std::io::{BufRead, BufReader, Write};
+use std::path::PathBuf;
+use std::process::{Child, ChildStdin, Command, Stdio};
+use std::sync::mpsc::{channel, Receiver, RecvTimeoutError, Sender};
+use std::time::{Duration, Instant};
+
+/// Everything a worker needs to build its [`Formulation`], sent as its first line.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WorkerSetup {
+    /// The task with every override applied (its robot path absolute or relative to the
+    /// worker's working directory, which is the parent's).
+    pub task: Task,
+    /// Joint or actuation space.
+    pub space: Space,
+    /// Limit modes.
+    pub modes: LimitModes,
+    /// Fitness of invalid or infeasible designs.
+    pub penalty: f64,
+}
+
+impl WorkerSetup {
+    /// Builds the formulation this setup describes.
+    pub fn formulation(&self) -> Result<Formulation, String> {
+        let robot = Robot::load(&self.task).map_err(|e| e.to_string())?;
+        Formulation::new(&self.task, robot, self.space, self.modes).map_err(|e| e.to_string())
+    }
+}
+
+/// One design to evaluate.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Request {
+    /// The caller's identifier, echoed back.
+    pub id: usize,
+    /// The design r.
+    pub ratios: Vec<f64>,
+}
+
+/// The evaluation of one request.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Response {
+    /// The request's identifier.
+    pub id: usize,
+    /// Its evaluation.
+    pub evaluation: Evaluation,
+}
+
+/// The worker's side: reads the setup and requests from `input`, writes responses to `output`,
+/// until `input` ends. Errors (a malformed line, an unbuildable formulation) end the worker.
+pub fn serve(input: impl BufRead, mut output: impl Write) -> Result<(), String> {
+    let mut lines = input.lines();
+    let setup_line = match lines.next() {
+        Some(line) => line.map_err(|e| format!("worker: cannot read its setup: {e}"))?,
+        None => return Ok(()),
+    };
+    let setup: WorkerSetup = serde_json::from_str(&setup_line)
+        .map_err(|e| format!("worker: malformed setup line: {e}"))?;
+    let formulation = setup.formulation()?;
+    for line in lines {
+        let line = line.map_err(|e| format!("worker: cannot read a request: {e}"))?;
+        let request: Request =
+            serde_json::from_str(&line).map_err(|e| format!("worker: malformed request: {e}"))?;
+        let response = Response {
+            id: request.id,
+            evaluation: evaluate(&formulation, &request.ratios, setup.penalty),
+        };
+        let text = serde_json::to_string(&response).map_err(|e| format!("worker: {e}"))?;
+        writeln!(output, "{text}")
+            .and_then(|()| output.flush())
+            .map_err(|e| format!("worker: cannot answer: {e}"))?;
+    }
+    Ok(())
+}
+
+/// A message from a worker's reader thread: its slot, its incarnation, and a line (None at EOF).
+type Message = (usize, u64, Option<String>);
+
+struct Worker {
+    child: Child,
+    stdin: ChildStdin,
+    incarnation: u64,
+    /// The job it is working on and when it must be done.
+    job: Option<(Job, Instant)>,
+}
+
+#[derive(Clone, Debug)]
+struct Job {
+    id: usize,
+    ratios: Vec<f64>,
+    attempt: u32,
+}
+
+/// A pool of worker processes (see the module documentation).
+pub struct Pool {
+    program: PathBuf,
+    setup_line: String,
+    penalty: f64,
+    timeout: Duration,
+    workers: Vec<Worker>,
+    sender: Sender<Message>,
+    receiver: Receiver<Message>,
+    incarnations: u64,
+}
+
+impl Pool {
+    /// Starts `count` workers running `program worker` (normally this executable).
+    pub fn new(
+        program: PathBuf,
+        setup: &WorkerSetup,
+        count: usize,
+        timeout: Duration,
+    ) -> Result<Pool, String> {
+        if count == 0 {
+            return Err("--workers must be at least 1".to_owned());
+        }
+        let (sender, receiver) = channel();
+        let mut pool = Pool {
+            program,
+            setup_line: serde_json::to_string(setup).map_err(|e| e.to_string())?,
+            penalty: setup.penalty,
+            timeout,
+            workers: Vec::with_capacity(count),
+            sender,
+            receiver,
+            incarnations: 0,
+        };
+        for slot in 0..count {
+            let worker = pool.spawn(slot)?;
+            pool.workers.push(worker);
+        }
+        Ok(pool)
+    }
+
+    /// Process ids of the running workers (for monitoring).
+    pub fn worker_ids(&self) -> Vec<u32> {
+        self.workers.iter().map(|w| w.child.id()).collect()
+    }
+
+    fn spawn(&mut self, slot: usize) -> Result<Worker, String> {
+        let mut child = Command::new(&self.program)
+            .arg("worker")
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .map_err(|e| format!("cannot start worker {}: {e}", self.program.display()))?;
+        let mut stdin = child.stdin.take().ok_or("worker has no stdin")?;
+        let stdout = child.stdout.take().ok_or("worker has no stdout")?;
+        writeln!(stdin, "{}", self.setup_line)
+            .map_err(|e| format!("cannot send the setup to a worker: {e}"))?;
+        self.incarnations += 1;
+        let incarnation = self.incarnations;
+        let sender = self.sender.clone();
+        std::thread::spawn(move || {
+            for line in BufReader::new(stdout).lines() {
+                match line {
+                    Ok(line) => {
+                        if sender.send((slot, incarnation, Some(line))).is_err() {
+                            return;
+                        }
+                    }
+                    Err(_) => break,
+                }
+            }
+            let _ = sender.send((slot, incarnation, None));
+        });
+        Ok(Worker {
+            child,
+            stdin,
+            incarnation,
+            job: None,
+        })
+    }
+
+    /// Replaces the worker in `slot` (killing it if it still runs) and returns its job, if any.
+    fn replace(&mut self, slot: usize) -> Result<Option<Job>, String> {
+        let fresh = self.spawn(slot)?;
+        let mut old = std::mem::replace(&mut self.workers[slot], fresh);
+        let _ = old.child.kill();
+        let _ = old.child.wait();
+        Ok(old.job.take().map(|(job, _)| job))
+    }
+
+    /// Evaluates every design, in any order across workers, and returns the evaluations in the
+    /// order given. `done` is called as each one finishes (for logging and progress).
+    pub fn evaluate_all(
+        &mut self,
+        designs: &[(usize, Vec<f64>)],
+        mut done: impl FnMut(usize, &Evaluation) -> Result<(), String>,
+    ) -> Result<Vec<Evaluation>, String> {
+        let mut queue: VecDeque<Job> = designs
+            .iter()
+            .map(|(id, ratios)| Job {
+                id: *id,
+                ratios: ratios.clone(),
+                attempt: 0,
+            })
+            .collect();
+        let mut results: Vec<Option<Evaluation>> = vec![None; designs.len()];
+        let position = |id: usize| designs.iter().position(|(d, _)| *d == id);
+        let mut remaining = designs.len();
+        while remaining > 0 {
+            for slot in 0..self.workers.len() {
+                if self.workers[slot].job.is_some() {
+                    continue;
+                }
+                let Some(job) = queue.pop_front() else { break };
+                let line = serde_json::to_string(&Request {
+                    id: job.id,
+                    ratios: job.ratios.clone(),
+                })
+                .map_err(|e| e.to_string())?;
+                let deadline = Instant::now() + self.timeout;
+                let worker = &mut self.workers[slot];
+                let sent = writeln!(worker.stdin, "{line}").and_then(|()| worker.stdin.flush());
+                worker.job = Some((job, deadline));
+                if sent.is_err() {
+                    // The worker died between jobs: its reader reports EOF and the job is retried.
+                    continue;
+                }
+            }
+            let next_deadline = self
+                .workers
+                .iter()
+                .filter_map(|w| w.job.as_ref().map(|(_, d)| *d))
+                .min();
+            let wait = next_deadline.map_or(self.timeout, |d| {
+                d.saturating_duration_since(Instant::now())
+            });
+            let mut failed: Vec<(usize, String)> = Vec::new();
+            match self.receiver.recv_timeout(wait) {
+                Ok((slot, incarnation, line)) => {
+                    if self.workers[slot].incarnation != incarnation {
+                        continue;
+                    }
+                    match line {
+                        Some(line) => {
+                            let response: Response = match serde_json::from_str(&line) {
+                                Ok(response) => response,
+                                Err(e) => {
+                                    failed.push((
+                                        slot,
+                                        format!("worker sent a malformed answer: {e}"),
+                                    ));
+                                    self.retry_or_penalise(
+                                        failed,
+                                        &mut queue,
+                                        &mut results,
+                                        &position,
+                                        &mut remaining,
+                                        &mut done,
+                                    )?;
+                                    continue;
+                                }
+                            };
+                            let worker = &mut self.workers[slot];
+                            if let Some((job, _)) = worker.job.take() {
+                                if job.id == response.id {
+                                    if let Some(index) = position(job.id) {
+                                        done(job.id, &response.evaluation)?;
+                                        results[index] = Some(response.evaluation);
+                                        remaining -= 1;
+                                    }
+                                }
+                            }
+                        }
+                        None => failed.push((slot, "worker process crashed".to_owned())),
+                    }
+                }
+                Err(RecvTimeoutError::Timeout) => {
+                    let now = Instant::now();
+                    for (slot, worker) in self.workers.iter().enumerate() {
+                        if matches!(&worker.job, Some((_, deadline)) if *deadline <= now) {
+                            failed.push((
+                                slot,
+                                format!("solve exceeded {:.0} s", self.timeout.as_secs_f64()),
+                            ));
+                        }
+                    }
+                }
+                Err(RecvTimeoutError::Disconnected) => {
+                    return Err("all worker readers stopped".to_owned())
+                }
+            }
+            self.retry_or_penalise(
+                failed,
+                &mut queue,
+                &mut results,
+                &position,
+                &mut remaining,
+                &mut done,
+            )?;
+        }
+        Ok(results.into_iter().flatten().collect())
+    }
+
+    /// Replaces each failed worker; its job goes back to the queue once, then is penalised.
+    fn retry_or_penalise(
+        &mut self,
+        failed: Vec<(usize, String)>,
+        queue: &mut VecDeque<Job>,
+        results: &mut [Option<Evaluation>],
+        position: &impl Fn(usize) -> Option<usize>,
+        remaining: &mut usize,
+        done: &mut impl FnMut(usize, &Evaluation) -> Result<(), String>,
+    ) -> Result<(), String> {
+        for (slot, reason) in failed {
+            let Some(mut job) = self.replace(slot)? else {
+                continue;
+            };
+            if job.attempt == 0 {
+                eprintln!(
+                    "warning: {reason} on design {:?}; retrying it on a fresh worker",
+                    job.ratios
+                );
+                job.attempt += 1;
+                queue.push_front(job);
+            } else if let Some(index) = position(job.id) {
+                eprintln!(
+                    "warning: {reason} again on design {:?}; scoring it {}",
+                    job.ratios, self.penalty
+                );
+                let evaluation = Evaluation::penalised(
+                    &job.ratios,
+                    self.penalty,
+                    "Worker_Failed",
+                    format!("{reason}, twice"),
+                );
+                done(job.id, &evaluation)?;
+                results[index] = Some(evaluation);
+                *remaining -= 1;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Drop for Pool {
+    fn drop(&mut self) {
+        for worker in &mut self.workers {
+            let _ = worker.child.kill();
+            let _ = worker.child.wait();
+        }
+    }
+}

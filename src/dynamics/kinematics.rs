@@ -1,0 +1,95 @@
+//! Forward kinematics (world poses, joint motion vectors, world inertias) and the tool centre
+//! point: its world position, its Jacobian and the Hessians of its coordinates.
+//!
+//! With S_j = (u_j, p_j x u_j) the world motion vector of joint j (unit axis u_j through p_j), the
+//! TCP's velocity due to joint j <= b (b its body) is J_j = u_j x P + p_j x u_j = u_j x (P - p_j).
+//! As du_i/dq_j = u_j x u_i for j <= i, the second derivatives are
+//! d^2 P / dq_i dq_j = u_min(i,j) x J_max(i,j) (zero beyond the TCP's body).
+
+use super::spatial::Motion;
+use super::{remember, same_state, shape, Dynamics};
+use crate::model::chain::Placement;
+use nalgebra::{DMatrix, Matrix3, Vector3};
+
+impl Dynamics {
+    /// Brings the poses, joint motion vectors and inertias in the world frame to `q`.
+    pub(super) fn update_frames(&mut self, q: &[f64]) {
+        self.expect_joints("q", q);
+        if same_state(&self.frames_at, &[q]) {
+            return;
+        }
+        let mut parent = Placement::identity();
+        for ((frame, model), &angle) in self.frames.iter_mut().zip(&self.model).zip(q) {
+            let joint = parent.then(&model.joint_placement);
+            let (sin, cos) = angle.sin_cos();
+            let turn = Matrix3::identity()
+                + model.axis_cross * sin
+                + model.axis_cross_squared * (1.0 - cos);
+            frame.pose = Placement {
+                rotation: joint.rotation * turn,
+                translation: joint.translation,
+            };
+            let axis = joint.rotation * model.axis;
+            frame.s = Motion::new(axis, joint.translation.cross(&axis));
+            frame.inertia = model.inertia.transformed(&frame.pose);
+            parent = frame.pose;
+        }
+        remember(&mut self.frames_at, &[q]);
+    }
+
+    /// The TCP's world position at the current frames.
+    fn tcp_world(&self) -> Vector3<f64> {
+        match self.tcp.body {
+            Some(b) => self.frames[b].pose.apply(&self.tcp.point),
+            None => self.tcp.point,
+        }
+    }
+
+    /// Joints that move the TCP: those up to its body.
+    fn tcp_joints(&self) -> usize {
+        self.tcp.body.map_or(0, |b| b + 1)
+    }
+
+    /// The TCP's position in the world frame at `q`, m.
+    pub fn tcp_position(&mut self, q: &[f64]) -> Vector3<f64> {
+        self.update_frames(q);
+        self.tcp_world()
+    }
+
+    /// The Jacobian dp/dq (3 x n, m/rad) of the TCP's world position; `jacobian` is resized if
+    /// it has another shape.
+    pub fn tcp_jacobian(&mut self, q: &[f64], jacobian: &mut DMatrix<f64>) {
+        self.update_frames(q);
+        let n = self.dof();
+        shape(jacobian, 3, n);
+        let tcp = self.tcp_world();
+        jacobian.fill(0.0);
+        for j in 0..self.tcp_joints() {
+            let s = &self.frames[j].s;
+            jacobian.set_column(j, &(s.ang.cross(&tcp) + s.lin));
+        }
+    }
+
+    /// The Hessians d^2 p_k / dq dq (n x n each, m/rad^2) of the TCP's world x, y and z; each
+    /// matrix is resized if it has another shape.
+    pub fn tcp_hessians(&mut self, q: &[f64], hessians: &mut [DMatrix<f64>; 3]) {
+        self.update_frames(q);
+        let n = self.dof();
+        for hessian in hessians.iter_mut() {
+            shape(hessian, n, n);
+            hessian.fill(0.0);
+        }
+        let tcp = self.tcp_world();
+        for j in 0..self.tcp_joints() {
+            let s = &self.frames[j].s;
+            let column = s.ang.cross(&tcp) + s.lin;
+            for i in 0..=j {
+                let entry = self.frames[i].s.ang.cross(&column);
+                for (hessian, value) in hessians.iter_mut().zip(entry.iter()) {
+                    hessian[(i, j)] = *value;
+                    hessian[(j, i)] = *value;
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,427 @@
+//! Checks of the dynamics: the reference vectors of `../shared/testdata/dynamics_vectors.json`
+//! (Pinocchio and an independent symbolic RNEA) for the belt arm, and central finite differences
+//! of this module's own functions for the belt arm and a random 6-joint chain with skew axes.
+
+use super::Dynamics;
+use crate::model::task::Task;
+use crate::model::Robot;
+use nalgebra::DMatrix;
+use serde::Deserialize;
+use std::path::Path;
+
+fn default_task() -> Task {
+    Task::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json")).unwrap()
+}
+
+fn belt_arm(payload_kg: f64) -> Dynamics {
+    Dynamics::new(
+        Robot::load(&default_task())
+            .unwrap()
+            .with_payload(payload_kg),
+    )
+}
+
+/// A small deterministic generator (SplitMix64) for random states and models.
+struct Random(u64);
+
+impl Random {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform in [lo, hi).
+    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next()
+    }
+
+    fn vector(&mut self, n: usize, scale: f64) -> Vec<f64> {
+        (0..n).map(|_| self.uniform(-scale, scale)).collect()
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reference vectors
+
+#[derive(Deserialize)]
+struct Vectors {
+    cases: Vec<Case>,
+}
+
+#[derive(Deserialize)]
+struct Case {
+    payload_kg: f64,
+    samples: Vec<Sample>,
+}
+
+#[derive(Deserialize)]
+struct Sample {
+    q: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    #[serde(rename = "lambda_")]
+    lambda: Vec<f64>,
+    tau: Vec<f64>,
+    mass_matrix: Vec<Vec<f64>>,
+    nonlinear_effects: Vec<f64>,
+    gravity: Vec<f64>,
+    forward_dynamics_of_tau: Vec<f64>,
+    dtau_dq: Vec<Vec<f64>>,
+    dtau_dv: Vec<Vec<f64>>,
+    tcp_position: Vec<f64>,
+    tcp_jacobian: Vec<Vec<f64>>,
+    tcp_hessian_y: Vec<Vec<f64>>,
+    tcp_hessian_z: Vec<Vec<f64>>,
+    hessian_lambda_tau: Vec<Vec<f64>>,
+}
+
+fn rows(matrix: &DMatrix<f64>) -> Vec<Vec<f64>> {
+    matrix
+        .row_iter()
+        .map(|row| row.iter().copied().collect())
+        .collect()
+}
+
+/// The agreement the reference promises, 1e-9 relative, measured against the field's scale:
+/// |got - want| <= 1e-9 * max(|want|, largest |entry| of the reference field). Entries far below
+/// the field's scale (e.g. 1e-16 where the field is of order 1) are thus held to 1e-9 of the scale.
+fn assert_field(context: &str, field: &str, got: &[Vec<f64>], want: &[Vec<f64>]) {
+    assert_eq!(got.len(), want.len(), "{context} {field}: row count");
+    let scale = want.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    for (r, (got_row, want_row)) in got.iter().zip(want).enumerate() {
+        assert_eq!(got_row.len(), want_row.len(), "{context} {field}: length");
+        for (c, (g, w)) in got_row.iter().zip(want_row).enumerate() {
+            let tolerance = 1e-9 * w.abs().max(scale);
+            assert!(
+                (g - w).abs() <= tolerance,
+                "{context} {field}[{r}][{c}]: got {g:e}, reference {w:e} (off by {:e}, allowed {tolerance:e})",
+                (g - w).abs()
+            );
+        }
+    }
+}
+
+fn load_vectors() -> Vectors {
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/testdata/dynamics_vectors.json");
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("{} (beside the repository): {e}", path.display()));
+    serde_json::from_str(&text).unwrap()
+}
+
+#[test]
+fn every_field_of_every_reference_sample_agrees() {
+    let vectors = load_vectors();
+    assert_eq!(vectors.cases.len(), 3);
+    for case in &vectors.cases {
+        let mut dynamics = belt_arm(case.payload_kg);
+        let n = dynamics.dof();
+        for (k, s) in case.samples.iter().enumerate() {
+            let context = format!("payload {} kg, sample {k}", case.payload_kg);
+            let check = |field: &str, got: Vec<Vec<f64>>, want: &[Vec<f64>]| {
+                assert_field(&context, field, &got, want)
+            };
+            let vector = |x: &[f64]| vec![x.to_vec()];
+            let mut tau = vec![0.0; n];
+            let mut dq = DMatrix::zeros(n, n);
+            let mut dv = DMatrix::zeros(n, n);
+            let mut mass = DMatrix::zeros(n, n);
+            dynamics.rnea_derivatives(&s.q, &s.v, &s.a, &mut tau, &mut dq, &mut dv, &mut mass);
+            check("tau (rnea_derivatives)", vector(&tau), &vector(&s.tau));
+            check("dtau_dq", rows(&dq), &s.dtau_dq);
+            check("dtau_dv", rows(&dv), &s.dtau_dv);
+            check(
+                "mass_matrix (rnea_derivatives)",
+                rows(&mass),
+                &s.mass_matrix,
+            );
+            dynamics.rnea(&s.q, &s.v, &s.a, &mut tau);
+            check("tau", vector(&tau), &vector(&s.tau));
+            dynamics.mass_matrix(&s.q, &mut mass);
+            check("mass_matrix", rows(&mass), &s.mass_matrix);
+            let mut b = vec![0.0; n];
+            dynamics.nonlinear_effects(&s.q, &s.v, &mut b);
+            check(
+                "nonlinear_effects",
+                vector(&b),
+                &vector(&s.nonlinear_effects),
+            );
+            dynamics.gravity_torques(&s.q, &mut b);
+            check("gravity", vector(&b), &vector(&s.gravity));
+            let mut a = vec![0.0; n];
+            dynamics.forward_dynamics(&s.q, &s.v, &s.tau, &mut a);
+            check(
+                "forward_dynamics_of_tau",
+                vector(&a),
+                &vector(&s.forward_dynamics_of_tau),
+            );
+            let p = dynamics.tcp_position(&s.q);
+            check(
+                "tcp_position",
+                vector(p.as_slice()),
+                &vector(&s.tcp_position),
+            );
+            let mut jacobian = DMatrix::zeros(3, n);
+            dynamics.tcp_jacobian(&s.q, &mut jacobian);
+            check("tcp_jacobian", rows(&jacobian), &s.tcp_jacobian);
+            let mut hessians = [
+                DMatrix::zeros(n, n),
+                DMatrix::zeros(n, n),
+                DMatrix::zeros(n, n),
+            ];
+            dynamics.tcp_hessians(&s.q, &mut hessians);
+            check("tcp_hessian_y", rows(&hessians[1]), &s.tcp_hessian_y);
+            check("tcp_hessian_z", rows(&hessians[2]), &s.tcp_hessian_z);
+            let mut hessian = DMatrix::zeros(3 * n, 3 * n);
+            dynamics.rnea_hessian(&s.q, &s.v, &s.a, &s.lambda, &mut hessian);
+            check("hessian_lambda_tau", rows(&hessian), &s.hessian_lambda_tau);
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Finite differences
+
+/// A random 6-joint chain: skew axes, rotated joint frames, random full inertias, a fixed joint
+/// in the middle of a body and a continuous joint.
+fn random_chain_urdf(random: &mut Random) -> String {
+    let mut text = String::from("<robot name=\"random\">\n");
+    let link = |name: &str, random: &mut Random| {
+        // Principal moments meeting the triangle inequality, turned by a random rotation.
+        let principal = [
+            random.uniform(0.01, 0.05),
+            random.uniform(0.01, 0.05),
+            random.uniform(0.01, 0.05),
+        ];
+        let rotation = nalgebra::Rotation3::from_euler_angles(
+            random.uniform(-3.0, 3.0),
+            random.uniform(-1.5, 1.5),
+            random.uniform(-3.0, 3.0),
+        );
+        let inertia = rotation.matrix()
+            * nalgebra::Matrix3::from_diagonal(&principal.into())
+            * rotation.matrix().transpose();
+        format!(
+            "<link name=\"{name}\"><inertial><origin xyz=\"{} {} {}\" rpy=\"{} {} {}\"/>\
+             <mass value=\"{}\"/><inertia ixx=\"{}\" ixy=\"{}\" ixz=\"{}\" iyy=\"{}\" iyz=\"{}\" izz=\"{}\"/>\
+             </inertial></link>\n",
+            random.uniform(-0.2, 0.2),
+            random.uniform(-0.2, 0.2),
+            random.uniform(-0.2, 0.2),
+            random.uniform(-3.0, 3.0),
+            random.uniform(-1.5, 1.5),
+            random.uniform(-3.0, 3.0),
+            random.uniform(0.5, 3.0),
+            inertia[(0, 0)],
+            inertia[(0, 1)],
+            inertia[(0, 2)],
+            inertia[(1, 1)],
+            inertia[(1, 2)],
+            inertia[(2, 2)],
+        )
+    };
+    let joint = |name: &str, kind: &str, parent: &str, child: &str, random: &mut Random| {
+        format!(
+            "<joint name=\"{name}\" type=\"{kind}\"><parent link=\"{parent}\"/><child link=\"{child}\"/>\
+             <origin xyz=\"{} {} {}\" rpy=\"{} {} {}\"/><axis xyz=\"{} {} {}\"/>\
+             <limit lower=\"-2\" upper=\"2.5\" effort=\"1\" velocity=\"1\"/></joint>\n",
+            random.uniform(-0.4, 0.4),
+            random.uniform(-0.4, 0.4),
+            random.uniform(-0.4, 0.4),
+            random.uniform(-3.0, 3.0),
+            random.uniform(-1.5, 1.5),
+            random.uniform(-3.0, 3.0),
+            random.uniform(-1.0, 1.0),
+            random.uniform(-1.0, 1.0),
+            random.uniform(0.2, 1.0),
+        )
+    };
+    text += &link("base", random);
+    let mut parent = "base".to_owned();
+    for k in 1..=6 {
+        let child = format!("l{k}");
+        text += &link(&child, random);
+        let kind = if k == 4 { "continuous" } else { "revolute" };
+        text += &joint(&format!("j{k}"), kind, &parent, &child, random);
+        parent = child;
+        if k == 3 {
+            text += &link("l3b", random);
+            text += &joint("j3_fixed", "fixed", "l3", "l3b", random);
+            parent = "l3b".to_owned();
+        }
+    }
+    text + "</robot>\n"
+}
+
+fn random_chain(payload_kg: f64) -> Dynamics {
+    let mut random = Random(7);
+    let urdf = random_chain_urdf(&mut random);
+    let mut task = default_task();
+    task.gravity = [1.2, -3.4, -8.7];
+    task.tcp.link = "l6".into();
+    task.tcp.point = [0.05, -0.1, 0.2];
+    task.payload.at.link = "l6".into();
+    task.payload.at.point = [0.1, 0.0, -0.05];
+    task.payload.mass_kg = payload_kg;
+    Dynamics::new(Robot::from_urdf_str(&urdf, "random.urdf", &task).unwrap())
+}
+
+/// Central differences of `f` (R^m -> R^k) at x, column per input.
+fn central_differences(x: &[f64], k: usize, mut f: impl FnMut(&[f64], &mut [f64])) -> DMatrix<f64> {
+    let step = 1e-6;
+    let mut out = DMatrix::zeros(k, x.len());
+    let (mut plus, mut minus) = (vec![0.0; k], vec![0.0; k]);
+    let mut shifted = x.to_vec();
+    for c in 0..x.len() {
+        shifted[c] = x[c] + step;
+        f(&shifted, &mut plus);
+        shifted[c] = x[c] - step;
+        f(&shifted, &mut minus);
+        shifted[c] = x[c];
+        for r in 0..k {
+            out[(r, c)] = (plus[r] - minus[r]) / (2.0 * step);
+        }
+    }
+    out
+}
+
+/// max |got - want| <= relative * max |want| + absolute (the absolute part for the rounding noise
+/// of differences: about 1e-16 * |f| / step, i.e. 1e-9 for torques of order 10 N m).
+fn assert_matrix(
+    context: &str,
+    got: &DMatrix<f64>,
+    want: &DMatrix<f64>,
+    relative: f64,
+    absolute: f64,
+) {
+    assert_eq!(got.shape(), want.shape(), "{context}: shape");
+    let scale = want.amax();
+    let error = (got - want).amax();
+    assert!(
+        error <= relative * scale + absolute,
+        "{context}: off by {error:e} at scale {scale:e}\ngot {got}\nwant {want}"
+    );
+}
+
+/// Every derivative against central differences of the function it differentiates, at random
+/// states: dtau/dq, dtau/dv, M (and the mass matrix, b, g and forward dynamics against RNEA), the
+/// Hessian against differences of the analytic gradient, the TCP Jacobian and Hessians.
+fn check_against_differences(mut dynamics: Dynamics, seed: u64) {
+    let n = dynamics.dof();
+    let mut random = Random(seed);
+    for _ in 0..5 {
+        let q = random.vector(n, 3.0);
+        let v = random.vector(n, 4.0);
+        let a = random.vector(n, 10.0);
+        let lambda = random.vector(n, 1.0);
+        let mut tau = vec![0.0; n];
+        let mut dq = DMatrix::zeros(n, n);
+        let mut dv = DMatrix::zeros(n, n);
+        let mut mass = DMatrix::zeros(n, n);
+        dynamics.rnea_derivatives(&q, &v, &a, &mut tau, &mut dq, &mut dv, &mut mass);
+        let mut rnea = dynamics.clone();
+        let fd_q = central_differences(&q, n, |x, out| rnea.rnea(x, &v, &a, out));
+        assert_matrix("dtau/dq", &dq, &fd_q, 1e-7, 1e-8);
+        let fd_v = central_differences(&v, n, |x, out| rnea.rnea(&q, x, &a, out));
+        assert_matrix("dtau/dv", &dv, &fd_v, 1e-7, 1e-8);
+        let fd_a = central_differences(&a, n, |x, out| rnea.rnea(&q, &v, x, out));
+        assert_matrix("dtau/da", &mass, &fd_a, 1e-7, 1e-8);
+        let mut crba = DMatrix::zeros(n, n);
+        dynamics.mass_matrix(&q, &mut crba);
+        assert_matrix("CRBA", &crba, &mass, 1e-13, 0.0);
+        let (mut b, mut g, mut expected) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        dynamics.nonlinear_effects(&q, &v, &mut b);
+        dynamics.rnea(&q, &v, &vec![0.0; n], &mut expected);
+        assert_matrix("b", &column(&b), &column(&expected), 1e-13, 0.0);
+        dynamics.gravity_torques(&q, &mut g);
+        dynamics.rnea(&q, &vec![0.0; n], &vec![0.0; n], &mut expected);
+        assert_matrix("g", &column(&g), &column(&expected), 1e-13, 0.0);
+        let mut solved = vec![0.0; n];
+        dynamics.forward_dynamics(&q, &v, &tau, &mut solved);
+        assert_matrix(
+            "forward dynamics",
+            &column(&solved),
+            &column(&a),
+            1e-10,
+            0.0,
+        );
+
+        // The Hessian against differences of the analytic gradient (lambda^T of each derivative).
+        let mut hessian = DMatrix::zeros(3 * n, 3 * n);
+        dynamics.rnea_hessian(&q, &v, &a, &lambda, &mut hessian);
+        assert_matrix("Hessian symmetry", &hessian, &hessian.transpose(), 0.0, 0.0);
+        let mut state = q.clone();
+        state.extend(&v);
+        state.extend(&a);
+        let mut gradient_of = dynamics.clone();
+        let fd = central_differences(&state, 3 * n, |x, out| {
+            let (mut t, mut gq, mut gv, mut m) = (
+                vec![0.0; n],
+                DMatrix::zeros(n, n),
+                DMatrix::zeros(n, n),
+                DMatrix::zeros(n, n),
+            );
+            let (xq, rest) = x.split_at(n);
+            let (xv, xa) = rest.split_at(n);
+            gradient_of.rnea_derivatives(xq, xv, xa, &mut t, &mut gq, &mut gv, &mut m);
+            let l = DMatrix::from_column_slice(1, n, &lambda);
+            for (block, matrix) in [gq, gv, m].iter().enumerate() {
+                let row = &l * matrix;
+                out[block * n..(block + 1) * n].copy_from_slice(row.as_slice());
+            }
+        });
+        assert_matrix("Hessian of lambda . tau", &hessian, &fd, 1e-7, 1e-8);
+
+        // The TCP.
+        let mut jacobian = DMatrix::zeros(3, n);
+        dynamics.tcp_jacobian(&q, &mut jacobian);
+        let mut position_of = dynamics.clone();
+        let fd = central_differences(&q, 3, |x, out| {
+            out.copy_from_slice(position_of.tcp_position(x).as_slice())
+        });
+        assert_matrix("TCP Jacobian", &jacobian, &fd, 1e-8, 1e-9);
+        let mut hessians = [
+            DMatrix::zeros(n, n),
+            DMatrix::zeros(n, n),
+            DMatrix::zeros(n, n),
+        ];
+        dynamics.tcp_hessians(&q, &mut hessians);
+        for (axis, hessian) in hessians.iter().enumerate() {
+            let mut jacobian_of = dynamics.clone();
+            let fd = central_differences(&q, n, |x, out| {
+                let mut j = DMatrix::zeros(3, n);
+                jacobian_of.tcp_jacobian(x, &mut j);
+                for (o, value) in out.iter_mut().zip(j.row(axis).iter()) {
+                    *o = *value;
+                }
+            });
+            assert_matrix(&format!("TCP Hessian {axis}"), hessian, &fd, 1e-8, 1e-9);
+        }
+    }
+}
+
+fn column(x: &[f64]) -> DMatrix<f64> {
+    DMatrix::from_column_slice(x.len(), 1, x)
+}
+
+#[test]
+fn belt_arm_derivatives_match_finite_differences() {
+    for payload in [0.0, 3.0] {
+        check_against_differences(belt_arm(payload), 11);
+    }
+}
+
+#[test]
+fn random_six_joint_chain_derivatives_match_finite_differences() {
+    let dynamics = random_chain(0.7);
+    assert_eq!(dynamics.dof(), 6);
+    assert_eq!(
+        dynamics.robot().position_limits()[3],
+        (f64::NEG_INFINITY, f64::INFINITY)
+    );
+    check_against_differences(dynamics, 23);
+}

@@ -1,0 +1,135 @@
+//! The robot of a task: the URDF's serial chain with the task's gravity, tool point and payload.
+
+use super::chain::{Chain, PointOnBody};
+use super::error::ModelError;
+use super::task::{PointOnLink, Task};
+use super::urdf::read_chain;
+use nalgebra::Vector3;
+
+/// A serial-chain robot ready for the dynamics: kinematics and mass properties from a URDF,
+/// gravity, tool centre point (TCP) and a point-mass payload from a task. The world frame is the
+/// URDF's root link; units are SI (m, kg, rad).
+#[derive(Clone, Debug)]
+pub struct Robot {
+    chain: Chain,
+    gravity: Vector3<f64>,
+    tcp: PointOnBody,
+    payload_at: PointOnBody,
+    payload_kg: f64,
+}
+
+impl Robot {
+    /// Loads the URDF named by `task.robot` (already resolved to a path) with `task.gravity`,
+    /// `task.tcp` and `task.payload`.
+    pub fn load(task: &Task) -> Result<Robot, ModelError> {
+        let file = task.robot.display().to_string();
+        let text = std::fs::read_to_string(&task.robot)
+            .map_err(|e| ModelError::new(&file, "file", format!("cannot read: {e}")))?;
+        Robot::from_urdf_str(&text, &file, task)
+    }
+
+    /// Reads the URDF text `urdf` with the gravity, TCP and payload of `task`; `source` names the
+    /// URDF in errors (its file name).
+    pub fn from_urdf_str(urdf: &str, source: &str, task: &Task) -> Result<Robot, ModelError> {
+        let chain = read_chain(urdf, source)?;
+        let gravity = Vector3::from(task.gravity);
+        if !gravity.iter().all(|g| g.is_finite()) {
+            return Err(ModelError::new(
+                source,
+                "task gravity",
+                format!("{:?} is not a finite vector", task.gravity),
+            ));
+        }
+        let payload_kg = task.payload.mass_kg;
+        if !(payload_kg.is_finite() && payload_kg >= 0.0) {
+            return Err(ModelError::new(
+                source,
+                "task payload.mass_kg",
+                format!("{payload_kg} must be a finite mass >= 0 kg"),
+            ));
+        }
+        Ok(Robot {
+            tcp: point_on_chain(&chain, &task.tcp, source, "task tcp")?,
+            payload_at: point_on_chain(&chain, &task.payload.at, source, "task payload.at")?,
+            chain,
+            gravity,
+            payload_kg,
+        })
+    }
+
+    /// The same robot carrying a payload of `mass_kg` kg at the task's payload point.
+    ///
+    /// `mass_kg` must be finite and >= 0 (the task file and the command line check it); any other
+    /// value gives a robot whose dynamics are all NaN, so that a mistake cannot pass unnoticed.
+    pub fn with_payload(&self, mass_kg: f64) -> Robot {
+        let valid = mass_kg.is_finite() && mass_kg >= 0.0;
+        Robot {
+            payload_kg: if valid { mass_kg } else { f64::NAN },
+            ..self.clone()
+        }
+    }
+
+    /// The payload's mass, kg.
+    pub fn payload_kg(&self) -> f64 {
+        self.payload_kg
+    }
+
+    /// Where the payload sits: a point on a body of the chain.
+    pub fn payload_point(&self) -> &PointOnBody {
+        &self.payload_at
+    }
+
+    /// The number of joints (degrees of freedom).
+    pub fn dof(&self) -> usize {
+        self.chain.bodies.len()
+    }
+
+    /// The joints' names, from the base outward.
+    pub fn joint_names(&self) -> &[String] {
+        &self.chain.joint_names
+    }
+
+    /// Position limits (lower, upper) per joint, rad; infinite for continuous joints.
+    pub fn position_limits(&self) -> &[(f64, f64)] {
+        &self.chain.limits
+    }
+
+    /// The serial chain: bodies, joints and links.
+    pub fn chain(&self) -> &Chain {
+        &self.chain
+    }
+
+    /// Gravity in the world frame, m/s^2.
+    pub fn gravity(&self) -> &Vector3<f64> {
+        &self.gravity
+    }
+
+    /// The tool centre point: a point on a body of the chain.
+    pub fn tcp(&self) -> &PointOnBody {
+        &self.tcp
+    }
+}
+
+/// The task's `point` on `link` as a point on the chain; `field` names the task field in errors.
+fn point_on_chain(
+    chain: &Chain,
+    at: &PointOnLink,
+    source: &str,
+    field: &str,
+) -> Result<PointOnBody, ModelError> {
+    let point = Vector3::from(at.point);
+    if !point.iter().all(|p| p.is_finite()) {
+        return Err(ModelError::new(
+            source,
+            format!("{field}.point"),
+            format!("{:?} is not a finite point", at.point),
+        ));
+    }
+    chain.point_on_link(&at.link, &point).ok_or_else(|| {
+        ModelError::new(
+            source,
+            format!("{field}.link"),
+            format!("'{}' is not a link of this URDF", at.link),
+        )
+    })
+}

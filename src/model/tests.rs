@@ -1,0 +1,243 @@
+//! Checks of URDF loading: the belt arm as SPEC.md describes it, fixed-joint merging, and the
+//! errors for malformed descriptions, each naming the element at fault.
+
+use super::chain::MassProperties;
+use super::task::Task;
+use super::{ModelError, Robot};
+use nalgebra::{Matrix3, Vector3};
+use std::path::{Path, PathBuf};
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn task() -> Task {
+    Task::load(&root().join("robots/tasks/pick_place.json")).unwrap()
+}
+
+fn belt_arm_text() -> String {
+    std::fs::read_to_string(root().join("robots/belt_arm.urdf")).unwrap()
+}
+
+fn load(text: &str) -> Result<Robot, ModelError> {
+    Robot::from_urdf_str(text, "test.urdf", &task())
+}
+
+/// `from` must occur in the belt arm's URDF; the edited text must fail naming every `expected`.
+fn assert_fails(from: &str, to: &str, expected: &[&str]) {
+    let text = belt_arm_text();
+    assert!(text.contains(from), "{from}");
+    let error = load(&text.replacen(from, to, 1)).unwrap_err();
+    let message = error.to_string();
+    assert!(message.starts_with("test.urdf: "), "{message}");
+    for part in expected {
+        assert!(message.contains(part), "'{part}' not in: {message}");
+    }
+}
+
+#[test]
+fn belt_arm_has_the_spec_joints_limits_and_masses() {
+    let robot = Robot::load(&task()).unwrap();
+    assert_eq!(robot.dof(), 4);
+    assert_eq!(
+        robot.joint_names(),
+        ["joint_arm_1", "joint_arm_2", "joint_arm_3", "joint_arm_4"]
+    );
+    assert_eq!(
+        robot.position_limits(),
+        [(-3.5, 3.5), (-3.0, 3.0), (-3.0, 3.0), (-3.0, 3.0)]
+    );
+    let masses: Vec<f64> = robot.chain().bodies.iter().map(|b| b.mass.mass).collect();
+    assert_eq!(masses, [1.0992, 0.75688, 0.14631, 0.36192]);
+    assert_eq!(robot.payload_kg(), 0.0);
+    assert_eq!(robot.with_payload(3.0).payload_kg(), 3.0);
+    assert!(robot.with_payload(-1.0).payload_kg().is_nan());
+    assert_eq!(robot.gravity(), &Vector3::new(0.0, 0.0, -9.81));
+    assert_eq!(robot.tcp().body, Some(3));
+    assert_eq!(robot.tcp().point, Vector3::new(0.0, 0.0, 0.15));
+    // Joints 1-3 turn about the world x axis at q = 0 (up to the file's 1.5708 ~ pi/2).
+    let axis_1 = robot.chain().bodies[0].joint_placement.rotation * robot.chain().bodies[0].axis;
+    assert!((axis_1 - Vector3::x()).norm() < 1e-4, "{axis_1}");
+}
+
+#[test]
+fn fixed_joints_merge_mass_properties_and_keep_link_frames() {
+    // One body described as two links joined by a fixed joint, and as one link.
+    let two_links = r#"<robot name="r">
+      <link name="base"/>
+      <link name="a"><inertial><origin xyz="0 0 0"/><mass value="2"/>
+        <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>
+      <link name="b"><inertial><origin xyz="0 0 0"/><mass value="2"/>
+        <inertia ixx="0.3" ixy="0" ixz="0" iyy="0.2" iyz="0" izz="0.1"/></inertial></link>
+      <link name="tip"/>
+      <joint name="hinge" type="continuous"><parent link="base"/><child link="a"/>
+        <axis xyz="0 2 0"/></joint>
+      <joint name="weld" type="fixed"><parent link="a"/><child link="b"/>
+        <origin xyz="0.5 0 0" rpy="0 0 1.5707963267948966"/></joint>
+      <joint name="tool" type="fixed"><parent link="b"/><child link="tip"/>
+        <origin xyz="0 0.1 0"/></joint>
+    </robot>"#;
+    let mut task = task();
+    task.tcp.link = "tip".into();
+    task.tcp.point = [0.0, 0.0, 0.0];
+    task.payload.at.link = "b".into();
+    let robot = Robot::from_urdf_str(two_links, "two.urdf", &task).unwrap();
+    assert_eq!(robot.dof(), 1);
+    assert_eq!(
+        robot.position_limits(),
+        [(f64::NEG_INFINITY, f64::INFINITY)]
+    );
+    assert_eq!(robot.chain().bodies[0].axis, Vector3::y());
+    // By hand: mass 4 at (0.25, 0, 0); b's inertia turned by 90 degrees about z is
+    // diag(0.2, 0.3, 0.1); each half adds 2 * 0.25^2 about y and z.
+    let expected = MassProperties {
+        mass: 4.0,
+        com: Vector3::new(0.25, 0.0, 0.0),
+        inertia: Matrix3::from_diagonal(&Vector3::new(0.3, 0.65, 0.45)),
+    };
+    let got = robot.chain().bodies[0].mass;
+    assert_eq!(got.mass, expected.mass);
+    assert!((got.com - expected.com).norm() < 1e-15);
+    assert!(
+        (got.inertia - expected.inertia).norm() < 1e-15,
+        "{}",
+        got.inertia
+    );
+    // The tool link sits 0.1 m along b's y, which is -x of a: at (0.4, 0, 0) in the body frame.
+    assert!((robot.tcp().point - Vector3::new(0.4, 0.0, 0.0)).norm() < 1e-15);
+    assert!((robot.payload_point().point - Vector3::new(0.5, 0.0, 0.15)).norm() < 1e-15);
+}
+
+#[test]
+fn missing_parent_link_is_named() {
+    assert_fails(
+        "<parent link=\"link_1\"/>",
+        "<parent link=\"link_9\"/>",
+        &["joint 'joint_arm_2' <parent>", "link_9"],
+    );
+}
+
+#[test]
+fn loops_and_branches_are_named() {
+    // A second parent for link_1: a loop.
+    assert_fails(
+        "</robot>",
+        "<joint name=\"closing\" type=\"revolute\"><parent link=\"link_4\"/><child link=\"link_1\"/>\
+         <axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint></robot>",
+        &["link 'link_1'", "'joint_arm_1'", "'closing'", "loop"],
+    );
+    // The root hung from the tip: no root at all.
+    assert_fails(
+        "</robot>",
+        "<joint name=\"closing\" type=\"fixed\"><parent link=\"link_4\"/><child link=\"base_link_al\"/></joint></robot>",
+        &["robot", "'closing'", "'joint_arm_4'", "loop"],
+    );
+    // A second moving joint on the forearm: a branch.
+    assert_fails(
+        "</robot>",
+        "<link name=\"link_5\"><inertial><mass value=\"1\"/><inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" \
+         iyy=\"1\" iyz=\"0\" izz=\"1\"/></inertial></link>\
+         <joint name=\"joint_arm_5\" type=\"revolute\"><parent link=\"link_2\"/><child link=\"link_5\"/>\
+         <axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint></robot>",
+        &["serial", "link_2"],
+    );
+    // Two roots.
+    assert_fails(
+        "</robot>",
+        "<link name=\"stray\"/></robot>",
+        &["'base_link_al'", "'stray'", "roots"],
+    );
+}
+
+#[test]
+fn bad_masses_and_inertias_are_named() {
+    assert_fails(
+        "<mass value=\"0.75688\"/>",
+        "<mass value=\"-0.75688\"/>",
+        &["link 'link_2' <mass>", "-0.75688"],
+    );
+    assert_fails(
+        "ixx=\"3.8635E-05\"",
+        "ixx=\"-3.8635E-05\"",
+        &["link 'link_3' <inertia>", "positive definite"],
+    );
+    // Off-diagonal terms too large for the diagonal.
+    assert_fails(
+        "ixy=\"1.4333E-06\"",
+        "ixy=\"1\"",
+        &["link 'link_4' <inertia>", "positive definite"],
+    );
+    assert_fails(
+        "<mass value=\"0.14631\"/>",
+        "<mass value=\"0\"/>",
+        &["link 'link_3' <inertia>", "mass is 0"],
+    );
+}
+
+#[test]
+fn unsupported_joints_are_named() {
+    let swap = |kind: &str| {
+        assert_fails(
+            "<joint name=\"joint_arm_3\" type=\"revolute\">",
+            &format!("<joint name=\"joint_arm_3\" type=\"{kind}\">"),
+            &["joint 'joint_arm_3'", kind],
+        )
+    };
+    swap("prismatic");
+    swap("floating");
+    swap("planar");
+    assert_fails(
+        "<axis xyz=\"0 0 -1\"/>\n    <limit lower=\"-3\" upper=\"3\" effort=\"6\"",
+        "<axis xyz=\"0 0 0\"/>\n    <limit lower=\"-3\" upper=\"3\" effort=\"6\"",
+        &["joint 'joint_arm_2' <axis>"],
+    );
+    // The public file's joint_arm_1 limits.
+    assert_fails(
+        "lower=\"-3.5\" upper=\"3.5\"",
+        "lower=\"3\" upper=\"3\"",
+        &["joint 'joint_arm_1' <limit>", "lower = 3"],
+    );
+    assert_fails(
+        "<joint name=\"joint_arm_2\" type=\"revolute\">",
+        "<joint name=\"joint_arm_2\" type=\"revolute\"><mimic joint=\"joint_arm_1\"/>",
+        &["joint 'joint_arm_2' <mimic>"],
+    );
+}
+
+#[test]
+fn unknown_task_links_and_unreadable_files_are_named() {
+    let mut task = task();
+    task.tcp.link = "link_9".into();
+    let message = Robot::load(&task).unwrap_err().to_string();
+    assert!(
+        message.contains("belt_arm.urdf")
+            && message.contains("task tcp.link")
+            && message.contains("'link_9'"),
+        "{message}"
+    );
+    let mut task = self::task();
+    task.payload.at.link = "gripper".into();
+    let message = Robot::load(&task).unwrap_err().to_string();
+    assert!(message.contains("task payload.at.link"), "{message}");
+    let mut task = self::task();
+    task.robot = PathBuf::from("/nonexistent/arm.urdf");
+    let message = Robot::load(&task).unwrap_err().to_string();
+    assert!(
+        message.starts_with("/nonexistent/arm.urdf: file: cannot read"),
+        "{message}"
+    );
+    let message = load("<robot name=\"r\"><link name=\"a\"")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("test.urdf: robot: not a readable URDF"),
+        "{message}"
+    );
+    let message = load("<robot name=\"r\"><link name=\"a\"/></robot>")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("no revolute or continuous joint"),
+        "{message}"
+    );
+}

@@ -1,0 +1,154 @@
+//! Where each variable and constraint of the trajectory NLP lives.
+//!
+//! Variables are grouped by node for a banded structure: node k < N holds
+//! `[q_k, v_k, a_k, u_k]` (4n numbers), the last node N holds `[q_N, v_N]`. Constraint rows are
+//! grouped the same way: node k < N holds the inverse dynamics (n rows), the velocity and position
+//! integration (n rows each), then, when the limit mode asks for linear limits, the motor speed
+//! rows (nodes 1..N-1, where v is free) and the motor torque rows (joint space).
+
+/// Index arithmetic of one problem shape (dof n, steps N, which linear limits exist).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Layout {
+    /// Degrees of freedom n.
+    pub dof: usize,
+    /// Number of intervals N.
+    pub steps: usize,
+    /// Whether motor speeds are limited by linear rows |G v_k| <= w (speed mode `exact`).
+    pub speed_rows: bool,
+    /// Whether motor torques are limited by linear rows |G^-T u_k| <= tau (joint space, `exact`).
+    pub torque_rows: bool,
+    row_base: Vec<usize>,
+}
+
+impl Layout {
+    /// The layout of a problem with `dof` joints and `steps` intervals.
+    pub fn new(dof: usize, steps: usize, speed_rows: bool, torque_rows: bool) -> Layout {
+        let mut row_base = Vec::with_capacity(steps + 1);
+        let mut row = 0;
+        for k in 0..steps {
+            row_base.push(row);
+            row += 3 * dof;
+            if speed_rows && k > 0 {
+                row += dof;
+            }
+            if torque_rows {
+                row += dof;
+            }
+        }
+        row_base.push(row);
+        Layout {
+            dof,
+            steps,
+            speed_rows,
+            torque_rows,
+            row_base,
+        }
+    }
+
+    /// Number of variables: 4nN + 2n.
+    pub fn num_variables(&self) -> usize {
+        4 * self.dof * self.steps + 2 * self.dof
+    }
+
+    /// Number of constraint rows.
+    pub fn num_constraints(&self) -> usize {
+        self.row_base[self.steps]
+    }
+
+    fn node(&self, k: usize) -> usize {
+        4 * self.dof * k
+    }
+
+    /// Column of q_k[i], k in 0..=N.
+    pub fn q(&self, k: usize, i: usize) -> usize {
+        self.node(k) + i
+    }
+
+    /// Column of v_k[i], k in 0..=N.
+    pub fn v(&self, k: usize, i: usize) -> usize {
+        self.node(k) + self.dof + i
+    }
+
+    /// Column of a_k[i], k in 0..N.
+    pub fn a(&self, k: usize, i: usize) -> usize {
+        self.node(k) + 2 * self.dof + i
+    }
+
+    /// Column of u_k[i], k in 0..N.
+    pub fn u(&self, k: usize, i: usize) -> usize {
+        self.node(k) + 3 * self.dof + i
+    }
+
+    /// Row of the inverse-dynamics residual RNEA(q_k, v_k, a_k)[i] - tau_k[i].
+    pub fn dynamics_row(&self, k: usize, i: usize) -> usize {
+        self.row_base[k] + i
+    }
+
+    /// Row of v_{k+1}[i] - v_k[i] - h a_k[i].
+    pub fn velocity_row(&self, k: usize, i: usize) -> usize {
+        self.row_base[k] + self.dof + i
+    }
+
+    /// Row of q_{k+1}[i] - q_k[i] - h v_{k+1}[i].
+    pub fn position_row(&self, k: usize, i: usize) -> usize {
+        self.row_base[k] + 2 * self.dof + i
+    }
+
+    /// Row of (G v_k)[i], the motor speed, when it exists (speed rows, 0 < k < N).
+    pub fn speed_row(&self, k: usize, i: usize) -> Option<usize> {
+        (self.speed_rows && k > 0 && k < self.steps).then(|| self.row_base[k] + 3 * self.dof + i)
+    }
+
+    /// Row of (G^-T u_k)[i], the motor torque, when it exists (torque rows, k < N).
+    pub fn torque_row(&self, k: usize, i: usize) -> Option<usize> {
+        let speed = if self.speed_rows && k > 0 {
+            self.dof
+        } else {
+            0
+        };
+        (self.torque_rows && k < self.steps).then(|| self.row_base[k] + 3 * self.dof + speed + i)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every variable and row index is used exactly once.
+    #[test]
+    fn indices_cover_without_overlap() {
+        for (speed_rows, torque_rows) in
+            [(false, false), (true, false), (false, true), (true, true)]
+        {
+            let layout = Layout::new(3, 5, speed_rows, torque_rows);
+            let mut columns = vec![0; layout.num_variables()];
+            let mut rows = vec![0; layout.num_constraints()];
+            for k in 0..=layout.steps {
+                for i in 0..layout.dof {
+                    columns[layout.q(k, i)] += 1;
+                    columns[layout.v(k, i)] += 1;
+                    if k < layout.steps {
+                        columns[layout.a(k, i)] += 1;
+                        columns[layout.u(k, i)] += 1;
+                        rows[layout.dynamics_row(k, i)] += 1;
+                        rows[layout.velocity_row(k, i)] += 1;
+                        rows[layout.position_row(k, i)] += 1;
+                    }
+                    layout
+                        .speed_row(k, i)
+                        .into_iter()
+                        .for_each(|r| rows[r] += 1);
+                    layout
+                        .torque_row(k, i)
+                        .into_iter()
+                        .for_each(|r| rows[r] += 1);
+                }
+            }
+            assert!(columns.iter().all(|&c| c == 1), "{columns:?}");
+            assert!(
+                rows.iter().all(|&c| c == 1),
+                "{speed_rows} {torque_rows}: {rows:?}"
+            );
+        }
+    }
+}

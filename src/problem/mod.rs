@@ -1,0 +1,195 @@
+//! The trajectory problem (SPEC section 3) of one design, as a sparse NLP for IPOPT.
+//!
+//! A [`Formulation`] fixes everything but the design: task, robot and payload, space and limit
+//! modes, and with them the problem's shape and sparsity pattern, built once. Its
+//! [`Formulation::problem`] gives the [`TrajectoryProblem`] of one design r, which implements
+//! [`crate::ipopt::Nlp`] with exact, hand-derived sparse derivatives.
+
+mod layout;
+mod nlp;
+
+pub use layout::Layout;
+pub use nlp::TrajectoryProblem;
+
+use crate::dynamics::Dynamics;
+use crate::model::task::{LimitModes, Task};
+use crate::model::Robot;
+use crate::transmission::{DesignError, Transmission};
+use nalgebra::DMatrix;
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// Which torques the controls are.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Space {
+    /// Joint torques tau are the controls; actuator limits are mapped to joint space (baseline).
+    Joint,
+    /// Motor torques tau_u are the controls, tau = G^T tau_u (the paper's method).
+    Actuation,
+}
+
+impl Space {
+    /// The lower-case name used in files and flags.
+    pub fn name(self) -> &'static str {
+        match self {
+            Space::Joint => "joint",
+            Space::Actuation => "actuation",
+        }
+    }
+}
+
+impl fmt::Display for Space {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A formulation that cannot be built; the message names the field at fault.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FormulationError(pub String);
+
+impl fmt::Display for FormulationError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for FormulationError {}
+
+/// Everything of a trajectory problem except the design: built once, then
+/// [`Formulation::problem`] for each design.
+#[derive(Clone, Debug)]
+pub struct Formulation {
+    task: Task,
+    transmission: Transmission,
+    dynamics: Dynamics,
+    space: Space,
+    modes: LimitModes,
+    layout: Layout,
+    /// Structural non-zeros of G (row = motor, column = joint) over the whole design space.
+    g_pattern: DMatrix<f64>,
+    /// The lower triangle of one node's Hessian block, (i, j) within the node's variables.
+    node_hessian: Vec<(usize, usize)>,
+    jacobian: Vec<(usize, usize)>,
+    hessian: Vec<(usize, usize)>,
+}
+
+impl Formulation {
+    /// The formulation of `task` for `robot` (payload already set) in `space` with `modes`.
+    pub fn new(
+        task: &Task,
+        robot: Robot,
+        space: Space,
+        modes: LimitModes,
+    ) -> Result<Formulation, FormulationError> {
+        let transmission = Transmission::from_spec(&task.transmission)
+            .map_err(|message| FormulationError(format!("task: {message}")))?;
+        let n = robot.dof();
+        if transmission.dof() != n {
+            return Err(FormulationError(format!(
+                "task: transmission.matrix is {0} x {0} but the robot has {n} joints",
+                transmission.dof()
+            )));
+        }
+        for (name, pose) in [
+            ("motion.start", &task.motion.start),
+            ("motion.goal", &task.motion.goal),
+        ] {
+            if pose.len() != n {
+                return Err(FormulationError(format!(
+                    "task: {name} has {} values but the robot has {n} joints",
+                    pose.len()
+                )));
+            }
+            for (i, (&value, &(lo, hi))) in pose.iter().zip(robot.position_limits()).enumerate() {
+                if value < lo || value > hi {
+                    return Err(FormulationError(format!(
+                        "task: {name}[{i}] = {value} lies outside the joint limits [{lo}, {hi}] of {}",
+                        robot.joint_names()[i]
+                    )));
+                }
+            }
+        }
+        let mut g_pattern = transmission
+            .matrix(transmission.original())
+            .map(|g| f64::from(u8::from(g != 0.0)));
+        for i in 0..transmission.num_ratios() {
+            let derivative = transmission.matrix_derivative(i);
+            g_pattern.zip_apply(&derivative, |p, d| {
+                if d != 0.0 {
+                    *p = 1.0;
+                }
+            });
+        }
+        let speed_rows = modes.speed == crate::model::task::LimitMode::Exact;
+        let torque_rows =
+            space == Space::Joint && modes.torque == crate::model::task::LimitMode::Exact;
+        let layout = Layout::new(n, task.motion.steps, speed_rows, torque_rows);
+        let mut formulation = Formulation {
+            task: task.clone(),
+            transmission,
+            dynamics: Dynamics::new(robot),
+            space,
+            modes,
+            layout,
+            g_pattern,
+            node_hessian: nlp::node_hessian_entries(n),
+            jacobian: Vec::new(),
+            hessian: Vec::new(),
+        };
+        formulation.jacobian = nlp::jacobian_pattern(&formulation);
+        formulation.hessian = nlp::hessian_pattern(&formulation);
+        Ok(formulation)
+    }
+
+    /// The problem of design `ratios`, or why the design is not valid.
+    pub fn problem(&self, ratios: &[f64]) -> Result<TrajectoryProblem<'_>, DesignError> {
+        TrajectoryProblem::new(self, ratios)
+    }
+
+    /// The task.
+    pub fn task(&self) -> &Task {
+        &self.task
+    }
+
+    /// The transmission's structure and design space.
+    pub fn transmission(&self) -> &Transmission {
+        &self.transmission
+    }
+
+    /// The robot's dynamics (with the payload).
+    pub fn dynamics(&self) -> &Dynamics {
+        &self.dynamics
+    }
+
+    /// Joint or actuation space.
+    pub fn space(&self) -> Space {
+        self.space
+    }
+
+    /// The limit modes.
+    pub fn modes(&self) -> &LimitModes {
+        &self.modes
+    }
+
+    /// The index layout.
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    /// Time step h = T/N, s.
+    pub fn step_s(&self) -> f64 {
+        self.task.step_s()
+    }
+
+    /// Number of structural non-zeros of the constraint Jacobian.
+    pub fn jacobian_nonzeros(&self) -> usize {
+        self.jacobian.len()
+    }
+
+    /// Number of structural non-zeros of the Lagrangian Hessian's lower triangle.
+    pub fn hessian_nonzeros(&self) -> usize {
+        self.hessian.len()
+    }
+}

@@ -1,0 +1,130 @@
+//! The result file of a co-design run and its plots: the evolution of the cost over the
+//! evaluations (the paper's figure 6) and the optimal ratios per case (figure 10).
+
+use super::plots::{Chart, Series};
+use super::trajectory::ToolInfo;
+use crate::design::optimize::GenerationSummary;
+use crate::model::task::{LimitModes, Task};
+use crate::problem::Space;
+use crate::solver::TrajectoryResult;
+use serde::{Deserialize, Serialize};
+
+/// Everything that defines a co-design run; two runs with equal inputs give equal results.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct OptimizeInputs {
+    /// The task file as given.
+    pub task_file: String,
+    /// The task with every override applied.
+    pub task: Task,
+    /// Joint or actuation space.
+    pub space: Space,
+    /// Payload, kg.
+    pub payload_kg: f64,
+    /// Limit modes.
+    pub limit_modes: LimitModes,
+    /// CMA-ES seed.
+    pub seed: u64,
+    /// CMA-ES population lambda.
+    pub population: usize,
+    /// CMA-ES generations after the initial population.
+    pub generations: usize,
+    /// Initial step, relative to the design box.
+    pub sigma0: f64,
+    /// Fitness of invalid or infeasible designs.
+    pub penalty: f64,
+    /// Stop when the population's cost spread falls below this.
+    pub ftol: f64,
+    /// Stop when the step falls below this.
+    pub xtol: f64,
+}
+
+/// The JSON file `codesign optimize` writes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct OptimizeDocument {
+    /// Program and solver versions.
+    pub tool: ToolInfo,
+    /// The run's settings.
+    pub inputs: OptimizeInputs,
+    /// The best design found.
+    pub best_ratios: Vec<f64>,
+    /// Its cost.
+    pub best_cost: f64,
+    /// The full solve of the best design.
+    pub best_result: Option<TrajectoryResult>,
+    /// The original design.
+    pub original_ratios: Vec<f64>,
+    /// The original design's cost (the penalty when infeasible).
+    pub original_cost: f64,
+    /// The full solve of the original design.
+    pub original_result: Option<TrajectoryResult>,
+    /// Per generation: best, median, feasible count.
+    pub generations: Vec<GenerationSummary>,
+    /// Inner solves of the run (including replayed ones).
+    pub evaluations: usize,
+    /// Every evaluation's fitness in (generation, index) order.
+    pub costs: Vec<f64>,
+    /// Evaluations replayed from the log on resume.
+    pub replayed: usize,
+    /// Median wall time of an inner solve, s.
+    pub median_solve_seconds: f64,
+    /// Why CMA-ES stopped.
+    pub stop_reason: String,
+    /// Wall time of this invocation, s.
+    pub wall_seconds: f64,
+}
+
+/// The cost of every evaluation of each run, in order (the paper's figure 6); log scale, so the
+/// penalised designs show as a band at the penalty.
+pub fn cost_evolution_chart(title: &str, runs: &[&OptimizeDocument]) -> Chart {
+    Chart {
+        title: title.to_owned(),
+        x_label: "evaluation".into(),
+        y_label: "cost J".into(),
+        series: runs
+            .iter()
+            .map(|run| Series {
+                name: format!("seed {}", run.inputs.seed),
+                points: run
+                    .costs
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &c)| (i as f64, c))
+                    .collect(),
+            })
+            .collect(),
+        guides: Vec::new(),
+        log_y: true,
+    }
+}
+
+/// The optimal ratios of each case as closed polygons on a radar (the paper's figure 10): ratio
+/// i at angle 2 pi i / n, at radius r_i / upper bound of r_i.
+pub fn radar_chart(title: &str, cases: &[(String, Vec<f64>)], upper: &[f64]) -> Chart {
+    let n = upper.len();
+    let point = |i: usize, radius: f64| {
+        let angle = std::f64::consts::FRAC_PI_2 - 2.0 * std::f64::consts::PI * i as f64 / n as f64;
+        (radius * angle.cos(), radius * angle.sin())
+    };
+    let mut series: Vec<Series> = (0..n)
+        .map(|i| Series {
+            name: format!("r{} (max {})", i + 1, upper[i]),
+            points: vec![(0.0, 0.0), point(i, 1.0)],
+        })
+        .collect();
+    series.extend(cases.iter().map(|(name, ratios)| {
+        Series {
+            name: name.clone(),
+            points: (0..=n)
+                .map(|i| point(i % n, ratios[i % n] / upper[i % n]))
+                .collect(),
+        }
+    }));
+    Chart {
+        title: title.to_owned(),
+        x_label: "".into(),
+        y_label: "".into(),
+        series,
+        guides: Vec::new(),
+        log_y: false,
+    }
+}

@@ -1,0 +1,309 @@
+//! The paper's Table II with our numbers beside the paper's, built from result files.
+
+use super::codesign::OptimizeDocument;
+use super::trajectory::{SolveDocument, ToolInfo};
+use crate::problem::Space;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// A result file of `solve` or `optimize`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ResultFile {
+    /// One trajectory solve.
+    Solve(Box<SolveDocument>),
+    /// One co-design run.
+    Optimize(Box<OptimizeDocument>),
+}
+
+/// Reads a result file, telling its kind by its fields; errors name the file.
+pub fn read_result_file(path: &Path) -> Result<ResultFile, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let value: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| format!("{}: not JSON: {e}", path.display()))?;
+    let kind = if value.get("best_ratios").is_some() {
+        "optimize"
+    } else {
+        "solve"
+    };
+    let parsed = if kind == "optimize" {
+        serde_json::from_value(value).map(|d| ResultFile::Optimize(Box::new(d)))
+    } else {
+        serde_json::from_value(value).map(|d| ResultFile::Solve(Box::new(d)))
+    };
+    parsed.map_err(|e| format!("{}: not a codesign {kind} result: {e}", path.display()))
+}
+
+/// What the paper reports for one row (SPEC section 5, from the paper's Table II).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PaperValues {
+    /// Before co-design (original ratios 6, 3, 1, 1).
+    pub before: String,
+    /// After co-design.
+    pub after: String,
+}
+
+/// The paper's Table II: (payload kg, space, before, after).
+const PAPER: [(f64, Space, &str, &str); 6] = [
+    (0.0, Space::Joint, "(6, 3, 1, 1): 66.77", "-"),
+    (0.0, Space::Actuation, "(6, 3, 1, 1): 50.99", "-"),
+    (1.0, Space::Joint, "infeasible", "(9, 4.09, 3, 3): 146.42"),
+    (
+        1.0,
+        Space::Actuation,
+        "(6, 3, 1, 1): 161.21",
+        "(9, 5.62, 3, 1.8): 71.55",
+    ),
+    (3.0, Space::Joint, "infeasible", "none feasible"),
+    (
+        3.0,
+        Space::Actuation,
+        "(6, 3, 1, 1): 526.45",
+        "(9, 4.62, 3, 3): 159.42",
+    ),
+];
+
+/// One design's outcome in the table.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DesignCell {
+    /// The design r.
+    pub ratios: Vec<f64>,
+    /// Whether its trajectory problem was solved.
+    pub feasible: bool,
+    /// Its optimal cost (meaningful when feasible).
+    pub cost: f64,
+    /// IPOPT status.
+    pub status: String,
+    /// Largest motor torque its trajectory needs, N m.
+    pub max_motor_torque: f64,
+    /// Largest motor speed, rad/s.
+    pub max_motor_speed: f64,
+}
+
+/// The co-design runs of one row.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AfterCell {
+    /// The best design over the seeds (None when no run found a feasible design).
+    pub best: Option<DesignCell>,
+    /// Best cost per seed, (seed, cost).
+    pub per_seed: Vec<(u64, f64)>,
+    /// Inner solves over all seeds.
+    pub evaluations: usize,
+    /// Median over the runs of each run's median solve time, s.
+    pub median_solve_seconds: f64,
+    /// CMA-ES population and generations of the runs.
+    pub population: usize,
+    /// CMA-ES generations.
+    pub generations: usize,
+}
+
+/// One row: a payload and a space.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TableRow {
+    /// Payload, kg.
+    pub payload_kg: f64,
+    /// Joint or actuation space.
+    pub space: Space,
+    /// The original design's solve.
+    pub before: Option<DesignCell>,
+    /// The co-design runs.
+    pub after: Option<AfterCell>,
+    /// The paper's values.
+    pub paper: Option<PaperValues>,
+}
+
+/// The whole table, as written to `paper_table.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PaperTable {
+    /// Program and solver versions.
+    pub tool: ToolInfo,
+    /// Rows by payload, then joint before actuation.
+    pub rows: Vec<TableRow>,
+    /// Notes shown above the table (e.g. a reduced run).
+    pub notes: Vec<String>,
+}
+
+fn cell(result: &crate::solver::TrajectoryResult) -> DesignCell {
+    DesignCell {
+        ratios: result.ratios.clone(),
+        feasible: result.feasible,
+        cost: result.cost,
+        status: result.status.clone(),
+        max_motor_torque: result.max_motor_torque,
+        max_motor_speed: result.max_motor_speed,
+    }
+}
+
+fn row_mut(rows: &mut Vec<TableRow>, payload_kg: f64, space: Space) -> &mut TableRow {
+    let index = match rows
+        .iter()
+        .position(|r| r.payload_kg == payload_kg && r.space == space)
+    {
+        Some(index) => index,
+        None => {
+            let paper = PAPER
+                .iter()
+                .find(|(p, s, _, _)| *p == payload_kg && *s == space)
+                .map(|(_, _, before, after)| PaperValues {
+                    before: (*before).to_owned(),
+                    after: (*after).to_owned(),
+                });
+            rows.push(TableRow {
+                payload_kg,
+                space,
+                before: None,
+                after: None,
+                paper,
+            });
+            rows.len() - 1
+        }
+    };
+    &mut rows[index]
+}
+
+/// Builds the table from result files: solves of the original design give "before"; co-design
+/// runs give "after" (the best over their seeds) and, if no solve did, "before" too.
+pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
+    let mut rows: Vec<TableRow> = Vec::new();
+    for file in files {
+        if let ResultFile::Solve(doc) = file {
+            let original = &doc.inputs.task.transmission.original;
+            if doc.result.ratios == *original {
+                row_mut(&mut rows, doc.inputs.payload_kg, doc.inputs.space).before =
+                    Some(cell(&doc.result));
+            }
+        }
+    }
+    for file in files {
+        let ResultFile::Optimize(doc) = file else {
+            continue;
+        };
+        let row = row_mut(&mut rows, doc.inputs.payload_kg, doc.inputs.space);
+        if row.before.is_none() {
+            row.before = doc.original_result.as_ref().map(cell);
+        }
+        let after = row.after.get_or_insert_with(|| AfterCell {
+            best: None,
+            per_seed: Vec::new(),
+            evaluations: 0,
+            median_solve_seconds: f64::NAN,
+            population: doc.inputs.population,
+            generations: doc.inputs.generations,
+        });
+        after.per_seed.push((doc.inputs.seed, doc.best_cost));
+        after.evaluations += doc.evaluations;
+        if let Some(result) = doc.best_result.as_ref().filter(|r| r.feasible) {
+            if after
+                .best
+                .as_ref()
+                .is_none_or(|best| result.cost < best.cost)
+            {
+                after.best = Some(cell(result));
+            }
+        }
+    }
+    for row in &mut rows {
+        if let Some(after) = &mut row.after {
+            let mut medians: Vec<f64> = files
+                .iter()
+                .filter_map(|f| match f {
+                    ResultFile::Optimize(d)
+                        if d.inputs.payload_kg == row.payload_kg && d.inputs.space == row.space =>
+                    {
+                        Some(d.median_solve_seconds)
+                    }
+                    _ => None,
+                })
+                .collect();
+            medians.sort_by(f64::total_cmp);
+            after.median_solve_seconds =
+                medians.get(medians.len() / 2).copied().unwrap_or(f64::NAN);
+            after.per_seed.sort_by_key(|(seed, _)| *seed);
+        }
+    }
+    rows.sort_by(|a, b| {
+        a.payload_kg
+            .total_cmp(&b.payload_kg)
+            .then((a.space as u8).cmp(&(b.space as u8)))
+    });
+    PaperTable {
+        tool: ToolInfo::current(),
+        rows,
+        notes,
+    }
+}
+
+fn ratios_text(ratios: &[f64]) -> String {
+    let parts: Vec<String> = ratios
+        .iter()
+        .map(|r| format!("{}", (r * 100.0).round() / 100.0))
+        .collect();
+    format!("({})", parts.join(", "))
+}
+
+fn design_text(cell: &DesignCell) -> String {
+    if cell.feasible {
+        format!("{}: {:.2}", ratios_text(&cell.ratios), cell.cost)
+    } else {
+        format!(
+            "{}: infeasible ({})",
+            ratios_text(&cell.ratios),
+            cell.status
+        )
+    }
+}
+
+impl PaperTable {
+    /// The table as Markdown.
+    pub fn to_markdown(&self) -> String {
+        let mut text = String::from("# Table II reproduced: gear ratios and cost per payload\n\n");
+        text.push_str(&format!(
+            "Made by {} {} with IPOPT {}. Our arm, task and horizon differ from the paper's \
+             (`SPEC.md` sections 1 and 3), so our costs differ from the paper's: compare the trends, not the digits. \
+             \"after\" is the best design over the seeds of CMA-ES.\n\n",
+            self.tool.name, self.tool.version, self.tool.ipopt_version
+        ));
+        for note in &self.notes {
+            text.push_str(&format!("> {note}\n\n"));
+        }
+        text.push_str("| payload | space | before (ours) | before (paper) | after (ours) | after (paper) | seeds: best J | inner solves | median solve |\n");
+        text.push_str("|---|---|---|---|---|---|---|---|---|\n");
+        for row in &self.rows {
+            let before = row
+                .before
+                .as_ref()
+                .map_or_else(|| "-".to_owned(), design_text);
+            let (after, seeds, solves, median) = match &row.after {
+                Some(after) => (
+                    after
+                        .best
+                        .as_ref()
+                        .map_or_else(|| "none feasible".to_owned(), design_text),
+                    after
+                        .per_seed
+                        .iter()
+                        .map(|(s, c)| format!("{s}: {c:.2}"))
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    after.evaluations.to_string(),
+                    format!("{:.1} ms", after.median_solve_seconds * 1e3),
+                ),
+                None => (
+                    "-".to_owned(),
+                    "-".to_owned(),
+                    "-".to_owned(),
+                    "-".to_owned(),
+                ),
+            };
+            let (paper_before, paper_after) = row
+                .paper
+                .as_ref()
+                .map_or(("-", "-"), |p| (p.before.as_str(), p.after.as_str()));
+            text.push_str(&format!(
+                "| {} kg | {} | {before} | {paper_before} | {after} | {paper_after} | {seeds} | {solves} | {median} |\n",
+                row.payload_kg, row.space
+            ));
+        }
+        text
+    }
+}

@@ -1,0 +1,175 @@
+//! The result file and plots of one trajectory solve (`codesign solve`).
+
+use super::plots::{Chart, Guide, Series};
+use crate::model::task::{LimitModes, Task};
+use crate::problem::{Formulation, Space};
+use crate::solver::TrajectoryResult;
+use crate::transmission::JointLimits;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// Which program and solver produced a result file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ToolInfo {
+    /// Always `codesign`.
+    pub name: String,
+    /// The codesign version.
+    pub version: String,
+    /// The IPOPT version linked.
+    pub ipopt_version: String,
+}
+
+impl ToolInfo {
+    /// This binary.
+    pub fn current() -> ToolInfo {
+        ToolInfo {
+            name: env!("CARGO_PKG_NAME").to_owned(),
+            version: env!("CARGO_PKG_VERSION").to_owned(),
+            ipopt_version: crate::ipopt::IPOPT_VERSION.to_owned(),
+        }
+    }
+}
+
+/// What defined a solve.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SolveInputs {
+    /// The task file as given.
+    pub task_file: String,
+    /// Joint or actuation space.
+    pub space: Space,
+    /// The design r.
+    pub ratios: Vec<f64>,
+    /// Payload, kg.
+    pub payload_kg: f64,
+    /// Limit modes.
+    pub limit_modes: LimitModes,
+    /// The task with every override applied (horizon, payload, robot).
+    pub task: Task,
+}
+
+/// The JSON file `codesign solve --out` writes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SolveDocument {
+    /// Program and solver versions.
+    pub tool: ToolInfo,
+    /// The inputs.
+    pub inputs: SolveInputs,
+    /// The result, flattened into the document.
+    #[serde(flatten)]
+    pub result: TrajectoryResult,
+}
+
+fn per_joint(time: &[f64], rows: &[Vec<f64>], label: &str) -> Vec<Series> {
+    let joints = rows.first().map_or(0, Vec::len);
+    (0..joints)
+        .map(|i| Series {
+            name: format!("{label} {}", i + 1),
+            points: time.iter().zip(rows).map(|(&t, row)| (t, row[i])).collect(),
+        })
+        .collect()
+}
+
+/// Writes the plots of a solve into `folder`: joint positions, joint torques and motor torques
+/// with their limits, and the TCP path in the world y-z plane with the Cartesian box.
+pub fn write_plots(
+    folder: &Path,
+    formulation: &Formulation,
+    result: &TrajectoryResult,
+) -> Result<(), String> {
+    super::files::create_folder(folder)?;
+    let task = formulation.task();
+    let t = &result.trajectory;
+    let title = format!(
+        "{} space, r = ({}), payload {} kg",
+        formulation.space(),
+        result
+            .ratios
+            .iter()
+            .map(|r| format!("{r:.3}"))
+            .collect::<Vec<_>>()
+            .join(", "),
+        task.payload.mass_kg
+    );
+    let limits = formulation.dynamics().robot().position_limits();
+    let position_guides = limits
+        .iter()
+        .flat_map(|&(lo, hi)| [lo, hi])
+        .filter(|v| v.is_finite())
+        .map(Guide::Horizontal);
+    let positions = Chart {
+        title: format!("Joint positions: {title}"),
+        x_label: "time [s]".into(),
+        y_label: "q [rad]".into(),
+        series: per_joint(&t.time, &t.q, "joint"),
+        guides: position_guides.collect(),
+        log_y: false,
+    };
+    let control_time = &t.time[..t.joint_torque.len()];
+    let torque_guides = match formulation.space() {
+        Space::Joint => {
+            let coupling = formulation
+                .transmission()
+                .coupling(&result.ratios)
+                .map_err(|e| e.to_string())?;
+            match coupling.torque_limits(formulation.modes().torque, task.motors.torque_limit_nm) {
+                JointLimits::Box { lower, upper } => lower
+                    .into_iter()
+                    .chain(upper)
+                    .map(Guide::Horizontal)
+                    .collect(),
+                JointLimits::Linear { .. } => Vec::new(),
+            }
+        }
+        Space::Actuation => Vec::new(),
+    };
+    let joint_torques = Chart {
+        title: format!("Joint torques: {title}"),
+        x_label: "time [s]".into(),
+        y_label: "tau [N m]".into(),
+        series: per_joint(control_time, &t.joint_torque, "joint"),
+        guides: torque_guides,
+        log_y: false,
+    };
+    let limit = task.motors.torque_limit_nm;
+    let motor_torques = Chart {
+        title: format!("Motor torques: {title}"),
+        x_label: "time [s]".into(),
+        y_label: "tau_u [N m]".into(),
+        series: per_joint(control_time, &t.motor_torque, "motor"),
+        guides: vec![Guide::Horizontal(-limit), Guide::Horizontal(limit)],
+        log_y: false,
+    };
+    let b = &task.cartesian_box;
+    let mut box_guides = Vec::new();
+    if let Some(y) = &b.y {
+        box_guides.extend(y.range.map(Guide::Vertical));
+    }
+    if let Some(z) = &b.z {
+        box_guides.extend(z.range.map(Guide::Horizontal));
+    }
+    let path = Chart {
+        title: format!("TCP path: {title}"),
+        x_label: "world y [m]".into(),
+        y_label: "world z [m]".into(),
+        series: vec![Series {
+            name: "TCP".into(),
+            points: t
+                .tcp_y
+                .iter()
+                .copied()
+                .zip(t.tcp_z.iter().copied())
+                .collect(),
+        }],
+        guides: box_guides,
+        log_y: false,
+    };
+    for (name, chart) in [
+        ("joint_positions.svg", positions),
+        ("joint_torques.svg", joint_torques),
+        ("motor_torques.svg", motor_torques),
+        ("tcp_path.svg", path),
+    ] {
+        chart.write(&folder.join(name))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,295 @@
+//! Solving the trajectory problem of one design and reading the result.
+//!
+//! [`solve_design`] runs IPOPT on a [`TrajectoryProblem`] with the task's solver settings and
+//! returns a [`TrajectoryResult`]: status, feasibility, cost, timing, the trajectory with joint and
+//! motor torques and the TCP path, and the largest violation of each constraint family.
+
+use crate::ipopt::{self, Options, Solution};
+use crate::problem::{Formulation, Space, TrajectoryProblem};
+use crate::transmission::{DesignError, JointLimits};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// How to run IPOPT on a trajectory problem beyond the task's `solver` settings.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SolveSettings {
+    /// Show IPOPT's iteration log.
+    pub verbose: bool,
+}
+
+/// Why a design could not be solved at all. (A design that is valid but infeasible is not an
+/// error: it is a [`TrajectoryResult`] with `feasible: false`.)
+#[derive(Clone, Debug, PartialEq)]
+pub enum SolveError {
+    /// The design is outside its space (bounds, order constraints, not finite, singular G).
+    Design(DesignError),
+    /// IPOPT could not run (a callback failed, an option was rejected).
+    Ipopt(ipopt::Error),
+}
+
+impl fmt::Display for SolveError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SolveError::Design(error) => write!(f, "invalid design: {error}"),
+            SolveError::Ipopt(error) => write!(f, "{error}"),
+        }
+    }
+}
+
+impl std::error::Error for SolveError {}
+
+/// Wall time of a solve, s.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SolveSeconds {
+    /// The whole IPOPT call.
+    pub total: f64,
+    /// Inside the problem's callbacks (dynamics and derivatives).
+    pub callbacks: f64,
+    /// In IPOPT itself (`total - callbacks`).
+    pub ipopt: f64,
+}
+
+/// The trajectory at the nodes k = 0..=N (controls at k = 0..N-1).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Trajectory {
+    /// Node times, s.
+    pub time: Vec<f64>,
+    /// Joint positions per node, rad.
+    pub q: Vec<Vec<f64>>,
+    /// Joint speeds per node, rad/s.
+    pub v: Vec<Vec<f64>>,
+    /// Joint accelerations per interval, rad/s^2.
+    pub a: Vec<Vec<f64>>,
+    /// Joint torques per interval, N m.
+    pub joint_torque: Vec<Vec<f64>>,
+    /// Motor torques per interval, N m (G^-T tau for a joint-space solution).
+    pub motor_torque: Vec<Vec<f64>>,
+    /// Motor speeds per node, rad/s (G v).
+    pub motor_speed: Vec<Vec<f64>>,
+    /// TCP world y per node, m.
+    pub tcp_y: Vec<f64>,
+    /// TCP world z per node, m.
+    pub tcp_z: Vec<f64>,
+}
+
+/// The largest violation of each constraint family at the returned point (0 when satisfied).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Violations {
+    /// |RNEA(q, v, a) - tau|, N m.
+    pub dynamics: f64,
+    /// Semi-implicit Euler residuals, rad/s or rad.
+    pub integration: f64,
+    /// Start and goal states, rad or rad/s.
+    pub boundary: f64,
+    /// Joint position limits, rad.
+    pub joint_position: f64,
+    /// The problem's speed limits in its speed mode, rad/s.
+    pub speed_limits: f64,
+    /// The problem's control bounds in its torque mode, N m.
+    pub control_limits: f64,
+    /// The soft Cartesian box (penalised, not enforced), m.
+    pub cartesian_box: f64,
+}
+
+/// The result of one trajectory solve.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrajectoryResult {
+    /// The design r.
+    pub ratios: Vec<f64>,
+    /// IPOPT's name for its return status.
+    pub status: String,
+    /// Whether IPOPT reported an optimum (strict or acceptable).
+    pub feasible: bool,
+    /// Why the result is infeasible, when it is.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+    /// The optimal cost J.
+    pub cost: f64,
+    /// IPOPT iterations.
+    pub iterations: usize,
+    /// Wall time.
+    pub solve_seconds: SolveSeconds,
+    /// Largest |motor torque| the trajectory needs, N m.
+    pub max_motor_torque: f64,
+    /// Largest |motor speed|, rad/s.
+    pub max_motor_speed: f64,
+    /// Largest violation per constraint family.
+    pub violations: Violations,
+    /// The trajectory.
+    pub trajectory: Trajectory,
+}
+
+/// IPOPT options of a trajectory solve: exact Hessian, MUMPS, the task's `tol`, `max_iter` and
+/// further `options` (validated when the task was loaded).
+pub fn ipopt_options(formulation: &Formulation, settings: &SolveSettings) -> Options {
+    let solver = &formulation.task().solver;
+    let mut options = Options::new()
+        .str("hessian_approximation", "exact")
+        .str("linear_solver", "mumps")
+        .num("tol", solver.tol)
+        .int(
+            "max_iter",
+            i32::try_from(solver.max_iter).unwrap_or(i32::MAX),
+        )
+        .verbose(settings.verbose);
+    for (name, value) in &solver.options {
+        options = match (
+            value.as_i64().and_then(|v| i32::try_from(v).ok()),
+            value.as_f64(),
+            value.as_str(),
+        ) {
+            (Some(integer), _, _) => options.int(name, integer),
+            (None, Some(number), _) => options.num(name, number),
+            (None, None, Some(text)) => options.str(name, text),
+            _ => options,
+        };
+    }
+    options
+}
+
+/// Solves the trajectory problem of design `ratios` from the SPEC's initial guess.
+pub fn solve_design(
+    formulation: &Formulation,
+    ratios: &[f64],
+    settings: &SolveSettings,
+) -> Result<TrajectoryResult, SolveError> {
+    let mut problem = formulation.problem(ratios).map_err(SolveError::Design)?;
+    let solution = ipopt::solve(&mut problem, &ipopt_options(formulation, settings))
+        .map_err(SolveError::Ipopt)?;
+    Ok(read_result(&mut problem, &solution))
+}
+
+fn max_abs(values: impl IntoIterator<Item = f64>) -> f64 {
+    values.into_iter().fold(0.0, |m: f64, v| m.max(v.abs()))
+}
+
+/// How far `value` lies outside [lower, upper].
+fn outside(value: f64, lower: f64, upper: f64) -> f64 {
+    (lower - value).max(value - upper).max(0.0)
+}
+
+fn read_result(problem: &mut TrajectoryProblem<'_>, solution: &Solution) -> TrajectoryResult {
+    let f = problem.formulation();
+    let layout = f.layout().clone();
+    let (n, steps, h) = (layout.dof, layout.steps, f.step_s());
+    let x = &solution.x;
+    let slice = |start: usize| x[start..start + n].to_vec();
+    let mut trajectory = Trajectory::default();
+    let mut dynamics = f.dynamics().clone();
+    let mut violations = Violations::default();
+    let task = f.task();
+    let limits = dynamics.robot().position_limits().to_vec();
+    let coupling = problem.coupling().clone();
+    for k in 0..=steps {
+        let (q, v) = (slice(layout.q(k, 0)), slice(layout.v(k, 0)));
+        let tcp = dynamics.tcp_position(&q);
+        trajectory.time.push(k as f64 * h);
+        trajectory.tcp_y.push(tcp[1]);
+        trajectory.tcp_z.push(tcp[2]);
+        let b = &task.cartesian_box;
+        for (axis, interval) in [&b.x, &b.y, &b.z].into_iter().enumerate() {
+            if let Some(interval) = interval {
+                let c = outside(tcp[axis], interval.range[0], interval.range[1]);
+                violations.cartesian_box = violations.cartesian_box.max(c);
+            }
+        }
+        for (i, &(lo, hi)) in limits.iter().enumerate() {
+            violations.joint_position = violations.joint_position.max(outside(q[i], lo, hi));
+        }
+        trajectory.motor_speed.push(coupling.motor_speeds(&v));
+        if k < steps {
+            let (a, u) = (slice(layout.a(k, 0)), slice(layout.u(k, 0)));
+            let tau = problem.joint_torques(&u);
+            let mut rnea = vec![0.0; n];
+            dynamics.rnea(&q, &v, &a, &mut rnea);
+            violations.dynamics = violations
+                .dynamics
+                .max(max_abs(rnea.iter().zip(&tau).map(|(r, t)| r - t)));
+            let q_next = slice(layout.q(k + 1, 0));
+            let v_next = slice(layout.v(k + 1, 0));
+            for i in 0..n {
+                violations.integration = violations
+                    .integration
+                    .max((v_next[i] - v[i] - h * a[i]).abs())
+                    .max((q_next[i] - q[i] - h * v_next[i]).abs());
+            }
+            trajectory.motor_torque.push(problem.motor_torques(&u));
+            trajectory.joint_torque.push(tau);
+            trajectory.a.push(a);
+        }
+        trajectory.q.push(q);
+        trajectory.v.push(v);
+    }
+    for (k, pose) in [(0, &task.motion.start), (steps, &task.motion.goal)] {
+        violations.boundary = violations
+            .boundary
+            .max(max_abs(
+                trajectory.q[k].iter().zip(pose.iter()).map(|(q, p)| q - p),
+            ))
+            .max(max_abs(trajectory.v[k].iter().copied()));
+    }
+    let modes = f.modes();
+    let speed = coupling.speed_limits(modes.speed, task.motors.speed_limit_rad_s);
+    violations.speed_limits = trajectory
+        .v
+        .iter()
+        .map(|v| limit_violation(&speed, v))
+        .fold(0.0, f64::max);
+    let control = match f.space() {
+        Space::Actuation => {
+            let t = task.motors.torque_limit_nm;
+            JointLimits::Box {
+                lower: vec![-t; n],
+                upper: vec![t; n],
+            }
+        }
+        Space::Joint => coupling.torque_limits(modes.torque, task.motors.torque_limit_nm),
+    };
+    violations.control_limits = (0..steps)
+        .map(|k| limit_violation(&control, &x[layout.u(k, 0)..layout.u(k, 0) + n]))
+        .fold(0.0, f64::max);
+    let feasible = solution.status.is_success();
+    TrajectoryResult {
+        ratios: problem.ratios().to_vec(),
+        status: solution.status.name(),
+        feasible,
+        reason: (!feasible).then(|| format!("IPOPT returned {}", solution.status.name())),
+        cost: solution.objective,
+        iterations: solution.iterations,
+        solve_seconds: SolveSeconds {
+            total: solution.timing.total.as_secs_f64(),
+            callbacks: solution.timing.callbacks.as_secs_f64(),
+            ipopt: solution.timing.ipopt.as_secs_f64(),
+        },
+        max_motor_torque: trajectory
+            .motor_torque
+            .iter()
+            .flatten()
+            .fold(0.0, |m, t| m.max(t.abs())),
+        max_motor_speed: trajectory
+            .motor_speed
+            .iter()
+            .flatten()
+            .fold(0.0, |m, w| m.max(w.abs())),
+        violations,
+        trajectory,
+    }
+}
+
+/// How far a joint-space vector lies outside `limits`.
+fn limit_violation(limits: &JointLimits, values: &[f64]) -> f64 {
+    match limits {
+        JointLimits::Box { lower, upper } => values
+            .iter()
+            .zip(lower.iter().zip(upper))
+            .map(|(&v, (&lo, &hi))| outside(v, lo, hi))
+            .fold(0.0, f64::max),
+        JointLimits::Linear { matrix, limit } => {
+            let mapped = matrix * nalgebra::DVector::from_column_slice(values);
+            mapped
+                .iter()
+                .map(|m| outside(*m, -limit, *limit))
+                .fold(0.0, f64::max)
+        }
+    }
+}

@@ -1,0 +1,142 @@
+//! Co-design end to end through the worker processes: a killed worker and an interrupted run
+//! change nothing in the result.
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "codesign-optimize-cli-{}-{name}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn start(out: &Path, resume: bool) -> Child {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_codesign"));
+    command
+        .args([
+            "optimize",
+            "--space",
+            "actuation",
+            "--payload",
+            "1",
+            "--seed",
+            "3",
+        ])
+        .args(["--population", "8", "--generations", "3", "--workers", "2"])
+        .arg("--out")
+        .arg(out)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped());
+    if resume {
+        command.arg("--resume");
+    }
+    command.spawn().expect("codesign starts")
+}
+
+fn finish(child: Child) {
+    let output = child.wait_with_output().unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+fn read(out: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(out).unwrap()).unwrap()
+}
+
+fn log_entries(out: &Path) -> usize {
+    std::fs::read_to_string(out.with_extension("log.jsonl"))
+        .map_or(0, |text| text.lines().count().saturating_sub(1))
+}
+
+/// Waits until the run's log holds at least `count` evaluations.
+fn wait_for_entries(out: &Path, count: usize) {
+    let start = Instant::now();
+    while log_entries(out) < count {
+        assert!(
+            start.elapsed() < Duration::from_secs(300),
+            "the run did not progress"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// Process ids whose parent is `parent` (from /proc).
+fn children(parent: u32) -> Vec<u32> {
+    let mut found = Vec::new();
+    for entry in std::fs::read_dir("/proc").unwrap().flatten() {
+        let Ok(pid) = entry.file_name().to_string_lossy().parse::<u32>() else {
+            continue;
+        };
+        let Ok(stat) = std::fs::read_to_string(entry.path().join("stat")) else {
+            continue;
+        };
+        // Fields after the command name, which is in parentheses: state, ppid, ...
+        let after = &stat[stat.rfind(')').unwrap() + 2..];
+        if after
+            .split_whitespace()
+            .nth(1)
+            .and_then(|p| p.parse::<u32>().ok())
+            == Some(parent)
+        {
+            found.push(pid);
+        }
+    }
+    found
+}
+
+fn same_result(a: &Value, b: &Value) {
+    assert_eq!(a["best_ratios"], b["best_ratios"]);
+    assert_eq!(a["best_cost"], b["best_cost"]);
+    assert_eq!(a["costs"], b["costs"]);
+    assert_eq!(a["generations"], b["generations"]);
+}
+
+#[test]
+fn a_killed_worker_and_an_interrupted_run_change_nothing() {
+    let dir = scratch("runs");
+    let plain = dir.join("plain.json");
+    finish(start(&plain, false));
+    let reference = read(&plain);
+    assert_eq!(reference["evaluations"], 32);
+    assert_eq!(log_entries(&plain), 32);
+
+    // Kill one worker mid-run: its design is retried on a fresh worker.
+    let killed = dir.join("killed.json");
+    let child = start(&killed, false);
+    wait_for_entries(&killed, 5);
+    let workers = children(child.id());
+    assert!(!workers.is_empty(), "no worker processes found");
+    Command::new("kill")
+        .arg("-9")
+        .arg(workers[0].to_string())
+        .status()
+        .unwrap();
+    finish(child);
+    same_result(&reference, &read(&killed));
+
+    // Interrupt the whole run, then resume it: nothing finished is solved again.
+    let resumed = dir.join("resumed.json");
+    let mut child = start(&resumed, false);
+    wait_for_entries(&resumed, 12);
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let before = log_entries(&resumed);
+    assert!((12..32).contains(&before), "{before}");
+    assert!(!resumed.exists());
+    finish(start(&resumed, true));
+    let result = read(&resumed);
+    same_result(&reference, &result);
+    assert_eq!(result["replayed"].as_u64().unwrap() as usize, before);
+    assert_eq!(log_entries(&resumed), 32);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,0 +1,128 @@
+//! `codesign solve` end to end: the result file, the plots, and clear errors on bad input.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn codesign(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_codesign"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the codesign binary runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir =
+        std::env::temp_dir().join(format!("codesign-solve-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn writes_the_result_file_and_plots() {
+    let dir = scratch("ok");
+    let out = dir.join("result.json");
+    let plots = dir.join("plots");
+    let output = codesign(&[
+        "solve",
+        "--space",
+        "joint",
+        "--payload",
+        "0",
+        "--ratios",
+        "6,3,1,1",
+        "--out",
+        out.to_str().unwrap(),
+        "--plot",
+        plots.to_str().unwrap(),
+    ]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("Solve_Succeeded"), "{stdout}");
+    let result: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    for key in [
+        "status",
+        "feasible",
+        "cost",
+        "iterations",
+        "max_motor_torque",
+        "violations",
+        "trajectory",
+        "tool",
+        "inputs",
+    ] {
+        assert!(result.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(result["status"], "Solve_Succeeded");
+    assert_eq!(result["inputs"]["space"], "joint");
+    assert_eq!(
+        result["tool"]["ipopt_version"],
+        codesign::ipopt::IPOPT_VERSION
+    );
+    for key in ["total", "callbacks", "ipopt"] {
+        assert!(result["solve_seconds"][key].as_f64().unwrap() >= 0.0);
+    }
+    let trajectory = &result["trajectory"];
+    assert_eq!(trajectory["q"].as_array().unwrap().len(), 51);
+    assert_eq!(trajectory["motor_torque"].as_array().unwrap().len(), 50);
+    for name in [
+        "joint_positions.svg",
+        "joint_torques.svg",
+        "motor_torques.svg",
+        "tcp_path.svg",
+    ] {
+        let svg = std::fs::read_to_string(plots.join(name)).unwrap();
+        assert!(svg.starts_with("<svg"), "{name}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+fn fails_with(args: &[&str], expected: &[&str]) {
+    let output = codesign(args);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success(), "{args:?} succeeded");
+    assert_eq!(
+        output.status.code(),
+        Some(
+            if stderr.contains("error: invalid value") || stderr.contains("Usage") {
+                2
+            } else {
+                1
+            }
+        )
+    );
+    for text in expected {
+        assert!(stderr.contains(text), "{args:?}: {stderr}");
+    }
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn bad_input_gets_a_clear_error() {
+    fails_with(&["solve", "--ratios", "10,3,1,1"], &["--ratios", "r1 = 10"]);
+    fails_with(&["solve", "--ratios", "6,7,1,1"], &["r2 < r1"]);
+    fails_with(&["solve", "--ratios", "NaN,3,1,1"], &["r1 = NaN"]);
+    fails_with(&["solve", "--ratios", "6,3,1"], &["--ratios"]);
+    fails_with(&["solve", "--payload", "-1"], &["--payload"]);
+    fails_with(&["solve", "--duration", "0"], &["--duration"]);
+    fails_with(
+        &["solve", "--task", "robots/tasks/absent.json"],
+        &["absent.json"],
+    );
+    fails_with(
+        &["solve", "--robot", "robots/absent.urdf"],
+        &["absent.urdf"],
+    );
+    fails_with(
+        &["solve", "--out", "/nonexistent-folder/result.json"],
+        &["/nonexistent-folder/result.json"],
+    );
+    fails_with(&["solve", "--space", "sideways"], &["sideways"]);
+    assert!(!Path::new("/nonexistent-folder").exists());
+}
