@@ -53,7 +53,7 @@ pub struct Args {
     /// Result file (JSON); the evaluation log is written beside it as FILE.log.jsonl.
     #[arg(long, value_name = "FILE.json")]
     pub out: Option<PathBuf>,
-    /// Continue an interrupted run from its evaluation log.
+    /// Continue an interrupted run from its evaluation log (a run without a log starts afresh).
     #[arg(long)]
     pub resume: bool,
 }
@@ -127,7 +127,7 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
     };
     let header = serde_json::to_value(&inputs).map_err(|e| e.to_string())?;
     let log_file = log_path(out);
-    let (mut log, finished) = if args.resume {
+    let (mut log, finished) = if args.resume && log_file.exists() {
         EvaluationLog::resume(&log_file, header)?
     } else {
         (
