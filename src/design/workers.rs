@@ -247,28 +247,19 @@ impl Pool {
                         continue;
                     }
                     match line {
-                        Some(line) => {
-                            let response: Response = match serde_json::from_str(&line) {
-                                Ok(response) => response,
-                                Err(e) => {
+                        Some(line) => match serde_json::from_str::<Response>(&line) {
+                            Err(e) => {
+                                failed.push((slot, format!("worker sent a malformed answer: {e}")))
+                            }
+                            Ok(response) => {
+                                let expected =
+                                    self.workers[slot].job.as_ref().map(|(job, _)| job.id);
+                                if expected != Some(response.id) {
                                     failed.push((
                                         slot,
-                                        format!("worker sent a malformed answer: {e}"),
+                                        "worker answered a design it was not given".to_owned(),
                                     ));
-                                    self.retry_or_penalise(
-                                        failed,
-                                        &mut queue,
-                                        &mut results,
-                                        &position,
-                                        &mut remaining,
-                                        &mut done,
-                                    )?;
-                                    continue;
-                                }
-                            };
-                            let worker = &mut self.workers[slot];
-                            if let Some((job, _)) = worker.job.take() {
-                                if job.id == response.id {
+                                } else if let Some((job, _)) = self.workers[slot].job.take() {
                                     if let Some(index) = position(job.id) {
                                         done(job.id, &response.evaluation)?;
                                         results[index] = Some(response.evaluation);
@@ -276,7 +267,7 @@ impl Pool {
                                     }
                                 }
                             }
-                        }
+                        },
                         None => failed.push((slot, "worker process crashed".to_owned())),
                     }
                 }
@@ -354,5 +345,84 @@ impl Drop for Pool {
             let _ = worker.child.kill();
             let _ = worker.child.wait();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::os::unix::fs::PermissionsExt;
+
+    /// A stand-in worker: a shell script that answers, hangs or crashes.
+    fn script(name: &str, body: &str) -> PathBuf {
+        let path =
+            std::env::temp_dir().join(format!("codesign-worker-{}-{name}.sh", std::process::id()));
+        std::fs::write(&path, format!("#!/bin/sh\nread setup\n{body}\n")).unwrap();
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+        path
+    }
+
+    fn setup() -> WorkerSetup {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json");
+        let task = Task::load(&path).unwrap();
+        WorkerSetup {
+            modes: task.limit_modes,
+            task,
+            space: Space::Actuation,
+            penalty: 1e6,
+        }
+    }
+
+    fn designs() -> Vec<(usize, Vec<f64>)> {
+        vec![(0, vec![6.0, 3.0, 1.0, 1.0]), (1, vec![7.0, 3.0, 1.0, 1.0])]
+    }
+
+    #[test]
+    fn hung_and_crashed_workers_are_replaced_and_their_designs_penalised() {
+        for (name, body, reason) in [
+            ("hang", "while read request; do sleep 30; done", "exceeded"),
+            ("crash", "read request; exit 3", "crashed"),
+        ] {
+            let program = script(name, body);
+            let mut pool =
+                Pool::new(program.clone(), &setup(), 2, Duration::from_millis(300)).unwrap();
+            let mut finished = Vec::new();
+            let results = pool
+                .evaluate_all(&designs(), |id, evaluation| {
+                    finished.push((id, evaluation.clone()));
+                    Ok(())
+                })
+                .unwrap();
+            assert_eq!(results.len(), 2);
+            assert_eq!(finished.len(), 2);
+            for (evaluation, (_, ratios)) in results.iter().zip(designs()) {
+                assert_eq!(evaluation.ratios, ratios);
+                assert_eq!(evaluation.cost, 1e6);
+                assert_eq!(evaluation.status, "Worker_Failed");
+                let text = evaluation.reason.as_deref().unwrap();
+                assert!(text.contains(reason) && text.contains("twice"), "{text}");
+            }
+            drop(pool);
+            std::fs::remove_file(program).unwrap();
+        }
+    }
+
+    #[test]
+    fn answers_come_back_in_the_order_asked() {
+        // Answers every request with its own id and a cost of 10 + id, after a delay that
+        // makes later requests finish first.
+        let body = r#"while read request; do
+  id=$(echo "$request" | sed 's/.*"id":\([0-9]*\).*/\1/')
+  sleep 0.$((3 - id))
+  echo "{\"id\":$id,\"evaluation\":{\"ratios\":[$id],\"cost\":1$id,\"feasible\":true,\"status\":\"Solve_Succeeded\",\"iterations\":1,\"seconds\":0.1}}"
+done"#;
+        let program = script("answer", body);
+        let mut pool = Pool::new(program.clone(), &setup(), 2, Duration::from_secs(20)).unwrap();
+        let results = pool.evaluate_all(&designs(), |_, _| Ok(())).unwrap();
+        let costs: Vec<f64> = results.iter().map(|e| e.cost).collect();
+        assert_eq!(costs, vec![10.0, 11.0]);
+        drop(pool);
+        std::fs::remove_file(program).unwrap();
     }
 }
