@@ -2,6 +2,7 @@
 
 use super::codesign::OptimizeDocument;
 use super::trajectory::{SolveDocument, ToolInfo};
+use crate::model::task::Motors;
 use crate::problem::Space;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -78,6 +79,9 @@ pub struct DesignCell {
     pub max_motor_torque: f64,
     /// Largest motor speed, rad/s.
     pub max_motor_speed: f64,
+    /// Whether the real motors can execute the trajectory: motor torques and speeds within the
+    /// task's limits (to 1e-6 relative). A joint-space solution under the `paper` limits may not.
+    pub motors_can_execute: bool,
 }
 
 /// The co-design runs of one row.
@@ -123,8 +127,11 @@ pub struct PaperTable {
     pub notes: Vec<String>,
 }
 
-fn cell(result: &crate::solver::TrajectoryResult) -> DesignCell {
+fn cell(result: &crate::solver::TrajectoryResult, motors: &Motors) -> DesignCell {
+    let within = |value: f64, limit: f64| value <= limit * (1.0 + 1e-6);
     DesignCell {
+        motors_can_execute: within(result.max_motor_torque, motors.torque_limit_nm)
+            && within(result.max_motor_speed, motors.speed_limit_rad_s),
         ratios: result.ratios.clone(),
         feasible: result.feasible,
         cost: result.cost,
@@ -170,7 +177,7 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
             let original = &doc.inputs.task.transmission.original;
             if doc.result.ratios == *original {
                 row_mut(&mut rows, doc.inputs.payload_kg, doc.inputs.space).before =
-                    Some(cell(&doc.result));
+                    Some(cell(&doc.result, &doc.inputs.task.motors));
             }
         }
     }
@@ -180,7 +187,10 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
         };
         let row = row_mut(&mut rows, doc.inputs.payload_kg, doc.inputs.space);
         if row.before.is_none() {
-            row.before = doc.original_result.as_ref().map(cell);
+            row.before = doc
+                .original_result
+                .as_ref()
+                .map(|r| cell(r, &doc.inputs.task.motors));
         }
         let after = row.after.get_or_insert_with(|| AfterCell {
             best: None,
@@ -198,7 +208,7 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
                 .as_ref()
                 .is_none_or(|best| result.cost < best.cost)
             {
-                after.best = Some(cell(result));
+                after.best = Some(cell(result, &doc.inputs.task.motors));
             }
         }
     }
@@ -242,7 +252,15 @@ fn ratios_text(ratios: &[f64]) -> String {
 }
 
 fn design_text(cell: &DesignCell) -> String {
-    if cell.feasible {
+    if cell.feasible && !cell.motors_can_execute {
+        format!(
+            "{}: {:.2}, motors cannot execute it (max torque {:.2} N m, max speed {:.0} rad/s)",
+            ratios_text(&cell.ratios),
+            cell.cost,
+            cell.max_motor_torque,
+            cell.max_motor_speed
+        )
+    } else if cell.feasible {
         format!("{}: {:.2}", ratios_text(&cell.ratios), cell.cost)
     } else {
         format!(
