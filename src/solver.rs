@@ -5,7 +5,7 @@
 //! motor torques and the TCP path, and the largest violation of each constraint family.
 
 use crate::ipopt::{self, Options, Solution};
-use crate::problem::{Formulation, Space, TrajectoryProblem};
+use crate::problem::{cost_gradient, Formulation, Space, TrajectoryProblem};
 use crate::transmission::{DesignError, JointLimits};
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -115,6 +115,10 @@ pub struct TrajectoryResult {
     pub max_motor_speed: f64,
     /// Largest violation per constraint family.
     pub violations: Violations,
+    /// dJ*/dr, the exact sensitivity of the optimal cost to each ratio (envelope theorem; see
+    /// `problem::cost_gradient`), when the solve succeeded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cost_gradient: Option<Vec<f64>>,
     /// The trajectory.
     pub trajectory: Trajectory,
 }
@@ -272,6 +276,7 @@ fn read_result(problem: &mut TrajectoryProblem<'_>, solution: &Solution) -> Traj
             .flatten()
             .fold(0.0, |m, w| m.max(w.abs())),
         violations,
+        cost_gradient: feasible.then(|| cost_gradient(problem, solution)),
         trajectory,
     }
 }

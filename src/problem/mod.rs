@@ -7,9 +7,11 @@
 
 mod layout;
 mod nlp;
+mod sensitivity;
 
 pub use layout::Layout;
 pub use nlp::TrajectoryProblem;
+pub use sensitivity::cost_gradient;
 
 use crate::dynamics::Dynamics;
 use crate::model::task::{LimitModes, Task};

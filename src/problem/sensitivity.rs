@@ -1,0 +1,191 @@
+//! The exact sensitivity of the optimal cost to the design, by the envelope theorem.
+//!
+//! At a primal-dual solution (x*, lambda*, z_L*, z_U*) of the trajectory problem,
+//! dJ*/dr = dL/dr, the partial derivative of the Lagrangian
+//! L = J(x) + lambda^T g(x, r) - z_L^T (x - x_L(r)) + z_U^T (x - x_U(r))
+//! with respect to r at fixed (x, lambda, z). The design enters through G(r):
+//! - the dynamics rows of the actuation-space problem, RNEA - G^T u (d/dr_l: -dG_l^T u);
+//! - the motor-speed rows G v and the motor-torque rows G^-T u of the `exact` modes
+//!   (d(G^-T)/dr_l = -G^-T dG_l^T G^-T);
+//! - the variable bounds of the `paper` and `interval` modes (d/dr_l of |sum_j A_ij| lim and
+//!   sum_j |A_ij| lim, with A = G^T for torques and G^-1 for speeds).
+//!
+//! The result holds where the active set does not change with r; at a kink of an absolute
+//! value (a bound that is exactly 0, such as joint 4's torque under the `paper` mode) the
+//! one-sided derivatives differ and 0 is used.
+
+use super::{Space, TrajectoryProblem};
+use crate::ipopt::Solution;
+use crate::model::task::LimitMode;
+use nalgebra::{DMatrix, DVector};
+
+/// d(upper bound)/dr of the box limits |x_i| <= b_i(r) of a mode, for A(r) and dA/dr.
+fn box_bound_derivative(
+    mode: LimitMode,
+    a: &DMatrix<f64>,
+    da: &DMatrix<f64>,
+    limit: f64,
+) -> Option<Vec<f64>> {
+    let sign = |value: f64| {
+        if value > 0.0 {
+            1.0
+        } else if value < 0.0 {
+            -1.0
+        } else {
+            0.0
+        }
+    };
+    match mode {
+        LimitMode::Paper => Some(
+            (0..a.nrows())
+                .map(|i| sign(a.row(i).sum()) * limit * da.row(i).sum())
+                .collect(),
+        ),
+        LimitMode::Interval => Some(
+            (0..a.nrows())
+                .map(|i| {
+                    limit
+                        * (0..a.ncols())
+                            .map(|j| sign(a[(i, j)]) * da[(i, j)])
+                            .sum::<f64>()
+                })
+                .collect(),
+        ),
+        LimitMode::Exact => None,
+    }
+}
+
+/// dJ*/dr at `solution`, a solution of `problem` (one entry per ratio).
+pub fn cost_gradient(problem: &TrajectoryProblem<'_>, solution: &Solution) -> Vec<f64> {
+    let f = problem.formulation();
+    let layout = f.layout();
+    let (n, steps) = (layout.dof, layout.steps);
+    let task = f.task();
+    let g = problem.coupling().matrix();
+    let g_inv = problem.coupling().inverse();
+    let (x, lambda) = (&solution.x, &solution.lambda);
+    let segment = |start: usize| DVector::from_column_slice(&x[start..start + n]);
+    let multipliers = |row: usize| DVector::from_column_slice(&lambda[row..row + n]);
+    (0..f.transmission().num_ratios())
+        .map(|l| {
+            let dg = f.transmission().matrix_derivative(l);
+            let dg_inv = -(g_inv * &dg * g_inv);
+            let mut total = 0.0;
+            for k in 0..steps {
+                let u = segment(layout.u(k, 0));
+                if f.space() == Space::Actuation {
+                    total -= multipliers(layout.dynamics_row(k, 0)).dot(&dg.tr_mul(&u));
+                }
+                if let Some(row) = layout.speed_row(k, 0) {
+                    total += multipliers(row).dot(&(&dg * segment(layout.v(k, 0))));
+                }
+                if let Some(row) = layout.torque_row(k, 0) {
+                    // G^-T u differentiates to -G^-T dG^T G^-T u = dG_inv^T u.
+                    total += multipliers(row).dot(&dg_inv.tr_mul(&u));
+                }
+            }
+            // Bounds x_L = -b(r), x_U = b(r): dL/dr = z_L . dx_L/dr - z_U . dx_U/dr
+            // = -(z_L + z_U) . db/dr.
+            let mut bound_term = |columns: &dyn Fn(usize, usize) -> usize,
+                                  nodes: std::ops::Range<usize>,
+                                  db: &[f64]| {
+                for k in nodes {
+                    for (i, d) in db.iter().enumerate() {
+                        let column = columns(k, i);
+                        total -= (solution.z_lower[column] + solution.z_upper[column]) * d;
+                    }
+                }
+            };
+            let modes = f.modes();
+            if let Some(db) =
+                box_bound_derivative(modes.speed, g_inv, &dg_inv, task.motors.speed_limit_rad_s)
+            {
+                bound_term(&|k, i| layout.v(k, i), 1..steps, &db);
+            }
+            if f.space() == Space::Joint {
+                let (gt, dgt) = (g.transpose(), dg.transpose());
+                if let Some(db) =
+                    box_bound_derivative(modes.torque, &gt, &dgt, task.motors.torque_limit_nm)
+                {
+                    bound_term(&|k, i| layout.u(k, i), 0..steps, &db);
+                }
+            }
+            total
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::model::task::{LimitMode, LimitModes, Task};
+    use crate::model::Robot;
+    use crate::problem::{Formulation, Space};
+    use crate::solver::{solve_design, SolveSettings};
+    use std::path::Path;
+
+    /// dJ*/dr against central differences of re-solved problems, at designs where the active
+    /// set is stable, in both spaces and with box (paper, interval) and linear (exact) limits.
+    #[test]
+    fn cost_gradient_matches_differences_of_resolved_problems() {
+        let mut task =
+            Task::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json"))
+                .unwrap();
+        task.solver.tol = 1e-11;
+        let cases = [
+            (
+                Space::Actuation,
+                1.0,
+                LimitMode::Paper,
+                LimitMode::Exact,
+                [7.0, 4.0, 2.0, 2.0],
+            ),
+            (
+                Space::Actuation,
+                0.0,
+                LimitMode::Paper,
+                LimitMode::Interval,
+                [6.0, 3.0, 1.5, 1.5],
+            ),
+            (
+                Space::Joint,
+                0.0,
+                LimitMode::Interval,
+                LimitMode::Exact,
+                [6.5, 3.5, 1.5, 1.2],
+            ),
+            (
+                Space::Joint,
+                0.0,
+                LimitMode::Exact,
+                LimitMode::Paper,
+                [8.0, 4.0, 2.0, 2.5],
+            ),
+        ];
+        for (space, payload, torque, speed, ratios) in cases {
+            task.payload.mass_kg = payload;
+            let robot = Robot::load(&task).unwrap();
+            let formulation =
+                Formulation::new(&task, robot, space, LimitModes { torque, speed }).unwrap();
+            let settings = SolveSettings::default();
+            let result = solve_design(&formulation, &ratios, &settings).unwrap();
+            assert!(result.feasible, "{space} {ratios:?}: {}", result.status);
+            let gradient = result.cost_gradient.clone().unwrap();
+            for l in 0..4 {
+                let step = 1e-4;
+                let cost = |sign: f64| {
+                    let mut r = ratios;
+                    r[l] += sign * step;
+                    solve_design(&formulation, &r, &settings).unwrap().cost
+                };
+                let fd = (cost(1.0) - cost(-1.0)) / (2.0 * step);
+                let scale = gradient.iter().fold(1.0_f64, |m, g| m.max(g.abs()));
+                assert!(
+                    (fd - gradient[l]).abs() <= 1e-4 * scale,
+                    "{space} {torque:?}/{speed:?} r = {ratios:?}: dJ/dr{} = {} but differences give {fd}",
+                    l + 1,
+                    gradient[l]
+                );
+            }
+        }
+    }
+}
