@@ -126,3 +126,23 @@ fn bad_input_gets_a_clear_error() {
     fails_with(&["solve", "--space", "sideways"], &["sideways"]);
     assert!(!Path::new("/nonexistent-folder").exists());
 }
+
+#[test]
+fn a_closed_stdout_is_no_reason_to_panic() {
+    let dir = scratch("pipe");
+    let out = dir.join("result.json");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_codesign"))
+        .args(["solve", "--out", out.to_str().unwrap()])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(out.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -14,13 +14,13 @@ pub struct Args {
 
 /// Solves HS071 and runs IPOPT's second-order derivative checker on it; fails if either is off.
 pub fn run(args: &Args) -> Result<(), String> {
-    println!(
+    say!(
         "codesign {} linked against IPOPT {IPOPT_VERSION}",
         env!("CARGO_PKG_VERSION")
     );
     let options = Options::new().num("tol", 1e-8).verbose(args.verbose);
     let solution = solve(&mut Hs071, &options).map_err(|e| e.to_string())?;
-    println!(
+    say!(
         "HS071: {} after {} iterations, f = {:.7} (published {HS071_OPTIMUM}), {:.3} ms",
         solution.status,
         solution.iterations,
@@ -32,7 +32,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     }
     let report = check_derivatives(&mut Hs071, &Options::new(), DerivativeOrder::Second)
         .map_err(|e| e.to_string())?;
-    println!(
+    say!(
         "IPOPT derivative checker on HS071: {} error(s)",
         report.errors
     );
@@ -42,6 +42,6 @@ pub fn run(args: &Args) -> Result<(), String> {
             report.flagged.join("; ")
         ));
     }
-    println!("ok");
+    say!("ok");
     Ok(())
 }

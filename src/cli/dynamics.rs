@@ -121,7 +121,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     let v = state("v", args.v.as_ref())?;
     let a = state("a", args.a.as_ref())?;
     let lambda = state("lambda", args.lambda.as_ref())?;
-    println!("{}", evaluate(Dynamics::new(robot), q, v, a, lambda)?);
+    say!("{}", evaluate(Dynamics::new(robot), q, v, a, lambda)?);
     Ok(())
 }
 

@@ -1,5 +1,22 @@
 //! The command line: one subcommand per module, each a thin layer over the library.
 
+/// Prints on stdout like `println!`, but a closed stdout (`codesign solve | head -1`) is not a
+/// reason to panic: the line is dropped and the command goes on to write its files.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
+/// `print!` with the same tolerance of a closed stdout as [`say!`].
+macro_rules! say_raw {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stdout(), $($arg)*);
+    }};
+}
+
 mod common;
 mod doctor;
 mod dynamics;

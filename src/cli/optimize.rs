@@ -216,7 +216,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         ))
     });
     let document = run_case(args, &out)?;
-    println!(
+    say!(
         "best r = ({}) with J = {:.6} (original design: J = {:.6}); {} evaluations ({} replayed), median solve {:.1} ms; {}",
         document.best_ratios.iter().map(|r| format!("{r:.4}")).collect::<Vec<_>>().join(", "),
         document.best_cost,
@@ -226,7 +226,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         document.median_solve_seconds * 1e3,
         document.stop_reason
     );
-    println!(
+    say!(
         "result written to {} (evaluation log {})",
         out.display(),
         log_path(&out).display()

@@ -77,9 +77,11 @@ pub fn run(args: &Args) -> Result<(), String> {
             let ratios = case_task.transmission.original.clone();
             let result = solve_design(&formulation, &ratios, &SolveSettings::default())
                 .map_err(|e| e.to_string())?;
-            println!(
+            say!(
                 "original design, {space} space, {payload} kg: {} J = {:.4} ({} iterations)",
-                result.status, result.cost, result.iterations
+                result.status,
+                result.cost,
+                result.iterations
             );
             let name = format!("{space}-{payload}kg");
             write_plots(
@@ -134,7 +136,7 @@ pub fn run(args: &Args) -> Result<(), String> {
                     .join("runs")
                     .join(format!("{space}-{payload}kg-seed{seed}.json"));
                 let document = run_case(&case, &out)?;
-                println!(
+                say!(
                     "co-design, {space} space, {payload} kg, seed {seed}: best r = {:?}, J = {:.4} ({} evaluations)",
                     document.best_ratios, document.best_cost, document.evaluations
                 );
@@ -205,7 +207,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         table.to_markdown().as_bytes(),
     )?;
     write_json(&out_dir.join("paper_table.json"), &table)?;
-    print!("{}", table.to_markdown());
-    println!("results written to {}", out_dir.display());
+    say_raw!("{}", table.to_markdown());
+    say!("results written to {}", out_dir.display());
     Ok(())
 }

@@ -89,7 +89,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     print_summary(&formulation, &result);
     if let Some(folder) = &args.plot {
         write_plots(folder, &formulation, &result)?;
-        println!("plots written to {}", folder.display());
+        say!("plots written to {}", folder.display());
     }
     if let Some(path) = &args.out {
         let document = SolveDocument {
@@ -105,7 +105,7 @@ pub fn run(args: &Args) -> Result<(), String> {
             result,
         };
         write_json(path, &document)?;
-        println!("result written to {}", path.display());
+        say!("result written to {}", path.display());
     }
     Ok(())
 }
@@ -120,14 +120,14 @@ fn check(formulation: &Formulation, ratios: &[f64], verbose: bool) -> Result<(),
     let started = std::time::Instant::now();
     let report = check_derivatives(&mut problem, &options, DerivativeOrder::Second)
         .map_err(|e| e.to_string())?;
-    println!(
+    say!(
         "IPOPT derivative checker ({} space, first and second order, at the initial guess): {} error(s) in {:.1} s",
         formulation.space(),
         report.errors,
         started.elapsed().as_secs_f64()
     );
     for line in &report.flagged {
-        println!("  {line}");
+        say!("  {line}");
     }
     if report.errors > 0 {
         return Err(format!(
@@ -148,7 +148,7 @@ fn join(values: &[f64]) -> String {
 
 fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
     let task = formulation.task();
-    println!(
+    say!(
         "{} space, r = ({}), payload {} kg: {} in {} iterations, J = {:.6}",
         formulation.space(),
         result
@@ -162,7 +162,7 @@ fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
         result.iterations,
         result.cost
     );
-    println!(
+    say!(
         "  {}; max motor torque {:.3} N m (limit {}), max motor speed {:.1} rad/s (limit {})",
         if result.feasible {
             "feasible"
@@ -175,7 +175,7 @@ fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
         task.motors.speed_limit_rad_s
     );
     let s = &result.solve_seconds;
-    println!(
+    say!(
         "  solve {:.1} ms (callbacks {:.1} ms, IPOPT {:.1} ms)",
         s.total * 1e3,
         s.callbacks * 1e3,

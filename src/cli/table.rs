@@ -27,13 +27,13 @@ pub fn run(args: &Args) -> Result<(), String> {
         Some(path) => {
             write_atomic(path, table.to_markdown().as_bytes())?;
             write_json(&path.with_extension("json"), &table)?;
-            println!(
+            say!(
                 "table written to {} and {}",
                 path.display(),
                 path.with_extension("json").display()
             );
         }
-        None => print!("{}", table.to_markdown()),
+        None => say_raw!("{}", table.to_markdown()),
     }
     Ok(())
 }
