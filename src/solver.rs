@@ -157,10 +157,30 @@ pub fn solve_design(
     ratios: &[f64],
     settings: &SolveSettings,
 ) -> Result<TrajectoryResult, SolveError> {
+    solve_design_from(formulation, ratios, settings, None).map(|(result, _)| result)
+}
+
+/// Solves the trajectory problem of design `ratios`, warm-started from `warm` (the raw solution
+/// of a nearby design of the same formulation) when given, else from the SPEC's initial guess.
+/// Returns the result and the raw solution, to warm-start the next design from.
+pub fn solve_design_from(
+    formulation: &Formulation,
+    ratios: &[f64],
+    settings: &SolveSettings,
+    warm: Option<&Solution>,
+) -> Result<(TrajectoryResult, Solution), SolveError> {
     let mut problem = formulation.problem(ratios).map_err(SolveError::Design)?;
-    let solution = ipopt::solve(&mut problem, &ipopt_options(formulation, settings))
-        .map_err(SolveError::Ipopt)?;
-    Ok(read_result(&mut problem, &solution))
+    let mut options = ipopt_options(formulation, settings);
+    if warm.is_some() {
+        // Keep the warm point and multipliers close to where they were; the barrier parameter
+        // starts at IPOPT's default, which measured best for steps of any size (a smaller
+        // mu_init halves the iterations after a tiny step but doubles them after a large one).
+        options = options
+            .num("warm_start_bound_push", 1e-6)
+            .num("warm_start_mult_bound_push", 1e-6);
+    }
+    let solution = ipopt::solve_from(&mut problem, &options, warm).map_err(SolveError::Ipopt)?;
+    Ok((read_result(&mut problem, &solution), solution))
 }
 
 fn max_abs(values: impl IntoIterator<Item = f64>) -> f64 {

@@ -12,7 +12,7 @@ pub use check::{check_derivatives, DerivativeOrder, DerivativeReport};
 pub use hs071::{Hs071, HS071_OPTIMUM};
 pub use nlp::{EvalError, Nlp};
 pub use options::{OptionValue, Options};
-pub use solve::{solve, Error, Solution, Timing};
+pub use solve::{solve, solve_from, Error, Solution, Timing};
 pub use status::Status;
 
 /// Version of the IPOPT library this binary links, as pkg-config reported it at build time.

@@ -114,6 +114,17 @@ impl Drop for Handle {
 /// Solves are serialised process-wide (MUMPS is not thread-safe): a second thread calling this
 /// waits until the first has finished.
 pub fn solve<P: Nlp>(problem: &mut P, options: &Options) -> Result<Solution, Error> {
+    solve_from(problem, options, None)
+}
+
+/// Solves `problem` warm-started from an earlier solution of a problem of the same shape: its
+/// primal point replaces [`Nlp::initial_point`] and its multipliers seed IPOPT's
+/// (`warm_start_init_point = yes`). Without `start`, the same as [`solve`].
+pub fn solve_from<P: Nlp>(
+    problem: &mut P,
+    options: &Options,
+    warm: Option<&Solution>,
+) -> Result<Solution, Error> {
     let _guard = SOLVER_LOCK
         .lock()
         .unwrap_or_else(|poisoned| poisoned.into_inner());
@@ -130,7 +141,26 @@ pub fn solve<P: Nlp>(problem: &mut P, options: &Options) -> Result<Solution, Err
     let jacobian = checked_structure("Jacobian", problem.jacobian_structure(), m, n, false)?;
     let hessian = checked_structure("Hessian", problem.hessian_structure(), n, n, true)?;
     let mut x = vec![0.0; n];
-    problem.initial_point(&mut x);
+    let mut lambda = vec![0.0; m];
+    let (mut z_lower, mut z_upper) = (vec![0.0; n], vec![0.0; n]);
+    let mut options = options.clone();
+    match warm {
+        Some(start) => {
+            if start.x.len() != n || start.lambda.len() != m {
+                return Err(Error::InvalidProblem(format!(
+                    "warm start has {} variables and {} constraints, the problem {n} and {m}",
+                    start.x.len(),
+                    start.lambda.len()
+                )));
+            }
+            x.copy_from_slice(&start.x);
+            lambda.copy_from_slice(&start.lambda);
+            z_lower.copy_from_slice(&start.z_lower);
+            z_upper.copy_from_slice(&start.z_upper);
+            options = options.str("warm_start_init_point", "yes");
+        }
+        None => problem.initial_point(&mut x),
+    }
     if let Some(i) = x.iter().position(|value| !value.is_finite()) {
         return Err(Error::InvalidProblem(format!(
             "initial point x[{i}] = {} is not finite",
@@ -169,7 +199,7 @@ pub fn solve<P: Nlp>(problem: &mut P, options: &Options) -> Result<Solution, Err
         ));
     }
     let handle = Handle(raw);
-    apply_options(&handle, options)?;
+    apply_options(&handle, &options)?;
     // SAFETY: the handle is valid; the callback has the signature IPOPT expects.
     unsafe { sys::SetIntermediateCallback(handle.0, Some(intermediate::<P>)) };
 
@@ -182,8 +212,6 @@ pub fn solve<P: Nlp>(problem: &mut P, options: &Options) -> Result<Solution, Err
         error: None,
     };
     let mut g = vec![0.0; m];
-    let mut lambda = vec![0.0; m];
-    let (mut z_lower, mut z_upper) = (vec![0.0; n], vec![0.0; n]);
     let mut objective = f64::NAN;
     // SAFETY: all output arrays have the sizes IPOPT was given; the context outlives the call and
     // is only touched through the user-data pointer while IPOPT runs.
@@ -659,6 +687,32 @@ mod tests {
             values[0] = 2.0 * lambda[0];
             Ok(())
         }
+    }
+
+    #[test]
+    fn a_warm_start_from_the_optimum_converges_at_once() {
+        let cold = solve(&mut Hs071, &Options::new()).unwrap();
+        let warm = solve_from(
+            &mut Hs071,
+            &Options::new()
+                .num("mu_init", 1e-9)
+                .num("warm_start_bound_push", 1e-9),
+            Some(&cold),
+        )
+        .unwrap();
+        assert_eq!(warm.status, Status::SolveSucceeded);
+        assert!((warm.objective - cold.objective).abs() < 1e-6);
+        assert!(
+            warm.iterations < cold.iterations,
+            "{} vs {}",
+            warm.iterations,
+            cold.iterations
+        );
+        let mut other = Infeasible;
+        assert!(matches!(
+            solve_from(&mut other, &Options::new(), Some(&cold)),
+            Err(Error::InvalidProblem(_))
+        ));
     }
 
     #[test]
