@@ -17,6 +17,7 @@ macro_rules! say_raw {
     }};
 }
 
+mod capacity;
 mod common;
 mod doctor;
 mod dynamics;
@@ -45,6 +46,8 @@ enum Command {
     Dynamics(dynamics::Args),
     /// Solve the trajectory problem of one design and report cost, feasibility and trajectory.
     Solve(solve::Args),
+    /// The largest payload a design can move through the task (bracketing and bisection).
+    Capacity(capacity::Args),
     /// Co-design: search the gear ratios with CMA-ES, solving each design in worker processes.
     Optimize(optimize::Args),
     /// Reproduce the paper's experiment: original designs, co-design per payload, table, plots.
@@ -65,6 +68,7 @@ pub fn main() -> ExitCode {
         Command::Dynamics(args) => dynamics::run(&args),
         Command::Solve(args) => solve::run(&args),
         Command::Optimize(args) => optimize::run(&args),
+        Command::Capacity(args) => capacity::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Table(args) => table::run(&args),
         Command::Worker => worker::run(),

@@ -1,0 +1,115 @@
+//! `codesign capacity`: the largest payload a design can move through the task.
+
+use super::common::ModelArgs;
+use crate::design::capacity::{payload_capacity, Capacity, CapacitySettings};
+use crate::model::task::{LimitMode, LimitModes};
+use crate::problem::Space;
+use crate::report::files::write_json;
+use crate::report::trajectory::ToolInfo;
+use serde::Serialize;
+use std::path::PathBuf;
+
+/// Flags of `codesign capacity`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Joint torques (baseline) or motor torques (the paper's method) as controls.
+    #[arg(long, value_enum, default_value = "actuation")]
+    space: Space,
+    /// Gear ratios r1,r2,r3,r4; default: the task's original design.
+    #[arg(long, value_name = "R1,R2,..", value_delimiter = ',', num_args = 1..)]
+    ratios: Option<Vec<f64>>,
+    /// Joint torque limit mode of the joint-space problem; default: the task's.
+    #[arg(long, value_enum, value_name = "MODE")]
+    torque_mode: Option<LimitMode>,
+    /// Joint speed limit mode; default: the task's.
+    #[arg(long, value_enum, value_name = "MODE")]
+    speed_mode: Option<LimitMode>,
+    /// Width of the final bracket, kg.
+    #[arg(long, value_name = "KG", default_value_t = 0.01)]
+    resolution: f64,
+    /// First payload tried after 0 kg, doubled until infeasible, kg.
+    #[arg(long, value_name = "KG", default_value_t = 1.0)]
+    first_step: f64,
+    /// Largest payload tried, kg.
+    #[arg(long, value_name = "KG", default_value_t = 64.0)]
+    max: f64,
+    /// Write the search as JSON to this file.
+    #[arg(long, value_name = "FILE.json")]
+    out: Option<PathBuf>,
+}
+
+#[derive(Serialize)]
+struct Document<'a> {
+    tool: ToolInfo,
+    task_file: String,
+    space: Space,
+    ratios: &'a [f64],
+    limit_modes: LimitModes,
+    settings: CapacitySettings,
+    #[serde(flatten)]
+    capacity: &'a Capacity,
+}
+
+/// Searches the capacity, prints it, writes the file.
+pub fn run(args: &Args) -> Result<(), String> {
+    if args.model.payload.is_some() {
+        return Err("--payload: capacity searches the payload itself; leave it out".to_owned());
+    }
+    let (task, robot) = args.model.load()?;
+    let modes = LimitModes {
+        torque: args.torque_mode.unwrap_or(task.limit_modes.torque),
+        speed: args.speed_mode.unwrap_or(task.limit_modes.speed),
+    };
+    let ratios = args
+        .ratios
+        .clone()
+        .unwrap_or_else(|| task.transmission.original.clone());
+    crate::transmission::Transmission::from_spec(&task.transmission)
+        .map_err(|e| format!("task: {e}"))?
+        .check_design(&ratios)
+        .map_err(|e| format!("--ratios: invalid design: {e}"))?;
+    let settings = CapacitySettings {
+        resolution_kg: args.resolution,
+        first_step_kg: args.first_step,
+        max_kg: args.max,
+    };
+    let capacity = payload_capacity(&task, &robot, args.space, modes, &ratios, &settings)
+        .map_err(|e| format!("--resolution/--first-step/--max: {e}"))?;
+    let seconds: f64 = capacity.probes.iter().map(|p| p.seconds).sum();
+    let design = ratios
+        .iter()
+        .map(|r| r.to_string())
+        .collect::<Vec<_>>()
+        .join(", ");
+    match (capacity.capacity_kg, capacity.first_infeasible_kg) {
+        (None, _) => say!(
+            "{} space, r = ({design}): infeasible even without payload",
+            args.space
+        ),
+        (Some(kg), Some(limit)) => say!(
+            "{} space, r = ({design}): payload capacity {kg:.3} kg ({limit:.3} kg is infeasible)",
+            args.space
+        ),
+        (Some(kg), None) => say!(
+            "{} space, r = ({design}): carries at least {kg:.3} kg (--max)",
+            args.space
+        ),
+    }
+    say!("  {} solves in {seconds:.1} s", capacity.probes.len());
+    if let Some(path) = &args.out {
+        let document = Document {
+            tool: ToolInfo::current(),
+            task_file: args.model.task.display().to_string(),
+            space: args.space,
+            ratios: &ratios,
+            limit_modes: modes,
+            settings,
+            capacity: &capacity,
+        };
+        write_json(path, &document)?;
+        say!("result written to {}", path.display());
+    }
+    Ok(())
+}
