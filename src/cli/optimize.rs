@@ -2,12 +2,14 @@
 
 use super::common::ModelArgs;
 use crate::design::cmaes::CmaesSettings;
+use crate::design::gradient::GradientIterate;
+use crate::design::gradient::{default_starts, optimize_gradient, GradientSettings};
 use crate::design::log::EvaluationLog;
-use crate::design::optimize::{optimize, Progress};
+use crate::design::optimize::{optimize, GenerationSummary, Progress};
 use crate::design::workers::{Pool, WorkerSetup};
 use crate::model::task::{LimitMode, LimitModes};
 use crate::problem::{Formulation, Space};
-use crate::report::codesign::{OptimizeDocument, OptimizeInputs};
+use crate::report::codesign::{Method, OptimizeDocument, OptimizeInputs};
 use crate::report::files::write_json;
 use crate::report::trajectory::ToolInfo;
 use crate::solver::{solve_design, SolveSettings};
@@ -20,6 +22,12 @@ use std::time::{Duration, Instant};
 pub struct Args {
     #[command(flatten)]
     pub model: ModelArgs,
+    /// Outer-level method: CMA-ES (the paper's) or projected quasi-Newton on dJ*/dr.
+    #[arg(long, value_enum, default_value = "cmaes")]
+    pub method: Method,
+    /// Iterations per start of the gradient method.
+    #[arg(long, value_name = "N", default_value_t = 50)]
+    pub gradient_iterations: usize,
     /// Joint torques (baseline) or motor torques (the paper's method) as controls.
     #[arg(long, value_enum, default_value = "actuation")]
     pub space: Space,
@@ -112,6 +120,7 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
         xtol: 1e-6,
     };
     let inputs = OptimizeInputs {
+        method: args.method,
         task_file: args.model.task.display().to_string(),
         task: task.clone(),
         space: args.space,
@@ -125,7 +134,95 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
         ftol: settings.ftol,
         xtol: settings.xtol,
     };
-    let header = serde_json::to_value(&inputs).map_err(|e| e.to_string())?;
+    let run = match args.method {
+        Method::Cmaes => run_cmaes(args, out, &inputs, &formulation, settings, &setup)?,
+        Method::Gradient => {
+            if args.resume {
+                return Err(
+                    "--resume continues CMA-ES runs; a gradient run is short, start it again"
+                        .to_owned(),
+                );
+            }
+            let settings = GradientSettings {
+                max_iterations: args.gradient_iterations,
+                tolerance: 1e-6,
+                starts: default_starts(formulation.transmission()),
+            };
+            let outcome = optimize_gradient(&formulation, &settings, args.penalty);
+            if outcome.best_ratios.is_empty() {
+                return Err("the gradient method found no feasible start".to_owned());
+            }
+            let solves = outcome.costs.len();
+            RunOutcome {
+                best_ratios: outcome.best_ratios,
+                best_cost: outcome.best_cost,
+                generations: Vec::new(),
+                costs: outcome.costs,
+                seconds: outcome.seconds.into_iter().filter(|s| *s > 0.0).collect(),
+                replayed: 0,
+                stop_reason: format!(
+                    "{} starts, {} iterates, {solves} solves",
+                    settings.starts.len(),
+                    outcome.iterates.len()
+                ),
+                iterates: outcome.iterates,
+            }
+        }
+    };
+    let solve = |ratios: &[f64]| solve_design(&formulation, ratios, &SolveSettings::default()).ok();
+    let best_result = solve(&run.best_ratios);
+    let original_ratios = formulation.transmission().original().to_vec();
+    let original_result = solve(&original_ratios);
+    let original_cost = match &original_result {
+        Some(result) if result.feasible => result.cost,
+        _ => args.penalty,
+    };
+    let mut seconds = run.seconds;
+    seconds.sort_by(f64::total_cmp);
+    let document = OptimizeDocument {
+        tool: ToolInfo::current(),
+        inputs,
+        best_ratios: run.best_ratios,
+        best_cost: run.best_cost,
+        best_result,
+        original_ratios,
+        original_cost,
+        original_result,
+        generations: run.generations,
+        evaluations: run.costs.len(),
+        costs: run.costs,
+        iterates: run.iterates,
+        replayed: run.replayed,
+        median_solve_seconds: seconds.get(seconds.len() / 2).copied().unwrap_or(f64::NAN),
+        stop_reason: run.stop_reason,
+        wall_seconds: started.elapsed().as_secs_f64(),
+    };
+    write_json(out, &document)?;
+    Ok(document)
+}
+
+/// What either method hands to the document.
+struct RunOutcome {
+    best_ratios: Vec<f64>,
+    best_cost: f64,
+    generations: Vec<GenerationSummary>,
+    costs: Vec<f64>,
+    seconds: Vec<f64>,
+    replayed: usize,
+    stop_reason: String,
+    iterates: Vec<GradientIterate>,
+}
+
+/// The CMA-ES run: evaluation log (resumed if asked), worker pool, progress bar.
+fn run_cmaes(
+    args: &Args,
+    out: &Path,
+    inputs: &OptimizeInputs,
+    formulation: &Formulation,
+    settings: CmaesSettings,
+    setup: &WorkerSetup,
+) -> Result<RunOutcome, String> {
+    let header = serde_json::to_value(inputs).map_err(|e| e.to_string())?;
     let log_file = log_path(out);
     let (mut log, finished) = if args.resume && log_file.exists() {
         EvaluationLog::resume(&log_file, header)?
@@ -142,7 +239,7 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
         .map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
     let mut pool = Pool::new(
         program,
-        &setup,
+        setup,
         workers,
         Duration::from_secs_f64(args.solve_timeout),
     )?;
@@ -153,7 +250,7 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
     );
     bar.set_prefix(format!(
         "{} {} kg seed {}",
-        args.space, task.payload.mass_kg, args.seed
+        args.space, inputs.payload_kg, args.seed
     ));
     let mut progress = Bar(bar);
     let outcome = optimize(
@@ -167,40 +264,21 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
     progress.0.finish();
     drop(pool);
 
-    let solve = |ratios: &[f64]| solve_design(&formulation, ratios, &SolveSettings::default()).ok();
-    let best_result = solve(&outcome.best_ratios);
-    let original_ratios = formulation.transmission().original().to_vec();
-    let original_result = solve(&original_ratios);
-    let original_cost = match &original_result {
-        Some(result) if result.feasible => result.cost,
-        _ => args.penalty,
-    };
-    let mut seconds: Vec<f64> = outcome
-        .evaluations
-        .iter()
-        .filter(|e| e.iterations > 0)
-        .map(|e| e.seconds)
-        .collect();
-    seconds.sort_by(f64::total_cmp);
-    let document = OptimizeDocument {
-        tool: ToolInfo::current(),
-        inputs,
+    Ok(RunOutcome {
         best_ratios: outcome.best_ratios,
         best_cost: outcome.best_cost,
-        best_result,
-        original_ratios,
-        original_cost,
-        original_result,
         generations: outcome.generations,
-        evaluations: outcome.evaluations.len(),
         costs: outcome.evaluations.iter().map(|e| e.cost).collect(),
+        seconds: outcome
+            .evaluations
+            .iter()
+            .filter(|e| e.iterations > 0)
+            .map(|e| e.seconds)
+            .collect(),
         replayed: outcome.replayed,
-        median_solve_seconds: seconds.get(seconds.len() / 2).copied().unwrap_or(f64::NAN),
         stop_reason: outcome.stop_reason,
-        wall_seconds: started.elapsed().as_secs_f64(),
-    };
-    write_json(out, &document)?;
-    Ok(document)
+        iterates: Vec::new(),
+    })
 }
 
 /// Runs `codesign optimize` and prints a summary.
@@ -226,10 +304,13 @@ pub fn run(args: &Args) -> Result<(), String> {
         document.median_solve_seconds * 1e3,
         document.stop_reason
     );
-    say!(
-        "result written to {} (evaluation log {})",
-        out.display(),
-        log_path(&out).display()
-    );
+    match args.method {
+        Method::Cmaes => say!(
+            "result written to {} (evaluation log {})",
+            out.display(),
+            log_path(&out).display()
+        ),
+        Method::Gradient => say!("result written to {}", out.display()),
+    }
     Ok(())
 }

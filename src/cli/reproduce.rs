@@ -5,7 +5,7 @@ use super::optimize::{run_case, Args as OptimizeArgs};
 use crate::model::task::Task;
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
-use crate::report::codesign::{cost_evolution_chart, radar_chart, OptimizeDocument};
+use crate::report::codesign::{cost_evolution_chart, radar_chart, Method, OptimizeDocument};
 use crate::report::files::{create_folder, write_atomic, write_json};
 use crate::report::table::{build_table, ResultFile};
 use crate::report::trajectory::{write_plots, SolveDocument, SolveInputs, ToolInfo};
@@ -114,6 +114,8 @@ pub fn run(args: &Args) -> Result<(), String> {
         for space in SPACES {
             for seed in 0..seeds {
                 let case = OptimizeArgs {
+                    method: Method::Cmaes,
+                    gradient_iterations: 50,
                     model: ModelArgs {
                         task: args.task.clone(),
                         robot: None,

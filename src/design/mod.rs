@@ -4,6 +4,7 @@
 pub mod capacity;
 pub mod cmaes;
 pub mod evaluate;
+pub mod gradient;
 pub mod log;
 pub mod optimize;
 pub mod rng;

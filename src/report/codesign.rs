@@ -3,15 +3,30 @@
 
 use super::plots::{Chart, Series};
 use super::trajectory::ToolInfo;
+use crate::design::gradient::GradientIterate;
 use crate::design::optimize::GenerationSummary;
 use crate::model::task::{LimitModes, Task};
 use crate::problem::Space;
 use crate::solver::TrajectoryResult;
 use serde::{Deserialize, Serialize};
 
+/// The outer-level method of a co-design run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// CMA-ES as in pagmo (the paper's method), designs evaluated by worker processes.
+    #[default]
+    Cmaes,
+    /// Projected quasi-Newton with the exact sensitivity dJ*/dr, warm-started inner solves.
+    Gradient,
+}
+
 /// Everything that defines a co-design run; two runs with equal inputs give equal results.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct OptimizeInputs {
+    /// The outer-level method.
+    #[serde(default)]
+    pub method: Method,
     /// The task file as given.
     pub task_file: String,
     /// The task with every override applied.
@@ -63,6 +78,9 @@ pub struct OptimizeDocument {
     pub evaluations: usize,
     /// Every evaluation's fitness in (generation, index) order.
     pub costs: Vec<f64>,
+    /// The accepted iterates of the gradient method (empty for CMA-ES).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub iterates: Vec<GradientIterate>,
     /// Evaluations replayed from the log on resume.
     pub replayed: usize,
     /// Median wall time of an inner solve, s.

@@ -1,0 +1,454 @@
+//! Gradient-based co-design: projected quasi-Newton (BFGS) on the ratios, with the exact design
+//! sensitivity dJ*/dr of every solve (`problem::cost_gradient`) and warm-started inner solves.
+//!
+//! The feasible set of designs is the box of the bounds cut by the order constraints
+//! (r_i <= r_j, or r_i < r_j kept by a margin). Steps are projected onto it exactly (a small
+//! active-set enumeration); a backtracking line
+//! search accepts a step when the inner problem is feasible and the cost falls by the Armijo
+//! fraction. Each run is started from several designs and the best is kept.
+
+use crate::ipopt::Solution;
+use crate::problem::Formulation;
+use crate::solver::{solve_design_from, SolveSettings};
+use crate::transmission::Transmission;
+use nalgebra::{DMatrix, DVector};
+use serde::{Deserialize, Serialize};
+
+/// Margin that keeps a strict order constraint r_i < r_j strict.
+const STRICT_MARGIN: f64 = 1e-6;
+
+/// Margin that keeps a non-strict order constraint r_i <= r_j true after rounding.
+const ROUNDING_MARGIN: f64 = 1e-12;
+
+/// Settings of a gradient-based run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GradientSettings {
+    /// Quasi-Newton iterations per start at most.
+    pub max_iterations: usize,
+    /// Stop when the projected gradient step is shorter than this, or an iteration lowers the
+    /// cost by less than this fraction.
+    pub tolerance: f64,
+    /// Starting designs (each must be valid).
+    pub starts: Vec<Vec<f64>>,
+}
+
+/// One accepted iterate.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GradientIterate {
+    /// Which start it belongs to.
+    pub start: usize,
+    /// The design.
+    pub ratios: Vec<f64>,
+    /// Its optimal cost.
+    pub cost: f64,
+    /// Its cost gradient.
+    pub gradient: Vec<f64>,
+}
+
+/// The outcome of a gradient-based run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GradientOutcome {
+    /// The best design over all starts.
+    pub best_ratios: Vec<f64>,
+    /// Its cost (`f64::INFINITY` if no start was feasible).
+    pub best_cost: f64,
+    /// Accepted iterates of every start, in order.
+    pub iterates: Vec<GradientIterate>,
+    /// Every inner solve's cost (the penalty for infeasible trial designs), in order.
+    pub costs: Vec<f64>,
+    /// Every inner solve's wall time, s, in order.
+    pub seconds: Vec<f64>,
+}
+
+/// The feasible set of designs: bounds and order constraints as half-spaces a.r <= b.
+struct DesignSet {
+    lower: Vec<f64>,
+    upper: Vec<f64>,
+    halfspaces: Vec<(Vec<f64>, f64)>,
+}
+
+impl DesignSet {
+    fn new(transmission: &Transmission) -> DesignSet {
+        let n = transmission.num_ratios();
+        let halfspaces = transmission
+            .order()
+            .iter()
+            .map(|c| {
+                let mut a = vec![0.0; n];
+                a[c.lower] = 1.0;
+                a[c.upper] = -1.0;
+                (
+                    a,
+                    if c.strict {
+                        -STRICT_MARGIN
+                    } else {
+                        -ROUNDING_MARGIN
+                    },
+                )
+            })
+            .collect();
+        DesignSet {
+            lower: transmission.bounds().iter().map(|b| b[0]).collect(),
+            upper: transmission.bounds().iter().map(|b| b[1]).collect(),
+            halfspaces,
+        }
+    }
+
+    /// All constraints as half-spaces a.r <= b: the bounds, then the order constraints.
+    fn constraints(&self) -> Vec<(Vec<f64>, f64)> {
+        let n = self.lower.len();
+        let unit = |i: usize, sign: f64| {
+            (0..n)
+                .map(|j| if i == j { sign } else { 0.0 })
+                .collect::<Vec<f64>>()
+        };
+        let mut all: Vec<(Vec<f64>, f64)> = Vec::new();
+        for i in 0..n {
+            all.push((unit(i, 1.0), self.upper[i]));
+            all.push((unit(i, -1.0), -self.lower[i]));
+        }
+        all.extend(self.halfspaces.iter().cloned());
+        all
+    }
+
+    /// The Euclidean projection of `x` onto the set: the point satisfying the KKT conditions
+    /// of min |p - x|^2 subject to the constraints, found by trying every set of at most n
+    /// active constraints (a few hundred tiny solves for four ratios). The result is clamped to
+    /// the bounds against rounding.
+    fn project(&self, x: &[f64]) -> Vec<f64> {
+        let n = x.len();
+        let constraints = self.constraints();
+        let holds = |p: &[f64]| constraints.iter().all(|(a, b)| dot(a, p) <= b + 1e-12);
+        let clamp = |p: Vec<f64>| -> Vec<f64> {
+            p.iter()
+                .zip(self.lower.iter().zip(&self.upper))
+                .map(|(v, (lo, hi))| v.clamp(*lo, *hi))
+                .collect()
+        };
+        if holds(x) {
+            return x.to_vec();
+        }
+        let m = constraints.len();
+        let mut best: Option<(f64, Vec<f64>)> = None;
+        for mask in 1u32..(1 << m) {
+            let active: Vec<usize> = (0..m).filter(|k| mask & (1 << k) != 0).collect();
+            if active.len() > n {
+                continue;
+            }
+            let a = DMatrix::from_fn(active.len(), n, |r, c| constraints[active[r]].0[c]);
+            let b = DVector::from_iterator(active.len(), active.iter().map(|&k| constraints[k].1));
+            let point = DVector::from_column_slice(x);
+            // p = x - A^T mu with A p = b: (A A^T) mu = A x - b, and mu >= 0.
+            let Some(mu) = (&a * a.transpose()).lu().solve(&(&a * &point - b)) else {
+                continue;
+            };
+            if mu.iter().any(|v| *v < -1e-12 || !v.is_finite()) {
+                continue;
+            }
+            let p: Vec<f64> = (point - a.transpose() * mu).iter().copied().collect();
+            if holds(&p) {
+                let distance: f64 = p.iter().zip(x).map(|(a, b)| (a - b) * (a - b)).sum();
+                if best.as_ref().is_none_or(|(d, _)| distance < *d) {
+                    best = Some((distance, p));
+                }
+            }
+        }
+        clamp(best.map_or_else(|| x.to_vec(), |(_, p)| p))
+    }
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Runs the projected quasi-Newton method from every start of `settings`.
+pub fn optimize_gradient(
+    formulation: &Formulation,
+    settings: &GradientSettings,
+    penalty: f64,
+) -> GradientOutcome {
+    let set = DesignSet::new(formulation.transmission());
+    let mut outcome = GradientOutcome {
+        best_ratios: Vec::new(),
+        best_cost: f64::INFINITY,
+        iterates: Vec::new(),
+        costs: Vec::new(),
+        seconds: Vec::new(),
+    };
+    let solve_settings = SolveSettings::default();
+    // One inner solve: (cost, gradient, raw solution) when feasible.
+    // One inner solve: (cost, gradient, raw solution) when feasible; logs cost and time.
+    let evaluate = |ratios: &[f64], warm: Option<&Solution>, outcome: &mut GradientOutcome| {
+        match solve_design_from(formulation, ratios, &solve_settings, warm) {
+            Ok((result, solution)) => {
+                outcome.seconds.push(result.solve_seconds.total);
+                outcome.costs.push(if result.feasible {
+                    result.cost
+                } else {
+                    penalty
+                });
+                let gradient = result.cost_gradient.filter(|_| result.feasible);
+                gradient.map(|gradient| (result.cost, gradient, solution))
+            }
+            Err(_) => {
+                outcome.costs.push(penalty);
+                outcome.seconds.push(0.0);
+                None
+            }
+        }
+    };
+    for (start_index, start) in settings.starts.iter().enumerate() {
+        let mut x = set.project(start);
+        let Some((mut f, mut g, mut solution)) = evaluate(&x, None, &mut outcome) else {
+            continue;
+        };
+        outcome.iterates.push(GradientIterate {
+            start: start_index,
+            ratios: x.clone(),
+            cost: f,
+            gradient: g.clone(),
+        });
+        let n = x.len();
+        // Inverse Hessian approximation, first scaled so that a unit step moves 10% of the box.
+        let width = set
+            .upper
+            .iter()
+            .zip(&set.lower)
+            .map(|(u, l)| u - l)
+            .fold(0.0, f64::max);
+        let identity_scale = 0.1 * width / dot(&g, &g).sqrt().max(1e-12);
+        let mut h: Vec<Vec<f64>> = (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|j| if i == j { identity_scale } else { 0.0 })
+                    .collect()
+            })
+            .collect();
+        for _ in 0..settings.max_iterations {
+            let projected_step: Vec<f64> =
+                set.project(&x.iter().zip(&g).map(|(x, g)| x - g).collect::<Vec<_>>());
+            if projected_step
+                .iter()
+                .zip(&x)
+                .map(|(p, x)| (p - x).abs())
+                .fold(0.0, f64::max)
+                < settings.tolerance
+            {
+                break;
+            }
+            // Ratios held at a bound by the gradient do not move; the quasi-Newton step acts
+            // on the others (the reduced Hessian of projected Newton methods).
+            let held: Vec<bool> = (0..n)
+                .map(|i| {
+                    (x[i] <= set.lower[i] + 1e-9 && g[i] > 0.0)
+                        || (x[i] >= set.upper[i] - 1e-9 && g[i] < 0.0)
+                })
+                .collect();
+            let direction: Vec<f64> = (0..n)
+                .map(|i| {
+                    if held[i] {
+                        0.0
+                    } else {
+                        -(0..n)
+                            .filter(|&j| !held[j])
+                            .map(|j| h[i][j] * g[j])
+                            .sum::<f64>()
+                    }
+                })
+                .collect();
+            let mut accepted = None;
+            let mut t = 1.0;
+            for _ in 0..12 {
+                let trial = set.project(
+                    &x.iter()
+                        .zip(&direction)
+                        .map(|(x, d)| x + t * d)
+                        .collect::<Vec<_>>(),
+                );
+                let step: Vec<f64> = trial.iter().zip(&x).map(|(a, b)| a - b).collect();
+                if step.iter().all(|s| s.abs() < 1e-12) {
+                    break;
+                }
+                if let Some((f_new, g_new, s_new)) = evaluate(&trial, Some(&solution), &mut outcome)
+                {
+                    if f_new <= f + 1e-4 * dot(&g, &step) {
+                        accepted = Some((trial, step, f_new, g_new, s_new));
+                        break;
+                    }
+                }
+                t *= 0.5;
+            }
+            let Some((trial, s, f_new, g_new, s_new)) = accepted else {
+                // No descent along the quasi-Newton direction: restart from steepest descent once,
+                // and stop when even that fails.
+                let reset: Vec<Vec<f64>> = (0..n)
+                    .map(|i| {
+                        (0..n)
+                            .map(|j| if i == j { identity_scale } else { 0.0 })
+                            .collect()
+                    })
+                    .collect();
+                if h == reset {
+                    break;
+                }
+                h = reset;
+                continue;
+            };
+            let y: Vec<f64> = g_new.iter().zip(&g).map(|(a, b)| a - b).collect();
+            let sy = dot(&s, &y);
+            if sy > 1e-12 {
+                // BFGS update of the inverse Hessian: H = (I - rho s y^T) H (I - rho y s^T) + rho s s^T.
+                let rho = 1.0 / sy;
+                let hy: Vec<f64> = h.iter().map(|row| dot(row, &y)).collect();
+                let yhy = dot(&y, &hy);
+                for i in 0..n {
+                    for j in 0..n {
+                        h[i][j] += -rho * (s[i] * hy[j] + hy[i] * s[j])
+                            + (rho * rho * yhy + rho) * s[i] * s[j];
+                    }
+                }
+            }
+            let decrease = f - f_new;
+            (x, f, g, solution) = (trial, f_new, g_new, s_new);
+            outcome.iterates.push(GradientIterate {
+                start: start_index,
+                ratios: x.clone(),
+                cost: f,
+                gradient: g.clone(),
+            });
+            // The inner optimum is accurate to about IPOPT's tol (1e-8 relative); smaller
+            // decreases are noise.
+            if decrease <= settings.tolerance * f.abs().max(1.0) {
+                break;
+            }
+        }
+        if f < outcome.best_cost {
+            outcome.best_cost = f;
+            outcome.best_ratios = x;
+        }
+    }
+    outcome
+}
+
+/// The default starts: the original design and three designs spread through the box (at 25%,
+/// 50% and 75% of every bound's width, projected onto the order constraints).
+pub fn default_starts(transmission: &Transmission) -> Vec<Vec<f64>> {
+    let set = DesignSet::new(transmission);
+    let mut starts = vec![transmission.original().to_vec()];
+    for fraction in [0.25, 0.5, 0.75] {
+        let point: Vec<f64> = set
+            .lower
+            .iter()
+            .zip(&set.upper)
+            .map(|(l, u)| l + fraction * (u - l))
+            .collect();
+        starts.push(set.project(&point));
+    }
+    starts
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::task::Task;
+    use std::path::Path;
+
+    fn transmission() -> Transmission {
+        let task =
+            Task::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json"))
+                .unwrap();
+        Transmission::from_spec(&task.transmission).unwrap()
+    }
+
+    #[test]
+    fn descends_from_the_original_design_to_a_stationary_point() {
+        let mut task =
+            Task::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json"))
+                .unwrap();
+        task.payload.mass_kg = 1.0;
+        let robot = crate::model::Robot::load(&task).unwrap();
+        let formulation = Formulation::new(
+            &task,
+            robot,
+            crate::problem::Space::Actuation,
+            task.limit_modes,
+        )
+        .unwrap();
+        let settings = GradientSettings {
+            max_iterations: 50,
+            tolerance: 1e-6,
+            starts: vec![task.transmission.original.clone()],
+        };
+        let outcome = optimize_gradient(&formulation, &settings, 1e6);
+        let first = &outcome.iterates[0];
+        let last = outcome.iterates.last().unwrap();
+        assert!(
+            last.cost < 0.5 * first.cost,
+            "{} -> {}",
+            first.cost,
+            last.cost
+        );
+        assert_eq!(outcome.best_cost, last.cost);
+        assert!(formulation
+            .transmission()
+            .check_design(&outcome.best_ratios)
+            .is_ok());
+        // Costs fall monotonically along the accepted iterates.
+        assert!(outcome.iterates.windows(2).all(|w| w[1].cost <= w[0].cost));
+        // At the end the projected gradient step is short: a stationary point of the design box.
+        let set = DesignSet::new(formulation.transmission());
+        let moved: Vec<f64> = last
+            .ratios
+            .iter()
+            .zip(&last.gradient)
+            .map(|(x, g)| x - g / last.cost)
+            .collect();
+        let step = set
+            .project(&moved)
+            .iter()
+            .zip(&last.ratios)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            step < 1e-2,
+            "projected relative gradient step {step} at {:?}",
+            last.ratios
+        );
+        assert_eq!(outcome.costs.len(), outcome.seconds.len());
+    }
+
+    #[test]
+    fn projection_lands_in_the_design_space_and_keeps_inner_points() {
+        let t = transmission();
+        let set = DesignSet::new(&t);
+        for point in [
+            [12.0, 10.0, 5.0, 0.0],
+            [2.0, 8.0, 2.5, 2.0],
+            [5.0, 4.0, 3.0, 1.0],
+            [0.0, 0.0, 0.0, 0.0],
+        ] {
+            let projected = set.project(&point);
+            assert!(
+                t.check_design(&projected).is_ok(),
+                "{point:?} -> {projected:?}"
+            );
+            // Projecting twice changes nothing.
+            let again = set.project(&projected);
+            assert!(again
+                .iter()
+                .zip(&projected)
+                .all(|(a, b)| (a - b).abs() < 1e-10));
+        }
+        let inside = [7.0, 4.0, 2.0, 2.0];
+        assert_eq!(set.project(&inside), inside.to_vec());
+        // (2, 8, ., .) violates r2 < r1: the projection meets at the middle, 5.
+        let p = set.project(&[2.0, 8.0, 1.0, 1.0]);
+        assert!(
+            (p[0] - 5.0).abs() < 1e-5 && (p[1] - 5.0).abs() < 1e-5,
+            "{p:?}"
+        );
+        for start in default_starts(&t) {
+            assert!(t.check_design(&start).is_ok(), "{start:?}");
+        }
+    }
+}
