@@ -222,13 +222,12 @@ fn run_cmaes(
     settings: CmaesSettings,
     setup: &WorkerSetup,
 ) -> Result<RunOutcome, String> {
-    let header = serde_json::to_value(inputs).map_err(|e| e.to_string())?;
     let log_file = log_path(out);
     let (mut log, finished) = if args.resume && log_file.exists() {
-        EvaluationLog::resume(&log_file, header)?
+        EvaluationLog::resume(&log_file, inputs)?
     } else {
         (
-            EvaluationLog::create(&log_file, header)?,
+            EvaluationLog::create(&log_file, inputs)?,
             Default::default(),
         )
     };

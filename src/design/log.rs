@@ -6,6 +6,7 @@
 //! interruption is ignored (and overwritten by the next append).
 
 use super::evaluate::Evaluation;
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::fs::{File, OpenOptions};
@@ -47,7 +48,8 @@ const FORMAT: &str = "codesign-evaluation-log";
 
 impl EvaluationLog {
     /// Starts a new log at `path`; refuses to overwrite an existing one (resume it instead).
-    pub fn create(path: &Path, run: serde_json::Value) -> Result<EvaluationLog, String> {
+    pub fn create<T: Serialize>(path: &Path, run: &T) -> Result<EvaluationLog, String> {
+        let run = serde_json::to_value(run).map_err(|e| e.to_string())?;
         let mut file = OpenOptions::new().write(true).create_new(true).open(path).map_err(|e| {
             if e.kind() == std::io::ErrorKind::AlreadyExists {
                 format!("the evaluation log {} exists already: pass --resume to continue that run, or remove it", path.display())
@@ -71,9 +73,9 @@ impl EvaluationLog {
 
     /// Reopens the log at `path` of the same `run`, returning its finished evaluations by
     /// (generation, index). Fails when the file is missing or belongs to another run.
-    pub fn resume(
+    pub fn resume<T: DeserializeOwned + PartialEq>(
         path: &Path,
-        run: serde_json::Value,
+        run: &T,
     ) -> Result<(EvaluationLog, Finished), String> {
         let mut file = OpenOptions::new()
             .read(true)
@@ -94,7 +96,10 @@ impl EvaluationLog {
         if header.format != FORMAT {
             return Err(format!("{} is not an evaluation log", path.display()));
         }
-        if header.run != run {
+        // Compared as the run's type, so that a field added later with a default still matches
+        // the logs written before it existed.
+        let same = serde_json::from_value::<T>(header.run).is_ok_and(|logged| logged == *run);
+        if !same {
             return Err(format!(
                 "{} belongs to a different run (its settings differ from this command's); use another --out or remove it",
                 path.display()
@@ -144,6 +149,22 @@ impl EvaluationLog {
 mod tests {
     use super::*;
 
+    #[derive(Debug, PartialEq, Serialize, Deserialize)]
+    struct Run {
+        seed: u64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        method: Option<String>,
+    }
+
+    #[derive(Debug, PartialEq, Serialize, Deserialize)]
+    struct NewerRun {
+        seed: u64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        method: Option<String>,
+        #[serde(default)]
+        extra: u32,
+    }
+
     fn entry(generation: usize, index: usize, cost: f64) -> LogEntry {
         LogEntry {
             generation,
@@ -182,25 +203,41 @@ mod tests {
     fn resumes_its_own_run_and_drops_a_torn_last_line() {
         let path = std::env::temp_dir().join(format!("codesign-log-{}.jsonl", std::process::id()));
         let _ = std::fs::remove_file(&path);
-        let run = serde_json::json!({"seed": 3});
-        let mut log = EvaluationLog::create(&path, run.clone()).unwrap();
+        let run = Run {
+            seed: 3,
+            method: None,
+        };
+        let mut log = EvaluationLog::create(&path, &run).unwrap();
         log.append(&entry(0, 0, 1.5)).unwrap();
         log.append(&entry(0, 1, 2.5)).unwrap();
         drop(log);
-        assert!(EvaluationLog::create(&path, run.clone())
+        assert!(EvaluationLog::create(&path, &run)
             .unwrap_err()
             .contains("--resume"));
         let mut file = OpenOptions::new().append(true).open(&path).unwrap();
         write!(file, "{{\"generation\": 0, \"ind").unwrap();
         drop(file);
-        let (mut log, finished) = EvaluationLog::resume(&path, run.clone()).unwrap();
+        let (mut log, finished) = EvaluationLog::resume(&path, &run).unwrap();
         assert_eq!(finished.len(), 2);
         assert_eq!(finished[&(0, 1)], entry(0, 1, 2.5).evaluation);
         log.append(&entry(0, 2, 3.5)).unwrap();
         drop(log);
-        let (_, finished) = EvaluationLog::resume(&path, run).unwrap();
+        let (_, finished) = EvaluationLog::resume(&path, &run).unwrap();
         assert_eq!(finished.len(), 3);
-        let other = EvaluationLog::resume(&path, serde_json::json!({"seed": 4}));
+        // A log written before a defaulted field existed still belongs to the run.
+        let newer = NewerRun {
+            seed: 3,
+            method: None,
+            extra: 0,
+        };
+        assert!(EvaluationLog::resume(&path, &newer).is_ok());
+        let other = EvaluationLog::resume(
+            &path,
+            &Run {
+                seed: 4,
+                method: None,
+            },
+        );
         assert!(other.err().unwrap().contains("different run"));
         std::fs::remove_file(&path).unwrap();
     }
