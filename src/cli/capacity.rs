@@ -1,8 +1,8 @@
 //! `codesign capacity`: the largest payload a design can move through the task.
 
-use super::common::ModelArgs;
+use super::common::{ModelArgs, ProblemArgs};
 use crate::design::capacity::{payload_capacity, Capacity, CapacitySettings};
-use crate::model::task::{LimitMode, LimitModes};
+use crate::model::task::LimitModes;
 use crate::problem::Space;
 use crate::report::files::write_json;
 use crate::report::trajectory::ToolInfo;
@@ -14,18 +14,11 @@ use std::path::PathBuf;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Joint torques (baseline) or motor torques (the paper's method) as controls.
-    #[arg(long, value_enum, default_value = "actuation")]
-    space: Space,
+    #[command(flatten)]
+    problem: ProblemArgs,
     /// Gear ratios r1,r2,r3,r4; default: the task's original design.
     #[arg(long, value_name = "R1,R2,..", value_delimiter = ',', num_args = 1..)]
     ratios: Option<Vec<f64>>,
-    /// Joint torque limit mode of the joint-space problem; default: the task's.
-    #[arg(long, value_enum, value_name = "MODE")]
-    torque_mode: Option<LimitMode>,
-    /// Joint speed limit mode; default: the task's.
-    #[arg(long, value_enum, value_name = "MODE")]
-    speed_mode: Option<LimitMode>,
     /// Width of the final bracket, kg.
     #[arg(long, value_name = "KG", default_value_t = 0.01)]
     resolution: f64,
@@ -58,10 +51,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         return Err("--payload: capacity searches the payload itself; leave it out".to_owned());
     }
     let (task, robot) = args.model.load()?;
-    let modes = LimitModes {
-        torque: args.torque_mode.unwrap_or(task.limit_modes.torque),
-        speed: args.speed_mode.unwrap_or(task.limit_modes.speed),
-    };
+    let modes = args.problem.modes(&task);
     let ratios = args
         .ratios
         .clone()
@@ -75,7 +65,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         first_step_kg: args.first_step,
         max_kg: args.max,
     };
-    let capacity = payload_capacity(&task, &robot, args.space, modes, &ratios, &settings)
+    let capacity = payload_capacity(&task, &robot, args.problem.space, modes, &ratios, &settings)
         .map_err(|e| format!("--resolution/--first-step/--max: {e}"))?;
     let seconds: f64 = capacity.probes.iter().map(|p| p.seconds).sum();
     let design = ratios
@@ -86,15 +76,15 @@ pub fn run(args: &Args) -> Result<(), String> {
     match (capacity.capacity_kg, capacity.first_infeasible_kg) {
         (None, _) => say!(
             "{} space, r = ({design}): infeasible even without payload",
-            args.space
+            args.problem.space
         ),
         (Some(kg), Some(limit)) => say!(
             "{} space, r = ({design}): payload capacity {kg:.3} kg ({limit:.3} kg is infeasible)",
-            args.space
+            args.problem.space
         ),
         (Some(kg), None) => say!(
             "{} space, r = ({design}): carries at least {kg:.3} kg (--max)",
-            args.space
+            args.problem.space
         ),
     }
     say!("  {} solves in {seconds:.1} s", capacity.probes.len());
@@ -102,7 +92,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         let document = Document {
             tool: ToolInfo::current(),
             task_file: args.model.task.display().to_string(),
-            space: args.space,
+            space: args.problem.space,
             ratios: &ratios,
             limit_modes: modes,
             settings,

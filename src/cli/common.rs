@@ -1,7 +1,8 @@
 //! Flags shared by the commands that load a task and a robot.
 
-use crate::model::task::Task;
+use crate::model::task::{LimitMode, LimitModes, Task};
 use crate::model::Robot;
+use crate::problem::Space;
 use std::path::PathBuf;
 
 /// The default task file, relative to the working directory (the repository root).
@@ -38,5 +39,29 @@ impl ModelArgs {
         }
         let robot = Robot::load(&task).map_err(|e| e.to_string())?;
         Ok((task, robot))
+    }
+}
+
+/// The space and limit modes of the trajectory problem.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ProblemArgs {
+    /// Joint torques (baseline) or motor torques (the paper's method) as controls.
+    #[arg(long, value_enum, default_value = "actuation")]
+    pub space: Space,
+    /// Joint torque limit mode of the joint-space problem; default: the task's.
+    #[arg(long, value_enum, value_name = "MODE")]
+    pub torque_mode: Option<LimitMode>,
+    /// Joint speed limit mode; default: the task's.
+    #[arg(long, value_enum, value_name = "MODE")]
+    pub speed_mode: Option<LimitMode>,
+}
+
+impl ProblemArgs {
+    /// The limit modes: the flags where given, else the task's.
+    pub fn modes(&self, task: &Task) -> LimitModes {
+        LimitModes {
+            torque: self.torque_mode.unwrap_or(task.limit_modes.torque),
+            speed: self.speed_mode.unwrap_or(task.limit_modes.speed),
+        }
     }
 }

@@ -1,14 +1,13 @@
 //! `codesign optimize`: co-design of one case (space, payload, seed) with CMA-ES.
 
-use super::common::ModelArgs;
+use super::common::{ModelArgs, ProblemArgs};
 use crate::design::cmaes::CmaesSettings;
 use crate::design::gradient::GradientIterate;
 use crate::design::gradient::{default_starts, optimize_gradient, GradientSettings};
 use crate::design::log::EvaluationLog;
 use crate::design::optimize::{optimize, GenerationSummary, Progress};
 use crate::design::workers::{Pool, WorkerSetup};
-use crate::model::task::{LimitMode, LimitModes};
-use crate::problem::{Formulation, Space};
+use crate::problem::Formulation;
 use crate::report::codesign::{Method, OptimizeDocument, OptimizeInputs};
 use crate::report::files::write_json;
 use crate::report::trajectory::ToolInfo;
@@ -28,9 +27,8 @@ pub struct Args {
     /// Iterations per start of the gradient method.
     #[arg(long, value_name = "N", default_value_t = 50)]
     pub gradient_iterations: usize,
-    /// Joint torques (baseline) or motor torques (the paper's method) as controls.
-    #[arg(long, value_enum, default_value = "actuation")]
-    pub space: Space,
+    #[command(flatten)]
+    pub problem: ProblemArgs,
     /// Seed of CMA-ES's random numbers.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -52,12 +50,6 @@ pub struct Args {
     /// A solve taking longer than this (s) counts as a hung worker.
     #[arg(long, value_name = "S", default_value_t = 600.0)]
     pub solve_timeout: f64,
-    /// Joint torque limit mode of the joint-space problem; default: the task's.
-    #[arg(long, value_enum, value_name = "MODE")]
-    pub torque_mode: Option<LimitMode>,
-    /// Joint speed limit mode; default: the task's.
-    #[arg(long, value_enum, value_name = "MODE")]
-    pub speed_mode: Option<LimitMode>,
     /// Result file (JSON); the evaluation log is written beside it as FILE.log.jsonl.
     #[arg(long, value_name = "FILE.json")]
     pub out: Option<PathBuf>,
@@ -84,10 +76,7 @@ pub fn log_path(out: &Path) -> PathBuf {
 pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
     let started = Instant::now();
     let (task, robot) = args.model.load()?;
-    let modes = LimitModes {
-        torque: args.torque_mode.unwrap_or(task.limit_modes.torque),
-        speed: args.speed_mode.unwrap_or(task.limit_modes.speed),
-    };
+    let modes = args.problem.modes(&task);
     if !(args.sigma.is_finite() && args.sigma > 0.0) {
         return Err(format!("--sigma {}: must be a positive number", args.sigma));
     }
@@ -101,13 +90,13 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
         ));
     }
     let formulation =
-        Formulation::new(&task, robot, args.space, modes).map_err(|e| e.to_string())?;
+        Formulation::new(&task, robot, args.problem.space, modes).map_err(|e| e.to_string())?;
     let mut worker_task = task.clone();
     worker_task.robot = std::fs::canonicalize(&task.robot)
         .map_err(|e| format!("robot {}: {e}", task.robot.display()))?;
     let setup = WorkerSetup {
         task: worker_task,
-        space: args.space,
+        space: args.problem.space,
         modes,
         penalty: args.penalty,
     };
@@ -123,7 +112,7 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
         method: args.method,
         task_file: args.model.task.display().to_string(),
         task: task.clone(),
-        space: args.space,
+        space: args.problem.space,
         payload_kg: task.payload.mass_kg,
         limit_modes: modes,
         seed: args.seed,
@@ -249,7 +238,7 @@ fn run_cmaes(
     );
     bar.set_prefix(format!(
         "{} {} kg seed {}",
-        args.space, inputs.payload_kg, args.seed
+        args.problem.space, inputs.payload_kg, args.seed
     ));
     let mut progress = Bar(bar);
     let outcome = optimize(
@@ -289,7 +278,7 @@ pub fn run(args: &Args) -> Result<(), String> {
             .map_or_else(|| "task".to_owned(), |p| format!("{p}kg"));
         PathBuf::from(format!(
             "optimize-{}-{payload}-seed{}.json",
-            args.space, args.seed
+            args.problem.space, args.seed
         ))
     });
     let document = run_case(args, &out)?;

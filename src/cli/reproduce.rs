@@ -1,6 +1,6 @@
 //! `codesign reproduce`: the paper's experiment (SPEC section 5) end to end.
 
-use super::common::ModelArgs;
+use super::common::{ModelArgs, ProblemArgs};
 use super::optimize::{run_case, Args as OptimizeArgs};
 use crate::model::task::Task;
 use crate::model::Robot;
@@ -121,7 +121,11 @@ pub fn run(args: &Args) -> Result<(), String> {
                         robot: None,
                         payload: Some(payload),
                     },
-                    space,
+                    problem: ProblemArgs {
+                        space,
+                        torque_mode: None,
+                        speed_mode: None,
+                    },
                     seed,
                     population,
                     generations,
@@ -129,8 +133,6 @@ pub fn run(args: &Args) -> Result<(), String> {
                     penalty: 1e6,
                     workers: args.workers,
                     solve_timeout: 600.0,
-                    torque_mode: None,
-                    speed_mode: None,
                     out: None,
                     resume: args.resume,
                 };

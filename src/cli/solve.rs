@@ -1,9 +1,8 @@
 //! `codesign solve`: one trajectory problem for one design.
 
-use super::common::ModelArgs;
+use super::common::{ModelArgs, ProblemArgs};
 use crate::ipopt::{check_derivatives, DerivativeOrder};
-use crate::model::task::{LimitMode, LimitModes};
-use crate::problem::{Formulation, Space};
+use crate::problem::Formulation;
 use crate::report::files::write_json;
 use crate::report::trajectory::{write_plots, SolveDocument, SolveInputs, ToolInfo};
 use crate::solver::{ipopt_options, solve_design, SolveSettings, TrajectoryResult};
@@ -14,18 +13,11 @@ use std::path::PathBuf;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Joint torques (baseline) or motor torques (the paper's method) as controls.
-    #[arg(long, value_enum, default_value = "actuation")]
-    space: Space,
+    #[command(flatten)]
+    problem: ProblemArgs,
     /// Gear ratios r1,r2,r3,r4; default: the task's original design.
     #[arg(long, value_name = "R1,R2,..", value_delimiter = ',', num_args = 1..)]
     ratios: Option<Vec<f64>>,
-    /// Joint torque limit mode of the joint-space problem; default: the task's.
-    #[arg(long, value_enum, value_name = "MODE")]
-    torque_mode: Option<LimitMode>,
-    /// Joint speed limit mode; default: the task's.
-    #[arg(long, value_enum, value_name = "MODE")]
-    speed_mode: Option<LimitMode>,
     /// Duration of the motion, s; default: the task's horizon.
     #[arg(long, value_name = "S")]
     duration: Option<f64>,
@@ -65,12 +57,9 @@ pub fn run(args: &Args) -> Result<(), String> {
         }
         task.motion.steps = steps;
     }
-    let modes = LimitModes {
-        torque: args.torque_mode.unwrap_or(task.limit_modes.torque),
-        speed: args.speed_mode.unwrap_or(task.limit_modes.speed),
-    };
+    let modes = args.problem.modes(&task);
     let formulation =
-        Formulation::new(&task, robot, args.space, modes).map_err(|e| e.to_string())?;
+        Formulation::new(&task, robot, args.problem.space, modes).map_err(|e| e.to_string())?;
     let ratios = args
         .ratios
         .clone()
@@ -96,7 +85,7 @@ pub fn run(args: &Args) -> Result<(), String> {
             tool: ToolInfo::current(),
             inputs: SolveInputs {
                 task_file: args.model.task.display().to_string(),
-                space: args.space,
+                space: args.problem.space,
                 ratios,
                 payload_kg: task.payload.mass_kg,
                 limit_modes: modes,
