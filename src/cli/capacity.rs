@@ -1,12 +1,10 @@
 //! `codesign capacity`: the largest payload a design can move through the task.
 
 use super::common::{ModelArgs, ProblemArgs};
-use crate::design::capacity::{payload_capacity, Capacity, CapacitySettings};
-use crate::model::task::LimitModes;
-use crate::problem::Space;
+use crate::design::capacity::{payload_capacity, CapacitySettings};
+use crate::report::codesign::CapacityDocument;
 use crate::report::files::write_json;
 use crate::report::trajectory::ToolInfo;
-use serde::Serialize;
 use std::path::PathBuf;
 
 /// Flags of `codesign capacity`.
@@ -31,18 +29,6 @@ pub struct Args {
     /// Write the search as JSON to this file.
     #[arg(long, value_name = "FILE.json")]
     out: Option<PathBuf>,
-}
-
-#[derive(Serialize)]
-struct Document<'a> {
-    tool: ToolInfo,
-    task_file: String,
-    space: Space,
-    ratios: &'a [f64],
-    limit_modes: LimitModes,
-    settings: CapacitySettings,
-    #[serde(flatten)]
-    capacity: &'a Capacity,
 }
 
 /// Searches the capacity, prints it, writes the file.
@@ -89,14 +75,14 @@ pub fn run(args: &Args) -> Result<(), String> {
     }
     say!("  {} solves in {seconds:.1} s", capacity.probes.len());
     if let Some(path) = &args.out {
-        let document = Document {
+        let document = CapacityDocument {
             tool: ToolInfo::current(),
             task_file: args.model.task.display().to_string(),
             space: args.problem.space,
-            ratios: &ratios,
+            ratios: ratios.clone(),
             limit_modes: modes,
             settings,
-            capacity: &capacity,
+            capacity,
         };
         write_json(path, &document)?;
         say!("result written to {}", path.display());

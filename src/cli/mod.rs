@@ -50,9 +50,9 @@ enum Command {
     Capacity(capacity::Args),
     /// Co-design: search the gear ratios with CMA-ES, solving each design in worker processes.
     Optimize(optimize::Args),
-    /// Reproduce the paper's experiment: original designs, co-design per payload, table, plots.
+    /// Reproduce the paper's experiment (and more): original designs, co-design, capacities, table, plots.
     Reproduce(reproduce::Args),
-    /// Rebuild the paper's table from result files of `solve` and `optimize`.
+    /// Rebuild the paper's table from result files of `solve`, `optimize` and `capacity`.
     Table(table::Args),
     /// Evaluate designs sent on stdin (the worker process of `optimize`; not for direct use).
     #[command(hide = true)]

@@ -2,15 +2,18 @@
 
 use super::common::{ModelArgs, ProblemArgs};
 use super::optimize::{run_case, Args as OptimizeArgs};
+use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::model::task::Task;
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
-use crate::report::codesign::{cost_evolution_chart, radar_chart, Method, OptimizeDocument};
+use crate::report::codesign::{
+    cost_evolution_chart, radar_chart, CapacityDocument, Method, OptimizeDocument,
+};
 use crate::report::files::{create_folder, write_atomic, write_json};
 use crate::report::table::{build_table, ResultFile};
 use crate::report::trajectory::{write_plots, SolveDocument, SolveInputs, ToolInfo};
 use crate::solver::{solve_design, SolveSettings};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Flags of `codesign reproduce`.
@@ -61,7 +64,7 @@ pub fn run(args: &Args) -> Result<(), String> {
             "results"
         })
     });
-    for folder in ["original", "runs", "plots"] {
+    for folder in ["original", "runs", "plots", "capacity"] {
         create_folder(&out_dir.join(folder))?;
     }
     let task = Task::load(&args.task).map_err(|e| e.to_string())?;
@@ -193,6 +196,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     )
     .write(&out_dir.join("plots").join("optimal_ratios.svg"))?;
 
+    files.extend(beyond_the_paper(args, &task, &out_dir, &runs)?);
     files.extend(runs.into_iter().map(|d| ResultFile::Optimize(Box::new(d))));
     let mut notes = Vec::new();
     if args.quick || population < 100 || generations < 30 || seeds < 5 {
@@ -214,4 +218,106 @@ pub fn run(args: &Args) -> Result<(), String> {
     say_raw!("{}", table.to_markdown());
     say!("results written to {}", out_dir.display());
     Ok(())
+}
+
+/// Co-design by the gradient method for every co-designed case, and the payload capacity of
+/// the original design (per space) and of each case's best CMA-ES design.
+fn beyond_the_paper(
+    args: &Args,
+    task: &Task,
+    out_dir: &Path,
+    runs: &[OptimizeDocument],
+) -> Result<Vec<ResultFile>, String> {
+    let mut files = Vec::new();
+    for payload in CODESIGNED {
+        for space in SPACES {
+            let case = OptimizeArgs {
+                model: ModelArgs {
+                    task: args.task.clone(),
+                    robot: None,
+                    payload: Some(payload),
+                },
+                method: Method::Gradient,
+                gradient_iterations: 50,
+                problem: ProblemArgs {
+                    space,
+                    torque_mode: None,
+                    speed_mode: None,
+                },
+                seed: 0,
+                population: 0,
+                generations: 0,
+                sigma: 0.3,
+                penalty: 1e6,
+                workers: None,
+                solve_timeout: 600.0,
+                out: None,
+                resume: false,
+            };
+            let out = out_dir
+                .join("runs")
+                .join(format!("{space}-{payload}kg-gradient.json"));
+            match run_case(&case, &out) {
+                Ok(document) => {
+                    say!(
+                        "gradient co-design, {space} space, {payload} kg: best r = {:?}, J = {:.4} ({} solves)",
+                        document.best_ratios, document.best_cost, document.evaluations
+                    );
+                    files.push(ResultFile::Optimize(Box::new(document)));
+                }
+                Err(error) => say!("gradient co-design, {space} space, {payload} kg: {error}"),
+            }
+        }
+    }
+    let settings = CapacitySettings {
+        resolution_kg: 0.01,
+        first_step_kg: 1.0,
+        max_kg: 64.0,
+    };
+    let mut designs: Vec<(Space, Vec<f64>, String)> = SPACES
+        .iter()
+        .map(|&space| {
+            (
+                space,
+                task.transmission.original.clone(),
+                format!("{space}-original"),
+            )
+        })
+        .collect();
+    for payload in CODESIGNED {
+        for space in SPACES {
+            let best = runs
+                .iter()
+                .filter(|d| d.inputs.payload_kg == payload && d.inputs.space == space)
+                .filter_map(|d| d.best_result.as_ref().filter(|r| r.feasible))
+                .min_by(|a, b| a.cost.total_cmp(&b.cost));
+            if let Some(best) = best {
+                designs.push((
+                    space,
+                    best.ratios.clone(),
+                    format!("{space}-{payload}kg-best"),
+                ));
+            }
+        }
+    }
+    let robot = Robot::load(task).map_err(|e| e.to_string())?;
+    for (space, ratios, name) in designs {
+        let capacity = payload_capacity(task, &robot, space, task.limit_modes, &ratios, &settings)?;
+        say!("payload capacity, {name}: {:?} kg", capacity.capacity_kg);
+        let document = CapacityDocument {
+            tool: ToolInfo::current(),
+            task_file: args.task.display().to_string(),
+            space,
+            ratios,
+            limit_modes: task.limit_modes,
+            settings,
+            capacity,
+        };
+        write_json(
+            &out_dir.join("capacity").join(format!("{name}.json")),
+            &document,
+        )?;
+        files.push(ResultFile::Capacity(Box::new(document)));
+    }
+    Ok(files)
 }

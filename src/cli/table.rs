@@ -7,7 +7,7 @@ use std::path::PathBuf;
 /// Flags of `codesign table`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Result files of `solve` and `optimize` (JSON).
+    /// Result files of `solve`, `optimize` and `capacity` (JSON).
     #[arg(required = true, value_name = "FILES")]
     files: Vec<PathBuf>,
     /// Write the Markdown table here (and its JSON beside it, .json); default: print it.

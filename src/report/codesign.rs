@@ -3,6 +3,7 @@
 
 use super::plots::{Chart, Series};
 use super::trajectory::ToolInfo;
+use crate::design::capacity::{Capacity, CapacitySettings};
 use crate::design::gradient::GradientIterate;
 use crate::design::optimize::GenerationSummary;
 use crate::model::task::{LimitModes, Task};
@@ -89,6 +90,26 @@ pub struct OptimizeDocument {
     pub stop_reason: String,
     /// Wall time of this invocation, s.
     pub wall_seconds: f64,
+}
+
+/// The JSON file `codesign capacity` writes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CapacityDocument {
+    /// Program and solver versions.
+    pub tool: ToolInfo,
+    /// The task file as given.
+    pub task_file: String,
+    /// Joint or actuation space.
+    pub space: Space,
+    /// The design r.
+    pub ratios: Vec<f64>,
+    /// Limit modes.
+    pub limit_modes: LimitModes,
+    /// Resolution and range of the search.
+    pub settings: CapacitySettings,
+    /// The outcome, flattened into the document.
+    #[serde(flatten)]
+    pub capacity: Capacity,
 }
 
 /// The cost of every evaluation of each run, in order (the paper's figure 6); log scale, so the

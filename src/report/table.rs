@@ -1,19 +1,21 @@
 //! The paper's Table II with our numbers beside the paper's, built from result files.
 
-use super::codesign::OptimizeDocument;
+use super::codesign::{CapacityDocument, Method, OptimizeDocument};
 use super::trajectory::{SolveDocument, ToolInfo};
 use crate::model::task::Motors;
 use crate::problem::Space;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-/// A result file of `solve` or `optimize`.
+/// A result file of `solve`, `optimize` or `capacity`.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ResultFile {
     /// One trajectory solve.
     Solve(Box<SolveDocument>),
     /// One co-design run.
     Optimize(Box<OptimizeDocument>),
+    /// One payload-capacity search.
+    Capacity(Box<CapacityDocument>),
 }
 
 /// Reads a result file, telling its kind by its fields; errors name the file.
@@ -24,10 +26,14 @@ pub fn read_result_file(path: &Path) -> Result<ResultFile, String> {
         serde_json::from_str(&text).map_err(|e| format!("{}: not JSON: {e}", path.display()))?;
     let kind = if value.get("best_ratios").is_some() {
         "optimize"
+    } else if value.get("probes").is_some() {
+        "capacity"
     } else {
         "solve"
     };
-    let parsed = if kind == "optimize" {
+    let parsed = if kind == "capacity" {
+        serde_json::from_value(value).map(|d| ResultFile::Capacity(Box::new(d)))
+    } else if kind == "optimize" {
         serde_json::from_value(value).map(|d| ResultFile::Optimize(Box::new(d)))
     } else {
         serde_json::from_value(value).map(|d| ResultFile::Solve(Box::new(d)))
@@ -110,8 +116,17 @@ pub struct TableRow {
     pub space: Space,
     /// The original design's solve.
     pub before: Option<DesignCell>,
-    /// The co-design runs.
+    /// The co-design runs with CMA-ES.
     pub after: Option<AfterCell>,
+    /// The co-design run with the gradient method: its best design and its inner solves.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gradient: Option<(DesignCell, usize)>,
+    /// Payload capacity of the original design in this space, kg (from a capacity file).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub capacity_before_kg: Option<f64>,
+    /// Payload capacity of the best CMA-ES design, kg (from a capacity file).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub capacity_after_kg: Option<f64>,
     /// The paper's values.
     pub paper: Option<PaperValues>,
 }
@@ -160,6 +175,9 @@ fn row_mut(rows: &mut Vec<TableRow>, payload_kg: f64, space: Space) -> &mut Tabl
                 space,
                 before: None,
                 after: None,
+                gradient: None,
+                capacity_before_kg: None,
+                capacity_after_kg: None,
                 paper,
             });
             rows.len() - 1
@@ -186,6 +204,12 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
             continue;
         };
         let row = row_mut(&mut rows, doc.inputs.payload_kg, doc.inputs.space);
+        if doc.inputs.method == Method::Gradient {
+            if let Some(result) = doc.best_result.as_ref().filter(|r| r.feasible) {
+                row.gradient = Some((cell(result, &doc.inputs.task.motors), doc.evaluations));
+            }
+            continue;
+        }
         if row.before.is_none() {
             row.before = doc
                 .original_result
@@ -212,13 +236,29 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
             }
         }
     }
+    let capacity_of = |space: Space, ratios: &[f64]| {
+        files.iter().find_map(|f| match f {
+            ResultFile::Capacity(d) if d.space == space && d.ratios == ratios => {
+                d.capacity.capacity_kg
+            }
+            _ => None,
+        })
+    };
     for row in &mut rows {
+        if let Some(before) = &row.before {
+            row.capacity_before_kg = capacity_of(row.space, &before.ratios);
+        }
+        if let Some(best) = row.after.as_ref().and_then(|a| a.best.as_ref()) {
+            row.capacity_after_kg = capacity_of(row.space, &best.ratios);
+        }
         if let Some(after) = &mut row.after {
             let mut medians: Vec<f64> = files
                 .iter()
                 .filter_map(|f| match f {
                     ResultFile::Optimize(d)
-                        if d.inputs.payload_kg == row.payload_kg && d.inputs.space == row.space =>
+                        if d.inputs.payload_kg == row.payload_kg
+                            && d.inputs.space == row.space
+                            && d.inputs.method == Method::Cmaes =>
                     {
                         Some(d.median_solve_seconds)
                     }
@@ -321,6 +361,38 @@ impl PaperTable {
                 "| {} kg | {} | {before} | {paper_before} | {after} | {paper_after} | {seeds} | {solves} | {median} |\n",
                 row.payload_kg, row.space
             ));
+        }
+        let beyond = self.rows.iter().any(|r| {
+            r.gradient.is_some() || r.capacity_before_kg.is_some() || r.capacity_after_kg.is_some()
+        });
+        if beyond {
+            text.push_str(
+                "\n## Beyond the paper\n\nPayload capacity (the largest payload whose trajectory problem is feasible, \
+                 `codesign capacity`, to 10 g) and co-design by the gradient method (`codesign optimize --method gradient`: \
+                 projected quasi-Newton on the exact dJ*/dr) beside CMA-ES.\n\n",
+            );
+            text.push_str("| payload | space | capacity, original design | capacity, best CMA-ES design | gradient method (ours) | its inner solves | CMA-ES inner solves |\n");
+            text.push_str("|---|---|---|---|---|---|---|\n");
+            let kg = |v: Option<f64>| v.map_or_else(|| "-".to_owned(), |v| format!("{v:.2} kg"));
+            for row in &self.rows {
+                let (gradient, solves) = row
+                    .gradient
+                    .as_ref()
+                    .map_or(("-".to_owned(), "-".to_owned()), |(cell, n)| {
+                        (design_text(cell), n.to_string())
+                    });
+                let cmaes = row
+                    .after
+                    .as_ref()
+                    .map_or_else(|| "-".to_owned(), |a| a.evaluations.to_string());
+                text.push_str(&format!(
+                    "| {} kg | {} | {} | {} | {gradient} | {solves} | {cmaes} |\n",
+                    row.payload_kg,
+                    row.space,
+                    kg(row.capacity_before_kg),
+                    kg(row.capacity_after_kg)
+                ));
+            }
         }
         text
     }
