@@ -135,7 +135,8 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
             let settings = GradientSettings {
                 max_iterations: args.gradient_iterations,
                 tolerance: 1e-6,
-                starts: default_starts(formulation.transmission()),
+                starts: default_starts(formulation.transmission(), 12),
+                descents: 3,
             };
             let outcome = optimize_gradient(&formulation, &settings, args.penalty);
             if outcome.best_ratios.is_empty() {
@@ -150,8 +151,9 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
                 seconds: outcome.seconds.into_iter().filter(|s| *s > 0.0).collect(),
                 replayed: 0,
                 stop_reason: format!(
-                    "{} starts, {} iterates, {solves} solves",
+                    "{} candidate starts, {} descents, {} iterates, {solves} solves",
                     settings.starts.len(),
+                    settings.descents,
                     outcome.iterates.len()
                 ),
                 iterates: outcome.iterates,

@@ -5,7 +5,8 @@
 //! (r_i <= r_j, or r_i < r_j kept by a margin). Steps are projected onto it exactly (a small
 //! active-set enumeration); a backtracking line
 //! search accepts a step when the inner problem is feasible and the cost falls by the Armijo
-//! fraction. Each run is started from several designs and the best is kept.
+//! fraction. Candidate starts (the original design and designs spread through the box) are
+//! solved once; the best feasible ones are descended from, and the best result is kept.
 
 use crate::ipopt::Solution;
 use crate::problem::Formulation;
@@ -28,8 +29,10 @@ pub struct GradientSettings {
     /// Stop when the projected gradient step is shorter than this, or an iteration lowers the
     /// cost by less than this fraction.
     pub tolerance: f64,
-    /// Starting designs (each must be valid).
+    /// Candidate starting designs, each solved once from the SPEC's initial guess.
     pub starts: Vec<Vec<f64>>,
+    /// How many of the feasible candidates, best first, are descended from.
+    pub descents: usize,
 }
 
 /// One accepted iterate.
@@ -197,11 +200,18 @@ pub fn optimize_gradient(
             }
         }
     };
+    // Every candidate is solved cold; the descents start from the best feasible ones.
+    let mut candidates = Vec::new();
     for (start_index, start) in settings.starts.iter().enumerate() {
-        let mut x = set.project(start);
-        let Some((mut f, mut g, mut solution)) = evaluate(&x, None, &mut outcome) else {
-            continue;
-        };
+        let x = set.project(start);
+        if let Some((f, g, solution)) = evaluate(&x, None, &mut outcome) {
+            candidates.push((start_index, x, f, g, solution));
+        }
+    }
+    candidates.sort_by(|a, b| a.2.total_cmp(&b.2));
+    candidates.truncate(settings.descents);
+    for (start_index, x, f, g, solution) in candidates {
+        let (mut x, mut f, mut g, mut solution) = (x, f, g, solution);
         outcome.iterates.push(GradientIterate {
             start: start_index,
             ratios: x.clone(),
@@ -330,17 +340,27 @@ pub fn optimize_gradient(
     outcome
 }
 
-/// The default starts: the original design and three designs spread through the box (at 25%,
-/// 50% and 75% of every bound's width, projected onto the order constraints).
-pub fn default_starts(transmission: &Transmission) -> Vec<Vec<f64>> {
+/// The default candidate starts: the original design and `spread` designs spread through the
+/// box by a Halton sequence (bases 2, 3, 5, 7, ...), projected onto the order constraints.
+pub fn default_starts(transmission: &Transmission, spread: usize) -> Vec<Vec<f64>> {
+    const PRIMES: [u32; 8] = [2, 3, 5, 7, 11, 13, 17, 19];
     let set = DesignSet::new(transmission);
+    let radical_inverse = |mut index: u32, base: u32| {
+        let (mut value, mut scale) = (0.0, 1.0 / f64::from(base));
+        while index > 0 {
+            value += f64::from(index % base) * scale;
+            index /= base;
+            scale /= f64::from(base);
+        }
+        value
+    };
     let mut starts = vec![transmission.original().to_vec()];
-    for fraction in [0.25, 0.5, 0.75] {
-        let point: Vec<f64> = set
-            .lower
-            .iter()
-            .zip(&set.upper)
-            .map(|(l, u)| l + fraction * (u - l))
+    for k in 1..=spread as u32 {
+        let point: Vec<f64> = (0..set.lower.len())
+            .map(|i| {
+                let fraction = radical_inverse(k, PRIMES[i % PRIMES.len()]);
+                set.lower[i] + fraction * (set.upper[i] - set.lower[i])
+            })
             .collect();
         starts.push(set.project(&point));
     }
@@ -378,6 +398,7 @@ mod tests {
             max_iterations: 50,
             tolerance: 1e-6,
             starts: vec![task.transmission.original.clone()],
+            descents: 1,
         };
         let outcome = optimize_gradient(&formulation, &settings, 1e6);
         let first = &outcome.iterates[0];
@@ -447,7 +468,9 @@ mod tests {
             (p[0] - 5.0).abs() < 1e-5 && (p[1] - 5.0).abs() < 1e-5,
             "{p:?}"
         );
-        for start in default_starts(&t) {
+        let starts = default_starts(&t, 12);
+        assert_eq!(starts.len(), 13);
+        for start in starts {
             assert!(t.check_design(&start).is_ok(), "{start:?}");
         }
     }
