@@ -14,7 +14,7 @@ pub use nlp::TrajectoryProblem;
 pub use sensitivity::cost_gradient;
 
 use crate::dynamics::Dynamics;
-use crate::model::task::{LimitModes, Task};
+use crate::model::task::{LimitMode, LimitModes, Task};
 use crate::model::Robot;
 use crate::transmission::{DesignError, Transmission};
 use nalgebra::DMatrix;
@@ -124,9 +124,8 @@ impl Formulation {
                 }
             });
         }
-        let speed_rows = modes.speed == crate::model::task::LimitMode::Exact;
-        let torque_rows =
-            space == Space::Joint && modes.torque == crate::model::task::LimitMode::Exact;
+        let speed_rows = modes.speed == LimitMode::Exact;
+        let torque_rows = space == Space::Joint && modes.torque == LimitMode::Exact;
         let layout = Layout::new(n, task.motion.steps, speed_rows, torque_rows);
         let mut formulation = Formulation {
             task: task.clone(),
