@@ -56,7 +56,9 @@ pub struct TrajectoryProblem<'a> {
     control_map: DMatrix<f64>,
     /// G^-T, the motor torque of a joint torque.
     motor_of_joint: DMatrix<f64>,
-    dynamics: Dynamics,
+    /// One per node k < N, so that each keeps its node's kinematics cached from one callback
+    /// to the next (the Hessian reuses what the Jacobian computed at the same point).
+    dynamics: Vec<Dynamics>,
     nodes: Vec<NodeEval>,
     level: Level,
     rnea_hessian: DMatrix<f64>,
@@ -80,7 +82,7 @@ impl<'a> TrajectoryProblem<'a> {
             coupling,
             control_map,
             motor_of_joint,
-            dynamics: formulation.dynamics.clone(),
+            dynamics: vec![formulation.dynamics.clone(); formulation.layout.steps],
             nodes: vec![NodeEval::zeros(n); formulation.layout.steps],
             level: Level::Nothing,
             rnea_hessian: DMatrix::zeros(3 * n, 3 * n),
@@ -143,12 +145,13 @@ impl<'a> TrajectoryProblem<'a> {
         }
         let layout = &self.formulation.layout;
         let n = layout.dof;
-        for (k, node) in self.nodes.iter_mut().enumerate() {
+        let nodes = self.nodes.iter_mut().zip(&mut self.dynamics);
+        for (k, (node, dynamics)) in nodes.enumerate() {
             let q = &x[layout.q(k, 0)..layout.q(k, 0) + n];
             let v = &x[layout.v(k, 0)..layout.v(k, 0) + n];
             let a = &x[layout.a(k, 0)..layout.a(k, 0) + n];
             if level == Level::Derivatives {
-                self.dynamics.rnea_derivatives(
+                dynamics.rnea_derivatives(
                     q,
                     v,
                     a,
@@ -157,11 +160,11 @@ impl<'a> TrajectoryProblem<'a> {
                     &mut node.dtau_dv,
                     &mut node.mass,
                 );
-                self.dynamics.tcp_jacobian(q, &mut node.tcp_jacobian);
+                dynamics.tcp_jacobian(q, &mut node.tcp_jacobian);
             } else {
-                self.dynamics.rnea(q, v, a, &mut node.tau);
+                dynamics.rnea(q, v, a, &mut node.tau);
             }
-            node.tcp = self.dynamics.tcp_position(q);
+            node.tcp = dynamics.tcp_position(q);
         }
         self.level = level;
         Ok(())
@@ -558,8 +561,7 @@ impl Nlp for TrajectoryProblem<'_> {
             let v = &x[layout.v(k, 0)..layout.v(k, 0) + n];
             let a = &x[layout.a(k, 0)..layout.a(k, 0) + n];
             let multipliers = &lambda[layout.dynamics_row(k, 0)..layout.dynamics_row(k, 0) + n];
-            self.dynamics
-                .rnea_hessian(q, v, a, multipliers, &mut self.rnea_hessian);
+            self.dynamics[k].rnea_hessian(q, v, a, multipliers, &mut self.rnea_hessian);
             // The cost's Hessian in q: 2 wq I, plus 2 rho (J^T J + c sign H) per violated axis.
             self.cost_qq.fill_with_identity();
             self.cost_qq *= 2.0 * w.position;
@@ -569,7 +571,7 @@ impl Nlp for TrajectoryProblem<'_> {
                 let (c, sign) = box_violation(range, node.tcp[axis]);
                 if c > 0.0 {
                     if !tcp_hessians_ready {
-                        self.dynamics.tcp_hessians(q, &mut self.tcp_hessians);
+                        self.dynamics[k].tcp_hessians(q, &mut self.tcp_hessians);
                         tcp_hessians_ready = true;
                     }
                     for i in 0..n {
