@@ -1,7 +1,9 @@
 //! `codesign optimize`: co-design of one case (space, payload, seed) with CMA-ES.
 
 use super::common::{ModelArgs, ProblemArgs};
+use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
+use crate::design::evaluate::Objective;
 use crate::design::gradient::GradientIterate;
 use crate::design::gradient::{default_starts, optimize_gradient, GradientSettings};
 use crate::design::log::EvaluationLog;
@@ -24,6 +26,13 @@ pub struct Args {
     /// Outer-level method: CMA-ES (the paper's) or projected quasi-Newton on dJ*/dr.
     #[arg(long, value_enum, default_value = "cmaes")]
     pub method: Method,
+    /// What to minimise: the trajectory cost at the payload, or minus the payload capacity
+    /// (each evaluation then bisects the payload: about 10 solves).
+    #[arg(long, value_enum, default_value = "cost")]
+    pub objective: ObjectiveKind,
+    /// Resolution of the capacity search of `--objective capacity`, kg.
+    #[arg(long, value_name = "KG", default_value_t = 0.01)]
+    pub capacity_resolution: f64,
     /// Iterations per start of the gradient method.
     #[arg(long, value_name = "N", default_value_t = 50)]
     pub gradient_iterations: usize,
@@ -94,7 +103,27 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
     let mut worker_task = task.clone();
     worker_task.robot = std::fs::canonicalize(&task.robot)
         .map_err(|e| format!("robot {}: {e}", task.robot.display()))?;
+    let objective = match args.objective {
+        ObjectiveKind::Cost => Objective::Cost,
+        ObjectiveKind::Capacity => {
+            if args.method == Method::Gradient {
+                return Err("--objective capacity: the capacity is not differentiable in r; use --method cmaes".to_owned());
+            }
+            if !(args.capacity_resolution.is_finite() && args.capacity_resolution > 0.0) {
+                return Err(format!(
+                    "--capacity-resolution {}: must be a positive mass",
+                    args.capacity_resolution
+                ));
+            }
+            Objective::Capacity(CapacitySettings {
+                resolution_kg: args.capacity_resolution,
+                first_step_kg: 1.0,
+                max_kg: 64.0,
+            })
+        }
+    };
     let setup = WorkerSetup {
+        objective,
         task: worker_task,
         space: args.problem.space,
         modes,
@@ -110,6 +139,7 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
     };
     let inputs = OptimizeInputs {
         method: args.method,
+        objective,
         task_file: args.model.task.display().to_string(),
         task: task.clone(),
         space: args.problem.space,
@@ -190,6 +220,15 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
     };
     write_json(out, &document)?;
     Ok(document)
+}
+
+/// The objective as a flag.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ObjectiveKind {
+    /// The optimal trajectory cost J (the paper's criterion).
+    Cost,
+    /// Minus the payload capacity.
+    Capacity,
 }
 
 /// What either method hands to the document.
@@ -284,16 +323,32 @@ pub fn run(args: &Args) -> Result<(), String> {
         ))
     });
     let document = run_case(args, &out)?;
-    say!(
-        "best r = ({}) with J = {:.6} (original design: J = {:.6}); {} evaluations ({} replayed), median solve {:.1} ms; {}",
-        document.best_ratios.iter().map(|r| format!("{r:.4}")).collect::<Vec<_>>().join(", "),
-        document.best_cost,
-        document.original_cost,
-        document.evaluations,
-        document.replayed,
-        document.median_solve_seconds * 1e3,
-        document.stop_reason
-    );
+    if args.objective == ObjectiveKind::Capacity {
+        say!(
+            "largest payload capacity {:.3} kg at r = ({}); {} evaluations ({} replayed); {}",
+            -document.best_cost,
+            document
+                .best_ratios
+                .iter()
+                .map(|r| format!("{r:.4}"))
+                .collect::<Vec<_>>()
+                .join(", "),
+            document.evaluations,
+            document.replayed,
+            document.stop_reason
+        );
+    } else {
+        say!(
+            "best r = ({}) with J = {:.6} (original design: J = {:.6}); {} evaluations ({} replayed), median solve {:.1} ms; {}",
+            document.best_ratios.iter().map(|r| format!("{r:.4}")).collect::<Vec<_>>().join(", "),
+            document.best_cost,
+            document.original_cost,
+            document.evaluations,
+            document.replayed,
+            document.median_solve_seconds * 1e3,
+            document.stop_reason
+        );
+    }
     match args.method {
         Method::Cmaes => say!(
             "result written to {} (evaluation log {})",

@@ -1,7 +1,7 @@
 //! `codesign reproduce`: the paper's experiment (SPEC section 5) end to end.
 
 use super::common::{ModelArgs, ProblemArgs};
-use super::optimize::{run_case, Args as OptimizeArgs};
+use super::optimize::{run_case, Args as OptimizeArgs, ObjectiveKind};
 use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::model::task::Task;
 use crate::model::Robot;
@@ -118,6 +118,8 @@ pub fn run(args: &Args) -> Result<(), String> {
             for seed in 0..seeds {
                 let case = OptimizeArgs {
                     method: Method::Cmaes,
+                    objective: ObjectiveKind::Cost,
+                    capacity_resolution: 0.01,
                     gradient_iterations: 50,
                     model: ModelArgs {
                         task: args.task.clone(),
@@ -238,6 +240,8 @@ fn beyond_the_paper(
                     payload: Some(payload),
                 },
                 method: Method::Gradient,
+                objective: ObjectiveKind::Cost,
+                capacity_resolution: 0.01,
                 gradient_iterations: 50,
                 problem: ProblemArgs {
                     space,

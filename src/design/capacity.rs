@@ -2,8 +2,9 @@
 //!
 //! The payload is bracketed by doubling from a first step, then bisected to the requested
 //! resolution; every solve after the first is warm-started from the solution of the largest
-//! feasible payload so far. Feasibility is assumed to fall monotonically with the payload; the
-//! probes are all reported, so a user can see when it does not.
+//! feasible payload so far, and retried from the SPEC's initial guess when that fails (IPOPT's
+//! infeasibility verdicts are local). Feasibility is assumed to fall monotonically with the
+//! payload; the probes are all reported, so a user can see when it does not.
 
 use crate::ipopt::Solution;
 use crate::model::task::{LimitModes, Task};
@@ -38,14 +39,19 @@ pub struct CapacityProbe {
     pub iterations: usize,
     /// Wall time of the solve, s.
     pub seconds: f64,
+    /// Whether the solve started from the last feasible payload's solution (else from the
+    /// SPEC's initial guess).
+    pub warm_start: bool,
 }
 
 /// The outcome of a capacity search.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Capacity {
-    /// The largest payload found feasible, kg (None when even 0 kg is infeasible).
+    /// The largest payload found feasible, kg (None when even 0 kg is infeasible). A lower
+    /// bound: every payload up to it that was tried has a feasible trajectory.
     pub capacity_kg: Option<f64>,
-    /// The smallest payload found infeasible above it, kg (None when `max_kg` was feasible).
+    /// The smallest payload above it for which IPOPT found no feasible trajectory from either
+    /// start, kg (None when `max_kg` was feasible).
     pub first_infeasible_kg: Option<f64>,
     /// Every solve, in order.
     pub probes: Vec<CapacityProbe>,
@@ -67,23 +73,37 @@ pub fn payload_capacity(
         ));
     }
     let mut probes = Vec::new();
+    // IPOPT's verdict of infeasibility is local (the problem is not convex): a payload counts as
+    // infeasible only when neither the warm start nor the SPEC's initial guess leads to a
+    // feasible trajectory.
     let mut probe = |payload: f64, warm: Option<&Solution>| -> Result<Option<Solution>, String> {
         let mut loaded = task.clone();
         loaded.payload.mass_kg = payload;
         let formulation = Formulation::new(&loaded, robot.with_payload(payload), space, modes)
             .map_err(|e| e.to_string())?;
-        let (result, solution) =
-            solve_design_from(&formulation, ratios, &SolveSettings::default(), warm)
-                .map_err(|e| e.to_string())?;
-        probes.push(CapacityProbe {
-            payload_kg: payload,
-            feasible: result.feasible,
-            status: result.status,
-            cost: result.cost,
-            iterations: result.iterations,
-            seconds: result.solve_seconds.total,
-        });
-        Ok(result.feasible.then_some(solution))
+        let starts: &[Option<&Solution>] = if warm.is_some() {
+            &[warm, None]
+        } else {
+            &[None]
+        };
+        for &start in starts {
+            let (result, solution) =
+                solve_design_from(&formulation, ratios, &SolveSettings::default(), start)
+                    .map_err(|e| e.to_string())?;
+            probes.push(CapacityProbe {
+                payload_kg: payload,
+                feasible: result.feasible,
+                status: result.status,
+                cost: result.cost,
+                iterations: result.iterations,
+                seconds: result.solve_seconds.total,
+                warm_start: start.is_some(),
+            });
+            if result.feasible {
+                return Ok(Some(solution));
+            }
+        }
+        Ok(None)
     };
     let Some(mut best) = probe(0.0, None)? else {
         return Ok(Capacity {
@@ -157,7 +177,14 @@ mod tests {
         assert!((1.0..3.0).contains(&low), "{capacity:?}");
         assert!(high > low && high - low <= 0.05, "{capacity:?}");
         for probe in &capacity.probes {
-            assert_eq!(probe.feasible, probe.payload_kg <= low, "{probe:?}");
+            assert!(!probe.feasible || probe.payload_kg <= low, "{probe:?}");
+            if probe.payload_kg <= low {
+                // Every payload up to the capacity was solved by one of the starts.
+                assert!(capacity
+                    .probes
+                    .iter()
+                    .any(|p| p.payload_kg == probe.payload_kg && p.feasible));
+            }
         }
         let bad = CapacitySettings {
             resolution_kg: 0.0,

@@ -1,5 +1,7 @@
-//! The fitness of one design (SPEC section 4): its optimal trajectory cost, or a penalty.
+//! The fitness of one design: its optimal trajectory cost (SPEC section 4), or the negated
+//! payload capacity, or a penalty.
 
+use super::capacity::{payload_capacity, CapacitySettings};
 use crate::problem::Formulation;
 use crate::solver::{solve_design, SolveError, SolveSettings};
 use serde::{Deserialize, Serialize};
@@ -36,6 +38,67 @@ impl Evaluation {
             seconds: 0.0,
             reason: Some(reason),
         }
+    }
+}
+
+/// What co-design minimises.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase", tag = "kind")]
+pub enum Objective {
+    /// The optimal trajectory cost J at the task's payload (the paper's criterion).
+    #[default]
+    Cost,
+    /// Minus the payload capacity, kg: the design that lifts the most.
+    Capacity(CapacitySettings),
+}
+
+/// Scores `ratios` by minus its payload capacity (the formulation's payload is ignored); a
+/// design that cannot even move unloaded, or is invalid, scores `penalty`.
+pub fn evaluate_capacity(
+    formulation: &Formulation,
+    ratios: &[f64],
+    settings: &CapacitySettings,
+    penalty: f64,
+) -> Evaluation {
+    if let Err(error) = formulation.transmission().check_design(ratios) {
+        return Evaluation::penalised(ratios, penalty, "Invalid_Design", error.to_string());
+    }
+    let robot = formulation.dynamics().robot();
+    let searched = payload_capacity(
+        formulation.task(),
+        robot,
+        formulation.space(),
+        *formulation.modes(),
+        ratios,
+        settings,
+    );
+    match searched {
+        Ok(capacity) => {
+            let iterations = capacity.probes.iter().map(|p| p.iterations).sum();
+            let seconds = capacity.probes.iter().map(|p| p.seconds).sum();
+            match capacity.capacity_kg {
+                Some(kg) => Evaluation {
+                    ratios: ratios.to_vec(),
+                    cost: -kg,
+                    feasible: true,
+                    status: format!("Capacity_{}_Probes", capacity.probes.len()),
+                    iterations,
+                    seconds,
+                    reason: None,
+                },
+                None => Evaluation {
+                    iterations,
+                    seconds,
+                    ..Evaluation::penalised(
+                        ratios,
+                        penalty,
+                        "Infeasible_Unloaded",
+                        "infeasible even without payload".to_owned(),
+                    )
+                },
+            }
+        }
+        Err(error) => Evaluation::penalised(ratios, penalty, "Solver_Error", error),
     }
 }
 

@@ -6,7 +6,7 @@
 //! exceeds the time limit: its design is retried once on a fresh worker, then penalised with the
 //! reason. One bad design never stops a run, and the results do not depend on the worker count.
 
-use super::evaluate::{evaluate, Evaluation};
+use super::evaluate::{evaluate, evaluate_capacity, Evaluation, Objective};
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
@@ -30,6 +30,9 @@ pub struct WorkerSetup {
     pub modes: LimitModes,
     /// Fitness of invalid or infeasible designs.
     pub penalty: f64,
+    /// What the fitness is.
+    #[serde(default)]
+    pub objective: Objective,
 }
 
 impl WorkerSetup {
@@ -75,7 +78,12 @@ pub fn serve(input: impl BufRead, mut output: impl Write) -> Result<(), String> 
             serde_json::from_str(&line).map_err(|e| format!("worker: malformed request: {e}"))?;
         let response = Response {
             id: request.id,
-            evaluation: evaluate(&formulation, &request.ratios, setup.penalty),
+            evaluation: match &setup.objective {
+                Objective::Cost => evaluate(&formulation, &request.ratios, setup.penalty),
+                Objective::Capacity(settings) => {
+                    evaluate_capacity(&formulation, &request.ratios, settings, setup.penalty)
+                }
+            },
         };
         let text = serde_json::to_string(&response).map_err(|e| format!("worker: {e}"))?;
         writeln!(output, "{text}")
@@ -371,6 +379,7 @@ mod tests {
             task,
             space: Space::Actuation,
             penalty: 1e6,
+            objective: Objective::Cost,
         }
     }
 

@@ -4,6 +4,7 @@
 use super::plots::{Chart, Series};
 use super::trajectory::ToolInfo;
 use crate::design::capacity::{Capacity, CapacitySettings};
+use crate::design::evaluate::Objective;
 use crate::design::gradient::GradientIterate;
 use crate::design::optimize::GenerationSummary;
 use crate::model::task::{LimitModes, Task};
@@ -28,6 +29,9 @@ pub struct OptimizeInputs {
     /// The outer-level method.
     #[serde(default)]
     pub method: Method,
+    /// What is minimised.
+    #[serde(default)]
+    pub objective: Objective,
     /// The task file as given.
     pub task_file: String,
     /// The task with every override applied.
