@@ -140,3 +140,71 @@ fn a_killed_worker_and_an_interrupted_run_change_nothing() {
     assert_eq!(log_entries(&resumed), 32);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+fn run_to_completion(args: &[&str], out: &Path) -> Value {
+    let output = Command::new(env!("CARGO_BIN_EXE_codesign"))
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    read(out)
+}
+
+#[test]
+fn capacity_objective_and_gradient_method_run_end_to_end() {
+    let dir = scratch("objectives");
+    let capacity = run_to_completion(
+        &[
+            "optimize",
+            "--objective",
+            "capacity",
+            "--space",
+            "actuation",
+            "--population",
+            "5",
+            "--generations",
+            "1",
+            "--workers",
+            "2",
+            "--capacity-resolution",
+            "0.25",
+        ],
+        &dir.join("capacity.json"),
+    );
+    assert_eq!(capacity["inputs"]["objective"]["kind"], "capacity");
+    assert_eq!(capacity["evaluations"], 10);
+    // Fitness is minus the capacity: some design of the first 10 carries a payload.
+    assert!(
+        capacity["best_cost"].as_f64().unwrap() < 0.0,
+        "{}",
+        capacity["best_cost"]
+    );
+
+    let gradient = run_to_completion(
+        &[
+            "optimize",
+            "--method",
+            "gradient",
+            "--space",
+            "actuation",
+            "--payload",
+            "1",
+            "--gradient-iterations",
+            "3",
+        ],
+        &dir.join("gradient.json"),
+    );
+    assert_eq!(gradient["inputs"]["method"], "gradient");
+    let best = gradient["best_cost"].as_f64().unwrap();
+    assert!(best < gradient["original_cost"].as_f64().unwrap(), "{best}");
+    assert!(!gradient["iterates"].as_array().unwrap().is_empty());
+    assert!(!dir.join("gradient.log.jsonl").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
