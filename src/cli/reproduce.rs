@@ -11,7 +11,7 @@ use crate::report::codesign::{
 };
 use crate::report::files::{create_folder, write_atomic, write_json};
 use crate::report::table::{build_table, ResultFile};
-use crate::report::trajectory::{write_plots, SolveDocument, SolveInputs, ToolInfo};
+use crate::report::trajectory::{write_plots, SolveDocument, ToolInfo};
 use crate::solver::{solve_design, SolveSettings};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -51,6 +51,14 @@ const PAYLOADS: [f64; 3] = [0.0, 1.0, 3.0];
 const CODESIGNED: [f64; 2] = [1.0, 3.0];
 const SPACES: [Space; 2] = [Space::Joint, Space::Actuation];
 
+/// The formulation of `task` with `payload_kg` in `space`, with the task's limit modes.
+fn formulation_at(task: &Task, payload_kg: f64, space: Space) -> Result<Formulation, String> {
+    let mut loaded = task.clone();
+    loaded.payload.mass_kg = payload_kg;
+    let robot = Robot::load(&loaded).map_err(|e| e.to_string())?;
+    Formulation::new(&loaded, robot, space, loaded.limit_modes).map_err(|e| e.to_string())
+}
+
 /// Runs the experiment matrix and writes results, table and plots.
 pub fn run(args: &Args) -> Result<(), String> {
     let started = Instant::now();
@@ -72,12 +80,8 @@ pub fn run(args: &Args) -> Result<(), String> {
 
     for payload in PAYLOADS {
         for space in SPACES {
-            let mut case_task = task.clone();
-            case_task.payload.mass_kg = payload;
-            let robot = Robot::load(&case_task).map_err(|e| e.to_string())?;
-            let formulation = Formulation::new(&case_task, robot, space, case_task.limit_modes)
-                .map_err(|e| e.to_string())?;
-            let ratios = case_task.transmission.original.clone();
+            let formulation = formulation_at(&task, payload, space)?;
+            let ratios = task.transmission.original.clone();
             let result = solve_design(&formulation, &ratios, &SolveSettings::default())
                 .map_err(|e| e.to_string())?;
             say!(
@@ -92,18 +96,8 @@ pub fn run(args: &Args) -> Result<(), String> {
                 &formulation,
                 &result,
             )?;
-            let document = SolveDocument {
-                tool: ToolInfo::current(),
-                inputs: SolveInputs {
-                    task_file: args.task.display().to_string(),
-                    space,
-                    ratios,
-                    payload_kg: payload,
-                    limit_modes: case_task.limit_modes,
-                    task: case_task.clone(),
-                },
-                result,
-            };
+            let document =
+                SolveDocument::new(&args.task.display().to_string(), &formulation, result);
             write_json(
                 &out_dir.join("original").join(format!("{name}.json")),
                 &document,
@@ -176,11 +170,7 @@ pub fn run(args: &Args) -> Result<(), String> {
                 .filter_map(|d| d.best_result.as_ref().filter(|r| r.feasible))
                 .min_by(|a, b| a.cost.total_cmp(&b.cost));
             if let Some(best) = best {
-                let mut case_task = task.clone();
-                case_task.payload.mass_kg = payload;
-                let robot = Robot::load(&case_task).map_err(|e| e.to_string())?;
-                let formulation = Formulation::new(&case_task, robot, space, case_task.limit_modes)
-                    .map_err(|e| e.to_string())?;
+                let formulation = formulation_at(&task, payload, space)?;
                 write_plots(
                     &out_dir.join("plots").join(format!("best-{name}")),
                     &formulation,

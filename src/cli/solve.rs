@@ -4,7 +4,7 @@ use super::common::{ModelArgs, ProblemArgs};
 use crate::ipopt::{check_derivatives, DerivativeOrder};
 use crate::problem::Formulation;
 use crate::report::files::write_json;
-use crate::report::trajectory::{write_plots, SolveDocument, SolveInputs, ToolInfo};
+use crate::report::trajectory::{write_plots, SolveDocument};
 use crate::solver::{ipopt_options, solve_design, SolveSettings, TrajectoryResult};
 use std::path::PathBuf;
 
@@ -81,18 +81,8 @@ pub fn run(args: &Args) -> Result<(), String> {
         say!("plots written to {}", folder.display());
     }
     if let Some(path) = &args.out {
-        let document = SolveDocument {
-            tool: ToolInfo::current(),
-            inputs: SolveInputs {
-                task_file: args.model.task.display().to_string(),
-                space: args.problem.space,
-                ratios,
-                payload_kg: task.payload.mass_kg,
-                limit_modes: modes,
-                task: task.clone(),
-            },
-            result,
-        };
+        let document =
+            SolveDocument::new(&args.model.task.display().to_string(), &formulation, result);
         write_json(path, &document)?;
         say!("result written to {}", path.display());
     }

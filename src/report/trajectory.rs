@@ -59,6 +59,30 @@ pub struct SolveDocument {
     pub result: TrajectoryResult,
 }
 
+impl SolveDocument {
+    /// The document of `result`, solved for `formulation` (its task, space and modes) from the
+    /// task file `task_file`.
+    pub fn new(
+        task_file: &str,
+        formulation: &Formulation,
+        result: TrajectoryResult,
+    ) -> SolveDocument {
+        let task = formulation.task();
+        SolveDocument {
+            tool: ToolInfo::current(),
+            inputs: SolveInputs {
+                task_file: task_file.to_owned(),
+                space: formulation.space(),
+                ratios: result.ratios.clone(),
+                payload_kg: task.payload.mass_kg,
+                limit_modes: *formulation.modes(),
+                task: task.clone(),
+            },
+            result,
+        }
+    }
+}
+
 fn per_joint(time: &[f64], rows: &[Vec<f64>], label: &str) -> Vec<Series> {
     let joints = rows.first().map_or(0, Vec::len);
     (0..joints)
