@@ -51,6 +51,43 @@ const PAYLOADS: [f64; 3] = [0.0, 1.0, 3.0];
 const CODESIGNED: [f64; 2] = [1.0, 3.0];
 const SPACES: [Space; 2] = [Space::Joint, Space::Actuation];
 
+/// The flags of one `optimize` run of the reproduction (the task's limit modes, the paper's
+/// sigma and penalty).
+fn case_args(
+    args: &Args,
+    payload: Option<f64>,
+    space: Space,
+    method: Method,
+    objective: ObjectiveKind,
+    (seed, population, generations): (u64, usize, usize),
+) -> OptimizeArgs {
+    OptimizeArgs {
+        model: ModelArgs {
+            task: args.task.clone(),
+            robot: None,
+            payload,
+        },
+        method,
+        objective,
+        capacity_resolution: 0.01,
+        gradient_iterations: 50,
+        problem: ProblemArgs {
+            space,
+            torque_mode: None,
+            speed_mode: None,
+        },
+        seed,
+        population,
+        generations,
+        sigma: 0.3,
+        penalty: 1e6,
+        workers: args.workers,
+        solve_timeout: 600.0,
+        out: None,
+        resume: args.resume && method == Method::Cmaes,
+    }
+}
+
 /// The formulation of `task` with `payload_kg` in `space`, with the task's limit modes.
 fn formulation_at(task: &Task, payload_kg: f64, space: Space) -> Result<Formulation, String> {
     let mut loaded = task.clone();
@@ -110,31 +147,14 @@ pub fn run(args: &Args) -> Result<(), String> {
     for payload in CODESIGNED {
         for space in SPACES {
             for seed in 0..seeds {
-                let case = OptimizeArgs {
-                    method: Method::Cmaes,
-                    objective: ObjectiveKind::Cost,
-                    capacity_resolution: 0.01,
-                    gradient_iterations: 50,
-                    model: ModelArgs {
-                        task: args.task.clone(),
-                        robot: None,
-                        payload: Some(payload),
-                    },
-                    problem: ProblemArgs {
-                        space,
-                        torque_mode: None,
-                        speed_mode: None,
-                    },
-                    seed,
-                    population,
-                    generations,
-                    sigma: 0.3,
-                    penalty: 1e6,
-                    workers: args.workers,
-                    solve_timeout: 600.0,
-                    out: None,
-                    resume: args.resume,
-                };
+                let case = case_args(
+                    args,
+                    Some(payload),
+                    space,
+                    Method::Cmaes,
+                    ObjectiveKind::Cost,
+                    (seed, population, generations),
+                );
                 let out = out_dir
                     .join("runs")
                     .join(format!("{space}-{payload}kg-seed{seed}.json"));
@@ -223,31 +243,14 @@ fn beyond_the_paper(
     let mut files = Vec::new();
     for payload in CODESIGNED {
         for space in SPACES {
-            let case = OptimizeArgs {
-                model: ModelArgs {
-                    task: args.task.clone(),
-                    robot: None,
-                    payload: Some(payload),
-                },
-                method: Method::Gradient,
-                objective: ObjectiveKind::Cost,
-                capacity_resolution: 0.01,
-                gradient_iterations: 50,
-                problem: ProblemArgs {
-                    space,
-                    torque_mode: None,
-                    speed_mode: None,
-                },
-                seed: 0,
-                population: 0,
-                generations: 0,
-                sigma: 0.3,
-                penalty: 1e6,
-                workers: None,
-                solve_timeout: 600.0,
-                out: None,
-                resume: false,
-            };
+            let case = case_args(
+                args,
+                Some(payload),
+                space,
+                Method::Gradient,
+                ObjectiveKind::Cost,
+                (0, 0, 0),
+            );
             let out = out_dir
                 .join("runs")
                 .join(format!("{space}-{payload}kg-gradient.json"));
@@ -262,6 +265,30 @@ fn beyond_the_paper(
                 Err(error) => say!("gradient co-design, {space} space, {payload} kg: {error}"),
             }
         }
+    }
+    // The design that lifts the most, per space: CMA-ES on minus the capacity, on a smaller
+    // budget than the cost runs (each evaluation is a capacity search of about 10 solves).
+    let budget = if args.quick { (0, 6, 2) } else { (0, 20, 10) };
+    for space in SPACES {
+        let case = case_args(
+            args,
+            None,
+            space,
+            Method::Cmaes,
+            ObjectiveKind::Capacity,
+            budget,
+        );
+        let out = out_dir
+            .join("runs")
+            .join(format!("{space}-capacity-seed0.json"));
+        let document = run_case(&case, &out)?;
+        say!(
+            "capacity co-design, {space} space: r = {:?} lifts {:.3} kg ({} evaluations)",
+            document.best_ratios,
+            -document.best_cost,
+            document.evaluations
+        );
+        files.push(ResultFile::Optimize(Box::new(document)));
     }
     let settings = CapacitySettings {
         resolution_kg: 0.01,
