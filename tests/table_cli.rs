@@ -7,7 +7,11 @@ use std::process::Command;
 fn rebuilds_the_table_from_result_files() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut files: Vec<String> = Vec::new();
-    for folder in ["results/quick/original", "results/quick/runs"] {
+    for folder in [
+        "results/quick/original",
+        "results/quick/runs",
+        "results/quick/capacity",
+    ] {
         for entry in std::fs::read_dir(root.join(folder)).unwrap() {
             let path = entry.unwrap().path();
             if path.extension().is_some_and(|e| e == "json") {
@@ -26,7 +30,8 @@ fn rebuilds_the_table_from_result_files() {
         String::from_utf8_lossy(&output.stderr)
     );
     let table = String::from_utf8(output.stdout).unwrap();
-    let rows: Vec<&str> = table
+    let main_table = table.split("## Beyond the paper").next().unwrap();
+    let rows: Vec<&str> = main_table
         .lines()
         .filter(|l| l.starts_with("| ") && l.contains(" kg |"))
         .collect();
@@ -49,6 +54,23 @@ fn rebuilds_the_table_from_result_files() {
     assert!(rows[1].contains("(6, 3, 1, 1): 50.99"), "{}", rows[1]);
     assert!(rows[0].contains("motors cannot execute it"), "{}", rows[0]);
     assert!(!rows[1].contains("motors cannot execute it"), "{}", rows[1]);
+
+    // Beyond the paper: capacities, the design of largest capacity, the gradient method.
+    let beyond = table
+        .split("## Beyond the paper")
+        .nth(1)
+        .expect("a section beyond the paper");
+    let extra: Vec<&str> = beyond
+        .lines()
+        .filter(|l| l.starts_with("| ") && l.contains(" kg |"))
+        .collect();
+    assert_eq!(extra.len(), 6, "{beyond}");
+    assert!(extra.iter().all(|row| row.contains(" kg | ")), "{beyond}");
+    assert!(
+        extra[1].starts_with("| 0 kg | actuation |") && extra[1].contains("kg ("),
+        "{}",
+        extra[1]
+    );
 
     let missing = Command::new(env!("CARGO_BIN_EXE_codesign"))
         .args(["table", "results/absent.json"])
