@@ -4,19 +4,29 @@ use super::common::{ModelArgs, ProblemArgs};
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::evaluate::Objective;
-use crate::design::gradient::GradientIterate;
-use crate::design::gradient::{default_starts, optimize_gradient, GradientSettings};
+use crate::design::gradient::{
+    default_starts, optimize_gradient, spread_designs, GradientIterate, GradientSettings,
+};
 use crate::design::log::EvaluationLog;
 use crate::design::optimize::{optimize, GenerationSummary, Progress};
 use crate::design::workers::{Pool, WorkerSetup};
+use crate::ipopt::Solution;
 use crate::problem::Formulation;
 use crate::report::codesign::{Method, OptimizeDocument, OptimizeInputs};
 use crate::report::files::write_json;
 use crate::report::trajectory::ToolInfo;
-use crate::solver::{solve_design, SolveSettings};
+use crate::solver::{solve_design, solve_design_from, SolveSettings};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
+
+/// Halton designs that the gradient method always solves as candidate starts (beside the
+/// original design).
+const GRADIENT_SPREAD: u32 = 12;
+
+/// Further Halton designs it solves, in order, while fewer feasible candidates than descents
+/// are known.
+const GRADIENT_FALLBACKS: u32 = 64;
 
 /// Flags of `codesign optimize`.
 #[derive(Debug, Clone, clap::Args)]
@@ -165,12 +175,19 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
             let settings = GradientSettings {
                 max_iterations: args.gradient_iterations,
                 tolerance: 1e-6,
-                starts: default_starts(formulation.transmission(), 12),
+                starts: default_starts(formulation.transmission(), GRADIENT_SPREAD),
+                fallback_starts: spread_designs(
+                    formulation.transmission(),
+                    GRADIENT_SPREAD + 1..GRADIENT_SPREAD + 1 + GRADIENT_FALLBACKS,
+                ),
                 descents: 3,
             };
             let outcome = optimize_gradient(&formulation, &settings, args.penalty);
             if outcome.best_ratios.is_empty() {
-                return Err("the gradient method found no feasible start".to_owned());
+                return Err(format!(
+                    "the gradient method found no feasible start among {} candidate designs",
+                    outcome.candidates_solved
+                ));
             }
             let solves = outcome.costs.len();
             RunOutcome {
@@ -181,17 +198,27 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
                 seconds: outcome.seconds.into_iter().filter(|s| *s > 0.0).collect(),
                 replayed: 0,
                 stop_reason: format!(
-                    "{} candidate starts, {} descents, {} iterates, {solves} solves",
-                    settings.starts.len(),
+                    "{} candidate starts solved, {} descents, {} iterates, {solves} solves",
+                    outcome.candidates_solved,
                     settings.descents,
                     outcome.iterates.len()
                 ),
                 iterates: outcome.iterates,
+                best_solution: outcome.best_solution,
             }
         }
     };
     let solve = |ratios: &[f64]| solve_design(&formulation, ratios, &SolveSettings::default()).ok();
-    let best_result = solve(&run.best_ratios);
+    // Warm-started from the method's own inner solution where it has one, so that the reported
+    // trajectory is the one behind `best_cost`.
+    let best_result = solve_design_from(
+        &formulation,
+        &run.best_ratios,
+        &SolveSettings::default(),
+        run.best_solution.as_ref(),
+    )
+    .ok()
+    .map(|(result, _)| result);
     let original_ratios = formulation.transmission().original().to_vec();
     let original_result = solve(&original_ratios);
     let original_cost = match &original_result {
@@ -200,6 +227,8 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
     };
     let mut seconds = run.seconds;
     seconds.sort_by(f64::total_cmp);
+    let solves = seconds.len();
+    let solve_seconds_total = seconds.iter().sum();
     let document = OptimizeDocument {
         tool: ToolInfo::current(),
         inputs,
@@ -214,6 +243,8 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
         costs: run.costs,
         iterates: run.iterates,
         replayed: run.replayed,
+        solves,
+        solve_seconds_total,
         median_solve_seconds: seconds.get(seconds.len() / 2).copied().unwrap_or(f64::NAN),
         stop_reason: run.stop_reason,
         wall_seconds: started.elapsed().as_secs_f64(),
@@ -241,6 +272,8 @@ struct RunOutcome {
     replayed: usize,
     stop_reason: String,
     iterates: Vec<GradientIterate>,
+    /// The inner solution of the best design, where the method keeps one.
+    best_solution: Option<Solution>,
 }
 
 /// The CMA-ES run: evaluation log (resumed if asked), worker pool, progress bar.
@@ -307,6 +340,7 @@ fn run_cmaes(
         replayed: outcome.replayed,
         stop_reason: outcome.stop_reason,
         iterates: Vec::new(),
+        best_solution: None,
     })
 }
 

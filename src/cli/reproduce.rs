@@ -208,6 +208,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     )
     .write(&out_dir.join("plots").join("optimal_ratios.svg"))?;
 
+    let replayed: usize = runs.iter().map(|d| d.replayed).sum();
     files.extend(beyond_the_paper(args, &task, &out_dir, &runs)?);
     files.extend(runs.into_iter().map(|d| ResultFile::Optimize(Box::new(d))));
     let mut notes = Vec::new();
@@ -217,10 +218,16 @@ pub fn run(args: &Args) -> Result<(), String> {
              Run `codesign reproduce` without --quick for the full experiment."
         ));
     }
-    notes.push(format!(
-        "Wall time of this reproduction: {:.1} min.",
-        started.elapsed().as_secs_f64() / 60.0
-    ));
+    let minutes = started.elapsed().as_secs_f64() / 60.0;
+    notes.push(if replayed > 0 {
+        format!(
+            "Wall time of this invocation: {minutes:.1} min. It resumed an interrupted reproduction and \
+             replayed {replayed} CMA-ES evaluations from their logs; the time of the earlier \
+             invocations is not included."
+        )
+    } else {
+        format!("Wall time of this reproduction: {minutes:.1} min.")
+    });
     let table = build_table(&files, notes);
     write_atomic(
         &out_dir.join("paper_table.md"),

@@ -14,6 +14,7 @@ use crate::solver::{solve_design_from, SolveSettings};
 use crate::transmission::Transmission;
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
+use std::ops::Range;
 
 /// Margin that keeps a strict order constraint r_i < r_j strict.
 const STRICT_MARGIN: f64 = 1e-6;
@@ -31,6 +32,9 @@ pub struct GradientSettings {
     pub tolerance: f64,
     /// Candidate starting designs, each solved once from the SPEC's initial guess.
     pub starts: Vec<Vec<f64>>,
+    /// Further candidates, solved in order only while fewer than `descents` feasible ones are
+    /// known (feasible designs can be rare: about 3% of the box at 3 kg in actuation space).
+    pub fallback_starts: Vec<Vec<f64>>,
     /// How many of the feasible candidates, best first, are descended from.
     pub descents: usize,
 }
@@ -49,18 +53,24 @@ pub struct GradientIterate {
 }
 
 /// The outcome of a gradient-based run.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct GradientOutcome {
     /// The best design over all starts.
     pub best_ratios: Vec<f64>,
     /// Its cost (`f64::INFINITY` if no start was feasible).
     pub best_cost: f64,
+    /// The inner solution behind `best_cost`: warm-started solves can reach a lower local
+    /// optimum of the trajectory problem than a solve from the SPEC's initial guess, so the
+    /// best design's trajectory is recovered by warm-starting from this.
+    pub best_solution: Option<Solution>,
     /// Accepted iterates of every start, in order.
     pub iterates: Vec<GradientIterate>,
     /// Every inner solve's cost (the penalty for infeasible trial designs), in order.
     pub costs: Vec<f64>,
     /// Every inner solve's wall time, s, in order.
     pub seconds: Vec<f64>,
+    /// How many candidate starts were solved (`starts` and the fallbacks used).
+    pub candidates_solved: usize,
 }
 
 /// The feasible set of designs: bounds and order constraints as half-spaces a.r <= b.
@@ -174,9 +184,11 @@ pub fn optimize_gradient(
     let mut outcome = GradientOutcome {
         best_ratios: Vec::new(),
         best_cost: f64::INFINITY,
+        best_solution: None,
         iterates: Vec::new(),
         costs: Vec::new(),
         seconds: Vec::new(),
+        candidates_solved: 0,
     };
     let solve_settings = SolveSettings::default();
     // One inner solve: (cost, gradient, raw solution) when feasible.
@@ -202,7 +214,12 @@ pub fn optimize_gradient(
     };
     // Every candidate is solved cold; the descents start from the best feasible ones.
     let mut candidates = Vec::new();
-    for (start_index, start) in settings.starts.iter().enumerate() {
+    let pool = settings.starts.iter().chain(&settings.fallback_starts);
+    for (start_index, start) in pool.enumerate() {
+        if start_index >= settings.starts.len() && candidates.len() >= settings.descents {
+            break;
+        }
+        outcome.candidates_solved += 1;
         let x = set.project(start);
         if let Some((f, g, solution)) = evaluate(&x, None, &mut outcome) {
             candidates.push((start_index, x, f, g, solution));
@@ -335,14 +352,23 @@ pub fn optimize_gradient(
         if f < outcome.best_cost {
             outcome.best_cost = f;
             outcome.best_ratios = x;
+            outcome.best_solution = Some(solution);
         }
     }
     outcome
 }
 
-/// The default candidate starts: the original design and `spread` designs spread through the
-/// box by a Halton sequence (bases 2, 3, 5, 7, ...), projected onto the order constraints.
-pub fn default_starts(transmission: &Transmission, spread: usize) -> Vec<Vec<f64>> {
+/// The default candidate starts: the original design and the first `spread` designs of
+/// [`spread_designs`].
+pub fn default_starts(transmission: &Transmission, spread: u32) -> Vec<Vec<f64>> {
+    let mut starts = vec![transmission.original().to_vec()];
+    starts.extend(spread_designs(transmission, 1..spread + 1));
+    starts
+}
+
+/// Designs spread through the box of the bounds by the Halton sequence (bases 2, 3, 5, 7, ...),
+/// points `indices` of it, projected onto the order constraints.
+pub fn spread_designs(transmission: &Transmission, indices: Range<u32>) -> Vec<Vec<f64>> {
     const PRIMES: [u32; 8] = [2, 3, 5, 7, 11, 13, 17, 19];
     let set = DesignSet::new(transmission);
     let radical_inverse = |mut index: u32, base: u32| {
@@ -354,17 +380,17 @@ pub fn default_starts(transmission: &Transmission, spread: usize) -> Vec<Vec<f64
         }
         value
     };
-    let mut starts = vec![transmission.original().to_vec()];
-    for k in 1..=spread as u32 {
-        let point: Vec<f64> = (0..set.lower.len())
-            .map(|i| {
-                let fraction = radical_inverse(k, PRIMES[i % PRIMES.len()]);
-                set.lower[i] + fraction * (set.upper[i] - set.lower[i])
-            })
-            .collect();
-        starts.push(set.project(&point));
-    }
-    starts
+    indices
+        .map(|k| {
+            let point: Vec<f64> = (0..set.lower.len())
+                .map(|i| {
+                    let fraction = radical_inverse(k, PRIMES[i % PRIMES.len()]);
+                    set.lower[i] + fraction * (set.upper[i] - set.lower[i])
+                })
+                .collect();
+            set.project(&point)
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -398,6 +424,7 @@ mod tests {
             max_iterations: 50,
             tolerance: 1e-6,
             starts: vec![task.transmission.original.clone()],
+            fallback_starts: Vec::new(),
             descents: 1,
         };
         let outcome = optimize_gradient(&formulation, &settings, 1e6);

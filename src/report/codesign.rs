@@ -88,11 +88,18 @@ pub struct OptimizeDocument {
     pub iterates: Vec<GradientIterate>,
     /// Evaluations replayed from the log on resume.
     pub replayed: usize,
+    /// Evaluations that ran IPOPT (designs that break a bound or an order constraint are scored
+    /// without a solve).
+    #[serde(default)]
+    pub solves: usize,
+    /// Wall time of those solves summed, s (replayed ones included, from the log).
+    #[serde(default)]
+    pub solve_seconds_total: f64,
     /// Median wall time of an inner solve, s.
     pub median_solve_seconds: f64,
-    /// Why CMA-ES stopped.
+    /// Why the method stopped.
     pub stop_reason: String,
-    /// Wall time of this invocation, s.
+    /// Wall time of this invocation, s (a resumed run's earlier invocations not included).
     pub wall_seconds: f64,
 }
 

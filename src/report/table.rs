@@ -98,8 +98,11 @@ pub struct AfterCell {
     pub best: Option<DesignCell>,
     /// Best cost per seed, (seed, cost).
     pub per_seed: Vec<(u64, f64)>,
-    /// Inner solves over all seeds.
+    /// CMA-ES evaluations over all seeds.
     pub evaluations: usize,
+    /// Those that ran an inner solve (the rest broke an order constraint).
+    #[serde(default)]
+    pub solves: usize,
     /// Median over the runs of each run's median solve time, s.
     pub median_solve_seconds: f64,
     /// CMA-ES population and generations of the runs.
@@ -145,6 +148,17 @@ pub struct PaperTable {
     pub rows: Vec<TableRow>,
     /// Notes shown above the table (e.g. a reduced run).
     pub notes: Vec<String>,
+    /// Inner solves of the co-design runs on the trajectory cost (CMA-ES and gradient).
+    pub solves: usize,
+    /// Their wall times summed, s.
+    pub solve_seconds: f64,
+    /// Evaluations of the co-design runs on the payload capacity that ran a capacity search
+    /// (each a bracketing and bisection of several solves).
+    #[serde(default)]
+    pub capacity_evaluations: usize,
+    /// The wall times of those searches summed, s.
+    #[serde(default)]
+    pub capacity_seconds: f64,
 }
 
 fn cell(result: &crate::solver::TrajectoryResult, motors: &Motors) -> DesignCell {
@@ -224,7 +238,7 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
         }
         if doc.inputs.method == Method::Gradient {
             if let Some(result) = doc.best_result.as_ref().filter(|r| r.feasible) {
-                row.gradient = Some((cell(result, &doc.inputs.task.motors), doc.evaluations));
+                row.gradient = Some((cell(result, &doc.inputs.task.motors), doc.solves));
             }
             continue;
         }
@@ -238,12 +252,14 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
             best: None,
             per_seed: Vec::new(),
             evaluations: 0,
+            solves: 0,
             median_solve_seconds: f64::NAN,
             population: doc.inputs.population,
             generations: doc.inputs.generations,
         });
         after.per_seed.push((doc.inputs.seed, doc.best_cost));
         after.evaluations += doc.evaluations;
+        after.solves += doc.solves;
         if let Some(result) = doc.best_result.as_ref().filter(|r| r.feasible) {
             if after
                 .best
@@ -295,10 +311,31 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
             .total_cmp(&b.payload_kg)
             .then((a.space as u8).cmp(&(b.space as u8)))
     });
+    let totals = |objective_is_cost: bool| {
+        files
+            .iter()
+            .filter_map(|f| match f {
+                ResultFile::Optimize(d)
+                    if (d.inputs.objective == Objective::Cost) == objective_is_cost =>
+                {
+                    Some(d)
+                }
+                _ => None,
+            })
+            .fold((0, 0.0), |(n, s), d| {
+                (n + d.solves, s + d.solve_seconds_total)
+            })
+    };
+    let (solves, solve_seconds) = totals(true);
+    let (capacity_evaluations, capacity_seconds) = totals(false);
     PaperTable {
         tool: ToolInfo::current(),
         rows,
         notes,
+        solves,
+        solve_seconds,
+        capacity_evaluations,
+        capacity_seconds,
     }
 }
 
@@ -343,7 +380,22 @@ impl PaperTable {
         for note in &self.notes {
             text.push_str(&format!("> {note}\n\n"));
         }
-        text.push_str("| payload | space | before (ours) | before (paper) | after (ours) | after (paper) | seeds: best J | inner solves | median solve |\n");
+        text.push_str(&format!(
+            "> Inner solves of the co-design runs on the cost (CMA-ES and gradient): {}, taking \
+             {:.2} h of solver time in all (summed over the worker processes, which run side by side).",
+            self.solves,
+            self.solve_seconds / 3600.0
+        ));
+        if self.capacity_evaluations > 0 {
+            text.push_str(&format!(
+                " Co-design on the payload capacity: {} evaluations, each a capacity search of \
+                 several solves, {:.2} h of solver time.",
+                self.capacity_evaluations,
+                self.capacity_seconds / 3600.0
+            ));
+        }
+        text.push_str("\n\n");
+        text.push_str("| payload | space | before (ours) | before (paper) | after (ours) | after (paper) | seeds: best J | inner solves of evaluations | median solve |\n");
         text.push_str("|---|---|---|---|---|---|---|---|---|\n");
         for row in &self.rows {
             let before = row
@@ -362,7 +414,7 @@ impl PaperTable {
                         .map(|(s, c)| format!("{s}: {c:.2}"))
                         .collect::<Vec<_>>()
                         .join(", "),
-                    after.evaluations.to_string(),
+                    format!("{} of {}", after.solves, after.evaluations),
                     format!("{:.1} ms", after.median_solve_seconds * 1e3),
                 ),
                 None => (
@@ -407,7 +459,7 @@ impl PaperTable {
                 let cmaes = row
                     .after
                     .as_ref()
-                    .map_or_else(|| "-".to_owned(), |a| a.evaluations.to_string());
+                    .map_or_else(|| "-".to_owned(), |a| a.solves.to_string());
                 let largest = row.capacity_max.as_ref().map_or_else(
                     || "-".to_owned(),
                     |(ratios, capacity)| format!("{capacity:.2} kg {}", ratios_text(ratios)),
