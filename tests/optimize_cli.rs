@@ -1,5 +1,5 @@
-//! Co-design end to end through the worker processes: a killed worker and an interrupted run
-//! change nothing in the result.
+//! Co-design end to end through the worker processes: a killed worker, an interrupted run and
+//! the number of workers change nothing in the result.
 
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -16,7 +16,7 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-fn start(out: &Path, resume: bool) -> Child {
+fn start(out: &Path, resume: bool, workers: usize) -> Child {
     let mut command = Command::new(env!("CARGO_BIN_EXE_codesign"));
     command
         .args([
@@ -28,7 +28,8 @@ fn start(out: &Path, resume: bool) -> Child {
             "--seed",
             "3",
         ])
-        .args(["--population", "8", "--generations", "3", "--workers", "2"])
+        .args(["--population", "8", "--generations", "3", "--workers"])
+        .arg(workers.to_string())
         .arg("--out")
         .arg(out)
         .current_dir(env!("CARGO_MANIFEST_DIR"))
@@ -102,17 +103,18 @@ fn same_result(a: &Value, b: &Value) {
 }
 
 #[test]
-fn a_killed_worker_and_an_interrupted_run_change_nothing() {
+fn a_killed_worker_an_interrupted_run_and_the_worker_count_change_nothing() {
     let dir = scratch("runs");
     let plain = dir.join("plain.json");
-    finish(start(&plain, false));
+    finish(start(&plain, false, 2));
     let reference = read(&plain);
     assert_eq!(reference["evaluations"], 32);
     assert_eq!(log_entries(&plain), 32);
+    assert_eq!(reference["earlier_seconds"], 0.0);
 
-    // Kill one worker mid-run: its design is retried on a fresh worker.
+    // Kill one of three workers mid-run: its design is retried on a fresh worker.
     let killed = dir.join("killed.json");
-    let child = start(&killed, false);
+    let child = start(&killed, false, 3);
     wait_for_entries(&killed, 5);
     let workers = children(child.id());
     assert!(!workers.is_empty(), "no worker processes found");
@@ -124,19 +126,21 @@ fn a_killed_worker_and_an_interrupted_run_change_nothing() {
     finish(child);
     same_result(&reference, &read(&killed));
 
-    // Interrupt the whole run, then resume it: nothing finished is solved again.
+    // Interrupt the whole run, then resume it with one worker: nothing finished is solved again.
     let resumed = dir.join("resumed.json");
-    let mut child = start(&resumed, false);
+    let mut child = start(&resumed, false, 2);
     wait_for_entries(&resumed, 12);
     child.kill().unwrap();
     child.wait().unwrap();
     let before = log_entries(&resumed);
     assert!((12..32).contains(&before), "{before}");
     assert!(!resumed.exists());
-    finish(start(&resumed, true));
+    finish(start(&resumed, true, 1));
     let result = read(&resumed);
     same_result(&reference, &result);
     assert_eq!(result["replayed"].as_u64().unwrap() as usize, before);
+    // The interrupted invocation's working time is carried over from the log.
+    assert!(result["earlier_seconds"].as_f64().unwrap() > 0.0);
     assert_eq!(log_entries(&resumed), 32);
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -205,6 +205,7 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
                 ),
                 iterates: outcome.iterates,
                 best_solution: outcome.best_solution,
+                earlier_seconds: Some(0.0),
             }
         }
     };
@@ -248,6 +249,7 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
         median_solve_seconds: seconds.get(seconds.len() / 2).copied().unwrap_or(f64::NAN),
         stop_reason: run.stop_reason,
         wall_seconds: started.elapsed().as_secs_f64(),
+        earlier_seconds: run.earlier_seconds,
     };
     write_json(out, &document)?;
     Ok(document)
@@ -274,6 +276,8 @@ struct RunOutcome {
     iterates: Vec<GradientIterate>,
     /// The inner solution of the best design, where the method keeps one.
     best_solution: Option<Solution>,
+    /// Working time of the run's earlier invocations, s, where known.
+    earlier_seconds: Option<f64>,
 }
 
 /// The CMA-ES run: evaluation log (resumed if asked), worker pool, progress bar.
@@ -341,6 +345,7 @@ fn run_cmaes(
         stop_reason: outcome.stop_reason,
         iterates: Vec::new(),
         best_solution: None,
+        earlier_seconds: log.earlier_seconds(),
     })
 }
 

@@ -4,6 +4,9 @@
 //! `--resume` reads the log back, checks that the header matches the run being resumed, and
 //! replays finished evaluations instead of solving them again. A last line cut short by an
 //! interruption is ignored (and overwritten by the next append).
+//!
+//! Each entry also records the run's working time when it finished: wall time summed over the
+//! invocations of the run, so a resumed run still knows how long it took in all.
 
 use super::evaluate::Evaluation;
 use serde::de::DeserializeOwned;
@@ -12,6 +15,7 @@ use std::collections::HashMap;
 use std::fs::{File, OpenOptions};
 use std::io::{BufRead, BufReader, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 /// What makes two runs the same run: any difference forbids resuming.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -32,6 +36,11 @@ pub struct LogEntry {
     /// The evaluation.
     #[serde(flatten)]
     pub evaluation: Evaluation,
+    /// Wall time of the run when this evaluation finished, s, summed over its invocations (the
+    /// time between an interruption and the last evaluation finished before it is not counted,
+    /// as that work is done again). Absent in logs written before it was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub run_seconds: Option<f64>,
 }
 
 /// Finished evaluations of a log by (generation, index).
@@ -42,6 +51,11 @@ pub type Finished = HashMap<(usize, usize), Evaluation>;
 pub struct EvaluationLog {
     path: PathBuf,
     file: File,
+    /// When this invocation opened the log.
+    opened: Instant,
+    /// The run's working time before this invocation, s; None when a resumed log has entries
+    /// without it, so the run's total is unknown.
+    earlier_seconds: Option<f64>,
 }
 
 const FORMAT: &str = "codesign-evaluation-log";
@@ -68,6 +82,8 @@ impl EvaluationLog {
         Ok(EvaluationLog {
             path: path.to_owned(),
             file,
+            opened: Instant::now(),
+            earlier_seconds: Some(0.0),
         })
     }
 
@@ -106,6 +122,7 @@ impl EvaluationLog {
             ));
         }
         let mut finished = HashMap::new();
+        let mut earlier_seconds = Some(0.0_f64);
         let mut valid_end = header_line.len() as u64;
         let mut line = String::new();
         loop {
@@ -118,6 +135,9 @@ impl EvaluationLog {
             }
             match serde_json::from_str::<LogEntry>(&line) {
                 Ok(entry) => {
+                    earlier_seconds = earlier_seconds
+                        .zip(entry.run_seconds)
+                        .map(|(latest, at)| latest.max(at));
                     finished.insert((entry.generation, entry.index), entry.evaluation);
                     valid_end += read as u64;
                 }
@@ -131,14 +151,41 @@ impl EvaluationLog {
             EvaluationLog {
                 path: path.to_owned(),
                 file,
+                opened: Instant::now(),
+                earlier_seconds,
             },
             finished,
         ))
     }
 
-    /// Appends one entry and flushes it to disk.
-    pub fn append(&mut self, entry: &LogEntry) -> Result<(), String> {
-        let line = serde_json::to_string(entry).map_err(|e| e.to_string())?;
+    /// The run's working time before this invocation, s (None when the log predates that
+    /// record).
+    pub fn earlier_seconds(&self) -> Option<f64> {
+        self.earlier_seconds
+    }
+
+    /// The run's working time so far, s: this invocation's since the log was opened plus the
+    /// earlier invocations' as logged (None when the log predates that record).
+    pub fn run_seconds(&self) -> Option<f64> {
+        self.earlier_seconds
+            .map(|earlier| earlier + self.opened.elapsed().as_secs_f64())
+    }
+
+    /// Appends the evaluation of design `index` of `generation`, stamped with the run's working
+    /// time, and flushes it to disk.
+    pub fn append(
+        &mut self,
+        generation: usize,
+        index: usize,
+        evaluation: &Evaluation,
+    ) -> Result<(), String> {
+        let entry = LogEntry {
+            generation,
+            index,
+            evaluation: evaluation.clone(),
+            run_seconds: self.run_seconds(),
+        };
+        let line = serde_json::to_string(&entry).map_err(|e| e.to_string())?;
         writeln!(self.file, "{line}")
             .and_then(|()| self.file.sync_data())
             .map_err(|e| format!("cannot append to {}: {e}", self.path.display()))
@@ -178,6 +225,7 @@ mod tests {
                 seconds: 0.02,
                 reason: None,
             },
+            run_seconds: None,
         }
     }
 
@@ -207,9 +255,12 @@ mod tests {
             seed: 3,
             method: None,
         };
+        let append = |log: &mut EvaluationLog, e: LogEntry| {
+            log.append(e.generation, e.index, &e.evaluation).unwrap()
+        };
         let mut log = EvaluationLog::create(&path, &run).unwrap();
-        log.append(&entry(0, 0, 1.5)).unwrap();
-        log.append(&entry(0, 1, 2.5)).unwrap();
+        append(&mut log, entry(0, 0, 1.5));
+        append(&mut log, entry(0, 1, 2.5));
         drop(log);
         assert!(EvaluationLog::create(&path, &run)
             .unwrap_err()
@@ -220,7 +271,7 @@ mod tests {
         let (mut log, finished) = EvaluationLog::resume(&path, &run).unwrap();
         assert_eq!(finished.len(), 2);
         assert_eq!(finished[&(0, 1)], entry(0, 1, 2.5).evaluation);
-        log.append(&entry(0, 2, 3.5)).unwrap();
+        append(&mut log, entry(0, 2, 3.5));
         drop(log);
         let (_, finished) = EvaluationLog::resume(&path, &run).unwrap();
         assert_eq!(finished.len(), 3);
@@ -239,6 +290,41 @@ mod tests {
             },
         );
         assert!(other.err().unwrap().contains("different run"));
+        std::fs::remove_file(&path).unwrap();
+    }
+
+    #[test]
+    fn working_time_adds_up_over_invocations_and_is_unknown_for_old_logs() {
+        let path =
+            std::env::temp_dir().join(format!("codesign-log-time-{}.jsonl", std::process::id()));
+        let _ = std::fs::remove_file(&path);
+        let run = Run {
+            seed: 5,
+            method: None,
+        };
+        let mut log = EvaluationLog::create(&path, &run).unwrap();
+        log.earlier_seconds = Some(100.0); // as if a first invocation had worked 100 s
+        log.append(0, 0, &entry(0, 0, 1.0).evaluation).unwrap();
+        drop(log);
+        let (log, _) = EvaluationLog::resume(&path, &run).unwrap();
+        let total = log.run_seconds().unwrap();
+        assert!((100.0..101.0).contains(&total), "{total}");
+        drop(log);
+        // An entry without the record (an older log): the run's total is unknown from then on.
+        let mut file = OpenOptions::new().append(true).open(&path).unwrap();
+        writeln!(
+            file,
+            "{}",
+            serde_json::to_string(&entry(0, 1, 2.0)).unwrap()
+        )
+        .unwrap();
+        drop(file);
+        let (mut log, finished) = EvaluationLog::resume(&path, &run).unwrap();
+        assert_eq!(finished.len(), 2);
+        assert_eq!(log.run_seconds(), None);
+        log.append(0, 2, &entry(0, 2, 3.0).evaluation).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(!text.lines().last().unwrap().contains("run_seconds"));
         std::fs::remove_file(&path).unwrap();
     }
 }

@@ -3,7 +3,7 @@
 
 use super::cmaes::{Cmaes, CmaesSettings};
 use super::evaluate::Evaluation;
-use super::log::{EvaluationLog, Finished, LogEntry};
+use super::log::{EvaluationLog, Finished};
 use super::workers::Pool;
 use serde::{Deserialize, Serialize};
 
@@ -150,11 +150,7 @@ fn evaluate_generation(
     let solved = pool.evaluate_all(&pending, |index, evaluation| {
         *best = best.min(evaluation.cost);
         progress.evaluated(*best);
-        log.append(&LogEntry {
-            generation,
-            index,
-            evaluation: evaluation.clone(),
-        })
+        log.append(generation, index, evaluation)
     })?;
     for ((index, _), evaluation) in pending.iter().zip(solved) {
         slots[*index] = Some(evaluation);

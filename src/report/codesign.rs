@@ -101,6 +101,11 @@ pub struct OptimizeDocument {
     pub stop_reason: String,
     /// Wall time of this invocation, s (a resumed run's earlier invocations not included).
     pub wall_seconds: f64,
+    /// Working time of the run's earlier invocations, s, from its evaluation log (0 for a run
+    /// done in one invocation; None when the log predates that record): the run took this plus
+    /// `wall_seconds` in all.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub earlier_seconds: Option<f64>,
 }
 
 /// The JSON file `codesign capacity` writes.
