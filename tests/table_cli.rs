@@ -72,6 +72,28 @@ fn rebuilds_the_table_from_result_files() {
         extra[1]
     );
 
+    // A run that stopped before its last generation says so beside its seed (the full
+    // reproduction's actuation 3 kg seed 3 met pagmo's ftol rule after one generation).
+    let seeds: Vec<String> = (0..5)
+        .map(|seed| format!("results/runs/actuation-3kg-seed{seed}.json"))
+        .collect();
+    let output = Command::new(env!("CARGO_BIN_EXE_codesign"))
+        .arg("table")
+        .args(&seeds)
+        .current_dir(root)
+        .output()
+        .unwrap();
+    let table = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{table}");
+    assert!(
+        table.contains("3: 345.31 (stopped after generation 1: ftol"),
+        "{table}"
+    );
+    assert!(
+        table.contains("4: 296.36,") || table.contains("4: 296.36 |"),
+        "{table}"
+    );
+
     let missing = Command::new(env!("CARGO_BIN_EXE_codesign"))
         .args(["table", "results/absent.json"])
         .output()

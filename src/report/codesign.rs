@@ -1,7 +1,7 @@
 //! The result file of a co-design run and its plots: the evolution of the cost over the
 //! evaluations (the paper's figure 6) and the optimal ratios per case (figure 10).
 
-use super::plots::{Chart, Series};
+use super::plots::{Chart, Mark, Radar, Series};
 use super::trajectory::ToolInfo;
 use crate::design::capacity::{Capacity, CapacitySettings};
 use crate::design::evaluate::Objective;
@@ -128,58 +128,60 @@ pub struct CapacityDocument {
     pub capacity: Capacity,
 }
 
-/// The cost of every evaluation of each run, in order (the paper's figure 6); log scale, so the
-/// penalised designs show as a band at the penalty.
+/// The cost of every evaluation of each run, in order, as dots, and the best cost so far as a
+/// line (the paper's figure 6); log scale, so the penalised designs show as a band at the
+/// penalty.
 pub fn cost_evolution_chart(title: &str, runs: &[&OptimizeDocument]) -> Chart {
+    let dots = runs.iter().map(|run| Series {
+        name: format!("seed {}: every evaluation", run.inputs.seed),
+        points: run
+            .costs
+            .iter()
+            .enumerate()
+            .map(|(i, &c)| (i as f64, c))
+            .collect(),
+        mark: Mark::Dots,
+    });
+    let best = runs.iter().map(|run| {
+        let mut best = f64::INFINITY;
+        Series::line(
+            format!("seed {}: best so far", run.inputs.seed),
+            run.costs
+                .iter()
+                .enumerate()
+                .map(|(i, &c)| {
+                    best = best.min(c);
+                    (i as f64, best)
+                })
+                .collect(),
+        )
+    });
     Chart {
         title: title.to_owned(),
         x_label: "evaluation".into(),
         y_label: "cost J".into(),
-        series: runs
-            .iter()
-            .map(|run| Series {
-                name: format!("seed {}", run.inputs.seed),
-                points: run
-                    .costs
-                    .iter()
-                    .enumerate()
-                    .map(|(i, &c)| (i as f64, c))
-                    .collect(),
-            })
-            .collect(),
+        series: dots.chain(best).collect(),
         guides: Vec::new(),
         log_y: true,
     }
 }
 
-/// The optimal ratios of each case as closed polygons on a radar (the paper's figure 10): ratio
-/// i at angle 2 pi i / n, at radius r_i / upper bound of r_i.
-pub fn radar_chart(title: &str, cases: &[(String, Vec<f64>)], upper: &[f64]) -> Chart {
-    let n = upper.len();
-    let point = |i: usize, radius: f64| {
-        let angle = std::f64::consts::FRAC_PI_2 - 2.0 * std::f64::consts::PI * i as f64 / n as f64;
-        (radius * angle.cos(), radius * angle.sin())
-    };
-    let mut series: Vec<Series> = (0..n)
-        .map(|i| Series {
-            name: format!("r{} (max {})", i + 1, upper[i]),
-            points: vec![(0.0, 0.0), point(i, 1.0)],
-        })
-        .collect();
-    series.extend(cases.iter().map(|(name, ratios)| {
-        Series {
-            name: name.clone(),
-            points: (0..=n)
-                .map(|i| point(i % n, ratios[i % n] / upper[i % n]))
-                .collect(),
-        }
-    }));
-    Chart {
+/// The optimal ratios of each case as closed polygons on a radar (the paper's figure 10), each
+/// ratio r_i on its spoke as a fraction of its upper bound.
+pub fn radar_chart(title: &str, cases: &[(String, Vec<f64>)], upper: &[f64]) -> Radar {
+    Radar {
         title: title.to_owned(),
-        x_label: "".into(),
-        y_label: "".into(),
-        series,
-        guides: Vec::new(),
-        log_y: false,
+        axes: upper
+            .iter()
+            .enumerate()
+            .map(|(i, max)| format!("r{} (max {max})", i + 1))
+            .collect(),
+        cases: cases
+            .iter()
+            .map(|(name, ratios)| {
+                let fractions = ratios.iter().zip(upper).map(|(r, max)| r / max).collect();
+                (name.clone(), fractions)
+            })
+            .collect(),
     }
 }

@@ -1,7 +1,19 @@
 //! SVG line charts: trajectories (the paper's figures 4 and 5) and co-design histories.
 
+use plotters::coord::ranged1d::ValueFormatter;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
+
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mark {
+    /// A line through the points in order.
+    Line,
+    /// A dot at each point (many unordered samples).
+    Dots,
+}
 
 /// One named curve of (x, y) points.
 #[derive(Clone, Debug, PartialEq)]
@@ -10,6 +22,19 @@ pub struct Series {
     pub name: String,
     /// The points, in drawing order.
     pub points: Vec<(f64, f64)>,
+    /// Line or dots.
+    pub mark: Mark,
+}
+
+impl Series {
+    /// A series drawn as a line.
+    pub fn line(name: impl Into<String>, points: Vec<(f64, f64)>) -> Series {
+        Series {
+            name: name.into(),
+            points,
+            mark: Mark::Line,
+        }
+    }
 }
 
 /// A dashed reference line: a limit or a box edge.
@@ -55,6 +80,18 @@ fn span(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
+type DrawResult = Result<(), Box<dyn std::error::Error>>;
+
+/// The colour of the `i`-th series of its mark (so the k-th dots and the k-th line of a chart
+/// match): dots a lighter shade, so lines over them stay readable.
+fn colour(i: usize, mark: Mark) -> RGBAColor {
+    let colour = Palette99::pick(i).to_rgba();
+    match mark {
+        Mark::Line => colour,
+        Mark::Dots => colour.mix(0.45),
+    }
+}
+
 impl Chart {
     /// Renders the chart as an SVG document.
     pub fn to_svg(&self) -> Result<String, String> {
@@ -69,7 +106,7 @@ impl Chart {
         super::files::write_atomic(path, self.to_svg()?.as_bytes())
     }
 
-    fn draw(&self, svg: &mut String) -> Result<(), Box<dyn std::error::Error + '_>> {
+    fn draw(&self, svg: &mut String) -> DrawResult {
         let points = || self.series.iter().flat_map(|s| s.points.iter());
         let (x0, x1) = span(points().map(|p| p.0).chain(self.guides.iter().filter_map(
             |g| match g {
@@ -97,67 +134,169 @@ impl Chart {
                 .filter(|y| *y > 0.0)
                 .fold(f64::INFINITY, f64::min);
             let low = if low.is_finite() { low * 0.5 } else { 1e-3 };
-            let mut chart =
+            let chart =
                 builder.build_cartesian_2d(x0..x1, (low..y1.max(low * 10.0)).log_scale())?;
-            chart
-                .configure_mesh()
-                .x_desc(&self.x_label)
-                .y_desc(&self.y_label)
-                .draw()?;
-            for (i, series) in self.series.iter().enumerate() {
-                let color = Palette99::pick(i).to_rgba();
-                chart
+            self.draw_on(chart, (x0, x1), (low, y1))?;
+        } else {
+            let chart = builder.build_cartesian_2d(x0..x1, y0..y1)?;
+            self.draw_on(chart, (x0, x1), (y0, y1))?;
+        }
+        root.present()?;
+        Ok(())
+    }
+
+    /// Mesh, guides, series and legend on a chart of either y scale.
+    fn draw_on<'a, Y>(
+        &self,
+        mut chart: ChartContext<'a, SVGBackend<'a>, Cartesian2d<RangedCoordf64, Y>>,
+        (x0, x1): (f64, f64),
+        (y0, y1): (f64, f64),
+    ) -> DrawResult
+    where
+        Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    {
+        chart
+            .configure_mesh()
+            .x_desc(&self.x_label)
+            .y_desc(&self.y_label)
+            .draw()?;
+        for guide in &self.guides {
+            let line = match *guide {
+                Guide::Horizontal(y) => vec![(x0, y), (x1, y)],
+                Guide::Vertical(x) => vec![(x, y0), (x, y1)],
+            };
+            chart.draw_series(DashedLineSeries::new(
+                line,
+                6,
+                4,
+                BLACK.mix(0.45).stroke_width(1),
+            ))?;
+        }
+        // Dots first, so that lines are drawn over them.
+        let mut order: Vec<usize> = (0..self.series.len()).collect();
+        order.sort_by_key(|&i| self.series[i].mark == Mark::Line);
+        for i in order {
+            let series = &self.series[i];
+            let ordinal = self.series[..i]
+                .iter()
+                .filter(|s| s.mark == series.mark)
+                .count();
+            let colour = colour(ordinal, series.mark);
+            match series.mark {
+                Mark::Line => chart
+                    .draw_series(LineSeries::new(
+                        series.points.iter().copied(),
+                        colour.stroke_width(2),
+                    ))?
+                    .label(&series.name)
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+                    }),
+                Mark::Dots => chart
                     .draw_series(
                         series
                             .points
                             .iter()
-                            .map(|&(x, y)| Circle::new((x, y), 2, color.filled())),
+                            .map(|&(x, y)| Circle::new((x, y), 2, colour.filled())),
                     )?
                     .label(&series.name)
-                    .legend(move |(x, y)| Circle::new((x + 10, y), 3, color.filled()));
-            }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .draw()?;
-        } else {
-            let mut chart = builder.build_cartesian_2d(x0..x1, y0..y1)?;
-            chart
-                .configure_mesh()
-                .x_desc(&self.x_label)
-                .y_desc(&self.y_label)
-                .draw()?;
-            for guide in &self.guides {
-                let line = match *guide {
-                    Guide::Horizontal(y) => vec![(x0, y), (x1, y)],
-                    Guide::Vertical(x) => vec![(x, y0), (x, y1)],
-                };
-                chart.draw_series(DashedLineSeries::new(
-                    line,
-                    6,
-                    4,
-                    BLACK.mix(0.45).stroke_width(1),
-                ))?;
-            }
-            for (i, series) in self.series.iter().enumerate() {
-                let color = Palette99::pick(i).to_rgba();
-                chart
-                    .draw_series(LineSeries::new(
-                        series.points.iter().copied(),
-                        color.stroke_width(2),
-                    ))?
-                    .label(&series.name)
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                    });
-            }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .draw()?;
+                    .legend(move |(x, y)| Circle::new((x + 10, y), 3, colour.filled())),
+            };
         }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()?;
+        Ok(())
+    }
+}
+
+/// A radar chart: one spoke per axis, each case a closed polygon of its values on the spokes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Radar {
+    /// Title above the plot.
+    pub title: String,
+    /// Spoke labels, clockwise from the top.
+    pub axes: Vec<String>,
+    /// (legend text, one value per axis as a fraction of the spoke's length, in [0, 1]).
+    pub cases: Vec<(String, Vec<f64>)>,
+}
+
+impl Radar {
+    /// Renders the chart as an SVG document.
+    pub fn to_svg(&self) -> Result<String, String> {
+        let mut svg = String::new();
+        self.draw(&mut svg)
+            .map_err(|error| format!("cannot draw chart '{}': {error}", self.title))?;
+        Ok(svg)
+    }
+
+    /// Renders the chart and writes it atomically to `path`.
+    pub fn write(&self, path: &Path) -> Result<(), String> {
+        super::files::write_atomic(path, self.to_svg()?.as_bytes())
+    }
+
+    /// The point at `fraction` of spoke `i`, in chart units (unit circle).
+    fn at(&self, i: usize, fraction: f64) -> (f64, f64) {
+        let n = self.axes.len() as f64;
+        let angle = std::f64::consts::FRAC_PI_2 - std::f64::consts::TAU * i as f64 / n;
+        (fraction * angle.cos(), fraction * angle.sin())
+    }
+
+    fn draw(&self, svg: &mut String) -> DrawResult {
+        let root = SVGBackend::with_string(svg, (760, 640)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(&self.title, ("sans-serif", 22))
+            .margin(20)
+            .build_cartesian_2d(-1.35..1.95, -1.25..1.25)?;
+        let grey = BLACK.mix(0.35);
+        let n = self.axes.len();
+        for ring in [0.25, 0.5, 0.75, 1.0] {
+            let outline: Vec<(f64, f64)> = (0..=n).map(|i| self.at(i % n, ring)).collect();
+            chart.draw_series(LineSeries::new(outline, grey.stroke_width(1)))?;
+            chart.draw_series(std::iter::once(Text::new(
+                format!("{ring}"),
+                (0.03, ring + 0.04),
+                ("sans-serif", 12).into_font().color(&grey),
+            )))?;
+        }
+        for (i, label) in self.axes.iter().enumerate() {
+            chart.draw_series(LineSeries::new(
+                vec![(0.0, 0.0), self.at(i, 1.0)],
+                grey.stroke_width(1),
+            ))?;
+            let (x, y) = self.at(i, 1.12);
+            let anchor = Pos::new(
+                if x > 0.05 {
+                    HPos::Left
+                } else if x < -0.05 {
+                    HPos::Right
+                } else {
+                    HPos::Center
+                },
+                VPos::Center,
+            );
+            let style = ("sans-serif", 16).into_font().color(&BLACK).pos(anchor);
+            chart.draw_series(std::iter::once(Text::new(label.clone(), (x, y), style)))?;
+        }
+        for (k, (name, values)) in self.cases.iter().enumerate() {
+            let colour = Palette99::pick(k).to_rgba();
+            let outline: Vec<(f64, f64)> = (0..=n).map(|i| self.at(i % n, values[i % n])).collect();
+            chart
+                .draw_series(LineSeries::new(outline, colour.stroke_width(2)))?
+                .label(name)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+                });
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()?;
         root.present()?;
         Ok(())
     }
@@ -173,10 +312,14 @@ mod tests {
             title: "test chart".into(),
             x_label: "t [s]".into(),
             y_label: "q [rad]".into(),
-            series: vec![Series {
-                name: "joint 1".into(),
-                points: vec![(0.0, 0.0), (1.0, 2.0)],
-            }],
+            series: vec![
+                Series::line("joint 1", vec![(0.0, 0.0), (1.0, 2.0)]),
+                Series {
+                    name: "samples".into(),
+                    points: vec![(0.5, 1.0)],
+                    mark: Mark::Dots,
+                },
+            ],
             guides: vec![Guide::Horizontal(1.5)],
             log_y: false,
         };
@@ -188,5 +331,22 @@ mod tests {
             ..chart
         };
         assert!(log.to_svg().unwrap().contains("<svg"));
+    }
+
+    #[test]
+    fn radar_labels_its_spokes_and_cases() {
+        let radar = Radar {
+            title: "ratios".into(),
+            axes: vec!["r1".into(), "r2".into(), "r3".into()],
+            cases: vec![("case A".into(), vec![1.0, 0.5, 0.25])],
+        };
+        let svg = radar.to_svg().unwrap();
+        for text in ["ratios", "r1", "r3", "case A", "0.75"] {
+            assert!(svg.contains(text), "{text} missing");
+        }
+        let top = radar.at(0, 1.0);
+        assert!(top.0.abs() < 1e-12 && (top.1 - 1.0).abs() < 1e-12);
+        let second = radar.at(1, 1.0);
+        assert!(second.0 > 0.0, "spokes run clockwise");
     }
 }

@@ -98,6 +98,9 @@ pub struct AfterCell {
     pub best: Option<DesignCell>,
     /// Best cost per seed, (seed, cost).
     pub per_seed: Vec<(u64, f64)>,
+    /// Runs that stopped before their last generation: (seed, last generation run, why).
+    #[serde(default)]
+    pub early_stops: Vec<(u64, usize, String)>,
     /// CMA-ES evaluations over all seeds.
     pub evaluations: usize,
     /// Those that ran an inner solve (the rest broke an order constraint).
@@ -251,6 +254,7 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
         let after = row.after.get_or_insert_with(|| AfterCell {
             best: None,
             per_seed: Vec::new(),
+            early_stops: Vec::new(),
             evaluations: 0,
             solves: 0,
             median_solve_seconds: f64::NAN,
@@ -258,6 +262,13 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
             generations: doc.inputs.generations,
         });
         after.per_seed.push((doc.inputs.seed, doc.best_cost));
+        if let Some(last) = doc.generations.last() {
+            if last.generation < doc.inputs.generations {
+                after
+                    .early_stops
+                    .push((doc.inputs.seed, last.generation, doc.stop_reason.clone()));
+            }
+        }
         after.evaluations += doc.evaluations;
         after.solves += doc.solves;
         if let Some(result) = doc.best_result.as_ref().filter(|r| r.feasible) {
@@ -411,7 +422,14 @@ impl PaperTable {
                     after
                         .per_seed
                         .iter()
-                        .map(|(s, c)| format!("{s}: {c:.2}"))
+                        .map(
+                            |(s, c)| match after.early_stops.iter().find(|e| e.0 == *s) {
+                                Some((_, last, why)) => {
+                                    format!("{s}: {c:.2} (stopped after generation {last}: {why})")
+                                }
+                                None => format!("{s}: {c:.2}"),
+                            },
+                        )
                         .collect::<Vec<_>>()
                         .join(", "),
                     format!("{} of {}", after.solves, after.evaluations),

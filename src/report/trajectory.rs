@@ -86,9 +86,11 @@ impl SolveDocument {
 fn per_joint(time: &[f64], rows: &[Vec<f64>], label: &str) -> Vec<Series> {
     let joints = rows.first().map_or(0, Vec::len);
     (0..joints)
-        .map(|i| Series {
-            name: format!("{label} {}", i + 1),
-            points: time.iter().zip(rows).map(|(&t, row)| (t, row[i])).collect(),
+        .map(|i| {
+            Series::line(
+                format!("{label} {}", i + 1),
+                time.iter().zip(rows).map(|(&t, row)| (t, row[i])).collect(),
+            )
         })
         .collect()
 }
@@ -175,15 +177,14 @@ pub fn write_plots(
         title: format!("TCP path: {title}"),
         x_label: "world y [m]".into(),
         y_label: "world z [m]".into(),
-        series: vec![Series {
-            name: "TCP".into(),
-            points: t
-                .tcp_y
+        series: vec![Series::line(
+            "TCP",
+            t.tcp_y
                 .iter()
                 .copied()
                 .zip(t.tcp_z.iter().copied())
                 .collect(),
-        }],
+        )],
         guides: box_guides,
         log_y: false,
     };
