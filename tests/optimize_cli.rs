@@ -16,7 +16,9 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-fn start(out: &Path, resume: bool, workers: usize) -> Child {
+/// Starts the tiny co-design with `workers` worker processes and an optional `--resume` or
+/// `--overwrite`.
+fn start(out: &Path, flag: Option<&str>, workers: usize) -> Child {
     let mut command = Command::new(env!("CARGO_BIN_EXE_codesign"));
     command
         .args([
@@ -35,9 +37,7 @@ fn start(out: &Path, resume: bool, workers: usize) -> Child {
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .stdout(Stdio::null())
         .stderr(Stdio::piped());
-    if resume {
-        command.arg("--resume");
-    }
+    command.args(flag);
     command.spawn().expect("codesign starts")
 }
 
@@ -106,7 +106,7 @@ fn same_result(a: &Value, b: &Value) {
 fn a_killed_worker_an_interrupted_run_and_the_worker_count_change_nothing() {
     let dir = scratch("runs");
     let plain = dir.join("plain.json");
-    finish(start(&plain, false, 2));
+    finish(start(&plain, None, 2));
     let reference = read(&plain);
     assert_eq!(reference["evaluations"], 32);
     assert_eq!(log_entries(&plain), 32);
@@ -114,7 +114,7 @@ fn a_killed_worker_an_interrupted_run_and_the_worker_count_change_nothing() {
 
     // Kill one of three workers mid-run: its design is retried on a fresh worker.
     let killed = dir.join("killed.json");
-    let child = start(&killed, false, 3);
+    let child = start(&killed, None, 3);
     wait_for_entries(&killed, 5);
     let workers = children(child.id());
     assert!(!workers.is_empty(), "no worker processes found");
@@ -128,20 +128,29 @@ fn a_killed_worker_an_interrupted_run_and_the_worker_count_change_nothing() {
 
     // Interrupt the whole run, then resume it with one worker: nothing finished is solved again.
     let resumed = dir.join("resumed.json");
-    let mut child = start(&resumed, false, 2);
+    let mut child = start(&resumed, None, 2);
     wait_for_entries(&resumed, 12);
     child.kill().unwrap();
     child.wait().unwrap();
     let before = log_entries(&resumed);
     assert!((12..32).contains(&before), "{before}");
     assert!(!resumed.exists());
-    finish(start(&resumed, true, 1));
+    finish(start(&resumed, Some("--resume"), 1));
     let result = read(&resumed);
     same_result(&reference, &result);
     assert_eq!(result["replayed"].as_u64().unwrap() as usize, before);
     // The interrupted invocation's working time is carried over from the log.
     assert!(result["earlier_seconds"].as_f64().unwrap() > 0.0);
     assert_eq!(log_entries(&resumed), 32);
+
+    // A finished run's log is never overwritten unasked; --overwrite starts it afresh.
+    let again = start(&plain, None, 2).wait_with_output().unwrap();
+    assert!(!again.status.success());
+    assert!(String::from_utf8_lossy(&again.stderr).contains("--resume"));
+    finish(start(&plain, Some("--overwrite"), 2));
+    let fresh = read(&plain);
+    same_result(&reference, &fresh);
+    assert_eq!(fresh["replayed"], 0);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

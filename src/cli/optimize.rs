@@ -75,6 +75,9 @@ pub struct Args {
     /// Continue an interrupted run from its evaluation log (a run without a log starts afresh).
     #[arg(long)]
     pub resume: bool,
+    /// Start afresh even if the evaluation log of an earlier run exists (it is deleted).
+    #[arg(long, conflicts_with = "resume")]
+    pub overwrite: bool,
 }
 
 struct Bar(ProgressBar);
@@ -290,6 +293,14 @@ fn run_cmaes(
     setup: &WorkerSetup,
 ) -> Result<RunOutcome, String> {
     let log_file = log_path(out);
+    if args.overwrite && log_file.exists() {
+        std::fs::remove_file(&log_file).map_err(|e| {
+            format!(
+                "cannot remove the evaluation log {}: {e}",
+                log_file.display()
+            )
+        })?;
+    }
     let (mut log, finished) = if args.resume && log_file.exists() {
         EvaluationLog::resume(&log_file, inputs)?
     } else {

@@ -44,6 +44,10 @@ pub struct Args {
     /// Continue an interrupted reproduction from its evaluation logs.
     #[arg(long)]
     resume: bool,
+    /// Start afresh even if the output folder holds an earlier reproduction's evaluation logs
+    /// (they are replaced case by case as the new runs start).
+    #[arg(long, conflicts_with = "resume")]
+    overwrite: bool,
 }
 
 /// Payloads of the experiment, kg, and those that are co-designed (SPEC section 5).
@@ -85,6 +89,7 @@ fn case_args(
         solve_timeout: 600.0,
         out: None,
         resume: args.resume && method == Method::Cmaes,
+        overwrite: args.overwrite,
     }
 }
 
@@ -109,6 +114,9 @@ pub fn run(args: &Args) -> Result<(), String> {
             "results"
         })
     });
+    if !args.resume && !args.overwrite {
+        refuse_earlier_logs(&out_dir.join("runs"))?;
+    }
     for folder in ["original", "runs", "plots", "capacity"] {
         create_folder(&out_dir.join(folder))?;
     }
@@ -242,6 +250,30 @@ pub fn run(args: &Args) -> Result<(), String> {
     say_raw!("{}", table.to_markdown());
     say!("results written to {}", out_dir.display());
     Ok(())
+}
+
+/// Fails, naming a log and the two ways on, when `runs` holds evaluation logs of an earlier
+/// reproduction (a missing folder holds none).
+fn refuse_earlier_logs(runs: &Path) -> Result<(), String> {
+    let Ok(entries) = std::fs::read_dir(runs) else {
+        return Ok(());
+    };
+    let mut logs: Vec<PathBuf> = entries
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|path| path.to_string_lossy().ends_with(".log.jsonl"))
+        .collect();
+    logs.sort();
+    match logs.first() {
+        None => Ok(()),
+        Some(first) => Err(format!(
+            "{} holds the evaluation logs of an earlier reproduction ({} and {} more): pass \
+             --resume to continue it (finished evaluations are replayed) or --overwrite to start \
+             afresh",
+            runs.display(),
+            first.display(),
+            logs.len() - 1
+        )),
+    }
 }
 
 /// How long the reproduction took, s: this invocation's `seconds`, plus, when it resumed an
@@ -379,7 +411,7 @@ fn beyond_the_paper(
 
 #[cfg(test)]
 mod tests {
-    use super::wall_time_note;
+    use super::{refuse_earlier_logs, wall_time_note};
 
     #[test]
     fn wall_time_counts_earlier_invocations_where_logged() {
@@ -392,5 +424,27 @@ mod tests {
         assert!(resumed.contains("1.0 min in the last"));
         let unknown = wall_time_note(60.0, 40, None);
         assert!(unknown.starts_with("Wall time of this invocation: 1.0 min."));
+    }
+
+    #[test]
+    fn earlier_logs_are_not_overwritten_unasked() {
+        let runs =
+            std::env::temp_dir().join(format!("codesign-reproduce-{}-runs", std::process::id()));
+        let _ = std::fs::remove_dir_all(&runs);
+        assert!(refuse_earlier_logs(&runs).is_ok(), "no folder, no logs");
+        std::fs::create_dir_all(&runs).unwrap();
+        std::fs::write(runs.join("joint-1kg-seed0.json"), "{}").unwrap();
+        assert!(
+            refuse_earlier_logs(&runs).is_ok(),
+            "result files alone are no run to lose"
+        );
+        std::fs::write(runs.join("joint-1kg-seed0.log.jsonl"), "").unwrap();
+        let error = refuse_earlier_logs(&runs).unwrap_err();
+        assert!(error.contains("joint-1kg-seed0.log.jsonl"), "{error}");
+        assert!(
+            error.contains("--resume") && error.contains("--overwrite"),
+            "{error}"
+        );
+        std::fs::remove_dir_all(&runs).unwrap();
     }
 }

@@ -66,7 +66,7 @@ impl EvaluationLog {
         let run = serde_json::to_value(run).map_err(|e| e.to_string())?;
         let mut file = OpenOptions::new().write(true).create_new(true).open(path).map_err(|e| {
             if e.kind() == std::io::ErrorKind::AlreadyExists {
-                format!("the evaluation log {} exists already: pass --resume to continue that run, or remove it", path.display())
+                format!("the evaluation log {} exists already: pass --resume to continue that run, or --overwrite to start afresh", path.display())
             } else {
                 format!("cannot create the evaluation log {}: {e}", path.display())
             }
