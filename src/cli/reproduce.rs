@@ -10,6 +10,7 @@ use crate::report::codesign::{
     cost_evolution_chart, radar_chart, CapacityDocument, Method, OptimizeDocument,
 };
 use crate::report::files::{create_folder, write_atomic, write_json};
+use crate::report::plots::Figure;
 use crate::report::table::{build_table, ResultFile};
 use crate::report::trajectory::{write_plots, SolveDocument, ToolInfo};
 use crate::solver::{solve_design, SolveSettings};

@@ -80,7 +80,8 @@ fn span(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-type DrawResult = Result<(), Box<dyn std::error::Error>>;
+/// The outcome of drawing a figure.
+pub type DrawResult = Result<(), Box<dyn std::error::Error>>;
 
 /// The colour of the `i`-th series of its mark (so the k-th dots and the k-th line of a chart
 /// match): dots a lighter shade, so lines over them stay readable.
@@ -92,18 +93,31 @@ fn colour(i: usize, mark: Mark) -> RGBAColor {
     }
 }
 
-impl Chart {
-    /// Renders the chart as an SVG document.
-    pub fn to_svg(&self) -> Result<String, String> {
+/// A figure drawn as SVG.
+pub trait Figure {
+    /// The title above the plot.
+    fn title(&self) -> &str;
+
+    /// Draws the figure into `svg`.
+    fn draw(&self, svg: &mut String) -> DrawResult;
+
+    /// Renders the figure as an SVG document.
+    fn to_svg(&self) -> Result<String, String> {
         let mut svg = String::new();
         self.draw(&mut svg)
-            .map_err(|error| format!("cannot draw chart '{}': {error}", self.title))?;
+            .map_err(|error| format!("cannot draw chart '{}': {error}", self.title()))?;
         Ok(svg)
     }
 
-    /// Renders the chart and writes it atomically to `path`.
-    pub fn write(&self, path: &Path) -> Result<(), String> {
+    /// Renders the figure and writes it atomically to `path`.
+    fn write(&self, path: &Path) -> Result<(), String> {
         super::files::write_atomic(path, self.to_svg()?.as_bytes())
+    }
+}
+
+impl Figure for Chart {
+    fn title(&self) -> &str {
+        &self.title
     }
 
     fn draw(&self, svg: &mut String) -> DrawResult {
@@ -144,7 +158,9 @@ impl Chart {
         root.present()?;
         Ok(())
     }
+}
 
+impl Chart {
     /// Mesh, guides, series and legend on a chart of either y scale.
     fn draw_on<'a, Y>(
         &self,
@@ -224,24 +240,17 @@ pub struct Radar {
 }
 
 impl Radar {
-    /// Renders the chart as an SVG document.
-    pub fn to_svg(&self) -> Result<String, String> {
-        let mut svg = String::new();
-        self.draw(&mut svg)
-            .map_err(|error| format!("cannot draw chart '{}': {error}", self.title))?;
-        Ok(svg)
-    }
-
-    /// Renders the chart and writes it atomically to `path`.
-    pub fn write(&self, path: &Path) -> Result<(), String> {
-        super::files::write_atomic(path, self.to_svg()?.as_bytes())
-    }
-
     /// The point at `fraction` of spoke `i`, in chart units (unit circle).
     fn at(&self, i: usize, fraction: f64) -> (f64, f64) {
         let n = self.axes.len() as f64;
         let angle = std::f64::consts::FRAC_PI_2 - std::f64::consts::TAU * i as f64 / n;
         (fraction * angle.cos(), fraction * angle.sin())
+    }
+}
+
+impl Figure for Radar {
+    fn title(&self) -> &str {
+        &self.title
     }
 
     fn draw(&self, svg: &mut String) -> DrawResult {

@@ -1,6 +1,6 @@
 //! The result file and plots of one trajectory solve (`codesign solve`).
 
-use super::plots::{Chart, Guide, Series};
+use super::plots::{Chart, Figure, Guide, Series};
 use crate::model::task::{LimitModes, Task};
 use crate::problem::{Formulation, Space};
 use crate::solver::TrajectoryResult;
