@@ -89,9 +89,12 @@ impl Progress for Bar {
     }
 }
 
+/// The extension of an evaluation log, which sits beside its result file.
+pub const LOG_EXTENSION: &str = "log.jsonl";
+
 /// The evaluation log beside a result file: `x.json` -> `x.log.jsonl`.
 pub fn log_path(out: &Path) -> PathBuf {
-    out.with_extension("log.jsonl")
+    out.with_extension(LOG_EXTENSION)
 }
 
 /// Runs one co-design case and writes its document; returns it.

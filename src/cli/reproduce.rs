@@ -1,7 +1,7 @@
 //! `codesign reproduce`: the paper's experiment (SPEC section 5) end to end.
 
 use super::common::{ModelArgs, ProblemArgs};
-use super::optimize::{run_case, Args as OptimizeArgs, ObjectiveKind};
+use super::optimize::{run_case, Args as OptimizeArgs, ObjectiveKind, LOG_EXTENSION};
 use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::model::task::Task;
 use crate::model::Robot;
@@ -259,9 +259,10 @@ fn refuse_earlier_logs(runs: &Path) -> Result<(), String> {
     let Ok(entries) = std::fs::read_dir(runs) else {
         return Ok(());
     };
+    let suffix = format!(".{LOG_EXTENSION}");
     let mut logs: Vec<PathBuf> = entries
         .filter_map(|entry| entry.ok().map(|e| e.path()))
-        .filter(|path| path.to_string_lossy().ends_with(".log.jsonl"))
+        .filter(|path| path.to_string_lossy().ends_with(&suffix))
         .collect();
     logs.sort();
     match logs.first() {
