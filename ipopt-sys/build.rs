@@ -1,7 +1,8 @@
 //! Finds the system IPOPT with pkg-config and generates bindings of its C interface with bindgen.
 //!
-//! Only `IpStdCInterface.h` is bound: the functions, callback types and return-status enum of the
-//! plain C API. The version found is exported to dependants as `DEP_IPOPT_VERSION`.
+//! Bound: the functions, callback types and return-status enum of the plain C API
+//! (`IpStdCInterface.h`), and the two functions of the run-time Pardiso loader
+//! (`PardisoLoader.h`) that let a program supply its own linear solver. The version found is exported to dependants as `DEP_IPOPT_VERSION`.
 
 use std::env;
 use std::path::PathBuf;
@@ -37,6 +38,7 @@ fn main() {
         .allowlist_function("CreateIpoptProblem|FreeIpoptProblem|AddIpopt(Str|Num|Int)Option")
         .allowlist_function("OpenIpoptOutputFile|SetIpoptProblemScaling|SetIntermediateCallback")
         .allowlist_function("IpoptSolve")
+        .allowlist_function("LSL_loadPardisoLib|LSL_isPardisoLoaded")
         .allowlist_type("Eval_.*_CB|Intermediate_CB|IpoptProblem|UserDataPtr|Number|Index|Int|Bool")
         .allowlist_type("ApplicationReturnStatus|AlgorithmMode")
         // C enums arrive as plain integers: constants, so an unknown code can never be UB.

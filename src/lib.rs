@@ -7,6 +7,7 @@ pub mod cli;
 pub mod design;
 pub mod dynamics;
 pub mod ipopt;
+pub mod ldl;
 pub mod model;
 pub mod problem;
 pub mod report;

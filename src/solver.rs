@@ -123,13 +123,13 @@ pub struct TrajectoryResult {
     pub trajectory: Trajectory,
 }
 
-/// IPOPT options of a trajectory solve: exact Hessian, MUMPS, the task's `tol`, `max_iter` and
-/// further `options` (validated when the task was loaded).
+/// IPOPT options of a trajectory solve: exact Hessian, the task's linear solver, `tol`,
+/// `max_iter` and further `options` (validated when the task was loaded).
 pub fn ipopt_options(formulation: &Formulation, settings: &SolveSettings) -> Options {
     let solver = &formulation.task().solver;
     let mut options = Options::new()
+        .linear_solver(solver.linear_solver())
         .str("hessian_approximation", "exact")
-        .str("linear_solver", "mumps")
         .num("tol", solver.tol)
         .int(
             "max_iter",

@@ -1,6 +1,8 @@
 //! The trajectory problems of `../shared/testdata/ocp_reference.json` (an independent CasADi +
-//! IPOPT 3.14 implementation) reproduce their optimal cost to 1e-6 relative.
+//! IPOPT 3.14 implementation) reproduce their optimal cost to 1e-6 relative, with either linear
+//! solver inside IPOPT.
 
+use codesign::ipopt::LinearSolver;
 use codesign::model::task::Task;
 use codesign::model::Robot;
 use codesign::problem::{Formulation, Space};
@@ -16,7 +18,11 @@ fn reference_costs_are_reproduced() {
     let mut task = Task::load(&root.join("robots/tasks/pick_place.json")).unwrap();
     let cases = reference["cases"].as_array().unwrap();
     assert!(cases.len() >= 3);
-    for case in cases {
+    for (case, solver) in cases
+        .iter()
+        .flat_map(|case| [LinearSolver::Ldl, LinearSolver::Mumps].map(|solver| (case, solver)))
+    {
+        task.solver.linear_solver = Some(solver);
         let space = match case["space"].as_str().unwrap() {
             "joint" => Space::Joint,
             "actuation" => Space::Actuation,
@@ -35,7 +41,7 @@ fn reference_costs_are_reproduced() {
         let expected = case["cost"].as_f64().unwrap();
         let relative = (result.cost - expected).abs() / expected.abs();
         println!(
-            "{space} payload {} r {ratios:?}: {} in {} iterations (reference {}), J = {} (reference {expected}), relative {relative:.1e}",
+            "{solver} {space} payload {} r {ratios:?}: {} in {} iterations (reference {}), J = {} (reference {expected}), relative {relative:.1e}",
             task.payload.mass_kg, result.status, result.iterations, case["iterations"], result.cost
         );
         assert_eq!(result.status, case["status"].as_str().unwrap());

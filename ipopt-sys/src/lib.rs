@@ -1,4 +1,5 @@
-//! Raw bindings to IPOPT's C interface (`IpStdCInterface.h`), generated at build time by bindgen
+//! Raw bindings to IPOPT's C interface (`IpStdCInterface.h`) and its Pardiso loader
+//! (`PardisoLoader.h`), generated at build time by bindgen
 //! against the library that pkg-config finds (Debian: `coinor-libipopt-dev`).
 //!
 //! Everything here is `unsafe` and mirrors the C header one to one; the `codesign` crate wraps it

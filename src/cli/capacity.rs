@@ -36,7 +36,8 @@ pub fn run(args: &Args) -> Result<(), String> {
     if args.model.payload.is_some() {
         return Err("--payload: capacity searches the payload itself; leave it out".to_owned());
     }
-    let (task, robot) = args.model.load()?;
+    let (mut task, robot) = args.model.load()?;
+    args.problem.configure(&mut task);
     let modes = args.problem.modes(&task);
     let ratios = args
         .ratios
@@ -76,7 +77,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     say!("  {} solves in {seconds:.1} s", capacity.probes.len());
     if let Some(path) = &args.out {
         let document = CapacityDocument {
-            tool: ToolInfo::current(),
+            tool: ToolInfo::current(task.solver.linear_solver()),
             task_file: args.model.task.display().to_string(),
             space: args.problem.space,
             ratios: ratios.clone(),

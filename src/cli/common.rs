@@ -1,5 +1,6 @@
 //! Flags shared by the commands that load a task and a robot.
 
+use crate::ipopt::LinearSolver;
 use crate::model::task::{LimitMode, LimitModes, Task};
 use crate::model::Robot;
 use crate::problem::Space;
@@ -54,9 +55,20 @@ pub struct ProblemArgs {
     /// Joint speed limit mode; default: the task's.
     #[arg(long, value_enum, value_name = "MODE")]
     pub speed_mode: Option<LimitMode>,
+    /// Linear solver inside IPOPT: codesign's sparse LDLᵀ or MUMPS; default: the task's
+    /// `solver.linear_solver`, else ldl.
+    #[arg(long, value_enum, value_name = "SOLVER")]
+    pub linear_solver: Option<LinearSolver>,
 }
 
 impl ProblemArgs {
+    /// Applies `--linear-solver` to the task's solver settings.
+    pub fn configure(&self, task: &mut Task) {
+        if let Some(solver) = self.linear_solver {
+            task.solver.linear_solver = Some(solver);
+        }
+    }
+
     /// The limit modes: the flags where given, else the task's.
     pub fn modes(&self, task: &Task) -> LimitModes {
         LimitModes {

@@ -11,6 +11,7 @@ use crate::design::log::EvaluationLog;
 use crate::design::optimize::{optimize, GenerationSummary, Progress};
 use crate::design::workers::{Pool, WorkerSetup};
 use crate::ipopt::Solution;
+use crate::model::task::Task;
 use crate::problem::Formulation;
 use crate::report::codesign::{Method, OptimizeDocument, OptimizeInputs};
 use crate::report::files::write_json;
@@ -92,6 +93,15 @@ impl Progress for Bar {
 /// The extension of an evaluation log, which sits beside its result file.
 pub const LOG_EXTENSION: &str = "log.jsonl";
 
+/// The task as the run's inputs record it: its linear solver moves to
+/// [`OptimizeInputs::linear_solver`], so that a log written before the field existed (MUMPS)
+/// compares by that field alone.
+fn without_linear_solver(task: &Task) -> Task {
+    let mut task = task.clone();
+    task.solver.linear_solver = None;
+    task
+}
+
 /// The evaluation log beside a result file: `x.json` -> `x.log.jsonl`.
 pub fn log_path(out: &Path) -> PathBuf {
     out.with_extension(LOG_EXTENSION)
@@ -100,7 +110,8 @@ pub fn log_path(out: &Path) -> PathBuf {
 /// Runs one co-design case and writes its document; returns it.
 pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
     let started = Instant::now();
-    let (task, robot) = args.model.load()?;
+    let (mut task, robot) = args.model.load()?;
+    args.problem.configure(&mut task);
     let modes = args.problem.modes(&task);
     if !(args.sigma.is_finite() && args.sigma > 0.0) {
         return Err(format!("--sigma {}: must be a positive number", args.sigma));
@@ -157,7 +168,8 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
         method: args.method,
         objective,
         task_file: args.model.task.display().to_string(),
-        task: task.clone(),
+        task: without_linear_solver(&task),
+        linear_solver: task.solver.linear_solver(),
         space: args.problem.space,
         payload_kg: task.payload.mass_kg,
         limit_modes: modes,
@@ -237,7 +249,7 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
     let solves = seconds.len();
     let solve_seconds_total = seconds.iter().sum();
     let document = OptimizeDocument {
-        tool: ToolInfo::current(),
+        tool: ToolInfo::current(inputs.linear_solver),
         inputs,
         best_ratios: run.best_ratios,
         best_cost: run.best_cost,

@@ -3,6 +3,7 @@
 use super::common::{ModelArgs, ProblemArgs};
 use super::optimize::{run_case, Args as OptimizeArgs, ObjectiveKind, LOG_EXTENSION};
 use crate::design::capacity::{payload_capacity, CapacitySettings};
+use crate::ipopt::LinearSolver;
 use crate::model::task::Task;
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
@@ -42,6 +43,9 @@ pub struct Args {
     /// Worker processes (default: one per core).
     #[arg(long, value_name = "N")]
     workers: Option<usize>,
+    /// Linear solver inside IPOPT; default: the task's `solver.linear_solver`, else ldl.
+    #[arg(long, value_enum, value_name = "SOLVER")]
+    linear_solver: Option<LinearSolver>,
     /// Continue an interrupted reproduction from its evaluation logs.
     #[arg(long)]
     resume: bool,
@@ -80,6 +84,7 @@ fn case_args(
             space,
             torque_mode: None,
             speed_mode: None,
+            linear_solver: args.linear_solver,
         },
         seed,
         population,
@@ -121,7 +126,10 @@ pub fn run(args: &Args) -> Result<(), String> {
     for folder in ["original", "runs", "plots", "capacity"] {
         create_folder(&out_dir.join(folder))?;
     }
-    let task = Task::load(&args.task).map_err(|e| e.to_string())?;
+    let mut task = Task::load(&args.task).map_err(|e| e.to_string())?;
+    if let Some(solver) = args.linear_solver {
+        task.solver.linear_solver = Some(solver);
+    }
     let mut files = Vec::new();
 
     for payload in PAYLOADS {
@@ -394,7 +402,7 @@ fn beyond_the_paper(
         let capacity = payload_capacity(task, &robot, space, task.limit_modes, &ratios, &settings)?;
         say!("payload capacity, {name}: {:?} kg", capacity.capacity_kg);
         let document = CapacityDocument {
-            tool: ToolInfo::current(),
+            tool: ToolInfo::current(task.solver.linear_solver()),
             task_file: args.task.display().to_string(),
             space,
             ratios,

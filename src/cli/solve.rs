@@ -43,6 +43,7 @@ pub struct Args {
 /// Solves, prints a summary, writes the requested files.
 pub fn run(args: &Args) -> Result<(), String> {
     let (mut task, robot) = args.model.load()?;
+    args.problem.configure(&mut task);
     if let Some(duration) = args.duration {
         if !(duration.is_finite() && duration > 0.0) {
             return Err(format!(

@@ -110,11 +110,18 @@ impl Nlp for Hs071 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ipopt::{check_derivatives, solve, DerivativeOrder, Options, Status};
+    use crate::ipopt::{check_derivatives, solve, DerivativeOrder, LinearSolver, Options, Status};
 
     #[test]
-    fn solves_to_the_published_optimum() {
-        let solution = solve(&mut Hs071, &Options::new().num("tol", 1e-8)).unwrap();
+    fn solves_to_the_published_optimum_with_either_linear_solver() {
+        for solver in [LinearSolver::Ldl, LinearSolver::Mumps] {
+            solves_to_the_published_optimum(solver);
+        }
+    }
+
+    fn solves_to_the_published_optimum(solver: LinearSolver) {
+        let options = Options::new().num("tol", 1e-8).linear_solver(solver);
+        let solution = solve(&mut Hs071, &options).unwrap();
         assert_eq!(solution.status, Status::SolveSucceeded);
         assert!(
             (solution.objective - HS071_OPTIMUM).abs() < 1e-6,

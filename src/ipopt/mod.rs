@@ -1,5 +1,6 @@
 //! A safe API over IPOPT's C interface: a trait for sparse NLPs, typed options, and a solve that
-//! never lets a Rust panic cross into C and never runs two MUMPS factorisations at once.
+//! never lets a Rust panic cross into C and never runs two MUMPS factorisations at once. IPOPT
+//! factorises its KKT systems with this crate's LDLᵀ ([`crate::ldl`]) or with MUMPS.
 
 mod check;
 mod hs071;
@@ -11,7 +12,7 @@ mod status;
 pub use check::{check_derivatives, DerivativeOrder, DerivativeReport};
 pub use hs071::{Hs071, HS071_OPTIMUM};
 pub use nlp::{EvalError, Nlp};
-pub use options::{OptionValue, Options};
+pub use options::{LinearSolver, OptionValue, Options};
 pub use solve::{solve, solve_from, Error, Solution, Timing};
 pub use status::Status;
 

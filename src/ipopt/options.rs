@@ -1,6 +1,53 @@
 //! Typed IPOPT options.
 
+use serde::{Deserialize, Serialize};
+use std::fmt;
 use std::path::PathBuf;
+
+/// The sparse symmetric indefinite solver IPOPT factorises its KKT systems with.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum LinearSolver {
+    /// This crate's sparse LDLᵀ (`crate::ldl`), plugged in through IPOPT's Pardiso interface.
+    /// Several solves may run on different threads at once.
+    #[default]
+    Ldl,
+    /// MUMPS, IPOPT's built-in solver in Debian's build. Not thread-safe: solves with it are
+    /// serialised within a process.
+    Mumps,
+}
+
+impl LinearSolver {
+    /// The value of IPOPT's `linear_solver` option that selects this solver.
+    pub fn ipopt_name(self) -> &'static str {
+        match self {
+            LinearSolver::Ldl => "pardiso",
+            LinearSolver::Mumps => "mumps",
+        }
+    }
+
+    /// The solver of every result written before the LDLᵀ existed: the value of a missing
+    /// `linear_solver` field in older result files and evaluation logs.
+    pub fn before_ldl() -> LinearSolver {
+        LinearSolver::Mumps
+    }
+
+    /// The name users give it (`--linear-solver`, the task's `solver.linear_solver`, result files).
+    pub fn name(self) -> &'static str {
+        match self {
+            LinearSolver::Ldl => "ldl",
+            LinearSolver::Mumps => "mumps",
+        }
+    }
+}
+
+impl fmt::Display for LinearSolver {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
 
 /// The value of one IPOPT option, typed as IPOPT registers it.
 #[derive(Clone, Debug, PartialEq)]
@@ -17,10 +64,12 @@ pub enum OptionValue {
 ///
 /// By default IPOPT's banner and iteration log are silenced (`print_level = 0`); [`Options::verbose`]
 /// turns the log back on. An option IPOPT rejects makes the solve fail with
-/// [`crate::ipopt::Error::InvalidOption`] naming it.
+/// [`crate::ipopt::Error::InvalidOption`] naming it. The linear solver is chosen with
+/// [`Options::linear_solver`], never through IPOPT's raw `linear_solver` option.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Options {
     pub(crate) entries: Vec<(String, OptionValue)>,
+    pub(crate) linear_solver: LinearSolver,
     pub(crate) verbose: bool,
     pub(crate) output_file: Option<(PathBuf, i32)>,
 }
@@ -46,6 +95,12 @@ impl Options {
     /// Sets a real option.
     pub fn num(mut self, name: &str, value: f64) -> Options {
         self.set(name, OptionValue::Num(value));
+        self
+    }
+
+    /// Chooses the linear solver (default: [`LinearSolver::default`]).
+    pub fn linear_solver(mut self, solver: LinearSolver) -> Options {
+        self.linear_solver = solver;
         self
     }
 

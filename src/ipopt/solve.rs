@@ -1,6 +1,6 @@
 //! One solve: the problem handed to IPOPT through its C interface, callbacks guarded.
 
-use super::{EvalError, Nlp, OptionValue, Options, Status};
+use super::{EvalError, LinearSolver, Nlp, OptionValue, Options, Status};
 use ipopt_sys as sys;
 use std::ffi::{c_void, CString};
 use std::fmt;
@@ -9,9 +9,10 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-/// MUMPS, IPOPT's linear solver here, keeps global state and is not thread-safe: every solve in
-/// this process holds this lock from the creation of its IPOPT problem to its release.
-static SOLVER_LOCK: Mutex<()> = Mutex::new(());
+/// MUMPS keeps global state and is not thread-safe: every solve with it in this process holds
+/// this lock from the creation of its IPOPT problem to its release. Solves with
+/// [`LinearSolver::Ldl`] keep all their state in their own IPOPT objects and do not take it.
+static MUMPS_LOCK: Mutex<()> = Mutex::new(());
 
 /// Why a solve could not produce a [`Solution`]. (A solve that ran and failed to converge is not
 /// an error: it is a `Solution` with a non-success [`Status`].)
@@ -35,6 +36,13 @@ pub enum Error {
     },
     /// IPOPT could not open the requested log file.
     OutputFile(String),
+    /// The linear solver could not be used; names it and says why.
+    LinearSolver {
+        /// The solver asked for.
+        solver: LinearSolver,
+        /// What went wrong.
+        message: String,
+    },
 }
 
 impl fmt::Display for Error {
@@ -48,6 +56,9 @@ impl fmt::Display for Error {
                 write!(f, "the {callback} callback failed: {message}")
             }
             Error::OutputFile(path) => write!(f, "IPOPT could not open its log file {path}"),
+            Error::LinearSolver { solver, message } => {
+                write!(f, "linear solver `{solver}` cannot be used: {message}")
+            }
         }
     }
 }
@@ -111,8 +122,8 @@ impl Drop for Handle {
 
 /// Solves `problem` with `options`, starting from [`Nlp::initial_point`].
 ///
-/// Solves are serialised process-wide (MUMPS is not thread-safe): a second thread calling this
-/// waits until the first has finished.
+/// Solves with MUMPS are serialised process-wide (MUMPS is not thread-safe): a second thread
+/// calling this with MUMPS waits until the first has finished. Solves with the LDLᵀ run at once.
 pub fn solve<P: Nlp>(problem: &mut P, options: &Options) -> Result<Solution, Error> {
     solve_from(problem, options, None)
 }
@@ -125,9 +136,20 @@ pub fn solve_from<P: Nlp>(
     options: &Options,
     warm: Option<&Solution>,
 ) -> Result<Solution, Error> {
-    let _guard = SOLVER_LOCK
-        .lock()
-        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    let _guard = match options.linear_solver {
+        LinearSolver::Mumps => Some(
+            MUMPS_LOCK
+                .lock()
+                .unwrap_or_else(|poisoned| poisoned.into_inner()),
+        ),
+        LinearSolver::Ldl => {
+            crate::ldl::install().map_err(|message| Error::LinearSolver {
+                solver: LinearSolver::Ldl,
+                message,
+            })?;
+            None
+        }
+    };
     let start = Instant::now();
 
     let n = problem.num_variables();
@@ -301,8 +323,19 @@ fn checked_structure(
 }
 
 fn apply_options(handle: &Handle, options: &Options) -> Result<(), Error> {
+    if options.get("linear_solver").is_some() {
+        return Err(Error::InvalidOption {
+            name: "linear_solver".to_owned(),
+            value: "(choose the linear solver with Options::linear_solver: ldl or mumps)"
+                .to_owned(),
+        });
+    }
     let print_level = if options.verbose { 5 } else { 0 };
-    let mut entries = vec![("print_level".to_owned(), OptionValue::Int(print_level))];
+    let solver = options.linear_solver.ipopt_name().to_owned();
+    let mut entries = vec![
+        ("print_level".to_owned(), OptionValue::Int(print_level)),
+        ("linear_solver".to_owned(), OptionValue::Str(solver)),
+    ];
     if !options.verbose {
         // IPOPT 3.11 prints its banner at any print level unless this undocumented option is set.
         entries.push(("sb".to_owned(), OptionValue::Str("yes".to_owned())));
@@ -542,6 +575,8 @@ mod tests {
         fault: Fault,
         active: Option<Arc<AtomicUsize>>,
         max_active: Option<Arc<AtomicUsize>>,
+        /// Whether callbacks wait for a second solve to be inside one too.
+        meet: bool,
     }
 
     enum Fault {
@@ -557,14 +592,23 @@ mod tests {
                 fault,
                 active: None,
                 max_active: None,
+                meet: false,
             }
         }
 
-        /// Counts how many solves are inside a callback at the same moment.
+        /// Counts how many solves are inside a callback at the same moment. With `meet`, until two
+        /// have met there, a callback waits up to a second for another solve to come in.
         fn enter(&self) {
             if let (Some(active), Some(max)) = (&self.active, &self.max_active) {
                 let now = active.fetch_add(1, Ordering::SeqCst) + 1;
                 max.fetch_max(now, Ordering::SeqCst);
+                let waited = Instant::now();
+                while self.meet
+                    && max.load(Ordering::SeqCst) < 2
+                    && waited.elapsed() < Duration::from_secs(1)
+                {
+                    std::thread::sleep(Duration::from_micros(50));
+                }
                 std::thread::sleep(Duration::from_micros(50));
                 active.fetch_sub(1, Ordering::SeqCst);
             }
@@ -779,7 +823,7 @@ mod tests {
     }
 
     #[test]
-    fn concurrent_solves_are_serialised() {
+    fn concurrent_mumps_solves_are_serialised() {
         let active = Arc::new(AtomicUsize::new(0));
         let max_active = Arc::new(AtomicUsize::new(0));
         let threads: Vec<_> = (0..4)
@@ -790,9 +834,17 @@ mod tests {
                         fault: Fault::None,
                         active: Some(active),
                         max_active: Some(max_active),
+                        meet: false,
                     };
                     (0..5)
-                        .map(|_| solve(&mut problem, &Options::new()).unwrap().objective)
+                        .map(|_| {
+                            solve(
+                                &mut problem,
+                                &Options::new().linear_solver(LinearSolver::Mumps),
+                            )
+                            .unwrap()
+                            .objective
+                        })
                         .collect::<Vec<_>>()
                 })
             })
@@ -803,5 +855,38 @@ mod tests {
             }
         }
         assert_eq!(max_active.load(Ordering::SeqCst), 1);
+    }
+
+    #[test]
+    fn ldl_solves_on_two_threads_run_at_once_and_match_one_after_the_other() {
+        let options = Options::new().linear_solver(LinearSolver::Ldl);
+        let sequential: Vec<Solution> = (0..2)
+            .map(|_| solve(&mut Faulty::new(Fault::None), &options).unwrap())
+            .collect();
+        let active = Arc::new(AtomicUsize::new(0));
+        let max_active = Arc::new(AtomicUsize::new(0));
+        let threads: Vec<_> = (0..2)
+            .map(|_| {
+                let (active, max_active) = (Arc::clone(&active), Arc::clone(&max_active));
+                let options = options.clone();
+                std::thread::spawn(move || {
+                    let mut problem = Faulty {
+                        fault: Fault::None,
+                        active: Some(active),
+                        max_active: Some(max_active),
+                        meet: true,
+                    };
+                    solve(&mut problem, &options).unwrap()
+                })
+            })
+            .collect();
+        for (thread, alone) in threads.into_iter().zip(&sequential) {
+            let together = thread.join().unwrap();
+            assert_eq!(together.x, alone.x);
+            assert_eq!(together.lambda, alone.lambda);
+            assert_eq!(together.iterations, alone.iterations);
+        }
+        // Each callback waits up to a second for the other thread to be inside one too.
+        assert_eq!(max_active.load(Ordering::SeqCst), 2);
     }
 }

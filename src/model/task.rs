@@ -5,6 +5,7 @@
 //! transmission's structure with its design space, the limit modes and the solver settings.
 //! Units are SI throughout: m, kg, s, rad, N m. Frames: the world is the URDF's root link.
 
+use crate::ipopt::LinearSolver;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::fmt;
@@ -173,10 +174,20 @@ pub struct SolverSettings {
     pub tol: f64,
     /// `max_iter`.
     pub max_iter: u32,
+    /// The linear solver, `"ldl"` or `"mumps"`; absent: [`LinearSolver::default`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub linear_solver: Option<LinearSolver>,
     /// Further IPOPT options by name: JSON integers set integer options, other numbers real
     /// options, strings string options (e.g. `"mumps_pivot_order": 6`).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub options: BTreeMap<String, serde_json::Value>,
+}
+
+impl SolverSettings {
+    /// The linear solver of the task's solves: the one named, else the default.
+    pub fn linear_solver(&self) -> LinearSolver {
+        self.linear_solver.unwrap_or_default()
+    }
 }
 
 /// A task file that could not be read or does not make sense; names the file and the field.
@@ -293,6 +304,12 @@ impl Task {
             return Err(format!("solver.tol = {} must be > 0", self.solver.tol));
         }
         for (name, value) in &self.solver.options {
+            if name == "linear_solver" {
+                return Err(
+                    "solver.options.linear_solver: choose the linear solver with solver.linear_solver (\"ldl\" or \"mumps\")"
+                        .to_owned(),
+                );
+            }
             let valid = value.as_i64().is_some_and(|v| i32::try_from(v).is_ok())
                 || value.as_f64().is_some_and(f64::is_finite)
                 || value.is_string();

@@ -7,6 +7,7 @@ use crate::design::capacity::{Capacity, CapacitySettings};
 use crate::design::evaluate::Objective;
 use crate::design::gradient::GradientIterate;
 use crate::design::optimize::GenerationSummary;
+use crate::ipopt::LinearSolver;
 use crate::model::task::{LimitModes, Task};
 use crate::problem::Space;
 use crate::solver::TrajectoryResult;
@@ -34,8 +35,11 @@ pub struct OptimizeInputs {
     pub objective: Objective,
     /// The task file as given.
     pub task_file: String,
-    /// The task with every override applied.
+    /// The task with every override applied, its linear solver aside.
     pub task: Task,
+    /// The linear solver of the inner solves (runs logged before it was recorded used MUMPS).
+    #[serde(default = "LinearSolver::before_ldl")]
+    pub linear_solver: LinearSolver,
     /// Joint or actuation space.
     pub space: Space,
     /// Payload, kg.

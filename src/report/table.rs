@@ -3,6 +3,7 @@
 use super::codesign::{CapacityDocument, Method, OptimizeDocument};
 use super::trajectory::{SolveDocument, ToolInfo};
 use crate::design::evaluate::Objective;
+use crate::ipopt::LinearSolver;
 use crate::model::task::Motors;
 use crate::problem::Space;
 use serde::{Deserialize, Serialize};
@@ -147,6 +148,9 @@ pub struct TableRow {
 pub struct PaperTable {
     /// Program and solver versions.
     pub tool: ToolInfo,
+    /// The linear solvers the result files were solved with, each once.
+    #[serde(default)]
+    pub linear_solvers: Vec<LinearSolver>,
     /// Rows by payload, then joint before actuation.
     pub rows: Vec<TableRow>,
     /// Notes shown above the table (e.g. a reduced run).
@@ -339,8 +343,10 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
     };
     let (solves, solve_seconds) = totals(true);
     let (capacity_evaluations, capacity_seconds) = totals(false);
+    let linear_solvers = linear_solvers(files);
     PaperTable {
-        tool: ToolInfo::current(),
+        tool: ToolInfo::current(linear_solvers.first().copied().unwrap_or_default()),
+        linear_solvers,
         rows,
         notes,
         solves,
@@ -348,6 +354,21 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
         capacity_evaluations,
         capacity_seconds,
     }
+}
+
+/// The linear solvers of the files, each once, in a fixed order.
+fn linear_solvers(files: &[ResultFile]) -> Vec<LinearSolver> {
+    let mut solvers: Vec<LinearSolver> = files
+        .iter()
+        .map(|file| match file {
+            ResultFile::Solve(d) => d.tool.linear_solver,
+            ResultFile::Optimize(d) => d.tool.linear_solver,
+            ResultFile::Capacity(d) => d.tool.linear_solver,
+        })
+        .collect();
+    solvers.sort_by_key(|solver| solver.name());
+    solvers.dedup();
+    solvers
 }
 
 fn ratios_text(ratios: &[f64]) -> String {
@@ -378,15 +399,33 @@ fn design_text(cell: &DesignCell) -> String {
     }
 }
 
+/// "linear solver ldl", or the list when result files of several are merged.
+fn linear_solvers_text(solvers: &[LinearSolver]) -> String {
+    let names: Vec<&str> = solvers.iter().map(|solver| solver.name()).collect();
+    match names.len() {
+        0 | 1 => format!(
+            "linear solver {}",
+            names
+                .first()
+                .copied()
+                .unwrap_or(LinearSolver::default().name())
+        ),
+        _ => format!("linear solvers {}, mixed", names.join(", ")),
+    }
+}
+
 impl PaperTable {
     /// The table as Markdown.
     pub fn to_markdown(&self) -> String {
         let mut text = String::from("# Table II reproduced: gear ratios and cost per payload\n\n");
         text.push_str(&format!(
-            "Made by {} {} with IPOPT {}. Our arm, task and horizon differ from the paper's \
+            "Made by {} {} with IPOPT {} ({}). Our arm, task and horizon differ from the paper's \
              (`SPEC.md` sections 1 and 3), so our costs differ from the paper's: compare the trends, not the digits. \
              \"after\" is the best design over the seeds of CMA-ES.\n\n",
-            self.tool.name, self.tool.version, self.tool.ipopt_version
+            self.tool.name,
+            self.tool.version,
+            self.tool.ipopt_version,
+            linear_solvers_text(&self.linear_solvers)
         ));
         for note in &self.notes {
             text.push_str(&format!("> {note}\n\n"));

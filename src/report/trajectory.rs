@@ -1,6 +1,7 @@
 //! The result file and plots of one trajectory solve (`codesign solve`).
 
 use super::plots::{Chart, Figure, Guide, Series};
+use crate::ipopt::LinearSolver;
 use crate::model::task::{LimitModes, Task};
 use crate::problem::{Formulation, Space};
 use crate::solver::TrajectoryResult;
@@ -17,15 +18,20 @@ pub struct ToolInfo {
     pub version: String,
     /// The IPOPT version linked.
     pub ipopt_version: String,
+    /// The linear solver IPOPT factorised with. Files written before it was recorded were all
+    /// solved with MUMPS.
+    #[serde(default = "LinearSolver::before_ldl")]
+    pub linear_solver: LinearSolver,
 }
 
 impl ToolInfo {
-    /// This binary.
-    pub fn current() -> ToolInfo {
+    /// This binary, solving with `linear_solver`.
+    pub fn current(linear_solver: LinearSolver) -> ToolInfo {
         ToolInfo {
             name: env!("CARGO_PKG_NAME").to_owned(),
             version: env!("CARGO_PKG_VERSION").to_owned(),
             ipopt_version: crate::ipopt::IPOPT_VERSION.to_owned(),
+            linear_solver,
         }
     }
 }
@@ -69,7 +75,7 @@ impl SolveDocument {
     ) -> SolveDocument {
         let task = formulation.task();
         SolveDocument {
-            tool: ToolInfo::current(),
+            tool: ToolInfo::current(task.solver.linear_solver()),
             inputs: SolveInputs {
                 task_file: task_file.to_owned(),
                 space: formulation.space(),

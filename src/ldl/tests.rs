@@ -1,0 +1,233 @@
+//! The LDLᵀ against dense references: inertia from the eigenvalues, solutions from nalgebra's LU.
+
+use super::*;
+use crate::design::rng::DesignRng;
+use nalgebra::DMatrix;
+
+/// Uniform random numbers in a range, from the project's seeded stream.
+struct Random(DesignRng);
+
+impl Random {
+    fn new(seed: u64) -> Random {
+        Random(DesignRng::new(seed))
+    }
+
+    fn real(&mut self, range: std::ops::Range<f64>) -> f64 {
+        range.start + (range.end - range.start) * self.0.uniform()
+    }
+
+    fn index(&mut self, range: std::ops::Range<usize>) -> usize {
+        range.start + ((range.end - range.start) as f64 * self.0.uniform()) as usize
+    }
+}
+
+/// A symmetric matrix as IPOPT hands it over: upper triangle, 1-based compressed rows, every
+/// diagonal present.
+struct Upper {
+    ia: Vec<i32>,
+    ja: Vec<i32>,
+    a: Vec<f64>,
+}
+
+impl Upper {
+    fn from_dense(m: &DMatrix<f64>) -> Upper {
+        let n = m.nrows();
+        let (mut ia, mut ja, mut a) = (vec![1], Vec::new(), Vec::new());
+        for i in 0..n {
+            for j in i..n {
+                if j == i || m[(i, j)] != 0.0 {
+                    ja.push(j as i32 + 1);
+                    a.push(m[(i, j)]);
+                }
+            }
+            ia.push(ja.len() as i32 + 1);
+        }
+        Upper { ia, ja, a }
+    }
+
+    fn csr(&self) -> UpperCsr<'_> {
+        UpperCsr {
+            ia: &self.ia,
+            ja: &self.ja,
+        }
+    }
+}
+
+/// A KKT matrix [[W, Jᵀ], [J, -δ I]] with sparse random W (n x n, indefinite when `convex` is
+/// false) and J (m x n, full row rank almost surely).
+fn kkt(rng: &mut Random, n: usize, m: usize, convex: bool, delta: f64) -> DMatrix<f64> {
+    let mut k = DMatrix::zeros(n + m, n + m);
+    for i in 0..n {
+        k[(i, i)] = if convex {
+            rng.real(0.5..4.0)
+        } else {
+            rng.real(-2.0..4.0)
+        };
+        for _ in 0..2 {
+            let j = rng.index(0..n);
+            if j != i {
+                let v = rng.real(-1.0..1.0);
+                k[(i, j)] = v;
+                k[(j, i)] = v;
+            }
+        }
+    }
+    for c in 0..m {
+        // Each constraint couples a few neighbouring variables, as a transcription does.
+        let base = (c * n) / m;
+        for offset in 0..3 {
+            let j = (base + offset) % n;
+            let v = rng.real(0.5..2.0) * if offset % 2 == 0 { 1.0 } else { -1.0 };
+            k[(n + c, j)] = v;
+            k[(j, n + c)] = v;
+        }
+        k[(n + c, n + c)] = -delta;
+    }
+    k
+}
+
+fn dense_inertia(m: &DMatrix<f64>) -> Inertia {
+    let eigenvalues = m.clone().symmetric_eigen().eigenvalues;
+    let positive = eigenvalues.iter().filter(|&&e| e > 0.0).count();
+    Inertia {
+        positive,
+        negative: eigenvalues.len() - positive,
+    }
+}
+
+fn factorise(m: &DMatrix<f64>) -> (Symbolic, Numeric, Result<Inertia, LdlError>) {
+    let upper = Upper::from_dense(m);
+    let symbolic = Symbolic::analyse(m.nrows(), upper.csr(), &upper.a).expect("a valid structure");
+    let mut numeric = Numeric::new(&symbolic);
+    let inertia = numeric.factorise(&symbolic, &upper.a);
+    (symbolic, numeric, inertia)
+}
+
+/// Relative residual ||A x - b|| / (||A|| ||x|| + ||b||) of the LDLᵀ's solutions of two
+/// right-hand sides solved together.
+fn residual(m: &DMatrix<f64>, symbolic: &Symbolic, numeric: &mut Numeric, seed: u64) -> f64 {
+    let n = m.nrows();
+    let mut rng = Random::new(seed);
+    let b = DMatrix::from_fn(n, 2, |_, _| rng.real(-1.0..1.0));
+    let mut x = b.as_slice().to_vec();
+    numeric.solve_in_place(symbolic, &mut x);
+    let x = DMatrix::from_column_slice(n, 2, &x);
+    (m * &x - &b).norm() / (m.norm() * x.norm() + b.norm())
+}
+
+#[test]
+fn kkt_matrices_give_the_dense_inertia_and_solution() {
+    let mut rng = Random::new(7);
+    for case in 0..40 {
+        let (n, m) = (rng.index(5..60), rng.index(1..5));
+        let m = (m * n / 6).clamp(1, n - 1);
+        let convex = case % 2 == 0;
+        let delta = if case % 3 == 0 { 1e-8 } else { 0.0 };
+        let matrix = kkt(&mut rng, n, m, convex, delta);
+        let (symbolic, mut numeric, inertia) = factorise(&matrix);
+        let inertia = inertia.expect("a regular KKT matrix factorises");
+        assert_eq!(inertia, dense_inertia(&matrix), "case {case}");
+        let error = residual(&matrix, &symbolic, &mut numeric, case);
+        assert!(error < 1e-12, "case {case}: residual {error:e}");
+    }
+}
+
+#[test]
+fn random_sparse_symmetric_matrices_agree_with_the_dense_reference() {
+    let mut rng = Random::new(11);
+    for case in 0..40 {
+        let n = rng.index(1..50);
+        let mut matrix = DMatrix::zeros(n, n);
+        for i in 0..n {
+            matrix[(i, i)] = rng.real(-3.0..3.0);
+            for _ in 0..3 {
+                let j = rng.index(0..n);
+                let v = rng.real(-1.0..1.0);
+                matrix[(i, j)] = v;
+                matrix[(j, i)] = v;
+            }
+        }
+        let (symbolic, mut numeric, inertia) = factorise(&matrix);
+        match inertia {
+            Ok(inertia) => {
+                assert_eq!(inertia, dense_inertia(&matrix), "case {case}");
+                let error = residual(&matrix, &symbolic, &mut numeric, case);
+                // Without pivoting a random indefinite matrix can lose a few digits.
+                assert!(error < 1e-9, "case {case}: residual {error:e}");
+            }
+            Err(error) => {
+                // Only a (nearly) singular matrix may be refused.
+                let smallest = matrix
+                    .clone()
+                    .symmetric_eigen()
+                    .eigenvalues
+                    .iter()
+                    .fold(f64::INFINITY, |acc, e| acc.min(e.abs()));
+                assert!(smallest < 1e-6 * matrix.norm(), "case {case}: {error}");
+            }
+        }
+    }
+}
+
+#[test]
+fn singular_matrices_are_reported_as_singular() {
+    let mut rng = Random::new(3);
+    // A zero row and column.
+    let mut matrix = kkt(&mut rng, 12, 4, true, 0.0);
+    for j in 0..16 {
+        matrix[(5, j)] = 0.0;
+        matrix[(j, 5)] = 0.0;
+    }
+    assert!(matches!(
+        factorise(&matrix).2,
+        Err(LdlError::Singular { .. })
+    ));
+    // Two equal constraint rows: J without full row rank.
+    let mut matrix = kkt(&mut rng, 12, 4, true, 0.0);
+    for j in 0..12 {
+        matrix[(13, j)] = matrix[(12, j)];
+        matrix[(j, 13)] = matrix[(j, 12)];
+    }
+    assert!(matches!(
+        factorise(&matrix).2,
+        Err(LdlError::Singular { .. })
+    ));
+    // A NaN is never factorised.
+    let mut matrix = kkt(&mut rng, 12, 4, true, 0.0);
+    matrix[(3, 3)] = f64::NAN;
+    assert!(factorise(&matrix).2.is_err());
+}
+
+#[test]
+fn a_second_factorisation_of_the_same_structure_reuses_the_analysis() {
+    let mut rng = Random::new(5);
+    let first = kkt(&mut rng, 30, 10, false, 0.0);
+    let (symbolic, mut numeric, _) = factorise(&first);
+    // New values on the same pattern (a different diagonal shift, as IPOPT's inertia correction).
+    let mut second = first.clone();
+    for i in 0..30 {
+        second[(i, i)] += 5.0;
+    }
+    let upper = Upper::from_dense(&second);
+    let inertia = numeric.factorise(&symbolic, &upper.a).unwrap();
+    assert_eq!(inertia, dense_inertia(&second));
+    assert!(residual(&second, &symbolic, &mut numeric, 1) < 1e-12);
+}
+
+#[test]
+fn malformed_structures_are_refused() {
+    let bad = [
+        (vec![1, 2], vec![1], 2),       // too few row starts
+        (vec![1, 2, 3], vec![2, 1], 2), // an entry below the diagonal
+        (vec![1, 2, 3], vec![1, 3], 2), // a column beyond n
+        (vec![0, 1, 2], vec![1, 2], 2), // 0-based row starts
+    ];
+    for (ia, ja, n) in bad {
+        let values = vec![1.0; ja.len()];
+        let result = Symbolic::analyse(n, UpperCsr { ia: &ia, ja: &ja }, &values);
+        assert!(
+            matches!(result, Err(LdlError::Structure(_))),
+            "{ia:?} {ja:?}"
+        );
+    }
+}
