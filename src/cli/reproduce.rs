@@ -1,4 +1,4 @@
-//! `codesign reproduce`: the paper's experiment (SPEC section 5) end to end.
+//! `codesign reproduce`: the paper's experiment (docs/model.md, section 13) end to end.
 
 use super::common::{ModelArgs, ProblemArgs};
 use super::optimize::{run_case, Args as OptimizeArgs, ObjectiveKind, LOG_EXTENSION};
@@ -51,7 +51,7 @@ pub struct Args {
     overwrite: bool,
 }
 
-/// Payloads of the experiment, kg, and those that are co-designed (SPEC section 5).
+/// Payloads of the experiment, kg, and those that are co-designed (docs/model.md, section 13).
 const PAYLOADS: [f64; 3] = [0.0, 1.0, 3.0];
 const CODESIGNED: [f64; 2] = [1.0, 3.0];
 const SPACES: [Space; 2] = [Space::Joint, Space::Actuation];

@@ -1,4 +1,4 @@
-//! Checks of URDF loading: the belt arm as SPEC.md describes it, fixed-joint merging, and the
+//! Checks of URDF loading: the belt arm of robots/README.md, fixed-joint merging, and the
 //! errors for malformed descriptions, each naming the element at fault.
 
 use super::chain::MassProperties;
