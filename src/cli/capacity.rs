@@ -77,7 +77,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     if let Some(path) = &args.out {
         let document = CapacityDocument {
             tool: ToolInfo::current(),
-            task_file: args.model.task.display().to_string(),
+            task_file: args.model.source().label(),
             space: args.problem.space,
             ratios: ratios.clone(),
             limit_modes: modes,

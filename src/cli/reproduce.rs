@@ -1,6 +1,6 @@
 //! `codesign reproduce`: the paper's experiment (docs/model.md, section 13) end to end.
 
-use super::common::{ModelArgs, ProblemArgs};
+use super::common::{task_source, ModelArgs, ProblemArgs};
 use super::optimize::{run_case, Args as OptimizeArgs, ObjectiveKind, LOG_EXTENSION};
 use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::model::task::Task;
@@ -36,9 +36,9 @@ pub struct Args {
     /// Output folder; default results/ (results/quick/ with --quick).
     #[arg(long, value_name = "DIR")]
     out_dir: Option<PathBuf>,
-    /// Task file.
-    #[arg(long, value_name = "FILE", default_value = super::common::DEFAULT_TASK)]
-    task: PathBuf,
+    /// Task file [default: the built-in task, which `codesign task` prints].
+    #[arg(long, value_name = "FILE")]
+    task: Option<PathBuf>,
     /// Worker processes (default: one per core).
     #[arg(long, value_name = "N")]
     workers: Option<usize>,
@@ -121,7 +121,9 @@ pub fn run(args: &Args) -> Result<(), String> {
     for folder in ["original", "runs", "plots", "capacity"] {
         create_folder(&out_dir.join(folder))?;
     }
-    let task = Task::load(&args.task).map_err(|e| e.to_string())?;
+    let task = task_source(args.task.as_ref())
+        .load()
+        .map_err(|e| e.to_string())?;
     let mut files = Vec::new();
 
     for payload in PAYLOADS {
@@ -142,8 +144,11 @@ pub fn run(args: &Args) -> Result<(), String> {
                 &formulation,
                 &result,
             )?;
-            let document =
-                SolveDocument::new(&args.task.display().to_string(), &formulation, result);
+            let document = SolveDocument::new(
+                &task_source(args.task.as_ref()).label(),
+                &formulation,
+                result,
+            );
             write_json(
                 &out_dir.join("original").join(format!("{name}.json")),
                 &document,
@@ -395,7 +400,7 @@ fn beyond_the_paper(
         say!("payload capacity, {name}: {:?} kg", capacity.capacity_kg);
         let document = CapacityDocument {
             tool: ToolInfo::current(),
-            task_file: args.task.display().to_string(),
+            task_file: task_source(args.task.as_ref()).label(),
             space,
             ratios,
             limit_modes: task.limit_modes,
