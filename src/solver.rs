@@ -151,7 +151,7 @@ pub fn ipopt_options(formulation: &Formulation, settings: &SolveSettings) -> Opt
     options
 }
 
-/// Solves the trajectory problem of design `ratios` from the SPEC's initial guess.
+/// Solves the trajectory problem of design `ratios` from the standard initial guess.
 pub fn solve_design(
     formulation: &Formulation,
     ratios: &[f64],
@@ -161,7 +161,7 @@ pub fn solve_design(
 }
 
 /// Solves the trajectory problem of design `ratios`, warm-started from `warm` (the raw solution
-/// of a nearby design of the same formulation) when given, else from the SPEC's initial guess.
+/// of a nearby design of the same formulation) when given, else from the standard initial guess.
 /// Returns the result and the raw solution, to warm-start the next design from.
 pub fn solve_design_from(
     formulation: &Formulation,

@@ -1,5 +1,5 @@
-//! The transmission G(r) (SPEC section 2): motor angles q_u = G(r) q, motor speeds qd_u = G(r) qd,
-//! joint torques tau = G(r)^T tau_u, with G affine in the design ratios r.
+//! The transmission G(r) (docs/model.md, sections 3 to 5): motor angles q_u = G(r) q, motor
+//! speeds qd_u = G(r) qd, joint torques tau = G(r)^T tau_u, with G affine in the design ratios r.
 //!
 //! The structure of G and the design space come from the task file's `transmission` section;
 //! nothing about the belt arm is hard-coded here. Units: ratios are dimensionless, torques N m,

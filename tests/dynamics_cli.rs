@@ -1,4 +1,4 @@
-//! End to end: `codesign dynamics` on one sample of `../shared/testdata/dynamics_vectors.json`
+//! End to end: `codesign dynamics` on one sample of `tests/data/dynamics_vectors.json`
 //! prints an object with exactly the sample's keys and values (to 1e-9 of each field's scale), and
 //! refuses bad input with a message naming the flag.
 
@@ -38,9 +38,8 @@ fn numbers(value: &Value, out: &mut Vec<f64>) {
 
 #[test]
 fn prints_a_reference_sample() {
-    let path = root().join("../shared/testdata/dynamics_vectors.json");
-    let text = std::fs::read_to_string(&path)
-        .unwrap_or_else(|e| panic!("{} (beside the repository): {e}", path.display()));
+    let path = root().join("tests/data/dynamics_vectors.json");
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let vectors: Value = serde_json::from_str(&text).unwrap();
     let case = &vectors["cases"][1];
     let sample: &Map<String, Value> = case["samples"][3].as_object().unwrap();

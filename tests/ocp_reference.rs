@@ -1,4 +1,4 @@
-//! The trajectory problems of `../shared/testdata/ocp_reference.json` (an independent CasADi +
+//! The trajectory problems of `tests/data/ocp_reference.json` (an independent CasADi +
 //! IPOPT 3.14 implementation) reproduce their optimal cost to 1e-6 relative, with either linear
 //! solver inside IPOPT.
 
@@ -12,8 +12,8 @@ use std::path::Path;
 #[test]
 fn reference_costs_are_reproduced() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(root.join("../shared/testdata/ocp_reference.json"))
-        .expect("../shared/testdata/ocp_reference.json beside the repository");
+    let text = std::fs::read_to_string(root.join("tests/data/ocp_reference.json"))
+        .expect("tests/data/ocp_reference.json");
     let reference: serde_json::Value = serde_json::from_str(&text).unwrap();
     let mut task = Task::load(&root.join("robots/tasks/pick_place.json")).unwrap();
     let cases = reference["cases"].as_array().unwrap();

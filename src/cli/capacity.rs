@@ -78,7 +78,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     if let Some(path) = &args.out {
         let document = CapacityDocument {
             tool: ToolInfo::current(task.solver.linear_solver()),
-            task_file: args.model.task.display().to_string(),
+            task_file: args.model.source().label(),
             space: args.problem.space,
             ratios: ratios.clone(),
             limit_modes: modes,

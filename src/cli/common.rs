@@ -1,21 +1,20 @@
 //! Flags shared by the commands that load a task and a robot.
 
 use crate::ipopt::LinearSolver;
-use crate::model::task::{LimitMode, LimitModes, Task};
+use crate::model::task::{LimitMode, LimitModes, Task, TaskSource};
 use crate::model::Robot;
 use crate::problem::Space;
 use std::path::PathBuf;
 
-/// The default task file, relative to the working directory (the repository root).
-pub const DEFAULT_TASK: &str = "robots/tasks/pick_place.json";
-
 /// Where the task and robot come from, and the payload.
 #[derive(Debug, Clone, clap::Args)]
 pub struct ModelArgs {
-    /// Task file (JSON): motion, weights, box, motors, transmission, limit modes, solver.
-    #[arg(long, value_name = "FILE", default_value = DEFAULT_TASK)]
-    pub task: PathBuf,
-    /// URDF of the robot; overrides the task's `robot`.
+    /// Task file (JSON): motion, weights, box, motors, transmission, limit modes, solver
+    /// [default: the built-in task, which `codesign task` prints].
+    #[arg(long, value_name = "FILE")]
+    pub task: Option<PathBuf>,
+    /// URDF of the robot; overrides the task's `robot` [default: the task's, or the built-in
+    /// robot for the built-in task].
     #[arg(long, value_name = "URDF")]
     pub robot: Option<PathBuf>,
     /// Payload at the task's payload point, kg; overrides the task's `payload.mass_kg`.
@@ -23,12 +22,22 @@ pub struct ModelArgs {
     pub payload: Option<f64>,
 }
 
+/// The task `--task` names, or the built-in one.
+pub fn task_source(task: Option<&PathBuf>) -> TaskSource {
+    task.map_or(TaskSource::BuiltIn, |path| TaskSource::File(path.clone()))
+}
+
 impl ModelArgs {
+    /// Where the task comes from.
+    pub fn source(&self) -> TaskSource {
+        task_source(self.task.as_ref())
+    }
+
     /// Loads the task (with the overrides applied) and the robot carrying the payload.
     pub fn load(&self) -> Result<(Task, Robot), String> {
-        let mut task = Task::load(&self.task).map_err(|e| e.to_string())?;
+        let mut task = self.source().load().map_err(|e| e.to_string())?;
         if let Some(robot) = &self.robot {
-            task.robot = robot.clone();
+            task.robot = Some(robot.clone());
         }
         if let Some(payload) = self.payload {
             if !(payload.is_finite() && payload >= 0.0) {
@@ -38,7 +47,12 @@ impl ModelArgs {
             }
             task.payload.mass_kg = payload;
         }
-        let robot = Robot::load(&task).map_err(|e| e.to_string())?;
+        let robot = Robot::load(&task).map_err(|e| match (&self.robot, self.source()) {
+            (None, source @ TaskSource::File(_)) => format!(
+                "{e} (the `robot` of {source}, relative to its folder; see `codesign task --help`)"
+            ),
+            _ => e.to_string(),
+        })?;
         Ok((task, robot))
     }
 }

@@ -1,29 +1,17 @@
 //! `codesign dynamics`: every dynamics quantity of the robot at one state, as one JSON object with
 //! the keys of a sample of `dynamics_vectors.json`.
 
+use super::common::ModelArgs;
 use crate::dynamics::Dynamics;
-use crate::model::task::Task;
-use crate::model::Robot;
 use nalgebra::DMatrix;
 use serde::Serialize;
-use std::path::PathBuf;
 
 /// Flags of `codesign dynamics`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Task file (JSON) giving the URDF, gravity, tool point and payload point.
-    #[arg(
-        long,
-        value_name = "FILE",
-        default_value = "robots/tasks/pick_place.json"
-    )]
-    task: PathBuf,
-    /// URDF of the robot; overrides the task's `robot`.
-    #[arg(long, value_name = "URDF")]
-    robot: Option<PathBuf>,
-    /// Payload at the task's payload point, kg [default: the task's payload.mass_kg].
-    #[arg(long, value_name = "KG", allow_negative_numbers = true)]
-    payload: Option<f64>,
+    /// The task (URDF, gravity, tool point, payload point), the robot and the payload.
+    #[command(flatten)]
+    model: ModelArgs,
     /// Joint positions, rad, one per joint, comma-separated.
     #[arg(
         long,
@@ -83,19 +71,7 @@ struct Output {
 
 /// Loads the robot, evaluates everything at the given state and prints it as JSON on stdout.
 pub fn run(args: &Args) -> Result<(), String> {
-    let mut task = Task::load(&args.task).map_err(|e| e.to_string())?;
-    if let Some(robot) = &args.robot {
-        task.robot = robot.clone();
-    }
-    if let Some(payload) = args.payload {
-        if !(payload.is_finite() && payload >= 0.0) {
-            return Err(format!(
-                "--payload {payload}: the payload must be a finite mass >= 0 kg"
-            ));
-        }
-        task.payload.mass_kg = payload;
-    }
-    let robot = Robot::load(&task).map_err(|e| e.to_string())?;
+    let (_, robot) = args.model.load()?;
     let n = robot.dof();
     let joints = robot.joint_names().join(", ");
     let state = |flag: &str, values: Option<&Vec<f64>>| -> Result<Vec<f64>, String> {

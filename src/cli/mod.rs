@@ -25,6 +25,7 @@ mod optimize;
 mod reproduce;
 mod solve;
 mod table;
+mod task;
 mod worker;
 
 use clap::{Parser, Subcommand};
@@ -54,6 +55,15 @@ enum Command {
     Reproduce(reproduce::Args),
     /// Rebuild the paper's table from result files of `solve`, `optimize` and `capacity`.
     Table(table::Args),
+    /// Print the built-in task (JSON), a starting point for one's own: `codesign task > my.json`.
+    ///
+    /// Every command uses the built-in task and robot unless given `--task FILE` (and
+    /// `--robot URDF`). The `robot` path in a task file is relative to the file's folder: the
+    /// printed task's `../belt_arm.urdf` names the repository's `robots/belt_arm.urdf` from
+    /// `robots/tasks/`. In a task of one's own, set `robot` to the path of a URDF relative to the
+    /// task file (e.g. `belt_arm.urdf` beside it, written by `codesign task --urdf >
+    /// belt_arm.urdf`), or remove the line to use the built-in robot, or pass `--robot URDF`.
+    Task(task::Args),
     /// Evaluate designs sent on stdin (the worker process of `optimize`; not for direct use).
     #[command(hide = true)]
     Worker,
@@ -71,6 +81,7 @@ pub fn main() -> ExitCode {
         Command::Capacity(args) => capacity::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Table(args) => table::run(&args),
+        Command::Task(args) => task::run(&args),
         Command::Worker => worker::run(),
     };
     match outcome {

@@ -128,8 +128,11 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
     let formulation =
         Formulation::new(&task, robot, args.problem.space, modes).map_err(|e| e.to_string())?;
     let mut worker_task = task.clone();
-    worker_task.robot = std::fs::canonicalize(&task.robot)
-        .map_err(|e| format!("robot {}: {e}", task.robot.display()))?;
+    if let Some(robot) = &task.robot {
+        worker_task.robot = Some(
+            std::fs::canonicalize(robot).map_err(|e| format!("robot {}: {e}", robot.display()))?,
+        );
+    }
     let objective = match args.objective {
         ObjectiveKind::Cost => Objective::Cost,
         ObjectiveKind::Capacity => {
@@ -167,7 +170,7 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
     let inputs = OptimizeInputs {
         method: args.method,
         objective,
-        task_file: args.model.task.display().to_string(),
+        task_file: args.model.source().label(),
         task: without_linear_solver(&task),
         linear_solver: task.solver.linear_solver(),
         space: args.problem.space,

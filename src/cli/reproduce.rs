@@ -1,6 +1,6 @@
-//! `codesign reproduce`: the paper's experiment (SPEC section 5) end to end.
+//! `codesign reproduce`: the paper's experiment (docs/model.md, section 13) end to end.
 
-use super::common::{ModelArgs, ProblemArgs};
+use super::common::{task_source, ModelArgs, ProblemArgs};
 use super::optimize::{run_case, Args as OptimizeArgs, ObjectiveKind, LOG_EXTENSION};
 use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::ipopt::LinearSolver;
@@ -37,9 +37,9 @@ pub struct Args {
     /// Output folder; default results/ (results/quick/ with --quick).
     #[arg(long, value_name = "DIR")]
     out_dir: Option<PathBuf>,
-    /// Task file.
-    #[arg(long, value_name = "FILE", default_value = super::common::DEFAULT_TASK)]
-    task: PathBuf,
+    /// Task file [default: the built-in task, which `codesign task` prints].
+    #[arg(long, value_name = "FILE")]
+    task: Option<PathBuf>,
     /// Worker processes (default: one per core).
     #[arg(long, value_name = "N")]
     workers: Option<usize>,
@@ -55,7 +55,7 @@ pub struct Args {
     overwrite: bool,
 }
 
-/// Payloads of the experiment, kg, and those that are co-designed (SPEC section 5).
+/// Payloads of the experiment, kg, and those that are co-designed (docs/model.md, section 13).
 const PAYLOADS: [f64; 3] = [0.0, 1.0, 3.0];
 const CODESIGNED: [f64; 2] = [1.0, 3.0];
 const SPACES: [Space; 2] = [Space::Joint, Space::Actuation];
@@ -126,7 +126,9 @@ pub fn run(args: &Args) -> Result<(), String> {
     for folder in ["original", "runs", "plots", "capacity"] {
         create_folder(&out_dir.join(folder))?;
     }
-    let mut task = Task::load(&args.task).map_err(|e| e.to_string())?;
+    let mut task = task_source(args.task.as_ref())
+        .load()
+        .map_err(|e| e.to_string())?;
     if let Some(solver) = args.linear_solver {
         task.solver.linear_solver = Some(solver);
     }
@@ -150,8 +152,11 @@ pub fn run(args: &Args) -> Result<(), String> {
                 &formulation,
                 &result,
             )?;
-            let document =
-                SolveDocument::new(&args.task.display().to_string(), &formulation, result);
+            let document = SolveDocument::new(
+                &task_source(args.task.as_ref()).label(),
+                &formulation,
+                result,
+            );
             write_json(
                 &out_dir.join("original").join(format!("{name}.json")),
                 &document,
@@ -403,7 +408,7 @@ fn beyond_the_paper(
         say!("payload capacity, {name}: {:?} kg", capacity.capacity_kg);
         let document = CapacityDocument {
             tool: ToolInfo::current(task.solver.linear_solver()),
-            task_file: args.task.display().to_string(),
+            task_file: task_source(args.task.as_ref()).label(),
             space,
             ratios,
             limit_modes: task.limit_modes,

@@ -82,8 +82,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         say!("plots written to {}", folder.display());
     }
     if let Some(path) = &args.out {
-        let document =
-            SolveDocument::new(&args.model.task.display().to_string(), &formulation, result);
+        let document = SolveDocument::new(&args.model.source().label(), &formulation, result);
         write_json(path, &document)?;
         say!("result written to {}", path.display());
     }

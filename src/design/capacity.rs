@@ -2,7 +2,7 @@
 //!
 //! The payload is bracketed by doubling from a first step, then bisected to the requested
 //! resolution; every solve after the first is warm-started from the solution of the largest
-//! feasible payload so far, and retried from the SPEC's initial guess when that fails (IPOPT's
+//! feasible payload so far, and retried from the standard initial guess when that fails (IPOPT's
 //! infeasibility verdicts are local). Feasibility is assumed to fall monotonically with the
 //! payload; the probes are all reported, so a user can see when it does not.
 
@@ -40,7 +40,7 @@ pub struct CapacityProbe {
     /// Wall time of the solve, s.
     pub seconds: f64,
     /// Whether the solve started from the last feasible payload's solution (else from the
-    /// SPEC's initial guess).
+    /// standard initial guess of docs/model.md, section 6).
     pub warm_start: bool,
 }
 
@@ -74,7 +74,7 @@ pub fn payload_capacity(
     }
     let mut probes = Vec::new();
     // IPOPT's verdict of infeasibility is local (the problem is not convex): a payload counts as
-    // infeasible only when neither the warm start nor the SPEC's initial guess leads to a
+    // infeasible only when neither the warm start nor the standard initial guess leads to a
     // feasible trajectory.
     let mut probe = |payload: f64, warm: Option<&Solution>| -> Result<Option<Solution>, String> {
         let mut loaded = task.clone();

@@ -1,5 +1,5 @@
-//! The fitness of one design: its optimal trajectory cost (SPEC section 4), or the negated
-//! payload capacity, or a penalty.
+//! The fitness of one design (docs/model.md, section 10): its optimal trajectory cost, or the
+//! negated payload capacity, or a penalty.
 
 use super::capacity::{payload_capacity, CapacitySettings};
 use crate::problem::Formulation;

@@ -30,7 +30,7 @@ pub struct GradientSettings {
     /// Stop when the projected gradient step is shorter than this, or an iteration lowers the
     /// cost by less than this fraction.
     pub tolerance: f64,
-    /// Candidate starting designs, each solved once from the SPEC's initial guess.
+    /// Candidate starting designs, each solved once from the standard initial guess.
     pub starts: Vec<Vec<f64>>,
     /// Further candidates, solved in order only while fewer than `descents` feasible ones are
     /// known (feasible designs can be rare: about 3% of the box at 3 kg in actuation space).
@@ -60,7 +60,7 @@ pub struct GradientOutcome {
     /// Its cost (`f64::INFINITY` if no start was feasible).
     pub best_cost: f64,
     /// The inner solution behind `best_cost`: warm-started solves can reach a lower local
-    /// optimum of the trajectory problem than a solve from the SPEC's initial guess, so the
+    /// optimum of the trajectory problem than a solve from the standard initial guess, so the
     /// best design's trajectory is recovered by warm-starting from this.
     pub best_solution: Option<Solution>,
     /// Accepted iterates of every start, in order.

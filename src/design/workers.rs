@@ -22,7 +22,7 @@ use std::time::{Duration, Instant};
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WorkerSetup {
     /// The task with every override applied (its robot path absolute or relative to the
-    /// worker's working directory, which is the parent's).
+    /// worker's working directory, which is the parent's; none for the built-in robot).
     pub task: Task,
     /// Joint or actuation space.
     pub space: Space,

@@ -1,4 +1,4 @@
-//! Checks of the dynamics: the reference vectors of `../shared/testdata/dynamics_vectors.json`
+//! Checks of the dynamics: the reference vectors of `tests/data/dynamics_vectors.json`
 //! (Pinocchio and an independent symbolic RNEA) for the belt arm, and central finite differences
 //! of this module's own functions for the belt arm and a random 6-joint chain with skew axes.
 
@@ -106,10 +106,8 @@ fn assert_field(context: &str, field: &str, got: &[Vec<f64>], want: &[Vec<f64>])
 }
 
 fn load_vectors() -> Vectors {
-    let path =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/testdata/dynamics_vectors.json");
-    let text = std::fs::read_to_string(&path)
-        .unwrap_or_else(|e| panic!("{} (beside the repository): {e}", path.display()));
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/dynamics_vectors.json");
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     serde_json::from_str(&text).unwrap()
 }
 

@@ -7,7 +7,7 @@ pub mod task;
 mod urdf;
 
 pub use error::ModelError;
-pub use robot::Robot;
+pub use robot::{Robot, BUILT_IN_URDF};
 
 #[cfg(test)]
 mod tests;

@@ -18,12 +18,21 @@ pub struct Robot {
     payload_kg: f64,
 }
 
+/// The built-in robot: the text of `robots/belt_arm.urdf`, compiled in.
+pub const BUILT_IN_URDF: &str = include_str!("../../robots/belt_arm.urdf");
+
+/// How errors name the built-in robot.
+const BUILT_IN_NAME: &str = "built-in robot (robots/belt_arm.urdf)";
+
 impl Robot {
-    /// Loads the URDF named by `task.robot` (already resolved to a path) with `task.gravity`,
-    /// `task.tcp` and `task.payload`.
+    /// Loads the URDF named by `task.robot` (already resolved to a path), or the built-in robot
+    /// when it names none, with `task.gravity`, `task.tcp` and `task.payload`.
     pub fn load(task: &Task) -> Result<Robot, ModelError> {
-        let file = task.robot.display().to_string();
-        let text = std::fs::read_to_string(&task.robot)
+        let Some(path) = &task.robot else {
+            return Robot::from_urdf_str(BUILT_IN_URDF, BUILT_IN_NAME, task);
+        };
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path)
             .map_err(|e| ModelError::new(&file, "file", format!("cannot read: {e}")))?;
         Robot::from_urdf_str(&text, &file, task)
     }

@@ -4,6 +4,9 @@
 //! and payload, the motion to make, the cost weights, the Cartesian box, the motors, the
 //! transmission's structure with its design space, the limit modes and the solver settings.
 //! Units are SI throughout: m, kg, s, rad, N m. Frames: the world is the URDF's root link.
+//!
+//! `robots/tasks/pick_place.json` is compiled into the binary as the built-in task
+//! ([`Task::built_in`]), so that every command works without files from any folder.
 
 use crate::ipopt::LinearSolver;
 use serde::{Deserialize, Serialize};
@@ -11,12 +14,16 @@ use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+/// The built-in task: the text of `robots/tasks/pick_place.json`, compiled in.
+pub const BUILT_IN_TASK: &str = include_str!("../../robots/tasks/pick_place.json");
+
 /// A whole task file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Task {
-    /// Path of the robot's URDF, relative to the task file's folder.
-    pub robot: PathBuf,
+    /// Path of the robot's URDF, relative to the task file's folder (resolved when loaded);
+    /// absent or null: the built-in robot, `robots/belt_arm.urdf` compiled in.
+    pub robot: Option<PathBuf>,
     /// Gravity in the world frame, m/s^2.
     pub gravity: [f64; 3],
     /// The tool centre point whose position the Cartesian box constrains.
@@ -190,38 +197,91 @@ impl SolverSettings {
     }
 }
 
-/// A task file that could not be read or does not make sense; names the file and the field.
+/// Where a task comes from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum TaskSource {
+    /// The built-in task, [`BUILT_IN_TASK`].
+    BuiltIn,
+    /// A task file.
+    File(PathBuf),
+}
+
+impl TaskSource {
+    /// The file's path, or `built-in`: how result files record where their task came from.
+    pub fn label(&self) -> String {
+        match self {
+            TaskSource::BuiltIn => "built-in".to_owned(),
+            TaskSource::File(path) => path.display().to_string(),
+        }
+    }
+
+    /// Loads the task from here: [`Task::built_in`] or [`Task::load`].
+    pub fn load(&self) -> Result<Task, TaskError> {
+        match self {
+            TaskSource::BuiltIn => Task::built_in(),
+            TaskSource::File(path) => Task::load(path),
+        }
+    }
+}
+
+impl fmt::Display for TaskSource {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            TaskSource::BuiltIn => write!(f, "built-in task"),
+            TaskSource::File(path) => write!(f, "task file {}", path.display()),
+        }
+    }
+}
+
+/// A task that could not be read or does not make sense; names its source and the field.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TaskError {
-    /// The file.
-    pub path: PathBuf,
+    /// The task file, or the built-in task.
+    pub source: TaskSource,
     /// What is wrong, naming the field.
     pub message: String,
 }
 
 impl fmt::Display for TaskError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "task file {}: {}", self.path.display(), self.message)
+        write!(f, "{}: {}", self.source, self.message)
     }
 }
 
 impl std::error::Error for TaskError {}
 
 impl Task {
-    /// Reads and checks a task file. The robot path is resolved against the file's folder.
+    /// Reads and checks a task file. A relative robot path is resolved against the file's folder.
     pub fn load(path: &Path) -> Result<Task, TaskError> {
-        let error = |message: String| TaskError {
-            path: path.to_owned(),
-            message,
-        };
-        let text = std::fs::read_to_string(path).map_err(|e| error(format!("cannot read: {e}")))?;
-        let mut task: Task = serde_json::from_str(&text).map_err(|e| error(e.to_string()))?;
-        task.validate().map_err(error)?;
-        if task.robot.is_relative() {
+        let source = TaskSource::File(path.to_owned());
+        let text = std::fs::read_to_string(path).map_err(|e| TaskError {
+            source: source.clone(),
+            message: format!("cannot read: {e}"),
+        })?;
+        let mut task = Task::from_json(&text, source)?;
+        if let Some(robot) = task.robot.as_mut().filter(|robot| robot.is_relative()) {
             let folder = path.parent().unwrap_or(Path::new("."));
-            task.robot = folder.join(&task.robot);
+            *robot = folder.join(&*robot);
         }
         Ok(task)
+    }
+
+    /// The built-in task, [`BUILT_IN_TASK`], with the built-in robot. Its `robot` path,
+    /// `../belt_arm.urdf` beside `robots/tasks/`, names the very URDF compiled in as the built-in
+    /// robot, so it is replaced by `None`.
+    pub fn built_in() -> Result<Task, TaskError> {
+        let mut task = Task::from_json(BUILT_IN_TASK, TaskSource::BuiltIn)?;
+        task.robot = None;
+        Ok(task)
+    }
+
+    /// Parses and checks the JSON `text` of a task from `source` (named in errors); the robot
+    /// path is left as written.
+    fn from_json(text: &str, source: TaskSource) -> Result<Task, TaskError> {
+        let parsed = serde_json::from_str::<Task>(text)
+            .map_err(|e| e.to_string())
+            .and_then(|task| task.validate().map(|()| task));
+        parsed.map_err(|message| TaskError { source, message })
     }
 
     /// Checks every number for sense; the message names the offending field.
@@ -344,10 +404,42 @@ mod tests {
         assert!((task.motion.start[1] - 0.6 * std::f64::consts::PI).abs() < 1e-15);
         assert_eq!(task.transmission.original, vec![6.0, 3.0, 1.0, 1.0]);
         assert_eq!(task.limit_modes.torque, LimitMode::Paper);
-        assert!(task.robot.ends_with("belt_arm.urdf"));
-        assert!(task
-            .robot
-            .starts_with(default_task_path().parent().unwrap()));
+        let robot = task.robot.unwrap();
+        assert!(robot.ends_with("belt_arm.urdf"));
+        assert!(robot.starts_with(default_task_path().parent().unwrap()));
+    }
+
+    #[test]
+    fn built_in_task_is_the_task_file_with_the_built_in_robot() {
+        let file = Task::load(&default_task_path()).unwrap();
+        let robot_file = file.robot.clone().unwrap();
+        let built_in = Task::built_in().unwrap();
+        assert_eq!(built_in.robot, None);
+        assert_eq!(
+            built_in,
+            Task {
+                robot: None,
+                ..file
+            }
+        );
+        let urdf = std::fs::read_to_string(robot_file).unwrap();
+        assert_eq!(urdf, crate::model::robot::BUILT_IN_URDF);
+    }
+
+    #[test]
+    fn errors_name_the_built_in_task_and_a_task_without_robot_means_the_built_in_one() {
+        let broken = BUILT_IN_TASK.replacen("\"steps\": 50", "\"steps\": 0", 1);
+        let message = Task::from_json(&broken, TaskSource::BuiltIn)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.starts_with("built-in task: motion.steps"),
+            "{message}"
+        );
+        let without = BUILT_IN_TASK.replacen("\"robot\": \"../belt_arm.urdf\",", "", 1);
+        assert_ne!(without, BUILT_IN_TASK);
+        let task = Task::from_json(&without, TaskSource::BuiltIn).unwrap();
+        assert_eq!(task.robot, None);
     }
 
     #[test]

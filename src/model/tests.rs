@@ -1,4 +1,4 @@
-//! Checks of URDF loading: the belt arm as SPEC.md describes it, fixed-joint merging, and the
+//! Checks of URDF loading: the belt arm of robots/README.md, fixed-joint merging, and the
 //! errors for malformed descriptions, each naming the element at fault.
 
 use super::chain::MassProperties;
@@ -219,8 +219,15 @@ fn unknown_task_links_and_unreadable_files_are_named() {
     task.payload.at.link = "gripper".into();
     let message = Robot::load(&task).unwrap_err().to_string();
     assert!(message.contains("task payload.at.link"), "{message}");
+    let mut task = Task::built_in().unwrap();
+    task.tcp.link = "link_9".into();
+    let message = Robot::load(&task).unwrap_err().to_string();
+    assert!(
+        message.starts_with("built-in robot (robots/belt_arm.urdf): task tcp.link"),
+        "{message}"
+    );
     let mut task = self::task();
-    task.robot = PathBuf::from("/nonexistent/arm.urdf");
+    task.robot = Some(PathBuf::from("/nonexistent/arm.urdf"));
     let message = Robot::load(&task).unwrap_err().to_string();
     assert!(
         message.starts_with("/nonexistent/arm.urdf: file: cannot read"),

@@ -1,4 +1,4 @@
-//! The trajectory problem (SPEC section 3) of one design, as a sparse NLP for IPOPT.
+//! The trajectory problem (docs/model.md, section 6) of one design, as a sparse NLP for IPOPT.
 //!
 //! A [`Formulation`] fixes everything but the design: task, robot and payload, space and limit
 //! modes, and with them the problem's shape and sparsity pattern, built once. Its

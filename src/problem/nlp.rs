@@ -419,8 +419,8 @@ impl Nlp for TrajectoryProblem<'_> {
         }
     }
 
-    /// SPEC 3: q linear from start to goal; v the mean speed at inner nodes, 0 at the ends;
-    /// u = 0; a = 0.
+    /// The standard initial guess (docs/model.md, section 6): q linear from start to goal; v the
+    /// mean speed at inner nodes, 0 at the ends; u = 0; a = 0.
     fn initial_point(&self, x: &mut [f64]) {
         let f = self.formulation;
         let (layout, motion) = (&f.layout, &f.task.motion);

@@ -43,7 +43,7 @@ pub fn read_result_file(path: &Path) -> Result<ResultFile, String> {
     parsed.map_err(|e| format!("{}: not a codesign {kind} result: {e}", path.display()))
 }
 
-/// What the paper reports for one row (SPEC section 5, from the paper's Table II).
+/// What the paper reports for one row (docs/model.md, section 13, from the paper's Table II).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PaperValues {
     /// Before co-design (original ratios 6, 3, 1, 1).
@@ -420,7 +420,7 @@ impl PaperTable {
         let mut text = String::from("# Table II reproduced: gear ratios and cost per payload\n\n");
         text.push_str(&format!(
             "Made by {} {} with IPOPT {} ({}). Our arm, task and horizon differ from the paper's \
-             (`SPEC.md` sections 1 and 3), so our costs differ from the paper's: compare the trends, not the digits. \
+             (`docs/model.md`, section 1), so our costs differ from the paper's: compare the trends, not the digits. \
              \"after\" is the best design over the seeds of CMA-ES.\n\n",
             self.tool.name,
             self.tool.version,
