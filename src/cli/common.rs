@@ -1,6 +1,6 @@
 //! Flags shared by the commands that load a task and a robot.
 
-use crate::model::task::{LimitMode, LimitModes, Task};
+use crate::model::task::{check_payload, LimitMode, LimitModes, Task};
 use crate::model::Robot;
 use crate::problem::Space;
 use std::path::PathBuf;
@@ -30,11 +30,7 @@ impl ModelArgs {
             task.robot = robot.clone();
         }
         if let Some(payload) = self.payload {
-            if !(payload.is_finite() && payload >= 0.0) {
-                return Err(format!(
-                    "--payload {payload}: the payload must be a finite mass >= 0 kg"
-                ));
-            }
+            check_payload(payload).map_err(|why| format!("--payload {payload}: {why}"))?;
             task.payload.mass_kg = payload;
         }
         let robot = Robot::load(&task).map_err(|e| e.to_string())?;
