@@ -45,6 +45,7 @@ mod common;
 mod doctor;
 mod dynamics;
 mod optimize;
+mod preflight;
 mod reproduce;
 mod solve;
 mod table;

@@ -1,9 +1,10 @@
 //! `codesign optimize`: co-design of one case (space, payload, seed) with CMA-ES.
 
 use super::common::{ModelArgs, ProblemArgs};
+use super::preflight::{check_evaluations, check_flags, probe_solver};
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
-use crate::design::evaluate::{Evaluation, Objective};
+use crate::design::evaluate::Objective;
 use crate::design::gradient::{
     default_starts, optimize_gradient, spread_designs, GradientIterate, GradientSettings,
 };
@@ -12,12 +13,11 @@ use crate::design::optimize::{optimize, GenerationSummary, Progress};
 use crate::design::workers::{Pool, WorkerSetup};
 use crate::ipopt::Solution;
 use crate::model::task::{LimitModes, Task};
-use crate::model::Robot;
 use crate::problem::Formulation;
 use crate::report::codesign::{Method, OptimizeDocument, OptimizeInputs};
 use crate::report::files::{check_output, write_json};
 use crate::report::trajectory::ToolInfo;
-use crate::solver::{solve_design, solve_design_from, SolveError, SolveSettings};
+use crate::solver::{solve_design, solve_design_from, SolveSettings};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -97,107 +97,6 @@ pub const LOG_EXTENSION: &str = "log.jsonl";
 /// The evaluation log beside a result file: `x.json` -> `x.log.jsonl`.
 pub fn log_path(out: &Path) -> PathBuf {
     out.with_extension(LOG_EXTENSION)
-}
-
-/// Most designs per CMA-ES generation: 100 times the paper's 100 (each is a solve, or about 10
-/// with `--objective capacity`).
-const MAX_POPULATION: usize = 10_000;
-
-/// Most CMA-ES generations: 1000 times the paper's 30 would take months at the paper's
-/// population; this bound only keeps sizes and the log's indices sane.
-const MAX_GENERATIONS: usize = 30_000;
-
-/// Checks the flags that need no task: every error names its flag, the limit and its reason.
-fn check_flags(args: &Args) -> Result<(), String> {
-    if !(5..=MAX_POPULATION).contains(&args.population) {
-        return Err(format!(
-            "--population {}: must be 5 to {MAX_POPULATION} (CMA-ES ranks at least 5 designs per generation; \
-             {MAX_POPULATION} is 100 times the paper's 100)",
-            args.population
-        ));
-    }
-    if args.generations > MAX_GENERATIONS {
-        return Err(format!(
-            "--generations {}: must be at most {MAX_GENERATIONS} (1000 times the paper's 30)",
-            args.generations
-        ));
-    }
-    if !(args.sigma.is_finite() && args.sigma > 0.0) {
-        return Err(format!("--sigma {}: must be a positive number", args.sigma));
-    }
-    if !args.penalty.is_finite() {
-        return Err(format!("--penalty {}: must be finite", args.penalty));
-    }
-    if !(args.solve_timeout.is_finite() && args.solve_timeout > 0.0) {
-        return Err(format!(
-            "--solve-timeout {}: must be a positive number of seconds",
-            args.solve_timeout
-        ));
-    }
-    if args.workers == Some(0) {
-        return Err("--workers 0: must be at least 1".to_owned());
-    }
-    match (args.method, args.objective) {
-        (Method::Gradient, ObjectiveKind::Capacity) => Err(
-            "--objective capacity: the capacity is not differentiable in r; use --method cmaes"
-                .to_owned(),
-        ),
-        (Method::Gradient, _) if args.resume => Err(
-            "--resume continues CMA-ES runs; a gradient run is short, start it again".to_owned(),
-        ),
-        (_, ObjectiveKind::Capacity)
-            if !(args.capacity_resolution.is_finite() && args.capacity_resolution > 0.0) =>
-        {
-            Err(format!(
-                "--capacity-resolution {}: must be a positive mass",
-                args.capacity_resolution
-            ))
-        }
-        _ => Ok(()),
-    }
-}
-
-/// Solves the original design once on a 2-interval copy of the problem, so that a solver
-/// option IPOPT rejects (the task file's `solver`) fails the run before its first generation,
-/// with IPOPT's complaint, instead of penalising every design.
-fn probe_solver(task: &Task, robot: &Robot, args: &Args, modes: LimitModes) -> Result<(), String> {
-    let mut small = task.clone();
-    small.motion.steps = 2;
-    let formulation = Formulation::new(&small, robot.clone(), args.problem.space, modes)
-        .map_err(|e| e.to_string())?;
-    match solve_design(
-        &formulation,
-        &small.transmission.original,
-        &SolveSettings::default(),
-    ) {
-        Err(SolveError::Ipopt(error)) => Err(format!(
-            "{} solver: {error} (checked by a solve of the original design before the run)",
-            args.model.task.display()
-        )),
-        _ => Ok(()),
-    }
-}
-
-/// Fails when no evaluation judged a design: every one failed for the same reason that is not
-/// the design's (a solver error, a crashed worker), so the run's result would mean nothing.
-fn check_evaluations(evaluations: &[Evaluation]) -> Result<(), String> {
-    let not_judged =
-        |e: &Evaluation| !e.feasible && (e.status == "Solver_Error" || e.status == "Worker_Failed");
-    match evaluations.first() {
-        Some(first)
-            if evaluations
-                .iter()
-                .all(|e| not_judged(e) && e.reason == first.reason) =>
-        {
-            Err(format!(
-                "every one of the {} evaluations failed alike ({}: {}); no design was judged",
-                evaluations.len(),
-                first.status,
-                first.reason.as_deref().unwrap_or("no reason given")
-            ))
-        }
-        _ => Ok(()),
-    }
 }
 
 /// Runs one co-design case and writes its document; returns it. A CMA-ES run holds its

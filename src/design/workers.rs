@@ -438,4 +438,28 @@ done"#;
         drop(pool);
         std::fs::remove_file(program).unwrap();
     }
+
+    /// A writer whose reader is gone (or whose disk is full).
+    struct Closed(std::io::ErrorKind);
+
+    impl Write for Closed {
+        fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
+            Err(self.0.into())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_worker_whose_parent_is_gone_ends_quietly() {
+        let input = format!(
+            "{}\n{{\"id\":0,\"ratios\":[1.0]}}\n",
+            serde_json::to_string(&setup()).unwrap()
+        );
+        let gone = serve(input.as_bytes(), Closed(std::io::ErrorKind::BrokenPipe));
+        assert_eq!(gone, Ok(()));
+        let full = serve(input.as_bytes(), Closed(std::io::ErrorKind::StorageFull));
+        assert!(full.unwrap_err().contains("cannot answer"));
+    }
 }
