@@ -249,3 +249,41 @@ fn a_failed_write_on_stdout_is_an_error() {
         .unwrap();
     fails_saying(&output, "cannot write the output on stdout");
 }
+
+#[test]
+fn errors_name_the_real_source_of_the_bad_value() {
+    let dir = scratch("source");
+    let task = task_with(&dir, |task| {
+        task["transmission"]["original"] = serde_json::json!([6.0, 3.0, 1.0, 100.0]);
+    });
+    let solve = ["solve", "--steps", "2", "--task", path(&task)];
+    let capacity = ["capacity", "--task", path(&task)];
+    for command in [&solve[..], &capacity[..]] {
+        let output = codesign(command);
+        fails_saying(&output, "task.json transmission.original (6");
+        assert!(!String::from_utf8_lossy(&output.stderr).contains("--ratios"));
+    }
+    let urdf = dir.join("cut.urdf");
+    std::fs::write(&urdf, "<robot name=\"r\">\n  <link name=\"a\">\n").unwrap();
+    let output = codesign(&["solve", "--robot", path(&urdf)]);
+    fails_saying(&output, "cut.urdf: robot: not a readable URDF");
+    fails_saying(&output, "ends before its closing </robot>");
+    let one = dir.join("one.json");
+    let two = dir.join("two.json");
+    for (out, steps) in [(&one, "2"), (&two, "3")] {
+        let output = codesign(&["solve", "--steps", steps, "--out", path(out)]);
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+    }
+    let output = codesign(&["table", path(&one), path(&two)]);
+    fails_saying(&output, "describe different motions");
+    let output = codesign(&["table", path(&one), path(&one)]);
+    fails_saying(
+        &output,
+        "both solve the original design at 0 kg in actuation space",
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -11,27 +11,40 @@ use crate::solver::{solve_design, SolveError, SolveSettings};
 
 /// Most designs per CMA-ES generation: 100 times the paper's 100 (each is a solve, or about 10
 /// with `--objective capacity`).
-pub const MAX_POPULATION: usize = 10_000;
+const MAX_POPULATION: usize = 10_000;
 
 /// Most CMA-ES generations: 1000 times the paper's 30 would take months at the paper's
 /// population; this bound only keeps sizes and the log's indices sane.
-pub const MAX_GENERATIONS: usize = 30_000;
+const MAX_GENERATIONS: usize = 30_000;
+
+/// Checks `--population`: the limit and its reason in the message.
+pub fn check_population(population: usize) -> Result<(), String> {
+    if (5..=MAX_POPULATION).contains(&population) {
+        Ok(())
+    } else {
+        Err(format!(
+            "--population {population}: must be 5 to {MAX_POPULATION} (CMA-ES ranks at least 5 \
+             designs per generation; {MAX_POPULATION} is 100 times the paper's 100)"
+        ))
+    }
+}
+
+/// Checks `--generations`: the limit and its reason in the message.
+pub fn check_generations(generations: usize) -> Result<(), String> {
+    if generations <= MAX_GENERATIONS {
+        Ok(())
+    } else {
+        Err(format!(
+            "--generations {generations}: must be at most {MAX_GENERATIONS} (1000 times the \
+             paper's 30)"
+        ))
+    }
+}
 
 /// Checks the flags that need no task: every error names its flag, the limit and its reason.
 pub fn check_flags(args: &Args) -> Result<(), String> {
-    if !(5..=MAX_POPULATION).contains(&args.population) {
-        return Err(format!(
-            "--population {}: must be 5 to {MAX_POPULATION} (CMA-ES ranks at least 5 designs per generation; \
-             {MAX_POPULATION} is 100 times the paper's 100)",
-            args.population
-        ));
-    }
-    if args.generations > MAX_GENERATIONS {
-        return Err(format!(
-            "--generations {}: must be at most {MAX_GENERATIONS} (1000 times the paper's 30)",
-            args.generations
-        ));
-    }
+    check_population(args.population)?;
+    check_generations(args.generations)?;
     if !(args.sigma.is_finite() && args.sigma > 0.0) {
         return Err(format!("--sigma {}: must be a positive number", args.sigma));
     }

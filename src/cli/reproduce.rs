@@ -2,6 +2,7 @@
 
 use super::common::{ModelArgs, ProblemArgs};
 use super::optimize::{run_case, Args as OptimizeArgs, ObjectiveKind, LOG_EXTENSION};
+use super::preflight::{check_generations, check_population};
 use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::model::task::Task;
 use crate::model::Robot;
@@ -13,7 +14,7 @@ use crate::report::files::{create_folder, write_atomic, write_json};
 use crate::report::plots::Figure;
 use crate::report::table::{build_table, ResultFile};
 use crate::report::trajectory::{write_plots, SolveDocument, ToolInfo};
-use crate::solver::{solve_design, SolveSettings};
+use crate::solver::{solve_design, SolveError, SolveSettings};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -115,21 +116,28 @@ pub fn run(args: &Args) -> Result<(), String> {
             "results"
         })
     });
+    check_sizes(seeds, population, generations)?;
+    let task = Task::load(&args.task).map_err(|e| e.to_string())?;
     if !args.resume && !args.overwrite {
         refuse_earlier_logs(&out_dir.join("runs"))?;
     }
     for folder in ["original", "runs", "plots", "capacity"] {
         create_folder(&out_dir.join(folder))?;
     }
-    let task = Task::load(&args.task).map_err(|e| e.to_string())?;
     let mut files = Vec::new();
 
     for payload in PAYLOADS {
         for space in SPACES {
             let formulation = formulation_at(&task, payload, space)?;
             let ratios = task.transmission.original.clone();
-            let result = solve_design(&formulation, &ratios, &SolveSettings::default())
-                .map_err(|e| e.to_string())?;
+            let result = solve_design(&formulation, &ratios, &SolveSettings::default()).map_err(
+                |e| match e {
+                    SolveError::Design(_) => {
+                        format!("{} transmission.original: {e}", args.task.display())
+                    }
+                    SolveError::Ipopt(_) => format!("{} solver: {e}", args.task.display()),
+                },
+            )?;
             say!(
                 "original design, {space} space, {payload} kg: {} J = {:.4} ({} iterations)",
                 result.status,
@@ -251,6 +259,21 @@ pub fn run(args: &Args) -> Result<(), String> {
     say_raw!("{}", table.to_markdown());
     say!("results written to {}", out_dir.display());
     Ok(())
+}
+
+/// Most CMA-ES seeds per case: 20 times the paper's 5.
+const MAX_SEEDS: u64 = 100;
+
+/// Checks the sizes of the experiment before anything is created; errors name the flag, the
+/// limit and its reason.
+fn check_sizes(seeds: u64, population: usize, generations: usize) -> Result<(), String> {
+    if !(1..=MAX_SEEDS).contains(&seeds) {
+        return Err(format!(
+            "--seeds {seeds}: must be 1 to {MAX_SEEDS} (20 times the paper's 5)"
+        ));
+    }
+    check_population(population)?;
+    check_generations(generations)
 }
 
 /// Fails, naming a log and the two ways on, when `runs` holds evaluation logs of an earlier
@@ -413,7 +436,21 @@ fn beyond_the_paper(
 
 #[cfg(test)]
 mod tests {
-    use super::{refuse_earlier_logs, wall_time_note};
+    use super::{check_sizes, refuse_earlier_logs, wall_time_note};
+
+    #[test]
+    fn sizes_are_checked_with_their_limits() {
+        assert!(check_sizes(5, 100, 30).is_ok());
+        assert!(check_sizes(0, 100, 30)
+            .unwrap_err()
+            .starts_with("--seeds 0: must be 1 to"));
+        assert!(check_sizes(5, 0, 30)
+            .unwrap_err()
+            .starts_with("--population 0:"));
+        assert!(check_sizes(5, 100, 1 << 40)
+            .unwrap_err()
+            .starts_with("--generations"));
+    }
 
     #[test]
     fn wall_time_counts_earlier_invocations_where_logged() {
