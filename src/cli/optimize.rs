@@ -71,7 +71,9 @@ pub struct Args {
     /// A solve taking longer than this (s) counts as a hung worker.
     #[arg(long, value_name = "S", default_value_t = 600.0)]
     pub solve_timeout: f64,
-    /// Result file (JSON); the evaluation log is written beside it as FILE.log.jsonl.
+    /// Result file (JSON); the evaluation log is written beside it as FILE.log.jsonl and locked
+    /// for the whole run (a second run on the same file fails at once). A symbolic link is
+    /// followed; an input file, a folder or a special file is refused.
     #[arg(long, value_name = "FILE.json")]
     pub out: Option<PathBuf>,
     /// Continue an interrupted run from its evaluation log (a run without a log starts afresh).
@@ -423,13 +425,17 @@ pub fn run(args: &Args) -> Result<(), String> {
         );
     } else {
         say!(
-            "best r = ({}) with J = {:.6} (original design: J = {:.6}); {} evaluations ({} replayed), median solve {:.1} ms; {}",
+            "best r = ({}) with J = {:.6} (original design: J = {:.6}); {} evaluations ({} replayed), {}; {}",
             document.best_ratios.iter().map(|r| format!("{r:.4}")).collect::<Vec<_>>().join(", "),
             document.best_cost,
             document.original_cost,
             document.evaluations,
             document.replayed,
-            document.median_solve_seconds * 1e3,
+            if document.median_solve_seconds.is_nan() {
+                "no solve timed".to_owned()
+            } else {
+                format!("median solve {:.1} ms", document.median_solve_seconds * 1e3)
+            },
             document.stop_reason
         );
     }
