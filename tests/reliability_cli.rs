@@ -287,3 +287,38 @@ fn errors_name_the_real_source_of_the_bad_value() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_second_reproduction_on_one_folder_fails_at_once() {
+    let dir = scratch("reproduce");
+    let out_dir = dir.join("results");
+    let args = [
+        "reproduce",
+        "--quick",
+        "--seeds",
+        "1",
+        "--out-dir",
+        path(&out_dir),
+    ];
+    let mut first = Command::new(env!("CARGO_BIN_EXE_codesign"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while !out_dir.join("original").exists() {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "the first run did not start"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let output = codesign(&args);
+    let expected = format!("is in use by another run (pid {})", first.id());
+    first.kill().unwrap();
+    first.wait().unwrap();
+    fails_saying(&output, &expected);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -10,7 +10,7 @@ use crate::problem::{Formulation, Space};
 use crate::report::codesign::{
     cost_evolution_chart, radar_chart, CapacityDocument, Method, OptimizeDocument,
 };
-use crate::report::files::{create_folder, write_atomic, write_json};
+use crate::report::files::{create_folder, lock_or_name_holder, write_atomic, write_json};
 use crate::report::plots::Figure;
 use crate::report::table::{build_table, ResultFile};
 use crate::report::trajectory::{write_plots, SolveDocument, ToolInfo};
@@ -34,7 +34,8 @@ pub struct Args {
     /// CMA-ES generations; default 30 (8 with --quick).
     #[arg(long)]
     generations: Option<usize>,
-    /// Output folder; default results/ (results/quick/ with --quick).
+    /// Output folder; default results/ (results/quick/ with --quick). Locked while the
+    /// reproduction runs: a second one on the same folder fails at once.
     #[arg(long, value_name = "DIR")]
     out_dir: Option<PathBuf>,
     /// Task file.
@@ -118,6 +119,9 @@ pub fn run(args: &Args) -> Result<(), String> {
     });
     check_sizes(seeds, population, generations)?;
     let task = Task::load(&args.task).map_err(|e| e.to_string())?;
+    create_folder(&out_dir)?;
+    // Held until the reproduction ends: a second one on the same folder fails at once.
+    let _lock = lock_folder(&out_dir)?;
     if !args.resume && !args.overwrite {
         refuse_earlier_logs(&out_dir.join("runs"))?;
     }
@@ -259,6 +263,16 @@ pub fn run(args: &Args) -> Result<(), String> {
     say_raw!("{}", table.to_markdown());
     say!("results written to {}", out_dir.display());
     Ok(())
+}
+
+/// Opens the output folder and takes its advisory lock (`flock`), so that two reproductions
+/// never write one folder at once.
+fn lock_folder(folder: &Path) -> Result<std::fs::File, String> {
+    let handle = std::fs::File::open(folder)
+        .map_err(|e| format!("cannot open --out-dir {}: {e}", folder.display()))?;
+    let what = format!("the output folder {}", folder.display());
+    lock_or_name_holder(&handle, &what, "--out-dir")?;
+    Ok(handle)
 }
 
 /// Most CMA-ES seeds per case: 20 times the paper's 5.

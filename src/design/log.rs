@@ -13,11 +13,12 @@
 //! invocations of the run, so a resumed run still knows how long it took in all.
 
 use super::evaluate::Evaluation;
+use crate::report::files::lock_or_name_holder;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::collections::HashMap;
-use std::fs::{File, OpenOptions, TryLockError};
+use std::fs::{File, OpenOptions};
 use std::io::{Read, Seek, SeekFrom, Write};
 use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
@@ -112,17 +113,7 @@ fn open_locked(path: &Path) -> Result<(File, bool), String> {
         ),
         Err(e) => return Err(format!("cannot create the evaluation log {shown}: {e}")),
     };
-    match file.try_lock() {
-        Ok(()) => {}
-        Err(TryLockError::WouldBlock) => {
-            return Err(format!(
-                "the evaluation log {shown} is in use by another run ({}): wait for it to end \
-                 or stop it, or pass another --out",
-                lock_holder(&file)
-            ))
-        }
-        Err(TryLockError::Error(e)) => return Err(format!("cannot lock {shown}: {e}")),
-    }
+    lock_or_name_holder(&file, &format!("the evaluation log {shown}"), "--out")?;
     // Another run may have replaced the file between the open and the lock.
     let same =
         |a: &std::fs::Metadata, b: &std::fs::Metadata| a.dev() == b.dev() && a.ino() == b.ino();
@@ -133,26 +124,6 @@ fn open_locked(path: &Path) -> Result<(File, bool), String> {
             "the evaluation log {shown} was replaced while this run opened it; run again"
         )),
     }
-}
-
-/// The process that holds the lock on `file`, as `pid N`, from Linux's /proc/locks.
-fn lock_holder(file: &File) -> String {
-    let (Ok(meta), Ok(locks)) = (file.metadata(), std::fs::read_to_string("/proc/locks")) else {
-        return "process unknown".to_owned();
-    };
-    let inode = meta.ino().to_string();
-    locks
-        .lines()
-        .map(|line| line.split_whitespace().collect::<Vec<_>>())
-        .filter(|fields| fields.get(1) == Some(&"FLOCK"))
-        .find(|fields| {
-            fields
-                .get(5)
-                .and_then(|device| device.rsplit(':').next())
-                .is_some_and(|found| found == inode)
-        })
-        .and_then(|fields| fields.get(4).map(|pid| format!("pid {pid}")))
-        .unwrap_or_else(|| "process unknown".to_owned())
 }
 
 /// The settings in which `logged` and `current` differ, as `path: log X, this command Y`.

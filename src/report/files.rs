@@ -4,7 +4,7 @@
 //! keeps the link. A link to nothing, a folder, a device, a FIFO or a socket is refused, and so
 //! is an output that is one of the command's inputs.
 
-use std::fs::Metadata;
+use std::fs::{File, Metadata, TryLockError};
 use std::io::Write;
 use std::os::unix::fs::{FileTypeExt, MetadataExt};
 use std::path::{Path, PathBuf};
@@ -128,6 +128,40 @@ pub fn write_json<T: serde::Serialize>(path: &Path, value: &T) -> Result<(), Str
 pub fn create_folder(folder: &Path) -> Result<(), String> {
     std::fs::create_dir_all(folder)
         .map_err(|error| format!("cannot create folder {}: {error}", folder.display()))
+}
+
+/// Takes the advisory lock (`flock`) of `file` without waiting. When another process holds
+/// it, fails at once naming `what`, that process, and the `elsewhere` flag that avoids it.
+pub fn lock_or_name_holder(file: &File, what: &str, elsewhere: &str) -> Result<(), String> {
+    match file.try_lock() {
+        Ok(()) => Ok(()),
+        Err(TryLockError::WouldBlock) => Err(format!(
+            "{what} is in use by another run ({}): wait for it to end or stop it, or pass \
+             another {elsewhere}",
+            lock_holder(file)
+        )),
+        Err(TryLockError::Error(e)) => Err(format!("cannot lock {what}: {e}")),
+    }
+}
+
+/// The process that holds the lock on `file`, as `pid N`, from Linux's /proc/locks.
+fn lock_holder(file: &File) -> String {
+    let (Ok(meta), Ok(locks)) = (file.metadata(), std::fs::read_to_string("/proc/locks")) else {
+        return "process unknown".to_owned();
+    };
+    let inode = meta.ino().to_string();
+    locks
+        .lines()
+        .map(|line| line.split_whitespace().collect::<Vec<_>>())
+        .filter(|fields| fields.get(1) == Some(&"FLOCK"))
+        .find(|fields| {
+            fields
+                .get(5)
+                .and_then(|device| device.rsplit(':').next())
+                .is_some_and(|found| found == inode)
+        })
+        .and_then(|fields| fields.get(4).map(|pid| format!("pid {pid}")))
+        .unwrap_or_else(|| "process unknown".to_owned())
 }
 
 #[cfg(test)]
