@@ -118,7 +118,8 @@ pub fn check_evaluations(evaluations: &[Evaluation]) -> Result<(), String> {
                 .all(|e| not_judged(e) && e.reason == first.reason) =>
         {
             Err(format!(
-                "every one of the {} evaluations failed alike ({}: {}); no design was judged",
+                "every one of the {} evaluations failed alike ({}: {}); no design was judged, \
+                 so no result is written (fix the cause, then start afresh with --overwrite)",
                 evaluations.len(),
                 first.status,
                 first.reason.as_deref().unwrap_or("no reason given")

@@ -10,7 +10,9 @@ use crate::problem::{Formulation, Space};
 use crate::report::codesign::{
     cost_evolution_chart, radar_chart, CapacityDocument, Method, OptimizeDocument,
 };
-use crate::report::files::{create_folder, lock_or_name_holder, write_atomic, write_json};
+use crate::report::files::{
+    check_output, create_folder, lock_or_name_holder, write_atomic, write_json,
+};
 use crate::report::plots::Figure;
 use crate::report::table::{build_table, ResultFile};
 use crate::report::trajectory::{write_plots, SolveDocument, ToolInfo};
@@ -122,6 +124,11 @@ pub fn run(args: &Args) -> Result<(), String> {
     create_folder(&out_dir)?;
     // Held until the reproduction ends: a second one on the same folder fails at once.
     let _lock = lock_folder(&out_dir)?;
+    check_output(
+        "--out-dir",
+        &out_dir.join("paper_table.md"),
+        &[("--task", &args.task)],
+    )?;
     if !args.resume && !args.overwrite {
         refuse_earlier_logs(&out_dir.join("runs"))?;
     }

@@ -185,11 +185,12 @@ impl EvaluationLog {
             dropped_line: None,
         };
         if length > 0 {
+            let entries = log.holds_entries()?;
             match start {
-                Start::Resume => return log.replay(run),
-                Start::Fresh if log.holds_entries()? => return Err(format!("the evaluation log {} exists already: pass --resume to continue that run, or --overwrite to start afresh", path.display())),
+                Start::Resume if entries => return log.replay(run),
+                Start::Fresh if entries => return Err(format!("the evaluation log {} exists already: pass --resume to continue that run, or --overwrite to start afresh", path.display())),
                 // Overwritten, or a header alone: nothing is lost.
-                Start::Fresh | Start::Overwrite => {
+                _ => {
                     log.file
                         .set_len(0)
                         .and_then(|()| log.file.seek(SeekFrom::Start(0)))
@@ -282,11 +283,12 @@ impl EvaluationLog {
         ))
     }
 
-    /// Whether the log holds anything beyond its header line.
+    /// Whether the log holds anything beyond its header line; leaves the file at its start.
     fn holds_entries(&mut self) -> Result<bool, String> {
         let mut text = String::new();
         self.file
             .read_to_string(&mut text)
+            .and_then(|_| self.file.seek(SeekFrom::Start(0)))
             .map_err(|e| format!("cannot read {}: {e}", self.path.display()))?;
         Ok(text.split_inclusive('\n').nth(1).is_some())
     }
@@ -586,7 +588,15 @@ mod tests {
         let (log, finished) = EvaluationLog::open(&path, &run, Start::Overwrite).unwrap();
         assert!(finished.is_empty());
         drop(log);
-        // A header alone holds nothing to lose: a fresh run takes its place.
+        // A header alone holds nothing to lose: a fresh or resumed run of any settings takes
+        // its place.
+        let other = Run {
+            seed: 9,
+            method: None,
+        };
+        let (log, finished) = EvaluationLog::open(&path, &other, Start::Resume).unwrap();
+        assert!(finished.is_empty());
+        drop(log);
         create(&path, &run).discard_if_unused().unwrap();
         assert!(!path.exists());
     }
