@@ -2,8 +2,9 @@
 
 use super::common::{ModelArgs, ProblemArgs};
 use crate::design::capacity::{payload_capacity, CapacitySettings};
+use crate::model::task::MAX_PAYLOAD_KG;
 use crate::report::codesign::CapacityDocument;
-use crate::report::files::write_json;
+use crate::report::files::{check_output, write_json};
 use crate::report::trajectory::ToolInfo;
 use std::path::PathBuf;
 
@@ -26,7 +27,8 @@ pub struct Args {
     /// Largest payload tried, kg.
     #[arg(long, value_name = "KG", default_value_t = 64.0)]
     max: f64,
-    /// Write the search as JSON to this file.
+    /// Write the search as JSON to this file (checked before the search; a symbolic link is
+    /// followed, an input file, a folder or a special file refused).
     #[arg(long, value_name = "FILE.json")]
     out: Option<PathBuf>,
 }
@@ -36,8 +38,23 @@ pub fn run(args: &Args) -> Result<(), String> {
     if args.model.payload.is_some() {
         return Err("--payload: capacity searches the payload itself; leave it out".to_owned());
     }
+    for (flag, kg) in [
+        ("--resolution", args.resolution),
+        ("--first-step", args.first_step),
+        ("--max", args.max),
+    ] {
+        if !(kg.is_finite() && kg > 0.0 && kg <= MAX_PAYLOAD_KG) {
+            return Err(format!(
+                "{flag} {kg}: must be a mass > 0 and <= {MAX_PAYLOAD_KG} kg (the heaviest payload \
+                 a task may carry)"
+            ));
+        }
+    }
     let (mut task, robot) = args.model.load()?;
     args.problem.configure(&mut task);
+    if let Some(path) = &args.out {
+        check_output("--out", path, &args.model.inputs(&task))?;
+    }
     let modes = args.problem.modes(&task);
     let ratios = args
         .ratios
@@ -46,20 +63,23 @@ pub fn run(args: &Args) -> Result<(), String> {
     crate::transmission::Transmission::from_spec(&task.transmission)
         .map_err(|e| format!("task: {e}"))?
         .check_design(&ratios)
-        .map_err(|e| format!("--ratios: invalid design: {e}"))?;
+        .map_err(|e| match &args.ratios {
+            Some(_) => format!("--ratios {}: invalid design: {e}", join(&ratios)),
+            None => format!(
+                "{} transmission.original ({}): invalid design: {e}",
+                args.model.source(),
+                join(&ratios)
+            ),
+        })?;
     let settings = CapacitySettings {
         resolution_kg: args.resolution,
         first_step_kg: args.first_step,
         max_kg: args.max,
     };
     let capacity = payload_capacity(&task, &robot, args.problem.space, modes, &ratios, &settings)
-        .map_err(|e| format!("--resolution/--first-step/--max: {e}"))?;
+        .map_err(|e| format!("{}: {e}", args.model.source()))?;
     let seconds: f64 = capacity.probes.iter().map(|p| p.seconds).sum();
-    let design = ratios
-        .iter()
-        .map(|r| r.to_string())
-        .collect::<Vec<_>>()
-        .join(", ");
+    let design = join(&ratios);
     match (capacity.capacity_kg, capacity.first_infeasible_kg) {
         (None, _) => say!(
             "{} space, r = ({design}): infeasible even without payload",
@@ -89,4 +109,13 @@ pub fn run(args: &Args) -> Result<(), String> {
         say!("result written to {}", path.display());
     }
     Ok(())
+}
+
+/// The design as `r1, r2, ..`.
+fn join(ratios: &[f64]) -> String {
+    ratios
+        .iter()
+        .map(|r| r.to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
 }

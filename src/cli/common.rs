@@ -1,10 +1,10 @@
 //! Flags shared by the commands that load a task and a robot.
 
 use crate::ipopt::LinearSolver;
-use crate::model::task::{LimitMode, LimitModes, Task, TaskSource};
+use crate::model::task::{check_payload, LimitMode, LimitModes, Task, TaskSource};
 use crate::model::Robot;
 use crate::problem::Space;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Where the task and robot come from, and the payload.
 #[derive(Debug, Clone, clap::Args)]
@@ -28,6 +28,14 @@ pub fn task_source(task: Option<&PathBuf>) -> TaskSource {
 }
 
 impl ModelArgs {
+    /// The files a command with these flags reads, each with where it was named: the task file
+    /// (unless built in) and the robot's URDF (unless built in). An output must be none of them.
+    pub fn inputs<'a>(&'a self, task: &'a Task) -> Vec<(&'static str, &'a Path)> {
+        let task_file = self.task.as_deref().map(|path| ("--task", path));
+        let robot = task.robot.as_deref().map(|path| ("robot", path));
+        task_file.into_iter().chain(robot).collect()
+    }
+
     /// Where the task comes from.
     pub fn source(&self) -> TaskSource {
         task_source(self.task.as_ref())
@@ -40,11 +48,7 @@ impl ModelArgs {
             task.robot = Some(robot.clone());
         }
         if let Some(payload) = self.payload {
-            if !(payload.is_finite() && payload >= 0.0) {
-                return Err(format!(
-                    "--payload {payload}: the payload must be a finite mass >= 0 kg"
-                ));
-            }
+            check_payload(payload).map_err(|why| format!("--payload {payload}: {why}"))?;
             task.payload.mass_kg = payload;
         }
         let robot = Robot::load(&task).map_err(|e| match (&self.robot, self.source()) {

@@ -1,20 +1,43 @@
 //! The command line: one subcommand per module, each a thin layer over the library.
 
-/// Prints on stdout like `println!`, but a closed stdout (`codesign solve | head -1`) is not a
-/// reason to panic: the line is dropped and the command goes on to write its files.
+/// Prints on stdout like `println!`, but a failed write (a closed pipe, a full disk) is not a
+/// reason to panic: it is remembered, the command goes on to write its files, and it then
+/// exits non-zero (see [`stdout_failure`]).
 macro_rules! say {
-    ($($arg:tt)*) => {{
-        use std::io::Write as _;
-        let _ = writeln!(std::io::stdout(), $($arg)*);
-    }};
+    ($($arg:tt)*) => {
+        $crate::cli::print_out(format_args!("{}\n", format_args!($($arg)*)))
+    };
 }
 
-/// `print!` with the same tolerance of a closed stdout as [`say!`].
+/// `print!` with the same handling of a failed write as [`say!`].
 macro_rules! say_raw {
-    ($($arg:tt)*) => {{
-        use std::io::Write as _;
-        let _ = write!(std::io::stdout(), $($arg)*);
-    }};
+    ($($arg:tt)*) => {
+        $crate::cli::print_out(format_args!($($arg)*))
+    };
+}
+
+/// The first error writing stdout, if any.
+static STDOUT_ERROR: Mutex<Option<String>> = Mutex::new(None);
+
+/// Writes `text` on stdout, remembering the first failure.
+pub(crate) fn print_out(text: std::fmt::Arguments<'_>) {
+    if let Err(error) = std::io::stdout().lock().write_fmt(text) {
+        remember_stdout_error(&error);
+    }
+}
+
+fn remember_stdout_error(error: &std::io::Error) {
+    let mut first = STDOUT_ERROR.lock().unwrap_or_else(|p| p.into_inner());
+    first.get_or_insert_with(|| error.to_string());
+}
+
+/// Flushes stdout and returns the first failure to write it, if there was one.
+fn stdout_failure() -> Option<String> {
+    if let Err(error) = std::io::stdout().lock().flush() {
+        remember_stdout_error(&error);
+    }
+    let first = STDOUT_ERROR.lock().unwrap_or_else(|p| p.into_inner());
+    first.clone()
 }
 
 mod capacity;
@@ -22,6 +45,7 @@ mod common;
 mod doctor;
 mod dynamics;
 mod optimize;
+mod preflight;
 mod reproduce;
 mod solve;
 mod table;
@@ -29,7 +53,9 @@ mod task;
 mod worker;
 
 use clap::{Parser, Subcommand};
+use std::io::Write;
 use std::process::ExitCode;
+use std::sync::Mutex;
 
 /// Co-design of gear ratios and motion for robots with parallel (belt) transmissions.
 #[derive(Debug, Parser)]
@@ -70,9 +96,12 @@ enum Command {
 }
 
 /// Parses the command line, runs the subcommand, prints any error on stderr and returns the
-/// process exit code (0 on success, 1 on any error, 2 on a usage error).
+/// process exit code (0 on success, 1 on any error, a failed write on stdout included, 2 on a
+/// usage error).
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    // A worker answers on stdout itself and ends quietly when its parent stops reading.
+    let answers_itself = matches!(cli.command, Command::Worker);
     let outcome = match cli.command {
         Command::Doctor(args) => doctor::run(&args),
         Command::Dynamics(args) => dynamics::run(&args),
@@ -84,6 +113,12 @@ pub fn main() -> ExitCode {
         Command::Task(args) => task::run(&args),
         Command::Worker => worker::run(),
     };
+    let outcome = outcome.and_then(|()| match stdout_failure() {
+        Some(error) if !answers_itself => {
+            Err(format!("cannot write the output on stdout: {error}"))
+        }
+        _ => Ok(()),
+    });
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {

@@ -1,20 +1,21 @@
 //! `codesign optimize`: co-design of one case (space, payload, seed) with CMA-ES.
 
 use super::common::{ModelArgs, ProblemArgs};
+use super::preflight::{check_evaluations, check_flags, probe_solver};
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::evaluate::Objective;
 use crate::design::gradient::{
     default_starts, optimize_gradient, spread_designs, GradientIterate, GradientSettings,
 };
-use crate::design::log::EvaluationLog;
+use crate::design::log::{EvaluationLog, Finished, Start};
 use crate::design::optimize::{optimize, GenerationSummary, Progress};
 use crate::design::workers::{Pool, WorkerSetup};
 use crate::ipopt::Solution;
-use crate::model::task::Task;
+use crate::model::task::{LimitModes, Task};
 use crate::problem::Formulation;
 use crate::report::codesign::{Method, OptimizeDocument, OptimizeInputs};
-use crate::report::files::write_json;
+use crate::report::files::{check_output, write_json};
 use crate::report::trajectory::ToolInfo;
 use crate::solver::{solve_design, solve_design_from, SolveSettings};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -70,7 +71,9 @@ pub struct Args {
     /// A solve taking longer than this (s) counts as a hung worker.
     #[arg(long, value_name = "S", default_value_t = 600.0)]
     pub solve_timeout: f64,
-    /// Result file (JSON); the evaluation log is written beside it as FILE.log.jsonl.
+    /// Result file (JSON); the evaluation log is written beside it as FILE.log.jsonl and locked
+    /// for the whole run (a second run on the same file fails at once). A symbolic link is
+    /// followed; an input file, a folder or a special file is refused.
     #[arg(long, value_name = "FILE.json")]
     pub out: Option<PathBuf>,
     /// Continue an interrupted run from its evaluation log (a run without a log starts afresh).
@@ -107,71 +110,62 @@ pub fn log_path(out: &Path) -> PathBuf {
     out.with_extension(LOG_EXTENSION)
 }
 
-/// Runs one co-design case and writes its document; returns it.
+/// Runs one co-design case and writes its document; returns it. A CMA-ES run holds its
+/// evaluation log, locked, from before the first evaluation until the document is written.
 pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
-    let started = Instant::now();
+    check_flags(args)?;
     let (mut task, robot) = args.model.load()?;
     args.problem.configure(&mut task);
+    let read = args.model.inputs(&task);
+    check_output("--out", out, &read)?;
+    if args.method == Method::Cmaes {
+        check_output("--out (its evaluation log)", &log_path(out), &read)?;
+    }
     let modes = args.problem.modes(&task);
-    if !(args.sigma.is_finite() && args.sigma > 0.0) {
-        return Err(format!("--sigma {}: must be a positive number", args.sigma));
-    }
-    if !args.penalty.is_finite() {
-        return Err(format!("--penalty {}: must be finite", args.penalty));
-    }
-    if !(args.solve_timeout.is_finite() && args.solve_timeout > 0.0) {
-        return Err(format!(
-            "--solve-timeout {}: must be a positive number of seconds",
-            args.solve_timeout
-        ));
-    }
+    probe_solver(&task, &robot, args, modes)?;
     let formulation =
         Formulation::new(&task, robot, args.problem.space, modes).map_err(|e| e.to_string())?;
-    let mut worker_task = task.clone();
-    if let Some(robot) = &task.robot {
-        worker_task.robot = Some(
-            std::fs::canonicalize(robot).map_err(|e| format!("robot {}: {e}", robot.display()))?,
+    let inputs = run_inputs(args, &task, modes);
+    let mut log = match args.method {
+        Method::Cmaes => Some(open_log(args, out, &inputs)?),
+        Method::Gradient => None,
+    };
+    let result = run_with(args, out, &task, &formulation, inputs, log.as_mut());
+    if let (Err(_), Some((log, _))) = (&result, log) {
+        log.discard_if_unused()?;
+    }
+    result
+}
+
+/// Opens (locked) the evaluation log of a CMA-ES run as `--resume` or `--overwrite` say.
+fn open_log(
+    args: &Args,
+    out: &Path,
+    inputs: &OptimizeInputs,
+) -> Result<(EvaluationLog, Finished), String> {
+    let start = match (args.resume, args.overwrite) {
+        (true, _) => Start::Resume,
+        (false, true) => Start::Overwrite,
+        (false, false) => Start::Fresh,
+    };
+    let (log, finished) = EvaluationLog::open(&log_path(out), inputs, start)?;
+    if let Some(line) = log.dropped_line() {
+        eprintln!(
+            "note: {} ended in a line cut short by an interruption (line {line}); it was dropped \
+             and that evaluation is solved again",
+            log_path(out).display()
         );
     }
-    let objective = match args.objective {
-        ObjectiveKind::Cost => Objective::Cost,
-        ObjectiveKind::Capacity => {
-            if args.method == Method::Gradient {
-                return Err("--objective capacity: the capacity is not differentiable in r; use --method cmaes".to_owned());
-            }
-            if !(args.capacity_resolution.is_finite() && args.capacity_resolution > 0.0) {
-                return Err(format!(
-                    "--capacity-resolution {}: must be a positive mass",
-                    args.capacity_resolution
-                ));
-            }
-            Objective::Capacity(CapacitySettings {
-                resolution_kg: args.capacity_resolution,
-                first_step_kg: 1.0,
-                max_kg: 64.0,
-            })
-        }
-    };
-    let setup = WorkerSetup {
-        objective,
-        task: worker_task,
-        space: args.problem.space,
-        modes,
-        penalty: args.penalty,
-    };
-    let settings = CmaesSettings {
-        population: args.population,
-        generations: args.generations,
-        sigma0: args.sigma,
-        seed: args.seed,
-        ftol: 1e-6,
-        xtol: 1e-6,
-    };
-    let inputs = OptimizeInputs {
+    Ok((log, finished))
+}
+
+/// The settings of the run, as its document and log header record them.
+fn run_inputs(args: &Args, task: &Task, modes: LimitModes) -> OptimizeInputs {
+    OptimizeInputs {
         method: args.method,
-        objective,
+        objective: objective(args),
         task_file: args.model.source().label(),
-        task: without_linear_solver(&task),
+        task: without_linear_solver(task),
         linear_solver: task.solver.linear_solver(),
         space: args.problem.space,
         payload_kg: task.payload.mass_kg,
@@ -181,60 +175,70 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
         generations: args.generations,
         sigma0: args.sigma,
         penalty: args.penalty,
-        ftol: settings.ftol,
-        xtol: settings.xtol,
+        ftol: FTOL,
+        xtol: XTOL,
+    }
+}
+
+/// CMA-ES's stopping tolerances on the fitness and on the design.
+const FTOL: f64 = 1e-6;
+const XTOL: f64 = 1e-6;
+
+/// The objective the flags ask for.
+fn objective(args: &Args) -> Objective {
+    match args.objective {
+        ObjectiveKind::Cost => Objective::Cost,
+        ObjectiveKind::Capacity => Objective::Capacity(CapacitySettings {
+            resolution_kg: args.capacity_resolution,
+            first_step_kg: 1.0,
+            max_kg: 64.0,
+        }),
+    }
+}
+
+/// Runs the method (CMA-ES on `log`, or the gradient method) and writes the document.
+fn run_with(
+    args: &Args,
+    out: &Path,
+    task: &Task,
+    formulation: &Formulation,
+    inputs: OptimizeInputs,
+    log: Option<&mut (EvaluationLog, Finished)>,
+) -> Result<OptimizeDocument, String> {
+    let started = Instant::now();
+    let mut worker_task = task.clone();
+    if let Some(robot) = &task.robot {
+        worker_task.robot = Some(
+            std::fs::canonicalize(robot).map_err(|e| format!("robot {}: {e}", robot.display()))?,
+        );
+    }
+    let setup = WorkerSetup {
+        objective: inputs.objective,
+        task: worker_task,
+        space: args.problem.space,
+        modes: *formulation.modes(),
+        penalty: args.penalty,
+    };
+    let settings = CmaesSettings {
+        population: args.population,
+        generations: args.generations,
+        sigma0: args.sigma,
+        seed: args.seed,
+        ftol: FTOL,
+        xtol: XTOL,
     };
     let run = match args.method {
-        Method::Cmaes => run_cmaes(args, out, &inputs, &formulation, settings, &setup)?,
-        Method::Gradient => {
-            if args.resume {
-                return Err(
-                    "--resume continues CMA-ES runs; a gradient run is short, start it again"
-                        .to_owned(),
-                );
-            }
-            let settings = GradientSettings {
-                max_iterations: args.gradient_iterations,
-                tolerance: 1e-6,
-                starts: default_starts(formulation.transmission(), GRADIENT_SPREAD),
-                fallback_starts: spread_designs(
-                    formulation.transmission(),
-                    GRADIENT_SPREAD + 1..GRADIENT_SPREAD + 1 + GRADIENT_FALLBACKS,
-                ),
-                descents: 3,
-            };
-            let outcome = optimize_gradient(&formulation, &settings, args.penalty);
-            if outcome.best_ratios.is_empty() {
-                return Err(format!(
-                    "the gradient method found no feasible start among {} candidate designs",
-                    outcome.candidates_solved
-                ));
-            }
-            let solves = outcome.costs.len();
-            RunOutcome {
-                best_ratios: outcome.best_ratios,
-                best_cost: outcome.best_cost,
-                generations: Vec::new(),
-                costs: outcome.costs,
-                seconds: outcome.seconds.into_iter().filter(|s| *s > 0.0).collect(),
-                replayed: 0,
-                stop_reason: format!(
-                    "{} candidate starts solved, {} descents, {} iterates, {solves} solves",
-                    outcome.candidates_solved,
-                    settings.descents,
-                    outcome.iterates.len()
-                ),
-                iterates: outcome.iterates,
-                best_solution: outcome.best_solution,
-                earlier_seconds: Some(0.0),
-            }
+        Method::Cmaes => {
+            let (log, finished) = log.ok_or("a CMA-ES run needs its evaluation log")?;
+            run_cmaes(args, &inputs, formulation, settings, &setup, log, finished)?
         }
+        Method::Gradient => run_gradient(args, formulation)?,
     };
-    let solve = |ratios: &[f64]| solve_design(&formulation, ratios, &SolveSettings::default()).ok();
+    let solve = |ratios: &[f64]| solve_design(formulation, ratios, &SolveSettings::default()).ok();
     // Warm-started from the method's own inner solution where it has one, so that the reported
     // trajectory is the one behind `best_cost`.
     let best_result = solve_design_from(
-        &formulation,
+        formulation,
         &run.best_ratios,
         &SolveSettings::default(),
         run.best_solution.as_ref(),
@@ -276,6 +280,45 @@ pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
     Ok(document)
 }
 
+/// The gradient method's run: projected quasi-Newton from spread starts.
+fn run_gradient(args: &Args, formulation: &Formulation) -> Result<RunOutcome, String> {
+    let settings = GradientSettings {
+        max_iterations: args.gradient_iterations,
+        tolerance: 1e-6,
+        starts: default_starts(formulation.transmission(), GRADIENT_SPREAD),
+        fallback_starts: spread_designs(
+            formulation.transmission(),
+            GRADIENT_SPREAD + 1..GRADIENT_SPREAD + 1 + GRADIENT_FALLBACKS,
+        ),
+        descents: 3,
+    };
+    let outcome = optimize_gradient(formulation, &settings, args.penalty);
+    if outcome.best_ratios.is_empty() {
+        return Err(format!(
+            "the gradient method found no feasible start among {} candidate designs",
+            outcome.candidates_solved
+        ));
+    }
+    let solves = outcome.costs.len();
+    Ok(RunOutcome {
+        best_ratios: outcome.best_ratios,
+        best_cost: outcome.best_cost,
+        generations: Vec::new(),
+        costs: outcome.costs,
+        seconds: outcome.seconds.into_iter().filter(|s| *s > 0.0).collect(),
+        replayed: 0,
+        stop_reason: format!(
+            "{} candidate starts solved, {} descents, {} iterates, {solves} solves",
+            outcome.candidates_solved,
+            settings.descents,
+            outcome.iterates.len()
+        ),
+        iterates: outcome.iterates,
+        best_solution: outcome.best_solution,
+        earlier_seconds: Some(0.0),
+    })
+}
+
 /// The objective as a flag.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum ObjectiveKind {
@@ -301,32 +344,17 @@ struct RunOutcome {
     earlier_seconds: Option<f64>,
 }
 
-/// The CMA-ES run: evaluation log (resumed if asked), worker pool, progress bar.
+/// The CMA-ES run on its open evaluation log (with the `finished` evaluations of a resumed
+/// run): worker pool, progress bar.
 fn run_cmaes(
     args: &Args,
-    out: &Path,
     inputs: &OptimizeInputs,
     formulation: &Formulation,
     settings: CmaesSettings,
     setup: &WorkerSetup,
+    log: &mut EvaluationLog,
+    finished: &Finished,
 ) -> Result<RunOutcome, String> {
-    let log_file = log_path(out);
-    if args.overwrite && log_file.exists() {
-        std::fs::remove_file(&log_file).map_err(|e| {
-            format!(
-                "cannot remove the evaluation log {}: {e}",
-                log_file.display()
-            )
-        })?;
-    }
-    let (mut log, finished) = if args.resume && log_file.exists() {
-        EvaluationLog::resume(&log_file, inputs)?
-    } else {
-        (
-            EvaluationLog::create(&log_file, inputs)?,
-            Default::default(),
-        )
-    };
     let workers = args
         .workers
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
@@ -352,12 +380,13 @@ fn run_cmaes(
         settings,
         formulation.transmission().bounds(),
         &mut pool,
-        &mut log,
-        &finished,
+        log,
+        finished,
         &mut progress,
     )?;
     progress.0.finish();
     drop(pool);
+    check_evaluations(&outcome.evaluations)?;
 
     Ok(RunOutcome {
         best_ratios: outcome.best_ratios,
@@ -407,13 +436,17 @@ pub fn run(args: &Args) -> Result<(), String> {
         );
     } else {
         say!(
-            "best r = ({}) with J = {:.6} (original design: J = {:.6}); {} evaluations ({} replayed), median solve {:.1} ms; {}",
+            "best r = ({}) with J = {:.6} (original design: J = {:.6}); {} evaluations ({} replayed), {}; {}",
             document.best_ratios.iter().map(|r| format!("{r:.4}")).collect::<Vec<_>>().join(", "),
             document.best_cost,
             document.original_cost,
             document.evaluations,
             document.replayed,
-            document.median_solve_seconds * 1e3,
+            if document.median_solve_seconds.is_nan() {
+                "no solve timed".to_owned()
+            } else {
+                format!("median solve {:.1} ms", document.median_solve_seconds * 1e3)
+            },
             document.stop_reason
         );
     }

@@ -2,6 +2,7 @@
 
 use super::common::{task_source, ModelArgs, ProblemArgs};
 use super::optimize::{run_case, Args as OptimizeArgs, ObjectiveKind, LOG_EXTENSION};
+use super::preflight::{check_generations, check_population};
 use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::ipopt::LinearSolver;
 use crate::model::task::Task;
@@ -10,11 +11,13 @@ use crate::problem::{Formulation, Space};
 use crate::report::codesign::{
     cost_evolution_chart, radar_chart, CapacityDocument, Method, OptimizeDocument,
 };
-use crate::report::files::{create_folder, write_atomic, write_json};
+use crate::report::files::{
+    check_output, create_folder, lock_or_name_holder, write_atomic, write_json,
+};
 use crate::report::plots::Figure;
 use crate::report::table::{build_table, ResultFile};
 use crate::report::trajectory::{write_plots, SolveDocument, ToolInfo};
-use crate::solver::{solve_design, SolveSettings};
+use crate::solver::{solve_design, SolveError, SolveSettings};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -34,7 +37,8 @@ pub struct Args {
     /// CMA-ES generations; default 30 (8 with --quick).
     #[arg(long)]
     generations: Option<usize>,
-    /// Output folder; default results/ (results/quick/ with --quick).
+    /// Output folder; default results/ (results/quick/ with --quick). Locked while the
+    /// reproduction runs: a second one on the same folder fails at once.
     #[arg(long, value_name = "DIR")]
     out_dir: Option<PathBuf>,
     /// Task file [default: the built-in task, which `codesign task` prints].
@@ -120,17 +124,31 @@ pub fn run(args: &Args) -> Result<(), String> {
             "results"
         })
     });
-    if !args.resume && !args.overwrite {
-        refuse_earlier_logs(&out_dir.join("runs"))?;
-    }
-    for folder in ["original", "runs", "plots", "capacity"] {
-        create_folder(&out_dir.join(folder))?;
-    }
+    check_sizes(seeds, population, generations)?;
     let mut task = task_source(args.task.as_ref())
         .load()
         .map_err(|e| e.to_string())?;
     if let Some(solver) = args.linear_solver {
         task.solver.linear_solver = Some(solver);
+    }
+    create_folder(&out_dir)?;
+    // Held until the reproduction ends: a second one on the same folder fails at once.
+    let _lock = lock_folder(&out_dir)?;
+    check_output(
+        "--out-dir",
+        &out_dir.join("paper_table.md"),
+        &args
+            .task
+            .as_deref()
+            .map(|path| ("--task", path))
+            .into_iter()
+            .collect::<Vec<_>>(),
+    )?;
+    if !args.resume && !args.overwrite {
+        refuse_earlier_logs(&out_dir.join("runs"))?;
+    }
+    for folder in ["original", "runs", "plots", "capacity"] {
+        create_folder(&out_dir.join(folder))?;
     }
     let mut files = Vec::new();
 
@@ -138,8 +156,19 @@ pub fn run(args: &Args) -> Result<(), String> {
         for space in SPACES {
             let formulation = formulation_at(&task, payload, space)?;
             let ratios = task.transmission.original.clone();
-            let result = solve_design(&formulation, &ratios, &SolveSettings::default())
-                .map_err(|e| e.to_string())?;
+            let result = solve_design(&formulation, &ratios, &SolveSettings::default()).map_err(
+                |e| match e {
+                    SolveError::Design(_) => {
+                        format!(
+                            "{} transmission.original: {e}",
+                            task_source(args.task.as_ref())
+                        )
+                    }
+                    SolveError::Ipopt(_) => {
+                        format!("{} solver: {e}", task_source(args.task.as_ref()))
+                    }
+                },
+            )?;
             say!(
                 "original design, {space} space, {payload} kg: {} J = {:.4} ({} iterations)",
                 result.status,
@@ -264,6 +293,31 @@ pub fn run(args: &Args) -> Result<(), String> {
     say_raw!("{}", table.to_markdown());
     say!("results written to {}", out_dir.display());
     Ok(())
+}
+
+/// Opens the output folder and takes its advisory lock (`flock`), so that two reproductions
+/// never write one folder at once.
+fn lock_folder(folder: &Path) -> Result<std::fs::File, String> {
+    let handle = std::fs::File::open(folder)
+        .map_err(|e| format!("cannot open --out-dir {}: {e}", folder.display()))?;
+    let what = format!("the output folder {}", folder.display());
+    lock_or_name_holder(&handle, &what, "--out-dir")?;
+    Ok(handle)
+}
+
+/// Most CMA-ES seeds per case: 20 times the paper's 5.
+const MAX_SEEDS: u64 = 100;
+
+/// Checks the sizes of the experiment before anything is created; errors name the flag, the
+/// limit and its reason.
+fn check_sizes(seeds: u64, population: usize, generations: usize) -> Result<(), String> {
+    if !(1..=MAX_SEEDS).contains(&seeds) {
+        return Err(format!(
+            "--seeds {seeds}: must be 1 to {MAX_SEEDS} (20 times the paper's 5)"
+        ));
+    }
+    check_population(population)?;
+    check_generations(generations)
 }
 
 /// Fails, naming a log and the two ways on, when `runs` holds evaluation logs of an earlier
@@ -426,7 +480,21 @@ fn beyond_the_paper(
 
 #[cfg(test)]
 mod tests {
-    use super::{refuse_earlier_logs, wall_time_note};
+    use super::{check_sizes, refuse_earlier_logs, wall_time_note};
+
+    #[test]
+    fn sizes_are_checked_with_their_limits() {
+        assert!(check_sizes(5, 100, 30).is_ok());
+        assert!(check_sizes(0, 100, 30)
+            .unwrap_err()
+            .starts_with("--seeds 0: must be 1 to"));
+        assert!(check_sizes(5, 0, 30)
+            .unwrap_err()
+            .starts_with("--population 0:"));
+        assert!(check_sizes(5, 100, 1 << 40)
+            .unwrap_err()
+            .starts_with("--generations"));
+    }
 
     #[test]
     fn wall_time_counts_earlier_invocations_where_logged() {

@@ -2,10 +2,11 @@
 
 use super::common::{ModelArgs, ProblemArgs};
 use crate::ipopt::{check_derivatives, DerivativeOrder};
+use crate::model::task::{check_horizon, check_steps};
 use crate::problem::Formulation;
-use crate::report::files::write_json;
+use crate::report::files::{check_output, write_json};
 use crate::report::trajectory::{write_plots, SolveDocument};
-use crate::solver::{ipopt_options, solve_design, SolveSettings, TrajectoryResult};
+use crate::solver::{ipopt_options, solve_design, SolveError, SolveSettings, TrajectoryResult};
 use std::path::PathBuf;
 
 /// Flags of `codesign solve`.
@@ -24,7 +25,8 @@ pub struct Args {
     /// Number of intervals N; default: the task's steps.
     #[arg(long, value_name = "N")]
     steps: Option<usize>,
-    /// Write the result as JSON to this file.
+    /// Write the result as JSON to this file (checked before the solve; a symbolic link is
+    /// followed, an input file, a folder or a special file refused).
     #[arg(long, value_name = "FILE.json")]
     out: Option<PathBuf>,
     /// Draw SVG plots of the trajectory into this folder.
@@ -45,28 +47,32 @@ pub fn run(args: &Args) -> Result<(), String> {
     let (mut task, robot) = args.model.load()?;
     args.problem.configure(&mut task);
     if let Some(duration) = args.duration {
-        if !(duration.is_finite() && duration > 0.0) {
-            return Err(format!(
-                "--duration {duration}: the duration must be a positive number of seconds"
-            ));
-        }
+        check_horizon(duration).map_err(|why| format!("--duration {duration}: {why}"))?;
         task.motion.horizon_s = duration;
     }
     if let Some(steps) = args.steps {
-        if steps == 0 {
-            return Err("--steps 0: the motion needs at least 1 interval".to_owned());
-        }
+        check_steps(steps).map_err(|why| format!("--steps {steps}: {why}"))?;
         task.motion.steps = steps;
+    }
+    if let Some(path) = &args.out {
+        check_output("--out", path, &args.model.inputs(&task))?;
     }
     let modes = args.problem.modes(&task);
     let formulation =
         Formulation::new(&task, robot, args.problem.space, modes).map_err(|e| e.to_string())?;
-    let ratios = args
-        .ratios
-        .clone()
-        .unwrap_or_else(|| task.transmission.original.clone());
+    let (ratios, source) = match &args.ratios {
+        Some(ratios) => (ratios.clone(), format!("--ratios {}", join(ratios))),
+        None => (
+            task.transmission.original.clone(),
+            format!(
+                "{} transmission.original ({})",
+                args.model.source(),
+                join(&task.transmission.original)
+            ),
+        ),
+    };
     if args.check_derivatives {
-        return check(&formulation, &ratios, args.verbose);
+        return check(&formulation, &ratios, &source, args.verbose);
     }
     let result = solve_design(
         &formulation,
@@ -75,7 +81,10 @@ pub fn run(args: &Args) -> Result<(), String> {
             verbose: args.verbose,
         },
     )
-    .map_err(|e| format!("--ratios {}: {e}", join(&ratios)))?;
+    .map_err(|e| match e {
+        SolveError::Design(_) => format!("{source}: {e}"),
+        SolveError::Ipopt(_) => format!("{} solver: {e}", args.model.source()),
+    })?;
     print_summary(&formulation, &result);
     if let Some(folder) = &args.plot {
         write_plots(folder, &formulation, &result)?;
@@ -90,10 +99,15 @@ pub fn run(args: &Args) -> Result<(), String> {
 }
 
 /// Runs IPOPT's second-order derivative checker at the initial guess of design `ratios`.
-fn check(formulation: &Formulation, ratios: &[f64], verbose: bool) -> Result<(), String> {
+fn check(
+    formulation: &Formulation,
+    ratios: &[f64],
+    source: &str,
+    verbose: bool,
+) -> Result<(), String> {
     let mut problem = formulation
         .problem(ratios)
-        .map_err(|e| format!("--ratios {}: invalid design: {e}", join(ratios)))?;
+        .map_err(|e| format!("{source}: invalid design: {e}"))?;
     let options = ipopt_options(formulation, &SolveSettings { verbose })
         .num("point_perturbation_radius", 0.0);
     let started = std::time::Instant::now();

@@ -1,8 +1,8 @@
 //! `codesign table`: the paper's table rebuilt from result files (e.g. runs split across machines).
 
-use crate::report::files::{write_atomic, write_json};
-use crate::report::table::{build_table, read_result_file};
-use std::path::PathBuf;
+use crate::report::files::{check_output, write_atomic, write_json};
+use crate::report::table::{build_table, read_result_file, ResultFile};
+use std::path::{Path, PathBuf};
 
 /// Flags of `codesign table`.
 #[derive(Debug, clap::Args)]
@@ -10,30 +10,102 @@ pub struct Args {
     /// Result files of `solve`, `optimize` and `capacity` (JSON).
     #[arg(required = true, value_name = "FILES")]
     files: Vec<PathBuf>,
-    /// Write the Markdown table here (and its JSON beside it, .json); default: print it.
+    /// Write the Markdown table here and its JSON beside it (`T.md` gives `T.json`, any other
+    /// name `NAME.json` appended); default: print it. Symbolic links are followed; an input
+    /// file, a folder or a special file is refused.
     #[arg(long, value_name = "FILE.md")]
     out: Option<PathBuf>,
 }
 
 /// Reads the files, builds the table, writes or prints it.
 pub fn run(args: &Args) -> Result<(), String> {
+    let outputs = match &args.out {
+        Some(markdown) => {
+            let json = json_beside(markdown);
+            let inputs: Vec<(&str, &Path)> =
+                args.files.iter().map(|f| ("input", f.as_path())).collect();
+            check_output("--out", markdown, &inputs)?;
+            check_output("--out (its JSON)", &json, &inputs)?;
+            Some((markdown, json))
+        }
+        None => None,
+    };
     let files = args
         .files
         .iter()
         .map(|path| read_result_file(path))
         .collect::<Result<Vec<_>, _>>()?;
+    check_one_motion(&args.files, &files)?;
     let table = build_table(&files, Vec::new());
-    match &args.out {
-        Some(path) => {
-            write_atomic(path, table.to_markdown().as_bytes())?;
-            write_json(&path.with_extension("json"), &table)?;
+    match outputs {
+        Some((markdown, json)) => {
+            write_atomic(markdown, table.to_markdown().as_bytes())?;
+            write_json(&json, &table)?;
             say!(
                 "table written to {} and {}",
-                path.display(),
-                path.with_extension("json").display()
+                markdown.display(),
+                json.display()
             );
         }
         None => say_raw!("{}", table.to_markdown()),
     }
     Ok(())
+}
+
+/// Fails, naming both files, when two results describe different motions (horizon or number
+/// of intervals) or give the original design's solve of the same row twice: one table compares
+/// results of one task, and no result is silently dropped.
+fn check_one_motion(paths: &[PathBuf], files: &[ResultFile]) -> Result<(), String> {
+    let motion = |file: &ResultFile| match file {
+        ResultFile::Solve(d) => Some((d.inputs.task.motion.horizon_s, d.inputs.task.motion.steps)),
+        ResultFile::Optimize(d) => {
+            Some((d.inputs.task.motion.horizon_s, d.inputs.task.motion.steps))
+        }
+        ResultFile::Capacity(_) => None,
+    };
+    let row = |file: &ResultFile| match file {
+        ResultFile::Solve(d) if d.result.ratios == d.inputs.task.transmission.original => {
+            Some((d.inputs.payload_kg, d.inputs.space))
+        }
+        _ => None,
+    };
+    for (i, a) in files.iter().enumerate() {
+        for (j, b) in files.iter().enumerate().skip(i + 1) {
+            let (first, second) = (paths[i].display(), paths[j].display());
+            if let (Some((ha, na)), Some((hb, nb))) = (motion(a), motion(b)) {
+                if (ha, na) != (hb, nb) {
+                    return Err(format!("{first} (horizon {ha} s, {na} intervals) and {second} (horizon {hb} s, {nb} intervals) describe different motions; a table compares the results of one task"));
+                }
+            }
+            if let (Some((payload, space)), true) = (row(a), row(a) == row(b)) {
+                return Err(format!("{first} and {second} both solve the original design at {payload} kg in {space} space; pass one of them"));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The JSON file of the table written to `markdown`: `T.md` -> `T.json`, any other name
+/// `NAME` -> `NAME.json`, so that the two never coincide.
+fn json_beside(markdown: &Path) -> PathBuf {
+    if markdown.extension().is_some_and(|e| e == "md") {
+        markdown.with_extension("json")
+    } else {
+        let mut name = markdown.as_os_str().to_owned();
+        name.push(".json");
+        PathBuf::from(name)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::json_beside;
+    use std::path::Path;
+
+    #[test]
+    fn the_json_is_named_apart_from_the_markdown() {
+        assert_eq!(json_beside(Path::new("a/t.md")), Path::new("a/t.json"));
+        assert_eq!(json_beside(Path::new("t.json")), Path::new("t.json.json"));
+        assert_eq!(json_beside(Path::new("t")), Path::new("t.json"));
+    }
 }

@@ -69,7 +69,9 @@ pub fn payload_capacity(
     let valid = |v: f64| v.is_finite() && v > 0.0;
     if !valid(settings.resolution_kg) || !valid(settings.first_step_kg) || !valid(settings.max_kg) {
         return Err(format!(
-            "capacity settings must be positive numbers: {settings:?}"
+            "capacity settings must be positive numbers of kg: resolution {}, first step {}, \
+             max {}",
+            settings.resolution_kg, settings.first_step_kg, settings.max_kg
         ));
     }
     let mut probes = Vec::new();

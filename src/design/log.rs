@@ -1,19 +1,26 @@
 //! The evaluation log of a co-design run: JSON lines, appended as each evaluation finishes.
 //!
-//! The first line is a [`LogHeader`] describing the run; every further line is a [`LogEntry`].
-//! `--resume` reads the log back, checks that the header matches the run being resumed, and
-//! replays finished evaluations instead of solving them again. A last line cut short by an
-//! interruption is ignored (and overwritten by the next append).
+//! The first line is a [`LogHeader`] describing the run; every further line is a [`LogEntry`]
+//! carrying a checksum of its content. `--resume` reads the log back, checks that the header
+//! matches the run being resumed and every record its checksum, and replays finished evaluations
+//! instead of solving them again. Only a last line cut short by an interruption is dropped (and
+//! overwritten by the next append); a damaged line anywhere else is an error naming it.
+//!
+//! An open log holds an advisory lock (`flock`) for as long as it is open, so that two runs on
+//! one log cannot both write it: the second fails at once, naming the first's process.
 //!
 //! Each entry also records the run's working time when it finished: wall time summed over the
 //! invocations of the run, so a resumed run still knows how long it took in all.
 
 use super::evaluate::Evaluation;
+use crate::report::files::lock_or_name_holder;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
+use serde_json::Value;
 use std::collections::HashMap;
 use std::fs::{File, OpenOptions};
-use std::io::{BufRead, BufReader, Seek, SeekFrom, Write};
+use std::io::{Read, Seek, SeekFrom, Write};
+use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -23,7 +30,10 @@ pub struct LogHeader {
     /// Always `codesign-evaluation-log`.
     pub format: String,
     /// The run's settings (task, space, modes, payload, seed, population, ...), as JSON.
-    pub run: serde_json::Value,
+    pub run: Value,
+    /// Whether every entry carries a checksum (false in logs written before checksums).
+    #[serde(default)]
+    pub checksums: bool,
 }
 
 /// One finished evaluation.
@@ -41,12 +51,26 @@ pub struct LogEntry {
     /// as that work is done again). Absent in logs written before it was recorded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub run_seconds: Option<f64>,
+    /// FNV-1a hash (16 hex digits) of the entry's JSON without this field.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub check: Option<String>,
 }
 
 /// Finished evaluations of a log by (generation, index).
 pub type Finished = HashMap<(usize, usize), Evaluation>;
 
-/// An open log, appended to line by line.
+/// How a run treats a log already at its path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Start {
+    /// Refuse it (`--resume` or `--overwrite` decides).
+    Fresh,
+    /// Continue it (or start a new one where there is none).
+    Resume,
+    /// Empty it and start afresh.
+    Overwrite,
+}
+
+/// An open log, appended to line by line, locked against other runs while open.
 #[derive(Debug)]
 pub struct EvaluationLog {
     path: PathBuf,
@@ -56,106 +80,232 @@ pub struct EvaluationLog {
     /// The run's working time before this invocation, s; None when a resumed log has entries
     /// without it, so the run's total is unknown.
     earlier_seconds: Option<f64>,
+    /// Whether this invocation created the file or emptied it.
+    created: bool,
+    /// Entries appended by this invocation.
+    appended: usize,
+    /// The number of a torn last line dropped on resuming, if any.
+    dropped_line: Option<usize>,
 }
 
 const FORMAT: &str = "codesign-evaluation-log";
 
-impl EvaluationLog {
-    /// Starts a new log at `path`; refuses to overwrite an existing one (resume it instead).
-    pub fn create<T: Serialize>(path: &Path, run: &T) -> Result<EvaluationLog, String> {
-        let run = serde_json::to_value(run).map_err(|e| e.to_string())?;
-        let mut file = OpenOptions::new().write(true).create_new(true).open(path).map_err(|e| {
-            if e.kind() == std::io::ErrorKind::AlreadyExists {
-                format!("the evaluation log {} exists already: pass --resume to continue that run, or --overwrite to start afresh", path.display())
+/// The checksum of a log line's text: FNV-1a, 64 bits, as 16 hex digits.
+fn checksum(text: &str) -> String {
+    let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |hash, byte| {
+        (hash ^ u64::from(byte)).wrapping_mul(0x0100_0000_01b3)
+    });
+    format!("{hash:016x}")
+}
+
+/// Opens (creating if absent) and locks the log at `path`; returns the file and whether this
+/// call created it. Fails at once when another process holds the lock, naming it.
+fn open_locked(path: &Path) -> Result<(File, bool), String> {
+    let shown = path.display();
+    let options = || OpenOptions::new().read(true).write(true).clone();
+    let (file, created) = match options().create_new(true).open(path) {
+        Ok(file) => (file, true),
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => (
+            options()
+                .open(path)
+                .map_err(|e| format!("cannot open the evaluation log {shown}: {e}"))?,
+            false,
+        ),
+        Err(e) => return Err(format!("cannot create the evaluation log {shown}: {e}")),
+    };
+    lock_or_name_holder(&file, &format!("the evaluation log {shown}"), "--out")?;
+    // Another run may have replaced the file between the open and the lock.
+    let same =
+        |a: &std::fs::Metadata, b: &std::fs::Metadata| a.dev() == b.dev() && a.ino() == b.ino();
+    let on_disk = std::fs::metadata(path);
+    match (on_disk, file.metadata()) {
+        (Ok(a), Ok(b)) if same(&a, &b) => Ok((file, created)),
+        _ => Err(format!(
+            "the evaluation log {shown} was replaced while this run opened it; run again"
+        )),
+    }
+}
+
+/// The settings in which `logged` and `current` differ, as `path: log X, this command Y`.
+fn differences(logged: &Value, current: &Value, path: &str, found: &mut Vec<String>) {
+    if let (Value::Object(a), Value::Object(b)) = (logged, current) {
+        let mut keys: Vec<&String> = a.keys().chain(b.keys()).collect();
+        keys.sort();
+        keys.dedup();
+        for key in keys {
+            let inner = if path.is_empty() {
+                key.clone()
             } else {
-                format!("cannot create the evaluation log {}: {e}", path.display())
+                format!("{path}.{key}")
+            };
+            differences(
+                a.get(key).unwrap_or(&Value::Null),
+                b.get(key).unwrap_or(&Value::Null),
+                &inner,
+                found,
+            );
+        }
+    } else if logged != current {
+        let short = |value: &Value| {
+            let text = value.to_string();
+            match text.char_indices().nth(60) {
+                Some((end, _)) => format!("{}...", &text[..end]),
+                None => text,
             }
-        })?;
-        let header = LogHeader {
-            format: FORMAT.to_owned(),
-            run,
         };
-        let line = serde_json::to_string(&header).map_err(|e| e.to_string())?;
-        writeln!(file, "{line}")
-            .and_then(|()| file.sync_data())
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        Ok(EvaluationLog {
+        found.push(format!(
+            "{path}: log {}, this command {}",
+            short(logged),
+            short(current)
+        ));
+    }
+}
+
+impl EvaluationLog {
+    /// Opens the log at `path` for `run`, locked against any other run while it is open. A
+    /// missing or empty log starts afresh; an existing one is refused, resumed (its finished
+    /// evaluations are returned by (generation, index)) or emptied, as `start` says.
+    pub fn open<T: Serialize + DeserializeOwned + PartialEq>(
+        path: &Path,
+        run: &T,
+        start: Start,
+    ) -> Result<(EvaluationLog, Finished), String> {
+        let (file, created) = open_locked(path)?;
+        let length = file
+            .metadata()
+            .map_err(|e| format!("cannot read {}: {e}", path.display()))?
+            .len();
+        let mut log = EvaluationLog {
             path: path.to_owned(),
             file,
             opened: Instant::now(),
             earlier_seconds: Some(0.0),
-        })
+            created,
+            appended: 0,
+            dropped_line: None,
+        };
+        if length > 0 {
+            let entries = log.holds_entries()?;
+            match start {
+                Start::Resume if entries => return log.replay(run),
+                Start::Fresh if entries => return Err(format!("the evaluation log {} exists already: pass --resume to continue that run, or --overwrite to start afresh", path.display())),
+                // Overwritten, or a header alone: nothing is lost.
+                _ => {
+                    log.file
+                        .set_len(0)
+                        .and_then(|()| log.file.seek(SeekFrom::Start(0)))
+                        .map_err(|e| format!("cannot empty {}: {e}", path.display()))?;
+                    log.created = true;
+                }
+            }
+        }
+        let header = LogHeader {
+            format: FORMAT.to_owned(),
+            run: serde_json::to_value(run).map_err(|e| e.to_string())?,
+            checksums: true,
+        };
+        let line = serde_json::to_string(&header).map_err(|e| e.to_string())?;
+        log.write_line(&line)?;
+        Ok((log, Finished::new()))
     }
 
-    /// Reopens the log at `path` of the same `run`, returning its finished evaluations by
-    /// (generation, index). Fails when the file is missing or belongs to another run.
-    pub fn resume<T: DeserializeOwned + PartialEq>(
-        path: &Path,
+    /// Reads a non-empty log back for `run`: checks its header and every entry, drops a torn
+    /// last line, and leaves the file positioned for appending.
+    fn replay<T: Serialize + DeserializeOwned + PartialEq>(
+        mut self,
         run: &T,
     ) -> Result<(EvaluationLog, Finished), String> {
-        let mut file = OpenOptions::new()
-            .read(true)
-            .write(true)
-            .open(path)
-            .map_err(|e| format!("cannot resume from {}: {e}", path.display()))?;
-        let mut reader = BufReader::new(&mut file);
-        let mut header_line = String::new();
-        reader
-            .read_line(&mut header_line)
-            .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-        let header: LogHeader = serde_json::from_str(&header_line).map_err(|e| {
-            format!(
-                "{} is not an evaluation log (first line: {e})",
-                path.display()
-            )
-        })?;
+        let shown = self.path.display().to_string();
+        let mut text = String::new();
+        self.file
+            .read_to_string(&mut text)
+            .map_err(|e| format!("cannot read {shown}: {e}"))?;
+        let mut lines = text.split_inclusive('\n');
+        let header_line = lines.next().unwrap_or_default();
+        let header: LogHeader = serde_json::from_str(header_line)
+            .map_err(|e| format!("{shown} is not an evaluation log (line 1: {e})"))?;
         if header.format != FORMAT {
-            return Err(format!("{} is not an evaluation log", path.display()));
+            return Err(format!("{shown} is not an evaluation log"));
         }
-        // Compared as the run's type, so that a field added later with a default still matches
-        // the logs written before it existed.
-        let same = serde_json::from_value::<T>(header.run).is_ok_and(|logged| logged == *run);
-        if !same {
-            return Err(format!(
-                "{} belongs to a different run (its settings differ from this command's); use another --out or remove it",
-                path.display()
-            ));
-        }
+        self.check_same_run(&header.run, run)?;
         let mut finished = HashMap::new();
-        let mut earlier_seconds = Some(0.0_f64);
-        let mut valid_end = header_line.len() as u64;
-        let mut line = String::new();
-        loop {
-            line.clear();
-            let read = reader
-                .read_line(&mut line)
-                .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-            if read == 0 || !line.ends_with('\n') {
+        let mut valid_end = header_line.len();
+        for (number, line) in (2..).zip(lines) {
+            if !line.ends_with('\n') {
+                // Only the last line can lack its end: an append cut short.
+                self.dropped_line = Some(number);
                 break;
             }
-            match serde_json::from_str::<LogEntry>(&line) {
-                Ok(entry) => {
-                    earlier_seconds = earlier_seconds
-                        .zip(entry.run_seconds)
-                        .map(|(latest, at)| latest.max(at));
-                    finished.insert((entry.generation, entry.index), entry.evaluation);
-                    valid_end += read as u64;
-                }
-                Err(_) => break,
-            }
+            let entry = read_entry(line, header.checksums).map_err(|why| {
+                format!("{shown} line {number}: {why}; the log was edited or damaged (remove that line to resume without it, or pass --overwrite to start afresh)")
+            })?;
+            self.earlier_seconds = self
+                .earlier_seconds
+                .zip(entry.run_seconds)
+                .map(|(latest, at)| latest.max(at));
+            finished.insert((entry.generation, entry.index), entry.evaluation);
+            valid_end += line.len();
         }
-        file.set_len(valid_end)
-            .and_then(|()| file.seek(SeekFrom::End(0)))
-            .map_err(|e| format!("cannot truncate {}: {e}", path.display()))?;
-        Ok((
-            EvaluationLog {
-                path: path.to_owned(),
-                file,
-                opened: Instant::now(),
-                earlier_seconds,
-            },
-            finished,
+        self.file
+            .set_len(valid_end as u64)
+            .and_then(|()| self.file.seek(SeekFrom::End(0)))
+            .map_err(|e| format!("cannot truncate {shown}: {e}"))?;
+        Ok((self, finished))
+    }
+
+    /// Fails, naming the differing settings, unless the logged run is `run`. Compared as the
+    /// run's type, so that a field added later with a default still matches older logs.
+    fn check_same_run<T: Serialize + DeserializeOwned + PartialEq>(
+        &self,
+        logged: &Value,
+        run: &T,
+    ) -> Result<(), String> {
+        let parsed = serde_json::from_value::<T>(logged.clone());
+        if parsed.as_ref().is_ok_and(|logged| logged == run) {
+            return Ok(());
+        }
+        let logged = match parsed {
+            Ok(parsed) => serde_json::to_value(parsed).unwrap_or(Value::Null),
+            Err(_) => logged.clone(),
+        };
+        let current = serde_json::to_value(run).map_err(|e| e.to_string())?;
+        let mut found = Vec::new();
+        differences(&logged, &current, "", &mut found);
+        let more = found.len().saturating_sub(3);
+        found.truncate(3);
+        if more > 0 {
+            found.push(format!("{more} more"));
+        }
+        Err(format!(
+            "{} belongs to a different run ({}); use another --out, or --overwrite to replace it",
+            self.path.display(),
+            found.join("; ")
         ))
+    }
+
+    /// Whether the log holds anything beyond its header line; leaves the file at its start.
+    fn holds_entries(&mut self) -> Result<bool, String> {
+        let mut text = String::new();
+        self.file
+            .read_to_string(&mut text)
+            .and_then(|_| self.file.seek(SeekFrom::Start(0)))
+            .map_err(|e| format!("cannot read {}: {e}", self.path.display()))?;
+        Ok(text.split_inclusive('\n').nth(1).is_some())
+    }
+
+    /// The number of the torn last line dropped on resuming, if there was one.
+    pub fn dropped_line(&self) -> Option<usize> {
+        self.dropped_line
+    }
+
+    /// Removes the log when this invocation created (or emptied) it and appended nothing (a run
+    /// that failed before its first evaluation leaves nothing behind); otherwise just closes it.
+    pub fn discard_if_unused(self) -> Result<(), String> {
+        if self.created && self.appended == 0 {
+            std::fs::remove_file(&self.path)
+                .map_err(|e| format!("cannot remove {}: {e}", self.path.display()))?;
+        }
+        Ok(())
     }
 
     /// The run's working time before this invocation, s (None when the log predates that
@@ -172,24 +322,54 @@ impl EvaluationLog {
     }
 
     /// Appends the evaluation of design `index` of `generation`, stamped with the run's working
-    /// time, and flushes it to disk.
+    /// time and checksummed, and flushes it to disk.
     pub fn append(
         &mut self,
         generation: usize,
         index: usize,
         evaluation: &Evaluation,
     ) -> Result<(), String> {
-        let entry = LogEntry {
+        let mut entry = LogEntry {
             generation,
             index,
             evaluation: evaluation.clone(),
             run_seconds: self.run_seconds(),
+            check: None,
         };
+        entry.check = Some(checksum(
+            &serde_json::to_string(&entry).map_err(|e| e.to_string())?,
+        ));
         let line = serde_json::to_string(&entry).map_err(|e| e.to_string())?;
-        writeln!(self.file, "{line}")
-            .and_then(|()| self.file.sync_data())
-            .map_err(|e| format!("cannot append to {}: {e}", self.path.display()))
+        self.write_line(&line)?;
+        self.appended += 1;
+        Ok(())
     }
+
+    /// Writes `line` and its end in one write and flushes it to disk.
+    fn write_line(&mut self, line: &str) -> Result<(), String> {
+        let whole = format!("{line}\n");
+        self.file
+            .write_all(whole.as_bytes())
+            .and_then(|()| self.file.sync_data())
+            .map_err(|e| format!("cannot write {}: {e}", self.path.display()))
+    }
+}
+
+/// Parses one entry line and checks its checksum (required when `checksums`).
+fn read_entry(line: &str, checksums: bool) -> Result<LogEntry, String> {
+    let mut entry: LogEntry =
+        serde_json::from_str(line).map_err(|e| format!("not an evaluation record ({e})"))?;
+    match entry.check.take() {
+        Some(logged) => {
+            let text = serde_json::to_string(&entry).map_err(|e| e.to_string())?;
+            if checksum(&text) != logged {
+                return Err("its checksum does not match its content".to_owned());
+            }
+        }
+        None if checksums => return Err("the record has no checksum".to_owned()),
+        None => {}
+    }
+    Ok(entry)
 }
 
 #[cfg(test)]
@@ -226,7 +406,19 @@ mod tests {
                 reason: None,
             },
             run_seconds: None,
+            check: None,
         }
+    }
+
+    /// The line `append` would write for `entry` (checksummed).
+    fn line_of(entry: &LogEntry) -> String {
+        let mut entry = entry.clone();
+        entry.check = Some(checksum(&serde_json::to_string(&entry).unwrap()));
+        serde_json::to_string(&entry).unwrap()
+    }
+
+    fn create(path: &Path, run: &Run) -> EvaluationLog {
+        EvaluationLog::open(path, run, Start::Fresh).unwrap().0
     }
 
     #[test]
@@ -258,22 +450,23 @@ mod tests {
         let append = |log: &mut EvaluationLog, e: LogEntry| {
             log.append(e.generation, e.index, &e.evaluation).unwrap()
         };
-        let mut log = EvaluationLog::create(&path, &run).unwrap();
+        let mut log = create(&path, &run);
         append(&mut log, entry(0, 0, 1.5));
         append(&mut log, entry(0, 1, 2.5));
         drop(log);
-        assert!(EvaluationLog::create(&path, &run)
+        assert!(EvaluationLog::open(&path, &run, Start::Fresh)
             .unwrap_err()
             .contains("--resume"));
         let mut file = OpenOptions::new().append(true).open(&path).unwrap();
         write!(file, "{{\"generation\": 0, \"ind").unwrap();
         drop(file);
-        let (mut log, finished) = EvaluationLog::resume(&path, &run).unwrap();
+        let (mut log, finished) = EvaluationLog::open(&path, &run, Start::Resume).unwrap();
+        assert_eq!(log.dropped_line(), Some(4));
         assert_eq!(finished.len(), 2);
         assert_eq!(finished[&(0, 1)], entry(0, 1, 2.5).evaluation);
         append(&mut log, entry(0, 2, 3.5));
         drop(log);
-        let (_, finished) = EvaluationLog::resume(&path, &run).unwrap();
+        let (_, finished) = EvaluationLog::open(&path, &run, Start::Resume).unwrap();
         assert_eq!(finished.len(), 3);
         // A log written before a defaulted field existed still belongs to the run.
         let newer = NewerRun {
@@ -281,15 +474,20 @@ mod tests {
             method: None,
             extra: 0,
         };
-        assert!(EvaluationLog::resume(&path, &newer).is_ok());
-        let other = EvaluationLog::resume(
+        assert!(EvaluationLog::open(&path, &newer, Start::Resume).is_ok());
+        let other = EvaluationLog::open(
             &path,
             &Run {
                 seed: 4,
                 method: None,
             },
+            Start::Resume,
         );
-        assert!(other.err().unwrap().contains("different run"));
+        let error = other.err().unwrap();
+        assert!(
+            error.contains("different run (seed: log 3, this command 4)"),
+            "{error}"
+        );
         std::fs::remove_file(&path).unwrap();
     }
 
@@ -302,29 +500,104 @@ mod tests {
             seed: 5,
             method: None,
         };
-        let mut log = EvaluationLog::create(&path, &run).unwrap();
+        let mut log = create(&path, &run);
         log.earlier_seconds = Some(100.0); // as if a first invocation had worked 100 s
         log.append(0, 0, &entry(0, 0, 1.0).evaluation).unwrap();
         drop(log);
-        let (log, _) = EvaluationLog::resume(&path, &run).unwrap();
+        let (log, _) = EvaluationLog::open(&path, &run, Start::Resume).unwrap();
         let total = log.run_seconds().unwrap();
         assert!((100.0..101.0).contains(&total), "{total}");
         drop(log);
         // An entry without the record (an older log): the run's total is unknown from then on.
         let mut file = OpenOptions::new().append(true).open(&path).unwrap();
-        writeln!(
-            file,
-            "{}",
-            serde_json::to_string(&entry(0, 1, 2.0)).unwrap()
-        )
-        .unwrap();
+        writeln!(file, "{}", line_of(&entry(0, 1, 2.0))).unwrap();
         drop(file);
-        let (mut log, finished) = EvaluationLog::resume(&path, &run).unwrap();
+        let (mut log, finished) = EvaluationLog::open(&path, &run, Start::Resume).unwrap();
         assert_eq!(finished.len(), 2);
         assert_eq!(log.run_seconds(), None);
         log.append(0, 2, &entry(0, 2, 3.0).evaluation).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         assert!(!text.lines().last().unwrap().contains("run_seconds"));
         std::fs::remove_file(&path).unwrap();
+    }
+
+    #[test]
+    fn damaged_or_edited_lines_are_errors_naming_them() {
+        let path =
+            std::env::temp_dir().join(format!("codesign-log-bad-{}.jsonl", std::process::id()));
+        let _ = std::fs::remove_file(&path);
+        let run = Run {
+            seed: 1,
+            method: None,
+        };
+        let mut log = create(&path, &run);
+        for index in 0..3 {
+            log.append(0, index, &entry(0, index, 1.0).evaluation)
+                .unwrap();
+        }
+        drop(log);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        let rewrite = |third: &str| {
+            let mut edited = lines.clone();
+            edited[2] = third;
+            std::fs::write(&path, edited.join("\n") + "\n").unwrap();
+        };
+        rewrite("garbage");
+        let error = EvaluationLog::open(&path, &run, Start::Resume).unwrap_err();
+        assert!(
+            error.contains("line 3: not an evaluation record"),
+            "{error}"
+        );
+        assert_eq!(
+            std::fs::read_to_string(&path).unwrap().lines().count(),
+            4,
+            "nothing dropped"
+        );
+        let edited = lines[2].replacen("\"cost\":1.0", "\"cost\":0.5", 1);
+        assert_ne!(edited, lines[2]);
+        rewrite(&edited);
+        let error = EvaluationLog::open(&path, &run, Start::Resume).unwrap_err();
+        assert!(
+            error.contains("line 3: its checksum does not match"),
+            "{error}"
+        );
+        std::fs::remove_file(&path).unwrap();
+    }
+
+    #[test]
+    fn one_run_at_a_time_and_no_empty_log_left_behind() {
+        let path =
+            std::env::temp_dir().join(format!("codesign-log-lock-{}.jsonl", std::process::id()));
+        let _ = std::fs::remove_file(&path);
+        let run = Run {
+            seed: 2,
+            method: None,
+        };
+        let log = create(&path, &run);
+        for start in [Start::Fresh, Start::Resume, Start::Overwrite] {
+            let error = EvaluationLog::open(&path, &run, start).unwrap_err();
+            let pid = format!("in use by another run (pid {})", std::process::id());
+            assert!(error.contains(&pid), "{error}");
+        }
+        log.discard_if_unused().unwrap();
+        assert!(!path.exists(), "a log without evaluations is removed");
+        let mut log = create(&path, &run);
+        log.append(0, 0, &entry(0, 0, 1.0).evaluation).unwrap();
+        log.discard_if_unused().unwrap();
+        let (log, finished) = EvaluationLog::open(&path, &run, Start::Overwrite).unwrap();
+        assert!(finished.is_empty());
+        drop(log);
+        // A header alone holds nothing to lose: a fresh or resumed run of any settings takes
+        // its place.
+        let other = Run {
+            seed: 9,
+            method: None,
+        };
+        let (log, finished) = EvaluationLog::open(&path, &other, Start::Resume).unwrap();
+        assert!(finished.is_empty());
+        drop(log);
+        create(&path, &run).discard_if_unused().unwrap();
+        assert!(!path.exists());
     }
 }

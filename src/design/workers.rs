@@ -62,7 +62,8 @@ pub struct Response {
 }
 
 /// The worker's side: reads the setup and requests from `input`, writes responses to `output`,
-/// until `input` ends. Errors (a malformed line, an unbuildable formulation) end the worker.
+/// until `input` ends or the parent stops reading (a closed pipe ends it quietly). Errors (a
+/// malformed line, an unbuildable formulation) end the worker.
 pub fn serve(input: impl BufRead, mut output: impl Write) -> Result<(), String> {
     let mut lines = input.lines();
     let setup_line = match lines.next() {
@@ -86,9 +87,12 @@ pub fn serve(input: impl BufRead, mut output: impl Write) -> Result<(), String> 
             },
         };
         let text = serde_json::to_string(&response).map_err(|e| format!("worker: {e}"))?;
-        writeln!(output, "{text}")
-            .and_then(|()| output.flush())
-            .map_err(|e| format!("worker: cannot answer: {e}"))?;
+        match writeln!(output, "{text}").and_then(|()| output.flush()) {
+            Ok(()) => {}
+            // The parent is gone (it finished, failed or was stopped): nobody to answer.
+            Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => return Ok(()),
+            Err(e) => return Err(format!("worker: cannot answer: {e}")),
+        }
     }
     Ok(())
 }
@@ -433,5 +437,29 @@ done"#;
         assert_eq!(costs, vec![10.0, 11.0]);
         drop(pool);
         std::fs::remove_file(program).unwrap();
+    }
+
+    /// A writer whose reader is gone (or whose disk is full).
+    struct Closed(std::io::ErrorKind);
+
+    impl Write for Closed {
+        fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
+            Err(self.0.into())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_worker_whose_parent_is_gone_ends_quietly() {
+        let input = format!(
+            "{}\n{{\"id\":0,\"ratios\":[1.0]}}\n",
+            serde_json::to_string(&setup()).unwrap()
+        );
+        let gone = serve(input.as_bytes(), Closed(std::io::ErrorKind::BrokenPipe));
+        assert_eq!(gone, Ok(()));
+        let full = serve(input.as_bytes(), Closed(std::io::ErrorKind::StorageFull));
+        assert!(full.unwrap_err().contains("cannot answer"));
     }
 }

@@ -189,11 +189,12 @@ fn every_field_of_every_reference_sample_agrees() {
 fn random_chain_urdf(random: &mut Random) -> String {
     let mut text = String::from("<robot name=\"random\">\n");
     let link = |name: &str, random: &mut Random| {
-        // Principal moments meeting the triangle inequality, turned by a random rotation.
+        // Principal moments meeting the triangle inequality (any two of [0.03, 0.05] add up to
+        // more than the third), turned by a random rotation.
         let principal = [
-            random.uniform(0.01, 0.05),
-            random.uniform(0.01, 0.05),
-            random.uniform(0.01, 0.05),
+            random.uniform(0.03, 0.05),
+            random.uniform(0.03, 0.05),
+            random.uniform(0.03, 0.05),
         ];
         let rotation = nalgebra::Rotation3::from_euler_angles(
             random.uniform(-3.0, 3.0),

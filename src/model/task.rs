@@ -250,6 +250,43 @@ impl fmt::Display for TaskError {
 
 impl std::error::Error for TaskError {}
 
+/// Most intervals N of a motion: the problem has about 20 variables per interval and IPOPT's
+/// factorisation grows faster than that; 5000 is 100 times the paper's 50.
+pub const MAX_STEPS: usize = 5_000;
+
+/// Longest motion, s: an hour, far beyond a pick-and-place of seconds.
+pub const MAX_HORIZON_S: f64 = 3_600.0;
+
+/// Heaviest payload, kg: a tonne, far beyond what a 4-DOF arm of this class can lift.
+pub const MAX_PAYLOAD_KG: f64 = 1_000.0;
+
+/// Checks a number of intervals N; the message gives the limit and its reason.
+pub fn check_steps(steps: usize) -> Result<(), String> {
+    if (1..=MAX_STEPS).contains(&steps) {
+        Ok(())
+    } else {
+        Err(format!("the number of intervals must be 1 to {MAX_STEPS} (100 times the paper's 50; beyond that IPOPT's memory and time grow out of reach)"))
+    }
+}
+
+/// Checks a motion's duration, s; the message gives the limit and its reason.
+pub fn check_horizon(seconds: f64) -> Result<(), String> {
+    if seconds.is_finite() && seconds > 0.0 && seconds <= MAX_HORIZON_S {
+        Ok(())
+    } else {
+        Err(format!("the duration must be a number of seconds > 0 and <= {MAX_HORIZON_S} (an hour, far beyond any pick-and-place)"))
+    }
+}
+
+/// Checks a payload mass, kg; the message gives the limit and its reason.
+pub fn check_payload(kg: f64) -> Result<(), String> {
+    if kg.is_finite() && (0.0..=MAX_PAYLOAD_KG).contains(&kg) {
+        Ok(())
+    } else {
+        Err(format!("the payload must be a mass >= 0 and <= {MAX_PAYLOAD_KG} kg (a tonne, far beyond what this class of arm lifts)"))
+    }
+}
+
 impl Task {
     /// Reads and checks a task file. A relative robot path is resolved against the file's folder.
     pub fn load(path: &Path) -> Result<Task, TaskError> {
@@ -295,12 +332,8 @@ impl Task {
         finite("gravity", &self.gravity)?;
         finite("tcp.point", &self.tcp.point)?;
         finite("payload.at.point", &self.payload.at.point)?;
-        if !(self.payload.mass_kg.is_finite() && self.payload.mass_kg >= 0.0) {
-            return Err(format!(
-                "payload.mass_kg = {} must be >= 0",
-                self.payload.mass_kg
-            ));
-        }
+        check_payload(self.payload.mass_kg)
+            .map_err(|why| format!("payload.mass_kg = {}: {why}", self.payload.mass_kg))?;
         finite("motion.start", &self.motion.start)?;
         finite("motion.goal", &self.motion.goal)?;
         if self.motion.start.len() != self.motion.goal.len() {
@@ -310,15 +343,10 @@ impl Task {
                 self.motion.goal.len()
             ));
         }
-        if !(self.motion.horizon_s.is_finite() && self.motion.horizon_s > 0.0) {
-            return Err(format!(
-                "motion.horizon_s = {} must be > 0",
-                self.motion.horizon_s
-            ));
-        }
-        if self.motion.steps == 0 {
-            return Err("motion.steps must be at least 1".to_owned());
-        }
+        check_horizon(self.motion.horizon_s)
+            .map_err(|why| format!("motion.horizon_s = {}: {why}", self.motion.horizon_s))?;
+        check_steps(self.motion.steps)
+            .map_err(|why| format!("motion.steps = {}: {why}", self.motion.steps))?;
         let weights = [
             ("weights.position", self.weights.position),
             ("weights.velocity", self.weights.velocity),
@@ -454,6 +482,17 @@ mod tests {
                 "motion.horizon_s",
             ),
             ("\"steps\": 50", "\"stepz\": 50", "stepz"),
+            (
+                "\"steps\": 50",
+                "\"steps\": 99999999999",
+                "motion.steps = 99999999999: the number of intervals must be 1 to 5000",
+            ),
+            ("\"horizon_s\": 0.8", "\"horizon_s\": 1e9", "<= 3600"),
+            (
+                "\"mass_kg\": 0.0",
+                "\"mass_kg\": 1e6",
+                "payload.mass_kg = 1000000: the payload must be",
+            ),
             ("\"mass_kg\": 0.0", "\"mass_kg\": -2", "payload.mass_kg"),
             ("[-1.0, 0.4]", "[0.4, -1.0]", "cartesian_box.y.range"),
             ("\"torque\": \"paper\"", "\"torque\": \"papr\"", "papr"),

@@ -167,6 +167,15 @@ fn bad_masses_and_inertias_are_named() {
         "ixy=\"1\"",
         &["link 'link_4' <inertia>", "positive definite"],
     );
+    // Positive definite, but no body has ixx > iyy + izz.
+    assert_fails(
+        "ixx=\"3.8635E-05\"",
+        "ixx=\"1\"",
+        &[
+            "link 'link_3' <inertia>",
+            "exceeds the sum of the other two",
+        ],
+    );
     assert_fails(
         "<mass value=\"0.14631\"/>",
         "<mass value=\"0\"/>",
@@ -237,7 +246,8 @@ fn unknown_task_links_and_unreadable_files_are_named() {
         .unwrap_err()
         .to_string();
     assert!(
-        message.contains("test.urdf: robot: not a readable URDF"),
+        message.contains("test.urdf: robot: not a readable URDF")
+            && message.contains("ends before its closing </robot>"),
         "{message}"
     );
     let message = load("<robot name=\"r\"><link name=\"a\"/></robot>")

@@ -6,7 +6,8 @@
 //! XML, duplicate names, joints naming unknown links, kinematic loops, several root links,
 //! branching chains, joint types other than revolute, continuous and fixed, mimic joints, zero or
 //! non-finite axes, non-finite origins, revolute limits with lower >= upper, negative masses,
-//! inertias that are not positive definite, and moving bodies without mass. Links of the fixed
+//! inertias that are not positive definite or break the triangle inequality of principal moments
+//! (ixx > iyy + izz), and moving bodies without mass. Links of the fixed
 //! base never move, so their mass properties are only checked, not used.
 
 use super::chain::{Body, Chain, LinkFrame, MassProperties, Placement};
@@ -17,8 +18,14 @@ use urdf_rs::{JointType, Pose};
 
 /// Reads the URDF text `urdf`; `file` names it in errors.
 pub fn read_chain(urdf: &str, file: &str) -> Result<Chain, ModelError> {
-    let robot = urdf_rs::read_from_string(urdf)
-        .map_err(|e| ModelError::new(file, "robot", format!("not a readable URDF: {e}")))?;
+    let robot = urdf_rs::read_from_string(urdf).map_err(|e| {
+        let hint = if urdf.contains("</robot>") {
+            ""
+        } else {
+            " (the file ends before its closing </robot>: is it cut short?)"
+        };
+        ModelError::new(file, "robot", format!("not a readable URDF: {e}{hint}"))
+    })?;
     Tree::new(&robot, file)?.chain()
 }
 
@@ -303,6 +310,15 @@ impl<'a> Tree<'a> {
                 ),
             ));
         }
+        if mass > 0.0 && !principal_moments_physical(&inertia) {
+            return Err(self.error(
+                element("inertia"),
+                format!(
+                    "ixx = {}, iyy = {}, izz = {} (ixy = {}, ixz = {}, iyz = {}) is not the inertia of a body: a principal moment exceeds the sum of the other two",
+                    i.ixx, i.iyy, i.izz, i.ixy, i.ixz, i.iyz
+                ),
+            ));
+        }
         Ok(MassProperties {
             mass,
             com: Vector3::zeros(),
@@ -310,6 +326,15 @@ impl<'a> Tree<'a> {
         }
         .transformed(&origin))
     }
+}
+
+/// Whether the principal moments of a positive definite `inertia` satisfy the triangle
+/// inequality that every mass distribution does (each at most the sum of the other two, up to
+/// rounding).
+fn principal_moments_physical(inertia: &Matrix3<f64>) -> bool {
+    let moments = inertia.symmetric_eigen().eigenvalues;
+    let sum = moments.sum();
+    moments.iter().all(|&m| m <= sum - m + 1e-9 * sum)
 }
 
 /// The placement of a URDF `<origin>` (rotation R = Rz(yaw) Ry(pitch) Rx(roll)), if finite.

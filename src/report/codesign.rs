@@ -99,7 +99,8 @@ pub struct OptimizeDocument {
     /// Wall time of those solves summed, s (replayed ones included, from the log).
     #[serde(default)]
     pub solve_seconds_total: f64,
-    /// Median wall time of an inner solve, s.
+    /// Median wall time of an inner solve, s (NaN, written as null, when no solve ran).
+    #[serde(deserialize_with = "number_or_nan")]
     pub median_solve_seconds: f64,
     /// Why the method stopped.
     pub stop_reason: String,
@@ -187,5 +188,26 @@ pub fn radar_chart(title: &str, cases: &[(String, Vec<f64>)], upper: &[f64]) -> 
                 (name.clone(), fractions)
             })
             .collect(),
+    }
+}
+
+/// Reads a number that serde_json wrote as null because it was NaN.
+fn number_or_nan<'de, D: serde::Deserializer<'de>>(reader: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(reader)?.unwrap_or(f64::NAN))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::OptimizeDocument;
+
+    #[test]
+    fn a_run_without_timed_solves_reads_back() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("results/quick/runs/actuation-1kg-seed0.json");
+        let text = std::fs::read_to_string(path).unwrap();
+        let mut value: serde_json::Value = serde_json::from_str(&text).unwrap();
+        value["median_solve_seconds"] = serde_json::Value::Null;
+        let document: OptimizeDocument = serde_json::from_value(value).unwrap();
+        assert!(document.median_solve_seconds.is_nan());
     }
 }

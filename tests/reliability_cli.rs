@@ -1,0 +1,324 @@
+//! Outputs that never destroy what they replace, runs that cannot collide, and failures that say
+//! so: each bad command gives a clear error, a non-zero exit, and leaves everything as it was.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn codesign(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_codesign"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the codesign binary runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "codesign-reliability-{}-{name}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Asserts that the command failed with exit code 1 and that its error says `expected`.
+fn fails_saying(output: &Output, expected: &str) {
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains(expected), "{stderr}");
+}
+
+fn path(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// The default task with the robot's path made absolute and `edit` applied, written to `dir`.
+fn task_with(dir: &Path, edit: impl Fn(&mut serde_json::Value)) -> PathBuf {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("robots/tasks/pick_place.json")).unwrap();
+    let mut task: serde_json::Value = serde_json::from_str(&text).unwrap();
+    task["robot"] = root.join("robots/belt_arm.urdf").to_str().unwrap().into();
+    edit(&mut task);
+    let file = dir.join("task.json");
+    std::fs::write(&file, task.to_string()).unwrap();
+    file
+}
+
+#[test]
+fn special_files_symlinks_and_inputs_are_never_replaced() {
+    let dir = scratch("out");
+    let fifo = dir.join("fifo");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let solve = |out: &Path| codesign(&["solve", "--steps", "2", "--out", path(out)]);
+    fails_saying(&solve(Path::new("/dev/null")), "/dev/null: is a device");
+    fails_saying(&solve(&fifo), "is a FIFO");
+    assert!(std::os::unix::fs::FileTypeExt::is_fifo(
+        &std::fs::metadata(&fifo).unwrap().file_type()
+    ));
+    fails_saying(&solve(&dir), "is a folder");
+    fails_saying(
+        &solve(&dir.join("missing/result.json")),
+        "cannot write in its folder",
+    );
+    let task = task_with(&dir, |_| {});
+    let before = std::fs::read(&task).unwrap();
+    let output = codesign(&[
+        "solve",
+        "--steps",
+        "2",
+        "--task",
+        path(&task),
+        "--out",
+        path(&task),
+    ]);
+    fails_saying(&output, "that is an input of this command (--task");
+    assert_eq!(std::fs::read(&task).unwrap(), before);
+    // A link is followed: the file it points to takes the result, the link stays.
+    let real = dir.join("real.json");
+    std::fs::write(&real, "old").unwrap();
+    let link = dir.join("link.json");
+    std::os::unix::fs::symlink(&real, &link).unwrap();
+    let output = solve(&link);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert!(std::fs::read_to_string(&real).unwrap().contains("\"cost\""));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn table_outputs_never_collide_with_each_other_or_an_input() {
+    let dir = scratch("table");
+    let result = dir.join("res.json");
+    let output = codesign(&["solve", "--steps", "2", "--out", path(&result)]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let before = std::fs::read(&result).unwrap();
+    let output = codesign(&["table", path(&result), "--out", path(&dir.join("res.md"))]);
+    fails_saying(&output, "that is an input of this command");
+    assert_eq!(std::fs::read(&result).unwrap(), before);
+    assert!(!dir.join("res.md").exists(), "nothing written on refusal");
+    let named = dir.join("y.json");
+    let output = codesign(&["table", path(&result), "--out", path(&named)]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let markdown = std::fs::read_to_string(&named).unwrap();
+    assert!(
+        markdown.starts_with('#') || markdown.contains("| "),
+        "{markdown}"
+    );
+    let json = std::fs::read_to_string(dir.join("y.json.json")).unwrap();
+    serde_json::from_str::<serde_json::Value>(&json).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn sizes_are_limited_and_bad_arguments_create_nothing() {
+    for steps in ["99999999999", "18446744073709551615"] {
+        let output = codesign(&["solve", "--steps", steps]);
+        fails_saying(&output, "the number of intervals must be 1 to 5000");
+    }
+    fails_saying(&codesign(&["solve", "--duration", "1e9"]), "--duration");
+    fails_saying(&codesign(&["solve", "--payload", "1e7"]), "<= 1000 kg");
+    let dir = scratch("sizes");
+    let out = dir.join("o.json");
+    for (flag, value) in [("--population", "0"), ("--generations", "99999999")] {
+        let output = codesign(&["optimize", flag, value, "--out", path(&out)]);
+        fails_saying(&output, &format!("{flag} {value}: must be"));
+    }
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        0,
+        "a file was created"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_rejected_solver_option_fails_the_run_before_it_starts() {
+    let dir = scratch("option");
+    let task = task_with(&dir, |task| {
+        task["solver"]["options"] = serde_json::json!({"no_such_option": 3});
+    });
+    let out = dir.join("o.json");
+    let output = codesign(&[
+        "optimize",
+        "--task",
+        path(&task),
+        "--population",
+        "5",
+        "--generations",
+        "0",
+        "--workers",
+        "1",
+        "--out",
+        path(&out),
+    ]);
+    fails_saying(
+        &output,
+        "solver: IPOPT rejected option `no_such_option` = 3",
+    );
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name())
+        .collect();
+    assert_eq!(left, vec![std::ffi::OsString::from("task.json")]);
+    let output = codesign(&["solve", "--steps", "2", "--task", path(&task)]);
+    fails_saying(&output, "task.json solver: IPOPT rejected option");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_second_run_on_one_output_fails_at_once_naming_the_first() {
+    let dir = scratch("lock");
+    let out = dir.join("o.json");
+    let log = dir.join("o.log.jsonl");
+    let args = [
+        "optimize",
+        "--payload",
+        "1",
+        "--population",
+        "8",
+        "--generations",
+        "3",
+    ];
+    let mut first = Command::new(env!("CARGO_BIN_EXE_codesign"))
+        .args(args)
+        .args(["--workers", "1", "--out", path(&out)])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while std::fs::read_to_string(&log).map_or(0, |t| t.lines().count()) < 2 {
+        assert!(
+            start.elapsed() < Duration::from_secs(300),
+            "the first run did not start"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    for flag in [None, Some("--resume"), Some("--overwrite")] {
+        let mut second: Vec<&str> = args.to_vec();
+        second.extend(["--workers", "1", "--out", path(&out)]);
+        second.extend(flag);
+        let output = codesign(&second);
+        fails_saying(
+            &output,
+            &format!("in use by another run (pid {})", first.id()),
+        );
+    }
+    assert!(first.wait().unwrap().success());
+    let lines = std::fs::read_to_string(&log).unwrap();
+    for line in lines.lines() {
+        serde_json::from_str::<serde_json::Value>(line).expect("no torn line");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_failed_write_on_stdout_is_an_error() {
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_codesign"))
+        .args(["dynamics", "--q", "0,0,0,0"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(full)
+        .output()
+        .unwrap();
+    fails_saying(&output, "cannot write the output on stdout");
+}
+
+#[test]
+fn errors_name_the_real_source_of_the_bad_value() {
+    let dir = scratch("source");
+    let task = task_with(&dir, |task| {
+        task["transmission"]["original"] = serde_json::json!([6.0, 3.0, 1.0, 100.0]);
+    });
+    let solve = ["solve", "--steps", "2", "--task", path(&task)];
+    let capacity = ["capacity", "--task", path(&task)];
+    for command in [&solve[..], &capacity[..]] {
+        let output = codesign(command);
+        fails_saying(&output, "task.json transmission.original (6");
+        assert!(!String::from_utf8_lossy(&output.stderr).contains("--ratios"));
+    }
+    let urdf = dir.join("cut.urdf");
+    std::fs::write(&urdf, "<robot name=\"r\">\n  <link name=\"a\">\n").unwrap();
+    let output = codesign(&["solve", "--robot", path(&urdf)]);
+    fails_saying(&output, "cut.urdf: robot: not a readable URDF");
+    fails_saying(&output, "ends before its closing </robot>");
+    let one = dir.join("one.json");
+    let two = dir.join("two.json");
+    for (out, steps) in [(&one, "2"), (&two, "3")] {
+        let output = codesign(&["solve", "--steps", steps, "--out", path(out)]);
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+    }
+    let output = codesign(&["table", path(&one), path(&two)]);
+    fails_saying(&output, "describe different motions");
+    let output = codesign(&["table", path(&one), path(&one)]);
+    fails_saying(
+        &output,
+        "both solve the original design at 0 kg in actuation space",
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_second_reproduction_on_one_folder_fails_at_once() {
+    let dir = scratch("reproduce");
+    let out_dir = dir.join("results");
+    let args = [
+        "reproduce",
+        "--quick",
+        "--seeds",
+        "1",
+        "--out-dir",
+        path(&out_dir),
+    ];
+    let mut first = Command::new(env!("CARGO_BIN_EXE_codesign"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while !out_dir.join("original").exists() {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "the first run did not start"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let output = codesign(&args);
+    let expected = format!("is in use by another run (pid {})", first.id());
+    first.kill().unwrap();
+    first.wait().unwrap();
+    fails_saying(&output, &expected);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
