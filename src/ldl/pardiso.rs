@@ -188,6 +188,8 @@ unsafe fn run_phase(slot: &mut *mut Handle, phase: c_int, mut call: Call<'_>) ->
                 eprintln!("codesign LDL: new zero diagonals, order analysed again");
             }
         }
+        #[cfg(test)]
+        capture::keep(call.n, ia, ja, values);
         factorise_into(handle, values, &mut call)?;
     }
     if solve {
@@ -202,6 +204,37 @@ fn release(slot: &mut *mut Handle) {
         // SAFETY: a non-null slot holds the Box leaked by `run_phase`'s analysis, released once.
         drop(unsafe { Box::from_raw(*slot) });
         *slot = std::ptr::null_mut();
+    }
+}
+
+/// Matrices handed to [`pardiso`] on this thread, kept while a test asks for them.
+#[cfg(test)]
+pub(super) mod capture {
+    use std::cell::RefCell;
+
+    /// One matrix as IPOPT handed it over: n, row starts, columns, values (upper, 1-based).
+    pub type Matrix = (usize, Vec<i32>, Vec<i32>, Vec<f64>);
+
+    thread_local! {
+        static MATRICES: RefCell<Option<Vec<Matrix>>> = const { RefCell::new(None) };
+    }
+
+    /// Starts keeping the matrices this thread factorises.
+    pub fn start() {
+        MATRICES.with(|m| *m.borrow_mut() = Some(Vec::new()));
+    }
+
+    /// Stops keeping them and returns those kept.
+    pub fn take() -> Vec<Matrix> {
+        MATRICES.with(|m| m.borrow_mut().take().unwrap_or_default())
+    }
+
+    pub(super) fn keep(n: usize, ia: &[i32], ja: &[i32], values: &[f64]) {
+        MATRICES.with(|m| {
+            if let Some(kept) = m.borrow_mut().as_mut() {
+                kept.push((n, ia.to_vec(), ja.to_vec(), values.to_vec()));
+            }
+        });
     }
 }
 
