@@ -207,37 +207,6 @@ fn release(slot: &mut *mut Handle) {
     }
 }
 
-/// Matrices handed to [`pardiso`] on this thread, kept while a test asks for them.
-#[cfg(test)]
-pub(super) mod capture {
-    use std::cell::RefCell;
-
-    /// One matrix as IPOPT handed it over: n, row starts, columns, values (upper, 1-based).
-    pub type Matrix = (usize, Vec<i32>, Vec<i32>, Vec<f64>);
-
-    thread_local! {
-        static MATRICES: RefCell<Option<Vec<Matrix>>> = const { RefCell::new(None) };
-    }
-
-    /// Starts keeping the matrices this thread factorises.
-    pub fn start() {
-        MATRICES.with(|m| *m.borrow_mut() = Some(Vec::new()));
-    }
-
-    /// Stops keeping them and returns those kept.
-    pub fn take() -> Vec<Matrix> {
-        MATRICES.with(|m| m.borrow_mut().take().unwrap_or_default())
-    }
-
-    pub(super) fn keep(n: usize, ia: &[i32], ja: &[i32], values: &[f64]) {
-        MATRICES.with(|m| {
-            if let Some(kept) = m.borrow_mut().as_mut() {
-                kept.push((n, ia.to_vec(), ja.to_vec(), values.to_vec()));
-            }
-        });
-    }
-}
-
 /// Factorises `values` and reports the inertia in `iparm`.
 fn factorise_into(handle: &mut Handle, values: &[f64], call: &mut Call<'_>) -> Result<(), c_int> {
     let outcome = handle.numeric.factorise(&handle.symbolic, values);
@@ -278,5 +247,36 @@ fn code(error: LdlError) -> c_int {
     match error {
         LdlError::Structure(_) => INPUT_INCONSISTENT,
         LdlError::Singular { .. } | LdlError::NotFinite { .. } => ZERO_PIVOT,
+    }
+}
+
+/// Matrices handed to [`pardiso`] on this thread, kept while a test asks for them.
+#[cfg(test)]
+pub(super) mod capture {
+    use std::cell::RefCell;
+
+    /// One matrix as IPOPT handed it over: n, row starts, columns, values (upper, 1-based).
+    pub type Matrix = (usize, Vec<i32>, Vec<i32>, Vec<f64>);
+
+    thread_local! {
+        static MATRICES: RefCell<Option<Vec<Matrix>>> = const { RefCell::new(None) };
+    }
+
+    /// Starts keeping the matrices this thread factorises.
+    pub fn start() {
+        MATRICES.with(|m| *m.borrow_mut() = Some(Vec::new()));
+    }
+
+    /// Stops keeping them and returns those kept.
+    pub fn take() -> Vec<Matrix> {
+        MATRICES.with(|m| m.borrow_mut().take().unwrap_or_default())
+    }
+
+    pub(super) fn keep(n: usize, ia: &[i32], ja: &[i32], values: &[f64]) {
+        MATRICES.with(|m| {
+            if let Some(kept) = m.borrow_mut().as_mut() {
+                kept.push((n, ia.to_vec(), ja.to_vec(), values.to_vec()));
+            }
+        });
     }
 }
