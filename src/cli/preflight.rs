@@ -43,8 +43,11 @@ pub fn check_generations(generations: usize) -> Result<(), String> {
 
 /// Checks the flags that need no task: every error names its flag, the limit and its reason.
 pub fn check_flags(args: &Args) -> Result<(), String> {
-    check_population(args.population)?;
-    check_generations(args.generations)?;
+    if args.method == Method::Cmaes {
+        // The gradient method has no population or generations (reproduce passes 0 for both).
+        check_population(args.population)?;
+        check_generations(args.generations)?;
+    }
     if !(args.sigma.is_finite() && args.sigma > 0.0) {
         return Err(format!("--sigma {}: must be a positive number", args.sigma));
     }
@@ -131,8 +134,24 @@ pub fn check_evaluations(evaluations: &[Evaluation]) -> Result<(), String> {
 
 #[cfg(test)]
 mod tests {
-    use super::check_evaluations;
+    use super::{check_evaluations, check_flags, Args};
     use crate::design::evaluate::Evaluation;
+
+    #[test]
+    fn population_and_generations_are_checked_for_cma_es_only() {
+        #[derive(clap::Parser)]
+        struct Command {
+            #[command(flatten)]
+            args: Args,
+        }
+        let parse = |flags: &[&str]| {
+            let line = ["optimize", "--population", "0", "--generations", "0"];
+            <Command as clap::Parser>::parse_from(line.iter().chain(flags)).args
+        };
+        let error = check_flags(&parse(&[])).unwrap_err();
+        assert!(error.contains("--population 0"), "{error}");
+        check_flags(&parse(&["--method", "gradient"])).unwrap();
+    }
 
     #[test]
     fn a_run_fails_when_its_evaluations_all_failed_alike() {
