@@ -19,7 +19,7 @@ mod symbolic;
 mod tests;
 
 pub use loader::install;
-pub use numeric::{Inertia, Numeric, SINGULAR_TOLERANCE};
+pub use numeric::{Inertia, Numeric, CANCELLATION};
 pub use symbolic::{Symbolic, UpperCsr};
 
 use std::fmt;
@@ -29,7 +29,8 @@ use std::fmt;
 pub enum LdlError {
     /// The structure arrays are inconsistent (lengths, indices outside the upper triangle).
     Structure(String),
-    /// A pivot vanished to working precision: the matrix is singular.
+    /// A pivot had nothing to be computed from (an empty row and column): the matrix is
+    /// singular.
     Singular {
         /// Index of the pivot in elimination order.
         pivot: usize,

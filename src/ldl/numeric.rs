@@ -2,21 +2,26 @@
 //!
 //! Up-looking and simplicial: row `k` of L is the solution of a sparse triangular system whose
 //! pattern (the row subtree) was computed by the analysis, so a factorisation streams through
-//! fixed index arrays and allocates nothing. Pivots are 1x1 in the analysed order and never
-//! perturbed, so the inertia read off the signs of D is that of the matrix itself (Sylvester's
-//! law of inertia). A pivot lost to cancellation, smaller than [`SINGULAR_TOLERANCE`] times the
-//! sum of the magnitudes it was computed from, marks the matrix as numerically singular: IPOPT
-//! then regularises it and factorises again, as it does when MUMPS reports a singular matrix.
+//! fixed index arrays and allocates nothing. Pivots are 1x1 in the analysed order, so the inertia
+//! read off the signs of D is that of the matrix itself (Sylvester's law of inertia).
+//!
+//! A pivot lost to cancellation, no larger than [`CANCELLATION`] times the sum of the magnitudes
+//! it was computed from, is rounding error of either sign: it is replaced by that bound with the
+//! sign its row should have (negative for a constraint row, positive otherwise), a change of the
+//! matrix far below its rounding level that IPOPT's iterative refinement corrects. This happens
+//! where a fixed order meets a nearly singular leading block that pivoting would have avoided,
+//! e.g. two constraint rows that differ only in variables pinned by huge barrier terms. Only a
+//! pivot built from nothing at all (an empty row) makes the matrix singular.
 
 use super::symbolic::Symbolic;
 use super::LdlError;
 
-/// A pivot `d_k = a_kk - sum_j l_kj y_j` with `|d_k| <= SINGULAR_TOLERANCE * (|a_kk| + sum_j
-/// |l_kj y_j|)` is zero to working precision: what is left after cancellation is rounding error
-/// (a few hundred units in the last place, as for a sum of a few hundred terms). The test is
-/// invariant to the scaling of the matrix, so tiny but exact pivots, such as `-J²/W` of a
-/// constraint row whose primal neighbour carries a large barrier term, are kept.
-pub const SINGULAR_TOLERANCE: f64 = 1e-13;
+/// A pivot `d_k = a_kk - sum_j l_kj y_j` with `|d_k| <= CANCELLATION * (|a_kk| + sum_j |l_kj
+/// y_j|)` is zero to working precision: what is left after cancellation is rounding error (a few
+/// hundred units in the last place, as for a sum of a few hundred terms). The test is invariant
+/// to the scaling of the matrix, so tiny but exact pivots, such as `-J²/W` of a constraint row
+/// whose primal neighbour carries a large barrier term, are kept.
+pub const CANCELLATION: f64 = 1e-13;
 
 /// Numbers of positive and negative pivots: the inertia of the factorised matrix.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -38,6 +43,8 @@ pub struct Numeric {
     work: Vec<f64>,
     /// Inertia of the last factorisation.
     inertia: Inertia,
+    /// Pivots of the last factorisation lost to cancellation and set to the rounding bound.
+    regularised: usize,
 }
 
 impl Numeric {
@@ -48,6 +55,7 @@ impl Numeric {
             d: vec![0.0; symbolic.n()],
             work: vec![0.0; symbolic.n()],
             inertia: Inertia::default(),
+            regularised: 0,
         }
     }
 
@@ -61,20 +69,25 @@ impl Numeric {
                 symbolic.entries()
             )));
         }
-        let mut positive = 0;
+        let (mut positive, mut regularised) = (0, 0);
         for k in 0..symbolic.n() {
-            let (pivot, scale) = self.eliminate_row(symbolic, values, k);
+            let (mut pivot, scale) = self.eliminate_row(symbolic, values, k);
             if !pivot.is_finite() {
                 self.clear_work();
                 return Err(LdlError::NotFinite { pivot: k });
             }
-            if pivot.abs() <= SINGULAR_TOLERANCE * scale {
+            if scale == 0.0 {
                 self.clear_work();
                 return Err(LdlError::Singular { pivot: k });
+            }
+            if pivot.abs() <= CANCELLATION * scale {
+                pivot = symbolic.sign[k] * CANCELLATION * scale;
+                regularised += 1;
             }
             positive += usize::from(pivot > 0.0);
             self.d[k] = pivot;
         }
+        self.regularised = regularised;
         self.inertia = Inertia {
             positive,
             negative: symbolic.n() - positive,
@@ -116,6 +129,12 @@ impl Numeric {
     /// Inertia of the last factorisation.
     pub fn inertia(&self) -> Inertia {
         self.inertia
+    }
+
+    /// Pivots of the last factorisation that were lost to cancellation and replaced by the
+    /// rounding bound with their row's sign (see the module's documentation).
+    pub fn regularised_pivots(&self) -> usize {
+        self.regularised
     }
 
     /// Solves `A x = b` in place for each of the right-hand sides stored one after the other in

@@ -179,7 +179,7 @@ unsafe fn run_phase(slot: &mut *mut Handle, phase: c_int, mut call: Call<'_>) ->
         return Err(INPUT_INCONSISTENT);
     }
     if let (true, Some(values)) = (factorise, values) {
-        if handle.symbolic.needs_reanalysis(matrix, values) {
+        if handle.symbolic.needs_reanalysis(values) {
             // A diagonal the order took for non-zero is zero in this matrix: order again with
             // it among the zero rows (this happens a few times per solve at most).
             handle.symbolic = handle.symbolic.reanalyse(matrix, values).map_err(code)?;
@@ -217,8 +217,16 @@ fn factorise_into(handle: &mut Handle, values: &[f64], call: &mut Call<'_>) -> R
     let count = |value: usize| c_int::try_from(value).unwrap_or(c_int::MAX);
     call.iparm[IPARM_POSITIVE] = count(inertia.positive);
     call.iparm[IPARM_NEGATIVE] = count(inertia.negative);
-    // No pivot is ever perturbed (a singular matrix is reported as such instead).
+    // Pivots lost to cancellation are not reported as perturbed: IPOPT would answer with a new
+    // analysis of the same structure, which gives the same order. Its iterative refinement sees
+    // their (rounding-level) effect on the solution.
     call.iparm[IPARM_PERTURBED_PIVOTS] = 0;
+    if call.verbose && handle.numeric.regularised_pivots() > 0 {
+        eprintln!(
+            "codesign LDL: {} pivots lost to cancellation, set to the rounding bound",
+            handle.numeric.regularised_pivots()
+        );
+    }
     call.iparm[IPARM_FACTOR_ENTRIES] = count(handle.symbolic.factor_entries());
     Ok(())
 }

@@ -22,6 +22,8 @@ pub struct Symbolic {
     pub(super) order: Vec<usize>,
     /// What the order assumed of each original row's diagonal.
     kinds: Vec<RowKind>,
+    /// The sign each pivot should have: -1 for constraint rows, +1 for the others.
+    pub(super) sign: Vec<f64>,
     /// Upper triangle of the permuted matrix by columns: rows `< k` of column `k` ...
     pub(super) upper_ptr: Vec<usize>,
     pub(super) upper_row: Vec<usize>,
@@ -66,10 +68,15 @@ impl Symbolic {
 
     /// Whether a new matrix of this structure has a zero diagonal where the analysis assumed a
     /// non-zero one, so that its order may hit an exactly zero pivot.
-    pub fn needs_reanalysis(&self, matrix: UpperCsr<'_>, values: &[f64]) -> bool {
-        let mut kinds = self.kinds.clone();
-        mark_zero_diagonals(matrix, values, &mut kinds);
-        kinds != self.kinds
+    /// Allocates nothing.
+    pub fn needs_reanalysis(&self, values: &[f64]) -> bool {
+        self.order
+            .iter()
+            .zip(&self.diagonal_value)
+            .any(|(&row, &index)| {
+                self.kinds[row] == RowKind::Regular
+                    && index.map_or(0.0, |i| values.get(i).copied().unwrap_or(1.0)) == 0.0
+            })
     }
 
     /// Analyses again with the zero diagonals of `values` added to those assumed before.
@@ -88,6 +95,16 @@ impl Symbolic {
     ) -> Result<Symbolic, LdlError> {
         let pattern = symmetric_pattern(n, matrix);
         let order = elimination_order(&pattern, &kinds);
+        let sign = order
+            .iter()
+            .map(|&row| {
+                if kinds[row] == RowKind::Constraint {
+                    -1.0
+                } else {
+                    1.0
+                }
+            })
+            .collect();
         let mut position = vec![0usize; n];
         for (k, &row) in order.iter().enumerate() {
             position[row] = k;
@@ -95,6 +112,7 @@ impl Symbolic {
         let mut symbolic = Symbolic {
             order,
             kinds,
+            sign,
             upper_ptr: Vec::new(),
             upper_row: Vec::new(),
             upper_value: Vec::new(),

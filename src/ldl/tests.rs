@@ -170,9 +170,9 @@ fn random_sparse_symmetric_matrices_agree_with_the_dense_reference() {
 }
 
 #[test]
-fn singular_matrices_are_reported_as_singular() {
+fn singular_matrices_are_reported_or_solved_where_consistent() {
     let mut rng = Random::new(3);
-    // A zero row and column.
+    // A zero row and column: singular.
     let mut matrix = kkt(&mut rng, 12, 4, true, 0.0);
     for j in 0..16 {
         matrix[(5, j)] = 0.0;
@@ -182,16 +182,26 @@ fn singular_matrices_are_reported_as_singular() {
         factorise(&matrix).2,
         Err(LdlError::Singular { .. })
     ));
-    // Two equal constraint rows: J without full row rank.
+    // Two equal constraint rows (J without full row rank): the second row's pivot cancels and
+    // is set to the rounding bound with a constraint row's sign, so the inertia is the regular
+    // KKT matrix's; a consistent system (equal right-hand sides in those rows) is still solved
+    // to rounding level.
     let mut matrix = kkt(&mut rng, 12, 4, true, 0.0);
     for j in 0..12 {
         matrix[(13, j)] = matrix[(12, j)];
         matrix[(j, 13)] = matrix[(j, 12)];
     }
-    assert!(matches!(
-        factorise(&matrix).2,
-        Err(LdlError::Singular { .. })
-    ));
+    let (symbolic, mut numeric, inertia) = factorise(&matrix);
+    let inertia = inertia.expect("a regularised factorisation");
+    assert_eq!(numeric.regularised_pivots(), 1);
+    assert_eq!((inertia.positive, inertia.negative), (12, 4));
+    let mut b: Vec<f64> = (0..16).map(|i| (i as f64).sin()).collect();
+    b[13] = b[12];
+    let rhs = DMatrix::from_column_slice(16, 1, &b);
+    numeric.solve_in_place(&symbolic, &mut b);
+    let x = DMatrix::from_column_slice(16, 1, &b);
+    let error = (&matrix * &x - &rhs).norm() / (matrix.norm() * x.norm() + rhs.norm());
+    assert!(error < 1e-10, "residual {error:e}");
     // A NaN is never factorised.
     let mut matrix = kkt(&mut rng, 12, 4, true, 0.0);
     matrix[(3, 3)] = f64::NAN;
