@@ -28,6 +28,28 @@ pub struct Pattern {
 }
 
 impl Pattern {
+    /// The symmetric pattern of the off-diagonal entries `(i, j)` (either triangle, repeats
+    /// allowed; diagonal entries are skipped).
+    pub fn from_entries(n: usize, entries: impl IntoIterator<Item = (usize, usize)>) -> Pattern {
+        let mut rows = vec![Vec::new(); n];
+        for (i, j) in entries {
+            if i != j {
+                rows[i].push(j);
+                rows[j].push(i);
+            }
+        }
+        let mut ptr = Vec::with_capacity(n + 1);
+        ptr.push(0);
+        let mut neighbours = Vec::new();
+        for mut row in rows {
+            row.sort_unstable();
+            row.dedup();
+            neighbours.extend(row);
+            ptr.push(neighbours.len());
+        }
+        Pattern { ptr, neighbours }
+    }
+
     /// Number of rows.
     pub fn n(&self) -> usize {
         self.ptr.len() - 1
@@ -230,20 +252,7 @@ mod tests {
     use RowKind::{Constraint as C, Regular as R, ZeroPrimal as Z};
 
     fn pattern(n: usize, edges: &[(usize, usize)]) -> Pattern {
-        let mut rows = vec![Vec::new(); n];
-        for &(i, j) in edges {
-            rows[i].push(j);
-            rows[j].push(i);
-        }
-        let mut ptr = vec![0];
-        let mut neighbours = Vec::new();
-        for mut row in rows {
-            row.sort_unstable();
-            row.dedup();
-            neighbours.extend(row);
-            ptr.push(neighbours.len());
-        }
-        Pattern { ptr, neighbours }
+        Pattern::from_entries(n, edges.iter().copied())
     }
 
     #[test]

@@ -298,23 +298,9 @@ fn for_each_entry(matrix: UpperCsr<'_>, mut visit: impl FnMut(usize, usize, usiz
 
 /// The symmetric pattern without the diagonal.
 fn symmetric_pattern(n: usize, matrix: UpperCsr<'_>) -> Pattern {
-    let mut rows = vec![Vec::new(); n];
-    for_each_entry(matrix, |row, col, _| {
-        if row != col {
-            rows[row].push(col);
-            rows[col].push(row);
-        }
-    });
-    let mut ptr = Vec::with_capacity(n + 1);
-    ptr.push(0);
-    let mut neighbours = Vec::new();
-    for mut row in rows {
-        row.sort_unstable();
-        row.dedup();
-        neighbours.extend(row);
-        ptr.push(neighbours.len());
-    }
-    Pattern { ptr, neighbours }
+    let mut entries = Vec::with_capacity(matrix.ja.len());
+    for_each_entry(matrix, |row, col, _| entries.push((row, col)));
+    Pattern::from_entries(n, entries)
 }
 
 /// The trailing run of rows whose upper triangle holds nothing but the diagonal.
