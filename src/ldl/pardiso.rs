@@ -193,7 +193,8 @@ unsafe fn run_phase(slot: &mut *mut Handle, phase: c_int, mut call: Call<'_>) ->
         factorise_into(handle, values, &mut call)?;
     }
     if solve {
-        solve_into(handle, &mut call);
+        // SAFETY: forwarded from this function's contract.
+        unsafe { solve_into(handle, &mut call) };
     }
     Ok(())
 }
@@ -231,9 +232,11 @@ fn factorise_into(handle: &mut Handle, values: &[f64], call: &mut Call<'_>) -> R
     Ok(())
 }
 
-/// Solves for the `nrhs` right-hand sides in `b`, into `b` (`iparm[5] = 1`) or into `x`; the
-/// pointers of `call` were checked by [`pardiso`]'s contract.
-fn solve_into(handle: &mut Handle, call: &mut Call<'_>) {
+/// Solves for the `nrhs` right-hand sides in `b`, into `b` (`iparm[5] = 1`) or into `x`.
+///
+/// # Safety
+/// `call.b` and `call.x` hold `n * nrhs` values each and do not overlap ([`pardiso`]'s contract).
+unsafe fn solve_into(handle: &mut Handle, call: &mut Call<'_>) {
     let len = call.n * call.nrhs;
     // SAFETY: `b` and `x` hold n * nrhs values each (contract), and do not overlap.
     let target = unsafe {
