@@ -6,7 +6,7 @@ use std::ffi::{c_void, CString};
 use std::fmt;
 use std::os::raw::c_char;
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::sync::Mutex;
+use std::sync::{Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 /// MUMPS keeps global state and is not thread-safe: every solve with it in this process holds
@@ -136,116 +136,40 @@ pub fn solve_from<P: Nlp>(
     options: &Options,
     warm: Option<&Solution>,
 ) -> Result<Solution, Error> {
-    let _guard = match options.linear_solver {
-        LinearSolver::Mumps => Some(
-            MUMPS_LOCK
-                .lock()
-                .unwrap_or_else(|poisoned| poisoned.into_inner()),
-        ),
-        LinearSolver::Ldl => {
-            crate::ldl::install().map_err(|message| Error::LinearSolver {
-                solver: LinearSolver::Ldl,
-                message,
-            })?;
-            None
-        }
-    };
+    let _guard = linear_solver_ready(options.linear_solver)?;
     let start = Instant::now();
-
-    let n = problem.num_variables();
-    let m = problem.num_constraints();
-    let (mut x_l, mut x_u) = (vec![0.0; n], vec![0.0; n]);
-    let (mut g_l, mut g_u) = (vec![0.0; m], vec![0.0; m]);
-    problem.variable_bounds(&mut x_l, &mut x_u);
-    problem.constraint_bounds(&mut g_l, &mut g_u);
-    check_bounds("variable", &x_l, &x_u)?;
-    check_bounds("constraint", &g_l, &g_u)?;
-    let jacobian = checked_structure("Jacobian", problem.jacobian_structure(), m, n, false)?;
-    let hessian = checked_structure("Hessian", problem.hessian_structure(), n, n, true)?;
-    let mut x = vec![0.0; n];
-    let mut lambda = vec![0.0; m];
-    let (mut z_lower, mut z_upper) = (vec![0.0; n], vec![0.0; n]);
+    let shape = Shape::of(problem)?;
+    let mut point = Point::start(problem, warm, &shape)?;
     let mut options = options.clone();
-    match warm {
-        Some(start) => {
-            if start.x.len() != n || start.lambda.len() != m {
-                return Err(Error::InvalidProblem(format!(
-                    "warm start has {} variables and {} constraints, the problem {n} and {m}",
-                    start.x.len(),
-                    start.lambda.len()
-                )));
-            }
-            x.copy_from_slice(&start.x);
-            lambda.copy_from_slice(&start.lambda);
-            z_lower.copy_from_slice(&start.z_lower);
-            z_upper.copy_from_slice(&start.z_upper);
-            options = options.str("warm_start_init_point", "yes");
-        }
-        None => problem.initial_point(&mut x),
+    if warm.is_some() {
+        options = options.str("warm_start_init_point", "yes");
     }
-    if let Some(i) = x.iter().position(|value| !value.is_finite()) {
-        return Err(Error::InvalidProblem(format!(
-            "initial point x[{i}] = {} is not finite",
-            x[i]
-        )));
-    }
-
-    let (n_index, m_index) = (to_index(n, "variables")?, to_index(m, "constraints")?);
-    let (nnz_jac, nnz_hess) = (
-        to_index(jacobian.len(), "Jacobian")?,
-        to_index(hessian.len(), "Hessian")?,
-    );
-    // SAFETY: the bound arrays have lengths n and m and are copied by IPOPT; the callbacks are
-    // instantiated for P and receive the Context below as their user data.
-    let raw = unsafe {
-        sys::CreateIpoptProblem(
-            n_index,
-            x_l.as_mut_ptr(),
-            x_u.as_mut_ptr(),
-            m_index,
-            g_l.as_mut_ptr(),
-            g_u.as_mut_ptr(),
-            nnz_jac,
-            nnz_hess,
-            0,
-            Some(eval_f::<P>),
-            Some(eval_g::<P>),
-            Some(eval_grad_f::<P>),
-            Some(eval_jac_g::<P>),
-            Some(eval_h::<P>),
-        )
-    };
-    if raw.is_null() {
-        return Err(Error::InvalidProblem(
-            "IPOPT refused to create the problem".to_owned(),
-        ));
-    }
-    let handle = Handle(raw);
+    let handle = shape.create::<P>()?;
     apply_options(&handle, &options)?;
     // SAFETY: the handle is valid; the callback has the signature IPOPT expects.
     unsafe { sys::SetIntermediateCallback(handle.0, Some(intermediate::<P>)) };
 
     let mut context = Context {
         problem,
-        jacobian,
-        hessian,
+        jacobian: shape.jacobian,
+        hessian: shape.hessian,
         callback_time: Duration::ZERO,
         iterations: 0,
         error: None,
     };
-    let mut g = vec![0.0; m];
+    let mut g = vec![0.0; shape.m];
     let mut objective = f64::NAN;
     // SAFETY: all output arrays have the sizes IPOPT was given; the context outlives the call and
     // is only touched through the user-data pointer while IPOPT runs.
     let code = unsafe {
         sys::IpoptSolve(
             handle.0,
-            x.as_mut_ptr(),
+            point.x.as_mut_ptr(),
             g.as_mut_ptr(),
             &mut objective,
-            lambda.as_mut_ptr(),
-            z_lower.as_mut_ptr(),
-            z_upper.as_mut_ptr(),
+            point.lambda.as_mut_ptr(),
+            point.z_lower.as_mut_ptr(),
+            point.z_upper.as_mut_ptr(),
             (&mut context as *mut Context<P>).cast::<c_void>(),
         )
     };
@@ -265,11 +189,11 @@ pub fn solve_from<P: Nlp>(
     }
     Ok(Solution {
         status,
-        x,
+        x: point.x,
         g,
-        lambda,
-        z_lower,
-        z_upper,
+        lambda: point.lambda,
+        z_lower: point.z_lower,
+        z_upper: point.z_upper,
         objective,
         iterations: usize::try_from(context.iterations).unwrap_or(0),
         timing: Timing {
@@ -278,6 +202,135 @@ pub fn solve_from<P: Nlp>(
             ipopt: total.saturating_sub(context.callback_time),
         },
     })
+}
+
+/// Makes the linear solver ready: takes the process-wide lock for MUMPS (held by the returned
+/// guard until the solve ends), installs the LDLᵀ into IPOPT once per process.
+fn linear_solver_ready(solver: LinearSolver) -> Result<Option<MutexGuard<'static, ()>>, Error> {
+    match solver {
+        LinearSolver::Mumps => Ok(Some(
+            MUMPS_LOCK
+                .lock()
+                .unwrap_or_else(|poisoned| poisoned.into_inner()),
+        )),
+        LinearSolver::Ldl => {
+            crate::ldl::install().map_err(|message| Error::LinearSolver { solver, message })?;
+            Ok(None)
+        }
+    }
+}
+
+/// The problem as IPOPT is told about it: sizes, bounds and sparsity, checked.
+struct Shape {
+    n: usize,
+    m: usize,
+    x_bounds: (Vec<f64>, Vec<f64>),
+    g_bounds: (Vec<f64>, Vec<f64>),
+    jacobian: Vec<(sys::Index, sys::Index)>,
+    hessian: Vec<(sys::Index, sys::Index)>,
+}
+
+impl Shape {
+    fn of<P: Nlp>(problem: &P) -> Result<Shape, Error> {
+        let (n, m) = (problem.num_variables(), problem.num_constraints());
+        let (mut x_l, mut x_u) = (vec![0.0; n], vec![0.0; n]);
+        let (mut g_l, mut g_u) = (vec![0.0; m], vec![0.0; m]);
+        problem.variable_bounds(&mut x_l, &mut x_u);
+        problem.constraint_bounds(&mut g_l, &mut g_u);
+        check_bounds("variable", &x_l, &x_u)?;
+        check_bounds("constraint", &g_l, &g_u)?;
+        Ok(Shape {
+            n,
+            m,
+            x_bounds: (x_l, x_u),
+            g_bounds: (g_l, g_u),
+            jacobian: checked_structure("Jacobian", problem.jacobian_structure(), m, n, false)?,
+            hessian: checked_structure("Hessian", problem.hessian_structure(), n, n, true)?,
+        })
+    }
+
+    /// A new IPOPT problem of this shape with `P`'s callbacks.
+    fn create<P: Nlp>(&self) -> Result<Handle, Error> {
+        let (mut x_l, mut x_u) = self.x_bounds.clone();
+        let (mut g_l, mut g_u) = self.g_bounds.clone();
+        // SAFETY: the bound arrays have lengths n and m and are copied by IPOPT; the callbacks
+        // are instantiated for P and receive a Context<P> as their user data.
+        let raw = unsafe {
+            sys::CreateIpoptProblem(
+                to_index(self.n, "variables")?,
+                x_l.as_mut_ptr(),
+                x_u.as_mut_ptr(),
+                to_index(self.m, "constraints")?,
+                g_l.as_mut_ptr(),
+                g_u.as_mut_ptr(),
+                to_index(self.jacobian.len(), "Jacobian")?,
+                to_index(self.hessian.len(), "Hessian")?,
+                0,
+                Some(eval_f::<P>),
+                Some(eval_g::<P>),
+                Some(eval_grad_f::<P>),
+                Some(eval_jac_g::<P>),
+                Some(eval_h::<P>),
+            )
+        };
+        if raw.is_null() {
+            return Err(Error::InvalidProblem(
+                "IPOPT refused to create the problem".to_owned(),
+            ));
+        }
+        Ok(Handle(raw))
+    }
+}
+
+/// The primal-dual point a solve starts from and IPOPT overwrites with its result.
+struct Point {
+    x: Vec<f64>,
+    lambda: Vec<f64>,
+    z_lower: Vec<f64>,
+    z_upper: Vec<f64>,
+}
+
+impl Point {
+    /// The warm start's point and multipliers, or the problem's initial point with zero
+    /// multipliers; checked for size and finiteness.
+    fn start<P: Nlp>(problem: &P, warm: Option<&Solution>, shape: &Shape) -> Result<Point, Error> {
+        let (n, m) = (shape.n, shape.m);
+        let point = match warm {
+            Some(start) => {
+                let sizes = [start.x.len(), start.z_lower.len(), start.z_upper.len()];
+                if sizes != [n; 3] || start.lambda.len() != m {
+                    return Err(Error::InvalidProblem(format!(
+                        "warm start has {} variables and {} constraints, the problem {n} and {m}",
+                        start.x.len(),
+                        start.lambda.len()
+                    )));
+                }
+                Point {
+                    x: start.x.clone(),
+                    lambda: start.lambda.clone(),
+                    z_lower: start.z_lower.clone(),
+                    z_upper: start.z_upper.clone(),
+                }
+            }
+            None => {
+                let mut x = vec![0.0; n];
+                problem.initial_point(&mut x);
+                Point {
+                    x,
+                    lambda: vec![0.0; m],
+                    z_lower: vec![0.0; n],
+                    z_upper: vec![0.0; n],
+                }
+            }
+        };
+        if let Some(i) = point.x.iter().position(|value| !value.is_finite()) {
+            return Err(Error::InvalidProblem(format!(
+                "initial point x[{i}] = {} is not finite",
+                point.x[i]
+            )));
+        }
+        Ok(point)
+    }
 }
 
 fn to_index(count: usize, what: &str) -> Result<sys::Index, Error> {
