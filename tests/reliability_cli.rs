@@ -2,7 +2,7 @@
 //! so: each bad command gives a clear error, a non-zero exit, and leaves everything as it was.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 fn codesign(args: &[&str]) -> Output {
@@ -11,6 +11,26 @@ fn codesign(args: &[&str]) -> Output {
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .expect("the codesign binary runs")
+}
+
+/// Starts the binary with its output discarded, to run beside a second command.
+fn start_in_background(args: &[&str]) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_codesign"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("the codesign binary starts")
+}
+
+/// Waits until `started` holds (the background run has begun its work), failing after `limit`.
+fn wait_for(limit: Duration, started: impl Fn() -> bool) {
+    let start = Instant::now();
+    while !started() {
+        assert!(start.elapsed() < limit, "the first run did not start");
+        std::thread::sleep(Duration::from_millis(10));
+    }
 }
 
 fn scratch(name: &str) -> PathBuf {
@@ -201,22 +221,12 @@ fn a_second_run_on_one_output_fails_at_once_naming_the_first() {
         "--generations",
         "3",
     ];
-    let mut first = Command::new(env!("CARGO_BIN_EXE_codesign"))
-        .args(args)
-        .args(["--workers", "1", "--out", path(&out)])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    while std::fs::read_to_string(&log).map_or(0, |t| t.lines().count()) < 2 {
-        assert!(
-            start.elapsed() < Duration::from_secs(300),
-            "the first run did not start"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    let mut first_args = args.to_vec();
+    first_args.extend(["--workers", "1", "--out", path(&out)]);
+    let mut first = start_in_background(&first_args);
+    wait_for(Duration::from_secs(300), || {
+        std::fs::read_to_string(&log).map_or(0, |t| t.lines().count()) >= 2
+    });
     for flag in [None, Some("--resume"), Some("--overwrite")] {
         let mut second: Vec<&str> = args.to_vec();
         second.extend(["--workers", "1", "--out", path(&out)]);
@@ -300,21 +310,10 @@ fn a_second_reproduction_on_one_folder_fails_at_once() {
         "--out-dir",
         path(&out_dir),
     ];
-    let mut first = Command::new(env!("CARGO_BIN_EXE_codesign"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    while !out_dir.join("original").exists() {
-        assert!(
-            start.elapsed() < Duration::from_secs(60),
-            "the first run did not start"
-        );
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    let mut first = start_in_background(&args);
+    wait_for(Duration::from_secs(60), || {
+        out_dir.join("original").exists()
+    });
     let output = codesign(&args);
     let expected = format!("is in use by another run (pid {})", first.id());
     first.kill().unwrap();

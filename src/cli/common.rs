@@ -82,9 +82,7 @@ pub struct ProblemArgs {
 impl ProblemArgs {
     /// Applies `--linear-solver` to the task's solver settings.
     pub fn configure(&self, task: &mut Task) {
-        if let Some(solver) = self.linear_solver {
-            task.solver.linear_solver = Some(solver);
-        }
+        task.solver.override_linear_solver(self.linear_solver);
     }
 
     /// The limit modes: the flags where given, else the task's.

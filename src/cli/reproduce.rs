@@ -128,9 +128,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     let mut task = task_source(args.task.as_ref())
         .load()
         .map_err(|e| e.to_string())?;
-    if let Some(solver) = args.linear_solver {
-        task.solver.linear_solver = Some(solver);
-    }
+    task.solver.override_linear_solver(args.linear_solver);
     create_folder(&out_dir)?;
     // Held until the reproduction ends: a second one on the same folder fails at once.
     let _lock = lock_folder(&out_dir)?;

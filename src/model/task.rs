@@ -195,6 +195,13 @@ impl SolverSettings {
     pub fn linear_solver(&self) -> LinearSolver {
         self.linear_solver.unwrap_or_default()
     }
+
+    /// Applies a `--linear-solver` flag: the solver given replaces the task's.
+    pub fn override_linear_solver(&mut self, flag: Option<LinearSolver>) {
+        if flag.is_some() {
+            self.linear_solver = flag;
+        }
+    }
 }
 
 /// Where a task comes from.
