@@ -51,17 +51,7 @@ impl Symbolic {
     pub fn analyse(n: usize, matrix: UpperCsr<'_>, values: &[f64]) -> Result<Symbolic, LdlError> {
         let entries = check_structure(n, matrix)?;
         check_values(entries, values)?;
-        let constraint = constraint_rows(n, matrix);
-        let mut kinds: Vec<RowKind> = constraint
-            .iter()
-            .map(|&c| {
-                if c {
-                    RowKind::Constraint
-                } else {
-                    RowKind::Regular
-                }
-            })
-            .collect();
+        let mut kinds = constraint_rows(n, matrix);
         mark_zero_diagonals(matrix, values, &mut kinds);
         Symbolic::analyse_as(n, matrix, kinds, entries)
     }
@@ -303,20 +293,21 @@ fn symmetric_pattern(n: usize, matrix: UpperCsr<'_>) -> Pattern {
     Pattern::from_entries(n, entries)
 }
 
-/// The trailing run of rows whose upper triangle holds nothing but the diagonal.
-fn constraint_rows(n: usize, matrix: UpperCsr<'_>) -> Vec<bool> {
+/// Every row regular but the trailing run of rows whose upper triangle holds nothing but the
+/// diagonal: those are constraint rows.
+fn constraint_rows(n: usize, matrix: UpperCsr<'_>) -> Vec<RowKind> {
     let only_diagonal = |row: usize| {
         let (start, end) = (matrix.ia[row] - 1, matrix.ia[row + 1] - 1);
         matrix.ja[start as usize..end as usize]
             .iter()
             .all(|&col| col as usize == row + 1)
     };
-    let mut constraint = vec![false; n];
+    let mut kinds = vec![RowKind::Regular; n];
     for row in (0..n).rev() {
         if !only_diagonal(row) {
             break;
         }
-        constraint[row] = true;
+        kinds[row] = RowKind::Constraint;
     }
-    constraint
+    kinds
 }
