@@ -3,11 +3,12 @@
 //! `cargo bench --bench hs071` (100 solves after 10 warm-up solves).
 
 use codesign::ipopt::{solve, Hs071, Options};
+use codesign::stats::median;
 use std::time::Duration;
 
-fn median(mut samples: Vec<Duration>) -> Duration {
-    samples.sort();
-    samples[samples.len() / 2]
+/// The median of `samples`, us.
+fn median_us(samples: impl Iterator<Item = Duration>) -> f64 {
+    median(&samples.map(|d| d.as_secs_f64()).collect::<Vec<_>>()) * 1e6
 }
 
 fn main() {
@@ -19,15 +20,15 @@ fn main() {
         .map(|_| solve(&mut Hs071, &options).expect("HS071 solves"))
         .collect();
     let iterations = runs[0].iterations;
-    let total = median(runs.iter().map(|s| s.timing.total).collect());
-    let callbacks = median(runs.iter().map(|s| s.timing.callbacks).collect());
-    let ipopt = median(runs.iter().map(|s| s.timing.ipopt).collect());
+    let total = median_us(runs.iter().map(|s| s.timing.total));
+    let callbacks = median_us(runs.iter().map(|s| s.timing.callbacks));
+    let ipopt = median_us(runs.iter().map(|s| s.timing.ipopt));
     println!(
         "hs071: {} iterations, f = {:.7}; median of 100 solves: total {:.1} us, callbacks {:.1} us, ipopt {:.1} us",
         iterations,
         runs[0].objective,
-        total.as_secs_f64() * 1e6,
-        callbacks.as_secs_f64() * 1e6,
-        ipopt.as_secs_f64() * 1e6
+        total,
+        callbacks,
+        ipopt
     );
 }

@@ -3,6 +3,8 @@
 //! The data flow one way: the robot model, its rigid-body dynamics, the trajectory problem, the
 //! IPOPT solve, the design loop, and the reports.
 
+#![warn(missing_docs)]
+
 pub mod cli;
 pub mod design;
 pub mod dynamics;
@@ -12,4 +14,7 @@ pub mod model;
 pub mod problem;
 pub mod report;
 pub mod solver;
+pub mod stats;
+#[cfg(test)]
+mod testing;
 pub mod transmission;

@@ -1,29 +1,14 @@
 //! The built-in task and robot: `codesign solve` works from a folder that holds nothing of the
 //! repository, and `codesign task` (with `--urdf`) writes files that load back as the same task.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod support;
 
-/// Runs codesign in `dir`.
-fn codesign(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_codesign"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the codesign binary runs")
-}
-
-/// An empty folder of this test, outside the repository.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("codesign-built-in-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use std::path::Path;
+use support::{codesign_in, scratch};
 
 /// Runs codesign in `dir` and returns its stdout; fails the test on an error.
 fn succeed(dir: &Path, args: &[&str]) -> Vec<u8> {
-    let output = codesign(dir, args);
+    let output = codesign_in(dir, args);
     assert!(
         output.status.success(),
         "codesign {args:?}: {}",
@@ -82,7 +67,7 @@ fn a_task_file_whose_robot_is_missing_names_the_urdf() {
     let dir = scratch("missing-robot");
     let task = succeed(&dir, &["task"]);
     std::fs::write(dir.join("my.json"), &task).unwrap();
-    let output = codesign(&dir, &["solve", "--task", "my.json"]);
+    let output = codesign_in(&dir, &["solve", "--task", "my.json"]);
     assert!(!output.status.success());
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(

@@ -1,25 +1,18 @@
 //! Co-design end to end through the worker processes: a killed worker, an interrupted run and
 //! the number of workers change nothing in the result.
 
+mod support;
+
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "codesign-optimize-cli-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use support::{codesign_command, scratch};
 
 /// Starts the tiny co-design with `workers` worker processes and an optional `--resume` or
 /// `--overwrite`.
 fn start(out: &Path, flag: Option<&str>, workers: usize) -> Child {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_codesign"));
+    let mut command = codesign_command(support::root(), &[]);
     command
         .args([
             "optimize",
@@ -34,7 +27,6 @@ fn start(out: &Path, flag: Option<&str>, workers: usize) -> Child {
         .arg(workers.to_string())
         .arg("--out")
         .arg(out)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
         .stdout(Stdio::null())
         .stderr(Stdio::piped());
     command.args(flag);
@@ -155,11 +147,9 @@ fn a_killed_worker_an_interrupted_run_and_the_worker_count_change_nothing() {
 }
 
 fn run_to_completion(args: &[&str], out: &Path) -> Value {
-    let output = Command::new(env!("CARGO_BIN_EXE_codesign"))
-        .args(args)
+    let output = codesign_command(support::root(), args)
         .arg("--out")
         .arg(out)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .unwrap();
     assert!(

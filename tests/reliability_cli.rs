@@ -1,54 +1,12 @@
 //! Outputs that never destroy what they replace, runs that cannot collide, and failures that say
 //! so: each bad command gives a clear error, a non-zero exit, and leaves everything as it was.
 
+mod support;
+
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
-use std::time::{Duration, Instant};
-
-fn codesign(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_codesign"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the codesign binary runs")
-}
-
-/// Starts the binary with its output discarded, to run beside a second command.
-fn start_in_background(args: &[&str]) -> Child {
-    Command::new(env!("CARGO_BIN_EXE_codesign"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("the codesign binary starts")
-}
-
-/// Waits until `started` holds (the background run has begun its work), failing after `limit`.
-fn wait_for(limit: Duration, started: impl Fn() -> bool) {
-    let start = Instant::now();
-    while !started() {
-        assert!(start.elapsed() < limit, "the first run did not start");
-        std::thread::sleep(Duration::from_millis(10));
-    }
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "codesign-reliability-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-/// Asserts that the command failed with exit code 1 and that its error says `expected`.
-fn fails_saying(output: &Output, expected: &str) {
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(1), "{stderr}");
-    assert!(stderr.contains(expected), "{stderr}");
-}
+use std::process::Command;
+use std::time::Duration;
+use support::{codesign, fails_saying, scratch, start_in_background, wait_for};
 
 fn path(p: &Path) -> &str {
     p.to_str().unwrap()
@@ -56,8 +14,8 @@ fn path(p: &Path) -> &str {
 
 /// The default task with the robot's path made absolute and `edit` applied, written to `dir`.
 fn task_with(dir: &Path, edit: impl Fn(&mut serde_json::Value)) -> PathBuf {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(root.join("robots/tasks/pick_place.json")).unwrap();
+    let root = support::root();
+    let text = std::fs::read_to_string(support::task_path()).unwrap();
     let mut task: serde_json::Value = serde_json::from_str(&text).unwrap();
     task["robot"] = root.join("robots/belt_arm.urdf").to_str().unwrap().into();
     edit(&mut task);
@@ -251,9 +209,7 @@ fn a_failed_write_on_stdout_is_an_error() {
         .write(true)
         .open("/dev/full")
         .unwrap();
-    let output = Command::new(env!("CARGO_BIN_EXE_codesign"))
-        .args(["dynamics", "--q", "0,0,0,0"])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+    let output = support::codesign_command(support::root(), &["dynamics", "--q", "0,0,0,0"])
         .stdout(full)
         .output()
         .unwrap();

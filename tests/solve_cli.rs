@@ -1,23 +1,9 @@
 //! `codesign solve` end to end: the result file, the plots, and clear errors on bad input.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod support;
 
-fn codesign(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_codesign"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the codesign binary runs")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir =
-        std::env::temp_dir().join(format!("codesign-solve-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use std::path::Path;
+use support::{codesign, codesign_command, scratch};
 
 #[test]
 fn writes_the_result_file_and_plots() {
@@ -133,9 +119,7 @@ fn bad_input_gets_a_clear_error() {
 fn a_closed_stdout_is_no_reason_to_panic() {
     let dir = scratch("pipe");
     let out = dir.join("result.json");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_codesign"))
-        .args(["solve", "--out", out.to_str().unwrap()])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+    let mut child = codesign_command(support::root(), &["solve", "--out", out.to_str().unwrap()])
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()

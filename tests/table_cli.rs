@@ -1,11 +1,12 @@
 //! `codesign table` rebuilds the paper's table from committed result files.
 
-use std::path::Path;
-use std::process::Command;
+mod support;
+
+use support::{codesign, codesign_in, root};
 
 #[test]
 fn rebuilds_the_table_from_result_files() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = root();
     let mut files: Vec<String> = Vec::new();
     for folder in [
         "results/quick/original",
@@ -19,11 +20,11 @@ fn rebuilds_the_table_from_result_files() {
             }
         }
     }
-    let output = Command::new(env!("CARGO_BIN_EXE_codesign"))
-        .arg("table")
-        .args(&files)
-        .output()
-        .unwrap();
+    let args: Vec<&str> = ["table"]
+        .into_iter()
+        .chain(files.iter().map(String::as_str))
+        .collect();
+    let output = codesign(&args);
     assert!(
         output.status.success(),
         "{}",
@@ -77,12 +78,11 @@ fn rebuilds_the_table_from_result_files() {
     let seeds: Vec<String> = (0..5)
         .map(|seed| format!("results/runs/actuation-3kg-seed{seed}.json"))
         .collect();
-    let output = Command::new(env!("CARGO_BIN_EXE_codesign"))
-        .arg("table")
-        .args(&seeds)
-        .current_dir(root)
-        .output()
-        .unwrap();
+    let args: Vec<&str> = ["table"]
+        .into_iter()
+        .chain(seeds.iter().map(String::as_str))
+        .collect();
+    let output = codesign_in(root, &args);
     let table = String::from_utf8_lossy(&output.stdout);
     assert!(output.status.success(), "{table}");
     assert!(
@@ -94,10 +94,7 @@ fn rebuilds_the_table_from_result_files() {
         "{table}"
     );
 
-    let missing = Command::new(env!("CARGO_BIN_EXE_codesign"))
-        .args(["table", "results/absent.json"])
-        .output()
-        .unwrap();
+    let missing = codesign(&["table", "results/absent.json"]);
     assert!(!missing.status.success());
     assert!(String::from_utf8_lossy(&missing.stderr).contains("results/absent.json"));
 }

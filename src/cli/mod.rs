@@ -41,6 +41,7 @@ fn stdout_failure() -> Option<String> {
 }
 
 mod capacity;
+mod case;
 mod common;
 mod doctor;
 mod dynamics;

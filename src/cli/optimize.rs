@@ -1,34 +1,28 @@
-//! `codesign optimize`: co-design of one case (space, payload, seed) with CMA-ES.
+//! `codesign optimize`: co-design of one case (space, payload, seed) with CMA-ES or the gradient
+//! method.
 
+use super::case::Case;
 use super::common::{ModelArgs, ProblemArgs};
-use super::preflight::{check_evaluations, check_flags, probe_solver};
+use super::preflight::probe_solver;
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::evaluate::Objective;
-use crate::design::gradient::{
-    default_starts, optimize_gradient, spread_designs, GradientIterate, GradientSettings,
-};
+use crate::design::gradient::{optimize_gradient, GradientSettings};
 use crate::design::log::{EvaluationLog, Finished, Start};
-use crate::design::optimize::{optimize, GenerationSummary, Progress};
-use crate::design::workers::{Pool, WorkerSetup};
-use crate::ipopt::Solution;
-use crate::model::task::{LimitModes, Task};
+use crate::design::optimize::{optimize, Progress};
+use crate::design::outcome::DesignOutcome;
+use crate::design::workers::{Pool, WorkerSetup, SOLVE_TIMEOUT_S};
+use crate::design::PENALTY;
+use crate::model::task::Task;
 use crate::problem::Formulation;
 use crate::report::codesign::{Method, OptimizeDocument, OptimizeInputs};
 use crate::report::files::{check_output, write_json};
 use crate::report::trajectory::ToolInfo;
 use crate::solver::{solve_design, solve_design_from, SolveSettings};
+use crate::stats::median;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
-
-/// Halton designs that the gradient method always solves as candidate starts (beside the
-/// original design).
-const GRADIENT_SPREAD: u32 = 12;
-
-/// Further Halton designs it solves, in order, while fewer feasible candidates than descents
-/// are known.
-const GRADIENT_FALLBACKS: u32 = 64;
 
 /// Flags of `codesign optimize`.
 #[derive(Debug, Clone, clap::Args)]
@@ -43,33 +37,33 @@ pub struct Args {
     #[arg(long, value_enum, default_value = "cost")]
     pub objective: ObjectiveKind,
     /// Resolution of the capacity search of `--objective capacity`, kg.
-    #[arg(long, value_name = "KG", default_value_t = 0.01)]
+    #[arg(long, value_name = "KG", default_value_t = CapacitySettings::default().resolution_kg)]
     pub capacity_resolution: f64,
     /// Iterations per start of the gradient method.
-    #[arg(long, value_name = "N", default_value_t = 50)]
+    #[arg(long, value_name = "N", default_value_t = GradientSettings::default().max_iterations)]
     pub gradient_iterations: usize,
     #[command(flatten)]
     pub problem: ProblemArgs,
     /// Seed of CMA-ES's random numbers.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = CmaesSettings::default().seed)]
     pub seed: u64,
     /// CMA-ES population size lambda.
-    #[arg(long, default_value_t = 100)]
+    #[arg(long, default_value_t = CmaesSettings::default().population)]
     pub population: usize,
     /// CMA-ES generations after the initial population.
-    #[arg(long, default_value_t = 30)]
+    #[arg(long, default_value_t = CmaesSettings::default().generations)]
     pub generations: usize,
     /// Initial step size, relative to the width of the design box.
-    #[arg(long, default_value_t = 0.3)]
+    #[arg(long, default_value_t = CmaesSettings::default().sigma0)]
     pub sigma: f64,
     /// Fitness of invalid or infeasible designs.
-    #[arg(long, default_value_t = 1e6)]
+    #[arg(long, default_value_t = PENALTY)]
     pub penalty: f64,
     /// Worker processes (default: one per core).
     #[arg(long, value_name = "N")]
     pub workers: Option<usize>,
     /// A solve taking longer than this (s) counts as a hung worker.
-    #[arg(long, value_name = "S", default_value_t = 600.0)]
+    #[arg(long, value_name = "S", default_value_t = SOLVE_TIMEOUT_S)]
     pub solve_timeout: f64,
     /// Result file (JSON); the evaluation log is written beside it as FILE.log.jsonl and locked
     /// for the whole run (a second run on the same file fails at once). A symbolic link is
@@ -84,6 +78,37 @@ pub struct Args {
     pub overwrite: bool,
 }
 
+impl Args {
+    /// The run these flags ask for.
+    pub fn case(&self) -> Case {
+        let mut case = Case::new(self.model.clone(), self.problem.clone(), self.method);
+        case.objective = match self.objective {
+            ObjectiveKind::Cost => Objective::Cost,
+            ObjectiveKind::Capacity => Objective::Capacity(CapacitySettings {
+                resolution_kg: self.capacity_resolution,
+                ..CapacitySettings::default()
+            }),
+        };
+        case.cmaes = CmaesSettings {
+            population: self.population,
+            generations: self.generations,
+            sigma0: self.sigma,
+            seed: self.seed,
+            ..CmaesSettings::default()
+        };
+        case.gradient.max_iterations = self.gradient_iterations;
+        case.penalty = self.penalty;
+        case.workers = self.workers;
+        case.solve_timeout_s = self.solve_timeout;
+        case.start = match (self.resume, self.overwrite) {
+            (true, _) => Start::Resume,
+            (false, true) => Start::Overwrite,
+            (false, false) => Start::Fresh,
+        };
+        case
+    }
+}
+
 struct Bar(ProgressBar);
 
 impl Progress for Bar {
@@ -96,58 +121,58 @@ impl Progress for Bar {
 /// The extension of an evaluation log, which sits beside its result file.
 pub const LOG_EXTENSION: &str = "log.jsonl";
 
-/// The task as the run's inputs record it: its linear solver moves to
-/// [`OptimizeInputs::linear_solver`], so that a log written before the field existed (MUMPS)
-/// compares by that field alone.
-fn without_linear_solver(task: &Task) -> Task {
-    let mut task = task.clone();
-    task.solver.linear_solver = None;
-    task
-}
-
 /// The evaluation log beside a result file: `x.json` -> `x.log.jsonl`.
 pub fn log_path(out: &Path) -> PathBuf {
     out.with_extension(LOG_EXTENSION)
 }
 
-/// Runs one co-design case and writes its document; returns it. A CMA-ES run holds its
+/// Runs one co-design case and writes its document to `out`; returns it. A CMA-ES run holds its
 /// evaluation log, locked, from before the first evaluation until the document is written.
-pub fn run_case(args: &Args, out: &Path) -> Result<OptimizeDocument, String> {
-    check_flags(args)?;
-    let (mut task, robot) = args.model.load()?;
-    args.problem.configure(&mut task);
-    let read = args.model.inputs(&task);
+pub fn run_case(case: &Case, out: &Path) -> Result<OptimizeDocument, String> {
+    case.validate()?;
+    let (mut task, robot) = case.model.load()?;
+    case.problem.configure(&mut task);
+    let read = case.model.inputs(&task);
     check_output("--out", out, &read)?;
-    if args.method == Method::Cmaes {
+    if case.method == Method::Cmaes {
         check_output("--out (its evaluation log)", &log_path(out), &read)?;
     }
-    let modes = args.problem.modes(&task);
-    probe_solver(&task, &robot, args, modes)?;
+    let modes = case.problem.modes(&task);
+    probe_solver(&task, &robot, case, modes)?;
     let formulation =
-        Formulation::new(&task, robot, args.problem.space, modes).map_err(|e| e.to_string())?;
-    let inputs = run_inputs(args, &task, modes);
-    let mut log = match args.method {
-        Method::Cmaes => Some(open_log(args, out, &inputs)?),
+        Formulation::new(&task, robot, case.problem.space, modes).map_err(|e| e.to_string())?;
+    let inputs = case.inputs(&task, modes);
+    let mut log = match case.method {
+        Method::Cmaes => Some(open_log(case.start, out, &inputs)?),
         Method::Gradient => None,
     };
-    let result = run_with(args, out, &task, &formulation, inputs, log.as_mut());
+    let started = Instant::now();
+    let outcome = match log.as_mut() {
+        Some((log, finished)) => run_cmaes(case, &inputs, &task, &formulation, log, finished)
+            .map(|o| (o, log.earlier_seconds())),
+        None => {
+            optimize_gradient(&formulation, &case.gradient, case.penalty).map(|o| (o, Some(0.0)))
+        }
+    };
+    let result = outcome.and_then(|(outcome, earlier_seconds)| {
+        let mut document = document(case, &formulation, inputs, outcome);
+        document.earlier_seconds = earlier_seconds;
+        document.wall_seconds = started.elapsed().as_secs_f64();
+        write_json(out, &document)?;
+        Ok(document)
+    });
     if let (Err(_), Some((log, _))) = (&result, log) {
         log.discard_if_unused()?;
     }
     result
 }
 
-/// Opens (locked) the evaluation log of a CMA-ES run as `--resume` or `--overwrite` say.
+/// Opens (locked) the evaluation log of a CMA-ES run as `start` says.
 fn open_log(
-    args: &Args,
+    start: Start,
     out: &Path,
     inputs: &OptimizeInputs,
 ) -> Result<(EvaluationLog, Finished), String> {
-    let start = match (args.resume, args.overwrite) {
-        (true, _) => Start::Resume,
-        (false, true) => Start::Overwrite,
-        (false, false) => Start::Fresh,
-    };
     let (log, finished) = EvaluationLog::open(&log_path(out), inputs, start)?;
     if let Some(line) = log.dropped_line() {
         eprintln!(
@@ -159,164 +184,52 @@ fn open_log(
     Ok((log, finished))
 }
 
-/// The settings of the run, as its document and log header record them.
-fn run_inputs(args: &Args, task: &Task, modes: LimitModes) -> OptimizeInputs {
-    OptimizeInputs {
-        method: args.method,
-        objective: objective(args),
-        task_file: args.model.source().label(),
-        task: without_linear_solver(task),
-        linear_solver: task.solver.linear_solver(),
-        space: args.problem.space,
-        payload_kg: task.payload.mass_kg,
-        limit_modes: modes,
-        seed: args.seed,
-        population: args.population,
-        generations: args.generations,
-        sigma0: args.sigma,
-        penalty: args.penalty,
-        ftol: FTOL,
-        xtol: XTOL,
-    }
-}
-
-/// CMA-ES's stopping tolerances on the fitness and on the design.
-const FTOL: f64 = 1e-6;
-const XTOL: f64 = 1e-6;
-
-/// The objective the flags ask for.
-fn objective(args: &Args) -> Objective {
-    match args.objective {
-        ObjectiveKind::Cost => Objective::Cost,
-        ObjectiveKind::Capacity => Objective::Capacity(CapacitySettings {
-            resolution_kg: args.capacity_resolution,
-            first_step_kg: 1.0,
-            max_kg: 64.0,
-        }),
-    }
-}
-
-/// Runs the method (CMA-ES on `log`, or the gradient method) and writes the document.
-fn run_with(
-    args: &Args,
-    out: &Path,
-    task: &Task,
+/// The result document of a run: the method's outcome with full solves of the best and the
+/// original design. The wall time and the earlier invocations' time are the caller's to set.
+fn document(
+    case: &Case,
     formulation: &Formulation,
     inputs: OptimizeInputs,
-    log: Option<&mut (EvaluationLog, Finished)>,
-) -> Result<OptimizeDocument, String> {
-    let started = Instant::now();
-    let mut worker_task = task.clone();
-    if let Some(robot) = &task.robot {
-        worker_task.robot = Some(
-            std::fs::canonicalize(robot).map_err(|e| format!("robot {}: {e}", robot.display()))?,
-        );
-    }
-    let setup = WorkerSetup {
-        objective: inputs.objective,
-        task: worker_task,
-        space: args.problem.space,
-        modes: *formulation.modes(),
-        penalty: args.penalty,
-    };
-    let settings = CmaesSettings {
-        population: args.population,
-        generations: args.generations,
-        sigma0: args.sigma,
-        seed: args.seed,
-        ftol: FTOL,
-        xtol: XTOL,
-    };
-    let run = match args.method {
-        Method::Cmaes => {
-            let (log, finished) = log.ok_or("a CMA-ES run needs its evaluation log")?;
-            run_cmaes(args, &inputs, formulation, settings, &setup, log, finished)?
-        }
-        Method::Gradient => run_gradient(args, formulation)?,
-    };
-    let solve = |ratios: &[f64]| solve_design(formulation, ratios, &SolveSettings::default()).ok();
+    outcome: DesignOutcome,
+) -> OptimizeDocument {
+    let settings = SolveSettings::default();
     // Warm-started from the method's own inner solution where it has one, so that the reported
     // trajectory is the one behind `best_cost`.
     let best_result = solve_design_from(
         formulation,
-        &run.best_ratios,
-        &SolveSettings::default(),
-        run.best_solution.as_ref(),
+        &outcome.best_ratios,
+        &settings,
+        outcome.best_solution.as_ref(),
     )
     .ok()
     .map(|(result, _)| result);
     let original_ratios = formulation.transmission().original().to_vec();
-    let original_result = solve(&original_ratios);
+    let original_result = solve_design(formulation, &original_ratios, &settings).ok();
     let original_cost = match &original_result {
         Some(result) if result.feasible => result.cost,
-        _ => args.penalty,
+        _ => case.penalty,
     };
-    let mut seconds = run.seconds;
-    seconds.sort_by(f64::total_cmp);
-    let solves = seconds.len();
-    let solve_seconds_total = seconds.iter().sum();
-    let document = OptimizeDocument {
+    OptimizeDocument {
         tool: ToolInfo::current(inputs.linear_solver),
         inputs,
-        best_ratios: run.best_ratios,
-        best_cost: run.best_cost,
+        best_ratios: outcome.best_ratios,
+        best_cost: outcome.best_cost,
         best_result,
         original_ratios,
         original_cost,
         original_result,
-        generations: run.generations,
-        evaluations: run.costs.len(),
-        costs: run.costs,
-        iterates: run.iterates,
-        replayed: run.replayed,
-        solves,
-        solve_seconds_total,
-        median_solve_seconds: seconds.get(seconds.len() / 2).copied().unwrap_or(f64::NAN),
-        stop_reason: run.stop_reason,
-        wall_seconds: started.elapsed().as_secs_f64(),
-        earlier_seconds: run.earlier_seconds,
-    };
-    write_json(out, &document)?;
-    Ok(document)
-}
-
-/// The gradient method's run: projected quasi-Newton from spread starts.
-fn run_gradient(args: &Args, formulation: &Formulation) -> Result<RunOutcome, String> {
-    let settings = GradientSettings {
-        max_iterations: args.gradient_iterations,
-        tolerance: 1e-6,
-        starts: default_starts(formulation.transmission(), GRADIENT_SPREAD),
-        fallback_starts: spread_designs(
-            formulation.transmission(),
-            GRADIENT_SPREAD + 1..GRADIENT_SPREAD + 1 + GRADIENT_FALLBACKS,
-        ),
-        descents: 3,
-    };
-    let outcome = optimize_gradient(formulation, &settings, args.penalty);
-    if outcome.best_ratios.is_empty() {
-        return Err(format!(
-            "the gradient method found no feasible start among {} candidate designs",
-            outcome.candidates_solved
-        ));
-    }
-    let solves = outcome.costs.len();
-    Ok(RunOutcome {
-        best_ratios: outcome.best_ratios,
-        best_cost: outcome.best_cost,
-        generations: Vec::new(),
+        generations: outcome.generations,
+        evaluations: outcome.costs.len(),
         costs: outcome.costs,
-        seconds: outcome.seconds.into_iter().filter(|s| *s > 0.0).collect(),
-        replayed: 0,
-        stop_reason: format!(
-            "{} candidate starts solved, {} descents, {} iterates, {solves} solves",
-            outcome.candidates_solved,
-            settings.descents,
-            outcome.iterates.len()
-        ),
         iterates: outcome.iterates,
-        best_solution: outcome.best_solution,
-        earlier_seconds: Some(0.0),
-    })
+        replayed: outcome.replayed,
+        solves: outcome.seconds.len(),
+        solve_seconds_total: outcome.seconds.iter().sum(),
+        median_solve_seconds: median(&outcome.seconds),
+        stop_reason: outcome.stop_reason,
+        wall_seconds: 0.0,
+        earlier_seconds: None,
+    }
 }
 
 /// The objective as a flag.
@@ -328,83 +241,58 @@ pub enum ObjectiveKind {
     Capacity,
 }
 
-/// What either method hands to the document.
-struct RunOutcome {
-    best_ratios: Vec<f64>,
-    best_cost: f64,
-    generations: Vec<GenerationSummary>,
-    costs: Vec<f64>,
-    seconds: Vec<f64>,
-    replayed: usize,
-    stop_reason: String,
-    iterates: Vec<GradientIterate>,
-    /// The inner solution of the best design, where the method keeps one.
-    best_solution: Option<Solution>,
-    /// Working time of the run's earlier invocations, s, where known.
-    earlier_seconds: Option<f64>,
-}
-
 /// The CMA-ES run on its open evaluation log (with the `finished` evaluations of a resumed
 /// run): worker pool, progress bar.
 fn run_cmaes(
-    args: &Args,
+    case: &Case,
     inputs: &OptimizeInputs,
+    task: &Task,
     formulation: &Formulation,
-    settings: CmaesSettings,
-    setup: &WorkerSetup,
     log: &mut EvaluationLog,
     finished: &Finished,
-) -> Result<RunOutcome, String> {
-    let workers = args
+) -> Result<DesignOutcome, String> {
+    let mut worker_task = task.clone();
+    if let Some(robot) = &task.robot {
+        worker_task.robot = Some(
+            std::fs::canonicalize(robot).map_err(|e| format!("robot {}: {e}", robot.display()))?,
+        );
+    }
+    let setup = WorkerSetup {
+        objective: inputs.objective,
+        task: worker_task,
+        space: case.problem.space,
+        modes: *formulation.modes(),
+        penalty: case.penalty,
+    };
+    let workers = case
         .workers
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     let program = std::env::current_exe()
         .map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
-    let mut pool = Pool::new(
-        program,
-        setup,
-        workers,
-        Duration::from_secs_f64(args.solve_timeout),
-    )?;
-    let bar = ProgressBar::new((args.population * (args.generations + 1)) as u64);
+    let timeout = Duration::from_secs_f64(case.solve_timeout_s);
+    let mut pool = Pool::new(program, &setup, workers, timeout)?;
+    let settings = &case.cmaes;
+    let bar = ProgressBar::new((settings.population * (settings.generations + 1)) as u64);
     bar.set_style(
         ProgressStyle::with_template("{prefix} [{elapsed_precise}] {bar:30} {pos}/{len} {msg}")
             .map_err(|e| e.to_string())?,
     );
     bar.set_prefix(format!(
         "{} {} kg seed {}",
-        args.problem.space, inputs.payload_kg, args.seed
+        case.problem.space, inputs.payload_kg, settings.seed
     ));
     let mut progress = Bar(bar);
+    let bounds = formulation.transmission().bounds();
     let outcome = optimize(
-        settings,
-        formulation.transmission().bounds(),
+        settings.clone(),
+        bounds,
         &mut pool,
         log,
         finished,
         &mut progress,
     )?;
     progress.0.finish();
-    drop(pool);
-    check_evaluations(&outcome.evaluations)?;
-
-    Ok(RunOutcome {
-        best_ratios: outcome.best_ratios,
-        best_cost: outcome.best_cost,
-        generations: outcome.generations,
-        costs: outcome.evaluations.iter().map(|e| e.cost).collect(),
-        seconds: outcome
-            .evaluations
-            .iter()
-            .filter(|e| e.iterations > 0)
-            .map(|e| e.seconds)
-            .collect(),
-        replayed: outcome.replayed,
-        stop_reason: outcome.stop_reason,
-        iterates: Vec::new(),
-        best_solution: None,
-        earlier_seconds: log.earlier_seconds(),
-    })
+    Ok(outcome)
 }
 
 /// Runs `codesign optimize` and prints a summary.
@@ -419,7 +307,7 @@ pub fn run(args: &Args) -> Result<(), String> {
             args.problem.space, args.seed
         ))
     });
-    let document = run_case(args, &out)?;
+    let document = run_case(&args.case(), &out)?;
     if args.objective == ObjectiveKind::Capacity {
         say!(
             "largest payload capacity {:.3} kg at r = ({}); {} evaluations ({} replayed); {}",

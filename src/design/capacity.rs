@@ -24,6 +24,17 @@ pub struct CapacitySettings {
     pub max_kg: f64,
 }
 
+impl Default for CapacitySettings {
+    /// 10 g resolution, a first step of 1 kg, at most 64 kg.
+    fn default() -> CapacitySettings {
+        CapacitySettings {
+            resolution_kg: 0.01,
+            first_step_kg: 1.0,
+            max_kg: 64.0,
+        }
+    }
+}
+
 /// One solve of the search.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CapacityProbe {
@@ -57,32 +68,42 @@ pub struct Capacity {
     pub probes: Vec<CapacityProbe>,
 }
 
-/// Searches the payload capacity of design `ratios` for `task` (its payload ignored).
-pub fn payload_capacity(
-    task: &Task,
-    robot: &Robot,
-    space: Space,
-    modes: LimitModes,
-    ratios: &[f64],
-    settings: &CapacitySettings,
-) -> Result<Capacity, String> {
-    let valid = |v: f64| v.is_finite() && v > 0.0;
-    if !valid(settings.resolution_kg) || !valid(settings.first_step_kg) || !valid(settings.max_kg) {
-        return Err(format!(
+impl CapacitySettings {
+    /// Checks that every mass is a positive number of kg.
+    pub fn validate(&self) -> Result<(), String> {
+        let valid = |v: f64| v.is_finite() && v > 0.0;
+        if valid(self.resolution_kg) && valid(self.first_step_kg) && valid(self.max_kg) {
+            return Ok(());
+        }
+        Err(format!(
             "capacity settings must be positive numbers of kg: resolution {}, first step {}, \
              max {}",
-            settings.resolution_kg, settings.first_step_kg, settings.max_kg
-        ));
+            self.resolution_kg, self.first_step_kg, self.max_kg
+        ))
     }
-    let mut probes = Vec::new();
-    // IPOPT's verdict of infeasibility is local (the problem is not convex): a payload counts as
-    // infeasible only when neither the warm start nor the standard initial guess leads to a
-    // feasible trajectory.
-    let mut probe = |payload: f64, warm: Option<&Solution>| -> Result<Option<Solution>, String> {
-        let mut loaded = task.clone();
+}
+
+/// The solves of one search: a design at varying payloads, every probe recorded.
+struct Search<'a> {
+    task: &'a Task,
+    robot: &'a Robot,
+    space: Space,
+    modes: LimitModes,
+    ratios: &'a [f64],
+    probes: Vec<CapacityProbe>,
+}
+
+impl Search<'_> {
+    /// Solves the design at `payload`, from `warm` and then from the standard initial guess:
+    /// IPOPT's verdict of infeasibility is local (the problem is not convex), so a payload counts
+    /// as infeasible only when neither start leads to a feasible trajectory. The solution when
+    /// feasible.
+    fn probe(&mut self, payload: f64, warm: Option<&Solution>) -> Result<Option<Solution>, String> {
+        let mut loaded = self.task.clone();
         loaded.payload.mass_kg = payload;
-        let formulation = Formulation::new(&loaded, robot.with_payload(payload), space, modes)
-            .map_err(|e| e.to_string())?;
+        let robot = self.robot.with_payload(payload);
+        let formulation =
+            Formulation::new(&loaded, robot, self.space, self.modes).map_err(|e| e.to_string())?;
         let starts: &[Option<&Solution>] = if warm.is_some() {
             &[warm, None]
         } else {
@@ -90,9 +111,9 @@ pub fn payload_capacity(
         };
         for &start in starts {
             let (result, solution) =
-                solve_design_from(&formulation, ratios, &SolveSettings::default(), start)
+                solve_design_from(&formulation, self.ratios, &SolveSettings::default(), start)
                     .map_err(|e| e.to_string())?;
-            probes.push(CapacityProbe {
+            self.probes.push(CapacityProbe {
                 payload_kg: payload,
                 feasible: result.feasible,
                 status: result.status,
@@ -106,18 +127,39 @@ pub fn payload_capacity(
             }
         }
         Ok(None)
+    }
+}
+
+/// Searches the payload capacity of design `ratios` for `task` (its payload ignored).
+pub fn payload_capacity(
+    task: &Task,
+    robot: &Robot,
+    space: Space,
+    modes: LimitModes,
+    ratios: &[f64],
+    settings: &CapacitySettings,
+) -> Result<Capacity, String> {
+    settings.validate()?;
+    let mut search = Search {
+        task,
+        robot,
+        space,
+        modes,
+        ratios,
+        probes: Vec::new(),
     };
-    let Some(mut best) = probe(0.0, None)? else {
+    let Some(mut best) = search.probe(0.0, None)? else {
         return Ok(Capacity {
             capacity_kg: None,
             first_infeasible_kg: Some(0.0),
-            probes,
+            probes: search.probes,
         });
     };
+    // Bracketing: double the payload until it is infeasible or the largest allowed.
     let (mut low, mut high) = (0.0, None);
     let mut payload = settings.first_step_kg.min(settings.max_kg);
     while high.is_none() {
-        match probe(payload, Some(&best))? {
+        match search.probe(payload, Some(&best))? {
             Some(solution) => {
                 (low, best) = (payload, solution);
                 if payload >= settings.max_kg {
@@ -128,10 +170,11 @@ pub fn payload_capacity(
             None => high = Some(payload),
         }
     }
+    // Bisection of the bracket down to the resolution.
     if let Some(mut upper) = high {
         while upper - low > settings.resolution_kg {
             let middle = 0.5 * (low + upper);
-            match probe(middle, Some(&best))? {
+            match search.probe(middle, Some(&best))? {
                 Some(solution) => (low, best) = (middle, solution),
                 None => upper = middle,
             }
@@ -141,20 +184,18 @@ pub fn payload_capacity(
     Ok(Capacity {
         capacity_kg: Some(low),
         first_infeasible_kg: high,
-        probes,
+        probes: search.probes,
     })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::path::Path;
+    use crate::testing;
 
     #[test]
     fn brackets_the_capacity_of_the_original_design_to_the_resolution() {
-        let task =
-            Task::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json"))
-                .unwrap();
+        let task = testing::task();
         let robot = Robot::load(&task).unwrap();
         let settings = CapacitySettings {
             resolution_kg: 0.05,

@@ -7,5 +7,9 @@ pub mod evaluate;
 pub mod gradient;
 pub mod log;
 pub mod optimize;
+pub mod outcome;
 pub mod rng;
 pub mod workers;
+
+/// The fitness of an invalid or infeasible design (the paper's flat penalty).
+pub const PENALTY: f64 = 1e6;

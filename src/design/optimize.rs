@@ -4,7 +4,9 @@
 use super::cmaes::{Cmaes, CmaesSettings};
 use super::evaluate::Evaluation;
 use super::log::{EvaluationLog, Finished};
+use super::outcome::DesignOutcome;
 use super::workers::Pool;
+use crate::stats::median;
 use serde::{Deserialize, Serialize};
 
 /// The cost statistics of one generation.
@@ -22,21 +24,12 @@ pub struct GenerationSummary {
     pub evaluated: usize,
 }
 
-/// What a co-design run found.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct OptimizeOutcome {
-    /// The best design seen.
-    pub best_ratios: Vec<f64>,
-    /// Its cost (the penalty if no feasible design was seen).
-    pub best_cost: f64,
-    /// Per-generation statistics.
-    pub generations: Vec<GenerationSummary>,
-    /// Every evaluation, in (generation, index) order.
-    pub evaluations: Vec<Evaluation>,
-    /// Evaluations replayed from the log instead of solved.
-    pub replayed: usize,
-    /// Why CMA-ES stopped.
-    pub stop_reason: String,
+/// What the CMA-ES loop gathers while it runs.
+struct Run {
+    best_cost: f64,
+    generations: Vec<GenerationSummary>,
+    evaluations: Vec<Evaluation>,
+    replayed: usize,
 }
 
 /// Something that hears about progress (a progress bar); the no-op is `()`.
@@ -49,18 +42,9 @@ impl Progress for () {
     fn evaluated(&mut self, _best: f64) {}
 }
 
-fn median(costs: &[f64]) -> f64 {
-    let mut sorted = costs.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    match sorted.len() {
-        0 => f64::NAN,
-        len if len % 2 == 1 => sorted[len / 2],
-        len => 0.5 * (sorted[len / 2 - 1] + sorted[len / 2]),
-    }
-}
-
 /// Runs CMA-ES with `settings` in the box `bounds`, evaluating with `pool`, logging to `log`, and
-/// replaying `finished` evaluations (from a resumed log) whose design matches exactly.
+/// replaying `finished` evaluations (from a resumed log) whose design matches exactly. Fails when
+/// no evaluation judged a design (see [`check_evaluations`]).
 pub fn optimize(
     settings: CmaesSettings,
     bounds: &[[f64; 2]],
@@ -68,17 +52,15 @@ pub fn optimize(
     log: &mut EvaluationLog,
     finished: &Finished,
     progress: &mut dyn Progress,
-) -> Result<OptimizeOutcome, String> {
+) -> Result<DesignOutcome, String> {
     let lower = bounds.iter().map(|b| b[0]).collect();
     let upper = bounds.iter().map(|b| b[1]).collect();
     let mut cmaes = Cmaes::new(settings, lower, upper)?;
-    let mut outcome = OptimizeOutcome {
-        best_ratios: Vec::new(),
+    let mut outcome = Run {
         best_cost: f64::INFINITY,
         generations: Vec::new(),
         evaluations: Vec::new(),
         replayed: 0,
-        stop_reason: String::new(),
     };
     let initial = cmaes.initial_population();
     let mut evaluations =
@@ -97,21 +79,53 @@ pub fn optimize(
         )?;
         cmaes.tell(&record(generation, evaluations, &mut outcome))?;
     }
-    outcome.stop_reason = cmaes
-        .stop_reason()
-        .map_or_else(|| "stopped".to_owned(), |reason| reason.to_string());
+    check_evaluations(&outcome.evaluations)?;
     let (best, cost) = cmaes.best().ok_or("CMA-ES has no best design")?;
-    outcome.best_ratios = best.to_vec();
-    outcome.best_cost = cost;
-    Ok(outcome)
+    Ok(DesignOutcome {
+        best_ratios: best.to_vec(),
+        best_cost: cost,
+        best_solution: None,
+        costs: outcome.evaluations.iter().map(|e| e.cost).collect(),
+        seconds: outcome
+            .evaluations
+            .iter()
+            .filter(|e| e.iterations > 0)
+            .map(|e| e.seconds)
+            .collect(),
+        generations: outcome.generations,
+        iterates: Vec::new(),
+        replayed: outcome.replayed,
+        stop_reason: cmaes
+            .stop_reason()
+            .map_or_else(|| "stopped".to_owned(), |reason| reason.to_string()),
+    })
+}
+
+/// Fails when no evaluation judged a design: every one failed for the same reason that is not
+/// the design's (a solver error, a crashed worker), so the run's result would mean nothing.
+pub fn check_evaluations(evaluations: &[Evaluation]) -> Result<(), String> {
+    let not_judged =
+        |e: &Evaluation| !e.feasible && (e.status == "Solver_Error" || e.status == "Worker_Failed");
+    match evaluations.first() {
+        Some(first)
+            if evaluations
+                .iter()
+                .all(|e| not_judged(e) && e.reason == first.reason) =>
+        {
+            Err(format!(
+                "every one of the {} evaluations failed alike ({}: {}); no design was judged, \
+                 so no result is written (fix the cause, then start afresh with --overwrite)",
+                evaluations.len(),
+                first.status,
+                first.reason.as_deref().unwrap_or("no reason given")
+            ))
+        }
+        _ => Ok(()),
+    }
 }
 
 /// Adds a generation's evaluations to the outcome and returns their costs.
-fn record(
-    generation: usize,
-    evaluations: Vec<Evaluation>,
-    outcome: &mut OptimizeOutcome,
-) -> Vec<f64> {
+fn record(generation: usize, evaluations: Vec<Evaluation>, outcome: &mut Run) -> Vec<f64> {
     let costs: Vec<f64> = evaluations.iter().map(|e| e.cost).collect();
     outcome.generations.push(GenerationSummary {
         generation,
@@ -130,7 +144,7 @@ fn evaluate_generation(
     pool: &mut Pool,
     log: &mut EvaluationLog,
     finished: &Finished,
-    outcome: &mut OptimizeOutcome,
+    outcome: &mut Run,
     progress: &mut dyn Progress,
 ) -> Result<Vec<Evaluation>, String> {
     let mut slots: Vec<Option<Evaluation>> = vec![None; designs.len()];
@@ -156,4 +170,27 @@ fn evaluate_generation(
         slots[*index] = Some(evaluation);
     }
     Ok(slots.into_iter().flatten().collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::check_evaluations;
+    use crate::design::evaluate::Evaluation;
+
+    #[test]
+    fn a_run_fails_when_its_evaluations_all_failed_alike() {
+        let failed =
+            |reason: &str| Evaluation::penalised(&[6.0], 1e6, "Solver_Error", reason.to_owned());
+        let alike = vec![failed("IPOPT rejected option `x` = 3"); 3];
+        let error = check_evaluations(&alike).unwrap_err();
+        assert!(error.contains("every one of the 3 evaluations"), "{error}");
+        assert!(error.contains("IPOPT rejected option"), "{error}");
+        let differing = vec![failed("a"), failed("b")];
+        assert!(check_evaluations(&differing).is_ok());
+        let invalid = vec![Evaluation::penalised(&[6.0], 1e6, "Invalid_Design", "r".into()); 2];
+        assert!(
+            check_evaluations(&invalid).is_ok(),
+            "the designs were judged"
+        );
+    }
 }

@@ -18,6 +18,10 @@ use std::process::{Child, ChildStdin, Command, Stdio};
 use std::sync::mpsc::{channel, Receiver, RecvTimeoutError, Sender};
 use std::time::{Duration, Instant};
 
+/// How long one evaluation may take before its worker counts as hung, s (the default of
+/// `--solve-timeout`).
+pub const SOLVE_TIMEOUT_S: f64 = 600.0;
+
 /// Everything a worker needs to build its [`Formulation`], sent as its first line.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WorkerSetup {
@@ -127,6 +131,14 @@ pub struct Pool {
     incarnations: u64,
 }
 
+/// What the pool heard from its workers while it waited.
+enum Heard {
+    /// A worker answered the job it held.
+    Answer(Job, Evaluation),
+    /// These workers failed, with the reason (possibly none).
+    Failed(Vec<(usize, String)>),
+}
+
 impl Pool {
     /// Starts `count` workers running `program worker` (normally this executable).
     pub fn new(
@@ -225,79 +237,18 @@ impl Pool {
         let position = |id: usize| designs.iter().position(|(d, _)| *d == id);
         let mut remaining = designs.len();
         while remaining > 0 {
-            for slot in 0..self.workers.len() {
-                if self.workers[slot].job.is_some() {
+            self.dispatch(&mut queue)?;
+            let failed = match self.listen()? {
+                Heard::Answer(job, evaluation) => {
+                    if let Some(index) = position(job.id) {
+                        done(job.id, &evaluation)?;
+                        results[index] = Some(evaluation);
+                        remaining -= 1;
+                    }
                     continue;
                 }
-                let Some(job) = queue.pop_front() else { break };
-                let line = serde_json::to_string(&Request {
-                    id: job.id,
-                    ratios: job.ratios.clone(),
-                })
-                .map_err(|e| e.to_string())?;
-                let deadline = Instant::now() + self.timeout;
-                let worker = &mut self.workers[slot];
-                let sent = writeln!(worker.stdin, "{line}").and_then(|()| worker.stdin.flush());
-                worker.job = Some((job, deadline));
-                if sent.is_err() {
-                    // The worker died between jobs: its reader reports EOF and the job is retried.
-                    continue;
-                }
-            }
-            let next_deadline = self
-                .workers
-                .iter()
-                .filter_map(|w| w.job.as_ref().map(|(_, d)| *d))
-                .min();
-            let wait = next_deadline.map_or(self.timeout, |d| {
-                d.saturating_duration_since(Instant::now())
-            });
-            let mut failed: Vec<(usize, String)> = Vec::new();
-            match self.receiver.recv_timeout(wait) {
-                Ok((slot, incarnation, line)) => {
-                    if self.workers[slot].incarnation != incarnation {
-                        continue;
-                    }
-                    match line {
-                        Some(line) => match serde_json::from_str::<Response>(&line) {
-                            Err(e) => {
-                                failed.push((slot, format!("worker sent a malformed answer: {e}")))
-                            }
-                            Ok(response) => {
-                                let expected =
-                                    self.workers[slot].job.as_ref().map(|(job, _)| job.id);
-                                if expected != Some(response.id) {
-                                    failed.push((
-                                        slot,
-                                        "worker answered a design it was not given".to_owned(),
-                                    ));
-                                } else if let Some((job, _)) = self.workers[slot].job.take() {
-                                    if let Some(index) = position(job.id) {
-                                        done(job.id, &response.evaluation)?;
-                                        results[index] = Some(response.evaluation);
-                                        remaining -= 1;
-                                    }
-                                }
-                            }
-                        },
-                        None => failed.push((slot, "worker process crashed".to_owned())),
-                    }
-                }
-                Err(RecvTimeoutError::Timeout) => {
-                    let now = Instant::now();
-                    for (slot, worker) in self.workers.iter().enumerate() {
-                        if matches!(&worker.job, Some((_, deadline)) if *deadline <= now) {
-                            failed.push((
-                                slot,
-                                format!("solve exceeded {:.0} s", self.timeout.as_secs_f64()),
-                            ));
-                        }
-                    }
-                }
-                Err(RecvTimeoutError::Disconnected) => {
-                    return Err("all worker readers stopped".to_owned())
-                }
-            }
+                Heard::Failed(failed) => failed,
+            };
             self.retry_or_penalise(
                 failed,
                 &mut queue,
@@ -308,6 +259,80 @@ impl Pool {
             )?;
         }
         Ok(results.into_iter().flatten().collect())
+    }
+
+    /// Hands the next queued jobs to the idle workers, each with its deadline.
+    fn dispatch(&mut self, queue: &mut VecDeque<Job>) -> Result<(), String> {
+        for worker in &mut self.workers {
+            if worker.job.is_some() {
+                continue;
+            }
+            let Some(job) = queue.pop_front() else { break };
+            let line = serde_json::to_string(&Request {
+                id: job.id,
+                ratios: job.ratios.clone(),
+            })
+            .map_err(|e| e.to_string())?;
+            let deadline = Instant::now() + self.timeout;
+            // A worker that died between jobs fails to take it: its reader reports EOF and the
+            // job is retried.
+            let _ = writeln!(worker.stdin, "{line}").and_then(|()| worker.stdin.flush());
+            worker.job = Some((job, deadline));
+        }
+        Ok(())
+    }
+
+    /// Waits, at most until the nearest deadline, for one worker's answer; classifies what came:
+    /// an answer to the job its worker holds, or the workers that failed (crashed, answered
+    /// nonsense, ran past their deadline; none when a replaced worker's late line came).
+    fn listen(&mut self) -> Result<Heard, String> {
+        let next_deadline = self
+            .workers
+            .iter()
+            .filter_map(|w| w.job.as_ref().map(|(_, d)| *d))
+            .min();
+        let wait = next_deadline.map_or(self.timeout, |d| {
+            d.saturating_duration_since(Instant::now())
+        });
+        match self.receiver.recv_timeout(wait) {
+            Ok((slot, incarnation, _)) if self.workers[slot].incarnation != incarnation => {
+                Ok(Heard::Failed(Vec::new()))
+            }
+            Ok((slot, _, None)) => Ok(Heard::Failed(vec![(
+                slot,
+                "worker process crashed".to_owned(),
+            )])),
+            Ok((slot, _, Some(line))) => {
+                let response = match serde_json::from_str::<Response>(&line) {
+                    Ok(response) => response,
+                    Err(e) => {
+                        let why = format!("worker sent a malformed answer: {e}");
+                        return Ok(Heard::Failed(vec![(slot, why)]));
+                    }
+                };
+                let worker = &mut self.workers[slot];
+                match worker.job.take_if(|(job, _)| job.id == response.id) {
+                    Some((job, _)) => Ok(Heard::Answer(job, response.evaluation)),
+                    None => Ok(Heard::Failed(vec![(
+                        slot,
+                        "worker answered a design it was not given".to_owned(),
+                    )])),
+                }
+            }
+            Err(RecvTimeoutError::Timeout) => {
+                let now = Instant::now();
+                let late = format!("solve exceeded {:.0} s", self.timeout.as_secs_f64());
+                Ok(Heard::Failed(
+                    self.workers
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, w)| matches!(&w.job, Some((_, deadline)) if *deadline <= now))
+                        .map(|(slot, _)| (slot, late.clone()))
+                        .collect(),
+                ))
+            }
+            Err(RecvTimeoutError::Disconnected) => Err("all worker readers stopped".to_owned()),
+        }
     }
 
     /// Replaces each failed worker; its job goes back to the queue once, then is penalised.
@@ -375,9 +400,7 @@ mod tests {
     }
 
     fn setup() -> WorkerSetup {
-        let path =
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json");
-        let task = Task::load(&path).unwrap();
+        let task = crate::testing::task();
         WorkerSetup {
             modes: task.limit_modes,
             task,

@@ -1,25 +1,8 @@
 //! The LDLᵀ against dense references: inertia from the eigenvalues, solutions from nalgebra's LU.
 
 use super::*;
-use crate::design::rng::DesignRng;
+use crate::testing::Random;
 use nalgebra::DMatrix;
-
-/// Uniform random numbers in a range, from the project's seeded stream.
-struct Random(DesignRng);
-
-impl Random {
-    fn new(seed: u64) -> Random {
-        Random(DesignRng::new(seed))
-    }
-
-    fn real(&mut self, range: std::ops::Range<f64>) -> f64 {
-        range.start + (range.end - range.start) * self.0.uniform()
-    }
-
-    fn index(&mut self, range: std::ops::Range<usize>) -> usize {
-        range.start + ((range.end - range.start) as f64 * self.0.uniform()) as usize
-    }
-}
 
 /// A symmetric matrix as IPOPT hands it over: upper triangle, 1-based compressed rows, every
 /// diagonal present.

@@ -21,57 +21,14 @@
 use super::rng::DesignRng;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use std::cmp::Ordering;
-use std::fmt;
 
 /// Most QR sweeps the eigen-decomposition of C may take before it counts as failed (pagmo then
 /// keeps the previous B and D).
 const EIGEN_MAX_ITERATIONS: usize = 10_000;
 
-/// Settings of one run. Units of x are those of the bounds, units of f those of the fitness.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CmaesSettings {
-    /// lambda: designs per generation and in the initial population (at least 5, as in pagmo).
-    pub population: usize,
-    /// Generations after the initial population (pagmo's `gen`); 0 stops after the initial one.
-    pub generations: usize,
-    /// Initial step size relative to the bound widths.
-    pub sigma0: f64,
-    /// Seed of the random stream.
-    pub seed: u64,
-    /// Stop when |f_best - f_worst| of the generation evaluated last falls under this.
-    pub ftol: f64,
-    /// Stop when the step |sigma B D z| of the last sample drawn falls under this.
-    pub xtol: f64,
-}
+mod settings;
 
-/// Why a run stopped.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum StopReason {
-    /// All the generations of the settings have been evaluated.
-    Generations,
-    /// The last sample's step from the mean, `step`, fell under xtol.
-    Xtol {
-        /// |sigma B D z| of the last sample drawn.
-        step: f64,
-    },
-    /// The fitness spread of the generation evaluated last fell under ftol.
-    Ftol {
-        /// |f_best - f_worst|.
-        spread: f64,
-    },
-}
-
-impl fmt::Display for StopReason {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            StopReason::Generations => f.write_str("generation limit reached"),
-            StopReason::Xtol { step } => write!(f, "xtol: step {step:e} under the tolerance"),
-            StopReason::Ftol { spread } => {
-                write!(f, "ftol: fitness spread {spread:e} under the tolerance")
-            }
-        }
-    }
-}
+pub use settings::{CmaesSettings, SettingError, StopReason, MAX_GENERATIONS, MAX_POPULATION};
 
 /// The constants of the strategy, pagmo's formulas with N = dimension.
 #[derive(Clone, Debug)]
@@ -194,23 +151,11 @@ pub struct Cmaes {
 }
 
 impl Cmaes {
-    /// Checks the settings and the box (finite bounds, lower <= upper, at least one dimension)
+    /// Checks the settings ([`CmaesSettings::validate`]) and the box (finite bounds, lower <=
+    /// upper, at least one dimension)
     /// and draws the initial population.
     pub fn new(settings: CmaesSettings, lower: Vec<f64>, upper: Vec<f64>) -> Result<Cmaes, String> {
-        if settings.population < 5 {
-            return Err(format!(
-                "CMA-ES needs a population of at least 5, got {}",
-                settings.population
-            ));
-        }
-        if !(settings.sigma0.is_finite() && settings.sigma0 > 0.0) {
-            return Err(format!("sigma0 = {} must be > 0", settings.sigma0));
-        }
-        for (name, value) in [("ftol", settings.ftol), ("xtol", settings.xtol)] {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(format!("{name} = {value} must be >= 0"));
-            }
-        }
+        settings.validate().map_err(|e| format!("CMA-ES: {e}"))?;
         if lower.len() != upper.len() || lower.is_empty() {
             return Err(format!(
                 "the bounds have {} lower and {} upper values; they must agree and not be empty",

@@ -1,0 +1,189 @@
+//! One co-design run as plain data: what `optimize` reads from its flags and what `reproduce`
+//! plans, with every check of the settings in one place.
+
+use super::common::{ModelArgs, ProblemArgs};
+use crate::design::capacity::CapacitySettings;
+use crate::design::cmaes::CmaesSettings;
+use crate::design::evaluate::Objective;
+use crate::design::gradient::GradientSettings;
+use crate::design::log::Start;
+use crate::design::workers::SOLVE_TIMEOUT_S;
+use crate::design::PENALTY;
+use crate::model::task::{LimitModes, Task};
+use crate::report::codesign::{Method, OptimizeInputs};
+
+/// A co-design run of one case: the problem, the outer method and its settings, and how the
+/// evaluations run.
+#[derive(Clone, Debug)]
+pub struct Case {
+    /// Task, robot and payload.
+    pub model: ModelArgs,
+    /// Space, limit modes and linear solver.
+    pub problem: ProblemArgs,
+    /// The outer method.
+    pub method: Method,
+    /// What is minimised.
+    pub objective: Objective,
+    /// CMA-ES's settings; recorded in the result of every run (a gradient run of `reproduce`
+    /// records population and generations 0).
+    pub cmaes: CmaesSettings,
+    /// The gradient method's settings.
+    pub gradient: GradientSettings,
+    /// Fitness of invalid or infeasible designs.
+    pub penalty: f64,
+    /// Worker processes (default: one per core).
+    pub workers: Option<usize>,
+    /// A solve taking longer than this counts as a hung worker, s.
+    pub solve_timeout_s: f64,
+    /// Fresh start, resumption of its evaluation log, or replacement of it.
+    pub start: Start,
+}
+
+impl Case {
+    /// A run of `method` with every setting at its default: the paper's CMA-ES, the flat
+    /// penalty, one worker per core, a fresh start.
+    pub fn new(model: ModelArgs, problem: ProblemArgs, method: Method) -> Case {
+        Case {
+            model,
+            problem,
+            method,
+            objective: Objective::Cost,
+            cmaes: CmaesSettings::default(),
+            gradient: GradientSettings::default(),
+            penalty: PENALTY,
+            workers: None,
+            solve_timeout_s: SOLVE_TIMEOUT_S,
+            start: Start::Fresh,
+        }
+    }
+
+    /// Checks the settings that need no task; every error names the flag of `optimize` that
+    /// sets the value, with the rule and its reason.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.method == Method::Cmaes {
+            // The gradient method has no population or generations (reproduce records 0).
+            self.cmaes.validate().map_err(|e| {
+                let flag = match e.field {
+                    "sigma0" => "sigma",
+                    field => field,
+                };
+                format!("--{flag} {}: {}", e.value, e.rule)
+            })?;
+        }
+        if !self.penalty.is_finite() {
+            return Err(format!("--penalty {}: must be finite", self.penalty));
+        }
+        if !(self.solve_timeout_s.is_finite() && self.solve_timeout_s > 0.0) {
+            return Err(format!(
+                "--solve-timeout {}: must be a positive number of seconds",
+                self.solve_timeout_s
+            ));
+        }
+        if self.workers == Some(0) {
+            return Err("--workers 0: must be at least 1".to_owned());
+        }
+        match (self.method, self.objective) {
+            (Method::Gradient, Objective::Capacity(_)) => Err(
+                "--objective capacity: the capacity is not differentiable in r; use --method cmaes"
+                    .to_owned(),
+            ),
+            (Method::Gradient, _) if self.start == Start::Resume => Err(
+                "--resume continues CMA-ES runs; a gradient run is short, start it again"
+                    .to_owned(),
+            ),
+            (_, Objective::Capacity(CapacitySettings { resolution_kg, .. }))
+                if !(resolution_kg.is_finite() && resolution_kg > 0.0) =>
+            {
+                Err(format!(
+                    "--capacity-resolution {resolution_kg}: must be a positive mass"
+                ))
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// The settings of the run as its document and log header record them, for `task` (the
+    /// overrides applied) with limit `modes`.
+    pub fn inputs(&self, task: &Task, modes: LimitModes) -> OptimizeInputs {
+        let mut recorded = task.clone();
+        // The linear solver is recorded in its own field, so that a log written before the
+        // field existed (MUMPS) compares by that field alone.
+        recorded.solver.linear_solver = None;
+        OptimizeInputs {
+            method: self.method,
+            objective: self.objective,
+            task_file: self.model.source().label(),
+            task: recorded,
+            linear_solver: task.solver.linear_solver(),
+            space: self.problem.space,
+            payload_kg: task.payload.mass_kg,
+            limit_modes: modes,
+            seed: self.cmaes.seed,
+            population: self.cmaes.population,
+            generations: self.cmaes.generations,
+            sigma0: self.cmaes.sigma0,
+            penalty: self.penalty,
+            ftol: self.cmaes.ftol,
+            xtol: self.cmaes.xtol,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Case;
+    use crate::cli::common::{ModelArgs, ProblemArgs};
+    use crate::design::evaluate::Objective;
+    use crate::design::log::Start;
+    use crate::problem::Space;
+    use crate::report::codesign::Method;
+
+    fn case(method: Method) -> Case {
+        let model = ModelArgs {
+            task: None,
+            robot: None,
+            payload: Some(1.0),
+        };
+        let problem = ProblemArgs {
+            space: Space::Actuation,
+            torque_mode: None,
+            speed_mode: None,
+            linear_solver: None,
+        };
+        Case::new(model, problem, method)
+    }
+
+    #[test]
+    fn population_and_generations_are_checked_for_cma_es_only() {
+        let mut cmaes = case(Method::Cmaes);
+        cmaes.cmaes.population = 0;
+        let error = cmaes.validate().unwrap_err();
+        assert!(error.starts_with("--population 0: must be 5 to"), "{error}");
+        let mut gradient = case(Method::Gradient);
+        gradient.cmaes.population = 0;
+        gradient.cmaes.generations = 0;
+        gradient.validate().unwrap();
+    }
+
+    #[test]
+    fn every_error_names_its_flag() {
+        let mut sigma = case(Method::Cmaes);
+        sigma.cmaes.sigma0 = -1.0;
+        assert!(sigma.validate().unwrap_err().starts_with("--sigma -1:"));
+        let mut resumed = case(Method::Gradient);
+        resumed.start = Start::Resume;
+        assert!(resumed.validate().unwrap_err().starts_with("--resume"));
+        let mut capacity = case(Method::Gradient);
+        capacity.objective = Objective::Capacity(Default::default());
+        assert!(capacity
+            .validate()
+            .unwrap_err()
+            .starts_with("--objective capacity"));
+        let mut timeout = case(Method::Cmaes);
+        timeout.solve_timeout_s = f64::NAN;
+        assert!(timeout
+            .validate()
+            .unwrap_err()
+            .starts_with("--solve-timeout"));
+    }
+}

@@ -1,0 +1,275 @@
+//! The experiment `reproduce` runs, as data: its budget, its output folder and every co-design
+//! run of it as a [`Case`] with the file it writes.
+
+use super::Args;
+use crate::cli::case::Case;
+use crate::cli::common::{ModelArgs, ProblemArgs};
+use crate::design::capacity::CapacitySettings;
+use crate::design::cmaes::CmaesSettings;
+use crate::design::evaluate::Objective;
+use crate::design::log::Start;
+use crate::problem::Space;
+use crate::report::codesign::Method;
+use std::path::PathBuf;
+
+/// Payloads of the experiment, kg, and those that are co-designed (docs/model.md, section 13).
+pub const PAYLOADS: [f64; 3] = [0.0, 1.0, 3.0];
+/// The co-designed payloads, kg.
+pub const CODESIGNED: [f64; 2] = [1.0, 3.0];
+/// Both spaces, joint first.
+pub const SPACES: [Space; 2] = [Space::Joint, Space::Actuation];
+
+/// Most CMA-ES seeds per case: 20 times the paper's 5.
+const MAX_SEEDS: u64 = 100;
+
+/// How much CMA-ES runs: seeds per case, population and generations of the cost runs, and the
+/// population and generations of the capacity co-design (one seed).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Budget {
+    /// Seeds per co-designed case (0..seeds).
+    pub seeds: u64,
+    /// Population of the cost runs.
+    pub population: usize,
+    /// Generations of the cost runs.
+    pub generations: usize,
+    /// Population of the capacity co-design (each evaluation is about 10 solves).
+    pub capacity_population: usize,
+    /// Generations of the capacity co-design.
+    pub capacity_generations: usize,
+}
+
+/// The paper's budget (5 seeds of population 100 over 30 generations).
+pub const FULL: Budget = Budget {
+    seeds: 5,
+    population: CmaesSettings::PAPER.population,
+    generations: CmaesSettings::PAPER.generations,
+    capacity_population: 20,
+    capacity_generations: 10,
+};
+
+/// The reduced budget of `--quick`, which ends in minutes.
+pub const QUICK: Budget = Budget {
+    seeds: 2,
+    population: 16,
+    generations: 8,
+    capacity_population: 6,
+    capacity_generations: 2,
+};
+
+/// One co-design run of the experiment.
+#[derive(Clone, Debug)]
+pub struct PlannedRun {
+    /// The file stem of its result in `runs/`, e.g. `actuation-1kg-seed0`.
+    pub name: String,
+    /// The run.
+    pub case: Case,
+}
+
+/// The experiment: where it writes, how much it runs, and the flags every run shares.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    /// Labelled as a reduced run in the table.
+    pub quick: bool,
+    /// The budget.
+    pub budget: Budget,
+    /// The output folder.
+    pub out_dir: PathBuf,
+    /// The task file (None: the built-in task).
+    pub task: Option<PathBuf>,
+    /// Space-independent problem flags: the linear solver.
+    pub problem: ProblemArgs,
+    /// Worker processes per run.
+    pub workers: Option<usize>,
+    /// How the CMA-ES runs treat the logs of an earlier reproduction.
+    pub start: Start,
+}
+
+impl Plan {
+    /// The plan `reproduce`'s flags ask for; fails, naming the flag, on a size out of range.
+    pub fn new(args: &Args) -> Result<Plan, String> {
+        let base = if args.quick { QUICK } else { FULL };
+        let budget = Budget {
+            seeds: args.seeds.unwrap_or(base.seeds),
+            population: args.population.unwrap_or(base.population),
+            generations: args.generations.unwrap_or(base.generations),
+            ..base
+        };
+        let plan = Plan {
+            quick: args.quick,
+            budget,
+            out_dir: args.out_dir.clone().unwrap_or_else(|| {
+                PathBuf::from(if args.quick {
+                    "results/quick"
+                } else {
+                    "results"
+                })
+            }),
+            task: args.task.clone(),
+            problem: ProblemArgs {
+                space: Space::Actuation,
+                torque_mode: None,
+                speed_mode: None,
+                linear_solver: args.linear_solver,
+            },
+            workers: args.workers,
+            start: match (args.resume, args.overwrite) {
+                (true, _) => Start::Resume,
+                (false, true) => Start::Overwrite,
+                (false, false) => Start::Fresh,
+            },
+        };
+        plan.check_sizes()?;
+        Ok(plan)
+    }
+
+    /// Whether the budget is below the paper's in any respect.
+    pub fn is_reduced(&self) -> bool {
+        let b = &self.budget;
+        self.quick
+            || b.population < FULL.population
+            || b.generations < FULL.generations
+            || b.seeds < FULL.seeds
+    }
+
+    /// Checks the sizes before anything is created; errors name the flag, the limit and its
+    /// reason.
+    fn check_sizes(&self) -> Result<(), String> {
+        let seeds = self.budget.seeds;
+        if !(1..=MAX_SEEDS).contains(&seeds) {
+            return Err(format!(
+                "--seeds {seeds}: must be 1 to {MAX_SEEDS} (20 times the paper's 5)"
+            ));
+        }
+        self.cost_case(Space::Actuation, 1.0, 0).validate()
+    }
+
+    /// A run in `space` at `payload` (None: the task's) with `method`, the plan's shared flags
+    /// and every other setting at its default.
+    fn case(&self, space: Space, payload: Option<f64>, method: Method) -> Case {
+        let model = ModelArgs {
+            task: self.task.clone(),
+            robot: None,
+            payload,
+        };
+        let problem = ProblemArgs {
+            space,
+            ..self.problem.clone()
+        };
+        let mut case = Case::new(model, problem, method);
+        case.workers = self.workers;
+        case.start = self.start;
+        case
+    }
+
+    /// The CMA-ES run on the cost of one case and seed.
+    fn cost_case(&self, space: Space, payload: f64, seed: u64) -> Case {
+        let mut case = self.case(space, Some(payload), Method::Cmaes);
+        case.cmaes.seed = seed;
+        case.cmaes.population = self.budget.population;
+        case.cmaes.generations = self.budget.generations;
+        case
+    }
+
+    /// The paper's co-design runs: CMA-ES on the cost, per co-designed payload, space and seed.
+    pub fn cost_runs(&self) -> Vec<PlannedRun> {
+        let mut runs = Vec::new();
+        for payload in CODESIGNED {
+            for space in SPACES {
+                for seed in 0..self.budget.seeds {
+                    runs.push(PlannedRun {
+                        name: format!("{space}-{payload}kg-seed{seed}"),
+                        case: self.cost_case(space, payload, seed),
+                    });
+                }
+            }
+        }
+        runs
+    }
+
+    /// Beyond the paper: the gradient method per co-designed payload and space. Its results
+    /// record no CMA-ES budget (population and generations 0).
+    pub fn gradient_runs(&self) -> Vec<PlannedRun> {
+        let mut runs = Vec::new();
+        for payload in CODESIGNED {
+            for space in SPACES {
+                let mut case = self.case(space, Some(payload), Method::Gradient);
+                case.cmaes.population = 0;
+                case.cmaes.generations = 0;
+                if case.start == Start::Resume {
+                    case.start = Start::Fresh;
+                }
+                runs.push(PlannedRun {
+                    name: format!("{space}-{payload}kg-gradient"),
+                    case,
+                });
+            }
+        }
+        runs
+    }
+
+    /// Beyond the paper: the design that lifts the most, per space, by CMA-ES on minus the
+    /// capacity (seed 0, the capacity budget).
+    pub fn capacity_runs(&self) -> Vec<PlannedRun> {
+        SPACES
+            .iter()
+            .map(|&space| {
+                let mut case = self.case(space, None, Method::Cmaes);
+                case.objective = Objective::Capacity(CapacitySettings::default());
+                case.cmaes.population = self.budget.capacity_population;
+                case.cmaes.generations = self.budget.capacity_generations;
+                PlannedRun {
+                    name: format!("{space}-capacity-seed0"),
+                    case,
+                }
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Args, Plan, FULL};
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Command {
+        #[command(flatten)]
+        args: Args,
+    }
+
+    fn plan(flags: &[&str]) -> Result<Plan, String> {
+        Plan::new(&Command::parse_from(["reproduce"].iter().chain(flags)).args)
+    }
+
+    #[test]
+    fn sizes_are_checked_with_their_limits() {
+        assert_eq!(plan(&[]).unwrap().budget, FULL);
+        assert!(plan(&["--seeds", "0"])
+            .unwrap_err()
+            .starts_with("--seeds 0: must be 1 to"));
+        assert!(plan(&["--population", "0"])
+            .unwrap_err()
+            .starts_with("--population 0:"));
+        assert!(plan(&["--generations", "1099511627776"])
+            .unwrap_err()
+            .starts_with("--generations"));
+    }
+
+    #[test]
+    fn the_experiment_has_every_case_once() {
+        let quick = plan(&["--quick"]).unwrap();
+        assert!(quick.is_reduced());
+        assert!(!plan(&[]).unwrap().is_reduced());
+        let names: Vec<String> = quick
+            .cost_runs()
+            .into_iter()
+            .chain(quick.gradient_runs())
+            .chain(quick.capacity_runs())
+            .map(|run| run.name)
+            .collect();
+        assert_eq!(names.len(), 2 * 2 * 2 + 4 + 2);
+        assert_eq!(names[0], "joint-1kg-seed0");
+        assert!(names.contains(&"actuation-3kg-gradient".to_owned()));
+        assert!(names.contains(&"joint-capacity-seed0".to_owned()));
+    }
+}

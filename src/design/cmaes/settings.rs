@@ -1,0 +1,134 @@
+//! The settings of a CMA-ES run, their defaults and ranges, and why a run stops.
+
+use std::fmt;
+
+/// Settings of one run. Units of x are those of the bounds, units of f those of the fitness.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CmaesSettings {
+    /// lambda: designs per generation and in the initial population (at least 5, as in pagmo).
+    pub population: usize,
+    /// Generations after the initial population (pagmo's `gen`); 0 stops after the initial one.
+    pub generations: usize,
+    /// Initial step size relative to the bound widths.
+    pub sigma0: f64,
+    /// Seed of the random stream.
+    pub seed: u64,
+    /// Stop when |f_best - f_worst| of the generation evaluated last falls under this.
+    pub ftol: f64,
+    /// Stop when the step |sigma B D z| of the last sample drawn falls under this.
+    pub xtol: f64,
+}
+
+impl CmaesSettings {
+    /// The paper's run: population 100, 30 generations, sigma0 0.3, seed 0, pagmo's tolerances.
+    pub const PAPER: CmaesSettings = CmaesSettings {
+        population: 100,
+        generations: 30,
+        sigma0: 0.3,
+        seed: 0,
+        ftol: 1e-6,
+        xtol: 1e-6,
+    };
+}
+
+impl Default for CmaesSettings {
+    /// [`CmaesSettings::PAPER`].
+    fn default() -> CmaesSettings {
+        CmaesSettings::PAPER
+    }
+}
+
+/// Most designs per generation: 100 times the paper's 100 (each is a solve, or about 10 with the
+/// capacity objective).
+pub const MAX_POPULATION: usize = 10_000;
+
+/// Most generations: 1000 times the paper's 30 would take months at the paper's population;
+/// this bound only keeps sizes and the log's indices sane.
+pub const MAX_GENERATIONS: usize = 30_000;
+
+/// A setting outside its range.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SettingError {
+    /// The field of [`CmaesSettings`] at fault.
+    pub field: &'static str,
+    /// Its value, as given.
+    pub value: String,
+    /// The rule it breaks, with its reason.
+    pub rule: String,
+}
+
+impl fmt::Display for SettingError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} = {}: {}", self.field, self.value, self.rule)
+    }
+}
+
+impl std::error::Error for SettingError {}
+
+impl CmaesSettings {
+    /// Checks every setting against its range; the error names the first that is outside.
+    pub fn validate(&self) -> Result<(), SettingError> {
+        let error = |field, value: &dyn fmt::Display, rule: String| {
+            Err(SettingError {
+                field,
+                value: value.to_string(),
+                rule,
+            })
+        };
+        if !(5..=MAX_POPULATION).contains(&self.population) {
+            return error(
+                "population",
+                &self.population,
+                format!(
+                    "must be 5 to {MAX_POPULATION} (CMA-ES ranks at least 5 designs per \
+                     generation; {MAX_POPULATION} is 100 times the paper's 100)"
+                ),
+            );
+        }
+        if self.generations > MAX_GENERATIONS {
+            return error(
+                "generations",
+                &self.generations,
+                format!("must be at most {MAX_GENERATIONS} (1000 times the paper's 30)"),
+            );
+        }
+        if !(self.sigma0.is_finite() && self.sigma0 > 0.0) {
+            return error("sigma0", &self.sigma0, "must be a positive number".into());
+        }
+        for (field, value) in [("ftol", self.ftol), ("xtol", self.xtol)] {
+            if !(value.is_finite() && value >= 0.0) {
+                return error(field, &value, "must be a number >= 0".into());
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Why a run stopped.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StopReason {
+    /// All the generations of the settings have been evaluated.
+    Generations,
+    /// The last sample's step from the mean, `step`, fell under xtol.
+    Xtol {
+        /// |sigma B D z| of the last sample drawn.
+        step: f64,
+    },
+    /// The fitness spread of the generation evaluated last fell under ftol.
+    Ftol {
+        /// |f_best - f_worst|.
+        spread: f64,
+    },
+}
+
+impl fmt::Display for StopReason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            StopReason::Generations => f.write_str("generation limit reached"),
+            StopReason::Xtol { step } => write!(f, "xtol: step {step:e} under the tolerance"),
+            StopReason::Ftol { spread } => {
+                write!(f, "ftol: fitness spread {spread:e} under the tolerance")
+            }
+        }
+    }
+}

@@ -1,0 +1,30 @@
+//! What an outer method found, in one type for CMA-ES and the gradient method.
+
+use super::gradient::GradientIterate;
+use super::optimize::GenerationSummary;
+use crate::ipopt::Solution;
+
+/// The result of a co-design run, whichever method made it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DesignOutcome {
+    /// The best design seen (empty when the method judged none).
+    pub best_ratios: Vec<f64>,
+    /// Its fitness: the optimal cost J, minus the capacity, or the penalty when nothing
+    /// feasible was seen.
+    pub best_cost: f64,
+    /// The inner solution behind `best_cost`, where the method keeps one (the gradient method's
+    /// warm-started solves can reach a lower local optimum than a cold solve of the same design).
+    pub best_solution: Option<Solution>,
+    /// The fitness of every evaluation, in order.
+    pub costs: Vec<f64>,
+    /// The wall time of every inner solve that ran, s, in order (replayed ones included).
+    pub seconds: Vec<f64>,
+    /// Per-generation statistics (CMA-ES; empty for the gradient method).
+    pub generations: Vec<GenerationSummary>,
+    /// Accepted iterates of every descent (the gradient method; empty for CMA-ES).
+    pub iterates: Vec<GradientIterate>,
+    /// Evaluations replayed from a resumed run's log instead of solved.
+    pub replayed: usize,
+    /// Why the method stopped, in words.
+    pub stop_reason: String,
+}

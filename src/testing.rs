@@ -1,0 +1,51 @@
+//! Fixtures of the unit tests: the repository's task, its problems, and seeded random numbers.
+
+use crate::design::rng::DesignRng;
+use crate::model::task::Task;
+use crate::model::Robot;
+use crate::problem::{Formulation, Space};
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+/// The repository's task file (the one the built-in task is compiled from).
+pub fn task_path() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json")
+}
+
+/// The repository's task, loaded from its file.
+pub fn task() -> Task {
+    Task::load(&task_path()).expect("the repository's task loads")
+}
+
+/// The repository's task carrying `payload_kg`, formulated in `space` with its limit modes.
+pub fn formulation(payload_kg: f64, space: Space) -> Formulation {
+    let mut task = task();
+    task.payload.mass_kg = payload_kg;
+    let robot = Robot::load(&task).expect("the repository's robot loads");
+    Formulation::new(&task, robot, space, task.limit_modes).expect("the task formulates")
+}
+
+/// Uniform random numbers from the project's seeded stream: the same on every machine.
+pub struct Random(DesignRng);
+
+impl Random {
+    /// The stream of `seed`.
+    pub fn new(seed: u64) -> Random {
+        Random(DesignRng::new(seed))
+    }
+
+    /// Uniform in [0, 1).
+    pub fn unit(&mut self) -> f64 {
+        self.0.uniform()
+    }
+
+    /// Uniform in `range`.
+    pub fn real(&mut self, range: Range<f64>) -> f64 {
+        range.start + (range.end - range.start) * self.unit()
+    }
+
+    /// Uniform among the integers of `range`.
+    pub fn index(&mut self, range: Range<usize>) -> usize {
+        range.start + ((range.end - range.start) as f64 * self.unit()) as usize
+    }
+}

@@ -1,0 +1,74 @@
+//! Fixtures shared by the end-to-end tests: the repository's paths, the binary, scratch folders.
+// Each test file uses part of this module.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+/// The repository's root.
+pub fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The task file the built-in task is compiled from.
+pub fn task_path() -> PathBuf {
+    root().join("robots/tasks/pick_place.json")
+}
+
+/// The codesign binary, to run in `dir`.
+pub fn codesign_command(dir: &Path, args: &[&str]) -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_codesign"));
+    command.args(args).current_dir(dir);
+    command
+}
+
+/// Runs codesign in `dir` to completion.
+pub fn codesign_in(dir: &Path, args: &[&str]) -> Output {
+    codesign_command(dir, args)
+        .output()
+        .expect("the codesign binary runs")
+}
+
+/// Runs codesign in the repository's root to completion.
+pub fn codesign(args: &[&str]) -> Output {
+    codesign_in(root(), args)
+}
+
+/// Starts codesign in the repository's root with its output discarded, to run beside a second
+/// command.
+pub fn start_in_background(args: &[&str]) -> Child {
+    codesign_command(root(), args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("the codesign binary starts")
+}
+
+/// Waits until `started` holds, failing after `limit`.
+pub fn wait_for(limit: Duration, started: impl Fn() -> bool) {
+    let start = Instant::now();
+    while !started() {
+        assert!(start.elapsed() < limit, "the first run did not start");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+/// An empty folder outside the repository, named for this test file, its process and `name`.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "codesign-{}-{}-{name}",
+        env!("CARGO_CRATE_NAME"),
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Asserts that the command failed with exit code 1 and that its error says `expected`.
+pub fn fails_saying(output: &Output, expected: &str) {
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains(expected), "{stderr}");
+}
