@@ -7,10 +7,16 @@ use crate::design::cmaes::CmaesSettings;
 use crate::design::evaluate::Objective;
 use crate::design::gradient::GradientSettings;
 use crate::design::log::Start;
-use crate::design::workers::SOLVE_TIMEOUT_S;
+use crate::design::workers::{Launcher, SOLVE_TIMEOUT_S};
 use crate::design::PENALTY;
 use crate::model::task::{LimitModes, Task};
 use crate::report::codesign::{Method, OptimizeInputs};
+use std::path::Path;
+
+/// `text` quoted for `sh`: in single quotes, each single quote written as '\''.
+pub fn shell_quote(text: &str) -> String {
+    format!("'{}'", text.replace('\'', "'\\''"))
+}
 
 /// A co-design run of one case: the problem, the outer method and its settings, and how the
 /// evaluations run.
@@ -35,6 +41,9 @@ pub struct Case {
     pub workers: Option<usize>,
     /// A solve taking longer than this counts as a hung worker, s.
     pub solve_timeout_s: f64,
+    /// The shell command that starts one worker, `{}` standing for this binary's path (None:
+    /// this binary's `worker`, started directly).
+    pub worker_command: Option<String>,
     /// Fresh start, resumption of its evaluation log, or replacement of it.
     pub start: Start,
 }
@@ -53,6 +62,7 @@ impl Case {
             penalty: PENALTY,
             workers: None,
             solve_timeout_s: SOLVE_TIMEOUT_S,
+            worker_command: None,
             start: Start::Fresh,
         }
     }
@@ -82,6 +92,13 @@ impl Case {
         if self.workers == Some(0) {
             return Err("--workers 0: must be at least 1".to_owned());
         }
+        if self
+            .worker_command
+            .as_ref()
+            .is_some_and(|line| line.trim().is_empty())
+        {
+            return Err("--worker-command: must be a shell command, e.g. \"{} worker\"".to_owned());
+        }
         match (self.method, self.objective) {
             (Method::Gradient, Objective::Capacity(_)) => Err(
                 "--objective capacity: the capacity is not differentiable in r; use --method cmaes"
@@ -99,6 +116,16 @@ impl Case {
                 ))
             }
             _ => Ok(()),
+        }
+    }
+
+    /// How the run's workers start, for this binary at `program`.
+    pub fn launcher(&self, program: &Path) -> Launcher {
+        match &self.worker_command {
+            None => Launcher::Program(program.to_owned()),
+            Some(line) => {
+                Launcher::Shell(line.replace("{}", &shell_quote(&program.to_string_lossy())))
+            }
         }
     }
 

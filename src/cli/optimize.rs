@@ -65,6 +65,11 @@ pub struct Args {
     /// A solve taking longer than this (s) counts as a hung worker.
     #[arg(long, value_name = "S", default_value_t = SOLVE_TIMEOUT_S)]
     pub solve_timeout: f64,
+    /// Shell command that starts one worker speaking the worker protocol on stdin/stdout; `{}`
+    /// stands for this binary's path, e.g. "srun --ntasks=1 --exclusive {} worker" inside a
+    /// Slurm allocation or "ssh node7 codesign worker" [default: this binary's `worker`].
+    #[arg(long, value_name = "CMD")]
+    pub worker_command: Option<String>,
     /// Result file (JSON); the evaluation log is written beside it as FILE.log.jsonl and locked
     /// for the whole run (a second run on the same file fails at once). A symbolic link is
     /// followed; an input file, a folder or a special file is refused.
@@ -100,6 +105,7 @@ impl Args {
         case.penalty = self.penalty;
         case.workers = self.workers;
         case.solve_timeout_s = self.solve_timeout;
+        case.worker_command = self.worker_command.clone();
         case.start = match (self.resume, self.overwrite) {
             (true, _) => Start::Resume,
             (false, true) => Start::Overwrite,
@@ -270,7 +276,7 @@ fn run_cmaes(
     let program = std::env::current_exe()
         .map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
     let timeout = Duration::from_secs_f64(case.solve_timeout_s);
-    let mut pool = Pool::new(program, &setup, workers, timeout)?;
+    let mut pool = Pool::new(case.launcher(&program), &setup, workers, timeout)?;
     let settings = &case.cmaes;
     let bar = ProgressBar::new((settings.population * (settings.generations + 1)) as u64);
     bar.set_style(

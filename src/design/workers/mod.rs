@@ -6,11 +6,11 @@
 //! exceeds the time limit: its design is retried once on a fresh worker, then penalised with the
 //! reason. One bad design never stops a run, and the results do not depend on the worker count.
 
-use super::evaluate::{evaluate, evaluate_capacity, Evaluation, Objective};
-use crate::model::task::{LimitModes, Task};
-use crate::model::Robot;
-use crate::problem::{Formulation, Space};
-use serde::{Deserialize, Serialize};
+mod protocol;
+
+pub use protocol::{serve, Hello, Request, Response, WorkerSetup};
+
+use super::evaluate::Evaluation;
 use std::collections::VecDeque;
 use std::io::{BufRead, BufReader, Write};
 use std::path::PathBuf;
@@ -22,92 +22,52 @@ use std::time::{Duration, Instant};
 /// `--solve-timeout`).
 pub const SOLVE_TIMEOUT_S: f64 = 600.0;
 
-/// Everything a worker needs to build its [`Formulation`], sent as its first line.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct WorkerSetup {
-    /// The task with every override applied (its robot path absolute or relative to the
-    /// worker's working directory, which is the parent's; none for the built-in robot).
-    pub task: Task,
-    /// Joint or actuation space.
-    pub space: Space,
-    /// Limit modes.
-    pub modes: LimitModes,
-    /// Fitness of invalid or infeasible designs.
-    pub penalty: f64,
-    /// What the fitness is.
-    #[serde(default)]
-    pub objective: Objective,
-}
-
-impl WorkerSetup {
-    /// Builds the formulation this setup describes.
-    pub fn formulation(&self) -> Result<Formulation, String> {
-        let robot = Robot::load(&self.task).map_err(|e| e.to_string())?;
-        Formulation::new(&self.task, robot, self.space, self.modes).map_err(|e| e.to_string())
-    }
-}
-
-/// One design to evaluate.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Request {
-    /// The caller's identifier, echoed back.
-    pub id: usize,
-    /// The design r.
-    pub ratios: Vec<f64>,
-}
-
-/// The evaluation of one request.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Response {
-    /// The request's identifier.
-    pub id: usize,
-    /// Its evaluation.
-    pub evaluation: Evaluation,
-}
-
-/// The worker's side: reads the setup and requests from `input`, writes responses to `output`,
-/// until `input` ends or the parent stops reading (a closed pipe ends it quietly). Errors (a
-/// malformed line, an unbuildable formulation) end the worker.
-pub fn serve(input: impl BufRead, mut output: impl Write) -> Result<(), String> {
-    let mut lines = input.lines();
-    let setup_line = match lines.next() {
-        Some(line) => line.map_err(|e| format!("worker: cannot read its setup: {e}"))?,
-        None => return Ok(()),
-    };
-    let setup: WorkerSetup = serde_json::from_str(&setup_line)
-        .map_err(|e| format!("worker: malformed setup line: {e}"))?;
-    let formulation = setup.formulation()?;
-    for line in lines {
-        let line = line.map_err(|e| format!("worker: cannot read a request: {e}"))?;
-        let request: Request =
-            serde_json::from_str(&line).map_err(|e| format!("worker: malformed request: {e}"))?;
-        let response = Response {
-            id: request.id,
-            evaluation: match &setup.objective {
-                Objective::Cost => evaluate(&formulation, &request.ratios, setup.penalty),
-                Objective::Capacity(settings) => {
-                    evaluate_capacity(&formulation, &request.ratios, settings, setup.penalty)
-                }
-            },
-        };
-        let text = serde_json::to_string(&response).map_err(|e| format!("worker: {e}"))?;
-        match writeln!(output, "{text}").and_then(|()| output.flush()) {
-            Ok(()) => {}
-            // The parent is gone (it finished, failed or was stopped): nobody to answer.
-            Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => return Ok(()),
-            Err(e) => return Err(format!("worker: cannot answer: {e}")),
-        }
-    }
-    Ok(())
-}
-
 /// A message from a worker's reader thread: its slot, its incarnation, and a line (None at EOF).
 type Message = (usize, u64, Option<String>);
+
+/// How a worker process is started.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Launcher {
+    /// `PROGRAM worker` (normally this executable).
+    Program(PathBuf),
+    /// A shell command (`sh -c`) that starts one worker speaking the protocol on its
+    /// stdin/stdout, e.g. `srun --ntasks=1 /path/codesign worker` or `ssh node7 codesign worker`.
+    Shell(String),
+}
+
+impl Launcher {
+    /// The process to start.
+    fn command(&self) -> Command {
+        match self {
+            Launcher::Program(program) => {
+                let mut command = Command::new(program);
+                command.arg("worker");
+                command
+            }
+            Launcher::Shell(line) => {
+                let mut command = Command::new("sh");
+                command.arg("-c").arg(line);
+                command
+            }
+        }
+    }
+}
+
+impl std::fmt::Display for Launcher {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Launcher::Program(program) => write!(f, "{} worker", program.display()),
+            Launcher::Shell(line) => f.write_str(line),
+        }
+    }
+}
 
 struct Worker {
     child: Child,
     stdin: ChildStdin,
     incarnation: u64,
+    /// Whether its hello has come and matched.
+    introduced: bool,
     /// The job it is working on and when it must be done.
     job: Option<(Job, Instant)>,
 }
@@ -121,8 +81,10 @@ struct Job {
 
 /// A pool of worker processes (see the module documentation).
 pub struct Pool {
-    program: PathBuf,
+    launcher: Launcher,
     setup_line: String,
+    /// The hello every worker must send.
+    hello: Hello,
     penalty: f64,
     timeout: Duration,
     workers: Vec<Worker>,
@@ -140,9 +102,9 @@ enum Heard {
 }
 
 impl Pool {
-    /// Starts `count` workers running `program worker` (normally this executable).
+    /// Starts `count` workers with `launcher`.
     pub fn new(
-        program: PathBuf,
+        launcher: Launcher,
         setup: &WorkerSetup,
         count: usize,
         timeout: Duration,
@@ -152,8 +114,9 @@ impl Pool {
         }
         let (sender, receiver) = channel();
         let mut pool = Pool {
-            program,
+            launcher,
             setup_line: serde_json::to_string(setup).map_err(|e| e.to_string())?,
+            hello: Hello::new(setup)?,
             penalty: setup.penalty,
             timeout,
             workers: Vec::with_capacity(count),
@@ -174,13 +137,14 @@ impl Pool {
     }
 
     fn spawn(&mut self, slot: usize) -> Result<Worker, String> {
-        let mut child = Command::new(&self.program)
-            .arg("worker")
+        let mut child = self
+            .launcher
+            .command()
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
             .spawn()
-            .map_err(|e| format!("cannot start worker {}: {e}", self.program.display()))?;
+            .map_err(|e| format!("cannot start a worker with `{}`: {e}", self.launcher))?;
         let mut stdin = child.stdin.take().ok_or("worker has no stdin")?;
         let stdout = child.stdout.take().ok_or("worker has no stdout")?;
         writeln!(stdin, "{}", self.setup_line)
@@ -205,6 +169,7 @@ impl Pool {
             child,
             stdin,
             incarnation,
+            introduced: false,
             job: None,
         })
     }
@@ -302,6 +267,10 @@ impl Pool {
                 slot,
                 "worker process crashed".to_owned(),
             )])),
+            Ok((slot, _, Some(line))) if !self.workers[slot].introduced => {
+                self.introduce(slot, &line)?;
+                Ok(Heard::Failed(Vec::new()))
+            }
             Ok((slot, _, Some(line))) => {
                 let response = match serde_json::from_str::<Response>(&line) {
                     Ok(response) => response,
@@ -332,6 +301,32 @@ impl Pool {
                 ))
             }
             Err(RecvTimeoutError::Disconnected) => Err("all worker readers stopped".to_owned()),
+        }
+    }
+
+    /// Checks a worker's first line, its hello, against the pool's: a worker of another build, or
+    /// one that reads the setup otherwise, fails the run.
+    fn introduce(&mut self, slot: usize, line: &str) -> Result<(), String> {
+        let refuse = |what: String| {
+            Err(format!(
+                "refused the worker started by `{}`: {what}; this run is {}. Results of mixed \
+                 builds are never merged: run the same codesign build on every machine",
+                self.launcher, self.hello
+            ))
+        };
+        match serde_json::from_str::<Hello>(line) {
+            Ok(hello) if hello == self.hello => {
+                self.workers[slot].introduced = true;
+                Ok(())
+            }
+            Ok(hello) => refuse(format!("it is {hello}")),
+            Err(_) => {
+                let start: String = line.chars().take(120).collect();
+                refuse(format!(
+                    "its first line is no codesign hello (an older codesign, or something \
+                     printing on stdout?): {start:?}"
+                ))
+            }
         }
     }
 
@@ -388,15 +383,25 @@ impl Drop for Pool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::design::evaluate::Objective;
+    use crate::problem::Space;
     use std::os::unix::fs::PermissionsExt;
 
-    /// A stand-in worker: a shell script that answers, hangs or crashes.
-    fn script(name: &str, body: &str) -> PathBuf {
+    /// A stand-in worker: a shell script that reads the setup, says `hello` (as JSON), then
+    /// answers, hangs or crashes.
+    fn script_saying(name: &str, hello: &Hello, body: &str) -> PathBuf {
         let path =
             std::env::temp_dir().join(format!("codesign-worker-{}-{name}.sh", std::process::id()));
-        std::fs::write(&path, format!("#!/bin/sh\nread setup\n{body}\n")).unwrap();
+        let hello = serde_json::to_string(hello).unwrap();
+        let text = format!("#!/bin/sh\nread setup\necho '{hello}'\n{body}\n");
+        std::fs::write(&path, text).unwrap();
         std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
         path
+    }
+
+    /// A stand-in worker of this build.
+    fn script(name: &str, body: &str) -> Launcher {
+        Launcher::Program(script_saying(name, &Hello::new(&setup()).unwrap(), body))
     }
 
     fn setup() -> WorkerSetup {
@@ -420,9 +425,9 @@ mod tests {
             ("hang", "while read request; do sleep 30; done", "exceeded"),
             ("crash", "read request; exit 3", "crashed"),
         ] {
-            let program = script(name, body);
+            let launcher = script(name, body);
             let mut pool =
-                Pool::new(program.clone(), &setup(), 2, Duration::from_millis(300)).unwrap();
+                Pool::new(launcher.clone(), &setup(), 2, Duration::from_millis(300)).unwrap();
             let mut finished = Vec::new();
             let results = pool
                 .evaluate_all(&designs(), |id, evaluation| {
@@ -440,8 +445,32 @@ mod tests {
                 assert!(text.contains(reason) && text.contains("twice"), "{text}");
             }
             drop(pool);
-            std::fs::remove_file(program).unwrap();
+            remove(launcher);
         }
+    }
+
+    fn remove(launcher: Launcher) {
+        if let Launcher::Program(path) = launcher {
+            std::fs::remove_file(path).unwrap();
+        }
+    }
+
+    #[test]
+    fn a_worker_of_another_build_is_refused_naming_both() {
+        let mut other = Hello::new(&setup()).unwrap();
+        other.codesign = "0.0.1".to_owned();
+        let path = script_saying("other", &other, "while read request; do sleep 30; done");
+        let launcher = Launcher::Shell(format!("{} worker", path.display()));
+        let mut pool = Pool::new(launcher, &setup(), 1, Duration::from_secs(20)).unwrap();
+        let error = pool.evaluate_all(&designs(), |_, _| Ok(())).unwrap_err();
+        assert!(error.contains("refused the worker started by"), "{error}");
+        assert!(error.contains("it is codesign 0.0.1"), "{error}");
+        assert!(
+            error.contains(concat!("this run is codesign ", env!("CARGO_PKG_VERSION"))),
+            "{error}"
+        );
+        drop(pool);
+        std::fs::remove_file(path).unwrap();
     }
 
     #[test]
@@ -453,13 +482,13 @@ mod tests {
   sleep 0.$((3 - id))
   echo "{\"id\":$id,\"evaluation\":{\"ratios\":[$id],\"cost\":1$id,\"feasible\":true,\"status\":\"Solve_Succeeded\",\"iterations\":1,\"seconds\":0.1}}"
 done"#;
-        let program = script("answer", body);
-        let mut pool = Pool::new(program.clone(), &setup(), 2, Duration::from_secs(20)).unwrap();
+        let launcher = script("answer", body);
+        let mut pool = Pool::new(launcher.clone(), &setup(), 2, Duration::from_secs(20)).unwrap();
         let results = pool.evaluate_all(&designs(), |_, _| Ok(())).unwrap();
         let costs: Vec<f64> = results.iter().map(|e| e.cost).collect();
         assert_eq!(costs, vec![10.0, 11.0]);
         drop(pool);
-        std::fs::remove_file(program).unwrap();
+        remove(launcher);
     }
 
     /// A writer whose reader is gone (or whose disk is full).
