@@ -12,16 +12,9 @@ use super::outcome::DesignOutcome;
 use crate::ipopt::Solution;
 use crate::problem::Formulation;
 use crate::solver::{solve_design_from, SolveSettings};
-use crate::transmission::Transmission;
-use nalgebra::{DMatrix, DVector};
+use crate::transmission::{DesignSpace, Transmission};
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
-
-/// Margin that keeps a strict order constraint r_i < r_j strict.
-const STRICT_MARGIN: f64 = 1e-6;
-
-/// Margin that keeps a non-strict order constraint r_i <= r_j true after rounding.
-const ROUNDING_MARGIN: f64 = 1e-12;
 
 /// Settings of a gradient-based run; `Default` gives the values `optimize` and `reproduce` use.
 #[derive(Clone, Debug, PartialEq)]
@@ -64,103 +57,6 @@ pub struct GradientIterate {
     pub cost: f64,
     /// Its cost gradient.
     pub gradient: Vec<f64>,
-}
-
-/// The feasible set of designs: bounds and order constraints as half-spaces a.r <= b.
-struct DesignSet {
-    lower: Vec<f64>,
-    upper: Vec<f64>,
-    halfspaces: Vec<(Vec<f64>, f64)>,
-}
-
-impl DesignSet {
-    fn new(transmission: &Transmission) -> DesignSet {
-        let n = transmission.num_ratios();
-        let halfspaces = transmission
-            .order()
-            .iter()
-            .map(|c| {
-                let mut a = vec![0.0; n];
-                a[c.lower] = 1.0;
-                a[c.upper] = -1.0;
-                (
-                    a,
-                    if c.strict {
-                        -STRICT_MARGIN
-                    } else {
-                        -ROUNDING_MARGIN
-                    },
-                )
-            })
-            .collect();
-        DesignSet {
-            lower: transmission.bounds().iter().map(|b| b[0]).collect(),
-            upper: transmission.bounds().iter().map(|b| b[1]).collect(),
-            halfspaces,
-        }
-    }
-
-    /// All constraints as half-spaces a.r <= b: the bounds, then the order constraints.
-    fn constraints(&self) -> Vec<(Vec<f64>, f64)> {
-        let n = self.lower.len();
-        let unit = |i: usize, sign: f64| {
-            (0..n)
-                .map(|j| if i == j { sign } else { 0.0 })
-                .collect::<Vec<f64>>()
-        };
-        let mut all: Vec<(Vec<f64>, f64)> = Vec::new();
-        for i in 0..n {
-            all.push((unit(i, 1.0), self.upper[i]));
-            all.push((unit(i, -1.0), -self.lower[i]));
-        }
-        all.extend(self.halfspaces.iter().cloned());
-        all
-    }
-
-    /// The Euclidean projection of `x` onto the set: the point satisfying the KKT conditions
-    /// of min |p - x|^2 subject to the constraints, found by trying every set of at most n
-    /// active constraints (a few hundred tiny solves for four ratios). The result is clamped to
-    /// the bounds against rounding.
-    fn project(&self, x: &[f64]) -> Vec<f64> {
-        let n = x.len();
-        let constraints = self.constraints();
-        let holds = |p: &[f64]| constraints.iter().all(|(a, b)| dot(a, p) <= b + 1e-12);
-        let clamp = |p: Vec<f64>| -> Vec<f64> {
-            p.iter()
-                .zip(self.lower.iter().zip(&self.upper))
-                .map(|(v, (lo, hi))| v.clamp(*lo, *hi))
-                .collect()
-        };
-        if holds(x) {
-            return x.to_vec();
-        }
-        let m = constraints.len();
-        let mut best: Option<(f64, Vec<f64>)> = None;
-        for mask in 1u32..(1 << m) {
-            let active: Vec<usize> = (0..m).filter(|k| mask & (1 << k) != 0).collect();
-            if active.len() > n {
-                continue;
-            }
-            let a = DMatrix::from_fn(active.len(), n, |r, c| constraints[active[r]].0[c]);
-            let b = DVector::from_iterator(active.len(), active.iter().map(|&k| constraints[k].1));
-            let point = DVector::from_column_slice(x);
-            // p = x - A^T mu with A p = b: (A A^T) mu = A x - b, and mu >= 0.
-            let Some(mu) = (&a * a.transpose()).lu().solve(&(&a * &point - b)) else {
-                continue;
-            };
-            if mu.iter().any(|v| *v < -1e-12 || !v.is_finite()) {
-                continue;
-            }
-            let p: Vec<f64> = (point - a.transpose() * mu).iter().copied().collect();
-            if holds(&p) {
-                let distance: f64 = p.iter().zip(x).map(|(a, b)| (a - b) * (a - b)).sum();
-                if best.as_ref().is_none_or(|(d, _)| distance < *d) {
-                    best = Some((distance, p));
-                }
-            }
-        }
-        clamp(best.map_or_else(|| x.to_vec(), |(_, p)| p))
-    }
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -231,7 +127,7 @@ pub fn optimize_gradient(
     settings: &GradientSettings,
     penalty: f64,
 ) -> Result<DesignOutcome, String> {
-    let set = DesignSet::new(formulation.transmission());
+    let set = formulation.transmission().design_space();
     let mut evaluator = Evaluator {
         formulation,
         penalty,
@@ -239,7 +135,7 @@ pub fn optimize_gradient(
         costs: Vec::new(),
         seconds: Vec::new(),
     };
-    let (candidates, solved) = feasible_candidates(&set, settings, &mut evaluator);
+    let (candidates, solved) = feasible_candidates(set, settings, &mut evaluator);
     if candidates.is_empty() {
         return Err(format!(
             "the gradient method found no feasible start among {solved} candidate designs"
@@ -248,7 +144,7 @@ pub fn optimize_gradient(
     let mut iterates = Vec::new();
     let mut best: Option<Point> = None;
     for (start, point) in candidates {
-        let end = descend(start, point, &set, settings, &mut evaluator, &mut iterates);
+        let end = descend(start, point, set, settings, &mut evaluator, &mut iterates);
         if best.as_ref().is_none_or(|best| end.cost < best.cost) {
             best = Some(end);
         }
@@ -276,7 +172,7 @@ pub fn optimize_gradient(
 /// ones are known); returns the best `descents` feasible ones with their start indices, and how
 /// many candidates were solved.
 fn feasible_candidates(
-    set: &DesignSet,
+    set: &DesignSpace,
     settings: &GradientSettings,
     evaluator: &mut Evaluator<'_>,
 ) -> (Vec<(usize, Point)>, usize) {
@@ -362,18 +258,18 @@ impl InverseHessian {
 }
 
 /// The ratios held at a bound by the gradient pointing out of the box.
-fn held_at_bounds(set: &DesignSet, x: &[f64], g: &[f64]) -> Vec<bool> {
+fn held_at_bounds(set: &DesignSpace, x: &[f64], g: &[f64]) -> Vec<bool> {
     (0..x.len())
         .map(|i| {
-            (x[i] <= set.lower[i] + 1e-9 && g[i] > 0.0)
-                || (x[i] >= set.upper[i] - 1e-9 && g[i] < 0.0)
+            (x[i] <= set.bounds()[i][0] + 1e-9 && g[i] > 0.0)
+                || (x[i] >= set.bounds()[i][1] - 1e-9 && g[i] < 0.0)
         })
         .collect()
 }
 
 /// Whether the projected gradient step from `point` is shorter than `tolerance`: a stationary
 /// point of the design space.
-fn is_stationary(set: &DesignSet, point: &Point, tolerance: f64) -> bool {
+fn is_stationary(set: &DesignSpace, point: &Point, tolerance: f64) -> bool {
     let moved: Vec<f64> = point
         .ratios
         .iter()
@@ -391,7 +287,7 @@ fn is_stationary(set: &DesignSet, point: &Point, tolerance: f64) -> bool {
 /// Backtracking from the full step along `direction`, projected onto the design space: the
 /// first feasible trial with the Armijo decrease, and its step, within 12 halvings.
 fn line_search(
-    set: &DesignSet,
+    set: &DesignSpace,
     point: &Point,
     direction: &[f64],
     evaluator: &mut Evaluator<'_>,
@@ -429,19 +325,14 @@ fn line_search(
 fn descend(
     start: usize,
     mut point: Point,
-    set: &DesignSet,
+    set: &DesignSpace,
     settings: &GradientSettings,
     evaluator: &mut Evaluator<'_>,
     iterates: &mut Vec<GradientIterate>,
 ) -> Point {
     iterates.push(point.iterate(start));
     // The inverse Hessian starts scaled so that a unit step moves 10% of the box.
-    let width = set
-        .upper
-        .iter()
-        .zip(&set.lower)
-        .map(|(u, l)| u - l)
-        .fold(0.0, f64::max);
+    let width = set.bounds().iter().map(|[l, u]| u - l).fold(0.0, f64::max);
     let scale = 0.1 * width / dot(&point.gradient, &point.gradient).sqrt().max(1e-12);
     let mut h = InverseHessian::scaled_identity(point.ratios.len(), scale);
     for _ in 0..settings.max_iterations {
@@ -490,7 +381,7 @@ pub fn default_starts(transmission: &Transmission, spread: u32) -> Vec<Vec<f64>>
 /// points `indices` of it, projected onto the order constraints.
 pub fn spread_designs(transmission: &Transmission, indices: Range<u32>) -> Vec<Vec<f64>> {
     const PRIMES: [u32; 8] = [2, 3, 5, 7, 11, 13, 17, 19];
-    let set = DesignSet::new(transmission);
+    let set = transmission.design_space();
     let radical_inverse = |mut index: u32, base: u32| {
         let (mut value, mut scale) = (0.0, 1.0 / f64::from(base));
         while index > 0 {
@@ -502,10 +393,13 @@ pub fn spread_designs(transmission: &Transmission, indices: Range<u32>) -> Vec<V
     };
     indices
         .map(|k| {
-            let point: Vec<f64> = (0..set.lower.len())
-                .map(|i| {
+            let point: Vec<f64> = set
+                .bounds()
+                .iter()
+                .enumerate()
+                .map(|(i, [lower, upper])| {
                     let fraction = radical_inverse(k, PRIMES[i % PRIMES.len()]);
-                    set.lower[i] + fraction * (set.upper[i] - set.lower[i])
+                    lower + fraction * (upper - lower)
                 })
                 .collect();
             set.project(&point)
@@ -550,7 +444,7 @@ mod tests {
         // Costs fall monotonically along the accepted iterates.
         assert!(outcome.iterates.windows(2).all(|w| w[1].cost <= w[0].cost));
         // At the end the projected gradient step is short: a stationary point of the design box.
-        let set = DesignSet::new(formulation.transmission());
+        let set = formulation.transmission().design_space();
         let moved: Vec<f64> = last
             .ratios
             .iter()
@@ -576,35 +470,8 @@ mod tests {
     }
 
     #[test]
-    fn projection_lands_in_the_design_space_and_keeps_inner_points() {
+    fn default_starts_lie_in_the_design_space() {
         let t = transmission();
-        let set = DesignSet::new(&t);
-        for point in [
-            [12.0, 10.0, 5.0, 0.0],
-            [2.0, 8.0, 2.5, 2.0],
-            [5.0, 4.0, 3.0, 1.0],
-            [0.0, 0.0, 0.0, 0.0],
-        ] {
-            let projected = set.project(&point);
-            assert!(
-                t.check_design(&projected).is_ok(),
-                "{point:?} -> {projected:?}"
-            );
-            // Projecting twice changes nothing.
-            let again = set.project(&projected);
-            assert!(again
-                .iter()
-                .zip(&projected)
-                .all(|(a, b)| (a - b).abs() < 1e-10));
-        }
-        let inside = [7.0, 4.0, 2.0, 2.0];
-        assert_eq!(set.project(&inside), inside.to_vec());
-        // (2, 8, ., .) violates r2 < r1: the projection meets at the middle, 5.
-        let p = set.project(&[2.0, 8.0, 1.0, 1.0]);
-        assert!(
-            (p[0] - 5.0).abs() < 1e-5 && (p[1] - 5.0).abs() < 1e-5,
-            "{p:?}"
-        );
         let starts = default_starts(&t, 12);
         assert_eq!(starts.len(), 13);
         for start in starts {

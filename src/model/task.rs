@@ -294,6 +294,103 @@ pub fn check_payload(kg: f64) -> Result<(), String> {
     }
 }
 
+/// Ok if every value is finite; else an error naming `name[i]` of the first that is not.
+fn check_finite(name: &str, values: &[f64]) -> Result<(), String> {
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(i) => Err(format!("{name}[{i}] is not a finite number")),
+        None => Ok(()),
+    }
+}
+
+impl Motion {
+    /// Checks the end points (finite, one value per joint each), the horizon and the steps.
+    fn validate(&self) -> Result<(), String> {
+        check_finite("motion.start", &self.start)?;
+        check_finite("motion.goal", &self.goal)?;
+        if self.start.len() != self.goal.len() {
+            return Err(format!(
+                "motion.start has {} joints but motion.goal has {}",
+                self.start.len(),
+                self.goal.len()
+            ));
+        }
+        check_horizon(self.horizon_s)
+            .map_err(|why| format!("motion.horizon_s = {}: {why}", self.horizon_s))?;
+        check_steps(self.steps).map_err(|why| format!("motion.steps = {}: {why}", self.steps))
+    }
+}
+
+impl Weights {
+    /// Checks that every weight is finite and >= 0.
+    fn validate(&self) -> Result<(), String> {
+        let weights = [
+            ("weights.position", self.position),
+            ("weights.velocity", self.velocity),
+            ("weights.control", self.control),
+        ];
+        for (name, value) in weights {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(format!("{name} = {value} must be >= 0"));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl CartesianBox {
+    /// Checks each given axis: a finite range with lower < upper and a finite weight >= 0.
+    fn validate(&self) -> Result<(), String> {
+        let axes = [("x", &self.x), ("y", &self.y), ("z", &self.z)];
+        for (axis, interval) in axes {
+            let Some(SoftInterval {
+                range: [lo, hi],
+                weight,
+            }) = interval
+            else {
+                continue;
+            };
+            if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                return Err(format!(
+                    "cartesian_box.{axis}.range [{lo}, {hi}] must be finite with lower < upper"
+                ));
+            }
+            if !(weight.is_finite() && *weight >= 0.0) {
+                return Err(format!(
+                    "cartesian_box.{axis}.weight = {weight} must be >= 0"
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl SolverSettings {
+    /// Checks `tol` > 0 and that every further option is an integer, a number or a string other
+    /// than `linear_solver` (chosen by [`SolverSettings::linear_solver`] instead).
+    fn validate(&self) -> Result<(), String> {
+        if !(self.tol.is_finite() && self.tol > 0.0) {
+            return Err(format!("solver.tol = {} must be > 0", self.tol));
+        }
+        for (name, value) in &self.options {
+            if name == "linear_solver" {
+                return Err(
+                    "solver.options.linear_solver: choose the linear solver with solver.linear_solver (\"ldl\" or \"mumps\")"
+                        .to_owned(),
+                );
+            }
+            let valid = value.as_i64().is_some_and(|v| i32::try_from(v).is_ok())
+                || value.as_f64().is_some_and(f64::is_finite)
+                || value.is_string();
+            if !valid {
+                return Err(format!(
+                    "solver.options.{name} = {value} must be an integer, a number or a string"
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 impl Task {
     /// Reads and checks a task file. A relative robot path is resolved against the file's folder.
     pub fn load(path: &Path) -> Result<Task, TaskError> {
@@ -330,63 +427,14 @@ impl Task {
 
     /// Checks every number for sense; the message names the offending field.
     pub fn validate(&self) -> Result<(), String> {
-        let finite = |name: &str, values: &[f64]| -> Result<(), String> {
-            match values.iter().position(|v| !v.is_finite()) {
-                Some(i) => Err(format!("{name}[{i}] is not a finite number")),
-                None => Ok(()),
-            }
-        };
-        finite("gravity", &self.gravity)?;
-        finite("tcp.point", &self.tcp.point)?;
-        finite("payload.at.point", &self.payload.at.point)?;
+        check_finite("gravity", &self.gravity)?;
+        check_finite("tcp.point", &self.tcp.point)?;
+        check_finite("payload.at.point", &self.payload.at.point)?;
         check_payload(self.payload.mass_kg)
             .map_err(|why| format!("payload.mass_kg = {}: {why}", self.payload.mass_kg))?;
-        finite("motion.start", &self.motion.start)?;
-        finite("motion.goal", &self.motion.goal)?;
-        if self.motion.start.len() != self.motion.goal.len() {
-            return Err(format!(
-                "motion.start has {} joints but motion.goal has {}",
-                self.motion.start.len(),
-                self.motion.goal.len()
-            ));
-        }
-        check_horizon(self.motion.horizon_s)
-            .map_err(|why| format!("motion.horizon_s = {}: {why}", self.motion.horizon_s))?;
-        check_steps(self.motion.steps)
-            .map_err(|why| format!("motion.steps = {}: {why}", self.motion.steps))?;
-        let weights = [
-            ("weights.position", self.weights.position),
-            ("weights.velocity", self.weights.velocity),
-            ("weights.control", self.weights.control),
-        ];
-        for (name, value) in weights {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(format!("{name} = {value} must be >= 0"));
-            }
-        }
-        let axes = [
-            ("x", &self.cartesian_box.x),
-            ("y", &self.cartesian_box.y),
-            ("z", &self.cartesian_box.z),
-        ];
-        for (axis, interval) in axes {
-            if let Some(SoftInterval {
-                range: [lo, hi],
-                weight,
-            }) = interval
-            {
-                if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-                    return Err(format!(
-                        "cartesian_box.{axis}.range [{lo}, {hi}] must be finite with lower < upper"
-                    ));
-                }
-                if !(weight.is_finite() && *weight >= 0.0) {
-                    return Err(format!(
-                        "cartesian_box.{axis}.weight = {weight} must be >= 0"
-                    ));
-                }
-            }
-        }
+        self.motion.validate()?;
+        self.weights.validate()?;
+        self.cartesian_box.validate()?;
         for (name, value) in [
             ("motors.torque_limit_nm", self.motors.torque_limit_nm),
             ("motors.speed_limit_rad_s", self.motors.speed_limit_rad_s),
@@ -395,26 +443,7 @@ impl Task {
                 return Err(format!("{name} = {value} must be > 0"));
             }
         }
-        if !(self.solver.tol.is_finite() && self.solver.tol > 0.0) {
-            return Err(format!("solver.tol = {} must be > 0", self.solver.tol));
-        }
-        for (name, value) in &self.solver.options {
-            if name == "linear_solver" {
-                return Err(
-                    "solver.options.linear_solver: choose the linear solver with solver.linear_solver (\"ldl\" or \"mumps\")"
-                        .to_owned(),
-                );
-            }
-            let valid = value.as_i64().is_some_and(|v| i32::try_from(v).is_ok())
-                || value.as_f64().is_some_and(f64::is_finite)
-                || value.is_string();
-            if !valid {
-                return Err(format!(
-                    "solver.options.{name} = {value} must be an integer, a number or a string"
-                ));
-            }
-        }
-        Ok(())
+        self.solver.validate()
     }
 
     /// The time step h = T / N, s.

@@ -35,106 +35,157 @@ struct Tree<'a> {
     file: &'a str,
     /// Index of the root link.
     root: usize,
+    /// How the joints connect the links.
+    edges: Edges,
+}
+
+/// How the joints connect the links.
+struct Edges {
     /// Per link, the indices of the joints whose parent it is.
     child_joints: Vec<Vec<usize>>,
+    /// Per link, the index of the joint whose child it is.
+    parent_joint: Vec<Option<usize>>,
     /// Per joint, the index of its child link.
     child_link: Vec<usize>,
 }
 
-impl<'a> Tree<'a> {
-    fn new(robot: &'a urdf_rs::Robot, file: &'a str) -> Result<Tree<'a>, ModelError> {
-        let error = |element: String, message: String| ModelError::new(file, element, message);
-        let mut link_index = HashMap::new();
-        for (i, link) in robot.links.iter().enumerate() {
-            if link_index.insert(link.name.as_str(), i).is_some() {
-                return Err(error(
-                    format!("link '{}'", link.name),
-                    "is declared twice".into(),
-                ));
-            }
+/// The index of each link by name; an error for a name declared twice or a robot without links.
+fn link_indices<'a>(
+    robot: &'a urdf_rs::Robot,
+    file: &str,
+) -> Result<HashMap<&'a str, usize>, ModelError> {
+    let mut link_index = HashMap::new();
+    for (i, link) in robot.links.iter().enumerate() {
+        if link_index.insert(link.name.as_str(), i).is_some() {
+            return Err(ModelError::new(
+                file,
+                format!("link '{}'", link.name),
+                "is declared twice",
+            ));
         }
-        if robot.links.is_empty() {
-            return Err(error("robot".into(), "has no <link>".into()));
+    }
+    if robot.links.is_empty() {
+        return Err(ModelError::new(file, "robot", "has no <link>"));
+    }
+    Ok(link_index)
+}
+
+/// The joints between the links; an error for a joint declared twice, one naming an unknown
+/// link, or a link that is the child of two joints.
+fn connect(
+    robot: &urdf_rs::Robot,
+    link_index: &HashMap<&str, usize>,
+    file: &str,
+) -> Result<Edges, ModelError> {
+    let error = |element: String, message: String| ModelError::new(file, element, message);
+    let mut joint_names = HashSet::new();
+    let mut edges = Edges {
+        child_joints: vec![Vec::new(); robot.links.len()],
+        parent_joint: vec![None; robot.links.len()],
+        child_link: Vec::with_capacity(robot.joints.len()),
+    };
+    for (j, joint) in robot.joints.iter().enumerate() {
+        let element = format!("joint '{}'", joint.name);
+        if !joint_names.insert(joint.name.as_str()) {
+            return Err(error(element, "is declared twice".into()));
         }
-        let mut joint_names = HashSet::new();
-        let mut child_joints = vec![Vec::new(); robot.links.len()];
-        let mut parent_joint: Vec<Option<usize>> = vec![None; robot.links.len()];
-        let mut child_link = Vec::with_capacity(robot.joints.len());
-        for (j, joint) in robot.joints.iter().enumerate() {
-            let element = format!("joint '{}'", joint.name);
-            if !joint_names.insert(joint.name.as_str()) {
-                return Err(error(element, "is declared twice".into()));
-            }
-            let find = |role: &str, name: &str| {
-                link_index.get(name).copied().ok_or_else(|| {
-                    error(
-                        format!("{element} <{role}>"),
-                        format!("link '{name}' is not a <link> of the robot"),
-                    )
-                })
-            };
-            let parent = find("parent", &joint.parent.link)?;
-            let child = find("child", &joint.child.link)?;
-            if let Some(other) = parent_joint[child] {
-                return Err(error(
-                    format!("link '{}'", joint.child.link),
-                    format!(
-                        "is the child of both joint '{}' and joint '{}': kinematic loops are not supported",
-                        robot.joints[other].name, joint.name
-                    ),
-                ));
-            }
-            parent_joint[child] = Some(j);
-            child_joints[parent].push(j);
-            child_link.push(child);
-        }
-        let roots: Vec<usize> = (0..robot.links.len())
-            .filter(|&i| parent_joint[i].is_none())
-            .collect();
-        let root = match roots.as_slice() {
-            [root] => *root,
-            [] => {
-                return Err(error(
-                    "robot".into(),
-                    format!(
-                        "every link is the child of a joint: the joints {} form a kinematic loop",
-                        loop_through(robot, &parent_joint, 0)
-                    ),
-                ))
-            }
-            [first, second, ..] => {
-                return Err(error(
-                    "robot".into(),
-                    format!(
-                        "links '{}' and '{}' are both roots (child of no joint): the links do not form one tree",
-                        robot.links[*first].name, robot.links[*second].name
-                    ),
-                ))
-            }
+        let find = |role: &str, name: &str| {
+            link_index.get(name).copied().ok_or_else(|| {
+                error(
+                    format!("{element} <{role}>"),
+                    format!("link '{name}' is not a <link> of the robot"),
+                )
+            })
         };
-        // With one root and at most one parent per link, a link the root does not reach lies on a loop.
-        let mut reached = vec![false; robot.links.len()];
-        let mut stack = vec![root];
-        while let Some(link) = stack.pop() {
-            reached[link] = true;
-            stack.extend(child_joints[link].iter().map(|&j| child_link[j]));
-        }
-        if let Some(stray) = reached.iter().position(|&r| !r) {
+        let parent = find("parent", &joint.parent.link)?;
+        let child = find("child", &joint.child.link)?;
+        if let Some(other) = edges.parent_joint[child] {
             return Err(error(
-                "robot".into(),
+                format!("link '{}'", joint.child.link),
                 format!(
-                    "the joints {} form a kinematic loop, apart from the root link '{}'",
-                    loop_through(robot, &parent_joint, stray),
-                    robot.links[root].name
+                    "is the child of both joint '{}' and joint '{}': kinematic loops are not supported",
+                    robot.joints[other].name, joint.name
                 ),
             ));
         }
+        edges.parent_joint[child] = Some(j);
+        edges.child_joints[parent].push(j);
+        edges.child_link.push(child);
+    }
+    Ok(edges)
+}
+
+/// The one link that is the child of no joint; an error naming a loop when there is none, or
+/// two roots when there are several.
+fn find_root(robot: &urdf_rs::Robot, edges: &Edges, file: &str) -> Result<usize, ModelError> {
+    let roots: Vec<usize> = (0..robot.links.len())
+        .filter(|&i| edges.parent_joint[i].is_none())
+        .collect();
+    match roots.as_slice() {
+        [root] => Ok(*root),
+        [] => Err(ModelError::new(
+            file,
+            "robot",
+            format!(
+                "every link is the child of a joint: the joints {} form a kinematic loop",
+                loop_through(robot, &edges.parent_joint, 0)
+            ),
+        )),
+        [first, second, ..] => Err(ModelError::new(
+            file,
+            "robot",
+            format!(
+                "links '{}' and '{}' are both roots (child of no joint): the links do not form one tree",
+                robot.links[*first].name, robot.links[*second].name
+            ),
+        )),
+    }
+}
+
+/// Ok when the root reaches every link. With one root and at most one parent per link, a link
+/// the root does not reach lies on a loop, which the error names.
+fn check_reached(
+    robot: &urdf_rs::Robot,
+    edges: &Edges,
+    root: usize,
+    file: &str,
+) -> Result<(), ModelError> {
+    let mut reached = vec![false; robot.links.len()];
+    let mut stack = vec![root];
+    while let Some(link) = stack.pop() {
+        reached[link] = true;
+        stack.extend(
+            edges.child_joints[link]
+                .iter()
+                .map(|&j| edges.child_link[j]),
+        );
+    }
+    match reached.iter().position(|&r| !r) {
+        Some(stray) => Err(ModelError::new(
+            file,
+            "robot",
+            format!(
+                "the joints {} form a kinematic loop, apart from the root link '{}'",
+                loop_through(robot, &edges.parent_joint, stray),
+                robot.links[root].name
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
+impl<'a> Tree<'a> {
+    /// The links and joints of `robot` (read from `file`), checked for forming one tree.
+    fn new(robot: &'a urdf_rs::Robot, file: &'a str) -> Result<Tree<'a>, ModelError> {
+        let link_index = link_indices(robot, file)?;
+        let edges = connect(robot, &link_index, file)?;
+        let root = find_root(robot, &edges, file)?;
+        check_reached(robot, &edges, root, file)?;
         Ok(Tree {
             robot,
             file,
             root,
-            child_joints,
-            child_link,
+            edges,
         })
     }
 
@@ -153,13 +204,13 @@ impl<'a> Tree<'a> {
         let mut stack = vec![(self.root, None, Placement::identity())];
         while let Some((link, body, placement)) = stack.pop() {
             self.add_link(&mut chain, link, body, placement)?;
-            for &j in &self.child_joints[link] {
+            for &j in &self.edges.child_joints[link] {
                 let joint = &self.robot.joints[j];
                 let element = format!("joint '{}'", joint.name);
                 let origin = pose(&joint.origin)
                     .ok_or_else(|| self.error(format!("{element} <origin>"), not_finite()))?;
                 let at_joint = placement.then(&origin);
-                let child = self.child_link[j];
+                let child = self.edges.child_link[j];
                 match joint.joint_type {
                     JointType::Fixed => stack.push((child, body, at_joint)),
                     JointType::Revolute | JointType::Continuous => {

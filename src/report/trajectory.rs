@@ -4,7 +4,7 @@ use super::plots::{Chart, Figure, Guide, Series};
 use crate::ipopt::LinearSolver;
 use crate::model::task::{LimitModes, Task};
 use crate::problem::{Formulation, Space};
-use crate::solver::TrajectoryResult;
+use crate::solver::{Trajectory, TrajectoryResult};
 use crate::transmission::JointLimits;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -111,7 +111,28 @@ pub fn write_plots(
     super::files::create_folder(folder)?;
     let task = formulation.task();
     let t = &result.trajectory;
-    let title = format!(
+    let title = plot_title(formulation, result);
+    let charts = [
+        (
+            "joint_positions.svg",
+            joint_positions(formulation, t, &title),
+        ),
+        (
+            "joint_torques.svg",
+            joint_torques(formulation, result, &title)?,
+        ),
+        ("motor_torques.svg", motor_torques(task, t, &title)),
+        ("tcp_path.svg", tcp_path(task, t, &title)),
+    ];
+    for (name, chart) in charts {
+        chart.write(&folder.join(name))?;
+    }
+    Ok(())
+}
+
+/// What every plot of a solve is of: the space, the design and the payload.
+fn plot_title(formulation: &Formulation, result: &TrajectoryResult) -> String {
+    format!(
         "{} space, r = ({}), payload {} kg",
         formulation.space(),
         result
@@ -120,30 +141,44 @@ pub fn write_plots(
             .map(|r| format!("{r:.3}"))
             .collect::<Vec<_>>()
             .join(", "),
-        task.payload.mass_kg
-    );
+        formulation.task().payload.mass_kg
+    )
+}
+
+/// Joint positions over time, rad, with the robot's finite position limits.
+fn joint_positions(formulation: &Formulation, t: &Trajectory, title: &str) -> Chart {
     let limits = formulation.dynamics().robot().position_limits();
     let position_guides = limits
         .iter()
         .flat_map(|&(lo, hi)| [lo, hi])
         .filter(|v| v.is_finite())
         .map(Guide::Horizontal);
-    let positions = Chart {
+    Chart {
         title: format!("Joint positions: {title}"),
         x_label: "time [s]".into(),
         y_label: "q [rad]".into(),
         series: per_joint(&t.time, &t.q, "joint"),
         guides: position_guides.collect(),
         log_y: false,
-    };
-    let control_time = &t.time[..t.joint_torque.len()];
-    let torque_guides = match formulation.space() {
+    }
+}
+
+/// Joint torques over the control intervals, N m, with the joint-space problem's torque box
+/// (none for linear limits or the actuation-space problem).
+fn joint_torques(
+    formulation: &Formulation,
+    result: &TrajectoryResult,
+    title: &str,
+) -> Result<Chart, String> {
+    let t = &result.trajectory;
+    let guides = match formulation.space() {
         Space::Joint => {
             let coupling = formulation
                 .transmission()
                 .coupling(&result.ratios)
                 .map_err(|e| e.to_string())?;
-            match coupling.torque_limits(formulation.modes().torque, task.motors.torque_limit_nm) {
+            let limit = formulation.task().motors.torque_limit_nm;
+            match coupling.torque_limits(formulation.modes().torque, limit) {
                 JointLimits::Box { lower, upper } => lower
                     .into_iter()
                     .chain(upper)
@@ -154,23 +189,31 @@ pub fn write_plots(
         }
         Space::Actuation => Vec::new(),
     };
-    let joint_torques = Chart {
+    Ok(Chart {
         title: format!("Joint torques: {title}"),
         x_label: "time [s]".into(),
         y_label: "tau [N m]".into(),
-        series: per_joint(control_time, &t.joint_torque, "joint"),
-        guides: torque_guides,
+        series: per_joint(&t.time[..t.joint_torque.len()], &t.joint_torque, "joint"),
+        guides,
         log_y: false,
-    };
+    })
+}
+
+/// Motor torques over the control intervals, N m, with the motors' limit.
+fn motor_torques(task: &Task, t: &Trajectory, title: &str) -> Chart {
     let limit = task.motors.torque_limit_nm;
-    let motor_torques = Chart {
+    Chart {
         title: format!("Motor torques: {title}"),
         x_label: "time [s]".into(),
         y_label: "tau_u [N m]".into(),
-        series: per_joint(control_time, &t.motor_torque, "motor"),
+        series: per_joint(&t.time[..t.joint_torque.len()], &t.motor_torque, "motor"),
         guides: vec![Guide::Horizontal(-limit), Guide::Horizontal(limit)],
         log_y: false,
-    };
+    }
+}
+
+/// The TCP's path in the world y-z plane, m, with the task's Cartesian box.
+fn tcp_path(task: &Task, t: &Trajectory, title: &str) -> Chart {
     let b = &task.cartesian_box;
     let mut box_guides = Vec::new();
     if let Some(y) = &b.y {
@@ -179,7 +222,7 @@ pub fn write_plots(
     if let Some(z) = &b.z {
         box_guides.extend(z.range.map(Guide::Horizontal));
     }
-    let path = Chart {
+    Chart {
         title: format!("TCP path: {title}"),
         x_label: "world y [m]".into(),
         y_label: "world z [m]".into(),
@@ -193,14 +236,5 @@ pub fn write_plots(
         )],
         guides: box_guides,
         log_y: false,
-    };
-    for (name, chart) in [
-        ("joint_positions.svg", positions),
-        ("joint_torques.svg", joint_torques),
-        ("motor_torques.svg", motor_torques),
-        ("tcp_path.svg", path),
-    ] {
-        chart.write(&folder.join(name))?;
     }
-    Ok(())
 }

@@ -1,0 +1,242 @@
+//! The table's rows from result files: the original design's solves ("before"), the co-design
+//! runs ("after", the gradient method, the largest capacity), the capacities and the totals.
+
+use super::{AfterCell, DesignCell, PaperTable, PaperValues, ResultFile, TableRow, PAPER};
+use crate::design::evaluate::Objective;
+use crate::ipopt::LinearSolver;
+use crate::model::task::Motors;
+use crate::problem::Space;
+use crate::report::codesign::{Method, OptimizeDocument};
+use crate::report::trajectory::ToolInfo;
+use crate::solver::TrajectoryResult;
+
+/// Builds the table from result files: solves of the original design give "before"; co-design
+/// runs give "after" (the best over their seeds) and, if no solve did, "before" too.
+pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
+    let mut rows: Vec<TableRow> = Vec::new();
+    for file in files {
+        if let ResultFile::Solve(doc) = file {
+            let original = &doc.inputs.task.transmission.original;
+            if doc.result.ratios == *original {
+                row_mut(&mut rows, doc.inputs.payload_kg, doc.inputs.space).before =
+                    Some(cell(&doc.result, &doc.inputs.task.motors));
+            }
+        }
+    }
+    for file in files {
+        if let ResultFile::Optimize(doc) = file {
+            add_run(
+                row_mut(&mut rows, doc.inputs.payload_kg, doc.inputs.space),
+                doc,
+            );
+        }
+    }
+    for row in &mut rows {
+        complete_row(row, files);
+    }
+    rows.sort_by(|a, b| {
+        a.payload_kg
+            .total_cmp(&b.payload_kg)
+            .then((a.space as u8).cmp(&(b.space as u8)))
+    });
+    let (solves, solve_seconds) = run_totals(files, true);
+    let (capacity_evaluations, capacity_seconds) = run_totals(files, false);
+    let linear_solvers = linear_solvers(files);
+    PaperTable {
+        tool: ToolInfo::current(linear_solvers.first().copied().unwrap_or_default()),
+        linear_solvers,
+        rows,
+        notes,
+        solves,
+        solve_seconds,
+        capacity_evaluations,
+        capacity_seconds,
+    }
+}
+
+/// One design's cell; the motors can execute it when its largest motor torque and speed are
+/// within the limits of `motors` to 1e-6 relative.
+fn cell(result: &TrajectoryResult, motors: &Motors) -> DesignCell {
+    let within = |value: f64, limit: f64| value <= limit * (1.0 + 1e-6);
+    DesignCell {
+        motors_can_execute: within(result.max_motor_torque, motors.torque_limit_nm)
+            && within(result.max_motor_speed, motors.speed_limit_rad_s),
+        ratios: result.ratios.clone(),
+        feasible: result.feasible,
+        cost: result.cost,
+        status: result.status.clone(),
+        max_motor_torque: result.max_motor_torque,
+        max_motor_speed: result.max_motor_speed,
+    }
+}
+
+/// The row of `payload_kg` and `space`, added empty (with the paper's values) when missing.
+fn row_mut(rows: &mut Vec<TableRow>, payload_kg: f64, space: Space) -> &mut TableRow {
+    let index = match rows
+        .iter()
+        .position(|r| r.payload_kg == payload_kg && r.space == space)
+    {
+        Some(index) => index,
+        None => {
+            let paper = PAPER
+                .iter()
+                .find(|(p, s, _, _)| *p == payload_kg && *s == space)
+                .map(|(_, _, before, after)| PaperValues {
+                    before: (*before).to_owned(),
+                    after: (*after).to_owned(),
+                });
+            rows.push(TableRow {
+                payload_kg,
+                space,
+                before: None,
+                after: None,
+                gradient: None,
+                capacity_before_kg: None,
+                capacity_after_kg: None,
+                capacity_max: None,
+                paper,
+            });
+            rows.len() - 1
+        }
+    };
+    &mut rows[index]
+}
+
+/// Adds one co-design run to its row: a capacity run to the largest capacity found, a gradient
+/// run to the gradient column, a CMA-ES run to "after" (and to "before" when still empty).
+fn add_run(row: &mut TableRow, doc: &OptimizeDocument) {
+    let motors = &doc.inputs.task.motors;
+    if let Objective::Capacity(_) = doc.inputs.objective {
+        let capacity = -doc.best_cost;
+        if row
+            .capacity_max
+            .as_ref()
+            .is_none_or(|(_, best)| capacity > *best)
+            && capacity >= 0.0
+        {
+            row.capacity_max = Some((doc.best_ratios.clone(), capacity));
+        }
+        return;
+    }
+    if doc.inputs.method == Method::Gradient {
+        if let Some(result) = doc.best_result.as_ref().filter(|r| r.feasible) {
+            row.gradient = Some((cell(result, motors), doc.solves));
+        }
+        return;
+    }
+    if row.before.is_none() {
+        row.before = doc.original_result.as_ref().map(|r| cell(r, motors));
+    }
+    let after = row.after.get_or_insert_with(|| AfterCell {
+        best: None,
+        per_seed: Vec::new(),
+        early_stops: Vec::new(),
+        evaluations: 0,
+        solves: 0,
+        median_solve_seconds: f64::NAN,
+        population: doc.inputs.population,
+        generations: doc.inputs.generations,
+    });
+    add_seed(after, doc, motors);
+}
+
+/// Adds one CMA-ES run (one seed) to "after": its best cost, an early stop, its evaluations and
+/// its best design when that beats the others.
+fn add_seed(after: &mut AfterCell, doc: &OptimizeDocument, motors: &Motors) {
+    after.per_seed.push((doc.inputs.seed, doc.best_cost));
+    if let Some(last) = doc.generations.last() {
+        if last.generation < doc.inputs.generations {
+            after
+                .early_stops
+                .push((doc.inputs.seed, last.generation, doc.stop_reason.clone()));
+        }
+    }
+    after.evaluations += doc.evaluations;
+    after.solves += doc.solves;
+    if let Some(result) = doc.best_result.as_ref().filter(|r| r.feasible) {
+        if after
+            .best
+            .as_ref()
+            .is_none_or(|best| result.cost < best.cost)
+        {
+            after.best = Some(cell(result, motors));
+        }
+    }
+}
+
+/// Fills in what needs every file: the capacities of the row's designs, the median solve time
+/// of its CMA-ES runs, and its seeds in order.
+fn complete_row(row: &mut TableRow, files: &[ResultFile]) {
+    if let Some(before) = &row.before {
+        row.capacity_before_kg = capacity_of(files, row.space, &before.ratios);
+    }
+    if let Some(best) = row.after.as_ref().and_then(|a| a.best.as_ref()) {
+        row.capacity_after_kg = capacity_of(files, row.space, &best.ratios);
+    }
+    if let Some(after) = &mut row.after {
+        after.median_solve_seconds = median_solve_seconds(files, row.payload_kg, row.space);
+        after.per_seed.sort_by_key(|(seed, _)| *seed);
+    }
+}
+
+/// The capacity, kg, of the first capacity file of `ratios` in `space`.
+fn capacity_of(files: &[ResultFile], space: Space, ratios: &[f64]) -> Option<f64> {
+    files.iter().find_map(|f| match f {
+        ResultFile::Capacity(d) if d.space == space && d.ratios == ratios => d.capacity.capacity_kg,
+        _ => None,
+    })
+}
+
+/// The median over the CMA-ES runs on the cost of one row of each run's median solve time, s
+/// (NaN without runs).
+fn median_solve_seconds(files: &[ResultFile], payload_kg: f64, space: Space) -> f64 {
+    let mut medians: Vec<f64> = files
+        .iter()
+        .filter_map(|f| match f {
+            ResultFile::Optimize(d)
+                if d.inputs.payload_kg == payload_kg
+                    && d.inputs.space == space
+                    && d.inputs.method == Method::Cmaes
+                    && d.inputs.objective == Objective::Cost =>
+            {
+                Some(d.median_solve_seconds)
+            }
+            _ => None,
+        })
+        .collect();
+    medians.sort_by(f64::total_cmp);
+    medians.get(medians.len() / 2).copied().unwrap_or(f64::NAN)
+}
+
+/// The inner solves and their summed wall time, s, of the co-design runs on the cost
+/// (`objective_is_cost`) or on the capacity.
+fn run_totals(files: &[ResultFile], objective_is_cost: bool) -> (usize, f64) {
+    files
+        .iter()
+        .filter_map(|f| match f {
+            ResultFile::Optimize(d)
+                if (d.inputs.objective == Objective::Cost) == objective_is_cost =>
+            {
+                Some(d)
+            }
+            _ => None,
+        })
+        .fold((0, 0.0), |(n, s), d| {
+            (n + d.solves, s + d.solve_seconds_total)
+        })
+}
+
+/// The linear solvers of the files, each once, in a fixed order.
+fn linear_solvers(files: &[ResultFile]) -> Vec<LinearSolver> {
+    let mut solvers: Vec<LinearSolver> = files
+        .iter()
+        .map(|file| match file {
+            ResultFile::Solve(d) => d.tool.linear_solver,
+            ResultFile::Optimize(d) => d.tool.linear_solver,
+            ResultFile::Capacity(d) => d.tool.linear_solver,
+        })
+        .collect();
+    solvers.sort_by_key(|solver| solver.name());
+    solvers.dedup();
+    solvers
+}

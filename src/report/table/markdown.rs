@@ -1,0 +1,196 @@
+//! The table as Markdown (`paper_table.md`): a header with the tool and the solver time, the
+//! paper's Table II with our values, and the section beyond the paper.
+
+use super::{AfterCell, DesignCell, PaperTable, TableRow};
+use crate::ipopt::LinearSolver;
+
+impl PaperTable {
+    /// The table as Markdown.
+    pub fn to_markdown(&self) -> String {
+        let mut text = self.header();
+        text.push_str("| payload | space | before (ours) | before (paper) | after (ours) | after (paper) | seeds: best J | inner solves of evaluations | median solve |\n");
+        text.push_str("|---|---|---|---|---|---|---|---|---|\n");
+        for row in &self.rows {
+            text.push_str(&paper_row(row));
+        }
+        let beyond = self.rows.iter().any(|r| {
+            r.gradient.is_some()
+                || r.capacity_before_kg.is_some()
+                || r.capacity_after_kg.is_some()
+                || r.capacity_max.is_some()
+        });
+        if beyond {
+            text.push_str(&self.beyond_the_paper());
+        }
+        text
+    }
+
+    /// The title, the tool and linear solvers, the notes and the solver time, each a paragraph.
+    fn header(&self) -> String {
+        let mut text = String::from("# Table II reproduced: gear ratios and cost per payload\n\n");
+        text.push_str(&format!(
+            "Made by {} {} with IPOPT {} ({}). Our arm, task and horizon differ from the paper's \
+             (`docs/model.md`, section 1), so our costs differ from the paper's: compare the trends, not the digits. \
+             \"after\" is the best design over the seeds of CMA-ES.\n\n",
+            self.tool.name,
+            self.tool.version,
+            self.tool.ipopt_version,
+            linear_solvers_text(&self.linear_solvers)
+        ));
+        for note in &self.notes {
+            text.push_str(&format!("> {note}\n\n"));
+        }
+        text.push_str(&format!(
+            "> Inner solves of the co-design runs on the cost (CMA-ES and gradient): {}, taking \
+             {:.2} h of solver time in all (summed over the worker processes, which run side by side).",
+            self.solves,
+            self.solve_seconds / 3600.0
+        ));
+        if self.capacity_evaluations > 0 {
+            text.push_str(&format!(
+                " Co-design on the payload capacity: {} evaluations, each a capacity search of \
+                 several solves, {:.2} h of solver time.",
+                self.capacity_evaluations,
+                self.capacity_seconds / 3600.0
+            ));
+        }
+        text.push_str("\n\n");
+        text
+    }
+
+    /// The section beyond the paper: capacities, the largest capacity found and the gradient
+    /// method, one line per row.
+    fn beyond_the_paper(&self) -> String {
+        let mut text = String::from(
+            "\n## Beyond the paper\n\nPayload capacity (the largest payload whose trajectory problem is feasible, \
+             `codesign capacity`, to 10 g; a lower bound, as IPOPT's infeasibility verdicts are local), the design of \
+             largest capacity CMA-ES found (`codesign optimize --objective capacity`), and co-design by the gradient method (`codesign optimize --method gradient`: \
+             projected quasi-Newton on the exact dJ*/dr) beside CMA-ES.\n\n",
+        );
+        text.push_str("| payload | space | capacity, original design | capacity, best CMA-ES design | largest capacity found (design) | gradient method (ours) | its inner solves | CMA-ES inner solves |\n");
+        text.push_str("|---|---|---|---|---|---|---|---|\n");
+        for row in &self.rows {
+            text.push_str(&beyond_row(row));
+        }
+        text
+    }
+}
+
+/// One line of the paper's table.
+fn paper_row(row: &TableRow) -> String {
+    let before = row
+        .before
+        .as_ref()
+        .map_or_else(|| "-".to_owned(), design_text);
+    let [after, seeds, solves, median] = match &row.after {
+        Some(after) => after_columns(after),
+        None => ["-", "-", "-", "-"].map(str::to_owned),
+    };
+    let (paper_before, paper_after) = row
+        .paper
+        .as_ref()
+        .map_or(("-", "-"), |p| (p.before.as_str(), p.after.as_str()));
+    format!(
+        "| {} kg | {} | {before} | {paper_before} | {after} | {paper_after} | {seeds} | {solves} | {median} |\n",
+        row.payload_kg, row.space
+    )
+}
+
+/// The CMA-ES columns: the best design, each seed's best cost (with why it stopped early), the
+/// inner solves of the evaluations and the median solve time.
+fn after_columns(after: &AfterCell) -> [String; 4] {
+    let best = after
+        .best
+        .as_ref()
+        .map_or_else(|| "none feasible".to_owned(), design_text);
+    let seeds = after
+        .per_seed
+        .iter()
+        .map(
+            |(s, c)| match after.early_stops.iter().find(|e| e.0 == *s) {
+                Some((_, last, why)) => {
+                    format!("{s}: {c:.2} (stopped after generation {last}: {why})")
+                }
+                None => format!("{s}: {c:.2}"),
+            },
+        )
+        .collect::<Vec<_>>()
+        .join(", ");
+    [
+        best,
+        seeds,
+        format!("{} of {}", after.solves, after.evaluations),
+        format!("{:.1} ms", after.median_solve_seconds * 1e3),
+    ]
+}
+
+/// One line of the section beyond the paper.
+fn beyond_row(row: &TableRow) -> String {
+    let kg = |v: Option<f64>| v.map_or_else(|| "-".to_owned(), |v| format!("{v:.2} kg"));
+    let (gradient, solves) = row
+        .gradient
+        .as_ref()
+        .map_or(("-".to_owned(), "-".to_owned()), |(cell, n)| {
+            (design_text(cell), n.to_string())
+        });
+    let cmaes = row
+        .after
+        .as_ref()
+        .map_or_else(|| "-".to_owned(), |a| a.solves.to_string());
+    let largest = row.capacity_max.as_ref().map_or_else(
+        || "-".to_owned(),
+        |(ratios, capacity)| format!("{capacity:.2} kg {}", ratios_text(ratios)),
+    );
+    format!(
+        "| {} kg | {} | {} | {} | {largest} | {gradient} | {solves} | {cmaes} |\n",
+        row.payload_kg,
+        row.space,
+        kg(row.capacity_before_kg),
+        kg(row.capacity_after_kg)
+    )
+}
+
+/// The ratios rounded to two decimals, e.g. `(9, 5.62, 3, 1.8)`.
+fn ratios_text(ratios: &[f64]) -> String {
+    let parts: Vec<String> = ratios
+        .iter()
+        .map(|r| format!("{}", (r * 100.0).round() / 100.0))
+        .collect();
+    format!("({})", parts.join(", "))
+}
+
+/// A design's cell: its ratios and cost, or why it is infeasible or the motors cannot execute it.
+fn design_text(cell: &DesignCell) -> String {
+    if cell.feasible && !cell.motors_can_execute {
+        format!(
+            "{}: {:.2}, motors cannot execute it (max torque {:.2} N m, max speed {:.0} rad/s)",
+            ratios_text(&cell.ratios),
+            cell.cost,
+            cell.max_motor_torque,
+            cell.max_motor_speed
+        )
+    } else if cell.feasible {
+        format!("{}: {:.2}", ratios_text(&cell.ratios), cell.cost)
+    } else {
+        format!(
+            "{}: infeasible ({})",
+            ratios_text(&cell.ratios),
+            cell.status
+        )
+    }
+}
+
+/// "linear solver ldl", or the list when result files of several are merged.
+fn linear_solvers_text(solvers: &[LinearSolver]) -> String {
+    let names: Vec<&str> = solvers.iter().map(|solver| solver.name()).collect();
+    match names.len() {
+        0 | 1 => format!(
+            "linear solver {}",
+            names
+                .first()
+                .copied()
+                .unwrap_or(LinearSolver::default().name())
+        ),
+        _ => format!("linear solvers {}, mixed", names.join(", ")),
+    }
+}

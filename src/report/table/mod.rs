@@ -1,0 +1,174 @@
+//! The paper's Table II with our numbers beside the paper's, built from result files: the
+//! table's types and the reading of result files here, the rows in `build`, the Markdown in
+//! `markdown`.
+
+mod build;
+mod markdown;
+
+pub use build::build_table;
+
+use super::codesign::{CapacityDocument, OptimizeDocument};
+use super::trajectory::{SolveDocument, ToolInfo};
+use crate::ipopt::LinearSolver;
+use crate::problem::Space;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// A result file of `solve`, `optimize` or `capacity`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ResultFile {
+    /// One trajectory solve.
+    Solve(Box<SolveDocument>),
+    /// One co-design run.
+    Optimize(Box<OptimizeDocument>),
+    /// One payload-capacity search.
+    Capacity(Box<CapacityDocument>),
+}
+
+/// Reads a result file, telling its kind by its fields; errors name the file.
+pub fn read_result_file(path: &Path) -> Result<ResultFile, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let value: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| format!("{}: not JSON: {e}", path.display()))?;
+    let kind = if value.get("best_ratios").is_some() {
+        "optimize"
+    } else if value.get("probes").is_some() {
+        "capacity"
+    } else {
+        "solve"
+    };
+    let parsed = if kind == "capacity" {
+        serde_json::from_value(value).map(|d| ResultFile::Capacity(Box::new(d)))
+    } else if kind == "optimize" {
+        serde_json::from_value(value).map(|d| ResultFile::Optimize(Box::new(d)))
+    } else {
+        serde_json::from_value(value).map(|d| ResultFile::Solve(Box::new(d)))
+    };
+    parsed.map_err(|e| format!("{}: not a codesign {kind} result: {e}", path.display()))
+}
+
+/// What the paper reports for one row (docs/model.md, section 13, from the paper's Table II).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PaperValues {
+    /// Before co-design (original ratios 6, 3, 1, 1).
+    pub before: String,
+    /// After co-design.
+    pub after: String,
+}
+
+/// The paper's Table II: (payload kg, space, before, after).
+const PAPER: [(f64, Space, &str, &str); 6] = [
+    (0.0, Space::Joint, "(6, 3, 1, 1): 66.77", "-"),
+    (0.0, Space::Actuation, "(6, 3, 1, 1): 50.99", "-"),
+    (1.0, Space::Joint, "infeasible", "(9, 4.09, 3, 3): 146.42"),
+    (
+        1.0,
+        Space::Actuation,
+        "(6, 3, 1, 1): 161.21",
+        "(9, 5.62, 3, 1.8): 71.55",
+    ),
+    (3.0, Space::Joint, "infeasible", "none feasible"),
+    (
+        3.0,
+        Space::Actuation,
+        "(6, 3, 1, 1): 526.45",
+        "(9, 4.62, 3, 3): 159.42",
+    ),
+];
+
+/// One design's outcome in the table.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DesignCell {
+    /// The design r.
+    pub ratios: Vec<f64>,
+    /// Whether its trajectory problem was solved.
+    pub feasible: bool,
+    /// Its optimal cost (meaningful when feasible).
+    pub cost: f64,
+    /// IPOPT status.
+    pub status: String,
+    /// Largest motor torque its trajectory needs, N m.
+    pub max_motor_torque: f64,
+    /// Largest motor speed, rad/s.
+    pub max_motor_speed: f64,
+    /// Whether the real motors can execute the trajectory: motor torques and speeds within the
+    /// task's limits (to 1e-6 relative). A joint-space solution under the `paper` limits may not.
+    pub motors_can_execute: bool,
+}
+
+/// The co-design runs of one row.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AfterCell {
+    /// The best design over the seeds (None when no run found a feasible design).
+    pub best: Option<DesignCell>,
+    /// Best cost per seed, (seed, cost).
+    pub per_seed: Vec<(u64, f64)>,
+    /// Runs that stopped before their last generation: (seed, last generation run, why).
+    #[serde(default)]
+    pub early_stops: Vec<(u64, usize, String)>,
+    /// CMA-ES evaluations over all seeds.
+    pub evaluations: usize,
+    /// Those that ran an inner solve (the rest broke an order constraint).
+    #[serde(default)]
+    pub solves: usize,
+    /// Median over the runs of each run's median solve time, s.
+    pub median_solve_seconds: f64,
+    /// CMA-ES population and generations of the runs.
+    pub population: usize,
+    /// CMA-ES generations.
+    pub generations: usize,
+}
+
+/// One row: a payload and a space.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TableRow {
+    /// Payload, kg.
+    pub payload_kg: f64,
+    /// Joint or actuation space.
+    pub space: Space,
+    /// The original design's solve.
+    pub before: Option<DesignCell>,
+    /// The co-design runs with CMA-ES.
+    pub after: Option<AfterCell>,
+    /// The co-design run with the gradient method: its best design and its inner solves.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gradient: Option<(DesignCell, usize)>,
+    /// Payload capacity of the original design in this space, kg (from a capacity file).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub capacity_before_kg: Option<f64>,
+    /// Payload capacity of the best CMA-ES design, kg (from a capacity file).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub capacity_after_kg: Option<f64>,
+    /// The design of largest capacity found by `optimize --objective capacity` in this space,
+    /// and its capacity, kg (on the row of the run's payload).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub capacity_max: Option<(Vec<f64>, f64)>,
+    /// The paper's values.
+    pub paper: Option<PaperValues>,
+}
+
+/// The whole table, as written to `paper_table.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PaperTable {
+    /// Program and solver versions.
+    pub tool: ToolInfo,
+    /// The linear solvers the result files were solved with, each once.
+    #[serde(default)]
+    pub linear_solvers: Vec<LinearSolver>,
+    /// Rows by payload, then joint before actuation.
+    pub rows: Vec<TableRow>,
+    /// Notes shown above the table (e.g. a reduced run).
+    pub notes: Vec<String>,
+    /// Inner solves of the co-design runs on the trajectory cost (CMA-ES and gradient).
+    pub solves: usize,
+    /// Their wall times summed, s.
+    pub solve_seconds: f64,
+    /// Evaluations of the co-design runs on the payload capacity that ran a capacity search
+    /// (each a bracketing and bisection of several solves).
+    #[serde(default)]
+    pub capacity_evaluations: usize,
+    /// The wall times of those searches summed, s.
+    #[serde(default)]
+    pub capacity_seconds: f64,
+}

@@ -1,0 +1,62 @@
+//! The transmission G(r) (docs/model.md, sections 3 to 5): motor angles q_u = G(r) q, motor
+//! speeds qd_u = G(r) qd, joint torques tau = G(r)^T tau_u, with G affine in the design ratios r.
+//!
+//! The structure of G and the design space come from the task file's `transmission` section;
+//! nothing about the belt arm is hard-coded here. Units: ratios are dimensionless, torques N m,
+//! speeds rad/s. Rows of G are motors, columns joints.
+//!
+//! - `spec`: reading the task's `transmission` section (`r<i>` names, entries, order strings);
+//! - `design_space`: bounds, order constraints, the original design, checks and projection;
+//! - `coupling`: G(r), dG/dr_i, and G with its inverse at one design;
+//! - `limits`: the joint torque and speed limits of each [`LimitMode`](crate::model::task::LimitMode).
+
+mod coupling;
+mod design_space;
+mod limits;
+mod spec;
+
+pub use coupling::Coupling;
+pub use design_space::{DesignError, DesignSpace, HalfSpace, OrderConstraint};
+pub use limits::JointLimits;
+pub use spec::SpecError;
+
+use spec::Entry;
+
+/// The parsed structure of G(r) with its design space.
+#[derive(Clone, Debug)]
+pub struct Transmission {
+    dof: usize,
+    /// Row-major entries of G.
+    entries: Vec<Entry>,
+    space: DesignSpace,
+}
+
+impl Transmission {
+    /// Number of design ratios.
+    pub fn num_ratios(&self) -> usize {
+        self.space.num_ratios()
+    }
+
+    /// Size of G: the number of joints (= motors).
+    pub fn dof(&self) -> usize {
+        self.dof
+    }
+
+    /// The design space: bounds, order constraints and the original design.
+    pub fn design_space(&self) -> &DesignSpace {
+        &self.space
+    }
+
+    /// The original design r (dimensionless).
+    pub fn original(&self) -> &[f64] {
+        self.space.original()
+    }
+
+    /// Bounds [lower, upper] of each ratio (dimensionless).
+    pub fn bounds(&self) -> &[[f64; 2]] {
+        self.space.bounds()
+    }
+}
+
+#[cfg(test)]
+mod fixtures;

@@ -1,0 +1,410 @@
+//! Reading the task's `transmission` section: the entries of G (numbers and `[-]r<i>` names) and
+//! the order strings `r<i> <= r<j>` / `r<i> < r<j>`, with errors naming the field at fault.
+
+use super::design_space::{DesignSpace, OrderConstraint};
+use super::Transmission;
+use crate::model::task::{MatrixEntry, TransmissionSpec};
+use std::fmt;
+
+/// One entry of G: a constant or plus/minus one design ratio.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Entry {
+    Constant(f64),
+    /// `sign * r[index]` (index 0-based, sign +-1).
+    Ratio {
+        index: usize,
+        sign: f64,
+    },
+}
+
+/// Why a task's `transmission` section is not usable; each variant names its field (indices
+/// 0-based), and the message starts with that field, e.g. `transmission.matrix[2][1] = ...`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SpecError {
+    /// `transmission.original` does not have one value per bound.
+    OriginalLength {
+        /// Values in `transmission.original`.
+        original: usize,
+        /// Entries of `transmission.bounds` (the number of ratios).
+        bounds: usize,
+    },
+    /// `transmission.bounds[index]` is not finite or has lower > upper.
+    Bound {
+        /// Which ratio.
+        index: usize,
+        /// Its lower bound as written.
+        lower: f64,
+        /// Its upper bound as written.
+        upper: f64,
+    },
+    /// `transmission.original[index]` is not finite.
+    Original {
+        /// Which ratio.
+        index: usize,
+    },
+    /// `transmission.matrix` has no rows.
+    EmptyMatrix,
+    /// `transmission.matrix[row]` does not have as many entries as the matrix has rows.
+    RowLength {
+        /// Which row.
+        row: usize,
+        /// Its entries.
+        entries: usize,
+        /// The matrix's rows.
+        rows: usize,
+    },
+    /// `transmission.matrix[row][column]` is neither a finite number nor `[-]r<i>` of a ratio.
+    Entry {
+        /// Row of G (motor).
+        row: usize,
+        /// Column of G (joint).
+        column: usize,
+        /// The entry as written.
+        entry: MatrixEntry,
+        /// The number of ratios.
+        ratios: usize,
+    },
+    /// `transmission.order[index]` is not `r<i> <= r<j>` or `r<i> < r<j>` of two ratios.
+    Order {
+        /// Which constraint.
+        index: usize,
+        /// The constraint as written.
+        text: String,
+        /// The number of ratios.
+        ratios: usize,
+    },
+    /// `transmission.order[index]` compares a ratio with itself.
+    OrderWithItself {
+        /// Which constraint.
+        index: usize,
+        /// The constraint as written.
+        text: String,
+    },
+}
+
+impl fmt::Display for SpecError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SpecError::OriginalLength { original, bounds } => write!(
+                f,
+                "transmission.original has {original} values but transmission.bounds has {bounds}"
+            ),
+            SpecError::Bound {
+                index,
+                lower,
+                upper,
+            } => write!(
+                f,
+                "transmission.bounds[{index}] = [{lower}, {upper}] must be finite with lower <= upper"
+            ),
+            SpecError::Original { index } => {
+                write!(f, "transmission.original[{index}] is not a finite number")
+            }
+            SpecError::EmptyMatrix => f.write_str("transmission.matrix is empty"),
+            SpecError::RowLength { row, entries, rows } => write!(
+                f,
+                "transmission.matrix[{row}] has {entries} entries but the matrix has {rows} rows (it must be square)"
+            ),
+            SpecError::Entry {
+                row,
+                column,
+                entry,
+                ratios,
+            } => {
+                let shown = match entry {
+                    MatrixEntry::Constant(value) => value.to_string(),
+                    MatrixEntry::Ratio(text) => format!("{text:?}"),
+                };
+                write!(
+                    f,
+                    "transmission.matrix[{row}][{column}] = {shown} must be a finite number or \
+                     \"r<i>\" / \"-r<i>\" with 1 <= i <= {ratios} (the number of bounds)"
+                )
+            }
+            SpecError::Order {
+                index,
+                text,
+                ratios,
+            } => write!(
+                f,
+                "transmission.order[{index}] = {text:?} must read \"r<i> <= r<j>\" or \"r<i> < r<j>\" \
+                 with 1 <= i, j <= {ratios}"
+            ),
+            SpecError::OrderWithItself { index, text } => write!(
+                f,
+                "transmission.order[{index}] = {text:?} compares a ratio with itself"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for SpecError {}
+
+/// Parses `r<i>` (1-based) into a 0-based index below `count`.
+fn parse_ratio_name(text: &str, count: usize) -> Option<usize> {
+    let digits = text.trim().strip_prefix('r')?;
+    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    let number: usize = digits.parse().ok()?;
+    (1..=count).contains(&number).then(|| number - 1)
+}
+
+/// Parses `r<i>` or `-r<i>`.
+fn parse_entry(text: &str, count: usize) -> Option<Entry> {
+    let text = text.trim();
+    let (sign, name) = match text.strip_prefix('-') {
+        Some(rest) => (-1.0, rest),
+        None => (1.0, text),
+    };
+    let index = parse_ratio_name(name, count)?;
+    Some(Entry::Ratio { index, sign })
+}
+
+/// Parses `r<i> <= r<j>` or `r<i> < r<j>`.
+fn parse_order(text: &str, count: usize) -> Option<OrderConstraint> {
+    let (left, right, strict) = match text.split_once("<=") {
+        Some((left, right)) => (left, right, false),
+        None => {
+            let (left, right) = text.split_once('<')?;
+            (left, right, true)
+        }
+    };
+    Some(OrderConstraint {
+        lower: parse_ratio_name(left, count)?,
+        upper: parse_ratio_name(right, count)?,
+        strict,
+    })
+}
+
+/// Checks that `original` has one finite value per bound and every bound is finite with
+/// lower <= upper.
+fn check_bounds(spec: &TransmissionSpec) -> Result<(), SpecError> {
+    let count = spec.bounds.len();
+    if spec.original.len() != count {
+        return Err(SpecError::OriginalLength {
+            original: spec.original.len(),
+            bounds: count,
+        });
+    }
+    for (index, &[lower, upper]) in spec.bounds.iter().enumerate() {
+        if !(lower.is_finite() && upper.is_finite() && lower <= upper) {
+            return Err(SpecError::Bound {
+                index,
+                lower,
+                upper,
+            });
+        }
+    }
+    match spec.original.iter().position(|v| !v.is_finite()) {
+        Some(index) => Err(SpecError::Original { index }),
+        None => Ok(()),
+    }
+}
+
+/// The row-major entries of the square matrix, with the matrix's size.
+fn parse_matrix(
+    matrix: &[Vec<MatrixEntry>],
+    count: usize,
+) -> Result<(usize, Vec<Entry>), SpecError> {
+    let dof = matrix.len();
+    if dof == 0 {
+        return Err(SpecError::EmptyMatrix);
+    }
+    let mut entries = Vec::with_capacity(dof * dof);
+    for (row, values) in matrix.iter().enumerate() {
+        if values.len() != dof {
+            return Err(SpecError::RowLength {
+                row,
+                entries: values.len(),
+                rows: dof,
+            });
+        }
+        for (column, entry) in values.iter().enumerate() {
+            let parsed = match entry {
+                MatrixEntry::Constant(value) if value.is_finite() => Some(Entry::Constant(*value)),
+                MatrixEntry::Constant(_) => None,
+                MatrixEntry::Ratio(text) => parse_entry(text, count),
+            };
+            entries.push(parsed.ok_or_else(|| SpecError::Entry {
+                row,
+                column,
+                entry: entry.clone(),
+                ratios: count,
+            })?);
+        }
+    }
+    Ok((dof, entries))
+}
+
+/// The order constraints, each between two different ratios.
+fn parse_orders(order: &[String], count: usize) -> Result<Vec<OrderConstraint>, SpecError> {
+    let mut constraints = Vec::with_capacity(order.len());
+    for (index, text) in order.iter().enumerate() {
+        let constraint = parse_order(text, count).ok_or_else(|| SpecError::Order {
+            index,
+            text: text.clone(),
+            ratios: count,
+        })?;
+        if constraint.lower == constraint.upper {
+            return Err(SpecError::OrderWithItself {
+                index,
+                text: text.clone(),
+            });
+        }
+        constraints.push(constraint);
+    }
+    Ok(constraints)
+}
+
+impl Transmission {
+    /// Parses and checks the spec: a square matrix whose entries are finite numbers or `[-]r<i>`
+    /// with 1 <= i <= number of ratios (= number of bounds), as many original values as bounds,
+    /// finite bounds with lower <= upper, finite original values, and order strings
+    /// `r<i> <= r<j>` or `r<i> < r<j>` with i != j. Errors name the field, e.g.
+    /// `transmission.matrix[2][1]` (0-based indices). The original design is not held to the
+    /// design space here: [`Transmission::check_design`] does that.
+    pub fn from_spec(spec: &TransmissionSpec) -> Result<Transmission, SpecError> {
+        check_bounds(spec)?;
+        let count = spec.bounds.len();
+        let (dof, entries) = parse_matrix(&spec.matrix, count)?;
+        let order = parse_orders(&spec.order, count)?;
+        Ok(Transmission {
+            dof,
+            entries,
+            space: DesignSpace::new(spec.original.clone(), spec.bounds.clone(), order),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::transmission::fixtures::{belt_arm, pick_place};
+    use nalgebra::DMatrix;
+
+    #[test]
+    fn structure_follows_the_task_file() {
+        let t = belt_arm();
+        assert_eq!((t.dof(), t.num_ratios()), (4, 4));
+        assert_eq!(t.original(), &[6.0, 3.0, 1.0, 1.0]);
+        assert_eq!(t.bounds()[2], [1.0, 3.0]);
+        let order: Vec<String> = t
+            .design_space()
+            .order()
+            .iter()
+            .map(|c| c.to_string())
+            .collect();
+        assert_eq!(order, ["r3 <= r2", "r2 < r1"]);
+        let g = t.matrix(&[6.0, 3.0, 1.5, 2.0]);
+        let expected = DMatrix::from_row_slice(
+            4,
+            4,
+            &[
+                6.0, 0.0, 0.0, 0.0, //
+                3.0, 3.0, 0.0, 0.0, //
+                1.0, 1.5, 2.0, 2.0, //
+                1.0, 1.5, 2.0, -2.0,
+            ],
+        );
+        assert_eq!(g, expected);
+    }
+
+    #[test]
+    fn spec_errors_name_the_field() {
+        let good = pick_place().transmission;
+        type Change = Box<dyn Fn(&mut TransmissionSpec)>;
+        let cases: Vec<(Change, &str)> = vec![
+            (
+                Box::new(|s| s.matrix[2][1] = MatrixEntry::Ratio("r5".into())),
+                "transmission.matrix[2][1]",
+            ),
+            (
+                Box::new(|s| s.matrix[0][0] = MatrixEntry::Ratio("x1".into())),
+                "transmission.matrix[0][0]",
+            ),
+            (
+                Box::new(|s| s.matrix[3][3] = MatrixEntry::Ratio("-r0".into())),
+                "transmission.matrix[3][3]",
+            ),
+            (
+                Box::new(|s| s.matrix[1][0] = MatrixEntry::Constant(f64::NAN)),
+                "transmission.matrix[1][0]",
+            ),
+            (
+                Box::new(|s| {
+                    s.matrix[1].pop();
+                }),
+                "transmission.matrix[1]",
+            ),
+            (
+                Box::new(|s| s.matrix.clear()),
+                "transmission.matrix is empty",
+            ),
+            (Box::new(|s| s.original.push(1.0)), "transmission.original"),
+            (
+                Box::new(|s| s.original[2] = f64::NAN),
+                "transmission.original[2]",
+            ),
+            (
+                Box::new(|s| s.bounds[1] = [9.0, 1.0]),
+                "transmission.bounds[1]",
+            ),
+            (
+                Box::new(|s| s.order[1] = "r2 >= r1".into()),
+                "transmission.order[1]",
+            ),
+            (
+                Box::new(|s| s.order[0] = "r3 <= r5".into()),
+                "transmission.order[0]",
+            ),
+            (
+                Box::new(|s| s.order[0] = "r3 <= r2 <= r1".into()),
+                "transmission.order[0]",
+            ),
+            (Box::new(|s| s.order[0] = "r3 < r3".into()), "itself"),
+        ];
+        for (change, field) in cases {
+            let mut spec = good.clone();
+            change(&mut spec);
+            let error = Transmission::from_spec(&spec).unwrap_err().to_string();
+            assert!(error.contains(field), "{error} should name {field}");
+        }
+        let mut spaced = good.clone();
+        spaced.matrix[3][3] = MatrixEntry::Ratio(" -r4 ".into());
+        spaced.order = vec![" r3<=r2".into(), "r2<r1 ".into()];
+        let t = Transmission::from_spec(&spaced).unwrap();
+        assert_eq!(
+            t.matrix(&[6.0, 3.0, 1.0, 1.0]),
+            belt_arm().matrix(&[6.0, 3.0, 1.0, 1.0])
+        );
+        assert_eq!(t.design_space().order(), belt_arm().design_space().order());
+    }
+
+    #[test]
+    fn spec_errors_keep_their_messages() {
+        let mut spec = pick_place().transmission;
+        spec.matrix[2][1] = MatrixEntry::Ratio("r5".into());
+        assert_eq!(
+            Transmission::from_spec(&spec).unwrap_err().to_string(),
+            "transmission.matrix[2][1] = \"r5\" must be a finite number or \"r<i>\" / \"-r<i>\" \
+             with 1 <= i <= 4 (the number of bounds)"
+        );
+        spec.matrix[2][1] = MatrixEntry::Constant(f64::INFINITY);
+        assert_eq!(
+            Transmission::from_spec(&spec).unwrap_err(),
+            SpecError::Entry {
+                row: 2,
+                column: 1,
+                entry: MatrixEntry::Constant(f64::INFINITY),
+                ratios: 4
+            }
+        );
+        let mut spec = pick_place().transmission;
+        spec.order[0] = "r3 < r3".into();
+        assert_eq!(
+            Transmission::from_spec(&spec).unwrap_err().to_string(),
+            "transmission.order[0] = \"r3 < r3\" compares a ratio with itself"
+        );
+    }
+}
