@@ -199,14 +199,15 @@ fn read_result(problem: &mut TrajectoryProblem<'_>, solution: &Solution) -> Traj
     let x = &solution.x;
     let slice = |start: usize| x[start..start + n].to_vec();
     let mut trajectory = Trajectory::default();
-    let mut dynamics = f.dynamics().clone();
+    let dynamics = f.dynamics();
+    let mut data = dynamics.workspace();
     let mut violations = Violations::default();
     let task = f.task();
     let limits = dynamics.robot().position_limits().to_vec();
     let coupling = problem.coupling().clone();
     for k in 0..=steps {
         let (q, v) = (slice(layout.q(k, 0)), slice(layout.v(k, 0)));
-        let tcp = dynamics.tcp_position(&q);
+        let tcp = dynamics.tcp_position(&mut data, &q);
         trajectory.time.push(k as f64 * h);
         trajectory.tcp_y.push(tcp[1]);
         trajectory.tcp_z.push(tcp[2]);
@@ -225,7 +226,7 @@ fn read_result(problem: &mut TrajectoryProblem<'_>, solution: &Solution) -> Traj
             let (a, u) = (slice(layout.a(k, 0)), slice(layout.u(k, 0)));
             let tau = problem.joint_torques(&u);
             let mut rnea = vec![0.0; n];
-            dynamics.rnea(&q, &v, &a, &mut rnea);
+            dynamics.rnea(&mut data, &q, &v, &a, &mut rnea);
             violations.dynamics = violations
                 .dynamics
                 .max(max_abs(rnea.iter().zip(&tau).map(|(r, t)| r - t)));

@@ -159,7 +159,7 @@ impl Formulation {
         &self.transmission
     }
 
-    /// The robot's dynamics (with the payload).
+    /// The robot's dynamics model (with the payload), shared by every problem of the formulation.
     pub fn dynamics(&self) -> &Dynamics {
         &self.dynamics
     }

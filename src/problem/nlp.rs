@@ -6,7 +6,7 @@
 //! evaluated nodes it yields the values, so the two can never disagree.
 
 use super::{Formulation, Layout, Space};
-use crate::dynamics::Dynamics;
+use crate::dynamics::Workspace;
 use crate::ipopt::{EvalError, Nlp};
 use crate::transmission::{Coupling, DesignError, JointLimits};
 use nalgebra::{DMatrix, Vector3};
@@ -56,9 +56,10 @@ pub struct TrajectoryProblem<'a> {
     control_map: DMatrix<f64>,
     /// G^-T, the motor torque of a joint torque.
     motor_of_joint: DMatrix<f64>,
-    /// One per node k < N, so that each keeps its node's kinematics cached from one callback
-    /// to the next (the Hessian reuses what the Jacobian computed at the same point).
-    dynamics: Vec<Dynamics>,
+    /// One dynamics workspace per node k < N (all of the formulation's one model), so that each
+    /// keeps its node's kinematics cached from one callback to the next (the Hessian reuses what
+    /// the Jacobian computed at the same point).
+    workspaces: Vec<Workspace>,
     nodes: Vec<NodeEval>,
     level: Level,
     rnea_hessian: DMatrix<f64>,
@@ -82,7 +83,9 @@ impl<'a> TrajectoryProblem<'a> {
             coupling,
             control_map,
             motor_of_joint,
-            dynamics: vec![formulation.dynamics.clone(); formulation.layout.steps],
+            workspaces: (0..formulation.layout.steps)
+                .map(|_| formulation.dynamics.workspace())
+                .collect(),
             nodes: vec![NodeEval::zeros(n); formulation.layout.steps],
             level: Level::Nothing,
             rnea_hessian: DMatrix::zeros(3 * n, 3 * n),
@@ -143,15 +146,17 @@ impl<'a> TrajectoryProblem<'a> {
                 x[i]
             )));
         }
+        let dynamics = &self.formulation.dynamics;
         let layout = &self.formulation.layout;
         let n = layout.dof;
-        let nodes = self.nodes.iter_mut().zip(&mut self.dynamics);
-        for (k, (node, dynamics)) in nodes.enumerate() {
+        let nodes = self.nodes.iter_mut().zip(&mut self.workspaces);
+        for (k, (node, data)) in nodes.enumerate() {
             let q = &x[layout.q(k, 0)..layout.q(k, 0) + n];
             let v = &x[layout.v(k, 0)..layout.v(k, 0) + n];
             let a = &x[layout.a(k, 0)..layout.a(k, 0) + n];
             if level == Level::Derivatives {
                 dynamics.rnea_derivatives(
+                    data,
                     q,
                     v,
                     a,
@@ -160,11 +165,11 @@ impl<'a> TrajectoryProblem<'a> {
                     &mut node.dtau_dv,
                     &mut node.mass,
                 );
-                dynamics.tcp_jacobian(q, &mut node.tcp_jacobian);
+                dynamics.tcp_jacobian(data, q, &mut node.tcp_jacobian);
             } else {
-                dynamics.rnea(q, v, a, &mut node.tau);
+                dynamics.rnea(data, q, v, a, &mut node.tau);
             }
-            node.tcp = dynamics.tcp_position(q);
+            node.tcp = dynamics.tcp_position(data, q);
         }
         self.level = level;
         Ok(())
@@ -561,7 +566,9 @@ impl Nlp for TrajectoryProblem<'_> {
             let v = &x[layout.v(k, 0)..layout.v(k, 0) + n];
             let a = &x[layout.a(k, 0)..layout.a(k, 0) + n];
             let multipliers = &lambda[layout.dynamics_row(k, 0)..layout.dynamics_row(k, 0) + n];
-            self.dynamics[k].rnea_hessian(q, v, a, multipliers, &mut self.rnea_hessian);
+            let data = &mut self.workspaces[k];
+            f.dynamics
+                .rnea_hessian(data, q, v, a, multipliers, &mut self.rnea_hessian);
             // The cost's Hessian in q: 2 wq I, plus 2 rho (J^T J + c sign H) per violated axis.
             self.cost_qq.fill_with_identity();
             self.cost_qq *= 2.0 * w.position;
@@ -571,7 +578,7 @@ impl Nlp for TrajectoryProblem<'_> {
                 let (c, sign) = box_violation(range, node.tcp[axis]);
                 if c > 0.0 {
                     if !tcp_hessians_ready {
-                        self.dynamics[k].tcp_hessians(q, &mut self.tcp_hessians);
+                        f.dynamics.tcp_hessians(data, q, &mut self.tcp_hessians);
                         tcp_hessians_ready = true;
                     }
                     for i in 0..n {
