@@ -80,7 +80,8 @@ fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let task = Task::load(&root.join("robots/tasks/pick_place.json")).unwrap();
     let robot = Robot::load(&task).unwrap().with_payload(1.0);
-    let mut dynamics = Dynamics::new(robot);
+    let dynamics = Dynamics::new(robot);
+    let mut data = dynamics.workspace();
     let n = dynamics.dof();
     let states = states(n);
     let square = || DMatrix::zeros(n, n);
@@ -98,12 +99,13 @@ fn main() {
 
     bench("rnea", |k| {
         let s = state(k);
-        dynamics.rnea(&s.q, &s.v, &s.a, &mut out.tau);
+        dynamics.rnea(&mut data, &s.q, &s.v, &s.a, &mut out.tau);
         black_box(&out.tau);
     });
     bench("rnea_derivatives (tau, dtau/dq, dtau/dv, M)", |k| {
         let s = state(k);
         dynamics.rnea_derivatives(
+            &mut data,
             &s.q,
             &s.v,
             &s.a,
@@ -116,14 +118,14 @@ fn main() {
     });
     bench("rnea_hessian (12 x 12)", |k| {
         let s = state(k);
-        dynamics.rnea_hessian(&s.q, &s.v, &s.a, &s.lambda, &mut out.hessian);
+        dynamics.rnea_hessian(&mut data, &s.q, &s.v, &s.a, &s.lambda, &mut out.hessian);
         black_box(&out.hessian);
     });
     bench("tcp terms (position, Jacobian, 3 Hessians)", |k| {
         let s = state(k);
-        black_box(dynamics.tcp_position(&s.q));
-        dynamics.tcp_jacobian(&s.q, &mut out.jacobian);
-        dynamics.tcp_hessians(&s.q, &mut out.tcp_hessians);
+        black_box(dynamics.tcp_position(&mut data, &s.q));
+        dynamics.tcp_jacobian(&mut data, &s.q, &mut out.jacobian);
+        dynamics.tcp_hessians(&mut data, &s.q, &mut out.tcp_hessians);
         black_box((&out.jacobian, &out.tcp_hessians));
     });
     bench(
@@ -131,6 +133,7 @@ fn main() {
         |k| {
             let s = state(k);
             dynamics.rnea_derivatives(
+                &mut data,
                 &s.q,
                 &s.v,
                 &s.a,
@@ -139,20 +142,20 @@ fn main() {
                 &mut out.dtau_dv,
                 &mut out.mass,
             );
-            dynamics.rnea_hessian(&s.q, &s.v, &s.a, &s.lambda, &mut out.hessian);
-            black_box(dynamics.tcp_position(&s.q));
-            dynamics.tcp_jacobian(&s.q, &mut out.jacobian);
-            dynamics.tcp_hessians(&s.q, &mut out.tcp_hessians);
+            dynamics.rnea_hessian(&mut data, &s.q, &s.v, &s.a, &s.lambda, &mut out.hessian);
+            black_box(dynamics.tcp_position(&mut data, &s.q));
+            dynamics.tcp_jacobian(&mut data, &s.q, &mut out.jacobian);
+            dynamics.tcp_hessians(&mut data, &s.q, &mut out.tcp_hessians);
             black_box((&out.dtau_dq, &out.hessian, &out.tcp_hessians));
         },
     );
     bench("mass_matrix", |k| {
-        dynamics.mass_matrix(&state(k).q, &mut out.mass);
+        dynamics.mass_matrix(&mut data, &state(k).q, &mut out.mass);
         black_box(&out.mass);
     });
     bench("forward_dynamics", |k| {
         let s = state(k);
-        dynamics.forward_dynamics(&s.q, &s.v, &s.a, &mut out.tau);
+        dynamics.forward_dynamics(&mut data, &s.q, &s.v, &s.a, &mut out.tau);
         black_box(&out.tau);
     });
 }

@@ -5,7 +5,8 @@
 //! motor torques and the TCP path, and the largest violation of each constraint family.
 
 use crate::ipopt::{self, Options, Solution};
-use crate::problem::{cost_gradient, Formulation, Space, TrajectoryProblem};
+use crate::model::task::Motion;
+use crate::problem::{cost_gradient, Formulation, TrajectoryProblem};
 use crate::transmission::{DesignError, JointLimits};
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -180,7 +181,7 @@ pub fn solve_design_from(
             .num("warm_start_mult_bound_push", 1e-6);
     }
     let solution = ipopt::solve_from(&mut problem, &options, warm).map_err(SolveError::Ipopt)?;
-    Ok((read_result(&mut problem, &solution), solution))
+    Ok((read_result(&problem, &solution), solution))
 }
 
 fn max_abs(values: impl IntoIterator<Item = f64>) -> f64 {
@@ -192,86 +193,10 @@ fn outside(value: f64, lower: f64, upper: f64) -> f64 {
     (lower - value).max(value - upper).max(0.0)
 }
 
-fn read_result(problem: &mut TrajectoryProblem<'_>, solution: &Solution) -> TrajectoryResult {
-    let f = problem.formulation();
-    let layout = f.layout().clone();
-    let (n, steps, h) = (layout.dof, layout.steps, f.step_s());
-    let x = &solution.x;
-    let slice = |start: usize| x[start..start + n].to_vec();
-    let mut trajectory = Trajectory::default();
-    let mut dynamics = f.dynamics().clone();
-    let mut violations = Violations::default();
-    let task = f.task();
-    let limits = dynamics.robot().position_limits().to_vec();
-    let coupling = problem.coupling().clone();
-    for k in 0..=steps {
-        let (q, v) = (slice(layout.q(k, 0)), slice(layout.v(k, 0)));
-        let tcp = dynamics.tcp_position(&q);
-        trajectory.time.push(k as f64 * h);
-        trajectory.tcp_y.push(tcp[1]);
-        trajectory.tcp_z.push(tcp[2]);
-        let b = &task.cartesian_box;
-        for (axis, interval) in [&b.x, &b.y, &b.z].into_iter().enumerate() {
-            if let Some(interval) = interval {
-                let c = outside(tcp[axis], interval.range[0], interval.range[1]);
-                violations.cartesian_box = violations.cartesian_box.max(c);
-            }
-        }
-        for (i, &(lo, hi)) in limits.iter().enumerate() {
-            violations.joint_position = violations.joint_position.max(outside(q[i], lo, hi));
-        }
-        trajectory.motor_speed.push(coupling.motor_speeds(&v));
-        if k < steps {
-            let (a, u) = (slice(layout.a(k, 0)), slice(layout.u(k, 0)));
-            let tau = problem.joint_torques(&u);
-            let mut rnea = vec![0.0; n];
-            dynamics.rnea(&q, &v, &a, &mut rnea);
-            violations.dynamics = violations
-                .dynamics
-                .max(max_abs(rnea.iter().zip(&tau).map(|(r, t)| r - t)));
-            let q_next = slice(layout.q(k + 1, 0));
-            let v_next = slice(layout.v(k + 1, 0));
-            for i in 0..n {
-                violations.integration = violations
-                    .integration
-                    .max((v_next[i] - v[i] - h * a[i]).abs())
-                    .max((q_next[i] - q[i] - h * v_next[i]).abs());
-            }
-            trajectory.motor_torque.push(problem.motor_torques(&u));
-            trajectory.joint_torque.push(tau);
-            trajectory.a.push(a);
-        }
-        trajectory.q.push(q);
-        trajectory.v.push(v);
-    }
-    for (k, pose) in [(0, &task.motion.start), (steps, &task.motion.goal)] {
-        violations.boundary = violations
-            .boundary
-            .max(max_abs(
-                trajectory.q[k].iter().zip(pose.iter()).map(|(q, p)| q - p),
-            ))
-            .max(max_abs(trajectory.v[k].iter().copied()));
-    }
-    let modes = f.modes();
-    let speed = coupling.speed_limits(modes.speed, task.motors.speed_limit_rad_s);
-    violations.speed_limits = trajectory
-        .v
-        .iter()
-        .map(|v| limit_violation(&speed, v))
-        .fold(0.0, f64::max);
-    let control = match f.space() {
-        Space::Actuation => {
-            let t = task.motors.torque_limit_nm;
-            JointLimits::Box {
-                lower: vec![-t; n],
-                upper: vec![t; n],
-            }
-        }
-        Space::Joint => coupling.torque_limits(modes.torque, task.motors.torque_limit_nm),
-    };
-    violations.control_limits = (0..steps)
-        .map(|k| limit_violation(&control, &x[layout.u(k, 0)..layout.u(k, 0) + n]))
-        .fold(0.0, f64::max);
+/// The result of `solution`, a solution of `problem`.
+fn read_result(problem: &TrajectoryProblem<'_>, solution: &Solution) -> TrajectoryResult {
+    let trajectory = read_trajectory(problem, &solution.x);
+    let violations = Violations::of(problem, &solution.x, &trajectory);
     let feasible = solution.status.is_success();
     TrajectoryResult {
         ratios: problem.ratios().to_vec(),
@@ -299,6 +224,135 @@ fn read_result(problem: &mut TrajectoryProblem<'_>, solution: &Solution) -> Traj
         cost_gradient: feasible.then(|| cost_gradient(problem, solution)),
         trajectory,
     }
+}
+
+/// The trajectory of `problem`'s primal point x: states, torques, motor speeds, the TCP's path.
+fn read_trajectory(problem: &TrajectoryProblem<'_>, x: &[f64]) -> Trajectory {
+    let f = problem.formulation();
+    let layout = f.layout();
+    let (n, steps, h) = (layout.dof, layout.steps, f.step_s());
+    let slice = |start: usize| x[start..start + n].to_vec();
+    let dynamics = f.dynamics();
+    let mut data = dynamics.workspace();
+    let mut trajectory = Trajectory::default();
+    for k in 0..=steps {
+        let (q, v) = (slice(layout.q(k, 0)), slice(layout.v(k, 0)));
+        let tcp = dynamics.tcp_position(&mut data, &q);
+        trajectory.time.push(k as f64 * h);
+        trajectory.tcp_y.push(tcp[1]);
+        trajectory.tcp_z.push(tcp[2]);
+        trajectory
+            .motor_speed
+            .push(problem.coupling().motor_speeds(&v));
+        if k < steps {
+            let u = slice(layout.u(k, 0));
+            trajectory.a.push(slice(layout.a(k, 0)));
+            trajectory.joint_torque.push(problem.joint_torques(&u));
+            trajectory.motor_torque.push(problem.motor_torques(&u));
+        }
+        trajectory.q.push(q);
+        trajectory.v.push(v);
+    }
+    trajectory
+}
+
+impl Violations {
+    /// The violations of `problem`'s constraint families at x, whose trajectory is `trajectory`.
+    fn of(problem: &TrajectoryProblem<'_>, x: &[f64], trajectory: &Trajectory) -> Violations {
+        let f = problem.formulation();
+        let layout = f.layout();
+        let (n, h) = (layout.dof, f.step_s());
+        let limits = f.dynamics().robot().position_limits();
+        let speed = problem.speed_limits();
+        let control = problem.control_limits();
+        Violations {
+            dynamics: dynamics_residual(problem, trajectory),
+            integration: integration_residual(h, trajectory),
+            boundary: boundary_residual(&f.task().motion, trajectory),
+            joint_position: trajectory
+                .q
+                .iter()
+                .flat_map(|q| {
+                    q.iter()
+                        .zip(limits)
+                        .map(|(&q, &(lo, hi))| outside(q, lo, hi))
+                })
+                .fold(0.0, f64::max),
+            speed_limits: trajectory
+                .v
+                .iter()
+                .map(|v| limit_violation(&speed, v))
+                .fold(0.0, f64::max),
+            control_limits: (0..layout.steps)
+                .map(|k| limit_violation(&control, &x[layout.u(k, 0)..layout.u(k, 0) + n]))
+                .fold(0.0, f64::max),
+            cartesian_box: box_violation(problem, trajectory),
+        }
+    }
+}
+
+/// The largest |RNEA(q, v, a) - tau| over the intervals, N m.
+fn dynamics_residual(problem: &TrajectoryProblem<'_>, trajectory: &Trajectory) -> f64 {
+    let dynamics = problem.formulation().dynamics();
+    let mut data = dynamics.workspace();
+    let mut rnea = vec![0.0; dynamics.dof()];
+    let mut largest = 0.0;
+    for (k, (a, tau)) in trajectory
+        .a
+        .iter()
+        .zip(&trajectory.joint_torque)
+        .enumerate()
+    {
+        dynamics.rnea(&mut data, &trajectory.q[k], &trajectory.v[k], a, &mut rnea);
+        largest = f64::max(largest, max_abs(rnea.iter().zip(tau).map(|(r, t)| r - t)));
+    }
+    largest
+}
+
+/// The largest semi-implicit Euler residual over the intervals (time step h, s), rad/s or rad.
+fn integration_residual(h: f64, trajectory: &Trajectory) -> f64 {
+    let (q, v) = (&trajectory.q, &trajectory.v);
+    let mut largest: f64 = 0.0;
+    for (k, a) in trajectory.a.iter().enumerate() {
+        for i in 0..a.len() {
+            largest = largest
+                .max((v[k + 1][i] - v[k][i] - h * a[i]).abs())
+                .max((q[k + 1][i] - q[k][i] - h * v[k + 1][i]).abs());
+        }
+    }
+    largest
+}
+
+/// The largest distance of the first and last states from the task's start and goal at rest.
+fn boundary_residual(motion: &Motion, trajectory: &Trajectory) -> f64 {
+    let last = trajectory.q.len() - 1;
+    let mut largest: f64 = 0.0;
+    for (k, pose) in [(0, &motion.start), (last, &motion.goal)] {
+        largest = largest
+            .max(max_abs(
+                trajectory.q[k].iter().zip(pose.iter()).map(|(q, p)| q - p),
+            ))
+            .max(max_abs(trajectory.v[k].iter().copied()));
+    }
+    largest
+}
+
+/// The TCP's largest distance outside the soft Cartesian box over the nodes, m.
+fn box_violation(problem: &TrajectoryProblem<'_>, trajectory: &Trajectory) -> f64 {
+    let f = problem.formulation();
+    let dynamics = f.dynamics();
+    let mut data = dynamics.workspace();
+    let b = &f.task().cartesian_box;
+    let mut largest: f64 = 0.0;
+    for q in &trajectory.q {
+        let tcp = dynamics.tcp_position(&mut data, q);
+        for (axis, interval) in [&b.x, &b.y, &b.z].into_iter().enumerate() {
+            if let Some(interval) = interval {
+                largest = largest.max(outside(tcp[axis], interval.range[0], interval.range[1]));
+            }
+        }
+    }
+    largest
 }
 
 /// How far a joint-space vector lies outside `limits`.

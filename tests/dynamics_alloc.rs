@@ -37,7 +37,8 @@ fn allocations() -> usize {
 fn evaluating_nodes_allocates_nothing() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let task = Task::load(&root.join("robots/tasks/pick_place.json")).unwrap();
-    let mut dynamics = Dynamics::new(Robot::load(&task).unwrap().with_payload(1.0));
+    let dynamics = Dynamics::new(Robot::load(&task).unwrap().with_payload(1.0));
+    let mut data = dynamics.workspace();
     let n = dynamics.dof();
     let mut tau = vec![0.0; n];
     let mut a = vec![0.0; n];
@@ -59,16 +60,25 @@ fn evaluating_nodes_allocates_nothing() {
         let v = [1.0, -x, 0.3, 2.0];
         let acceleration = [x, 2.0, -1.0, 0.5];
         let lambda = [0.2, -0.4, x, 1.0];
-        dynamics.rnea(&q, &v, &acceleration, &mut tau);
-        dynamics.rnea_derivatives(&q, &v, &acceleration, &mut tau, &mut dq, &mut dv, &mut mass);
-        dynamics.rnea_hessian(&q, &v, &acceleration, &lambda, &mut hessian);
-        dynamics.mass_matrix(&q, &mut mass);
-        dynamics.nonlinear_effects(&q, &v, &mut tau);
-        dynamics.gravity_torques(&q, &mut tau);
-        dynamics.forward_dynamics(&q, &v, &tau, &mut a);
-        std::hint::black_box(dynamics.tcp_position(&q));
-        dynamics.tcp_jacobian(&q, &mut jacobian);
-        dynamics.tcp_hessians(&q, &mut tcp_hessians);
+        dynamics.rnea(&mut data, &q, &v, &acceleration, &mut tau);
+        dynamics.rnea_derivatives(
+            &mut data,
+            &q,
+            &v,
+            &acceleration,
+            &mut tau,
+            &mut dq,
+            &mut dv,
+            &mut mass,
+        );
+        dynamics.rnea_hessian(&mut data, &q, &v, &acceleration, &lambda, &mut hessian);
+        dynamics.mass_matrix(&mut data, &q, &mut mass);
+        dynamics.nonlinear_effects(&mut data, &q, &v, &mut tau);
+        dynamics.gravity_torques(&mut data, &q, &mut tau);
+        dynamics.forward_dynamics(&mut data, &q, &v, &tau, &mut a);
+        std::hint::black_box(dynamics.tcp_position(&mut data, &q));
+        dynamics.tcp_jacobian(&mut data, &q, &mut jacobian);
+        dynamics.tcp_hessians(&mut data, &q, &mut tcp_hessians);
     };
     // The first calls size the caches.
     evaluate(0);

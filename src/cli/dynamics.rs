@@ -103,31 +103,41 @@ pub fn run(args: &Args) -> Result<(), String> {
 
 /// Everything at (q, v, a) with weights lambda, as pretty-printed JSON.
 fn evaluate(
-    mut dynamics: Dynamics,
+    dynamics: Dynamics,
     q: Vec<f64>,
     v: Vec<f64>,
     a: Vec<f64>,
     lambda: Vec<f64>,
 ) -> Result<String, String> {
     let n = dynamics.dof();
+    let mut data = dynamics.workspace();
     let square = || DMatrix::zeros(n, n);
     let mut tau = vec![0.0; n];
     let (mut dtau_dq, mut dtau_dv, mut mass) = (square(), square(), square());
-    dynamics.rnea_derivatives(&q, &v, &a, &mut tau, &mut dtau_dq, &mut dtau_dv, &mut mass);
+    dynamics.rnea_derivatives(
+        &mut data,
+        &q,
+        &v,
+        &a,
+        &mut tau,
+        &mut dtau_dq,
+        &mut dtau_dv,
+        &mut mass,
+    );
     let mut nonlinear_effects = vec![0.0; n];
-    dynamics.nonlinear_effects(&q, &v, &mut nonlinear_effects);
+    dynamics.nonlinear_effects(&mut data, &q, &v, &mut nonlinear_effects);
     let mut gravity = vec![0.0; n];
-    dynamics.gravity_torques(&q, &mut gravity);
+    dynamics.gravity_torques(&mut data, &q, &mut gravity);
     let mut forward_dynamics_of_tau = vec![0.0; n];
-    dynamics.forward_dynamics(&q, &v, &tau, &mut forward_dynamics_of_tau);
+    dynamics.forward_dynamics(&mut data, &q, &v, &tau, &mut forward_dynamics_of_tau);
     let mut tcp_jacobian = DMatrix::zeros(3, n);
-    dynamics.tcp_jacobian(&q, &mut tcp_jacobian);
+    dynamics.tcp_jacobian(&mut data, &q, &mut tcp_jacobian);
     let mut tcp_hessians = [square(), square(), square()];
-    dynamics.tcp_hessians(&q, &mut tcp_hessians);
+    dynamics.tcp_hessians(&mut data, &q, &mut tcp_hessians);
     let mut hessian = DMatrix::zeros(3 * n, 3 * n);
-    dynamics.rnea_hessian(&q, &v, &a, &lambda, &mut hessian);
+    dynamics.rnea_hessian(&mut data, &q, &v, &a, &lambda, &mut hessian);
     let output = Output {
-        tcp_position: dynamics.tcp_position(&q).as_slice().to_vec(),
+        tcp_position: dynamics.tcp_position(&mut data, &q).as_slice().to_vec(),
         q,
         v,
         a,

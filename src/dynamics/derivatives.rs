@@ -18,21 +18,21 @@
 //! (RSS 2018), written here with composites so that every entry is a few dot products.
 
 use super::spatial::{Force, Inertia, Motion};
-use super::{remember, same_state, shape, Dynamics};
+use super::{remember, same_state, shape, Dynamics, Workspace};
 use nalgebra::DMatrix;
 
 impl Dynamics {
     /// Brings the velocity-level quantities and composites to (q, v, a).
-    pub(super) fn update_motion(&mut self, q: &[f64], v: &[f64], a: &[f64]) {
+    pub(super) fn update_motion(&self, data: &mut Workspace, q: &[f64], v: &[f64], a: &[f64]) {
         self.expect_joints("v", v);
         self.expect_joints("a", a);
-        self.update_frames(q);
-        if same_state(&self.motion_at, &[q, v, a]) {
+        self.update_frames(data, q);
+        if same_state(&data.motion_at, &[q, v, a]) {
             return;
         }
         let mut v_parent = Motion::default();
         let mut a_parent = self.base_acceleration;
-        for (i, (frame, body)) in self.frames.iter().zip(&mut self.motion).enumerate() {
+        for (i, (frame, body)) in data.frames.iter().zip(&mut data.motion).enumerate() {
             let s = frame.s;
             body.sd = v_parent.cross(&s);
             body.sdd = a_parent.cross(&s) + v_parent.cross(&body.sd);
@@ -46,7 +46,7 @@ impl Dynamics {
         let mut ic_rate = Inertia::default();
         let mut momentum = Force::default();
         let mut f = Force::default();
-        for (frame, body) in self.frames.iter().zip(&mut self.motion).rev() {
+        for (frame, body) in data.frames.iter().zip(&mut data.motion).rev() {
             let inertia = &frame.inertia;
             ic += *inertia;
             ic_rate += inertia.rate(&body.v);
@@ -62,14 +62,15 @@ impl Dynamics {
             body.ic_rate_s = ic_rate.apply(&frame.s);
             body.ic_rate_sd = ic_rate.apply(&body.sd);
         }
-        remember(&mut self.motion_at, &[q, v, a]);
+        remember(&mut data.motion_at, &[q, v, a]);
     }
 
     /// tau (N m) with dtau/dq (N m/rad), dtau/dv (N m s/rad) and M = dtau/da (kg m^2) at once,
     /// n x n each with row = torque index; matrices are resized if they have another shape.
     #[allow(clippy::too_many_arguments)]
     pub fn rnea_derivatives(
-        &mut self,
+        &self,
+        data: &mut Workspace,
         q: &[f64],
         v: &[f64],
         a: &[f64],
@@ -79,13 +80,13 @@ impl Dynamics {
         mass: &mut DMatrix<f64>,
     ) {
         self.expect_joints("tau", tau);
-        self.update_motion(q, v, a);
+        self.update_motion(data, q, v, a);
         let n = self.dof();
         shape(dtau_dq, n, n);
         shape(dtau_dv, n, n);
         shape(mass, n, n);
-        let frames = &self.frames;
-        let motion = &self.motion;
+        let frames = &data.frames;
+        let motion = &data.motion;
         for j in 0..n {
             let s_j = &frames[j].s;
             let m_j = &motion[j];

@@ -27,7 +27,7 @@
 //! and phi is linear in a with a coefficient free of v: the (v, a) and (a, a) blocks are zero.
 
 use super::spatial::{Force, Inertia, Motion};
-use super::{shape, Dynamics};
+use super::{shape, Dynamics, Workspace};
 use nalgebra::DMatrix;
 
 impl Dynamics {
@@ -35,7 +35,8 @@ impl Dynamics {
     /// lambda weighs the joint torques (1/(N m) for a dimensionless result). `hessian` is resized
     /// if it has another shape.
     pub fn rnea_hessian(
-        &mut self,
+        &self,
+        data: &mut Workspace,
         q: &[f64],
         v: &[f64],
         a: &[f64],
@@ -43,13 +44,13 @@ impl Dynamics {
         hessian: &mut DMatrix<f64>,
     ) {
         self.expect_joints("lambda", lambda);
-        self.update_motion(q, v, a);
-        self.update_adjoint(lambda);
+        self.update_motion(data, q, v, a);
+        update_adjoint(data, lambda);
         let n = self.dof();
         shape(hessian, 3 * n, 3 * n);
-        let frames = &self.frames;
-        let motion = &self.motion;
-        let adjoint = &self.adjoint;
+        let frames = &data.frames;
+        let motion = &data.motion;
+        let adjoint = &data.adjoint;
         for i in 0..n {
             let s_i = &frames[i].s;
             let (m_i, l_i) = (&motion[i], &adjoint[i]);
@@ -108,37 +109,37 @@ impl Dynamics {
             }
         }
     }
+}
 
-    /// Computes the lambda-dependent quantities at the current motion.
-    fn update_adjoint(&mut self, lambda: &[f64]) {
-        let mut lambda_parent = Motion::default();
-        for ((frame, body), &weight) in self.frames.iter().zip(&mut self.adjoint).zip(lambda) {
-            body.sigma = lambda_parent.cross(&frame.s);
-            body.lambda = lambda_parent + frame.s * weight;
-            lambda_parent = body.lambda;
-        }
-        let mut p = Force::default();
-        let mut psi = Force::default();
-        let mut j = Inertia::default();
-        let bodies = self.frames.iter().zip(&self.motion).zip(&mut self.adjoint);
-        for ((frame, m), body) in bodies.rev() {
-            let inertia = &frame.inertia;
-            let lambda = &body.lambda;
-            let i_lambda = inertia.apply(lambda);
-            p = p + i_lambda;
-            psi = psi + m.v.cross_force(&i_lambda) - lambda.cross_force(&m.h)
-                + inertia.apply(&lambda.cross(&m.v));
-            j += inertia.rate(lambda);
-            body.p = p;
-            body.psi = psi;
-            body.ic_sigma = m.ic.apply(&body.sigma);
-            body.ic_rate_sigma = m.ic_rate.apply(&body.sigma);
-            body.j_s = j.apply(&frame.s);
-            body.j_sd = j.apply(&m.sd);
-            body.dp = frame.s.cross_force(&p) + body.ic_sigma;
-            body.dpsi = frame.s.cross_force(&psi) + m.sd.cross_force(&p) + body.ic_rate_sigma
-                - body.sigma.cross_force(&m.momentum)
-                - body.j_sd;
-        }
+/// Computes the lambda-dependent quantities at the workspace's current motion.
+fn update_adjoint(data: &mut Workspace, lambda: &[f64]) {
+    let mut lambda_parent = Motion::default();
+    for ((frame, body), &weight) in data.frames.iter().zip(&mut data.adjoint).zip(lambda) {
+        body.sigma = lambda_parent.cross(&frame.s);
+        body.lambda = lambda_parent + frame.s * weight;
+        lambda_parent = body.lambda;
+    }
+    let mut p = Force::default();
+    let mut psi = Force::default();
+    let mut j = Inertia::default();
+    let bodies = data.frames.iter().zip(&data.motion).zip(&mut data.adjoint);
+    for ((frame, m), body) in bodies.rev() {
+        let inertia = &frame.inertia;
+        let lambda = &body.lambda;
+        let i_lambda = inertia.apply(lambda);
+        p = p + i_lambda;
+        psi = psi + m.v.cross_force(&i_lambda) - lambda.cross_force(&m.h)
+            + inertia.apply(&lambda.cross(&m.v));
+        j += inertia.rate(lambda);
+        body.p = p;
+        body.psi = psi;
+        body.ic_sigma = m.ic.apply(&body.sigma);
+        body.ic_rate_sigma = m.ic_rate.apply(&body.sigma);
+        body.j_s = j.apply(&frame.s);
+        body.j_sd = j.apply(&m.sd);
+        body.dp = frame.s.cross_force(&p) + body.ic_sigma;
+        body.dpsi = frame.s.cross_force(&psi) + m.sd.cross_force(&p) + body.ic_rate_sigma
+            - body.sigma.cross_force(&m.momentum)
+            - body.j_sd;
     }
 }

@@ -6,39 +6,39 @@
 //! tau_i = S_i . sum_(k >= i) f_k. CRBA: M_ij = S_i . IC_max(i,j) S_j with IC_i = sum_(k >= i) I_k.
 
 use super::spatial::{Force, Inertia, Motion};
-use super::{shape, Dynamics};
+use super::{shape, Dynamics, Workspace};
 use nalgebra::DMatrix;
 
 impl Dynamics {
     /// Inverse dynamics tau = M(q) a + b(q, v), N m, at q (rad), v (rad/s), a (rad/s^2).
-    pub fn rnea(&mut self, q: &[f64], v: &[f64], a: &[f64], tau: &mut [f64]) {
+    pub fn rnea(&self, data: &mut Workspace, q: &[f64], v: &[f64], a: &[f64], tau: &mut [f64]) {
         self.expect_joints("v", v);
         self.expect_joints("a", a);
-        self.inverse_dynamics(q, Some(v), Some(a), tau);
+        self.inverse_dynamics(data, q, Some(v), Some(a), tau);
     }
 
     /// b(q, v) = RNEA(q, v, 0): Coriolis, centrifugal and gravity torques, N m.
-    pub fn nonlinear_effects(&mut self, q: &[f64], v: &[f64], b: &mut [f64]) {
+    pub fn nonlinear_effects(&self, data: &mut Workspace, q: &[f64], v: &[f64], b: &mut [f64]) {
         self.expect_joints("v", v);
-        self.inverse_dynamics(q, Some(v), None, b);
+        self.inverse_dynamics(data, q, Some(v), None, b);
     }
 
     /// Gravity torques g(q) = RNEA(q, 0, 0), N m.
-    pub fn gravity_torques(&mut self, q: &[f64], g: &mut [f64]) {
-        self.inverse_dynamics(q, None, None, g);
+    pub fn gravity_torques(&self, data: &mut Workspace, q: &[f64], g: &mut [f64]) {
+        self.inverse_dynamics(data, q, None, None, g);
     }
 
     /// The joint-space mass matrix M(q) (n x n, kg m^2); `mass` is resized if it has another shape.
-    pub fn mass_matrix(&mut self, q: &[f64], mass: &mut DMatrix<f64>) {
-        self.update_frames(q);
+    pub fn mass_matrix(&self, data: &mut Workspace, q: &[f64], mass: &mut DMatrix<f64>) {
+        self.update_frames(data, q);
         let n = self.dof();
         shape(mass, n, n);
         let mut composite = Inertia::default();
         for i in (0..n).rev() {
-            composite += self.frames[i].inertia;
-            let column = composite.apply(&self.frames[i].s);
+            composite += data.frames[i].inertia;
+            let column = composite.apply(&data.frames[i].s);
             for j in 0..=i {
-                let entry = self.frames[j].s.dot(&column);
+                let entry = data.frames[j].s.dot(&column);
                 mass[(i, j)] = entry;
                 mass[(j, i)] = entry;
             }
@@ -47,35 +47,43 @@ impl Dynamics {
 
     /// Forward dynamics: the a (rad/s^2) solving M(q) a + b(q, v) = tau (N m). Should M not be
     /// numerically positive definite (only possible for a degenerate model), `a` is all NaN.
-    pub fn forward_dynamics(&mut self, q: &[f64], v: &[f64], tau: &[f64], a: &mut [f64]) {
+    pub fn forward_dynamics(
+        &self,
+        data: &mut Workspace,
+        q: &[f64],
+        v: &[f64],
+        tau: &[f64],
+        a: &mut [f64],
+    ) {
         self.expect_joints("tau", tau);
-        self.nonlinear_effects(q, v, a);
+        self.nonlinear_effects(data, q, v, a);
         for (rhs, torque) in a.iter_mut().zip(tau) {
             *rhs = torque - *rhs;
         }
-        let mut factor = std::mem::take(&mut self.factor);
-        self.mass_matrix(q, &mut factor);
+        let mut factor = std::mem::take(&mut data.factor);
+        self.mass_matrix(data, q, &mut factor);
         if cholesky_in_place(&mut factor) {
             cholesky_solve(&factor, a);
         } else {
             a.fill(f64::NAN);
         }
-        self.factor = factor;
+        data.factor = factor;
     }
 
     /// RNEA at q with v and a, each 0 when None.
     fn inverse_dynamics(
-        &mut self,
+        &self,
+        data: &mut Workspace,
         q: &[f64],
         v: Option<&[f64]>,
         a: Option<&[f64]>,
         tau: &mut [f64],
     ) {
         self.expect_joints("the torque output", tau);
-        self.update_frames(q);
+        self.update_frames(data, q);
         let mut v_parent = Motion::default();
         let mut a_parent = self.base_acceleration;
-        for (i, (frame, force)) in self.frames.iter().zip(&mut self.forces).enumerate() {
+        for (i, (frame, force)) in data.frames.iter().zip(&mut data.forces).enumerate() {
             let speed = v.map_or(0.0, |v| v[i]);
             let velocity = v_parent + frame.s * speed;
             let acceleration =
@@ -86,7 +94,7 @@ impl Dynamics {
             a_parent = acceleration;
         }
         let mut total = Force::default();
-        for ((frame, force), torque) in self.frames.iter().zip(&self.forces).zip(tau).rev() {
+        for ((frame, force), torque) in data.frames.iter().zip(&data.forces).zip(tau).rev() {
             total = total + *force;
             *torque = frame.s.dot(&total);
         }

@@ -7,19 +7,20 @@
 //! d^2 P / dq_i dq_j = u_min(i,j) x J_max(i,j) (zero beyond the TCP's body).
 
 use super::spatial::Motion;
-use super::{remember, same_state, shape, Dynamics};
+use super::{remember, same_state, shape, Dynamics, Workspace};
 use crate::model::chain::Placement;
 use nalgebra::{DMatrix, Matrix3, Vector3};
 
 impl Dynamics {
     /// Brings the poses, joint motion vectors and inertias in the world frame to `q`.
-    pub(super) fn update_frames(&mut self, q: &[f64]) {
+    pub(super) fn update_frames(&self, data: &mut Workspace, q: &[f64]) {
+        self.expect_own(data);
         self.expect_joints("q", q);
-        if same_state(&self.frames_at, &[q]) {
+        if same_state(&data.frames_at, &[q]) {
             return;
         }
         let mut parent = Placement::identity();
-        for ((frame, model), &angle) in self.frames.iter_mut().zip(&self.model).zip(q) {
+        for ((frame, model), &angle) in data.frames.iter_mut().zip(&self.bodies).zip(q) {
             let joint = parent.then(&model.joint_placement);
             let (sin, cos) = angle.sin_cos();
             let turn = Matrix3::identity()
@@ -34,13 +35,13 @@ impl Dynamics {
             frame.inertia = model.inertia.transformed(&frame.pose);
             parent = frame.pose;
         }
-        remember(&mut self.frames_at, &[q]);
+        remember(&mut data.frames_at, &[q]);
     }
 
-    /// The TCP's world position at the current frames.
-    fn tcp_world(&self) -> Vector3<f64> {
+    /// The TCP's world position at the workspace's current frames.
+    fn tcp_world(&self, data: &Workspace) -> Vector3<f64> {
         match self.tcp.body {
-            Some(b) => self.frames[b].pose.apply(&self.tcp.point),
+            Some(b) => data.frames[b].pose.apply(&self.tcp.point),
             None => self.tcp.point,
         }
     }
@@ -51,40 +52,40 @@ impl Dynamics {
     }
 
     /// The TCP's position in the world frame at `q`, m.
-    pub fn tcp_position(&mut self, q: &[f64]) -> Vector3<f64> {
-        self.update_frames(q);
-        self.tcp_world()
+    pub fn tcp_position(&self, data: &mut Workspace, q: &[f64]) -> Vector3<f64> {
+        self.update_frames(data, q);
+        self.tcp_world(data)
     }
 
     /// The Jacobian dp/dq (3 x n, m/rad) of the TCP's world position; `jacobian` is resized if
     /// it has another shape.
-    pub fn tcp_jacobian(&mut self, q: &[f64], jacobian: &mut DMatrix<f64>) {
-        self.update_frames(q);
+    pub fn tcp_jacobian(&self, data: &mut Workspace, q: &[f64], jacobian: &mut DMatrix<f64>) {
+        self.update_frames(data, q);
         let n = self.dof();
         shape(jacobian, 3, n);
-        let tcp = self.tcp_world();
+        let tcp = self.tcp_world(data);
         jacobian.fill(0.0);
         for j in 0..self.tcp_joints() {
-            let s = &self.frames[j].s;
+            let s = &data.frames[j].s;
             jacobian.set_column(j, &(s.ang.cross(&tcp) + s.lin));
         }
     }
 
     /// The Hessians d^2 p_k / dq dq (n x n each, m/rad^2) of the TCP's world x, y and z; each
     /// matrix is resized if it has another shape.
-    pub fn tcp_hessians(&mut self, q: &[f64], hessians: &mut [DMatrix<f64>; 3]) {
-        self.update_frames(q);
+    pub fn tcp_hessians(&self, data: &mut Workspace, q: &[f64], hessians: &mut [DMatrix<f64>; 3]) {
+        self.update_frames(data, q);
         let n = self.dof();
         for hessian in hessians.iter_mut() {
             shape(hessian, n, n);
             hessian.fill(0.0);
         }
-        let tcp = self.tcp_world();
+        let tcp = self.tcp_world(data);
         for j in 0..self.tcp_joints() {
-            let s = &self.frames[j].s;
+            let s = &data.frames[j].s;
             let column = s.ang.cross(&tcp) + s.lin;
             for i in 0..=j {
-                let entry = self.frames[i].s.ang.cross(&column);
+                let entry = data.frames[i].s.ang.cross(&column);
                 for (hessian, value) in hessians.iter_mut().zip(entry.iter()) {
                     hessian[(i, j)] = *value;
                     hessian[(j, i)] = *value;

@@ -7,11 +7,15 @@
 //! derivatives of rigid body dynamics algorithms", RSS 2018) and, differentiating once more by
 //! hand, for the Hessian of lambda . RNEA(q, v, a); see `derivatives.rs` and `hessian.rs`.
 //!
+//! As in Pinocchio, the model is apart from the data: a [`Dynamics`] holds what does not change
+//! (the robot, its per-body constants, gravity, the TCP) and is shared; a [`Workspace`], made by
+//! [`Dynamics::workspace`], holds the per-state caches and is passed `&mut` to every evaluation.
+//!
 //! Units: q in rad, v in rad/s, a in rad/s^2, torques in N m, positions in m. Joint vectors are in
 //! the chain's joint order (base outward). Every method takes slices of length `dof()` and writes
 //! into caller-owned outputs; nothing is allocated per call once the outputs have their shapes.
-//! Results at the same q (and v, a) are reused between calls, so evaluating everything one
-//! trajectory node needs costs one set of forward and backward passes.
+//! Results at the same q (and v, a) are reused between calls on one workspace, so evaluating
+//! everything one trajectory node needs costs one set of forward and backward passes.
 
 mod derivatives;
 mod hessian;
@@ -23,21 +27,36 @@ use crate::model::chain::{Placement, PointOnBody};
 use crate::model::Robot;
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use spatial::{Force, Inertia, Motion};
+use std::sync::atomic::{AtomicU64, Ordering};
 
-/// The dynamics of a [`Robot`], with preallocated scratch space for allocation-free evaluation.
+/// The dynamics model of a [`Robot`]: everything that does not change with the state. Immutable;
+/// evaluations write their intermediate results into a [`Workspace`] made by
+/// [`Dynamics::workspace`].
 ///
 /// # Panics
 /// Every method panics if a joint slice (q, v, a, lambda, tau, ...) does not have `dof()`
-/// entries: that is a bug of the caller (the command line checks user input before calling).
+/// entries, or if the workspace was made by another model: that is a bug of the caller (the
+/// command line checks user input before calling).
 #[derive(Clone, Debug)]
 pub struct Dynamics {
     robot: Robot,
     /// Constant data per body.
-    model: Vec<BodyModel>,
+    bodies: Vec<BodyModel>,
     /// The spatial acceleration of the base that stands for gravity: (0, -g).
     base_acceleration: Motion,
     /// The tool centre point.
     tcp: PointOnBody,
+    /// Tells this model's workspaces from those of other models (clones share it).
+    id: u64,
+}
+
+/// The per-state caches of evaluations of one [`Dynamics`]: world frames at some q, velocity-level
+/// quantities at some (q, v, a), the Hessian's lambda-dependent terms, RNEA forces and the mass
+/// matrix's factor. Preallocated, so that evaluations do not allocate.
+#[derive(Clone, Debug)]
+pub struct Workspace {
+    /// The id of the model that made it.
+    model: u64,
     /// The q of `frames`, when valid.
     frames_at: Option<Vec<f64>>,
     frames: Vec<BodyFrame>,
@@ -119,7 +138,7 @@ impl Dynamics {
     /// The dynamics of `robot` (with its payload).
     pub fn new(robot: Robot) -> Dynamics {
         let payload = *robot.payload_point();
-        let model = robot
+        let bodies = robot
             .chain()
             .bodies
             .iter()
@@ -139,12 +158,21 @@ impl Dynamics {
                 }
             })
             .collect::<Vec<_>>();
-        let n = model.len();
+        static NEXT_ID: AtomicU64 = AtomicU64::new(0);
         Dynamics {
             base_acceleration: Motion::new(Vector3::zeros(), -robot.gravity()),
             tcp: *robot.tcp(),
             robot,
-            model,
+            bodies,
+            id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
+        }
+    }
+
+    /// A fresh workspace for evaluations of this model (the only allocation evaluations need).
+    pub fn workspace(&self) -> Workspace {
+        let n = self.dof();
+        Workspace {
+            model: self.id,
             frames_at: None,
             frames: vec![BodyFrame::default(); n],
             motion_at: None,
@@ -162,7 +190,7 @@ impl Dynamics {
 
     /// The number of joints n.
     pub fn dof(&self) -> usize {
-        self.model.len()
+        self.bodies.len()
     }
 
     /// Panics unless `values` has one entry per joint: a caller's bug, not bad input.
@@ -173,6 +201,14 @@ impl Dynamics {
             "Dynamics: {name} has {} entries for a robot of {} joints",
             values.len(),
             self.dof()
+        );
+    }
+
+    /// Panics unless `data` was made by this model: a caller's bug.
+    fn expect_own(&self, data: &Workspace) {
+        assert_eq!(
+            data.model, self.id,
+            "Dynamics: a workspace was used with a model that did not make it"
         );
     }
 }

@@ -116,7 +116,8 @@ fn every_field_of_every_reference_sample_agrees() {
     let vectors = load_vectors();
     assert_eq!(vectors.cases.len(), 3);
     for case in &vectors.cases {
-        let mut dynamics = belt_arm(case.payload_kg);
+        let dynamics = belt_arm(case.payload_kg);
+        let mut data = dynamics.workspace();
         let n = dynamics.dof();
         for (k, s) in case.samples.iter().enumerate() {
             let context = format!("payload {} kg, sample {k}", case.payload_kg);
@@ -128,7 +129,9 @@ fn every_field_of_every_reference_sample_agrees() {
             let mut dq = DMatrix::zeros(n, n);
             let mut dv = DMatrix::zeros(n, n);
             let mut mass = DMatrix::zeros(n, n);
-            dynamics.rnea_derivatives(&s.q, &s.v, &s.a, &mut tau, &mut dq, &mut dv, &mut mass);
+            dynamics.rnea_derivatives(
+                &mut data, &s.q, &s.v, &s.a, &mut tau, &mut dq, &mut dv, &mut mass,
+            );
             check("tau (rnea_derivatives)", vector(&tau), &vector(&s.tau));
             check("dtau_dq", rows(&dq), &s.dtau_dq);
             check("dtau_dv", rows(&dv), &s.dtau_dv);
@@ -137,45 +140,45 @@ fn every_field_of_every_reference_sample_agrees() {
                 rows(&mass),
                 &s.mass_matrix,
             );
-            dynamics.rnea(&s.q, &s.v, &s.a, &mut tau);
+            dynamics.rnea(&mut data, &s.q, &s.v, &s.a, &mut tau);
             check("tau", vector(&tau), &vector(&s.tau));
-            dynamics.mass_matrix(&s.q, &mut mass);
+            dynamics.mass_matrix(&mut data, &s.q, &mut mass);
             check("mass_matrix", rows(&mass), &s.mass_matrix);
             let mut b = vec![0.0; n];
-            dynamics.nonlinear_effects(&s.q, &s.v, &mut b);
+            dynamics.nonlinear_effects(&mut data, &s.q, &s.v, &mut b);
             check(
                 "nonlinear_effects",
                 vector(&b),
                 &vector(&s.nonlinear_effects),
             );
-            dynamics.gravity_torques(&s.q, &mut b);
+            dynamics.gravity_torques(&mut data, &s.q, &mut b);
             check("gravity", vector(&b), &vector(&s.gravity));
             let mut a = vec![0.0; n];
-            dynamics.forward_dynamics(&s.q, &s.v, &s.tau, &mut a);
+            dynamics.forward_dynamics(&mut data, &s.q, &s.v, &s.tau, &mut a);
             check(
                 "forward_dynamics_of_tau",
                 vector(&a),
                 &vector(&s.forward_dynamics_of_tau),
             );
-            let p = dynamics.tcp_position(&s.q);
+            let p = dynamics.tcp_position(&mut data, &s.q);
             check(
                 "tcp_position",
                 vector(p.as_slice()),
                 &vector(&s.tcp_position),
             );
             let mut jacobian = DMatrix::zeros(3, n);
-            dynamics.tcp_jacobian(&s.q, &mut jacobian);
+            dynamics.tcp_jacobian(&mut data, &s.q, &mut jacobian);
             check("tcp_jacobian", rows(&jacobian), &s.tcp_jacobian);
             let mut hessians = [
                 DMatrix::zeros(n, n),
                 DMatrix::zeros(n, n),
                 DMatrix::zeros(n, n),
             ];
-            dynamics.tcp_hessians(&s.q, &mut hessians);
+            dynamics.tcp_hessians(&mut data, &s.q, &mut hessians);
             check("tcp_hessian_y", rows(&hessians[1]), &s.tcp_hessian_y);
             check("tcp_hessian_z", rows(&hessians[2]), &s.tcp_hessian_z);
             let mut hessian = DMatrix::zeros(3 * n, 3 * n);
-            dynamics.rnea_hessian(&s.q, &s.v, &s.a, &s.lambda, &mut hessian);
+            dynamics.rnea_hessian(&mut data, &s.q, &s.v, &s.a, &s.lambda, &mut hessian);
             check("hessian_lambda_tau", rows(&hessian), &s.hessian_lambda_tau);
         }
     }
@@ -309,8 +312,9 @@ fn assert_matrix(
 /// Every derivative against central differences of the function it differentiates, at random
 /// states: dtau/dq, dtau/dv, M (and the mass matrix, b, g and forward dynamics against RNEA), the
 /// Hessian against differences of the analytic gradient, the TCP Jacobian and Hessians.
-fn check_against_differences(mut dynamics: Dynamics, seed: u64) {
+fn check_against_differences(dynamics: Dynamics, seed: u64) {
     let n = dynamics.dof();
+    let mut data = dynamics.workspace();
     let mut random = Random(seed);
     for _ in 0..5 {
         let q = random.vector(n, 3.0);
@@ -321,26 +325,26 @@ fn check_against_differences(mut dynamics: Dynamics, seed: u64) {
         let mut dq = DMatrix::zeros(n, n);
         let mut dv = DMatrix::zeros(n, n);
         let mut mass = DMatrix::zeros(n, n);
-        dynamics.rnea_derivatives(&q, &v, &a, &mut tau, &mut dq, &mut dv, &mut mass);
-        let mut rnea = dynamics.clone();
-        let fd_q = central_differences(&q, n, |x, out| rnea.rnea(x, &v, &a, out));
+        dynamics.rnea_derivatives(&mut data, &q, &v, &a, &mut tau, &mut dq, &mut dv, &mut mass);
+        let mut rnea = dynamics.workspace();
+        let fd_q = central_differences(&q, n, |x, out| dynamics.rnea(&mut rnea, x, &v, &a, out));
         assert_matrix("dtau/dq", &dq, &fd_q, 1e-7, 1e-8);
-        let fd_v = central_differences(&v, n, |x, out| rnea.rnea(&q, x, &a, out));
+        let fd_v = central_differences(&v, n, |x, out| dynamics.rnea(&mut rnea, &q, x, &a, out));
         assert_matrix("dtau/dv", &dv, &fd_v, 1e-7, 1e-8);
-        let fd_a = central_differences(&a, n, |x, out| rnea.rnea(&q, &v, x, out));
+        let fd_a = central_differences(&a, n, |x, out| dynamics.rnea(&mut rnea, &q, &v, x, out));
         assert_matrix("dtau/da", &mass, &fd_a, 1e-7, 1e-8);
         let mut crba = DMatrix::zeros(n, n);
-        dynamics.mass_matrix(&q, &mut crba);
+        dynamics.mass_matrix(&mut data, &q, &mut crba);
         assert_matrix("CRBA", &crba, &mass, 1e-13, 0.0);
         let (mut b, mut g, mut expected) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-        dynamics.nonlinear_effects(&q, &v, &mut b);
-        dynamics.rnea(&q, &v, &vec![0.0; n], &mut expected);
+        dynamics.nonlinear_effects(&mut data, &q, &v, &mut b);
+        dynamics.rnea(&mut data, &q, &v, &vec![0.0; n], &mut expected);
         assert_matrix("b", &column(&b), &column(&expected), 1e-13, 0.0);
-        dynamics.gravity_torques(&q, &mut g);
-        dynamics.rnea(&q, &vec![0.0; n], &vec![0.0; n], &mut expected);
+        dynamics.gravity_torques(&mut data, &q, &mut g);
+        dynamics.rnea(&mut data, &q, &vec![0.0; n], &vec![0.0; n], &mut expected);
         assert_matrix("g", &column(&g), &column(&expected), 1e-13, 0.0);
         let mut solved = vec![0.0; n];
-        dynamics.forward_dynamics(&q, &v, &tau, &mut solved);
+        dynamics.forward_dynamics(&mut data, &q, &v, &tau, &mut solved);
         assert_matrix(
             "forward dynamics",
             &column(&solved),
@@ -351,12 +355,12 @@ fn check_against_differences(mut dynamics: Dynamics, seed: u64) {
 
         // The Hessian against differences of the analytic gradient (lambda^T of each derivative).
         let mut hessian = DMatrix::zeros(3 * n, 3 * n);
-        dynamics.rnea_hessian(&q, &v, &a, &lambda, &mut hessian);
+        dynamics.rnea_hessian(&mut data, &q, &v, &a, &lambda, &mut hessian);
         assert_matrix("Hessian symmetry", &hessian, &hessian.transpose(), 0.0, 0.0);
         let mut state = q.clone();
         state.extend(&v);
         state.extend(&a);
-        let mut gradient_of = dynamics.clone();
+        let mut gradient_of = dynamics.workspace();
         let fd = central_differences(&state, 3 * n, |x, out| {
             let (mut t, mut gq, mut gv, mut m) = (
                 vec![0.0; n],
@@ -366,7 +370,16 @@ fn check_against_differences(mut dynamics: Dynamics, seed: u64) {
             );
             let (xq, rest) = x.split_at(n);
             let (xv, xa) = rest.split_at(n);
-            gradient_of.rnea_derivatives(xq, xv, xa, &mut t, &mut gq, &mut gv, &mut m);
+            dynamics.rnea_derivatives(
+                &mut gradient_of,
+                xq,
+                xv,
+                xa,
+                &mut t,
+                &mut gq,
+                &mut gv,
+                &mut m,
+            );
             let l = DMatrix::from_column_slice(1, n, &lambda);
             for (block, matrix) in [gq, gv, m].iter().enumerate() {
                 let row = &l * matrix;
@@ -377,10 +390,10 @@ fn check_against_differences(mut dynamics: Dynamics, seed: u64) {
 
         // The TCP.
         let mut jacobian = DMatrix::zeros(3, n);
-        dynamics.tcp_jacobian(&q, &mut jacobian);
-        let mut position_of = dynamics.clone();
+        dynamics.tcp_jacobian(&mut data, &q, &mut jacobian);
+        let mut position_of = dynamics.workspace();
         let fd = central_differences(&q, 3, |x, out| {
-            out.copy_from_slice(position_of.tcp_position(x).as_slice())
+            out.copy_from_slice(dynamics.tcp_position(&mut position_of, x).as_slice())
         });
         assert_matrix("TCP Jacobian", &jacobian, &fd, 1e-8, 1e-9);
         let mut hessians = [
@@ -388,12 +401,12 @@ fn check_against_differences(mut dynamics: Dynamics, seed: u64) {
             DMatrix::zeros(n, n),
             DMatrix::zeros(n, n),
         ];
-        dynamics.tcp_hessians(&q, &mut hessians);
+        dynamics.tcp_hessians(&mut data, &q, &mut hessians);
         for (axis, hessian) in hessians.iter().enumerate() {
-            let mut jacobian_of = dynamics.clone();
+            let mut jacobian_of = dynamics.workspace();
             let fd = central_differences(&q, n, |x, out| {
                 let mut j = DMatrix::zeros(3, n);
-                jacobian_of.tcp_jacobian(x, &mut j);
+                dynamics.tcp_jacobian(&mut jacobian_of, x, &mut j);
                 for (o, value) in out.iter_mut().zip(j.row(axis).iter()) {
                     *o = *value;
                 }
@@ -423,4 +436,12 @@ fn random_six_joint_chain_derivatives_match_finite_differences() {
         (f64::NEG_INFINITY, f64::INFINITY)
     );
     check_against_differences(dynamics, 23);
+}
+
+#[test]
+#[should_panic(expected = "did not make it")]
+fn a_workspace_of_another_model_is_refused() {
+    let (one, other) = (belt_arm(0.0), belt_arm(1.0));
+    let mut data = one.workspace();
+    other.tcp_position(&mut data, &[0.0; 4]);
 }

@@ -2,18 +2,22 @@
 //! never lets a Rust panic cross into C and never runs two MUMPS factorisations at once. IPOPT
 //! factorises its KKT systems with this crate's LDLᵀ ([`crate::ldl`]) or with MUMPS.
 
+mod callbacks;
 mod check;
+mod error;
 mod hs071;
 mod nlp;
 mod options;
+mod problem;
 mod solve;
 mod status;
 
 pub use check::{check_derivatives, DerivativeOrder, DerivativeReport};
+pub use error::Error;
 pub use hs071::{Hs071, HS071_OPTIMUM};
 pub use nlp::{EvalError, Nlp};
 pub use options::{LinearSolver, OptionValue, Options};
-pub use solve::{solve, solve_from, Error, Solution, Timing};
+pub use solve::{solve, solve_from, Solution, Timing};
 pub use status::Status;
 
 /// Version of the IPOPT library this binary links, as pkg-config reported it at build time.

@@ -79,6 +79,16 @@ impl Layout {
         self.node(k) + 3 * self.dof + i
     }
 
+    /// (q_k, v_k, a_k) within the primal point x, k in 0..N.
+    pub fn node_state<'x>(&self, x: &'x [f64], k: usize) -> (&'x [f64], &'x [f64], &'x [f64]) {
+        let n = self.dof;
+        (
+            &x[self.q(k, 0)..self.q(k, 0) + n],
+            &x[self.v(k, 0)..self.v(k, 0) + n],
+            &x[self.a(k, 0)..self.a(k, 0) + n],
+        )
+    }
+
     /// Row of the inverse-dynamics residual RNEA(q_k, v_k, a_k)[i] - tau_k[i].
     pub fn dynamics_row(&self, k: usize, i: usize) -> usize {
         self.row_base[k] + i

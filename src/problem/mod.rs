@@ -5,8 +5,12 @@
 //! [`Formulation::problem`] gives the [`TrajectoryProblem`] of one design r, which implements
 //! [`crate::ipopt::Nlp`] with exact, hand-derived sparse derivatives.
 
+mod cost;
+mod hessian;
+mod jacobian;
 mod layout;
 mod nlp;
+mod node;
 mod sensitivity;
 
 pub use layout::Layout;
@@ -71,8 +75,8 @@ pub struct Formulation {
     layout: Layout,
     /// Structural non-zeros of G (row = motor, column = joint) over the whole design space.
     g_pattern: DMatrix<f64>,
-    /// The lower triangle of one node's Hessian block, (i, j) within the node's variables.
-    node_hessian: Vec<(usize, usize)>,
+    /// The stored entries of one node's Hessian block, in their order.
+    node_hessian: Vec<hessian::Entry>,
     jacobian: Vec<(usize, usize)>,
     hessian: Vec<(usize, usize)>,
 }
@@ -135,12 +139,12 @@ impl Formulation {
             modes,
             layout,
             g_pattern,
-            node_hessian: nlp::node_hessian_entries(n),
+            node_hessian: hessian::node_entries(n),
             jacobian: Vec::new(),
             hessian: Vec::new(),
         };
-        formulation.jacobian = nlp::jacobian_pattern(&formulation);
-        formulation.hessian = nlp::hessian_pattern(&formulation);
+        formulation.jacobian = jacobian::pattern(&formulation);
+        formulation.hessian = hessian::pattern(&formulation);
         Ok(formulation)
     }
 
@@ -159,7 +163,7 @@ impl Formulation {
         &self.transmission
     }
 
-    /// The robot's dynamics (with the payload).
+    /// The robot's dynamics model (with the payload), shared by every problem of the formulation.
     pub fn dynamics(&self) -> &Dynamics {
         &self.dynamics
     }

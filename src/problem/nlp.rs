@@ -1,50 +1,16 @@
-//! The trajectory problem of one design: bounds, initial guess, cost, constraints and their exact
-//! sparse derivatives.
-//!
-//! Sparse matrices are produced by one routine per matrix that visits every structural non-zero in
-//! a fixed order; run on zero data it yields the pattern (once per [`Formulation`]), run on the
-//! evaluated nodes it yields the values, so the two can never disagree.
+//! The trajectory problem of one design as an [`Nlp`]: bounds, initial guess, cost,
+//! constraints and their exact sparse derivatives. The cost is in `cost.rs`, the Jacobian's
+//! entries in `jacobian.rs`, the Hessian's blocks in `hessian.rs`.
 
-use super::{Formulation, Layout, Space};
-use crate::dynamics::Dynamics;
+use super::cost::Cost;
+use super::hessian::NodeHessian;
+use super::jacobian::{self, JacobianData};
+use super::node::{Level, NodeEval};
+use super::{Formulation, Space};
+use crate::dynamics::Workspace;
 use crate::ipopt::{EvalError, Nlp};
 use crate::transmission::{Coupling, DesignError, JointLimits};
-use nalgebra::{DMatrix, Vector3};
-
-/// What the derivatives need at one node k < N, evaluated once per primal point.
-#[derive(Clone, Debug)]
-struct NodeEval {
-    /// RNEA(q_k, v_k, a_k), N m.
-    tau: Vec<f64>,
-    dtau_dq: DMatrix<f64>,
-    dtau_dv: DMatrix<f64>,
-    mass: DMatrix<f64>,
-    /// TCP position in the world, m.
-    tcp: Vector3<f64>,
-    /// d tcp / dq, 3 x n.
-    tcp_jacobian: DMatrix<f64>,
-}
-
-impl NodeEval {
-    fn zeros(n: usize) -> NodeEval {
-        NodeEval {
-            tau: vec![0.0; n],
-            dtau_dq: DMatrix::zeros(n, n),
-            dtau_dv: DMatrix::zeros(n, n),
-            mass: DMatrix::zeros(n, n),
-            tcp: Vector3::zeros(),
-            tcp_jacobian: DMatrix::zeros(3, n),
-        }
-    }
-}
-
-/// How far the primal point's node data are evaluated.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-enum Level {
-    Nothing,
-    Values,
-    Derivatives,
-}
+use nalgebra::DMatrix;
 
 /// The trajectory NLP of one design (see [`Formulation`]).
 #[derive(Clone, Debug)]
@@ -56,14 +22,14 @@ pub struct TrajectoryProblem<'a> {
     control_map: DMatrix<f64>,
     /// G^-T, the motor torque of a joint torque.
     motor_of_joint: DMatrix<f64>,
-    /// One per node k < N, so that each keeps its node's kinematics cached from one callback
-    /// to the next (the Hessian reuses what the Jacobian computed at the same point).
-    dynamics: Vec<Dynamics>,
+    /// One dynamics workspace per node k < N (all of the formulation's one model), so that each
+    /// keeps its node's kinematics cached from one callback to the next (the Hessian reuses what
+    /// the Jacobian computed at the same point).
+    workspaces: Vec<Workspace>,
     nodes: Vec<NodeEval>,
     level: Level,
-    rnea_hessian: DMatrix<f64>,
-    tcp_hessians: [DMatrix<f64>; 3],
-    cost_qq: DMatrix<f64>,
+    /// The Hessian's blocks at the node being assembled.
+    node_hessian: NodeHessian,
 }
 
 impl<'a> TrajectoryProblem<'a> {
@@ -82,16 +48,12 @@ impl<'a> TrajectoryProblem<'a> {
             coupling,
             control_map,
             motor_of_joint,
-            dynamics: vec![formulation.dynamics.clone(); formulation.layout.steps],
+            workspaces: (0..formulation.layout.steps)
+                .map(|_| formulation.dynamics.workspace())
+                .collect(),
             nodes: vec![NodeEval::zeros(n); formulation.layout.steps],
             level: Level::Nothing,
-            rnea_hessian: DMatrix::zeros(3 * n, 3 * n),
-            tcp_hessians: [
-                DMatrix::zeros(n, n),
-                DMatrix::zeros(n, n),
-                DMatrix::zeros(n, n),
-            ],
-            cost_qq: DMatrix::zeros(n, n),
+            node_hessian: NodeHessian::zeros(n),
         })
     }
 
@@ -129,6 +91,27 @@ impl<'a> TrajectoryProblem<'a> {
         }
     }
 
+    /// The box or linear rows that limit the joint speeds v in the formulation's speed mode, rad/s.
+    pub fn speed_limits(&self) -> JointLimits {
+        let f = self.formulation;
+        self.coupling
+            .speed_limits(f.modes.speed, f.task.motors.speed_limit_rad_s)
+    }
+
+    /// The box or linear rows that limit the controls u: |u| <= the motor torque limit in
+    /// actuation space, the formulation's torque mode in joint space, N m.
+    pub fn control_limits(&self) -> JointLimits {
+        let f = self.formulation;
+        let limit = f.task.motors.torque_limit_nm;
+        match f.space {
+            Space::Actuation => JointLimits::Box {
+                lower: vec![-limit; f.layout.dof],
+                upper: vec![limit; f.layout.dof],
+            },
+            Space::Joint => self.coupling.torque_limits(f.modes.torque, limit),
+        }
+    }
+
     /// Evaluates the node data at x up to `level` (cached until x changes).
     fn evaluate(&mut self, x: &[f64], new_x: bool, level: Level) -> Result<(), EvalError> {
         if new_x {
@@ -143,196 +126,14 @@ impl<'a> TrajectoryProblem<'a> {
                 x[i]
             )));
         }
-        let layout = &self.formulation.layout;
-        let n = layout.dof;
-        let nodes = self.nodes.iter_mut().zip(&mut self.dynamics);
-        for (k, (node, dynamics)) in nodes.enumerate() {
-            let q = &x[layout.q(k, 0)..layout.q(k, 0) + n];
-            let v = &x[layout.v(k, 0)..layout.v(k, 0) + n];
-            let a = &x[layout.a(k, 0)..layout.a(k, 0) + n];
-            if level == Level::Derivatives {
-                dynamics.rnea_derivatives(
-                    q,
-                    v,
-                    a,
-                    &mut node.tau,
-                    &mut node.dtau_dq,
-                    &mut node.dtau_dv,
-                    &mut node.mass,
-                );
-                dynamics.tcp_jacobian(q, &mut node.tcp_jacobian);
-            } else {
-                dynamics.rnea(q, v, a, &mut node.tau);
-            }
-            node.tcp = dynamics.tcp_position(q);
+        let f = self.formulation;
+        let nodes = self.nodes.iter_mut().zip(&mut self.workspaces);
+        for (k, (node, data)) in nodes.enumerate() {
+            node.evaluate(&f.dynamics, data, f.layout.node_state(x, k), level);
         }
         self.level = level;
         Ok(())
     }
-}
-
-/// Box penalty of one TCP coordinate p, m: (c, dc/dp) with c = max(0, lo - p) + max(0, p - hi).
-fn box_violation(range: [f64; 2], p: f64) -> (f64, f64) {
-    if p < range[0] {
-        (range[0] - p, -1.0)
-    } else if p > range[1] {
-        (p - range[1], 1.0)
-    } else {
-        (0.0, 0.0)
-    }
-}
-
-/// The constrained world axes of the Cartesian box: (axis 0..3, range, weight).
-fn box_axes(f: &Formulation) -> impl Iterator<Item = (usize, [f64; 2], f64)> + '_ {
-    let b = &f.task.cartesian_box;
-    [&b.x, &b.y, &b.z]
-        .into_iter()
-        .enumerate()
-        .filter_map(|(axis, interval)| interval.as_ref().map(|s| (axis, s.range, s.weight)))
-}
-
-/// The design-dependent matrices the Jacobian's values come from.
-struct JacobianData<'m> {
-    /// d(tau)/d(u): G^T or the identity.
-    control_map: &'m DMatrix<f64>,
-    /// Structural non-zeros of `control_map`.
-    control_pattern: &'m DMatrix<f64>,
-    /// G and its pattern, when motor speeds are linear rows.
-    speed: Option<(&'m DMatrix<f64>, &'m DMatrix<f64>)>,
-    /// G^-T, when motor torques are linear rows.
-    torque: Option<&'m DMatrix<f64>>,
-    /// Time step h, s.
-    h: f64,
-}
-
-/// Visits the Jacobian's structural non-zeros in their fixed order.
-fn visit_jacobian(
-    layout: &Layout,
-    data: &JacobianData<'_>,
-    nodes: &[NodeEval],
-    mut emit: impl FnMut(usize, usize, f64),
-) {
-    let JacobianData {
-        control_map,
-        control_pattern,
-        speed,
-        torque,
-        h,
-    } = *data;
-    let n = layout.dof;
-    for (k, node) in nodes.iter().enumerate() {
-        for i in 0..n {
-            let row = layout.dynamics_row(k, i);
-            for j in 0..n {
-                emit(row, layout.q(k, j), node.dtau_dq[(i, j)]);
-            }
-            for j in 0..n {
-                emit(row, layout.v(k, j), node.dtau_dv[(i, j)]);
-            }
-            for j in 0..n {
-                emit(row, layout.a(k, j), node.mass[(i, j)]);
-            }
-            for j in 0..n {
-                if control_pattern[(i, j)] != 0.0 {
-                    emit(row, layout.u(k, j), -control_map[(i, j)]);
-                }
-            }
-        }
-        for i in 0..n {
-            let row = layout.velocity_row(k, i);
-            emit(row, layout.v(k, i), -1.0);
-            emit(row, layout.a(k, i), -h);
-            emit(row, layout.v(k + 1, i), 1.0);
-        }
-        for i in 0..n {
-            let row = layout.position_row(k, i);
-            emit(row, layout.q(k, i), -1.0);
-            emit(row, layout.q(k + 1, i), 1.0);
-            emit(row, layout.v(k + 1, i), -h);
-        }
-        if let Some((g, g_pattern)) = speed {
-            for i in 0..n {
-                if let Some(row) = layout.speed_row(k, i) {
-                    for j in 0..n {
-                        if g_pattern[(i, j)] != 0.0 {
-                            emit(row, layout.v(k, j), g[(i, j)]);
-                        }
-                    }
-                }
-            }
-        }
-        if let Some(motor_of_joint) = torque {
-            for i in 0..n {
-                if let Some(row) = layout.torque_row(k, i) {
-                    for j in 0..n {
-                        emit(row, layout.u(k, j), motor_of_joint[(i, j)]);
-                    }
-                }
-            }
-        }
-    }
-}
-
-/// The pattern of the control block of the dynamics rows: d(tau_i)/d(u_j).
-fn control_pattern(formulation: &Formulation) -> DMatrix<f64> {
-    match formulation.space {
-        Space::Actuation => formulation.g_pattern.transpose(),
-        Space::Joint => DMatrix::identity(formulation.layout.dof, formulation.layout.dof),
-    }
-}
-
-pub(super) fn jacobian_pattern(formulation: &Formulation) -> Vec<(usize, usize)> {
-    let layout = &formulation.layout;
-    let n = layout.dof;
-    let nodes = vec![NodeEval::zeros(n); layout.steps];
-    let pattern = control_pattern(formulation);
-    let dense = DMatrix::from_element(n, n, 1.0);
-    let mut entries = Vec::new();
-    let data = JacobianData {
-        control_map: &pattern,
-        control_pattern: &pattern,
-        speed: layout
-            .speed_rows
-            .then_some((&formulation.g_pattern, &formulation.g_pattern)),
-        torque: layout.torque_rows.then_some(&dense),
-        h: 0.0,
-    };
-    visit_jacobian(layout, &data, &nodes, |row, col, _| {
-        entries.push((row, col))
-    });
-    entries
-}
-
-/// The lower triangle of one node's block of the Lagrangian Hessian, as (i, j) within the node's
-/// 4n variables (q, v, a, u): the dynamics give q-q (lower), v-q, v-v (lower) and a-q (a-v and
-/// a-a vanish since RNEA is linear in a); the cost adds to q-q, the v-v diagonal and the u-u
-/// diagonal. Node k's block starts at column 4nk, so its global entries are offset by that.
-pub(super) fn node_hessian_entries(n: usize) -> Vec<(usize, usize)> {
-    let mut entries = Vec::new();
-    for i in 0..n {
-        entries.extend((0..=i).map(|j| (i, j)));
-    }
-    for i in n..2 * n {
-        entries.extend((0..=i).map(|j| (i, j)));
-    }
-    for i in 2 * n..3 * n {
-        entries.extend((0..n).map(|j| (i, j)));
-    }
-    entries.extend((3 * n..4 * n).map(|i| (i, i)));
-    entries
-}
-
-pub(super) fn hessian_pattern(formulation: &Formulation) -> Vec<(usize, usize)> {
-    let layout = &formulation.layout;
-    (0..layout.steps)
-        .flat_map(|k| {
-            let base = layout.q(k, 0);
-            formulation
-                .node_hessian
-                .iter()
-                .map(move |&(i, j)| (base + i, base + j))
-        })
-        .collect()
 }
 
 impl Nlp for TrajectoryProblem<'_> {
@@ -351,21 +152,8 @@ impl Nlp for TrajectoryProblem<'_> {
         lower.fill(f64::NEG_INFINITY);
         upper.fill(f64::INFINITY);
         let limits = f.dynamics.robot().position_limits();
-        let speed = self
-            .coupling
-            .speed_limits(f.modes.speed, task.motors.speed_limit_rad_s);
-        let torque = match f.space {
-            Space::Actuation => {
-                let t = task.motors.torque_limit_nm;
-                JointLimits::Box {
-                    lower: vec![-t; n],
-                    upper: vec![t; n],
-                }
-            }
-            Space::Joint => self
-                .coupling
-                .torque_limits(f.modes.torque, task.motors.torque_limit_nm),
-        };
+        let speed = self.speed_limits();
+        let torque = self.control_limits();
         for k in 0..=layout.steps {
             for i in 0..n {
                 let (q, v) = (layout.q(k, i), layout.v(k, i));
@@ -440,45 +228,13 @@ impl Nlp for TrajectoryProblem<'_> {
     fn objective(&mut self, x: &[f64], new_x: bool) -> Result<f64, EvalError> {
         self.evaluate(x, new_x, Level::Values)?;
         let f = self.formulation;
-        let (layout, w) = (&f.layout, &f.task.weights);
-        let n = layout.dof;
-        let mut cost = 0.0;
-        for (k, node) in self.nodes.iter().enumerate() {
-            for i in 0..n {
-                let (q, v, u) = (x[layout.q(k, i)], x[layout.v(k, i)], x[layout.u(k, i)]);
-                cost += w.position * q * q + w.velocity * v * v + w.control * u * u;
-            }
-            for (axis, range, weight) in box_axes(f) {
-                let (c, _) = box_violation(range, node.tcp[axis]);
-                cost += weight * c * c;
-            }
-        }
-        Ok(cost)
+        Ok(Cost::new(&f.task, &f.layout).value(x, &self.nodes))
     }
 
     fn gradient(&mut self, x: &[f64], new_x: bool, gradient: &mut [f64]) -> Result<(), EvalError> {
         self.evaluate(x, new_x, Level::Derivatives)?;
         let f = self.formulation;
-        let (layout, w) = (&f.layout, &f.task.weights);
-        let n = layout.dof;
-        gradient.fill(0.0);
-        for (k, node) in self.nodes.iter().enumerate() {
-            for i in 0..n {
-                let (q, v, u) = (layout.q(k, i), layout.v(k, i), layout.u(k, i));
-                gradient[q] = 2.0 * w.position * x[q];
-                gradient[v] = 2.0 * w.velocity * x[v];
-                gradient[u] = 2.0 * w.control * x[u];
-            }
-            for (axis, range, weight) in box_axes(f) {
-                let (c, sign) = box_violation(range, node.tcp[axis]);
-                if c > 0.0 {
-                    for j in 0..n {
-                        gradient[layout.q(k, j)] +=
-                            2.0 * weight * c * sign * node.tcp_jacobian[(axis, j)];
-                    }
-                }
-            }
-        }
+        Cost::new(&f.task, &f.layout).gradient(x, &self.nodes, gradient);
         Ok(())
     }
 
@@ -521,7 +277,7 @@ impl Nlp for TrajectoryProblem<'_> {
         self.evaluate(x, new_x, Level::Derivatives)?;
         let f = self.formulation;
         let layout = &f.layout;
-        let pattern = control_pattern(f);
+        let pattern = jacobian::control_pattern(f);
         let mut next = 0;
         let data = JacobianData {
             control_map: &self.control_map,
@@ -532,7 +288,7 @@ impl Nlp for TrajectoryProblem<'_> {
             torque: layout.torque_rows.then_some(&self.motor_of_joint),
             h: f.step_s(),
         };
-        visit_jacobian(layout, &data, &self.nodes, |_, _, value| {
+        jacobian::visit(layout, &data, &self.nodes, |_, _, value| {
             values[next] = value;
             next += 1;
         });
@@ -553,52 +309,20 @@ impl Nlp for TrajectoryProblem<'_> {
     ) -> Result<(), EvalError> {
         self.evaluate(x, new_x, Level::Derivatives)?;
         let f = self.formulation;
-        let (layout, w) = (&f.layout, &f.task.weights);
-        let n = layout.dof;
-        let mut next = 0;
-        for k in 0..layout.steps {
-            let q = &x[layout.q(k, 0)..layout.q(k, 0) + n];
-            let v = &x[layout.v(k, 0)..layout.v(k, 0) + n];
-            let a = &x[layout.a(k, 0)..layout.a(k, 0) + n];
-            let multipliers = &lambda[layout.dynamics_row(k, 0)..layout.dynamics_row(k, 0) + n];
-            self.dynamics[k].rnea_hessian(q, v, a, multipliers, &mut self.rnea_hessian);
-            // The cost's Hessian in q: 2 wq I, plus 2 rho (J^T J + c sign H) per violated axis.
-            self.cost_qq.fill_with_identity();
-            self.cost_qq *= 2.0 * w.position;
-            let node = &self.nodes[k];
-            let mut tcp_hessians_ready = false;
-            for (axis, range, weight) in box_axes(f) {
-                let (c, sign) = box_violation(range, node.tcp[axis]);
-                if c > 0.0 {
-                    if !tcp_hessians_ready {
-                        self.dynamics[k].tcp_hessians(q, &mut self.tcp_hessians);
-                        tcp_hessians_ready = true;
-                    }
-                    for i in 0..n {
-                        for j in 0..n {
-                            let jj = node.tcp_jacobian[(axis, i)] * node.tcp_jacobian[(axis, j)];
-                            self.cost_qq[(i, j)] +=
-                                2.0 * weight * (jj + c * sign * self.tcp_hessians[axis][(i, j)]);
-                        }
-                    }
-                }
-            }
-            for &(i, j) in &f.node_hessian {
-                let (cost, dynamics) = if i < n {
-                    (self.cost_qq[(i, j)], self.rnea_hessian[(i, j)])
-                } else if i < 3 * n {
-                    let cost = if i < 2 * n && i == j {
-                        2.0 * w.velocity
-                    } else {
-                        0.0
-                    };
-                    (cost, self.rnea_hessian[(i, j)])
-                } else {
-                    (2.0 * w.control, 0.0)
-                };
-                values[next] = obj_factor * cost + dynamics;
-                next += 1;
-            }
+        let layout = &f.layout;
+        let cost = Cost::new(&f.task, layout);
+        let per_node = f.node_hessian.len();
+        let nodes = self.nodes.iter().zip(&mut self.workspaces);
+        for (k, ((node, data), values)) in nodes.zip(values.chunks_mut(per_node)).enumerate() {
+            let row = layout.dynamics_row(k, 0);
+            self.node_hessian.evaluate(
+                (&f.dynamics, data),
+                &cost,
+                layout.node_state(x, k),
+                node,
+                &lambda[row..row + layout.dof],
+            );
+            self.node_hessian.write(&f.node_hessian, obj_factor, values);
         }
         Ok(())
     }

@@ -1,0 +1,134 @@
+//! The cost J (docs/model.md, section 7) and its first and second derivatives:
+//!
+//!   J = sum_(k < N) [ w_q |q_k|^2 + w_v |v_k|^2 + w_u |u_k|^2 + sum_axis rho c_axis(p(q_k))^2 ],
+//!
+//! with p the TCP's world position and c the soft Cartesian box's violation of one coordinate.
+//! Its Hessian is diagonal in v and u (2 w_v, 2 w_u) and, in q, 2 w_q I plus
+//! 2 rho (J^T J + c s H) per violated axis (J = dp_axis/dq, H its Hessian, s = dc/dp = +-1).
+
+use super::node::NodeEval;
+use super::Layout;
+use crate::dynamics::{Dynamics, Workspace};
+use crate::model::task::{CartesianBox, Task, Weights};
+use nalgebra::DMatrix;
+
+/// Box penalty of one TCP coordinate p, m: (c, dc/dp) with c = max(0, lo - p) + max(0, p - hi).
+fn box_violation(range: [f64; 2], p: f64) -> (f64, f64) {
+    if p < range[0] {
+        (range[0] - p, -1.0)
+    } else if p > range[1] {
+        (p - range[1], 1.0)
+    } else {
+        (0.0, 0.0)
+    }
+}
+
+/// The constrained world axes of the Cartesian box: (axis 0..3, range in m, weight rho per m^2).
+fn box_axes(b: &CartesianBox) -> impl Iterator<Item = (usize, [f64; 2], f64)> + '_ {
+    [&b.x, &b.y, &b.z]
+        .into_iter()
+        .enumerate()
+        .filter_map(|(axis, interval)| interval.as_ref().map(|s| (axis, s.range, s.weight)))
+}
+
+/// The cost of one formulation: the task's `weights` and `cartesian_box` on its layout.
+pub(super) struct Cost<'f> {
+    weights: &'f Weights,
+    cartesian_box: &'f CartesianBox,
+    layout: &'f Layout,
+}
+
+impl<'f> Cost<'f> {
+    /// The cost `task` sets on variables laid out by `layout`.
+    pub(super) fn new(task: &'f Task, layout: &'f Layout) -> Cost<'f> {
+        Cost {
+            weights: &task.weights,
+            cartesian_box: &task.cartesian_box,
+            layout,
+        }
+    }
+
+    /// J at x, with the TCP positions of `nodes` (evaluated at x).
+    pub(super) fn value(&self, x: &[f64], nodes: &[NodeEval]) -> f64 {
+        let (layout, w) = (self.layout, self.weights);
+        let mut cost = 0.0;
+        for (k, node) in nodes.iter().enumerate() {
+            for i in 0..layout.dof {
+                let (q, v, u) = (x[layout.q(k, i)], x[layout.v(k, i)], x[layout.u(k, i)]);
+                cost += w.position * q * q + w.velocity * v * v + w.control * u * u;
+            }
+            for (axis, range, weight) in box_axes(self.cartesian_box) {
+                let (c, _) = box_violation(range, node.tcp[axis]);
+                cost += weight * c * c;
+            }
+        }
+        cost
+    }
+
+    /// dJ/dx at x into `gradient`, with the TCP positions and Jacobians of `nodes`.
+    pub(super) fn gradient(&self, x: &[f64], nodes: &[NodeEval], gradient: &mut [f64]) {
+        let (layout, w) = (self.layout, self.weights);
+        let n = layout.dof;
+        gradient.fill(0.0);
+        for (k, node) in nodes.iter().enumerate() {
+            for i in 0..n {
+                let (q, v, u) = (layout.q(k, i), layout.v(k, i), layout.u(k, i));
+                gradient[q] = 2.0 * w.position * x[q];
+                gradient[v] = 2.0 * w.velocity * x[v];
+                gradient[u] = 2.0 * w.control * x[u];
+            }
+            for (axis, range, weight) in box_axes(self.cartesian_box) {
+                let (c, sign) = box_violation(range, node.tcp[axis]);
+                if c > 0.0 {
+                    for j in 0..n {
+                        gradient[layout.q(k, j)] +=
+                            2.0 * weight * c * sign * node.tcp_jacobian[(axis, j)];
+                    }
+                }
+            }
+        }
+    }
+
+    /// The q-q block of J's Hessian at node `node` (at q_k = `q`) into `hessian` (n x n):
+    /// 2 w_q I plus 2 rho (J^T J + c s H) per violated axis. The TCP's Hessians H are computed
+    /// into `tcp_hessians` only when an axis is violated.
+    pub(super) fn position_hessian(
+        &self,
+        (dynamics, data): (&Dynamics, &mut Workspace),
+        q: &[f64],
+        node: &NodeEval,
+        tcp_hessians: &mut [DMatrix<f64>; 3],
+        hessian: &mut DMatrix<f64>,
+    ) {
+        hessian.fill_with_identity();
+        *hessian *= 2.0 * self.weights.position;
+        let mut tcp_hessians_ready = false;
+        for (axis, range, weight) in box_axes(self.cartesian_box) {
+            let (c, sign) = box_violation(range, node.tcp[axis]);
+            if c > 0.0 {
+                if !tcp_hessians_ready {
+                    dynamics.tcp_hessians(data, q, tcp_hessians);
+                    tcp_hessians_ready = true;
+                }
+                let n = self.layout.dof;
+                for i in 0..n {
+                    for j in 0..n {
+                        let jj = node.tcp_jacobian[(axis, i)] * node.tcp_jacobian[(axis, j)];
+                        hessian[(i, j)] +=
+                            2.0 * weight * (jj + c * sign * tcp_hessians[axis][(i, j)]);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The diagonal of the v-v block of J's Hessian: 2 w_v.
+    pub(super) fn velocity_hessian(&self) -> f64 {
+        2.0 * self.weights.velocity
+    }
+
+    /// The diagonal of the u-u block of J's Hessian: 2 w_u.
+    pub(super) fn control_hessian(&self) -> f64 {
+        2.0 * self.weights.control
+    }
+}

@@ -1,0 +1,199 @@
+//! The Hessian of the Lagrangian obj_factor J + lambda . c, node by node and block by block.
+//!
+//! Node k's variables [q_k, v_k, a_k, u_k] couple only among themselves, so the Hessian is block
+//! diagonal by node. Within a node the lower triangle has five blocks (see [`Block`]): the
+//! dynamics rows, weighted by their multipliers, give q-q, v-q, v-v and a-q (a-v and a-a vanish
+//! since RNEA is linear in a with a coefficient free of v); the cost gives q-q, the v-v diagonal
+//! and the u-u diagonal. The integration and limit rows are linear and add nothing.
+//!
+//! The entries are stored row by row of the node's lower triangle (a v row holds its v-q part,
+//! then its v-v part); the structure and the values are produced from the same entry list, so
+//! they always agree.
+
+use super::cost::Cost;
+use super::node::NodeEval;
+use super::{Formulation, Layout};
+use crate::dynamics::{Dynamics, Workspace};
+use nalgebra::DMatrix;
+
+/// A block of one node's Lagrangian Hessian, by the variables it couples (row, column).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Block {
+    /// d^2/dq dq, lower triangle: cost (w_q, box penalty) and dynamics.
+    PositionPosition,
+    /// d^2/dv dq, full: dynamics.
+    VelocityPosition,
+    /// d^2/dv dv, lower triangle: cost (w_v, diagonal) and dynamics.
+    VelocityVelocity,
+    /// d^2/da dq, full: dynamics.
+    AccelerationPosition,
+    /// d^2/du du, diagonal: cost (w_u).
+    ControlControl,
+}
+
+/// One stored entry of a node's Hessian: its block and (row, column) within the block.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct Entry {
+    block: Block,
+    i: usize,
+    j: usize,
+}
+
+impl Entry {
+    /// The entry's (row, column) among all variables at node k.
+    fn position(&self, layout: &Layout, k: usize) -> (usize, usize) {
+        let Entry { block, i, j } = *self;
+        match block {
+            Block::PositionPosition => (layout.q(k, i), layout.q(k, j)),
+            Block::VelocityPosition => (layout.v(k, i), layout.q(k, j)),
+            Block::VelocityVelocity => (layout.v(k, i), layout.v(k, j)),
+            Block::AccelerationPosition => (layout.a(k, i), layout.q(k, j)),
+            Block::ControlControl => (layout.u(k, i), layout.u(k, j)),
+        }
+    }
+}
+
+/// The stored entries of one node's Hessian (n joints), row by row of its lower triangle.
+pub(super) fn node_entries(n: usize) -> Vec<Entry> {
+    let mut entries = Vec::new();
+    let mut push = |block, i, j| entries.push(Entry { block, i, j });
+    for i in 0..n {
+        (0..=i).for_each(|j| push(Block::PositionPosition, i, j));
+    }
+    for i in 0..n {
+        (0..n).for_each(|j| push(Block::VelocityPosition, i, j));
+        (0..=i).for_each(|j| push(Block::VelocityVelocity, i, j));
+    }
+    for i in 0..n {
+        (0..n).for_each(|j| push(Block::AccelerationPosition, i, j));
+    }
+    for i in 0..n {
+        push(Block::ControlControl, i, i);
+    }
+    entries
+}
+
+/// The Hessian's structure: every node's entries, node by node.
+pub(super) fn pattern(formulation: &Formulation) -> Vec<(usize, usize)> {
+    let layout = &formulation.layout;
+    (0..layout.steps)
+        .flat_map(|k| {
+            formulation
+                .node_hessian
+                .iter()
+                .map(move |entry| entry.position(layout, k))
+        })
+        .collect()
+}
+
+/// The blocks of one node's Hessian, evaluated: the cost's and the dynamics rows'.
+#[derive(Clone, Debug)]
+pub(super) struct NodeHessian {
+    /// lambda_k . RNEA's Hessian in (q, v, a), 3n x 3n.
+    dynamics: DMatrix<f64>,
+    /// The cost's q-q block, n x n.
+    cost_position: DMatrix<f64>,
+    /// The cost's v-v and u-u diagonals.
+    cost_velocity: f64,
+    cost_control: f64,
+    /// The TCP's Hessians, scratch of the cost's q-q block.
+    tcp_hessians: [DMatrix<f64>; 3],
+}
+
+impl NodeHessian {
+    /// Room for the blocks of a node of n joints.
+    pub(super) fn zeros(n: usize) -> NodeHessian {
+        NodeHessian {
+            dynamics: DMatrix::zeros(3 * n, 3 * n),
+            cost_position: DMatrix::zeros(n, n),
+            cost_velocity: 0.0,
+            cost_control: 0.0,
+            tcp_hessians: [
+                DMatrix::zeros(n, n),
+                DMatrix::zeros(n, n),
+                DMatrix::zeros(n, n),
+            ],
+        }
+    }
+
+    /// Evaluates the blocks at a node's (q, v, a), with its evaluation `node` and its dynamics
+    /// rows' multipliers.
+    pub(super) fn evaluate(
+        &mut self,
+        (dynamics, data): (&Dynamics, &mut Workspace),
+        cost: &Cost<'_>,
+        (q, v, a): (&[f64], &[f64], &[f64]),
+        node: &NodeEval,
+        multipliers: &[f64],
+    ) {
+        dynamics.rnea_hessian(data, q, v, a, multipliers, &mut self.dynamics);
+        cost.position_hessian(
+            (dynamics, data),
+            q,
+            node,
+            &mut self.tcp_hessians,
+            &mut self.cost_position,
+        );
+        self.cost_velocity = cost.velocity_hessian();
+        self.cost_control = cost.control_hessian();
+    }
+
+    /// The cost's part of `entry`.
+    fn cost(&self, entry: &Entry) -> f64 {
+        let Entry { block, i, j } = *entry;
+        match block {
+            Block::PositionPosition => self.cost_position[(i, j)],
+            Block::VelocityVelocity if i == j => self.cost_velocity,
+            Block::VelocityPosition | Block::VelocityVelocity | Block::AccelerationPosition => 0.0,
+            Block::ControlControl => self.cost_control,
+        }
+    }
+
+    /// The dynamics rows' part of `entry` (RNEA does not depend on u).
+    fn dynamics(&self, entry: &Entry) -> f64 {
+        let Entry { block, i, j } = *entry;
+        let n = self.cost_position.nrows();
+        match block {
+            Block::PositionPosition => self.dynamics[(i, j)],
+            Block::VelocityPosition => self.dynamics[(n + i, j)],
+            Block::VelocityVelocity => self.dynamics[(n + i, n + j)],
+            Block::AccelerationPosition => self.dynamics[(2 * n + i, j)],
+            Block::ControlControl => 0.0,
+        }
+    }
+
+    /// Writes the Lagrangian's value of each of `entries`, obj_factor * cost + dynamics, into
+    /// `values` in order.
+    pub(super) fn write(&self, entries: &[Entry], obj_factor: f64, values: &mut [f64]) {
+        for (value, entry) in values.iter_mut().zip(entries) {
+            *value = obj_factor * self.cost(entry) + self.dynamics(entry);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The entries run row by row through a node's lower triangle: q and v rows up to the
+    /// diagonal, a rows over q, the u diagonal (the order IPOPT has always been given).
+    #[test]
+    fn node_entries_run_row_by_row_through_the_lower_triangle() {
+        let n = 4;
+        let layout = Layout::new(n, 3, true, true);
+        let base = layout.q(1, 0);
+        let mut expected = Vec::new();
+        for i in 0..2 * n {
+            expected.extend((0..=i).map(|j| (base + i, base + j)));
+        }
+        for i in 2 * n..3 * n {
+            expected.extend((0..n).map(|j| (base + i, base + j)));
+        }
+        expected.extend((3 * n..4 * n).map(|i| (base + i, base + i)));
+        let entries: Vec<_> = node_entries(n)
+            .iter()
+            .map(|entry| entry.position(&layout, 1))
+            .collect();
+        assert_eq!(entries, expected);
+    }
+}

@@ -1,0 +1,120 @@
+//! The constraint Jacobian's structure and values, from one routine that visits every structural
+//! non-zero in a fixed order: run on zero data it yields the pattern (once per [`Formulation`]),
+//! run on the evaluated nodes it yields the values, so the two can never disagree.
+
+use super::node::NodeEval;
+use super::{Formulation, Layout, Space};
+use nalgebra::DMatrix;
+
+/// The design-dependent matrices the Jacobian's values come from.
+pub(super) struct JacobianData<'m> {
+    /// d(tau)/d(u): G^T or the identity.
+    pub(super) control_map: &'m DMatrix<f64>,
+    /// Structural non-zeros of `control_map`.
+    pub(super) control_pattern: &'m DMatrix<f64>,
+    /// G and its pattern, when motor speeds are linear rows.
+    pub(super) speed: Option<(&'m DMatrix<f64>, &'m DMatrix<f64>)>,
+    /// G^-T, when motor torques are linear rows.
+    pub(super) torque: Option<&'m DMatrix<f64>>,
+    /// Time step h, s.
+    pub(super) h: f64,
+}
+
+/// Visits the Jacobian's structural non-zeros in their fixed order.
+pub(super) fn visit(
+    layout: &Layout,
+    data: &JacobianData<'_>,
+    nodes: &[NodeEval],
+    mut emit: impl FnMut(usize, usize, f64),
+) {
+    let JacobianData {
+        control_map,
+        control_pattern,
+        speed,
+        torque,
+        h,
+    } = *data;
+    let n = layout.dof;
+    for (k, node) in nodes.iter().enumerate() {
+        for i in 0..n {
+            let row = layout.dynamics_row(k, i);
+            for j in 0..n {
+                emit(row, layout.q(k, j), node.dtau_dq[(i, j)]);
+            }
+            for j in 0..n {
+                emit(row, layout.v(k, j), node.dtau_dv[(i, j)]);
+            }
+            for j in 0..n {
+                emit(row, layout.a(k, j), node.mass[(i, j)]);
+            }
+            for j in 0..n {
+                if control_pattern[(i, j)] != 0.0 {
+                    emit(row, layout.u(k, j), -control_map[(i, j)]);
+                }
+            }
+        }
+        for i in 0..n {
+            let row = layout.velocity_row(k, i);
+            emit(row, layout.v(k, i), -1.0);
+            emit(row, layout.a(k, i), -h);
+            emit(row, layout.v(k + 1, i), 1.0);
+        }
+        for i in 0..n {
+            let row = layout.position_row(k, i);
+            emit(row, layout.q(k, i), -1.0);
+            emit(row, layout.q(k + 1, i), 1.0);
+            emit(row, layout.v(k + 1, i), -h);
+        }
+        if let Some((g, g_pattern)) = speed {
+            for i in 0..n {
+                if let Some(row) = layout.speed_row(k, i) {
+                    for j in 0..n {
+                        if g_pattern[(i, j)] != 0.0 {
+                            emit(row, layout.v(k, j), g[(i, j)]);
+                        }
+                    }
+                }
+            }
+        }
+        if let Some(motor_of_joint) = torque {
+            for i in 0..n {
+                if let Some(row) = layout.torque_row(k, i) {
+                    for j in 0..n {
+                        emit(row, layout.u(k, j), motor_of_joint[(i, j)]);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The pattern of the control block of the dynamics rows: d(tau_i)/d(u_j).
+pub(super) fn control_pattern(formulation: &Formulation) -> DMatrix<f64> {
+    match formulation.space {
+        Space::Actuation => formulation.g_pattern.transpose(),
+        Space::Joint => DMatrix::identity(formulation.layout.dof, formulation.layout.dof),
+    }
+}
+
+/// The Jacobian's structure, from a visit of zero nodes with every design-dependent entry set.
+pub(super) fn pattern(formulation: &Formulation) -> Vec<(usize, usize)> {
+    let layout = &formulation.layout;
+    let n = layout.dof;
+    let nodes = vec![NodeEval::zeros(n); layout.steps];
+    let pattern = control_pattern(formulation);
+    let dense = DMatrix::from_element(n, n, 1.0);
+    let mut entries = Vec::new();
+    let data = JacobianData {
+        control_map: &pattern,
+        control_pattern: &pattern,
+        speed: layout
+            .speed_rows
+            .then_some((&formulation.g_pattern, &formulation.g_pattern)),
+        torque: layout.torque_rows.then_some(&dense),
+        h: 0.0,
+    };
+    visit(layout, &data, &nodes, |row, col, _| {
+        entries.push((row, col))
+    });
+    entries
+}
