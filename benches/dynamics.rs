@@ -9,7 +9,6 @@ use codesign::model::task::Task;
 use codesign::model::Robot;
 use nalgebra::DMatrix;
 use std::hint::black_box;
-use std::path::Path;
 use std::time::Instant;
 
 const NODES: usize = 51;
@@ -77,8 +76,7 @@ fn bench(name: &str, mut call: impl FnMut(usize)) {
 }
 
 fn main() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let task = Task::load(&root.join("robots/tasks/pick_place.json")).unwrap();
+    let task = Task::built_in().expect("the built-in task loads");
     let robot = Robot::load(&task).unwrap().with_payload(1.0);
     let dynamics = Dynamics::new(robot);
     let mut data = dynamics.workspace();

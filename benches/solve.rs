@@ -9,12 +9,8 @@ use codesign::ipopt::LinearSolver;
 use codesign::model::task::Task;
 use codesign::model::Robot;
 use codesign::problem::{Formulation, Space};
-use codesign::solver::{solve_design, SolveSettings};
-
-fn median(mut samples: Vec<f64>) -> f64 {
-    samples.sort_by(f64::total_cmp);
-    samples[samples.len() / 2]
-}
+use codesign::solver::{solve_design, SolveSeconds, SolveSettings};
+use codesign::stats::median;
 
 /// Solves `runs` times (after `warm_up` unmeasured solves) and prints the medians.
 fn measure(task: &Task, space: Space, solver: LinearSolver, warm_up: usize, runs: usize) {
@@ -30,9 +26,19 @@ fn measure(task: &Task, space: Space, solver: LinearSolver, warm_up: usize, runs
     let results: Vec<_> = (0..runs)
         .map(|_| solve_design(&formulation, &original, &settings).expect("solves"))
         .collect();
-    let total = median(results.iter().map(|r| r.solve_seconds.total).collect());
-    let callbacks = median(results.iter().map(|r| r.solve_seconds.callbacks).collect());
-    let ipopt = median(results.iter().map(|r| r.solve_seconds.ipopt).collect());
+    let seconds = |part: fn(&SolveSeconds) -> f64| {
+        median(
+            &results
+                .iter()
+                .map(|r| part(&r.solve_seconds))
+                .collect::<Vec<_>>(),
+        )
+    };
+    let (total, callbacks, ipopt) = (
+        seconds(|s| s.total),
+        seconds(|s| s.callbacks),
+        seconds(|s| s.ipopt),
+    );
     println!(
         "solve {solver} {space} space, {} kg, r = {original:?}: {} ({} iterations, J = {:.6}); median of {runs}: total {:.2} ms, callbacks {:.2} ms ({:.0}%), ipopt {:.2} ms",
         task.payload.mass_kg,

@@ -44,6 +44,11 @@ impl Random {
         range.start + (range.end - range.start) * self.unit()
     }
 
+    /// `n` values uniform in [-scale, scale).
+    pub fn vector(&mut self, n: usize, scale: f64) -> Vec<f64> {
+        (0..n).map(|_| self.real(-scale..scale)).collect()
+    }
+
     /// Uniform among the integers of `range`.
     pub fn index(&mut self, range: Range<usize>) -> usize {
         range.start + ((range.end - range.start) as f64 * self.unit()) as usize

@@ -7,7 +7,6 @@ use codesign::model::Robot;
 use nalgebra::DMatrix;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
-use std::path::Path;
 
 struct Counting;
 
@@ -35,8 +34,7 @@ fn allocations() -> usize {
 
 #[test]
 fn evaluating_nodes_allocates_nothing() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let task = Task::load(&root.join("robots/tasks/pick_place.json")).unwrap();
+    let task = Task::built_in().expect("the built-in task loads");
     let dynamics = Dynamics::new(Robot::load(&task).unwrap().with_payload(1.0));
     let mut data = dynamics.workspace();
     let n = dynamics.dof();

@@ -2,20 +2,15 @@
 //! prints an object with exactly the sample's keys and values (to 1e-9 of each field's scale), and
 //! refuses bad input with a message naming the flag.
 
-use serde_json::{Map, Value};
-use std::path::Path;
-use std::process::{Command, Output};
+mod support;
 
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
+use serde_json::{Map, Value};
+use std::process::Output;
+use support::root;
 
 fn codesign(args: &[String]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_codesign"))
-        .current_dir(root())
-        .args(args)
-        .output()
-        .unwrap()
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    support::codesign(&args)
 }
 
 fn list(value: &Value) -> String {

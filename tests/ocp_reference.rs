@@ -7,15 +7,15 @@ use codesign::model::task::Task;
 use codesign::model::Robot;
 use codesign::problem::{Formulation, Space};
 use codesign::solver::{solve_design, SolveSettings};
-use std::path::Path;
+
+mod support;
 
 #[test]
 fn reference_costs_are_reproduced() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(root.join("tests/data/ocp_reference.json"))
+    let text = std::fs::read_to_string(support::root().join("tests/data/ocp_reference.json"))
         .expect("tests/data/ocp_reference.json");
     let reference: serde_json::Value = serde_json::from_str(&text).unwrap();
-    let mut task = Task::load(&root.join("robots/tasks/pick_place.json")).unwrap();
+    let mut task = Task::load(&support::task_path()).unwrap();
     let cases = reference["cases"].as_array().unwrap();
     assert!(cases.len() >= 3);
     for (case, solver) in cases

@@ -3,25 +3,13 @@
 
 mod support;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 use std::time::Duration;
-use support::{codesign, fails_saying, scratch, start_in_background, wait_for};
+use support::{codesign, fails_saying, scratch, start_in_background, task_with, wait_for};
 
 fn path(p: &Path) -> &str {
     p.to_str().unwrap()
-}
-
-/// The default task with the robot's path made absolute and `edit` applied, written to `dir`.
-fn task_with(dir: &Path, edit: impl Fn(&mut serde_json::Value)) -> PathBuf {
-    let root = support::root();
-    let text = std::fs::read_to_string(support::task_path()).unwrap();
-    let mut task: serde_json::Value = serde_json::from_str(&text).unwrap();
-    task["robot"] = root.join("robots/belt_arm.urdf").to_str().unwrap().into();
-    edit(&mut task);
-    let file = dir.join("task.json");
-    std::fs::write(&file, task.to_string()).unwrap();
-    file
 }
 
 #[test]

@@ -129,6 +129,54 @@ impl Case {
         }
     }
 
+    /// The flags of `codesign optimize` that pose this run (all but `--out`): what `reproduce
+    /// --plan` prints.
+    pub fn flags(&self) -> Vec<String> {
+        let mut flags: Vec<String> = Vec::new();
+        let mut push = |flag: &str, value: String| flags.extend([flag.to_owned(), value]);
+        if let Some(task) = &self.model.task {
+            push("--task", shell_quote(&task.to_string_lossy()));
+        }
+        if let Some(robot) = &self.model.robot {
+            push("--robot", shell_quote(&robot.to_string_lossy()));
+        }
+        if let Some(payload) = self.model.payload {
+            push("--payload", payload.to_string());
+        }
+        push("--space", self.problem.space.name().to_owned());
+        if let Some(solver) = self.problem.linear_solver {
+            push("--linear-solver", solver.name().to_owned());
+        }
+        if self.method == Method::Gradient {
+            push("--method", "gradient".to_owned());
+            push(
+                "--gradient-iterations",
+                self.gradient.max_iterations.to_string(),
+            );
+        }
+        if let Objective::Capacity(settings) = self.objective {
+            push("--objective", "capacity".to_owned());
+            push("--capacity-resolution", settings.resolution_kg.to_string());
+        }
+        push("--seed", self.cmaes.seed.to_string());
+        push("--population", self.cmaes.population.to_string());
+        push("--generations", self.cmaes.generations.to_string());
+        push("--sigma", self.cmaes.sigma0.to_string());
+        push("--penalty", self.penalty.to_string());
+        if let Some(workers) = self.workers {
+            push("--workers", workers.to_string());
+        }
+        if let Some(line) = &self.worker_command {
+            push("--worker-command", shell_quote(line));
+        }
+        match self.start {
+            Start::Fresh => {}
+            Start::Resume => flags.push("--resume".to_owned()),
+            Start::Overwrite => flags.push("--overwrite".to_owned()),
+        }
+        flags
+    }
+
     /// The settings of the run as its document and log header record them, for `task` (the
     /// overrides applied) with limit `modes`.
     pub fn inputs(&self, task: &Task, modes: LimitModes) -> OptimizeInputs {

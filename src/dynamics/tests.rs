@@ -5,12 +5,13 @@
 use super::Dynamics;
 use crate::model::task::Task;
 use crate::model::Robot;
+use crate::testing::{self, Random};
 use nalgebra::DMatrix;
 use serde::Deserialize;
 use std::path::Path;
 
 fn default_task() -> Task {
-    Task::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json")).unwrap()
+    testing::task()
 }
 
 fn belt_arm(payload_kg: f64) -> Dynamics {
@@ -19,29 +20,6 @@ fn belt_arm(payload_kg: f64) -> Dynamics {
             .unwrap()
             .with_payload(payload_kg),
     )
-}
-
-/// A small deterministic generator (SplitMix64) for random states and models.
-struct Random(u64);
-
-impl Random {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Uniform in [lo, hi).
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
-
-    fn vector(&mut self, n: usize, scale: f64) -> Vec<f64> {
-        (0..n).map(|_| self.uniform(-scale, scale)).collect()
-    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -195,14 +173,14 @@ fn random_chain_urdf(random: &mut Random) -> String {
         // Principal moments meeting the triangle inequality (any two of [0.03, 0.05] add up to
         // more than the third), turned by a random rotation.
         let principal = [
-            random.uniform(0.03, 0.05),
-            random.uniform(0.03, 0.05),
-            random.uniform(0.03, 0.05),
+            random.real(0.03..0.05),
+            random.real(0.03..0.05),
+            random.real(0.03..0.05),
         ];
         let rotation = nalgebra::Rotation3::from_euler_angles(
-            random.uniform(-3.0, 3.0),
-            random.uniform(-1.5, 1.5),
-            random.uniform(-3.0, 3.0),
+            random.real(-3.0..3.0),
+            random.real(-1.5..1.5),
+            random.real(-3.0..3.0),
         );
         let inertia = rotation.matrix()
             * nalgebra::Matrix3::from_diagonal(&principal.into())
@@ -211,13 +189,13 @@ fn random_chain_urdf(random: &mut Random) -> String {
             "<link name=\"{name}\"><inertial><origin xyz=\"{} {} {}\" rpy=\"{} {} {}\"/>\
              <mass value=\"{}\"/><inertia ixx=\"{}\" ixy=\"{}\" ixz=\"{}\" iyy=\"{}\" iyz=\"{}\" izz=\"{}\"/>\
              </inertial></link>\n",
-            random.uniform(-0.2, 0.2),
-            random.uniform(-0.2, 0.2),
-            random.uniform(-0.2, 0.2),
-            random.uniform(-3.0, 3.0),
-            random.uniform(-1.5, 1.5),
-            random.uniform(-3.0, 3.0),
-            random.uniform(0.5, 3.0),
+            random.real(-0.2..0.2),
+            random.real(-0.2..0.2),
+            random.real(-0.2..0.2),
+            random.real(-3.0..3.0),
+            random.real(-1.5..1.5),
+            random.real(-3.0..3.0),
+            random.real(0.5..3.0),
             inertia[(0, 0)],
             inertia[(0, 1)],
             inertia[(0, 2)],
@@ -231,15 +209,15 @@ fn random_chain_urdf(random: &mut Random) -> String {
             "<joint name=\"{name}\" type=\"{kind}\"><parent link=\"{parent}\"/><child link=\"{child}\"/>\
              <origin xyz=\"{} {} {}\" rpy=\"{} {} {}\"/><axis xyz=\"{} {} {}\"/>\
              <limit lower=\"-2\" upper=\"2.5\" effort=\"1\" velocity=\"1\"/></joint>\n",
-            random.uniform(-0.4, 0.4),
-            random.uniform(-0.4, 0.4),
-            random.uniform(-0.4, 0.4),
-            random.uniform(-3.0, 3.0),
-            random.uniform(-1.5, 1.5),
-            random.uniform(-3.0, 3.0),
-            random.uniform(-1.0, 1.0),
-            random.uniform(-1.0, 1.0),
-            random.uniform(0.2, 1.0),
+            random.real(-0.4..0.4),
+            random.real(-0.4..0.4),
+            random.real(-0.4..0.4),
+            random.real(-3.0..3.0),
+            random.real(-1.5..1.5),
+            random.real(-3.0..3.0),
+            random.real(-1.0..1.0),
+            random.real(-1.0..1.0),
+            random.real(0.2..1.0),
         )
     };
     text += &link("base", random);
@@ -260,7 +238,7 @@ fn random_chain_urdf(random: &mut Random) -> String {
 }
 
 fn random_chain(payload_kg: f64) -> Dynamics {
-    let mut random = Random(7);
+    let mut random = Random::new(7);
     let urdf = random_chain_urdf(&mut random);
     let mut task = default_task();
     task.gravity = [1.2, -3.4, -8.7];
@@ -315,7 +293,7 @@ fn assert_matrix(
 fn check_against_differences(dynamics: Dynamics, seed: u64) {
     let n = dynamics.dof();
     let mut data = dynamics.workspace();
-    let mut random = Random(seed);
+    let mut random = Random::new(seed);
     for _ in 0..5 {
         let q = random.vector(n, 3.0);
         let v = random.vector(n, 4.0);

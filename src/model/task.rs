@@ -457,7 +457,7 @@ mod tests {
     use super::*;
 
     fn default_task_path() -> PathBuf {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json")
+        crate::testing::task_path()
     }
 
     #[test]

@@ -12,7 +12,7 @@ fn root() -> &'static Path {
 }
 
 fn task() -> Task {
-    Task::load(&root().join("robots/tasks/pick_place.json")).unwrap()
+    crate::testing::task()
 }
 
 fn belt_arm_text() -> String {

@@ -334,11 +334,10 @@ mod tests {
     use crate::ipopt::{check_derivatives, DerivativeOrder, Options};
     use crate::model::task::{LimitMode, LimitModes, Task};
     use crate::model::Robot;
-    use std::path::Path;
+    use crate::testing::{self, Random};
 
     fn task() -> Task {
-        Task::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json"))
-            .unwrap()
+        testing::task()
     }
 
     /// The default task with 5 steps: every block of the full problem's structure (first, inner
@@ -365,26 +364,14 @@ mod tests {
         list
     }
 
-    /// A small deterministic generator for test points.
-    struct Lcg(u64);
-    impl Lcg {
-        fn uniform(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
-
     /// A point near the initial guess with every variable moved: the TCP leaves the box at some
     /// nodes, so the penalty's derivatives are exercised too.
     fn random_point(problem: &TrajectoryProblem<'_>, seed: u64) -> Vec<f64> {
         let mut x = vec![0.0; problem.num_variables()];
         problem.initial_point(&mut x);
-        let mut rng = Lcg(seed);
+        let mut rng = Random::new(seed);
         for value in &mut x {
-            *value += 0.6 * (rng.uniform() - 0.5);
+            *value += 0.6 * (rng.unit() - 0.5);
         }
         x
     }
@@ -396,8 +383,8 @@ mod tests {
             let (n, m) = (problem.num_variables(), problem.num_constraints());
             let x = random_point(&problem, 7);
             let lambda: Vec<f64> = {
-                let mut rng = Lcg(11);
-                (0..m).map(|_| rng.uniform() - 0.5).collect()
+                let mut rng = Random::new(11);
+                (0..m).map(|_| rng.unit() - 0.5).collect()
             };
             let obj_factor = 0.7;
             let mut gradient = vec![0.0; n];

@@ -117,19 +117,16 @@ pub fn cost_gradient(problem: &TrajectoryProblem<'_>, solution: &Solution) -> Ve
 
 #[cfg(test)]
 mod tests {
-    use crate::model::task::{LimitMode, LimitModes, Task};
+    use crate::model::task::{LimitMode, LimitModes};
     use crate::model::Robot;
     use crate::problem::{Formulation, Space};
     use crate::solver::{solve_design, SolveSettings};
-    use std::path::Path;
 
     /// dJ*/dr against central differences of re-solved problems, at designs where the active
     /// set is stable, in both spaces and with box (paper, interval) and linear (exact) limits.
     #[test]
     fn cost_gradient_matches_differences_of_resolved_problems() {
-        let mut task =
-            Task::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json"))
-                .unwrap();
+        let mut task = crate::testing::task();
         task.solver.tol = 1e-11;
         let cases = [
             (

@@ -2,11 +2,10 @@
 
 use super::Transmission;
 use crate::model::task::Task;
-use std::path::Path;
 
 /// The task file `robots/tasks/pick_place.json`.
 pub fn pick_place() -> Task {
-    Task::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/tasks/pick_place.json")).unwrap()
+    crate::testing::task()
 }
 
 /// The belt arm's transmission, from [`pick_place`].

@@ -111,6 +111,7 @@ impl Coupling {
 mod tests {
     use super::*;
     use crate::model::task::{MatrixEntry, TransmissionSpec};
+    use crate::testing::Random;
     use crate::transmission::fixtures::{belt_arm, pick_place};
     use crate::transmission::Transmission;
 
@@ -142,19 +143,6 @@ mod tests {
                     .collect()
             })
             .collect()
-    }
-
-    /// A small deterministic generator of values in [-1, 1) for the brute-force checks.
-    struct Lcg(u64);
-
-    impl Lcg {
-        fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-        }
     }
 
     #[test]
@@ -199,7 +187,7 @@ mod tests {
     #[test]
     fn exact_limits_agree_with_brute_force() {
         let t = belt_arm();
-        let mut rng = Lcg(7);
+        let mut rng = Random::new(7);
         for r in [[6.0, 3.0, 1.0, 1.0], [8.2, 4.1, 2.7, 1.3]] {
             let coupling = t.coupling(&r).unwrap();
             let (tl, wl) = (1.7, 100.0);
@@ -209,17 +197,17 @@ mod tests {
             let speed_box = coupling.speed_limits(LimitMode::Interval, wl);
             for _ in 0..200 {
                 // Motor torques inside the box reach joint torques inside the polytope and back.
-                let tau_u: Vec<f64> = (0..4).map(|_| tl * rng.next()).collect();
+                let tau_u: Vec<f64> = (0..4).map(|_| tl * rng.real(-1.0..1.0)).collect();
                 let tau = coupling.joint_torques(&tau_u);
                 assert!(torque.contains(&tau, 1e-12) && torque_box.contains(&tau, 1e-12));
                 let back = coupling.motor_torques(&tau);
                 assert!(back.iter().zip(&tau_u).all(|(a, b)| (a - b).abs() < 1e-12));
                 // Pushing one motor past its limit leaves the polytope.
                 let mut outside = tau_u.clone();
-                outside[((rng.next() + 1.0) * 2.0) as usize % 4] = 1.01 * tl;
+                outside[((rng.real(-1.0..1.0) + 1.0) * 2.0) as usize % 4] = 1.01 * tl;
                 assert!(!torque.contains(&coupling.joint_torques(&outside), 1e-12));
                 // Likewise for speeds: qd = G^-1 qd_u.
-                let w: Vec<f64> = (0..4).map(|_| wl * rng.next()).collect();
+                let w: Vec<f64> = (0..4).map(|_| wl * rng.real(-1.0..1.0)).collect();
                 let qd = (coupling.inverse() * DVector::from_vec(w.clone()))
                     .as_slice()
                     .to_vec();

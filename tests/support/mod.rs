@@ -72,3 +72,15 @@ pub fn fails_saying(output: &Output, expected: &str) {
     assert_eq!(output.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains(expected), "{stderr}");
 }
+
+/// The repository's task with its robot's path made absolute and `edit` applied, written to
+/// `dir/task.json`.
+pub fn task_with(dir: &Path, edit: impl Fn(&mut serde_json::Value)) -> PathBuf {
+    let text = std::fs::read_to_string(task_path()).unwrap();
+    let mut task: serde_json::Value = serde_json::from_str(&text).unwrap();
+    task["robot"] = root().join("robots/belt_arm.urdf").to_str().unwrap().into();
+    edit(&mut task);
+    let file = dir.join("task.json");
+    std::fs::write(&file, task.to_string()).unwrap();
+    file
+}

@@ -1,15 +1,15 @@
 //! `codesign reproduce`: the paper's experiment (docs/model.md, section 13) end to end.
 
+mod merge;
 mod plan;
+mod stages;
 
 use super::common::task_source;
-use super::optimize::{run_case, LOG_EXTENSION};
-use crate::design::capacity::{payload_capacity, CapacitySettings};
+use super::optimize::LOG_EXTENSION;
 use crate::design::log::Start;
 use crate::ipopt::LinearSolver;
 use crate::model::task::Task;
-use crate::model::Robot;
-use crate::problem::{Formulation, Space};
+use crate::problem::Space;
 use crate::report::codesign::{
     cost_evolution_chart, radar_chart, CapacityDocument, OptimizeDocument,
 };
@@ -18,9 +18,9 @@ use crate::report::files::{
 };
 use crate::report::plots::Figure;
 use crate::report::table::{build_table, ResultFile};
-use crate::report::trajectory::{write_plots, SolveDocument, ToolInfo};
-use crate::solver::{solve_design, SolveError, SolveSettings, TrajectoryResult};
-use plan::{Plan, PlannedRun, CODESIGNED, FULL, PAYLOADS, SPACES};
+use crate::report::trajectory::write_plots;
+use crate::solver::TrajectoryResult;
+use plan::{Plan, CODESIGNED, FULL, SPACES};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -60,12 +60,56 @@ pub struct Args {
     /// (they are replaced case by case as the new runs start).
     #[arg(long, conflicts_with = "resume")]
     overwrite: bool,
+    /// Shell command that starts one worker, `{}` standing for this binary (see `optimize
+    /// --worker-command`), e.g. "srun --ntasks=1 --exclusive {} worker".
+    #[arg(long, value_name = "CMD")]
+    worker_command: Option<String>,
+    /// Print the experiment's independent commands, one a line, instead of running them (each
+    /// co-design run an `optimize` with its own --out, one worker unless --workers is given,
+    /// resuming its log when run again), after creating the output folder they write into; run
+    /// them with GNU parallel or a Slurm job array, then `reproduce --from-runs DIR` with the
+    /// same flags.
+    #[arg(long, conflicts_with_all = ["from_runs", "resume", "overwrite"])]
+    plan: bool,
+    /// Finish an experiment whose planned commands have run: read their results in DIR, search
+    /// the capacities of the best designs, and write the table and plots as `reproduce` does.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["out_dir", "resume", "overwrite"])]
+    from_runs: Option<PathBuf>,
 }
 
-/// Runs the experiment matrix and writes results, table and plots.
+/// What the experiment's independent stages produced, in this process or by the plan's
+/// commands elsewhere.
+pub struct Outcomes {
+    /// The original designs' solves, per payload and space.
+    originals: Vec<ResultFile>,
+    /// The paper's co-design runs, per payload, space and seed.
+    runs: Vec<OptimizeDocument>,
+    /// The gradient method's runs that found a feasible start.
+    gradient_runs: Vec<OptimizeDocument>,
+    /// The capacity co-design runs, per space.
+    capacity_runs: Vec<OptimizeDocument>,
+    /// The original design's capacity, per space.
+    original_capacities: Vec<CapacityDocument>,
+}
+
+/// Runs the experiment (or prints its plan, or merges its results) and writes results, table
+/// and plots.
 pub fn run(args: &Args) -> Result<(), String> {
     let started = Instant::now();
     let plan = Plan::new(args)?;
+    if args.plan {
+        let program = std::env::current_exe()
+            .map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
+        // The commands write into these folders, on whichever machine runs them.
+        create_folder(&plan.out_dir)?;
+        for folder in ["original", "runs", "plots", "capacity"] {
+            create_folder(&plan.out_dir.join(folder))?;
+        }
+        for line in plan.commands(&program.to_string_lossy()) {
+            say!("{line}");
+        }
+        return Ok(());
+    }
     let source = task_source(plan.task.as_ref());
     let mut task = source.load().map_err(|e| e.to_string())?;
     task.solver
@@ -79,27 +123,77 @@ pub fn run(args: &Args) -> Result<(), String> {
         .map(|path| ("--task", path.as_path()))
         .collect();
     check_output("--out-dir", &plan.out_dir.join("paper_table.md"), &inputs)?;
-    if plan.start == Start::Fresh {
-        refuse_earlier_logs(&plan.out_dir.join("runs"))?;
+    let outcomes = if args.from_runs.is_some() {
+        merge::read_all(&plan)?
+    } else {
+        if plan.start == Start::Fresh {
+            refuse_earlier_logs(&plan.out_dir.join("runs"))?;
+        }
+        for folder in ["original", "runs", "plots", "capacity"] {
+            create_folder(&plan.out_dir.join(folder))?;
+        }
+        stages::run_all(&plan, &task)?
+    };
+    let merged = args.from_runs.is_some();
+    finish(
+        &plan,
+        &task,
+        outcomes,
+        merged,
+        started.elapsed().as_secs_f64(),
+    )
+}
+
+/// The stages that need every run: the best designs' plots and capacities, the radar chart, and
+/// the table.
+fn finish(
+    plan: &Plan,
+    task: &Task,
+    outcomes: Outcomes,
+    merged: bool,
+    seconds: f64,
+) -> Result<(), String> {
+    create_folder(&plan.out_dir.join("capacity"))?;
+    write_case_plots(plan, task, &outcomes.runs)?;
+    let mut capacities = outcomes.original_capacities;
+    for payload in CODESIGNED {
+        for space in SPACES {
+            if let Some(best) = best_of(&outcomes.runs, payload, space) {
+                let name = format!("{space}-{payload}kg-best");
+                let ratios = best.ratios.clone();
+                capacities.push(stages::capacity_document(plan, task, space, ratios, &name)?);
+            }
+        }
     }
-    for folder in ["original", "runs", "plots", "capacity"] {
-        create_folder(&plan.out_dir.join(folder))?;
-    }
-    let mut files = solve_originals(&plan, &task)?;
-    let runs = cost_runs(&plan)?;
-    write_case_plots(&plan, &task, &runs)?;
-    let beyond = beyond_the_paper(&plan, &task, &runs)?;
-    // Resumed runs' earlier invocations, from their logs (the capacity co-design runs too).
-    let earlier: Option<f64> = runs
+    let runs = outcomes.runs;
+    let beyond: Vec<&OptimizeDocument> = outcomes
+        .gradient_runs
         .iter()
-        .chain(beyond.iter().filter_map(|file| match file {
-            ResultFile::Optimize(document) => Some(document.as_ref()),
-            _ => None,
-        }))
-        .map(|d| d.earlier_seconds)
-        .sum();
-    let replayed: usize = runs.iter().map(|d| d.replayed).sum();
-    files.extend(beyond);
+        .chain(&outcomes.capacity_runs)
+        .collect();
+    let time_note = if merged {
+        merged_note(&plan.out_dir, runs.iter().chain(beyond.iter().copied()))
+    } else {
+        // Resumed runs' earlier invocations, from their logs (the capacity co-design runs too).
+        let earlier: Option<f64> = runs
+            .iter()
+            .chain(outcomes.capacity_runs.iter())
+            .map(|d| d.earlier_seconds)
+            .sum();
+        let replayed: usize = runs.iter().map(|d| d.replayed).sum();
+        wall_time_note(seconds, replayed, earlier)
+    };
+    let mut files = outcomes.originals;
+    files.extend(
+        beyond
+            .into_iter()
+            .map(|d| ResultFile::Optimize(Box::new(d.clone()))),
+    );
+    files.extend(
+        capacities
+            .into_iter()
+            .map(|d| ResultFile::Capacity(Box::new(d))),
+    );
     files.extend(runs.into_iter().map(|d| ResultFile::Optimize(Box::new(d))));
     let mut notes = Vec::new();
     if plan.is_reduced() {
@@ -110,11 +204,7 @@ pub fn run(args: &Args) -> Result<(), String> {
             b.population, b.generations, b.seeds, FULL.population, FULL.generations, FULL.seeds
         ));
     }
-    notes.push(wall_time_note(
-        started.elapsed().as_secs_f64(),
-        replayed,
-        earlier,
-    ));
+    notes.push(time_note);
     let table = build_table(&files, notes);
     write_atomic(
         &plan.out_dir.join("paper_table.md"),
@@ -126,71 +216,17 @@ pub fn run(args: &Args) -> Result<(), String> {
     Ok(())
 }
 
-/// The formulation of `task` with `payload_kg` in `space`, with the task's limit modes.
-fn formulation_at(task: &Task, payload_kg: f64, space: Space) -> Result<Formulation, String> {
-    let mut loaded = task.clone();
-    loaded.payload.mass_kg = payload_kg;
-    let robot = Robot::load(&loaded).map_err(|e| e.to_string())?;
-    Formulation::new(&loaded, robot, space, loaded.limit_modes).map_err(|e| e.to_string())
-}
-
-/// Solves the original design at every payload in both spaces; writes each result and its
-/// plots.
-fn solve_originals(plan: &Plan, task: &Task) -> Result<Vec<ResultFile>, String> {
-    let source = task_source(plan.task.as_ref());
-    let mut files = Vec::new();
-    for payload in PAYLOADS {
-        for space in SPACES {
-            let formulation = formulation_at(task, payload, space)?;
-            let ratios = task.transmission.original.clone();
-            let result = solve_design(&formulation, &ratios, &SolveSettings::default()).map_err(
-                |e| match e {
-                    SolveError::Design(_) => format!("{source} transmission.original: {e}"),
-                    SolveError::Ipopt(_) => format!("{source} solver: {e}"),
-                },
-            )?;
-            say!(
-                "original design, {space} space, {payload} kg: {} J = {:.4} ({} iterations)",
-                result.status,
-                result.cost,
-                result.iterations
-            );
-            let name = format!("{space}-{payload}kg");
-            let plots = plan.out_dir.join("plots").join(format!("original-{name}"));
-            write_plots(&plots, &formulation, &result)?;
-            let document = SolveDocument::new(&source.label(), &formulation, result);
-            write_json(
-                &plan.out_dir.join("original").join(format!("{name}.json")),
-                &document,
-            )?;
-            files.push(ResultFile::Solve(Box::new(document)));
-        }
-    }
-    Ok(files)
-}
-
-/// The result file of a planned run.
-fn run_file(plan: &Plan, run: &PlannedRun) -> PathBuf {
-    plan.out_dir.join("runs").join(format!("{}.json", run.name))
-}
-
-/// The paper's co-design runs (CMA-ES on the cost), in order.
-fn cost_runs(plan: &Plan) -> Result<Vec<OptimizeDocument>, String> {
-    let mut documents = Vec::new();
-    for run in plan.cost_runs() {
-        let document = run_case(&run.case, &run_file(plan, &run))?;
-        say!(
-            "co-design, {} space, {} kg, seed {}: best r = {:?}, J = {:.4} ({} evaluations)",
-            run.case.problem.space,
-            document.inputs.payload_kg,
-            run.case.cmaes.seed,
-            document.best_ratios,
-            document.best_cost,
-            document.evaluations
-        );
-        documents.push(document);
-    }
-    Ok(documents)
+/// The time note of a merged reproduction: the co-design runs' working time, summed.
+fn merged_note<'a>(folder: &Path, runs: impl Iterator<Item = &'a OptimizeDocument>) -> String {
+    let seconds: f64 = runs
+        .map(|d| d.wall_seconds + d.earlier_seconds.unwrap_or(0.0))
+        .sum();
+    format!(
+        "Merged by `reproduce --from-runs` from the results in {} that the commands of \
+         `reproduce --plan` wrote; the co-design runs' working time sums to {:.1} min.",
+        folder.display(),
+        seconds / 60.0
+    )
 }
 
 /// The best feasible solve of the co-design runs at `payload` in `space`.
@@ -205,6 +241,7 @@ fn best_of(runs: &[OptimizeDocument], payload: f64, space: Space) -> Option<&Tra
 /// chart of every case's best ratios.
 fn write_case_plots(plan: &Plan, task: &Task, runs: &[OptimizeDocument]) -> Result<(), String> {
     let plots = plan.out_dir.join("plots");
+    create_folder(&plots)?;
     let mut radar_cases = Vec::new();
     for payload in CODESIGNED {
         for space in SPACES {
@@ -217,7 +254,7 @@ fn write_case_plots(plan: &Plan, task: &Task, runs: &[OptimizeDocument]) -> Resu
             cost_evolution_chart(&title, &case)
                 .write(&plots.join(format!("cost_evolution-{name}.svg")))?;
             if let Some(best) = best_of(runs, payload, space) {
-                let formulation = formulation_at(task, payload, space)?;
+                let formulation = stages::formulation_at(task, payload, space)?;
                 write_plots(&plots.join(format!("best-{name}")), &formulation, best)?;
                 radar_cases.push((format!("{space}, {payload} kg"), best.ratios.clone()));
             }
@@ -287,97 +324,6 @@ fn wall_time_note(seconds: f64, replayed: usize, earlier: Option<f64>) -> String
              included."
         ),
     }
-}
-
-/// Co-design by the gradient method for every co-designed case, the design of largest payload
-/// capacity per space, and the payload capacity of the original design (per space) and of each
-/// case's best CMA-ES design.
-fn beyond_the_paper(
-    plan: &Plan,
-    task: &Task,
-    runs: &[OptimizeDocument],
-) -> Result<Vec<ResultFile>, String> {
-    let mut files = Vec::new();
-    for run in plan.gradient_runs() {
-        let (space, payload) = (
-            run.case.problem.space,
-            run.case.model.payload.unwrap_or_default(),
-        );
-        match run_case(&run.case, &run_file(plan, &run)) {
-            Ok(document) => {
-                say!(
-                    "gradient co-design, {space} space, {payload} kg: best r = {:?}, J = {:.4} ({} solves)",
-                    document.best_ratios, document.best_cost, document.evaluations
-                );
-                files.push(ResultFile::Optimize(Box::new(document)));
-            }
-            Err(error) => say!("gradient co-design, {space} space, {payload} kg: {error}"),
-        }
-    }
-    for run in plan.capacity_runs() {
-        let document = run_case(&run.case, &run_file(plan, &run))?;
-        say!(
-            "capacity co-design, {} space: r = {:?} lifts {:.3} kg ({} evaluations)",
-            run.case.problem.space,
-            document.best_ratios,
-            -document.best_cost,
-            document.evaluations
-        );
-        files.push(ResultFile::Optimize(Box::new(document)));
-    }
-    files.extend(capacities(plan, task, runs)?);
-    Ok(files)
-}
-
-/// The payload capacity of the original design per space and of each case's best design.
-fn capacities(
-    plan: &Plan,
-    task: &Task,
-    runs: &[OptimizeDocument],
-) -> Result<Vec<ResultFile>, String> {
-    let mut designs: Vec<(Space, Vec<f64>, String)> = SPACES
-        .iter()
-        .map(|&space| {
-            (
-                space,
-                task.transmission.original.clone(),
-                format!("{space}-original"),
-            )
-        })
-        .collect();
-    for payload in CODESIGNED {
-        for space in SPACES {
-            if let Some(best) = best_of(runs, payload, space) {
-                designs.push((
-                    space,
-                    best.ratios.clone(),
-                    format!("{space}-{payload}kg-best"),
-                ));
-            }
-        }
-    }
-    let settings = CapacitySettings::default();
-    let robot = Robot::load(task).map_err(|e| e.to_string())?;
-    let mut files = Vec::new();
-    for (space, ratios, name) in designs {
-        let capacity = payload_capacity(task, &robot, space, task.limit_modes, &ratios, &settings)?;
-        say!("payload capacity, {name}: {:?} kg", capacity.capacity_kg);
-        let document = CapacityDocument {
-            tool: ToolInfo::current(task.solver.linear_solver()),
-            task_file: task_source(plan.task.as_ref()).label(),
-            space,
-            ratios,
-            limit_modes: task.limit_modes,
-            settings,
-            capacity,
-        };
-        write_json(
-            &plan.out_dir.join("capacity").join(format!("{name}.json")),
-            &document,
-        )?;
-        files.push(ResultFile::Capacity(Box::new(document)));
-    }
-    Ok(files)
 }
 
 #[cfg(test)]

@@ -2,7 +2,7 @@
 //! run of it as a [`Case`] with the file it writes.
 
 use super::Args;
-use crate::cli::case::Case;
+use crate::cli::case::{shell_quote, Case};
 use crate::cli::common::{ModelArgs, ProblemArgs};
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
@@ -80,6 +80,8 @@ pub struct Plan {
     pub problem: ProblemArgs,
     /// Worker processes per run.
     pub workers: Option<usize>,
+    /// The shell command that starts one worker (None: this binary's `worker`).
+    pub worker_command: Option<String>,
     /// How the CMA-ES runs treat the logs of an earlier reproduction.
     pub start: Start,
 }
@@ -97,13 +99,17 @@ impl Plan {
         let plan = Plan {
             quick: args.quick,
             budget,
-            out_dir: args.out_dir.clone().unwrap_or_else(|| {
-                PathBuf::from(if args.quick {
-                    "results/quick"
-                } else {
-                    "results"
-                })
-            }),
+            out_dir: args
+                .from_runs
+                .clone()
+                .or_else(|| args.out_dir.clone())
+                .unwrap_or_else(|| {
+                    PathBuf::from(if args.quick {
+                        "results/quick"
+                    } else {
+                        "results"
+                    })
+                }),
             task: args.task.clone(),
             problem: ProblemArgs {
                 space: Space::Actuation,
@@ -112,6 +118,7 @@ impl Plan {
                 linear_solver: args.linear_solver,
             },
             workers: args.workers,
+            worker_command: args.worker_command.clone(),
             start: match (args.resume, args.overwrite) {
                 (true, _) => Start::Resume,
                 (false, true) => Start::Overwrite,
@@ -157,6 +164,7 @@ impl Plan {
         };
         let mut case = Case::new(model, problem, method);
         case.workers = self.workers;
+        case.worker_command = self.worker_command.clone();
         case.start = self.start;
         case
     }
@@ -168,6 +176,83 @@ impl Plan {
         case.cmaes.population = self.budget.population;
         case.cmaes.generations = self.budget.generations;
         case
+    }
+
+    /// The result file of the original design at `payload_kg` in `space`.
+    pub fn original_file(&self, space: Space, payload_kg: f64) -> PathBuf {
+        let name = format!("{space}-{payload_kg}kg.json");
+        self.out_dir.join("original").join(name)
+    }
+
+    /// The plot folder of the original design at `payload_kg` in `space`.
+    pub fn original_plots(&self, space: Space, payload_kg: f64) -> PathBuf {
+        let name = format!("original-{space}-{payload_kg}kg");
+        self.out_dir.join("plots").join(name)
+    }
+
+    /// The result file of a co-design run.
+    pub fn run_file(&self, run: &PlannedRun) -> PathBuf {
+        self.out_dir.join("runs").join(format!("{}.json", run.name))
+    }
+
+    /// The result file of a capacity search, `capacity/NAME.json`.
+    pub fn capacity_file(&self, name: &str) -> PathBuf {
+        self.out_dir.join("capacity").join(format!("{name}.json"))
+    }
+
+    /// The experiment's independent commands, one a line, with `program` as the binary: the
+    /// original designs' solves, every co-design run, and the original designs' capacity
+    /// searches. The capacities of the best designs wait for the runs: `--from-runs` does them.
+    pub fn commands(&self, program: &str) -> Vec<String> {
+        let program = shell_quote(program);
+        let path = |path: PathBuf| shell_quote(&path.to_string_lossy());
+        let mut common = Vec::new();
+        if let Some(task) = &self.task {
+            common.push(format!("--task {}", path(task.clone())));
+        }
+        if let Some(solver) = self.problem.linear_solver {
+            common.push(format!("--linear-solver {}", solver.name()));
+        }
+        let common = common
+            .iter()
+            .map(|flag| format!(" {flag}"))
+            .collect::<String>();
+        let mut lines = Vec::new();
+        for payload in PAYLOADS {
+            for space in SPACES {
+                lines.push(format!(
+                    "{program} solve --space {space} --payload {payload}{common} --out {} --plot {}",
+                    path(self.original_file(space, payload)),
+                    path(self.original_plots(space, payload))
+                ));
+            }
+        }
+        let runs = self
+            .cost_runs()
+            .into_iter()
+            .chain(self.gradient_runs())
+            .chain(self.capacity_runs());
+        for run in runs {
+            let mut case = run.case.clone();
+            // Commands run side by side: one worker each unless --workers says otherwise; a
+            // CMA-ES run continues its log when the plan runs again.
+            case.workers.get_or_insert(1);
+            if case.method == Method::Cmaes && case.start == Start::Fresh {
+                case.start = Start::Resume;
+            }
+            let flags = case.flags().join(" ");
+            lines.push(format!(
+                "{program} optimize {flags} --out {}",
+                path(self.run_file(&run))
+            ));
+        }
+        for space in SPACES {
+            let out = path(self.capacity_file(&format!("{space}-original")));
+            lines.push(format!(
+                "{program} capacity --space {space}{common} --out {out}"
+            ));
+        }
+        lines
     }
 
     /// The paper's co-design runs: CMA-ES on the cost, per co-designed payload, space and seed.

@@ -1,0 +1,158 @@
+//! The stages of the experiment run in this process: the original designs, the co-design runs
+//! and the capacities, each written to its file in the output folder as it finishes.
+
+use super::plan::{Plan, PlannedRun, PAYLOADS, SPACES};
+use super::Outcomes;
+use crate::cli::common::task_source;
+use crate::cli::optimize::run_case;
+use crate::design::capacity::{payload_capacity, CapacitySettings};
+use crate::model::task::Task;
+use crate::model::Robot;
+use crate::problem::{Formulation, Space};
+use crate::report::codesign::{CapacityDocument, OptimizeDocument};
+use crate::report::files::write_json;
+use crate::report::table::ResultFile;
+use crate::report::trajectory::{write_plots, SolveDocument, ToolInfo};
+use crate::solver::{solve_design, SolveError, SolveSettings};
+
+/// Runs every independent stage of `plan`: what its printed commands do elsewhere.
+pub fn run_all(plan: &Plan, task: &Task) -> Result<Outcomes, String> {
+    Ok(Outcomes {
+        originals: solve_originals(plan, task)?,
+        runs: cost_runs(plan)?,
+        gradient_runs: gradient_runs(plan),
+        capacity_runs: capacity_runs(plan)?,
+        original_capacities: SPACES
+            .iter()
+            .map(|&space| {
+                let ratios = task.transmission.original.clone();
+                capacity_document(plan, task, space, ratios, &format!("{space}-original"))
+            })
+            .collect::<Result<_, _>>()?,
+    })
+}
+
+/// The formulation of `task` with `payload_kg` in `space`, with the task's limit modes.
+pub fn formulation_at(task: &Task, payload_kg: f64, space: Space) -> Result<Formulation, String> {
+    let mut loaded = task.clone();
+    loaded.payload.mass_kg = payload_kg;
+    let robot = Robot::load(&loaded).map_err(|e| e.to_string())?;
+    Formulation::new(&loaded, robot, space, loaded.limit_modes).map_err(|e| e.to_string())
+}
+
+/// Solves the original design at every payload in both spaces; writes each result and its
+/// plots.
+fn solve_originals(plan: &Plan, task: &Task) -> Result<Vec<ResultFile>, String> {
+    let source = task_source(plan.task.as_ref());
+    let mut files = Vec::new();
+    for payload in PAYLOADS {
+        for space in SPACES {
+            let formulation = formulation_at(task, payload, space)?;
+            let ratios = task.transmission.original.clone();
+            let result = solve_design(&formulation, &ratios, &SolveSettings::default()).map_err(
+                |e| match e {
+                    SolveError::Design(_) => format!("{source} transmission.original: {e}"),
+                    SolveError::Ipopt(_) => format!("{source} solver: {e}"),
+                },
+            )?;
+            say!(
+                "original design, {space} space, {payload} kg: {} J = {:.4} ({} iterations)",
+                result.status,
+                result.cost,
+                result.iterations
+            );
+            write_plots(&plan.original_plots(space, payload), &formulation, &result)?;
+            let document = SolveDocument::new(&source.label(), &formulation, result);
+            write_json(&plan.original_file(space, payload), &document)?;
+            files.push(ResultFile::Solve(Box::new(document)));
+        }
+    }
+    Ok(files)
+}
+
+/// Runs one planned co-design run.
+fn run(plan: &Plan, run: &PlannedRun) -> Result<OptimizeDocument, String> {
+    run_case(&run.case, &plan.run_file(run))
+}
+
+/// The paper's co-design runs (CMA-ES on the cost), in order.
+fn cost_runs(plan: &Plan) -> Result<Vec<OptimizeDocument>, String> {
+    let mut documents = Vec::new();
+    for planned in plan.cost_runs() {
+        let document = run(plan, &planned)?;
+        say!(
+            "co-design, {} space, {} kg, seed {}: best r = {:?}, J = {:.4} ({} evaluations)",
+            planned.case.problem.space,
+            document.inputs.payload_kg,
+            planned.case.cmaes.seed,
+            document.best_ratios,
+            document.best_cost,
+            document.evaluations
+        );
+        documents.push(document);
+    }
+    Ok(documents)
+}
+
+/// Co-design by the gradient method for every co-designed case; a case where it finds no
+/// feasible start is reported and left out.
+fn gradient_runs(plan: &Plan) -> Vec<OptimizeDocument> {
+    let mut documents = Vec::new();
+    for planned in plan.gradient_runs() {
+        let space = planned.case.problem.space;
+        let payload = planned.case.model.payload.unwrap_or_default();
+        match run(plan, &planned) {
+            Ok(document) => {
+                say!(
+                    "gradient co-design, {space} space, {payload} kg: best r = {:?}, J = {:.4} ({} solves)",
+                    document.best_ratios, document.best_cost, document.evaluations
+                );
+                documents.push(document);
+            }
+            Err(error) => say!("gradient co-design, {space} space, {payload} kg: {error}"),
+        }
+    }
+    documents
+}
+
+/// The design of largest payload capacity per space (CMA-ES on minus the capacity).
+fn capacity_runs(plan: &Plan) -> Result<Vec<OptimizeDocument>, String> {
+    let mut documents = Vec::new();
+    for planned in plan.capacity_runs() {
+        let document = run(plan, &planned)?;
+        say!(
+            "capacity co-design, {} space: r = {:?} lifts {:.3} kg ({} evaluations)",
+            planned.case.problem.space,
+            document.best_ratios,
+            -document.best_cost,
+            document.evaluations
+        );
+        documents.push(document);
+    }
+    Ok(documents)
+}
+
+/// Searches the payload capacity of `ratios` in `space` and writes it as `capacity/NAME.json`.
+pub fn capacity_document(
+    plan: &Plan,
+    task: &Task,
+    space: Space,
+    ratios: Vec<f64>,
+    name: &str,
+) -> Result<CapacityDocument, String> {
+    let settings = CapacitySettings::default();
+    let robot = Robot::load(task).map_err(|e| e.to_string())?;
+    let capacity = payload_capacity(task, &robot, space, task.limit_modes, &ratios, &settings)?;
+    say!("payload capacity, {name}: {:?} kg", capacity.capacity_kg);
+    let document = CapacityDocument {
+        tool: ToolInfo::current(task.solver.linear_solver()),
+        task_file: task_source(plan.task.as_ref()).label(),
+        space,
+        ratios,
+        limit_modes: task.limit_modes,
+        settings,
+        capacity,
+    };
+    write_json(&plan.capacity_file(name), &document)?;
+    Ok(document)
+}

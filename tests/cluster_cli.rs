@@ -1,0 +1,206 @@
+//! Beyond one machine: workers started by a command of the user's (as `srun` or `ssh` would),
+//! workers of another build refused, and the experiment's plan run by GNU parallel and merged
+//! into the table a single `reproduce` writes.
+
+mod support;
+
+use serde_json::Value;
+use std::os::unix::fs::PermissionsExt;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use support::{codesign_in, scratch, task_with};
+
+/// The repository's task on 8 intervals instead of 50: the same problem, solved in
+/// milliseconds.
+fn small_task(dir: &Path) -> PathBuf {
+    task_with(dir, |task| task["motion"]["steps"] = 8.into())
+}
+
+/// An executable shell script `name` in `dir`.
+fn script(dir: &Path, name: &str, body: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, format!("#!/bin/sh\n{body}\n")).unwrap();
+    std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+    path
+}
+
+/// Runs codesign in `dir`, failing the test on an error; returns its stdout.
+fn succeed(dir: &Path, args: &[&str]) -> String {
+    let output = codesign_in(dir, args);
+    assert!(
+        output.status.success(),
+        "codesign {args:?}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8(output.stdout).unwrap()
+}
+
+fn read(path: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// A small co-design on `task`, written to `dir/NAME.json`, with `extra` flags.
+fn optimize(dir: &Path, task: &Path, name: &str, extra: &[&str]) -> Value {
+    let out = dir.join(format!("{name}.json"));
+    let mut args = vec![
+        "optimize",
+        "--task",
+        task.to_str().unwrap(),
+        "--space",
+        "actuation",
+        "--payload",
+        "1",
+        "--seed",
+        "3",
+        "--population",
+        "8",
+        "--generations",
+        "3",
+        "--workers",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    succeed(dir, &args);
+    read(&out)
+}
+
+#[test]
+fn workers_started_by_a_command_give_the_same_results() {
+    let dir = scratch("wrapper");
+    let task = small_task(&dir);
+    let log = dir.join("wrapper.log");
+    let wrapper = script(
+        &dir,
+        "wrapper.sh",
+        &format!("echo started >> '{}'\nexec \"$@\"", log.display()),
+    );
+    let command = format!("{} {{}} worker", wrapper.display());
+    let wrapped = optimize(&dir, &task, "wrapped", &["--worker-command", &command]);
+    let direct = optimize(&dir, &task, "direct", &[]);
+    for key in [
+        "best_ratios",
+        "best_cost",
+        "costs",
+        "generations",
+        "stop_reason",
+    ] {
+        assert_eq!(wrapped[key], direct[key], "{key}");
+    }
+    let started = std::fs::read_to_string(&log).unwrap();
+    assert_eq!(started.lines().count(), 2, "one line per worker: {started}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_worker_of_another_build_is_refused() {
+    let dir = scratch("other-build");
+    let task = small_task(&dir);
+    let command = r#"{} worker | sed -u 's/"codesign":"[^"]*"/"codesign":"0.0.1"/'"#;
+    let out = dir.join("refused.json");
+    let output = codesign_in(
+        &dir,
+        &[
+            "optimize",
+            "--task",
+            task.to_str().unwrap(),
+            "--payload",
+            "1",
+            "--population",
+            "5",
+            "--generations",
+            "0",
+            "--workers",
+            "1",
+            "--worker-command",
+            command,
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("refused the worker started by"), "{stderr}");
+    assert!(stderr.contains("it is codesign 0.0.1"), "{stderr}");
+    assert!(!out.exists(), "no result from a refused worker");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The table with every time (a number before "ms", "s", "min" or "h") blanked, and the note on
+/// the run's wall time left out: what two runs of one experiment must share.
+fn table_without_times(folder: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(folder.join("paper_table.md")).unwrap();
+    let is_unit = |word: &str| {
+        let word = word.trim_end_matches(|c: char| c.is_ascii_punctuation());
+        ["ms", "s", "min", "h"].contains(&word)
+    };
+    text.lines()
+        .filter(|line| !line.contains("Wall time") && !line.contains("Merged by"))
+        .map(|line| {
+            let words: Vec<&str> = line.split(' ').collect();
+            (0..words.len())
+                .map(|i| {
+                    let timed = words.get(i + 1).is_some_and(|next| is_unit(next));
+                    if timed && words[i].parse::<f64>().is_ok() {
+                        "T"
+                    } else {
+                        words[i]
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join(" ")
+        })
+        .collect()
+}
+
+#[test]
+fn the_plan_run_by_gnu_parallel_and_merged_matches_one_reproduction() {
+    let dir = scratch("plan");
+    let task = small_task(&dir);
+    let task = task.to_str().unwrap();
+    let sizes = [
+        "--quick",
+        "--seeds",
+        "1",
+        "--population",
+        "5",
+        "--generations",
+        "1",
+        "--task",
+        task,
+    ];
+    let whole = dir.join("whole");
+    let whole_flags = [&sizes[..], &["--out-dir", whole.to_str().unwrap()]].concat();
+    succeed(&dir, &[&["reproduce"], &whole_flags[..]].concat());
+
+    let split = dir.join("split");
+    let plan_flags = [&sizes[..], &["--out-dir", split.to_str().unwrap()]].concat();
+    let plan = succeed(&dir, &[&["reproduce", "--plan"], &plan_flags[..]].concat());
+    assert_eq!(plan.lines().count(), 6 + 4 + 4 + 2 + 2, "{plan}");
+    std::fs::write(dir.join("plan.txt"), &plan).unwrap();
+    // A gradient run that finds no feasible start fails its command, as `reproduce` reports and
+    // skips it; every result the merge needs is checked there.
+    Command::new("parallel")
+        .args(["-j", "2"])
+        .stdin(std::fs::File::open(dir.join("plan.txt")).unwrap())
+        .current_dir(&dir)
+        .status()
+        .expect("GNU parallel runs (Debian package `parallel`; .ci/setup installs it)");
+    let merge_flags = [&sizes[..], &["--from-runs", split.to_str().unwrap()]].concat();
+    succeed(&dir, &[&["reproduce"], &merge_flags[..]].concat());
+
+    assert_eq!(table_without_times(&split), table_without_times(&whole));
+    for run in [
+        "actuation-1kg-seed0",
+        "joint-3kg-gradient",
+        "joint-capacity-seed0",
+    ] {
+        let file = format!("runs/{run}.json");
+        let (a, b) = (read(&whole.join(&file)), read(&split.join(&file)));
+        for key in ["best_ratios", "best_cost", "costs", "inputs"] {
+            assert_eq!(a[key], b[key], "{run}: {key}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
