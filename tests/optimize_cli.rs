@@ -211,3 +211,54 @@ fn capacity_objective_and_gradient_method_run_end_to_end() {
     assert!(!dir.join("gradient.log.jsonl").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn one_design_for_a_payload_range_reports_its_cost_at_each_payload() {
+    let dir = scratch("range");
+    let task = support::task_with(&dir, |task| task["motion"]["steps"] = 8.into());
+    let out = dir.join("range.json");
+    let range = run_to_completion(
+        &[
+            "optimize",
+            "--task",
+            task.to_str().unwrap(),
+            "--objective",
+            "range",
+            "--payloads",
+            "0,1",
+            "--population",
+            "6",
+            "--generations",
+            "1",
+            "--workers",
+            "2",
+        ],
+        &out,
+    );
+    assert_eq!(range["inputs"]["objective"]["kind"], "range");
+    assert_eq!(range["evaluations"], 12);
+    let best = &range["payload_costs"]["best"];
+    assert_eq!(best.as_array().unwrap().len(), 2, "{best}");
+    // The fitness is the mean of the costs at the payloads, solved again for the report.
+    let mean = (best[0]["cost"].as_f64().unwrap() + best[1]["cost"].as_f64().unwrap()) / 2.0;
+    assert!(best[0]["feasible"].as_bool().unwrap() && best[1]["feasible"].as_bool().unwrap());
+    assert_eq!(range["best_cost"].as_f64().unwrap(), mean);
+    // The table shows it beyond the paper.
+    let table = support::codesign(&["table", out.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&table.stdout);
+    assert!(table.status.success(), "{text}");
+    assert!(text.contains("One design for a payload range"), "{text}");
+    assert!(text.contains("| 0, 1 kg | actuation | 0 |"), "{text}");
+
+    let refused = support::codesign(&[
+        "optimize",
+        "--objective",
+        "range",
+        "--payloads",
+        "1,2",
+        "--payload",
+        "1",
+    ]);
+    support::fails_saying(&refused, "--payload 1: --objective range solves every payload");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -4,12 +4,12 @@
 use super::common::{ModelArgs, ProblemArgs};
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
-use crate::design::evaluate::Objective;
+use crate::design::evaluate::{Objective, PayloadRange};
 use crate::design::gradient::GradientSettings;
 use crate::design::log::Start;
 use crate::design::workers::{Launcher, SOLVE_TIMEOUT_S};
 use crate::design::PENALTY;
-use crate::model::task::{LimitModes, Task};
+use crate::model::task::{check_payload, LimitModes, Task};
 use crate::report::codesign::{Method, OptimizeInputs};
 use std::path::Path;
 
@@ -99,16 +99,22 @@ impl Case {
         {
             return Err("--worker-command: must be a shell command, e.g. \"{} worker\"".to_owned());
         }
-        match (self.method, self.objective) {
+        match (self.method, &self.objective) {
             (Method::Gradient, Objective::Capacity(_)) => Err(
                 "--objective capacity: the capacity is not differentiable in r; use --method cmaes"
                     .to_owned(),
             ),
+            (Method::Gradient, Objective::Range(_)) => Err(
+                "--objective range: the gradient method descends one payload's cost; use \
+                 --method cmaes"
+                    .to_owned(),
+            ),
+            (_, Objective::Range(range)) => self.check_range(range),
             (Method::Gradient, _) if self.start == Start::Resume => Err(
                 "--resume continues CMA-ES runs; a gradient run is short, start it again"
                     .to_owned(),
             ),
-            (_, Objective::Capacity(CapacitySettings { resolution_kg, .. }))
+            (_, &Objective::Capacity(CapacitySettings { resolution_kg, .. }))
                 if !(resolution_kg.is_finite() && resolution_kg > 0.0) =>
             {
                 Err(format!(
@@ -117,6 +123,24 @@ impl Case {
             }
             _ => Ok(()),
         }
+    }
+
+    /// Checks the payloads of `--objective range`: at least one, each a valid payload, and no
+    /// `--payload` beside them.
+    fn check_range(&self, range: &PayloadRange) -> Result<(), String> {
+        if let Some(payload) = self.model.payload {
+            return Err(format!(
+                "--payload {payload}: --objective range solves every payload of --payloads; leave \
+                 --payload out"
+            ));
+        }
+        if range.payloads_kg.is_empty() {
+            return Err("--objective range: give the payloads with --payloads KG,KG,..".to_owned());
+        }
+        for &payload in &range.payloads_kg {
+            check_payload(payload).map_err(|why| format!("--payloads {payload}: {why}"))?;
+        }
+        Ok(())
     }
 
     /// How the run's workers start, for this binary at `program`.
@@ -154,9 +178,17 @@ impl Case {
                 self.gradient.max_iterations.to_string(),
             );
         }
-        if let Objective::Capacity(settings) = self.objective {
-            push("--objective", "capacity".to_owned());
-            push("--capacity-resolution", settings.resolution_kg.to_string());
+        match &self.objective {
+            Objective::Cost => {}
+            Objective::Capacity(settings) => {
+                push("--objective", "capacity".to_owned());
+                push("--capacity-resolution", settings.resolution_kg.to_string());
+            }
+            Objective::Range(range) => {
+                push("--objective", "range".to_owned());
+                let payloads: Vec<String> = range.payloads_kg.iter().map(f64::to_string).collect();
+                push("--payloads", payloads.join(","));
+            }
         }
         push("--seed", self.cmaes.seed.to_string());
         push("--population", self.cmaes.population.to_string());
@@ -186,7 +218,7 @@ impl Case {
         recorded.solver.linear_solver = None;
         OptimizeInputs {
             method: self.method,
-            objective: self.objective,
+            objective: self.objective.clone(),
             task_file: self.model.source().label(),
             task: recorded,
             linear_solver: task.solver.linear_solver(),

@@ -6,7 +6,7 @@ use super::common::{ModelArgs, ProblemArgs};
 use super::preflight::probe_solver;
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
-use crate::design::evaluate::Objective;
+use crate::design::evaluate::{Fitness, Objective, PayloadRange};
 use crate::design::gradient::{optimize_gradient, GradientSettings};
 use crate::design::log::{EvaluationLog, Finished, Start};
 use crate::design::optimize::{optimize, Progress};
@@ -15,7 +15,7 @@ use crate::design::workers::{Pool, WorkerSetup, SOLVE_TIMEOUT_S};
 use crate::design::PENALTY;
 use crate::model::task::Task;
 use crate::problem::Formulation;
-use crate::report::codesign::{Method, OptimizeDocument, OptimizeInputs};
+use crate::report::codesign::{Method, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
 use crate::report::files::{check_output, write_json};
 use crate::report::trajectory::ToolInfo;
 use crate::solver::{solve_design, solve_design_from, SolveSettings};
@@ -36,6 +36,10 @@ pub struct Args {
     /// (each evaluation then bisects the payload: about 10 solves).
     #[arg(long, value_enum, default_value = "cost")]
     pub objective: ObjectiveKind,
+    /// Payloads of `--objective range`, kg: each evaluation solves the design at every one (in
+    /// its worker) and scores the mean cost, or the penalty when any is infeasible.
+    #[arg(long, value_name = "KG,KG,..", value_delimiter = ',', num_args = 1..)]
+    pub payloads: Option<Vec<f64>>,
     /// Resolution of the capacity search of `--objective capacity`, kg.
     #[arg(long, value_name = "KG", default_value_t = CapacitySettings::default().resolution_kg)]
     pub capacity_resolution: f64,
@@ -92,6 +96,9 @@ impl Args {
             ObjectiveKind::Capacity => Objective::Capacity(CapacitySettings {
                 resolution_kg: self.capacity_resolution,
                 ..CapacitySettings::default()
+            }),
+            ObjectiveKind::Range => Objective::Range(PayloadRange {
+                payloads_kg: self.payloads.clone().unwrap_or_default(),
             }),
         };
         case.cmaes = CmaesSettings {
@@ -161,7 +168,7 @@ pub fn run_case(case: &Case, out: &Path) -> Result<OptimizeDocument, String> {
         }
     };
     let result = outcome.and_then(|(outcome, earlier_seconds)| {
-        let mut document = document(case, &formulation, inputs, outcome);
+        let mut document = document(case, &formulation, inputs, outcome)?;
         document.earlier_seconds = earlier_seconds;
         document.wall_seconds = started.elapsed().as_secs_f64();
         write_json(out, &document)?;
@@ -191,31 +198,51 @@ fn open_log(
 }
 
 /// The result document of a run: the method's outcome with full solves of the best and the
-/// original design. The wall time and the earlier invocations' time are the caller's to set.
+/// original design (at every payload of a range). The wall time and the earlier invocations'
+/// time are the caller's to set.
 fn document(
     case: &Case,
     formulation: &Formulation,
     inputs: OptimizeInputs,
     outcome: DesignOutcome,
-) -> OptimizeDocument {
+) -> Result<OptimizeDocument, String> {
     let settings = SolveSettings::default();
-    // Warm-started from the method's own inner solution where it has one, so that the reported
-    // trajectory is the one behind `best_cost`.
-    let best_result = solve_design_from(
-        formulation,
-        &outcome.best_ratios,
-        &settings,
-        outcome.best_solution.as_ref(),
-    )
-    .ok()
-    .map(|(result, _)| result);
     let original_ratios = formulation.transmission().original().to_vec();
-    let original_result = solve_design(formulation, &original_ratios, &settings).ok();
-    let original_cost = match &original_result {
-        Some(result) if result.feasible => result.cost,
+    let (best_result, original_result, payload_costs) = match &case.objective {
+        Objective::Range(_) => {
+            let fitness = Fitness::new(
+                formulation.task(),
+                formulation.space(),
+                *formulation.modes(),
+                &case.objective,
+            )?;
+            let best = payload_costs(&fitness, &outcome.best_ratios);
+            let original = payload_costs(&fitness, &original_ratios);
+            (None, None, Some(RangeCosts { best, original }))
+        }
+        // Warm-started from the method's own inner solution where it has one, so that the
+        // reported trajectory is the one behind `best_cost`.
+        _ => (
+            solve_design_from(
+                formulation,
+                &outcome.best_ratios,
+                &settings,
+                outcome.best_solution.as_ref(),
+            )
+            .ok()
+            .map(|(result, _)| result),
+            solve_design(formulation, &original_ratios, &settings).ok(),
+            None,
+        ),
+    };
+    let original_cost = match (&original_result, &payload_costs) {
+        (Some(result), _) if result.feasible => result.cost,
+        (_, Some(costs)) if costs.original.iter().all(|c| c.feasible) => {
+            costs.original.iter().map(|c| c.cost).sum::<f64>() / costs.original.len() as f64
+        }
         _ => case.penalty,
     };
-    OptimizeDocument {
+    Ok(OptimizeDocument {
         tool: ToolInfo::current(inputs.linear_solver),
         inputs,
         best_ratios: outcome.best_ratios,
@@ -235,7 +262,31 @@ fn document(
         stop_reason: outcome.stop_reason,
         wall_seconds: 0.0,
         earlier_seconds: None,
+        payload_costs,
+    })
+}
+
+/// `ratios` solved at every payload of a range `fitness` (none when `ratios` is empty: no
+/// feasible design was found).
+fn payload_costs(fitness: &Fitness, ratios: &[f64]) -> Vec<PayloadCost> {
+    let Fitness::Range(formulations) = fitness else {
+        return Vec::new();
+    };
+    if ratios.is_empty() {
+        return Vec::new();
     }
+    formulations
+        .iter()
+        .map(|(payload_kg, formulation)| {
+            let solved = solve_design(formulation, ratios, &SolveSettings::default());
+            PayloadCost {
+                payload_kg: *payload_kg,
+                feasible: solved.as_ref().is_ok_and(|r| r.feasible),
+                cost: solved.as_ref().map_or(f64::NAN, |r| r.cost),
+                status: solved.map_or_else(|e| e.to_string(), |r| r.status),
+            }
+        })
+        .collect()
 }
 
 /// The objective as a flag.
@@ -245,6 +296,8 @@ pub enum ObjectiveKind {
     Cost,
     /// Minus the payload capacity.
     Capacity,
+    /// The mean cost over the payloads of `--payloads`: one design for the whole range.
+    Range,
 }
 
 /// The CMA-ES run on its open evaluation log (with the `finished` evaluations of a resumed
@@ -264,7 +317,7 @@ fn run_cmaes(
         );
     }
     let setup = WorkerSetup {
-        objective: inputs.objective,
+        objective: inputs.objective.clone(),
         task: worker_task,
         space: case.problem.space,
         modes: *formulation.modes(),
@@ -301,6 +354,48 @@ fn run_cmaes(
     Ok(outcome)
 }
 
+/// The run's result in one line: the best design and its fitness, or that none was feasible.
+fn summary(document: &OptimizeDocument) -> String {
+    let join = |ratios: &[f64]| {
+        let texts: Vec<String> = ratios.iter().map(|r| format!("{r:.4}")).collect();
+        texts.join(", ")
+    };
+    let best = join(&document.best_ratios);
+    let found = match (&document.inputs.objective, &document.payload_costs) {
+        _ if document.best_ratios.is_empty() => "no feasible design found".to_owned(),
+        (Objective::Capacity(_), _) => format!(
+            "largest payload capacity {:.3} kg at r = ({best})",
+            -document.best_cost
+        ),
+        (Objective::Range(_), Some(costs)) => {
+            let per_payload: Vec<String> = costs
+                .best
+                .iter()
+                .map(|c| format!("{} kg: {:.4}", c.payload_kg, c.cost))
+                .collect();
+            format!(
+                "best r = ({best}) with mean J = {:.6} ({}; original design: {:.6})",
+                document.best_cost,
+                per_payload.join(", "),
+                document.original_cost
+            )
+        }
+        _ => format!(
+            "best r = ({best}) with J = {:.6} (original design: J = {:.6})",
+            document.best_cost, document.original_cost
+        ),
+    };
+    let timing = if document.median_solve_seconds.is_nan() {
+        "no solve timed".to_owned()
+    } else {
+        format!("median solve {:.1} ms", document.median_solve_seconds * 1e3)
+    };
+    format!(
+        "{found}; {} evaluations ({} replayed), {timing}; {}",
+        document.evaluations, document.replayed, document.stop_reason
+    )
+}
+
 /// Runs `codesign optimize` and prints a summary.
 pub fn run(args: &Args) -> Result<(), String> {
     let out = args.out.clone().unwrap_or_else(|| {
@@ -313,37 +408,11 @@ pub fn run(args: &Args) -> Result<(), String> {
             args.problem.space, args.seed
         ))
     });
-    let document = run_case(&args.case(), &out)?;
-    if args.objective == ObjectiveKind::Capacity {
-        say!(
-            "largest payload capacity {:.3} kg at r = ({}); {} evaluations ({} replayed); {}",
-            -document.best_cost,
-            document
-                .best_ratios
-                .iter()
-                .map(|r| format!("{r:.4}"))
-                .collect::<Vec<_>>()
-                .join(", "),
-            document.evaluations,
-            document.replayed,
-            document.stop_reason
-        );
-    } else {
-        say!(
-            "best r = ({}) with J = {:.6} (original design: J = {:.6}); {} evaluations ({} replayed), {}; {}",
-            document.best_ratios.iter().map(|r| format!("{r:.4}")).collect::<Vec<_>>().join(", "),
-            document.best_cost,
-            document.original_cost,
-            document.evaluations,
-            document.replayed,
-            if document.median_solve_seconds.is_nan() {
-                "no solve timed".to_owned()
-            } else {
-                format!("median solve {:.1} ms", document.median_solve_seconds * 1e3)
-            },
-            document.stop_reason
-        );
+    if args.payloads.is_some() && args.objective != ObjectiveKind::Range {
+        return Err("--payloads: only with --objective range".to_owned());
     }
+    let document = run_case(&args.case(), &out)?;
+    say!("{}", summary(&document));
     match args.method {
         Method::Cmaes => say!(
             "result written to {} (evaluation log {})",

@@ -2,7 +2,9 @@
 //! negated payload capacity, or a penalty.
 
 use super::capacity::{payload_capacity, CapacitySettings};
-use crate::problem::Formulation;
+use crate::model::task::{LimitModes, Task};
+use crate::model::Robot;
+use crate::problem::{Formulation, Space};
 use crate::solver::{solve_design, SolveError, SolveSettings};
 use serde::{Deserialize, Serialize};
 
@@ -42,7 +44,7 @@ impl Evaluation {
 }
 
 /// What co-design minimises.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase", tag = "kind")]
 pub enum Objective {
     /// The optimal trajectory cost J at the task's payload (the paper's criterion).
@@ -50,6 +52,103 @@ pub enum Objective {
     Cost,
     /// Minus the payload capacity, kg: the design that lifts the most.
     Capacity(CapacitySettings),
+    /// The mean of the optimal costs over several payloads: one design for the whole range.
+    Range(PayloadRange),
+}
+
+/// The payloads of [`Objective::Range`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PayloadRange {
+    /// The payloads, kg, in the order they are solved (the mean sums in this order).
+    pub payloads_kg: Vec<f64>,
+}
+
+/// The formulations a worker scores designs with, one per payload of the objective.
+#[derive(Debug)]
+pub enum Fitness {
+    /// The cost at one payload.
+    Cost(Formulation),
+    /// Minus the capacity; the formulation's payload is ignored.
+    Capacity(Formulation, CapacitySettings),
+    /// The mean cost over the payloads, each with its formulation.
+    Range(Vec<(f64, Formulation)>),
+}
+
+impl Fitness {
+    /// The fitness of `objective` for `task` (its payload used by `Cost` and `Capacity`) in
+    /// `space` with limit `modes`.
+    pub fn new(
+        task: &Task,
+        space: Space,
+        modes: LimitModes,
+        objective: &Objective,
+    ) -> Result<Fitness, String> {
+        let formulation = |payload_kg: f64| {
+            let mut loaded = task.clone();
+            loaded.payload.mass_kg = payload_kg;
+            let robot = Robot::load(&loaded).map_err(|e| e.to_string())?;
+            Formulation::new(&loaded, robot, space, modes).map_err(|e| e.to_string())
+        };
+        Ok(match objective {
+            Objective::Cost => Fitness::Cost(formulation(task.payload.mass_kg)?),
+            Objective::Capacity(settings) => {
+                Fitness::Capacity(formulation(task.payload.mass_kg)?, *settings)
+            }
+            Objective::Range(range) => Fitness::Range(
+                range
+                    .payloads_kg
+                    .iter()
+                    .map(|&kg| formulation(kg).map(|f| (kg, f)))
+                    .collect::<Result<_, _>>()?,
+            ),
+        })
+    }
+
+    /// Scores `ratios`; an invalid or infeasible design scores `penalty`.
+    pub fn evaluate(&self, ratios: &[f64], penalty: f64) -> Evaluation {
+        match self {
+            Fitness::Cost(formulation) => evaluate(formulation, ratios, penalty),
+            Fitness::Capacity(formulation, settings) => {
+                evaluate_capacity(formulation, ratios, settings, penalty)
+            }
+            Fitness::Range(formulations) => evaluate_range(formulations, ratios, penalty),
+        }
+    }
+}
+
+/// Scores `ratios` by the mean of its optimal costs over the payloads of `formulations`; the
+/// first payload at which it is invalid or infeasible ends the evaluation with `penalty`, that
+/// payload named in the reason.
+pub fn evaluate_range(
+    formulations: &[(f64, Formulation)],
+    ratios: &[f64],
+    penalty: f64,
+) -> Evaluation {
+    let (mut iterations, mut seconds, mut sum) = (0, 0.0, 0.0);
+    for (payload_kg, formulation) in formulations {
+        let one = evaluate(formulation, ratios, penalty);
+        iterations += one.iterations;
+        seconds += one.seconds;
+        if !one.feasible {
+            let why = one.reason.clone().unwrap_or_else(|| one.status.clone());
+            return Evaluation {
+                iterations,
+                seconds,
+                reason: Some(format!("at {payload_kg} kg: {why}")),
+                ..one
+            };
+        }
+        sum += one.cost;
+    }
+    Evaluation {
+        ratios: ratios.to_vec(),
+        cost: sum / formulations.len() as f64,
+        feasible: true,
+        status: "Solve_Succeeded".to_owned(),
+        iterations,
+        seconds,
+        reason: None,
+    }
 }
 
 /// Scores `ratios` by minus its payload capacity (the formulation's payload is ignored); a

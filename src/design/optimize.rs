@@ -81,8 +81,14 @@ pub fn optimize(
     }
     check_evaluations(&outcome.evaluations)?;
     let (best, cost) = cmaes.best().ok_or("CMA-ES has no best design")?;
+    // A design no evaluation found feasible is no result: the run reports none.
+    let any_feasible = outcome.evaluations.iter().any(|e| e.feasible);
     Ok(DesignOutcome {
-        best_ratios: best.to_vec(),
+        best_ratios: if any_feasible {
+            best.to_vec()
+        } else {
+            Vec::new()
+        },
         best_cost: cost,
         best_solution: None,
         costs: outcome.evaluations.iter().map(|e| e.cost).collect(),

@@ -7,7 +7,8 @@ use crate::ipopt::Solution;
 /// The result of a co-design run, whichever method made it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DesignOutcome {
-    /// The best design seen (empty when the method judged none).
+    /// The best design seen; empty when no evaluation found a design feasible (an infeasible
+    /// design is never reported as the best).
     pub best_ratios: Vec<f64>,
     /// Its fitness: the optimal cost J, minus the capacity, or the penalty when nothing
     /// feasible was seen.

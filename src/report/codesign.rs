@@ -69,7 +69,8 @@ pub struct OptimizeDocument {
     pub tool: ToolInfo,
     /// The run's settings.
     pub inputs: OptimizeInputs,
-    /// The best design found.
+    /// The best design found; empty when no evaluation found a design feasible (files written
+    /// before this rule may hold an infeasible design here, with the penalty as its cost).
     pub best_ratios: Vec<f64>,
     /// Its cost.
     pub best_cost: f64,
@@ -111,6 +112,32 @@ pub struct OptimizeDocument {
     /// `wall_seconds` in all.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub earlier_seconds: Option<f64>,
+    /// For `--objective range`: the best and the original design solved at every payload (their
+    /// `best_result` and `original_result` are then None).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub payload_costs: Option<RangeCosts>,
+}
+
+/// The designs of a payload-range run, solved at each payload.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RangeCosts {
+    /// The best design, per payload.
+    pub best: Vec<PayloadCost>,
+    /// The original design, per payload.
+    pub original: Vec<PayloadCost>,
+}
+
+/// One design solved at one payload.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PayloadCost {
+    /// The payload, kg.
+    pub payload_kg: f64,
+    /// Whether its trajectory problem was solved.
+    pub feasible: bool,
+    /// The optimal cost J (meaningful when feasible).
+    pub cost: f64,
+    /// IPOPT's status, or why no solve ran.
+    pub status: String,
 }
 
 /// The JSON file `codesign capacity` writes.

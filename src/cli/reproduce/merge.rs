@@ -37,8 +37,8 @@ pub fn read_all(plan: &Plan) -> Result<Outcomes, String> {
         .filter(|path| path.exists())
         .map(|path| optimize(&path))
         .collect::<Result<_, _>>()?;
-    let capacity_runs = plan
-        .capacity_runs()
+    let beyond_runs = plan
+        .beyond_runs()
         .iter()
         .map(|run| optimize(&plan.run_file(run)))
         .collect::<Result<_, _>>()?;
@@ -56,7 +56,7 @@ pub fn read_all(plan: &Plan) -> Result<Outcomes, String> {
         originals,
         runs,
         gradient_runs,
-        capacity_runs,
+        beyond_runs,
         original_capacities,
     })
 }

@@ -86,8 +86,8 @@ pub struct Outcomes {
     runs: Vec<OptimizeDocument>,
     /// The gradient method's runs that found a feasible start.
     gradient_runs: Vec<OptimizeDocument>,
-    /// The capacity co-design runs, per space.
-    capacity_runs: Vec<OptimizeDocument>,
+    /// The CMA-ES runs beyond the paper: the capacity designs per space, the payload range.
+    beyond_runs: Vec<OptimizeDocument>,
     /// The original design's capacity, per space.
     original_capacities: Vec<CapacityDocument>,
 }
@@ -169,7 +169,7 @@ fn finish(
     let beyond: Vec<&OptimizeDocument> = outcomes
         .gradient_runs
         .iter()
-        .chain(&outcomes.capacity_runs)
+        .chain(&outcomes.beyond_runs)
         .collect();
     let time_note = if merged {
         merged_note(&plan.out_dir, runs.iter().chain(beyond.iter().copied()))
@@ -177,7 +177,7 @@ fn finish(
         // Resumed runs' earlier invocations, from their logs (the capacity co-design runs too).
         let earlier: Option<f64> = runs
             .iter()
-            .chain(outcomes.capacity_runs.iter())
+            .chain(outcomes.beyond_runs.iter())
             .map(|d| d.earlier_seconds)
             .sum();
         let replayed: usize = runs.iter().map(|d| d.replayed).sum();

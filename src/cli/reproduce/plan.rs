@@ -6,7 +6,7 @@ use crate::cli::case::{shell_quote, Case};
 use crate::cli::common::{ModelArgs, ProblemArgs};
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
-use crate::design::evaluate::Objective;
+use crate::design::evaluate::{Objective, PayloadRange};
 use crate::design::log::Start;
 use crate::problem::Space;
 use crate::report::codesign::Method;
@@ -18,6 +18,9 @@ pub const PAYLOADS: [f64; 3] = [0.0, 1.0, 3.0];
 pub const CODESIGNED: [f64; 2] = [1.0, 3.0];
 /// Both spaces, joint first.
 pub const SPACES: [Space; 2] = [Space::Joint, Space::Actuation];
+/// The payload range of the design for the paper's stated goal, fruit from 1 to 3 kg, and its
+/// space: beyond the paper, one design for the whole range.
+pub const RANGE: ([f64; 3], Space) = ([1.0, 2.0, 3.0], Space::Actuation);
 
 /// Most CMA-ES seeds per case: 20 times the paper's 5.
 const MAX_SEEDS: u64 = 100;
@@ -178,6 +181,22 @@ impl Plan {
         case
     }
 
+    /// Beyond the paper: one design for the payload range [`RANGE`], CMA-ES on the mean cost
+    /// (seed 0, the cost runs' budget).
+    fn range_runs(&self) -> Vec<PlannedRun> {
+        let (payloads, space) = RANGE;
+        let mut case = self.case(space, None, Method::Cmaes);
+        case.objective = Objective::Range(PayloadRange {
+            payloads_kg: payloads.to_vec(),
+        });
+        case.cmaes.population = self.budget.population;
+        case.cmaes.generations = self.budget.generations;
+        vec![PlannedRun {
+            name: format!("{space}-range-1-3kg-seed0"),
+            case,
+        }]
+    }
+
     /// The result file of the original design at `payload_kg` in `space`.
     pub fn original_file(&self, space: Space, payload_kg: f64) -> PathBuf {
         let name = format!("{space}-{payload_kg}kg.json");
@@ -231,7 +250,7 @@ impl Plan {
             .cost_runs()
             .into_iter()
             .chain(self.gradient_runs())
-            .chain(self.capacity_runs());
+            .chain(self.beyond_runs());
         for run in runs {
             let mut case = run.case.clone();
             // Commands run side by side: one worker each unless --workers says otherwise; a
@@ -292,9 +311,16 @@ impl Plan {
         runs
     }
 
+    /// The CMA-ES runs beyond the paper: the capacity designs, then the payload range.
+    pub fn beyond_runs(&self) -> Vec<PlannedRun> {
+        let mut runs = self.capacity_runs();
+        runs.extend(self.range_runs());
+        runs
+    }
+
     /// Beyond the paper: the design that lifts the most, per space, by CMA-ES on minus the
     /// capacity (seed 0, the capacity budget).
-    pub fn capacity_runs(&self) -> Vec<PlannedRun> {
+    fn capacity_runs(&self) -> Vec<PlannedRun> {
         SPACES
             .iter()
             .map(|&space| {
@@ -349,10 +375,11 @@ mod tests {
             .cost_runs()
             .into_iter()
             .chain(quick.gradient_runs())
-            .chain(quick.capacity_runs())
+            .chain(quick.beyond_runs())
             .map(|run| run.name)
             .collect();
-        assert_eq!(names.len(), 2 * 2 * 2 + 4 + 2);
+        assert_eq!(names.len(), 2 * 2 * 2 + 4 + 2 + 1);
+        assert!(names.contains(&"actuation-range-1-3kg-seed0".to_owned()));
         assert_eq!(names[0], "joint-1kg-seed0");
         assert!(names.contains(&"actuation-3kg-gradient".to_owned()));
         assert!(names.contains(&"joint-capacity-seed0".to_owned()));

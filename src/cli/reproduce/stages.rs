@@ -6,6 +6,7 @@ use super::Outcomes;
 use crate::cli::common::task_source;
 use crate::cli::optimize::run_case;
 use crate::design::capacity::{payload_capacity, CapacitySettings};
+use crate::design::evaluate::Objective;
 use crate::model::task::Task;
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
@@ -21,7 +22,7 @@ pub fn run_all(plan: &Plan, task: &Task) -> Result<Outcomes, String> {
         originals: solve_originals(plan, task)?,
         runs: cost_runs(plan)?,
         gradient_runs: gradient_runs(plan),
-        capacity_runs: capacity_runs(plan)?,
+        beyond_runs: beyond_runs(plan)?,
         original_capacities: SPACES
             .iter()
             .map(|&space| {
@@ -115,18 +116,28 @@ fn gradient_runs(plan: &Plan) -> Vec<OptimizeDocument> {
     documents
 }
 
-/// The design of largest payload capacity per space (CMA-ES on minus the capacity).
-fn capacity_runs(plan: &Plan) -> Result<Vec<OptimizeDocument>, String> {
+/// The CMA-ES runs beyond the paper: the design of largest payload capacity per space, and one
+/// design for the payload range.
+fn beyond_runs(plan: &Plan) -> Result<Vec<OptimizeDocument>, String> {
     let mut documents = Vec::new();
-    for planned in plan.capacity_runs() {
+    for planned in plan.beyond_runs() {
         let document = run(plan, &planned)?;
-        say!(
-            "capacity co-design, {} space: r = {:?} lifts {:.3} kg ({} evaluations)",
-            planned.case.problem.space,
-            document.best_ratios,
-            -document.best_cost,
-            document.evaluations
-        );
+        let space = planned.case.problem.space;
+        match &planned.case.objective {
+            Objective::Range(range) => say!(
+                "range co-design, {space} space, {:?} kg: r = {:?}, mean J = {:.4} ({} evaluations)",
+                range.payloads_kg,
+                document.best_ratios,
+                document.best_cost,
+                document.evaluations
+            ),
+            _ => say!(
+                "capacity co-design, {space} space: r = {:?} lifts {:.3} kg ({} evaluations)",
+                document.best_ratios,
+                -document.best_cost,
+                document.evaluations
+            ),
+        }
         documents.push(document);
     }
     Ok(documents)

@@ -1,11 +1,10 @@
 //! The worker protocol, one JSON object a line: the parent sends a [`WorkerSetup`], the worker
 //! answers with its [`Hello`], then each [`Request`] gets one [`Response`].
 
-use crate::design::evaluate::{evaluate, evaluate_capacity, Evaluation, Objective};
+use crate::design::evaluate::{Evaluation, Fitness, Objective};
 use crate::ipopt::{LinearSolver, IPOPT_VERSION};
 use crate::model::task::{LimitModes, Task};
-use crate::model::Robot;
-use crate::problem::{Formulation, Space};
+use crate::problem::Space;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::io::{BufRead, Write};
@@ -28,10 +27,9 @@ pub struct WorkerSetup {
 }
 
 impl WorkerSetup {
-    /// Builds the formulation this setup describes.
-    pub fn formulation(&self) -> Result<Formulation, String> {
-        let robot = Robot::load(&self.task).map_err(|e| e.to_string())?;
-        Formulation::new(&self.task, robot, self.space, self.modes).map_err(|e| e.to_string())
+    /// Builds the fitness this setup describes.
+    pub fn fitness(&self) -> Result<Fitness, String> {
+        Fitness::new(&self.task, self.space, self.modes, &self.objective)
     }
 }
 
@@ -108,7 +106,7 @@ pub fn serve(input: impl BufRead, mut output: impl Write) -> Result<(), String> 
     };
     let setup: WorkerSetup = serde_json::from_str(&setup_line)
         .map_err(|e| format!("worker: malformed setup line: {e}"))?;
-    let formulation = setup.formulation()?;
+    let fitness = setup.fitness()?;
     let hello = serde_json::to_string(&Hello::new(&setup)?).map_err(|e| format!("worker: {e}"))?;
     if !answer(&mut output, &hello)? {
         return Ok(());
@@ -119,12 +117,7 @@ pub fn serve(input: impl BufRead, mut output: impl Write) -> Result<(), String> 
             serde_json::from_str(&line).map_err(|e| format!("worker: malformed request: {e}"))?;
         let response = Response {
             id: request.id,
-            evaluation: match &setup.objective {
-                Objective::Cost => evaluate(&formulation, &request.ratios, setup.penalty),
-                Objective::Capacity(settings) => {
-                    evaluate_capacity(&formulation, &request.ratios, settings, setup.penalty)
-                }
-            },
+            evaluation: fitness.evaluate(&request.ratios, setup.penalty),
         };
         let text = serde_json::to_string(&response).map_err(|e| format!("worker: {e}"))?;
         if !answer(&mut output, &text)? {

@@ -1,7 +1,9 @@
 //! The table's rows from result files: the original design's solves ("before"), the co-design
 //! runs ("after", the gradient method, the largest capacity), the capacities and the totals.
 
-use super::{AfterCell, DesignCell, PaperTable, PaperValues, ResultFile, TableRow, PAPER};
+use super::{
+    AfterCell, DesignCell, PaperTable, PaperValues, RangeRow, ResultFile, TableRow, PAPER,
+};
 use crate::design::evaluate::Objective;
 use crate::ipopt::LinearSolver;
 use crate::model::task::Motors;
@@ -23,12 +25,17 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
             }
         }
     }
+    let mut ranges = Vec::new();
     for file in files {
-        if let ResultFile::Optimize(doc) = file {
-            add_run(
+        match file {
+            ResultFile::Optimize(doc) if matches!(doc.inputs.objective, Objective::Range(_)) => {
+                ranges.extend(range_row(doc));
+            }
+            ResultFile::Optimize(doc) => add_run(
                 row_mut(&mut rows, doc.inputs.payload_kg, doc.inputs.space),
                 doc,
-            );
+            ),
+            _ => {}
         }
     }
     for row in &mut rows {
@@ -51,7 +58,28 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
         solve_seconds,
         capacity_evaluations,
         capacity_seconds,
+        ranges,
     }
+}
+
+/// The row of a payload-range run.
+fn range_row(doc: &OptimizeDocument) -> Option<RangeRow> {
+    let Objective::Range(range) = &doc.inputs.objective else {
+        return None;
+    };
+    let costs = doc.payload_costs.as_ref();
+    Some(RangeRow {
+        payloads_kg: range.payloads_kg.clone(),
+        space: doc.inputs.space,
+        seed: doc.inputs.seed,
+        ratios: doc.best_ratios.clone(),
+        mean_cost: doc.best_cost,
+        per_payload: costs.map_or_else(Vec::new, |c| c.best.clone()),
+        original_mean_cost: doc.original_cost,
+        original_feasible: costs
+            .is_some_and(|c| !c.original.is_empty() && c.original.iter().all(|p| p.feasible)),
+        evaluations: doc.evaluations,
+    })
 }
 
 /// One design's cell; the motors can execute it when its largest motor torque and speed are

@@ -1,7 +1,7 @@
 //! The table as Markdown (`paper_table.md`): a header with the tool and the solver time, the
 //! paper's Table II with our values, and the section beyond the paper.
 
-use super::{AfterCell, DesignCell, PaperTable, TableRow};
+use super::{AfterCell, DesignCell, PaperTable, RangeRow, TableRow};
 use crate::ipopt::LinearSolver;
 
 impl PaperTable {
@@ -19,8 +19,25 @@ impl PaperTable {
                 || r.capacity_after_kg.is_some()
                 || r.capacity_max.is_some()
         });
-        if beyond {
+        if beyond || !self.ranges.is_empty() {
             text.push_str(&self.beyond_the_paper());
+        }
+        if !self.ranges.is_empty() {
+            text.push_str(&self.payload_ranges());
+        }
+        text
+    }
+
+    /// The co-design runs for a payload range, one line each.
+    fn payload_ranges(&self) -> String {
+        let mut text = String::from(
+            "\nOne design for a payload range (`codesign optimize --objective range --payloads ..`): CMA-ES on the mean \
+             optimal cost over the payloads, a design infeasible at any of them penalised.\n\n\
+             | payloads | space | seed | design | mean J | J per payload | original design, mean J | evaluations |\n\
+             |---|---|---|---|---|---|---|---|\n",
+        );
+        for range in &self.ranges {
+            text.push_str(&range_row(range));
         }
         text
     }
@@ -74,6 +91,47 @@ impl PaperTable {
         }
         text
     }
+}
+
+/// One line of the payload ranges' table.
+fn range_row(range: &RangeRow) -> String {
+    let payloads: Vec<String> = range.payloads_kg.iter().map(|p| format!("{p}")).collect();
+    let cost = |value: f64, feasible: bool| {
+        if feasible {
+            format!("{value:.2}")
+        } else {
+            "infeasible".to_owned()
+        }
+    };
+    let per_payload: Vec<String> = range
+        .per_payload
+        .iter()
+        .map(|c| format!("{} kg: {}", c.payload_kg, cost(c.cost, c.feasible)))
+        .collect();
+    let found = !range.ratios.is_empty();
+    format!(
+        "| {} kg | {} | {} | {} | {} | {} | {} | {} |\n",
+        payloads.join(", "),
+        range.space,
+        range.seed,
+        if found {
+            ratios_text(&range.ratios)
+        } else {
+            "none feasible".to_owned()
+        },
+        if found {
+            cost(range.mean_cost, true)
+        } else {
+            "-".to_owned()
+        },
+        if found {
+            per_payload.join(", ")
+        } else {
+            "-".to_owned()
+        },
+        cost(range.original_mean_cost, range.original_feasible),
+        range.evaluations
+    )
 }
 
 /// One line of the paper's table.

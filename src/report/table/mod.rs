@@ -7,7 +7,7 @@ mod markdown;
 
 pub use build::build_table;
 
-use super::codesign::{CapacityDocument, OptimizeDocument};
+use super::codesign::{CapacityDocument, OptimizeDocument, PayloadCost};
 use super::trajectory::{SolveDocument, ToolInfo};
 use crate::ipopt::LinearSolver;
 use crate::problem::Space;
@@ -171,4 +171,30 @@ pub struct PaperTable {
     /// The wall times of those searches summed, s.
     #[serde(default)]
     pub capacity_seconds: f64,
+    /// Co-design runs for a payload range (`--objective range`), beyond the paper.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ranges: Vec<RangeRow>,
+}
+
+/// A co-design run for a payload range: one design for every payload of it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RangeRow {
+    /// The payloads, kg.
+    pub payloads_kg: Vec<f64>,
+    /// Joint or actuation space.
+    pub space: Space,
+    /// CMA-ES seed.
+    pub seed: u64,
+    /// The best design (empty when none was feasible at every payload).
+    pub ratios: Vec<f64>,
+    /// Its mean cost over the payloads (the penalty when none was feasible).
+    pub mean_cost: f64,
+    /// Its cost at each payload.
+    pub per_payload: Vec<PayloadCost>,
+    /// The original design's mean cost (the penalty when infeasible at some payload).
+    pub original_mean_cost: f64,
+    /// Whether the original design is feasible at every payload.
+    pub original_feasible: bool,
+    /// Evaluations of the run.
+    pub evaluations: usize,
 }
