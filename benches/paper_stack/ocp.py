@@ -1,8 +1,8 @@
 """The trajectory problem of the belt-driven arm, built the way the paper's authors would have
 built it: CasADi symbolic dynamics (SX) and IPOPT through `casadi.nlpsol`.
 
-This is an independent implementation of docs/model.md sections 1-7 and /work/shared/SPEC.md
-section 3, written without any code of the Rust crate; it reads only the two input files:
+This is an independent implementation of docs/model.md sections 1-7, written without any code
+of the Rust crate; it reads only the two input files:
 
 - the robot, robots/belt_arm.urdf, parsed with xml.etree into a serial chain (fixed joints are
   merged into their parent, i.e. folded into the next movable joint's constant placement);
