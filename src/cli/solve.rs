@@ -172,6 +172,15 @@ fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
         result.max_motor_speed,
         task.motors.speed_limit_rad_s
     );
+    if let Some(elastic) = &result.elastic {
+        say!(
+            "  elastic: torque deficit {:.4e} N m s, speed excess {:.4e} rad (largest slack {:.1e}); penalised objective {:.6}",
+            elastic.torque_deficit,
+            elastic.speed_excess,
+            elastic.largest_slack,
+            elastic.objective
+        );
+    }
     let s = &result.solve_seconds;
     say!(
         "  solve {:.1} ms (callbacks {:.1} ms, IPOPT {:.1} ms)",
