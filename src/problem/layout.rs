@@ -8,7 +8,9 @@
 //!
 //! The elastic kind (docs/model.md, section 14) appends its slack columns after all of these:
 //! the torque deficits `[s+_k, s-_k]` of every node k < N (2n each), then the speed excesses
-//! `[e+_k, e-_k]` of every speed-row node 0 < k < N (2n each). Its rows are the hard kind's.
+//! `[e+_k, e-_k]` of every speed-row node 0 < k < N (2n each). Its rows are the hard kind's,
+//! except that it always has speed rows (in modes `paper` and `interval` they replace the box
+//! bounds on v, so that the slacks can relax them).
 
 use super::ProblemKind;
 
