@@ -3,21 +3,34 @@
 //!
 //! `cargo bench --bench solve`: the default problem (no payload, original design) in both spaces,
 //! 30 solves after 3 warm-up solves; and an infeasible design (3 kg, actuation space, original
-//! ratios), 5 solves.
+//! ratios), 5 solves; then, in one run with the default linear solver, the time to classify that
+//! design: IPOPT's infeasibility detection on the hard problem against the elastic problem
+//! (docs/model.md, section 14), 7 solves each.
 
 use codesign::ipopt::LinearSolver;
 use codesign::model::task::Task;
 use codesign::model::Robot;
-use codesign::problem::{Formulation, Space};
+use codesign::problem::{Formulation, ProblemKind, Space};
 use codesign::solver::{solve_design, SolveSeconds, SolveSettings};
 use codesign::stats::median;
 
-/// Solves `runs` times (after `warm_up` unmeasured solves) and prints the medians.
-fn measure(task: &Task, space: Space, solver: LinearSolver, warm_up: usize, runs: usize) {
+/// Solves the problem of `kind` `runs` times (after `warm_up` unmeasured solves), prints the
+/// medians and returns the median total, s.
+fn measure(
+    task: &Task,
+    (space, kind): (Space, ProblemKind),
+    solver: LinearSolver,
+    warm_up: usize,
+    runs: usize,
+) -> f64 {
     let mut task = task.clone();
     task.solver.linear_solver = Some(solver);
     let robot = Robot::load(&task).expect("the robot loads");
-    let formulation = Formulation::new(&task, robot, space, task.limit_modes).expect("formulation");
+    let hard = Formulation::new(&task, robot, space, task.limit_modes).expect("formulation");
+    let formulation = match kind {
+        ProblemKind::Hard => hard,
+        ProblemKind::Elastic => hard.elastic(),
+    };
     let original = task.transmission.original.clone();
     let settings = SolveSettings::default();
     for _ in 0..warm_up {
@@ -40,7 +53,7 @@ fn measure(task: &Task, space: Space, solver: LinearSolver, warm_up: usize, runs
         seconds(|s| s.ipopt),
     );
     println!(
-        "solve {solver} {space} space, {} kg, r = {original:?}: {} ({} iterations, J = {:.6}); median of {runs}: total {:.2} ms, callbacks {:.2} ms ({:.0}%), ipopt {:.2} ms",
+        "solve {kind:?} {solver} {space} space, {} kg, r = {original:?}: {} ({} iterations, J = {:.6}); median of {runs}: total {:.2} ms, callbacks {:.2} ms ({:.0}%), ipopt {:.2} ms",
         task.payload.mass_kg,
         results[0].status,
         results[0].iterations,
@@ -50,18 +63,33 @@ fn measure(task: &Task, space: Space, solver: LinearSolver, warm_up: usize, runs
         100.0 * callbacks / total,
         ipopt * 1e3
     );
+    total
 }
 
 fn main() {
     let task = Task::built_in().expect("the built-in task loads");
     for solver in [LinearSolver::Ldl, LinearSolver::Mumps] {
         for space in [Space::Actuation, Space::Joint] {
-            measure(&task, space, solver, 3, 30);
+            measure(&task, (space, ProblemKind::Hard), solver, 3, 30);
         }
     }
     let mut heavy = task.clone();
     heavy.payload.mass_kg = 3.0;
     for solver in [LinearSolver::Ldl, LinearSolver::Mumps] {
-        measure(&heavy, Space::Actuation, solver, 1, 5);
+        measure(&heavy, (Space::Actuation, ProblemKind::Hard), solver, 1, 5);
     }
+    let solver = LinearSolver::Ldl;
+    let hard = measure(&heavy, (Space::Actuation, ProblemKind::Hard), solver, 1, 7);
+    let elastic = measure(
+        &heavy,
+        (Space::Actuation, ProblemKind::Elastic),
+        solver,
+        1,
+        7,
+    );
+    println!(
+        "classifying the infeasible design: the elastic solve takes {:.2} of the hard solve's time ({:.1}x faster)",
+        elastic / hard,
+        hard / elastic
+    );
 }

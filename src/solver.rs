@@ -3,10 +3,12 @@
 //! [`solve_design`] runs IPOPT on a [`TrajectoryProblem`] with the task's solver settings and
 //! returns a [`TrajectoryResult`]: status, feasibility, cost, timing, the trajectory with joint and
 //! motor torques and the TCP path, and the largest violation of each constraint family.
+//! [`solve_elastic`] solves the elastic kind of the same problem (docs/model.md, section 14),
+//! which always has a solution, and reports how much torque and speed the design lacks.
 
-use crate::ipopt::{self, Options, Solution};
+use crate::ipopt::{self, Nlp, Options, Solution};
 use crate::model::task::Motion;
-use crate::problem::{cost_gradient, Formulation, TrajectoryProblem};
+use crate::problem::{cost_gradient, relaxation, Formulation, ProblemKind, TrajectoryProblem};
 use crate::transmission::{DesignError, JointLimits};
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -92,6 +94,22 @@ pub struct Violations {
     pub cartesian_box: f64,
 }
 
+/// What an elastic solve's slacks relax (docs/model.md, section 14).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ElasticMeasures {
+    /// The joint torque the motors lack, |RNEA - tau| summed over joints and integrated over
+    /// the horizon (times the step h), N m s.
+    pub torque_deficit: f64,
+    /// The speed above the limit (motor speeds in mode `exact`, joint speeds else), summed over
+    /// rows and integrated over the horizon, rad.
+    pub speed_excess: f64,
+    /// The largest single slack, N m or rad/s; the design is feasible when it is at most the
+    /// task's `solver.tol`.
+    pub largest_slack: f64,
+    /// The penalised objective IPOPT minimised: the cost J plus the slacks' penalty.
+    pub objective: f64,
+}
+
 /// The result of one trajectory solve.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TrajectoryResult {
@@ -99,12 +117,13 @@ pub struct TrajectoryResult {
     pub ratios: Vec<f64>,
     /// IPOPT's name for its return status.
     pub status: String,
-    /// Whether IPOPT reported an optimum (strict or acceptable).
+    /// Whether IPOPT reported an optimum (strict or acceptable) and, for an elastic solve, every
+    /// slack is at most the task's `solver.tol` (N m or rad/s).
     pub feasible: bool,
     /// Why the result is infeasible, when it is.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
-    /// The optimal cost J.
+    /// The optimal cost J (of an elastic solve: without the slacks' penalty).
     pub cost: f64,
     /// IPOPT iterations.
     pub iterations: usize,
@@ -117,9 +136,12 @@ pub struct TrajectoryResult {
     /// Largest violation per constraint family.
     pub violations: Violations,
     /// dJ*/dr, the exact sensitivity of the optimal cost to each ratio (envelope theorem; see
-    /// `problem::cost_gradient`), when the solve succeeded.
+    /// `problem::cost_gradient`), when a hard solve succeeded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cost_gradient: Option<Vec<f64>>,
+    /// The torque deficit and speed excess, for an elastic solve.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub elastic: Option<ElasticMeasures>,
     /// The trajectory.
     pub trajectory: Trajectory,
 }
@@ -152,7 +174,19 @@ pub fn ipopt_options(formulation: &Formulation, settings: &SolveSettings) -> Opt
     options
 }
 
-/// Solves the trajectory problem of design `ratios` from the standard initial guess.
+/// Solves the elastic trajectory problem (docs/model.md, section 14) of design `ratios` in
+/// `formulation` (of either kind) from the standard initial guess: always feasible as a problem,
+/// the result reports the torque deficit and the speed excess the design needs.
+pub fn solve_elastic(
+    formulation: &Formulation,
+    ratios: &[f64],
+    settings: &SolveSettings,
+) -> Result<TrajectoryResult, SolveError> {
+    solve_design(&formulation.elastic(), ratios, settings)
+}
+
+/// Solves the trajectory problem of design `ratios`, of the formulation's kind, from the standard
+/// initial guess.
 pub fn solve_design(
     formulation: &Formulation,
     ratios: &[f64],
@@ -180,8 +214,37 @@ pub fn solve_design_from(
             .num("warm_start_bound_push", 1e-6)
             .num("warm_start_mult_bound_push", 1e-6);
     }
+    if formulation.kind() == ProblemKind::Elastic {
+        options = options.num(
+            "obj_scaling_factor",
+            elastic_objective_scaling(&mut problem),
+        );
+    }
     let solution = ipopt::solve_from(&mut problem, &options, warm).map_err(SolveError::Ipopt)?;
-    Ok((read_result(&problem, &solution), solution))
+    Ok((read_result(&mut problem, &solution), solution))
+}
+
+/// IPOPT's default `nlp_scaling_max_gradient`: its gradient-based scaling scales the objective
+/// down when its largest gradient entry at the starting point exceeds this.
+const SCALING_MAX_GRADIENT: f64 = 100.0;
+
+/// The objective scaling that undoes, for an elastic problem, the extra scaling its penalty
+/// weights cause: IPOPT scales the objective by min(1, 100 / max |grad f(x0)|), in which the
+/// weights (up to 3e4 in joint space) would dominate the hard problem's gradient g. This
+/// factor restores the hard problem's scale min(1, 100 / g), so that the elastic solve follows
+/// the hard solve's path towards the same local optimum where that one is feasible.
+fn elastic_objective_scaling(problem: &mut TrajectoryProblem<'_>) -> f64 {
+    let n = problem.num_variables();
+    let (mut x, mut gradient) = (vec![0.0; n], vec![0.0; n]);
+    problem.initial_point(&mut x);
+    if problem.gradient(&x, true, &mut gradient).is_err() {
+        return 1.0;
+    }
+    let slacks = problem.formulation().layout().slacks();
+    let hard = max_abs(gradient[..slacks.start].iter().copied());
+    let elastic = max_abs(gradient[slacks].iter().copied()).max(hard);
+    let scale = |largest: f64| (SCALING_MAX_GRADIENT / largest).min(1.0);
+    scale(hard) / scale(elastic)
 }
 
 fn max_abs(values: impl IntoIterator<Item = f64>) -> f64 {
@@ -194,16 +257,19 @@ fn outside(value: f64, lower: f64, upper: f64) -> f64 {
 }
 
 /// The result of `solution`, a solution of `problem`.
-fn read_result(problem: &TrajectoryProblem<'_>, solution: &Solution) -> TrajectoryResult {
+fn read_result(problem: &mut TrajectoryProblem<'_>, solution: &Solution) -> TrajectoryResult {
     let trajectory = read_trajectory(problem, &solution.x);
     let violations = Violations::of(problem, &solution.x, &trajectory);
-    let feasible = solution.status.is_success();
+    let (cost, elastic) = cost_and_measures(problem, solution);
+    let f = problem.formulation();
+    let reason = infeasibility(solution, elastic.as_ref(), f.task().solver.tol);
+    let feasible = reason.is_none();
     TrajectoryResult {
         ratios: problem.ratios().to_vec(),
         status: solution.status.name(),
         feasible,
-        reason: (!feasible).then(|| format!("IPOPT returned {}", solution.status.name())),
-        cost: solution.objective,
+        reason,
+        cost,
         iterations: solution.iterations,
         solve_seconds: SolveSeconds {
             total: solution.timing.total.as_secs_f64(),
@@ -221,9 +287,51 @@ fn read_result(problem: &TrajectoryProblem<'_>, solution: &Solution) -> Trajecto
             .flatten()
             .fold(0.0, |m, w| m.max(w.abs())),
         violations,
-        cost_gradient: feasible.then(|| cost_gradient(problem, solution)),
+        cost_gradient: (feasible && f.kind() == ProblemKind::Hard)
+            .then(|| cost_gradient(problem, solution)),
+        elastic,
         trajectory,
     }
+}
+
+/// The cost J at `solution` and, for an elastic problem, what its slacks relax. IPOPT's objective
+/// of an elastic problem comes from its own iterate, whose slacks its bound relaxation lets go to
+/// about -tol each (worth a penalty of -tol times the weight per slack, far above tol), so the
+/// elastic J and objective are evaluated again at the returned point, whose slacks are >= 0.
+fn cost_and_measures(
+    problem: &mut TrajectoryProblem<'_>,
+    solution: &Solution,
+) -> (f64, Option<ElasticMeasures>) {
+    let f = problem.formulation();
+    let Some(relaxed) = relaxation(f, &solution.x) else {
+        return (solution.objective, None);
+    };
+    let objective = problem.objective(&solution.x, true).unwrap_or(f64::NAN);
+    let measures = ElasticMeasures {
+        torque_deficit: relaxed.torque_deficit,
+        speed_excess: relaxed.speed_excess,
+        largest_slack: relaxed.largest,
+        objective,
+    };
+    (objective - relaxed.penalty, Some(measures))
+}
+
+/// Why `solution` is infeasible, if it is: IPOPT found no optimum, or (elastic) a slack exceeds
+/// `tol` (the task's `solver.tol`, N m or rad/s).
+fn infeasibility(
+    solution: &Solution,
+    elastic: Option<&ElasticMeasures>,
+    tol: f64,
+) -> Option<String> {
+    if !solution.status.is_success() {
+        return Some(format!("IPOPT returned {}", solution.status.name()));
+    }
+    elastic.filter(|e| e.largest_slack > tol).map(|e| {
+        format!(
+            "the design lacks {:.3e} N m s of torque and exceeds the speed limit by {:.3e} rad",
+            e.torque_deficit, e.speed_excess
+        )
+    })
 }
 
 /// The trajectory of `problem`'s primal point x: states, torques, motor speeds, the TCP's path.

@@ -6,7 +6,7 @@ use codesign::ipopt::LinearSolver;
 use codesign::model::task::Task;
 use codesign::model::Robot;
 use codesign::problem::{Formulation, Space};
-use codesign::solver::{solve_design, SolveSettings};
+use codesign::solver::{solve_design, solve_design_from, solve_elastic, SolveSettings};
 
 mod support;
 
@@ -56,4 +56,172 @@ fn reference_costs_are_reproduced() {
             result.violations
         );
     }
+}
+
+/// A case to solve: (label, task, space, ratios, the hard problem's committed cost J).
+type Case = (String, Task, Space, Vec<f64>, f64);
+
+/// The feasible cases of tests/data/ocp_reference.json (with either linear solver) and of the
+/// committed original designs (results/original, results/quick/original: those IPOPT solved),
+/// with the linear solver they were solved with (results/original predates the LDL^T: MUMPS).
+fn feasible_cases() -> Vec<Case> {
+    let root = support::root();
+    let read = |path: &std::path::Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+    };
+    let numbers = |value: &serde_json::Value| -> Vec<f64> {
+        value
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| r.as_f64().unwrap())
+            .collect()
+    };
+    let space = |name: &serde_json::Value| match name.as_str().unwrap() {
+        "joint" => Space::Joint,
+        _ => Space::Actuation,
+    };
+    let task_file = Task::load(&support::task_path()).unwrap();
+    let mut cases = Vec::new();
+    let reference = read(&root.join("tests/data/ocp_reference.json"));
+    let solvers = [LinearSolver::Ldl, LinearSolver::Mumps];
+    for (case, solver) in reference["cases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|case| solvers.map(|solver| (case, solver)))
+    {
+        let mut task = task_file.clone();
+        task.solver.linear_solver = Some(solver);
+        task.payload.mass_kg = case["payload_kg"].as_f64().unwrap();
+        let label = format!("reference {solver} {case}");
+        let cost = case["cost"].as_f64().unwrap();
+        cases.push((
+            label,
+            task,
+            space(&case["space"]),
+            numbers(&case["ratios"]),
+            cost,
+        ));
+    }
+    for folder in ["results/original", "results/quick/original"] {
+        let mut files: Vec<_> = std::fs::read_dir(root.join(folder))
+            .unwrap()
+            .map(|entry| entry.unwrap().path())
+            .collect();
+        files.sort();
+        for path in files {
+            let result = read(&path);
+            if result["status"] != "Solve_Succeeded" {
+                continue;
+            }
+            let inputs = &result["inputs"];
+            let mut task = match inputs["task_file"].as_str().unwrap() {
+                "built-in" => Task::built_in().unwrap(),
+                _ => task_file.clone(),
+            };
+            task.payload.mass_kg = inputs["payload_kg"].as_f64().unwrap();
+            task.solver.linear_solver = Some(match result["tool"]["linear_solver"].as_str() {
+                Some("ldl") => LinearSolver::Ldl,
+                _ => LinearSolver::Mumps,
+            });
+            let cost = result["cost"].as_f64().unwrap();
+            let label = path.display().to_string();
+            cases.push((
+                label,
+                task,
+                space(&inputs["space"]),
+                numbers(&inputs["ratios"]),
+                cost,
+            ));
+        }
+    }
+    cases
+}
+
+/// Where the hard problem is feasible, the elastic problem's solution is a hard one: every slack
+/// zero (at most the solver's tol). Its cost J is the hard solve's to 1e-6 relative, or, the
+/// problem being non-convex, a lower one whose point is a hard optimum: the hard solve
+/// warm-started there stays at that J (to 1e-6).
+#[test]
+fn elastic_solves_reproduce_the_feasible_costs() {
+    let cases = feasible_cases();
+    assert!(cases.len() >= 16, "{} cases", cases.len());
+    let settings = SolveSettings::default();
+    for (label, task, space, ratios, expected) in cases {
+        let robot = Robot::load(&task).unwrap();
+        let hard = Formulation::new(&task, robot, space, task.limit_modes).unwrap();
+        let (result, solution) =
+            solve_design_from(&hard.elastic(), &ratios, &settings, None).unwrap();
+        let elastic = result.elastic.unwrap();
+        let relative = (result.cost - expected).abs() / expected.abs();
+        println!(
+            "{label}: {} in {} iterations ({:.1} ms), J = {} (hard {expected}), relative {relative:.1e}, {elastic:?}",
+            result.status,
+            result.iterations,
+            result.solve_seconds.total * 1e3,
+            result.cost
+        );
+        assert!(result.feasible, "{label}: {:?}", result.reason);
+        assert!(
+            elastic.largest_slack <= task.solver.tol,
+            "{label}: {elastic:?}"
+        );
+        assert_eq!(
+            elastic.torque_deficit + elastic.speed_excess,
+            0.0,
+            "{label}"
+        );
+        if relative >= 1e-6 {
+            assert!(
+                result.cost < expected,
+                "{label}: J = {} against {expected}",
+                result.cost
+            );
+            let columns = hard.layout().num_variables();
+            let mut warm = solution.clone();
+            for values in [&mut warm.x, &mut warm.z_lower, &mut warm.z_upper] {
+                values.truncate(columns);
+            }
+            let (rewarmed, _) = solve_design_from(&hard, &ratios, &settings, Some(&warm)).unwrap();
+            let moved = (rewarmed.cost - result.cost).abs() / result.cost;
+            println!(
+                "  a lower optimum: the hard solve from it ends at J = {}",
+                rewarmed.cost
+            );
+            assert!(
+                rewarmed.feasible && moved < 1e-6,
+                "{label}: {}",
+                rewarmed.cost
+            );
+        }
+    }
+}
+
+/// The original design at 3 kg in actuation space, which IPOPT proves infeasible, is classified
+/// by the elastic solve: it succeeds, reports the design infeasible and the torque it lacks.
+#[test]
+fn elastic_solve_classifies_the_infeasible_original() {
+    let mut task = Task::load(&support::task_path()).unwrap();
+    task.payload.mass_kg = 3.0;
+    let robot = Robot::load(&task).unwrap();
+    let formulation = Formulation::new(&task, robot, Space::Actuation, task.limit_modes).unwrap();
+    let result = solve_elastic(
+        &formulation,
+        &[6.0, 3.0, 1.0, 1.0],
+        &SolveSettings::default(),
+    )
+    .unwrap();
+    let elastic = result.elastic.unwrap();
+    println!(
+        "{} in {} iterations ({:.1} ms), J = {}, {elastic:?}",
+        result.status,
+        result.iterations,
+        result.solve_seconds.total * 1e3,
+        result.cost
+    );
+    assert_eq!(result.status, "Solve_Succeeded");
+    assert!(!result.feasible);
+    assert!(elastic.torque_deficit > 0.0, "{elastic:?}");
+    assert!(result.cost_gradient.is_none());
 }

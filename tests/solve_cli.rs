@@ -46,6 +46,10 @@ fn writes_the_result_file_and_plots() {
         assert!(result.get(key).is_some(), "missing {key}");
     }
     assert_eq!(result["status"], "Solve_Succeeded");
+    assert!(
+        result.get("elastic").is_none(),
+        "a hard solve has no elastic measures"
+    );
     assert_eq!(result["inputs"]["space"], "joint");
     assert_eq!(
         result["tool"]["ipopt_version"],
@@ -66,6 +70,40 @@ fn writes_the_result_file_and_plots() {
         let svg = std::fs::read_to_string(plots.join(name)).unwrap();
         assert!(svg.starts_with("<svg"), "{name}");
     }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `solve --elastic` classifies the original design at 3 kg in actuation space, which the hard
+/// problem cannot solve: it succeeds, prints the deficit and writes the elastic measures.
+#[test]
+fn elastic_solve_reports_the_torque_deficit() {
+    let dir = scratch("elastic");
+    let out = dir.join("result.json");
+    let output = codesign(&[
+        "solve",
+        "--elastic",
+        "--space",
+        "actuation",
+        "--payload",
+        "3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(stdout.contains("Solve_Succeeded"), "{stdout}");
+    assert!(stdout.contains("INFEASIBLE"), "{stdout}");
+    assert!(stdout.contains("elastic: torque deficit"), "{stdout}");
+    let result: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(result["feasible"], false);
+    assert!(result["elastic"]["torque_deficit"].as_f64().unwrap() > 0.0);
+    assert!(result["elastic"]["speed_excess"].as_f64().unwrap() >= 0.0);
+    assert!(result["elastic"]["objective"].as_f64().unwrap() > result["cost"].as_f64().unwrap());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

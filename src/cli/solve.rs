@@ -35,6 +35,10 @@ pub struct Args {
     /// Show IPOPT's iteration log.
     #[arg(long)]
     verbose: bool,
+    /// Solve the elastic problem (docs/model.md, section 14): always feasible, it reports the
+    /// torque the design lacks and the speed above its limit instead of failing.
+    #[arg(long)]
+    elastic: bool,
     /// Instead of solving, run IPOPT's derivative checker (first and second order) at the
     /// initial guess and report what it flags. IPOPT 3.11's checker takes about 10 minutes on
     /// the full 50-step problem: `--steps 5` checks the same structure in 0.1 s.
@@ -58,8 +62,9 @@ pub fn run(args: &Args) -> Result<(), String> {
         check_output("--out", path, &args.model.inputs(&task))?;
     }
     let modes = args.problem.modes(&task);
-    let formulation =
+    let hard =
         Formulation::new(&task, robot, args.problem.space, modes).map_err(|e| e.to_string())?;
+    let formulation = if args.elastic { hard.elastic() } else { hard };
     let (ratios, source) = match &args.ratios {
         Some(ratios) => (ratios.clone(), format!("--ratios {}", join(ratios))),
         None => (
@@ -167,6 +172,15 @@ fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
         result.max_motor_speed,
         task.motors.speed_limit_rad_s
     );
+    if let Some(elastic) = &result.elastic {
+        say!(
+            "  elastic: torque deficit {:.4e} N m s, speed excess {:.4e} rad (largest slack {:.1e}); penalised objective {:.6}",
+            elastic.torque_deficit,
+            elastic.speed_excess,
+            elastic.largest_slack,
+            elastic.objective
+        );
+    }
     let s = &result.solve_seconds;
     say!(
         "  solve {:.1} ms (callbacks {:.1} ms, IPOPT {:.1} ms)",

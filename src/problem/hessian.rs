@@ -174,13 +174,14 @@ impl NodeHessian {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::problem::ProblemKind;
 
     /// The entries run row by row through a node's lower triangle: q and v rows up to the
     /// diagonal, a rows over q, the u diagonal (the order IPOPT has always been given).
     #[test]
     fn node_entries_run_row_by_row_through_the_lower_triangle() {
         let n = 4;
-        let layout = Layout::new(n, 3, true, true);
+        let layout = Layout::new(n, 3, true, true, ProblemKind::Hard);
         let base = layout.q(1, 0);
         let mut expected = Vec::new();
         for i in 0..2 * n {

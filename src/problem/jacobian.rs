@@ -1,6 +1,7 @@
 //! The constraint Jacobian's structure and values, from one routine that visits every structural
 //! non-zero in a fixed order: run on zero data it yields the pattern (once per [`Formulation`]),
-//! run on the evaluated nodes it yields the values, so the two can never disagree.
+//! run on the evaluated nodes it yields the values, so the two can never disagree. The elastic
+//! kind's slacks enter their rows linearly, with constant entries -1 (s+, e+) and +1 (s-, e-).
 
 use super::node::NodeEval;
 use super::{Formulation, Layout, Space};
@@ -12,7 +13,8 @@ pub(super) struct JacobianData<'m> {
     pub(super) control_map: &'m DMatrix<f64>,
     /// Structural non-zeros of `control_map`.
     pub(super) control_pattern: &'m DMatrix<f64>,
-    /// G and its pattern, when motor speeds are linear rows.
+    /// The speed rows' matrix (G, or the identity in the elastic kind's box modes) and its
+    /// pattern, when speeds are limited by linear rows.
     pub(super) speed: Option<(&'m DMatrix<f64>, &'m DMatrix<f64>)>,
     /// G^-T, when motor torques are linear rows.
     pub(super) torque: Option<&'m DMatrix<f64>>,
@@ -52,6 +54,7 @@ pub(super) fn visit(
                     emit(row, layout.u(k, j), -control_map[(i, j)]);
                 }
             }
+            emit_slacks(row, layout.deficit_slack(k, i), &mut emit);
         }
         for i in 0..n {
             let row = layout.velocity_row(k, i);
@@ -73,6 +76,7 @@ pub(super) fn visit(
                             emit(row, layout.v(k, j), g[(i, j)]);
                         }
                     }
+                    emit_slacks(row, layout.excess_slack(k, i), &mut emit);
                 }
             }
         }
@@ -85,6 +89,14 @@ pub(super) fn visit(
                 }
             }
         }
+    }
+}
+
+/// The entries of a row's slack pair [plus, minus], if it has one: -1 and +1.
+fn emit_slacks(row: usize, slacks: Option<[usize; 2]>, emit: &mut impl FnMut(usize, usize, f64)) {
+    if let Some([plus, minus]) = slacks {
+        emit(row, plus, -1.0);
+        emit(row, minus, 1.0);
     }
 }
 
@@ -109,7 +121,7 @@ pub(super) fn pattern(formulation: &Formulation) -> Vec<(usize, usize)> {
         control_pattern: &pattern,
         speed: layout
             .speed_rows
-            .then_some((&formulation.g_pattern, &formulation.g_pattern)),
+            .then_some((&formulation.speed_pattern, &formulation.speed_pattern)),
         torque: layout.torque_rows.then_some(&dense),
         h: 0.0,
     };

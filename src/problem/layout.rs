@@ -5,6 +5,14 @@
 //! grouped the same way: node k < N holds the inverse dynamics (n rows), the velocity and position
 //! integration (n rows each), then, when the limit mode asks for linear limits, the motor speed
 //! rows (nodes 1..N-1, where v is free) and the motor torque rows (joint space).
+//!
+//! The elastic kind (docs/model.md, section 14) appends its slack columns after all of these:
+//! the torque deficits `[s+_k, s-_k]` of every node k < N (2n each), then the speed excesses
+//! `[e+_k, e-_k]` of every speed-row node 0 < k < N (2n each). Its rows are the hard kind's,
+//! except that it always has speed rows (in modes `paper` and `interval` they replace the box
+//! bounds on v, so that the slacks can relax them).
+
+use super::ProblemKind;
 
 /// Index arithmetic of one problem shape (dof n, steps N, which linear limits exist).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -17,12 +25,20 @@ pub struct Layout {
     pub speed_rows: bool,
     /// Whether motor torques are limited by linear rows |G^-T u_k| <= tau (joint space, `exact`).
     pub torque_rows: bool,
+    /// Hard or elastic: whether the slack columns exist.
+    pub kind: ProblemKind,
     row_base: Vec<usize>,
 }
 
 impl Layout {
-    /// The layout of a problem with `dof` joints and `steps` intervals.
-    pub fn new(dof: usize, steps: usize, speed_rows: bool, torque_rows: bool) -> Layout {
+    /// The layout of a problem of `kind` with `dof` joints and `steps` intervals.
+    pub fn new(
+        dof: usize,
+        steps: usize,
+        speed_rows: bool,
+        torque_rows: bool,
+        kind: ProblemKind,
+    ) -> Layout {
         let mut row_base = Vec::with_capacity(steps + 1);
         let mut row = 0;
         for k in 0..steps {
@@ -41,13 +57,58 @@ impl Layout {
             steps,
             speed_rows,
             torque_rows,
+            kind,
             row_base,
         }
     }
 
-    /// Number of variables: 4nN + 2n.
+    /// Number of variables: 4nN + 2n, plus the slacks of the elastic kind.
     pub fn num_variables(&self) -> usize {
+        self.trajectory_variables() + self.deficit_slacks() + self.excess_slacks()
+    }
+
+    /// Number of the trajectory's own variables (all but the slacks): 4nN + 2n.
+    fn trajectory_variables(&self) -> usize {
         4 * self.dof * self.steps + 2 * self.dof
+    }
+
+    /// Number of torque-deficit slacks: 2nN in the elastic kind.
+    fn deficit_slacks(&self) -> usize {
+        match self.kind {
+            ProblemKind::Hard => 0,
+            ProblemKind::Elastic => 2 * self.dof * self.steps,
+        }
+    }
+
+    /// Number of speed-excess slacks: 2n(N-1) in the elastic kind with speed rows.
+    fn excess_slacks(&self) -> usize {
+        match self.kind {
+            ProblemKind::Elastic if self.speed_rows => 2 * self.dof * (self.steps - 1),
+            _ => 0,
+        }
+    }
+
+    /// Columns [s+, s-] of the torque-deficit slacks of the dynamics row (k, i), k in 0..N, in
+    /// the elastic kind.
+    pub fn deficit_slack(&self, k: usize, i: usize) -> Option<[usize; 2]> {
+        let base = self.trajectory_variables() + 2 * self.dof * k;
+        (self.kind == ProblemKind::Elastic && k < self.steps)
+            .then(|| [base + i, base + self.dof + i])
+    }
+
+    /// Columns [e+, e-] of the speed-excess slacks of the speed row (k, i), 0 < k < N, in the
+    /// elastic kind.
+    pub fn excess_slack(&self, k: usize, i: usize) -> Option<[usize; 2]> {
+        self.speed_row(k, i)?;
+        (self.kind == ProblemKind::Elastic).then(|| {
+            let base = self.trajectory_variables() + self.deficit_slacks() + 2 * self.dof * (k - 1);
+            [base + i, base + self.dof + i]
+        })
+    }
+
+    /// The slack columns (empty in the hard kind).
+    pub fn slacks(&self) -> std::ops::Range<usize> {
+        self.trajectory_variables()..self.num_variables()
     }
 
     /// Number of constraint rows.
@@ -127,10 +188,12 @@ mod tests {
     /// Every variable and row index is used exactly once.
     #[test]
     fn indices_cover_without_overlap() {
-        for (speed_rows, torque_rows) in
-            [(false, false), (true, false), (false, true), (true, true)]
+        let shapes = [(false, false), (true, false), (false, true), (true, true)];
+        for ((speed_rows, torque_rows), kind) in shapes
+            .into_iter()
+            .flat_map(|shape| [ProblemKind::Hard, ProblemKind::Elastic].map(|kind| (shape, kind)))
         {
-            let layout = Layout::new(3, 5, speed_rows, torque_rows);
+            let layout = Layout::new(3, 5, speed_rows, torque_rows, kind);
             let mut columns = vec![0; layout.num_variables()];
             let mut rows = vec![0; layout.num_constraints()];
             for k in 0..=layout.steps {
@@ -144,6 +207,9 @@ mod tests {
                         rows[layout.velocity_row(k, i)] += 1;
                         rows[layout.position_row(k, i)] += 1;
                     }
+                    for slack in [layout.deficit_slack(k, i), layout.excess_slack(k, i)] {
+                        slack.into_iter().flatten().for_each(|c| columns[c] += 1);
+                    }
                     layout
                         .speed_row(k, i)
                         .into_iter()
@@ -154,7 +220,8 @@ mod tests {
                         .for_each(|r| rows[r] += 1);
                 }
             }
-            assert!(columns.iter().all(|&c| c == 1), "{columns:?}");
+            assert!(columns.iter().all(|&c| c == 1), "{kind:?} {columns:?}");
+            assert_eq!(layout.slacks().is_empty(), kind == ProblemKind::Hard);
             assert!(
                 rows.iter().all(|&c| c == 1),
                 "{speed_rows} {torque_rows}: {rows:?}"

@@ -6,6 +6,7 @@
 //! [`crate::ipopt::Nlp`] with exact, hand-derived sparse derivatives.
 
 mod cost;
+mod elastic;
 mod hessian;
 mod jacobian;
 mod layout;
@@ -13,6 +14,7 @@ mod nlp;
 mod node;
 mod sensitivity;
 
+pub use elastic::{penalty_weights, relaxation, PenaltyWeights, ProblemKind, Relaxation};
 pub use layout::Layout;
 pub use nlp::TrajectoryProblem;
 pub use sensitivity::cost_gradient;
@@ -75,6 +77,9 @@ pub struct Formulation {
     layout: Layout,
     /// Structural non-zeros of G (row = motor, column = joint) over the whole design space.
     g_pattern: DMatrix<f64>,
+    /// Structural non-zeros of the speed rows' matrix: G's in mode `exact`, the identity's where
+    /// the elastic kind turns a box into rows.
+    speed_pattern: DMatrix<f64>,
     /// The stored entries of one node's Hessian block, in their order.
     node_hessian: Vec<hessian::Entry>,
     jacobian: Vec<(usize, usize)>,
@@ -82,7 +87,7 @@ pub struct Formulation {
 }
 
 impl Formulation {
-    /// The formulation of `task` for `robot` (payload already set) in `space` with `modes`.
+    /// The hard formulation of `task` for `robot` (payload already set) in `space` with `modes`.
     pub fn new(
         task: &Task,
         robot: Robot,
@@ -128,9 +133,14 @@ impl Formulation {
                 }
             });
         }
-        let speed_rows = modes.speed == LimitMode::Exact;
         let torque_rows = space == Space::Joint && modes.torque == LimitMode::Exact;
-        let layout = Layout::new(n, task.motion.steps, speed_rows, torque_rows);
+        let layout = Layout::new(
+            n,
+            task.motion.steps,
+            modes.speed == LimitMode::Exact,
+            torque_rows,
+            ProblemKind::Hard,
+        );
         let mut formulation = Formulation {
             task: task.clone(),
             transmission,
@@ -138,6 +148,7 @@ impl Formulation {
             space,
             modes,
             layout,
+            speed_pattern: g_pattern.clone(),
             g_pattern,
             node_hessian: hessian::node_entries(n),
             jacobian: Vec::new(),
@@ -146,6 +157,30 @@ impl Formulation {
         formulation.jacobian = jacobian::pattern(&formulation);
         formulation.hessian = hessian::pattern(&formulation);
         Ok(formulation)
+    }
+
+    /// The same formulation in the elastic kind (docs/model.md, section 14): always feasible,
+    /// with the torque deficit and the speed excess as penalised slacks.
+    pub fn elastic(&self) -> Formulation {
+        let layout = &self.layout;
+        let mut elastic = self.clone();
+        elastic.layout = Layout::new(
+            layout.dof,
+            layout.steps,
+            true,
+            layout.torque_rows,
+            ProblemKind::Elastic,
+        );
+        if self.modes.speed != LimitMode::Exact {
+            elastic.speed_pattern = DMatrix::identity(layout.dof, layout.dof);
+        }
+        elastic.jacobian = jacobian::pattern(&elastic);
+        elastic
+    }
+
+    /// Hard or elastic.
+    pub fn kind(&self) -> ProblemKind {
+        self.layout.kind
     }
 
     /// The problem of design `ratios`, or why the design is not valid.

@@ -1,14 +1,17 @@
 //! The trajectory problem of one design as an [`Nlp`]: bounds, initial guess, cost,
 //! constraints and their exact sparse derivatives. The cost is in `cost.rs`, the Jacobian's
-//! entries in `jacobian.rs`, the Hessian's blocks in `hessian.rs`.
+//! entries in `jacobian.rs`, the Hessian's blocks in `hessian.rs`, the elastic kind's penalty
+//! in `elastic.rs`.
 
 use super::cost::Cost;
+use super::elastic;
 use super::hessian::NodeHessian;
 use super::jacobian::{self, JacobianData};
 use super::node::{Level, NodeEval};
-use super::{Formulation, Space};
+use super::{Formulation, ProblemKind, Space};
 use crate::dynamics::Workspace;
 use crate::ipopt::{EvalError, Nlp};
+use crate::model::task::LimitMode;
 use crate::transmission::{Coupling, DesignError, JointLimits};
 use nalgebra::DMatrix;
 
@@ -22,6 +25,9 @@ pub struct TrajectoryProblem<'a> {
     control_map: DMatrix<f64>,
     /// G^-T, the motor torque of a joint torque.
     motor_of_joint: DMatrix<f64>,
+    /// The speed rows' matrix: G (motor speeds, mode `exact`) or the identity (joint speeds, the
+    /// elastic kind's rows in modes `paper` and `interval`).
+    speed_map: DMatrix<f64>,
     /// One dynamics workspace per node k < N (all of the formulation's one model), so that each
     /// keeps its node's kinematics cached from one callback to the next (the Hessian reuses what
     /// the Jacobian computed at the same point).
@@ -42,12 +48,17 @@ impl<'a> TrajectoryProblem<'a> {
             Space::Joint => DMatrix::identity(n, n),
         };
         let motor_of_joint = coupling.inverse().transpose();
+        let speed_map = match formulation.modes.speed {
+            LimitMode::Exact => coupling.matrix().clone(),
+            LimitMode::Paper | LimitMode::Interval => DMatrix::identity(n, n),
+        };
         Ok(TrajectoryProblem {
             formulation,
             ratios: ratios.to_vec(),
             coupling,
             control_map,
             motor_of_joint,
+            speed_map,
             workspaces: (0..formulation.layout.steps)
                 .map(|_| formulation.dynamics.workspace())
                 .collect(),
@@ -158,10 +169,13 @@ impl Nlp for TrajectoryProblem<'_> {
             for i in 0..n {
                 let (q, v) = (layout.q(k, i), layout.v(k, i));
                 (lower[q], upper[q]) = limits[i];
-                if let JointLimits::Box {
-                    lower: lo,
-                    upper: hi,
-                } = &speed
+                if let (
+                    JointLimits::Box {
+                        lower: lo,
+                        upper: hi,
+                    },
+                    false,
+                ) = (&speed, layout.speed_rows)
                 {
                     (lower[v], upper[v]) = (lo[i], hi[i]);
                 }
@@ -184,6 +198,7 @@ impl Nlp for TrajectoryProblem<'_> {
                 (lower[v], upper[v]) = (0.0, 0.0);
             }
         }
+        lower[layout.slacks()].fill(0.0);
     }
 
     fn constraint_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
@@ -191,14 +206,15 @@ impl Nlp for TrajectoryProblem<'_> {
         let layout = &f.layout;
         lower.fill(0.0);
         upper.fill(0.0);
-        let (w, t) = (
-            f.task.motors.speed_limit_rad_s,
-            f.task.motors.torque_limit_nm,
-        );
+        let t = f.task.motors.torque_limit_nm;
+        let speed = self.speed_limits();
         for k in 0..layout.steps {
             for i in 0..layout.dof {
                 if let Some(row) = layout.speed_row(k, i) {
-                    (lower[row], upper[row]) = (-w, w);
+                    (lower[row], upper[row]) = match &speed {
+                        JointLimits::Linear { limit, .. } => (-limit, *limit),
+                        JointLimits::Box { lower, upper } => (lower[i], upper[i]),
+                    };
                 }
                 if let Some(row) = layout.torque_row(k, i) {
                     (lower[row], upper[row]) = (-t, t);
@@ -228,13 +244,18 @@ impl Nlp for TrajectoryProblem<'_> {
     fn objective(&mut self, x: &[f64], new_x: bool) -> Result<f64, EvalError> {
         self.evaluate(x, new_x, Level::Values)?;
         let f = self.formulation;
-        Ok(Cost::new(&f.task, &f.layout).value(x, &self.nodes))
+        let cost = Cost::new(&f.task, &f.layout).value(x, &self.nodes);
+        Ok(match f.layout.kind {
+            ProblemKind::Hard => cost,
+            ProblemKind::Elastic => cost + elastic::penalty(f, x),
+        })
     }
 
     fn gradient(&mut self, x: &[f64], new_x: bool, gradient: &mut [f64]) -> Result<(), EvalError> {
         self.evaluate(x, new_x, Level::Derivatives)?;
         let f = self.formulation;
         Cost::new(&f.task, &f.layout).gradient(x, &self.nodes, gradient);
+        elastic::penalty_gradient(f, gradient);
         Ok(())
     }
 
@@ -243,18 +264,26 @@ impl Nlp for TrajectoryProblem<'_> {
         let f = self.formulation;
         let layout = &f.layout;
         let (n, h) = (layout.dof, f.step_s());
-        let g_matrix = self.coupling.matrix();
+        let slack = |slacks: Option<[usize; 2]>| slacks.map(|[plus, minus]| x[minus] - x[plus]);
         for (k, node) in self.nodes.iter().enumerate() {
             let u = &x[layout.u(k, 0)..layout.u(k, 0) + n];
             for i in 0..n {
                 let applied: f64 = (0..n).map(|j| self.control_map[(i, j)] * u[j]).sum();
                 g[layout.dynamics_row(k, i)] = node.tau[i] - applied;
+                if let Some(s) = slack(layout.deficit_slack(k, i)) {
+                    g[layout.dynamics_row(k, i)] += s;
+                }
                 g[layout.velocity_row(k, i)] =
                     x[layout.v(k + 1, i)] - x[layout.v(k, i)] - h * x[layout.a(k, i)];
                 g[layout.position_row(k, i)] =
                     x[layout.q(k + 1, i)] - x[layout.q(k, i)] - h * x[layout.v(k + 1, i)];
                 if let Some(row) = layout.speed_row(k, i) {
-                    g[row] = (0..n).map(|j| g_matrix[(i, j)] * x[layout.v(k, j)]).sum();
+                    g[row] = (0..n)
+                        .map(|j| self.speed_map[(i, j)] * x[layout.v(k, j)])
+                        .sum();
+                    if let Some(e) = slack(layout.excess_slack(k, i)) {
+                        g[row] += e;
+                    }
                 }
                 if let Some(row) = layout.torque_row(k, i) {
                     g[row] = (0..n).map(|j| self.motor_of_joint[(i, j)] * u[j]).sum();
@@ -284,7 +313,7 @@ impl Nlp for TrajectoryProblem<'_> {
             control_pattern: &pattern,
             speed: layout
                 .speed_rows
-                .then_some((self.coupling.matrix(), &f.g_pattern)),
+                .then_some((&self.speed_map, &f.speed_pattern)),
             torque: layout.torque_rows.then_some(&self.motor_of_joint),
             h: f.step_s(),
         };
@@ -334,6 +363,7 @@ mod tests {
     use crate::ipopt::{check_derivatives, DerivativeOrder, Options};
     use crate::model::task::{LimitMode, LimitModes, Task};
     use crate::model::Robot;
+    use crate::problem::penalty_weights;
     use crate::testing::{self, Random};
 
     fn task() -> Task {
@@ -351,7 +381,8 @@ mod tests {
         Formulation::new(&task, robot, space, LimitModes { torque, speed }).unwrap()
     }
 
-    /// Every combination of space and modes (torque modes only matter in joint space).
+    /// Every combination of space and modes (torque modes only matter in joint space), each in
+    /// the hard and the elastic kind.
     fn all_formulations() -> Vec<Formulation> {
         let modes = [LimitMode::Paper, LimitMode::Interval, LimitMode::Exact];
         let mut list = Vec::new();
@@ -361,11 +392,16 @@ mod tests {
                 list.push(formulation(Space::Joint, torque, speed, 1.0));
             }
         }
+        let elastic: Vec<_> = list.iter().map(Formulation::elastic).collect();
+        list.extend(elastic);
         list
     }
 
-    /// A point near the initial guess with every variable moved: the TCP leaves the box at some
-    /// nodes, so the penalty's derivatives are exercised too.
+    /// A point near the initial guess with every trajectory variable moved: the TCP leaves the
+    /// box at some nodes, so the penalty's derivatives are exercised too. The elastic kind's
+    /// slacks stay at 0: they enter linearly, so their derivatives are the same everywhere, and
+    /// at a moved slack the l1 penalty (weights up to 3e5) would make the objective so large
+    /// that its differences lose the gradient's digits.
     fn random_point(problem: &TrajectoryProblem<'_>, seed: u64) -> Vec<f64> {
         let mut x = vec![0.0; problem.num_variables()];
         problem.initial_point(&mut x);
@@ -373,6 +409,7 @@ mod tests {
         for value in &mut x {
             *value += 0.6 * (rng.unit() - 0.5);
         }
+        x[problem.formulation.layout.slacks()].fill(0.0);
         x
     }
 
@@ -461,7 +498,13 @@ mod tests {
     #[test]
     fn ipopt_derivative_checker_finds_nothing() {
         for f in all_formulations() {
-            for (point, radius) in [("initial guess", 0.0), ("random interior point", 0.05)] {
+            // IPOPT's random point moves the slacks too (see `random_point`): the elastic kind is
+            // checked at the initial guess, where they are 0.
+            let points = match f.kind() {
+                ProblemKind::Hard => &[("initial guess", 0.0), ("random interior point", 0.05)][..],
+                ProblemKind::Elastic => &[("initial guess", 0.0)][..],
+            };
+            for &(point, radius) in points {
                 let mut problem = f.problem(&[6.0, 3.0, 1.0, 1.0]).unwrap();
                 let options = Options::new()
                     .num("point_perturbation_radius", radius)
@@ -472,7 +515,8 @@ mod tests {
                 assert_eq!(
                     report.errors,
                     0,
-                    "{} space, modes {:?}, {point}: {:?}",
+                    "{:?} {} space, modes {:?}, {point}: {:?}",
+                    f.kind(),
                     f.space(),
                     f.modes(),
                     &report.flagged[..report.flagged.len().min(10)]
@@ -492,6 +536,74 @@ mod tests {
             let mut seen = std::collections::HashSet::new();
             for &entry in &f.jacobian {
                 assert!(seen.insert(entry), "duplicate Jacobian entry {entry:?}");
+            }
+        }
+    }
+
+    /// The elastic problem is the hard one plus its slacks: with the slacks at zero it has the
+    /// hard objective and rows (the rows replacing box speed bounds hold v itself), slacks enter
+    /// their rows as -s+ + s- and the objective with the weights, and the bounds are the hard
+    /// ones with the slacks at >= 0 and (box modes) the inner speeds free.
+    #[test]
+    fn elastic_problem_is_the_hard_one_plus_slacks() {
+        for hard in all_formulations()
+            .iter()
+            .filter(|f| f.kind() == ProblemKind::Hard)
+        {
+            let elastic = hard.elastic();
+            let ratios = [7.0, 4.0, 2.0, 1.5];
+            let (mut p, mut q) = (
+                hard.problem(&ratios).unwrap(),
+                elastic.problem(&ratios).unwrap(),
+            );
+            let (layout, n) = (elastic.layout(), p.num_variables());
+            let mut x = random_point(&q, 3);
+            x[layout.slacks()].fill(0.0);
+            assert_eq!(x[..n], random_point(&p, 3)[..n]);
+            let (mut g_hard, mut g) = (
+                vec![0.0; p.num_constraints()],
+                vec![0.0; q.num_constraints()],
+            );
+            p.constraints(&x[..n], true, &mut g_hard).unwrap();
+            q.constraints(&x, true, &mut g).unwrap();
+            let objective = p.objective(&x[..n], true).unwrap();
+            assert_eq!(q.objective(&x, true).unwrap(), objective);
+            let weights = penalty_weights(hard.space());
+            let [plus, minus] = layout.deficit_slack(2, 1).unwrap();
+            (x[plus], x[minus]) = (0.25, 0.5);
+            let mut shifted = vec![0.0; g.len()];
+            q.constraints(&x, true, &mut shifted).unwrap();
+            let row = layout.dynamics_row(2, 1);
+            assert!((shifted[row] - g[row] - 0.25).abs() < 1e-12);
+            let penalty = q.objective(&x, true).unwrap() - objective;
+            assert!((penalty - 0.75 * weights.torque).abs() < 1e-9 * weights.torque);
+            let (mut lower, mut upper) =
+                (vec![0.0; q.num_variables()], vec![0.0; q.num_variables()]);
+            q.variable_bounds(&mut lower, &mut upper);
+            let (mut hard_lower, mut hard_upper) = (vec![0.0; n], vec![0.0; n]);
+            p.variable_bounds(&mut hard_lower, &mut hard_upper);
+            assert!(layout
+                .slacks()
+                .all(|c| lower[c] == 0.0 && upper[c] == f64::INFINITY));
+            for c in 0..n {
+                let free_speed = lower[c] == f64::NEG_INFINITY && upper[c] == f64::INFINITY;
+                let same = (lower[c], upper[c]) == (hard_lower[c], hard_upper[c]);
+                assert!(same || (free_speed && hard.modes().speed != LimitMode::Exact));
+            }
+            let (mut row_lower, mut row_upper) = (vec![0.0; g.len()], vec![0.0; g.len()]);
+            q.constraint_bounds(&mut row_lower, &mut row_upper);
+            for (k, i) in (1..layout.steps).flat_map(|k| (0..layout.dof).map(move |i| (k, i))) {
+                let row = layout.speed_row(k, i).unwrap();
+                if hard.modes().speed == LimitMode::Exact {
+                    assert_eq!(g[row], g_hard[hard.layout().speed_row(k, i).unwrap()]);
+                } else {
+                    let v = layout.v(k, i);
+                    assert_eq!(g[row], x[v]);
+                    assert_eq!(
+                        (row_lower[row], row_upper[row]),
+                        (hard_lower[v], hard_upper[v])
+                    );
+                }
             }
         }
     }
