@@ -259,6 +259,9 @@ fn one_design_for_a_payload_range_reports_its_cost_at_each_payload() {
         "--payload",
         "1",
     ]);
-    support::fails_saying(&refused, "--payload 1: --objective range solves every payload");
+    support::fails_saying(
+        &refused,
+        "--payload 1: --objective range solves every payload",
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -7,8 +7,8 @@ use crate::design::cmaes::CmaesSettings;
 use crate::design::evaluate::{Objective, PayloadRange};
 use crate::design::gradient::GradientSettings;
 use crate::design::log::Start;
+use crate::design::penalty::{Grading, Penalty};
 use crate::design::workers::{Launcher, SOLVE_TIMEOUT_S};
-use crate::design::PENALTY;
 use crate::model::task::{check_payload, LimitModes, Task};
 use crate::report::codesign::{Method, OptimizeInputs};
 use std::path::Path;
@@ -35,8 +35,8 @@ pub struct Case {
     pub cmaes: CmaesSettings,
     /// The gradient method's settings.
     pub gradient: GradientSettings,
-    /// Fitness of invalid or infeasible designs.
-    pub penalty: f64,
+    /// How invalid or infeasible designs are scored.
+    pub penalty: Penalty,
     /// Worker processes (default: one per core).
     pub workers: Option<usize>,
     /// A solve taking longer than this counts as a hung worker, s.
@@ -59,7 +59,7 @@ impl Case {
             objective: Objective::Cost,
             cmaes: CmaesSettings::default(),
             gradient: GradientSettings::default(),
-            penalty: PENALTY,
+            penalty: Penalty::PAPER,
             workers: None,
             solve_timeout_s: SOLVE_TIMEOUT_S,
             worker_command: None,
@@ -80,8 +80,8 @@ impl Case {
                 format!("--{flag} {}: {}", e.value, e.rule)
             })?;
         }
-        if !self.penalty.is_finite() {
-            return Err(format!("--penalty {}: must be finite", self.penalty));
+        if self.penalty.grading == Grading::Graded {
+            self.check_graded()?;
         }
         if !(self.solve_timeout_s.is_finite() && self.solve_timeout_s > 0.0) {
             return Err(format!(
@@ -121,6 +121,20 @@ impl Case {
                     "--capacity-resolution {resolution_kg}: must be a positive mass"
                 ))
             }
+            _ => Ok(()),
+        }
+    }
+
+    /// Checks that a graded penalty has something to grade: the cost of CMA-ES's designs, at one
+    /// payload or over a range.
+    fn check_graded(&self) -> Result<(), String> {
+        match (self.method, &self.objective) {
+            (Method::Gradient, _) => Err("--penalty graded: grades CMA-ES's evaluations; the \
+                 gradient method descends from feasible starts only, use --method cmaes"
+                .to_owned()),
+            (_, Objective::Capacity(_)) => Err("--penalty graded: the capacity search has no \
+                 elastic form; use --objective cost or range"
+                .to_owned()),
             _ => Ok(()),
         }
     }
@@ -229,7 +243,8 @@ impl Case {
             population: self.cmaes.population,
             generations: self.cmaes.generations,
             sigma0: self.cmaes.sigma0,
-            penalty: self.penalty,
+            penalty: self.penalty.base,
+            grading: self.penalty.grading,
             ftol: self.cmaes.ftol,
             xtol: self.cmaes.xtol,
         }

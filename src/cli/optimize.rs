@@ -6,13 +6,14 @@ use super::common::{ModelArgs, ProblemArgs};
 use super::preflight::probe_solver;
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
-use crate::design::evaluate::{Fitness, Objective, PayloadRange};
+use crate::design::evaluate::{Objective, PayloadRange};
+use crate::design::fitness::Fitness;
 use crate::design::gradient::{optimize_gradient, GradientSettings};
 use crate::design::log::{EvaluationLog, Finished, Start};
 use crate::design::optimize::{optimize, Progress};
 use crate::design::outcome::DesignOutcome;
+use crate::design::penalty::Penalty;
 use crate::design::workers::{Pool, WorkerSetup, SOLVE_TIMEOUT_S};
-use crate::design::PENALTY;
 use crate::model::task::Task;
 use crate::problem::Formulation;
 use crate::report::codesign::{Method, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
@@ -60,9 +61,12 @@ pub struct Args {
     /// Initial step size, relative to the width of the design box.
     #[arg(long, default_value_t = CmaesSettings::default().sigma0)]
     pub sigma: f64,
-    /// Fitness of invalid or infeasible designs.
-    #[arg(long, default_value_t = PENALTY)]
-    pub penalty: f64,
+    /// How invalid or infeasible designs score: `flat` (the paper's 1e6 for every one),
+    /// `graded` (infeasible designs 1e6 to 2e6 by their torque deficit and speed excess from the
+    /// elastic problem, invalid ones 2e6 to 3e6 by their distance from the design space, so that
+    /// CMA-ES moves toward feasibility), or a number (flat, of that value).
+    #[arg(long, value_name = "flat|graded|VALUE", default_value_t = Penalty::PAPER)]
+    pub penalty: Penalty,
     /// Worker processes (default: one per core).
     #[arg(long, value_name = "N")]
     pub workers: Option<usize>,
@@ -163,9 +167,8 @@ pub fn run_case(case: &Case, out: &Path) -> Result<OptimizeDocument, String> {
     let outcome = match log.as_mut() {
         Some((log, finished)) => run_cmaes(case, &inputs, &task, &formulation, log, finished)
             .map(|o| (o, log.earlier_seconds())),
-        None => {
-            optimize_gradient(&formulation, &case.gradient, case.penalty).map(|o| (o, Some(0.0)))
-        }
+        None => optimize_gradient(&formulation, &case.gradient, case.penalty.base)
+            .map(|o| (o, Some(0.0))),
     };
     let result = outcome.and_then(|(outcome, earlier_seconds)| {
         let mut document = document(case, &formulation, inputs, outcome)?;
@@ -215,6 +218,7 @@ fn document(
                 formulation.space(),
                 *formulation.modes(),
                 &case.objective,
+                Penalty::PAPER,
             )?;
             let best = payload_costs(&fitness, &outcome.best_ratios);
             let original = payload_costs(&fitness, &original_ratios);
@@ -240,7 +244,7 @@ fn document(
         (_, Some(costs)) if costs.original.iter().all(|c| c.feasible) => {
             costs.original.iter().map(|c| c.cost).sum::<f64>() / costs.original.len() as f64
         }
-        _ => case.penalty,
+        _ => case.penalty.base,
     };
     Ok(OptimizeDocument {
         tool: ToolInfo::current(inputs.linear_solver),
@@ -269,13 +273,11 @@ fn document(
 /// `ratios` solved at every payload of a range `fitness` (none when `ratios` is empty: no
 /// feasible design was found).
 fn payload_costs(fitness: &Fitness, ratios: &[f64]) -> Vec<PayloadCost> {
-    let Fitness::Range(formulations) = fitness else {
-        return Vec::new();
-    };
     if ratios.is_empty() {
         return Vec::new();
     }
-    formulations
+    fitness
+        .payloads()
         .iter()
         .map(|(payload_kg, formulation)| {
             let solved = solve_design(formulation, ratios, &SolveSettings::default());

@@ -2,9 +2,7 @@
 //! negated payload capacity, or a penalty.
 
 use super::capacity::{payload_capacity, CapacitySettings};
-use crate::model::task::{LimitModes, Task};
-use crate::model::Robot;
-use crate::problem::{Formulation, Space};
+use crate::problem::Formulation;
 use crate::solver::{solve_design, SolveError, SolveSettings};
 use serde::{Deserialize, Serialize};
 
@@ -61,59 +59,6 @@ pub enum Objective {
 pub struct PayloadRange {
     /// The payloads, kg, in the order they are solved (the mean sums in this order).
     pub payloads_kg: Vec<f64>,
-}
-
-/// The formulations a worker scores designs with, one per payload of the objective.
-#[derive(Debug)]
-pub enum Fitness {
-    /// The cost at one payload.
-    Cost(Formulation),
-    /// Minus the capacity; the formulation's payload is ignored.
-    Capacity(Formulation, CapacitySettings),
-    /// The mean cost over the payloads, each with its formulation.
-    Range(Vec<(f64, Formulation)>),
-}
-
-impl Fitness {
-    /// The fitness of `objective` for `task` (its payload used by `Cost` and `Capacity`) in
-    /// `space` with limit `modes`.
-    pub fn new(
-        task: &Task,
-        space: Space,
-        modes: LimitModes,
-        objective: &Objective,
-    ) -> Result<Fitness, String> {
-        let formulation = |payload_kg: f64| {
-            let mut loaded = task.clone();
-            loaded.payload.mass_kg = payload_kg;
-            let robot = Robot::load(&loaded).map_err(|e| e.to_string())?;
-            Formulation::new(&loaded, robot, space, modes).map_err(|e| e.to_string())
-        };
-        Ok(match objective {
-            Objective::Cost => Fitness::Cost(formulation(task.payload.mass_kg)?),
-            Objective::Capacity(settings) => {
-                Fitness::Capacity(formulation(task.payload.mass_kg)?, *settings)
-            }
-            Objective::Range(range) => Fitness::Range(
-                range
-                    .payloads_kg
-                    .iter()
-                    .map(|&kg| formulation(kg).map(|f| (kg, f)))
-                    .collect::<Result<_, _>>()?,
-            ),
-        })
-    }
-
-    /// Scores `ratios`; an invalid or infeasible design scores `penalty`.
-    pub fn evaluate(&self, ratios: &[f64], penalty: f64) -> Evaluation {
-        match self {
-            Fitness::Cost(formulation) => evaluate(formulation, ratios, penalty),
-            Fitness::Capacity(formulation, settings) => {
-                evaluate_capacity(formulation, ratios, settings, penalty)
-            }
-            Fitness::Range(formulations) => evaluate_range(formulations, ratios, penalty),
-        }
-    }
 }
 
 /// Scores `ratios` by the mean of its optimal costs over the payloads of `formulations`; the

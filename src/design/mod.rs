@@ -4,12 +4,13 @@
 pub mod capacity;
 pub mod cmaes;
 pub mod evaluate;
+pub mod fitness;
 pub mod gradient;
 pub mod log;
 pub mod optimize;
 pub mod outcome;
+pub mod penalty;
 pub mod rng;
 pub mod workers;
 
-/// The fitness of an invalid or infeasible design (the paper's flat penalty).
-pub const PENALTY: f64 = 1e6;
+pub use penalty::PENALTY;

@@ -7,6 +7,7 @@ use crate::design::capacity::{Capacity, CapacitySettings};
 use crate::design::evaluate::Objective;
 use crate::design::gradient::GradientIterate;
 use crate::design::optimize::GenerationSummary;
+use crate::design::penalty::Grading;
 use crate::ipopt::LinearSolver;
 use crate::model::task::{LimitModes, Task};
 use crate::problem::Space;
@@ -54,8 +55,12 @@ pub struct OptimizeInputs {
     pub generations: usize,
     /// Initial step, relative to the design box.
     pub sigma0: f64,
-    /// Fitness of invalid or infeasible designs.
+    /// Fitness of invalid or infeasible designs (the base of a graded penalty).
     pub penalty: f64,
+    /// Whether the penalty is graded by the distance from feasibility; flat (the paper's) when
+    /// left out.
+    #[serde(default, skip_serializing_if = "Grading::is_flat")]
+    pub grading: Grading,
     /// Stop when the population's cost spread falls below this.
     pub ftol: f64,
     /// Stop when the step falls below this.

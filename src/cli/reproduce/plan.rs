@@ -8,6 +8,7 @@ use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::evaluate::{Objective, PayloadRange};
 use crate::design::log::Start;
+use crate::design::penalty::{Grading, Penalty};
 use crate::problem::Space;
 use crate::report::codesign::Method;
 use std::path::PathBuf;
@@ -18,6 +19,8 @@ pub const PAYLOADS: [f64; 3] = [0.0, 1.0, 3.0];
 pub const CODESIGNED: [f64; 2] = [1.0, 3.0];
 /// Both spaces, joint first.
 pub const SPACES: [Space; 2] = [Space::Joint, Space::Actuation];
+/// The payload of the runs with the graded penalty, kg: where most designs are infeasible.
+pub const GRADED: f64 = 3.0;
 /// The payload range of the design for the paper's stated goal, fruit from 1 to 3 kg, and its
 /// space: beyond the paper, one design for the whole range.
 pub const RANGE: ([f64; 3], Space) = ([1.0, 2.0, 3.0], Space::Actuation);
@@ -311,10 +314,32 @@ impl Plan {
         runs
     }
 
-    /// The CMA-ES runs beyond the paper: the capacity designs, then the payload range.
+    /// The CMA-ES runs beyond the paper: the capacity designs, the payload range, and the 3 kg
+    /// cases with the graded penalty.
     pub fn beyond_runs(&self) -> Vec<PlannedRun> {
         let mut runs = self.capacity_runs();
         runs.extend(self.range_runs());
+        runs.extend(self.graded_runs());
+        runs
+    }
+
+    /// Beyond the paper: the co-designed payloads at the edge of feasibility ([`GRADED`]) with
+    /// the graded penalty, per space and seed, on the cost runs' budget.
+    fn graded_runs(&self) -> Vec<PlannedRun> {
+        let mut runs = Vec::new();
+        for space in SPACES {
+            for seed in 0..self.budget.seeds {
+                let mut case = self.cost_case(space, GRADED, seed);
+                case.penalty = Penalty {
+                    grading: Grading::Graded,
+                    ..Penalty::PAPER
+                };
+                runs.push(PlannedRun {
+                    name: format!("{space}-{GRADED}kg-graded-seed{seed}"),
+                    case,
+                });
+            }
+        }
         runs
     }
 
@@ -378,7 +403,8 @@ mod tests {
             .chain(quick.beyond_runs())
             .map(|run| run.name)
             .collect();
-        assert_eq!(names.len(), 2 * 2 * 2 + 4 + 2 + 1);
+        assert_eq!(names.len(), 2 * 2 * 2 + 4 + 2 + 1 + 2 * 2);
+        assert!(names.contains(&"joint-3kg-graded-seed1".to_owned()));
         assert!(names.contains(&"actuation-range-1-3kg-seed0".to_owned()));
         assert_eq!(names[0], "joint-1kg-seed0");
         assert!(names.contains(&"actuation-3kg-gradient".to_owned()));

@@ -131,10 +131,19 @@ fn beyond_runs(plan: &Plan) -> Result<Vec<OptimizeDocument>, String> {
                 document.best_cost,
                 document.evaluations
             ),
-            _ => say!(
+            Objective::Capacity(_) => say!(
                 "capacity co-design, {space} space: r = {:?} lifts {:.3} kg ({} evaluations)",
                 document.best_ratios,
                 -document.best_cost,
+                document.evaluations
+            ),
+            Objective::Cost => say!(
+                "co-design, {space} space, {} kg, seed {}, penalty {}: best r = {:?}, J = {:.4} ({} evaluations)",
+                document.inputs.payload_kg,
+                planned.case.cmaes.seed,
+                planned.case.penalty,
+                document.best_ratios,
+                document.best_cost,
                 document.evaluations
             ),
         }

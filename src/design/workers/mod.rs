@@ -117,7 +117,7 @@ impl Pool {
             launcher,
             setup_line: serde_json::to_string(setup).map_err(|e| e.to_string())?,
             hello: Hello::new(setup)?,
-            penalty: setup.penalty,
+            penalty: setup.penalty.base,
             timeout,
             workers: Vec::with_capacity(count),
             sender,
@@ -410,7 +410,7 @@ mod tests {
             modes: task.limit_modes,
             task,
             space: Space::Actuation,
-            penalty: 1e6,
+            penalty: crate::design::penalty::Penalty::PAPER,
             objective: Objective::Cost,
         }
     }

@@ -1,7 +1,9 @@
 //! The worker protocol, one JSON object a line: the parent sends a [`WorkerSetup`], the worker
 //! answers with its [`Hello`], then each [`Request`] gets one [`Response`].
 
-use crate::design::evaluate::{Evaluation, Fitness, Objective};
+use crate::design::evaluate::{Evaluation, Objective};
+use crate::design::fitness::Fitness;
+use crate::design::penalty::Penalty;
 use crate::ipopt::{LinearSolver, IPOPT_VERSION};
 use crate::model::task::{LimitModes, Task};
 use crate::problem::Space;
@@ -19,8 +21,8 @@ pub struct WorkerSetup {
     pub space: Space,
     /// Limit modes.
     pub modes: LimitModes,
-    /// Fitness of invalid or infeasible designs.
-    pub penalty: f64,
+    /// How invalid or infeasible designs are scored.
+    pub penalty: Penalty,
     /// What the fitness is.
     #[serde(default)]
     pub objective: Objective,
@@ -29,7 +31,13 @@ pub struct WorkerSetup {
 impl WorkerSetup {
     /// Builds the fitness this setup describes.
     pub fn fitness(&self) -> Result<Fitness, String> {
-        Fitness::new(&self.task, self.space, self.modes, &self.objective)
+        Fitness::new(
+            &self.task,
+            self.space,
+            self.modes,
+            &self.objective,
+            self.penalty,
+        )
     }
 }
 
@@ -117,7 +125,7 @@ pub fn serve(input: impl BufRead, mut output: impl Write) -> Result<(), String> 
             serde_json::from_str(&line).map_err(|e| format!("worker: malformed request: {e}"))?;
         let response = Response {
             id: request.id,
-            evaluation: fitness.evaluate(&request.ratios, setup.penalty),
+            evaluation: fitness.evaluate(&request.ratios),
         };
         let text = serde_json::to_string(&response).map_err(|e| format!("worker: {e}"))?;
         if !answer(&mut output, &text)? {

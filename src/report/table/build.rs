@@ -5,12 +5,14 @@ use super::{
     AfterCell, DesignCell, PaperTable, PaperValues, RangeRow, ResultFile, TableRow, PAPER,
 };
 use crate::design::evaluate::Objective;
+use crate::design::penalty::Grading;
 use crate::ipopt::LinearSolver;
 use crate::model::task::Motors;
 use crate::problem::Space;
 use crate::report::codesign::{Method, OptimizeDocument};
 use crate::report::trajectory::ToolInfo;
 use crate::solver::TrajectoryResult;
+use crate::stats::median;
 
 /// Builds the table from result files: solves of the original design give "before"; co-design
 /// runs give "after" (the best over their seeds) and, if no solve did, "before" too.
@@ -122,6 +124,7 @@ fn row_mut(rows: &mut Vec<TableRow>, payload_kg: f64, space: Space) -> &mut Tabl
                 capacity_before_kg: None,
                 capacity_after_kg: None,
                 capacity_max: None,
+                graded: None,
                 paper,
             });
             rows.len() - 1
@@ -152,20 +155,32 @@ fn add_run(row: &mut TableRow, doc: &OptimizeDocument) {
         }
         return;
     }
+    if !doc.inputs.grading.is_flat() {
+        let graded = row.graded.get_or_insert_with(|| AfterCell::new(doc));
+        add_seed(graded, doc, motors);
+        return;
+    }
     if row.before.is_none() {
         row.before = doc.original_result.as_ref().map(|r| cell(r, motors));
     }
-    let after = row.after.get_or_insert_with(|| AfterCell {
-        best: None,
-        per_seed: Vec::new(),
-        early_stops: Vec::new(),
-        evaluations: 0,
-        solves: 0,
-        median_solve_seconds: f64::NAN,
-        population: doc.inputs.population,
-        generations: doc.inputs.generations,
-    });
+    let after = row.after.get_or_insert_with(|| AfterCell::new(doc));
     add_seed(after, doc, motors);
+}
+
+impl AfterCell {
+    /// An empty cell for the CMA-ES runs of `doc`'s budget.
+    fn new(doc: &OptimizeDocument) -> AfterCell {
+        AfterCell {
+            best: None,
+            per_seed: Vec::new(),
+            early_stops: Vec::new(),
+            evaluations: 0,
+            solves: 0,
+            median_solve_seconds: f64::NAN,
+            population: doc.inputs.population,
+            generations: doc.inputs.generations,
+        }
+    }
 }
 
 /// Adds one CMA-ES run (one seed) to "after": its best cost, an early stop, its evaluations and
@@ -201,9 +216,15 @@ fn complete_row(row: &mut TableRow, files: &[ResultFile]) {
     if let Some(best) = row.after.as_ref().and_then(|a| a.best.as_ref()) {
         row.capacity_after_kg = capacity_of(files, row.space, &best.ratios);
     }
-    if let Some(after) = &mut row.after {
-        after.median_solve_seconds = median_solve_seconds(files, row.payload_kg, row.space);
-        after.per_seed.sort_by_key(|(seed, _)| *seed);
+    let (payload_kg, space) = (row.payload_kg, row.space);
+    for (cell, grading) in [
+        (&mut row.after, Grading::Flat),
+        (&mut row.graded, Grading::Graded),
+    ] {
+        if let Some(cell) = cell {
+            cell.median_solve_seconds = median_solve_seconds(files, payload_kg, space, grading);
+            cell.per_seed.sort_by_key(|(seed, _)| *seed);
+        }
     }
 }
 
@@ -215,25 +236,30 @@ fn capacity_of(files: &[ResultFile], space: Space, ratios: &[f64]) -> Option<f64
     })
 }
 
-/// The median over the CMA-ES runs on the cost of one row of each run's median solve time, s
-/// (NaN without runs).
-fn median_solve_seconds(files: &[ResultFile], payload_kg: f64, space: Space) -> f64 {
-    let mut medians: Vec<f64> = files
+/// The median over the CMA-ES runs on the cost of one row (with the penalty's `grading`) of each
+/// run's median solve time, s (NaN without runs).
+fn median_solve_seconds(
+    files: &[ResultFile],
+    payload_kg: f64,
+    space: Space,
+    grading: Grading,
+) -> f64 {
+    let medians: Vec<f64> = files
         .iter()
         .filter_map(|f| match f {
             ResultFile::Optimize(d)
                 if d.inputs.payload_kg == payload_kg
                     && d.inputs.space == space
                     && d.inputs.method == Method::Cmaes
-                    && d.inputs.objective == Objective::Cost =>
+                    && d.inputs.objective == Objective::Cost
+                    && d.inputs.grading == grading =>
             {
                 Some(d.median_solve_seconds)
             }
             _ => None,
         })
         .collect();
-    medians.sort_by(f64::total_cmp);
-    medians.get(medians.len() / 2).copied().unwrap_or(f64::NAN)
+    median(&medians)
 }
 
 /// The inner solves and their summed wall time, s, of the co-design runs on the cost
@@ -243,7 +269,7 @@ fn run_totals(files: &[ResultFile], objective_is_cost: bool) -> (usize, f64) {
         .iter()
         .filter_map(|f| match f {
             ResultFile::Optimize(d)
-                if (d.inputs.objective == Objective::Cost) == objective_is_cost =>
+                if matches!(d.inputs.objective, Objective::Capacity(_)) != objective_is_cost =>
             {
                 Some(d)
             }

@@ -25,6 +25,30 @@ impl PaperTable {
         if !self.ranges.is_empty() {
             text.push_str(&self.payload_ranges());
         }
+        if self.rows.iter().any(|row| row.graded.is_some()) {
+            text.push_str(&self.graded_runs());
+        }
+        text
+    }
+
+    /// The CMA-ES runs with the graded penalty, one line per payload and space.
+    fn graded_runs(&self) -> String {
+        let mut text = String::from(
+            "\nCMA-ES with the graded penalty (`codesign optimize --penalty graded`): every design is solved as the \
+             elastic problem, and an infeasible one scores 1e6 to 2e6 by its torque deficit and speed excess instead of a \
+             flat 1e6, so that CMA-ES moves toward feasibility (`docs/model.md`, section 10).\n\n\
+             | payload | space | after (graded penalty) | seeds: best J | inner solves of evaluations | median solve |\n\
+             |---|---|---|---|---|---|\n",
+        );
+        for row in &self.rows {
+            if let Some(graded) = &row.graded {
+                let [after, seeds, solves, median] = after_columns(graded);
+                text.push_str(&format!(
+                    "| {} kg | {} | {after} | {seeds} | {solves} | {median} |\n",
+                    row.payload_kg, row.space
+                ));
+            }
+        }
         text
     }
 

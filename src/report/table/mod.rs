@@ -144,6 +144,9 @@ pub struct TableRow {
     /// and its capacity, kg (on the row of the run's payload).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub capacity_max: Option<(Vec<f64>, f64)>,
+    /// CMA-ES with the graded penalty (`--penalty graded`), beyond the paper: like `after`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub graded: Option<AfterCell>,
     /// The paper's values.
     pub paper: Option<PaperValues>,
 }
