@@ -265,3 +265,58 @@ fn one_design_for_a_payload_range_reports_its_cost_at_each_payload() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn the_graded_penalty_ranks_infeasible_designs_by_their_shortfall() {
+    let dir = scratch("graded");
+    let task = support::task_with(&dir, |task| task["motion"]["steps"] = 8.into());
+    let graded = run_to_completion(
+        &[
+            "optimize",
+            "--task",
+            task.to_str().unwrap(),
+            "--payload",
+            "3",
+            "--penalty",
+            "graded",
+            "--population",
+            "8",
+            "--generations",
+            "1",
+            "--workers",
+            "2",
+        ],
+        &dir.join("graded.json"),
+    );
+    assert_eq!(graded["inputs"]["grading"], "graded");
+    let costs: Vec<f64> = graded["costs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_f64().unwrap())
+        .collect();
+    // Feasible designs score their cost, infeasible ones 1e6 to 2e6, invalid ones 2e6 to 3e6:
+    // no two penalised designs tie at a flat 1e6.
+    assert!(costs.iter().all(|&c| c < 3e6), "{costs:?}");
+    let penalised: Vec<f64> = costs.iter().copied().filter(|&c| c >= 1e6).collect();
+    assert!(
+        penalised.iter().all(|&c| c > 1e6),
+        "a penalised design with no shortfall: {costs:?}"
+    );
+    let flat = run_to_completion(
+        &[
+            "optimize",
+            "--task",
+            task.to_str().unwrap(),
+            "--payload",
+            "3",
+            "--population",
+            "5",
+            "--generations",
+            "0",
+        ],
+        &dir.join("flat.json"),
+    );
+    assert!(flat["inputs"].get("grading").is_none(), "flat is the default");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
