@@ -7,6 +7,7 @@
 use codesign::dynamics::Dynamics;
 use codesign::model::task::Task;
 use codesign::model::Robot;
+use codesign::stats::median;
 use nalgebra::DMatrix;
 use std::hint::black_box;
 use std::time::Instant;
@@ -32,6 +33,22 @@ struct Outputs {
     hessian: DMatrix<f64>,
     jacobian: DMatrix<f64>,
     tcp_hessians: [DMatrix<f64>; 3],
+}
+
+impl Outputs {
+    /// Outputs for `n` joints.
+    fn new(n: usize) -> Outputs {
+        let square = || DMatrix::zeros(n, n);
+        Outputs {
+            tau: vec![0.0; n],
+            dtau_dq: square(),
+            dtau_dv: square(),
+            mass: square(),
+            hessian: DMatrix::zeros(3 * n, 3 * n),
+            jacobian: DMatrix::zeros(3, n),
+            tcp_hessians: [square(), square(), square()],
+        }
+    }
 }
 
 fn states(n: usize) -> Vec<State> {
@@ -69,7 +86,7 @@ fn bench(name: &str, mut call: impl FnMut(usize)) {
     per_call.sort_by(f64::total_cmp);
     println!(
         "{name:<58} median {:>8.1} ns/call   (min {:.1}, max {:.1})",
-        per_call[BATCHES / 2],
+        median(&per_call),
         per_call[0],
         per_call[BATCHES - 1]
     );
@@ -82,16 +99,7 @@ fn main() {
     let mut data = dynamics.workspace();
     let n = dynamics.dof();
     let states = states(n);
-    let square = || DMatrix::zeros(n, n);
-    let mut out = Outputs {
-        tau: vec![0.0; n],
-        dtau_dq: square(),
-        dtau_dv: square(),
-        mass: square(),
-        hessian: DMatrix::zeros(3 * n, 3 * n),
-        jacobian: DMatrix::zeros(3, n),
-        tcp_hessians: [square(), square(), square()],
-    };
+    let mut out = Outputs::new(n);
     println!("belt arm, {n} joints, payload 1 kg; {BATCHES} batches of {CALLS_PER_BATCH} calls");
     let state = |k: usize| &states[k % NODES];
 
