@@ -8,7 +8,7 @@ use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::evaluate::{Objective, PayloadRange};
 use crate::design::log::Start;
-use crate::design::penalty::{Grading, Penalty};
+use crate::design::penalty::{Grading, Penalty, PENALTY};
 use crate::problem::Space;
 use crate::report::codesign::Method;
 use std::path::PathBuf;
@@ -21,6 +21,11 @@ pub const CODESIGNED: [f64; 2] = [1.0, 3.0];
 pub const SPACES: [Space; 2] = [Space::Joint, Space::Actuation];
 /// The payload of the runs with the graded penalty, kg: where most designs are infeasible.
 pub const GRADED: f64 = 3.0;
+/// The penalty of the runs beyond the paper at the edge of feasibility.
+const GRADED_PENALTY: Penalty = Penalty {
+    base: PENALTY,
+    grading: Grading::Graded,
+};
 /// The payload range of the design for the paper's stated goal, fruit from 1 to 3 kg, and its
 /// space: beyond the paper, one design for the whole range.
 pub const RANGE: ([f64; 3], Space) = ([1.0, 2.0, 3.0], Space::Actuation);
@@ -185,13 +190,15 @@ impl Plan {
     }
 
     /// Beyond the paper: one design for the payload range [`RANGE`], CMA-ES on the mean cost
-    /// (seed 0, the cost runs' budget).
+    /// with the graded penalty (at 3 kg most designs are infeasible, and a flat penalty leaves
+    /// CMA-ES nothing to rank; seed 0, the cost runs' budget).
     fn range_runs(&self) -> Vec<PlannedRun> {
         let (payloads, space) = RANGE;
         let mut case = self.case(space, None, Method::Cmaes);
         case.objective = Objective::Range(PayloadRange {
             payloads_kg: payloads.to_vec(),
         });
+        case.penalty = GRADED_PENALTY;
         case.cmaes.population = self.budget.population;
         case.cmaes.generations = self.budget.generations;
         vec![PlannedRun {
@@ -330,10 +337,7 @@ impl Plan {
         for space in SPACES {
             for seed in 0..self.budget.seeds {
                 let mut case = self.cost_case(space, GRADED, seed);
-                case.penalty = Penalty {
-                    grading: Grading::Graded,
-                    ..Penalty::PAPER
-                };
+                case.penalty = GRADED_PENALTY;
                 runs.push(PlannedRun {
                     name: format!("{space}-{GRADED}kg-graded-seed{seed}"),
                     case,
