@@ -12,7 +12,7 @@ use crate::design::gradient::{optimize_gradient, GradientSettings};
 use crate::design::log::{EvaluationLog, Finished, Start};
 use crate::design::optimize::{optimize, Progress};
 use crate::design::outcome::DesignOutcome;
-use crate::design::penalty::Penalty;
+use crate::design::penalty::{Grading, Penalty};
 use crate::design::workers::{Pool, WorkerSetup, SOLVE_TIMEOUT_S};
 use crate::model::task::Task;
 use crate::problem::Formulation;
@@ -211,6 +211,16 @@ fn document(
 ) -> Result<OptimizeDocument, String> {
     let settings = SolveSettings::default();
     let original_ratios = formulation.transmission().original().to_vec();
+    // The designs are solved again as they were scored: the elastic problem for a graded
+    // penalty, so that the reported cost is the one behind `best_cost`.
+    let elastic;
+    let scored = match case.penalty.grading {
+        Grading::Flat => formulation,
+        Grading::Graded => {
+            elastic = formulation.elastic();
+            &elastic
+        }
+    };
     let (best_result, original_result, payload_costs) = match &case.objective {
         Objective::Range(_) => {
             let fitness = Fitness::new(
@@ -218,7 +228,7 @@ fn document(
                 formulation.space(),
                 *formulation.modes(),
                 &case.objective,
-                Penalty::PAPER,
+                case.penalty,
             )?;
             let best = payload_costs(&fitness, &outcome.best_ratios);
             let original = payload_costs(&fitness, &original_ratios);
@@ -228,14 +238,14 @@ fn document(
         // reported trajectory is the one behind `best_cost`.
         _ => (
             solve_design_from(
-                formulation,
+                scored,
                 &outcome.best_ratios,
                 &settings,
                 outcome.best_solution.as_ref(),
             )
             .ok()
             .map(|(result, _)| result),
-            solve_design(formulation, &original_ratios, &settings).ok(),
+            solve_design(scored, &original_ratios, &settings).ok(),
             None,
         ),
     };
