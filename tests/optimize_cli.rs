@@ -317,6 +317,9 @@ fn the_graded_penalty_ranks_infeasible_designs_by_their_shortfall() {
         ],
         &dir.join("flat.json"),
     );
-    assert!(flat["inputs"].get("grading").is_none(), "flat is the default");
+    assert!(
+        flat["inputs"].get("grading").is_none(),
+        "flat is the default"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
