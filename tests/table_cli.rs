@@ -61,11 +61,25 @@ fn rebuilds_the_table_from_result_files() {
         .split("## Beyond the paper")
         .nth(1)
         .expect("a section beyond the paper");
-    let extra: Vec<&str> = beyond
-        .lines()
-        .filter(|l| l.starts_with("| ") && l.contains(" kg |"))
+    // Its tables, each the rows under its header: capacities and gradient, the payload range,
+    // the graded penalty.
+    let tables: Vec<Vec<&str>> = beyond
+        .split("\n\n")
+        .filter(|block| block.starts_with("| payload"))
+        .map(|block| block.lines().skip(2).collect())
         .collect();
+    assert_eq!(tables.len(), 3, "{beyond}");
+    let extra = &tables[0];
     assert_eq!(extra.len(), 6, "{beyond}");
+    assert!(
+        tables[1][0].starts_with("| 1, 2, 3 kg | actuation | 0 |"),
+        "{beyond}"
+    );
+    assert_eq!(tables[2].len(), 2, "{beyond}");
+    assert!(
+        tables[2][1].starts_with("| 3 kg | actuation | ("),
+        "{beyond}"
+    );
     assert!(extra.iter().all(|row| row.contains(" kg | ")), "{beyond}");
     assert!(
         extra[1].starts_with("| 0 kg | actuation |") && extra[1].contains("kg ("),
