@@ -117,11 +117,7 @@ impl Args {
         case.workers = self.workers;
         case.solve_timeout_s = self.solve_timeout;
         case.worker_command = self.worker_command.clone();
-        case.start = match (self.resume, self.overwrite) {
-            (true, _) => Start::Resume,
-            (false, true) => Start::Overwrite,
-            (false, false) => Start::Fresh,
-        };
+        case.start = Start::from_flags(self.resume, self.overwrite);
         case
     }
 }

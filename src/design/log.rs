@@ -70,6 +70,17 @@ pub enum Start {
     Overwrite,
 }
 
+impl Start {
+    /// The start that `--resume` and `--overwrite` ask for (clap keeps them exclusive).
+    pub fn from_flags(resume: bool, overwrite: bool) -> Start {
+        match (resume, overwrite) {
+            (true, _) => Start::Resume,
+            (false, true) => Start::Overwrite,
+            (false, false) => Start::Fresh,
+        }
+    }
+}
+
 /// An open log, appended to line by line, locked against other runs while open.
 #[derive(Debug)]
 pub struct EvaluationLog {

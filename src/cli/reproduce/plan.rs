@@ -130,11 +130,7 @@ impl Plan {
             },
             workers: args.workers,
             worker_command: args.worker_command.clone(),
-            start: match (args.resume, args.overwrite) {
-                (true, _) => Start::Resume,
-                (false, true) => Start::Overwrite,
-                (false, false) => Start::Fresh,
-            },
+            start: Start::from_flags(args.resume, args.overwrite),
         };
         plan.check_sizes()?;
         Ok(plan)
