@@ -95,7 +95,7 @@ pub struct Violations {
 }
 
 /// What an elastic solve's slacks relax (docs/model.md, section 14).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ElasticMeasures {
     /// The joint torque the motors lack, |RNEA - tau| summed over joints and integrated over
     /// the horizon (times the step h), N m s.
@@ -108,6 +108,10 @@ pub struct ElasticMeasures {
     pub largest_slack: f64,
     /// The penalised objective IPOPT minimised: the cost J plus the slacks' penalty.
     pub objective: f64,
+    /// Its exact sensitivity to each ratio (envelope theorem, `problem::cost_gradient`), when
+    /// IPOPT found an optimum; dJ*/dr where the design is feasible.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub objective_gradient: Option<Vec<f64>>,
 }
 
 /// The result of one trajectory solve.
@@ -312,6 +316,10 @@ fn cost_and_measures(
         speed_excess: relaxed.speed_excess,
         largest_slack: relaxed.largest,
         objective,
+        objective_gradient: solution
+            .status
+            .is_success()
+            .then(|| cost_gradient(problem, solution)),
     };
     (objective - relaxed.penalty, Some(measures))
 }

@@ -125,18 +125,17 @@ impl Case {
         }
     }
 
-    /// Checks that a graded penalty has something to grade: the cost of CMA-ES's designs, at one
-    /// payload or over a range.
+    /// Checks that a graded penalty has something to grade: the cost of a design, at one
+    /// payload or (CMA-ES) over a range.
     fn check_graded(&self) -> Result<(), String> {
-        match (self.method, &self.objective) {
-            (Method::Gradient, _) => Err("--penalty graded: grades CMA-ES's evaluations; the \
-                 gradient method descends from feasible starts only, use --method cmaes"
-                .to_owned()),
-            (_, Objective::Capacity(_)) => Err("--penalty graded: the capacity search has no \
-                 elastic form; use --objective cost or range"
-                .to_owned()),
-            _ => Ok(()),
+        if matches!(self.objective, Objective::Capacity(_)) {
+            return Err(
+                "--penalty graded: the capacity search has no elastic form; use \
+                 --objective cost or range"
+                    .to_owned(),
+            );
         }
+        Ok(())
     }
 
     /// Checks the payloads of `--objective range`: at least one, each a valid payload, and no
@@ -301,6 +300,17 @@ mod tests {
             .validate()
             .unwrap_err()
             .starts_with("--objective capacity"));
+        let mut graded = case(Method::Cmaes);
+        graded.objective = Objective::Capacity(Default::default());
+        graded.penalty = "graded".parse().unwrap();
+        assert!(graded
+            .validate()
+            .unwrap_err()
+            .starts_with("--penalty graded"));
+        // The gradient method grades too: it descends on the elastic problem.
+        let mut descent = case(Method::Gradient);
+        descent.penalty = "graded".parse().unwrap();
+        descent.validate().unwrap();
         let mut timeout = case(Method::Cmaes);
         timeout.solve_timeout_s = f64::NAN;
         assert!(timeout

@@ -64,7 +64,8 @@ pub struct Args {
     /// How invalid or infeasible designs score: `flat` (the paper's 1e6 for every one),
     /// `graded` (infeasible designs 1e6 to 2e6 by their torque deficit and speed excess from the
     /// elastic problem, invalid ones 2e6 to 3e6 by their distance from the design space, so that
-    /// CMA-ES moves toward feasibility), or a number (flat, of that value).
+    /// CMA-ES moves toward feasibility; the gradient method then descends on the elastic
+    /// problem's objective, from infeasible starts too), or a number (flat, of that value).
     #[arg(long, value_name = "flat|graded|VALUE", default_value_t = Penalty::PAPER)]
     pub penalty: Penalty,
     /// Worker processes (default: one per core).
@@ -163,8 +164,9 @@ pub fn run_case(case: &Case, out: &Path) -> Result<OptimizeDocument, String> {
     let outcome = match log.as_mut() {
         Some((log, finished)) => run_cmaes(case, &inputs, &task, &formulation, log, finished)
             .map(|o| (o, log.earlier_seconds())),
-        None => optimize_gradient(&formulation, &case.gradient, case.penalty.base)
-            .map(|o| (o, Some(0.0))),
+        None => {
+            optimize_gradient(&formulation, &case.gradient, case.penalty).map(|o| (o, Some(0.0)))
+        }
     };
     let result = outcome.and_then(|(outcome, earlier_seconds)| {
         let mut document = document(case, &formulation, inputs, outcome)?;

@@ -97,7 +97,7 @@ impl Fitness {
 
 /// How far an elastic solve's trajectory is from a feasible one, s: the torque deficit over the
 /// motor torque limit plus the speed excess over the speed limit (motor-seconds of shortfall).
-fn shortfall(formulation: &Formulation, deficit_nm_s: f64, excess_rad: f64) -> f64 {
+pub(super) fn shortfall(formulation: &Formulation, deficit_nm_s: f64, excess_rad: f64) -> f64 {
     let motors = &formulation.task().motors;
     deficit_nm_s / motors.torque_limit_nm + excess_rad / motors.speed_limit_rad_s
 }

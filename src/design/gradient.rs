@@ -3,12 +3,18 @@
 //!
 //! The feasible set of designs is the box of the bounds cut by the order constraints
 //! (r_i <= r_j, or r_i < r_j kept by a margin). Steps are projected onto it exactly (a small
-//! active-set enumeration); a backtracking line
-//! search accepts a step when the inner problem is feasible and the cost falls by the Armijo
-//! fraction. Candidate starts (the original design and designs spread through the box) are
-//! solved once; the best feasible ones are descended from, and the best result is kept.
+//! active-set enumeration); a backtracking line search accepts a step when the inner problem
+//! is solved (and, with the flat penalty, feasible) and the merit falls by the Armijo fraction.
+//! Candidate starts (the original design and designs spread through the box) are solved once;
+//! the best ones are descended from, and the best feasible design is kept. The merit is J*
+//! with the flat penalty; with the graded one it is the optimal objective of the elastic
+//! problem (docs/model.md, section 14), whose exact penalty makes it J* on feasible designs and
+//! larger by the weighted slack elsewhere, so that descents from infeasible designs move toward
+//! feasibility.
 
+use super::fitness::shortfall;
 use super::outcome::DesignOutcome;
+use super::penalty::{Grading, Penalty};
 use crate::ipopt::Solution;
 use crate::problem::Formulation;
 use crate::solver::{solve_design_from, SolveSettings};
@@ -53,9 +59,10 @@ pub struct GradientIterate {
     pub start: usize,
     /// The design.
     pub ratios: Vec<f64>,
-    /// Its optimal cost.
+    /// Its merit: the optimal cost J*, or with the graded penalty the elastic problem's optimal
+    /// penalised objective (J* where the design is feasible).
     pub cost: f64,
-    /// Its cost gradient.
+    /// The merit's gradient with respect to the ratios.
     pub gradient: Vec<f64>,
 }
 
@@ -63,13 +70,18 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// A feasible design with what its solve gave: cost, gradient and the inner solution that warm
-/// starts the solves near it.
+/// A design with what its solve gave: the merit the descent lowers, its gradient and the inner
+/// solution that warm starts the solves near it. The merit is the optimal cost J* (flat
+/// penalty: only feasible designs are points) or the elastic problem's optimal penalised
+/// objective (graded penalty: every solved design is one), which is J* where it is feasible.
+#[derive(Clone)]
 struct Point {
     ratios: Vec<f64>,
     cost: f64,
     gradient: Vec<f64>,
     solution: Solution,
+    /// The optimal cost J*, when the design is feasible.
+    feasible_cost: Option<f64>,
 }
 
 impl Point {
@@ -83,95 +95,135 @@ impl Point {
     }
 }
 
-/// The inner solves of a run, with the fitness and time of each recorded in order.
+/// The inner solves of a run, with the fitness and time of each recorded in order, and the best
+/// feasible point accepted so far.
 struct Evaluator<'a> {
+    /// The hard problem (flat penalty) or the elastic one (graded).
     formulation: &'a Formulation,
-    penalty: f64,
+    penalty: Penalty,
     solve_settings: SolveSettings,
     costs: Vec<f64>,
     seconds: Vec<f64>,
+    best: Option<Point>,
 }
 
 impl Evaluator<'_> {
-    /// Solves `ratios` (warm-started from `warm`); the point when it is feasible.
+    /// Solves `ratios` (warm-started from `warm`); the point when the descent can use it.
     fn solve(&mut self, ratios: &[f64], warm: Option<&Solution>) -> Option<Point> {
-        match solve_design_from(self.formulation, ratios, &self.solve_settings, warm) {
-            Ok((result, solution)) => {
-                self.seconds.push(result.solve_seconds.total);
-                self.costs.push(if result.feasible {
-                    result.cost
-                } else {
-                    self.penalty
-                });
-                let gradient = result.cost_gradient.filter(|_| result.feasible)?;
-                Some(Point {
-                    ratios: ratios.to_vec(),
-                    cost: result.cost,
-                    gradient,
-                    solution,
-                })
+        let Ok((result, solution)) =
+            solve_design_from(self.formulation, ratios, &self.solve_settings, warm)
+        else {
+            self.costs.push(self.penalty.base);
+            return None;
+        };
+        self.seconds.push(result.solve_seconds.total);
+        let feasible_cost = result.feasible.then_some(result.cost);
+        let (cost, gradient) = match result.elastic {
+            Some(measures) => {
+                let shortfall = shortfall(
+                    self.formulation,
+                    measures.torque_deficit,
+                    measures.speed_excess,
+                );
+                self.costs
+                    .push(feasible_cost.unwrap_or(self.penalty.infeasible(shortfall)));
+                (measures.objective, measures.objective_gradient?)
             }
-            Err(_) => {
-                self.costs.push(self.penalty);
-                None
+            None => {
+                self.costs
+                    .push(feasible_cost.unwrap_or(self.penalty.infeasible(0.0)));
+                (result.cost, result.cost_gradient?)
             }
+        };
+        Some(Point {
+            ratios: ratios.to_vec(),
+            cost,
+            gradient,
+            solution,
+            feasible_cost,
+        })
+    }
+
+    /// Keeps `point` as the best if it is feasible and cheaper than the best so far.
+    fn keep(&mut self, point: &Point) {
+        let better = |cost: f64| {
+            self.best
+                .as_ref()
+                .is_none_or(|best| cost < best.feasible_cost.unwrap_or(f64::INFINITY))
+        };
+        if point.feasible_cost.is_some_and(better) {
+            self.best = Some(point.clone());
         }
     }
 }
 
-/// Runs the projected quasi-Newton method from the best feasible candidate starts (the original
-/// design and Halton-spread designs, see [`default_starts`]); fails when no candidate is
-/// feasible. Infeasible or failed solves are recorded with the fitness `penalty`.
+/// Runs the projected quasi-Newton method from the best candidate starts (the original design
+/// and Halton-spread designs, see [`default_starts`]). With a flat `penalty` the descents start
+/// from feasible candidates and lower J*, and the run fails when no candidate is feasible; with
+/// a graded one they lower the elastic problem's optimal objective from any candidate, moving
+/// infeasible designs toward feasibility (docs/model.md, section 14). Each solve is recorded
+/// with its fitness (J*, or the penalty of an infeasible design); the best feasible accepted
+/// design is the result.
 pub fn optimize_gradient(
     formulation: &Formulation,
     settings: &GradientSettings,
-    penalty: f64,
+    penalty: Penalty,
 ) -> Result<DesignOutcome, String> {
     let set = formulation.transmission().design_space();
+    let elastic = formulation.elastic();
     let mut evaluator = Evaluator {
-        formulation,
+        formulation: match penalty.grading {
+            Grading::Flat => formulation,
+            Grading::Graded => &elastic,
+        },
         penalty,
         solve_settings: SolveSettings::default(),
         costs: Vec::new(),
         seconds: Vec::new(),
+        best: None,
     };
-    let (candidates, solved) = feasible_candidates(set, settings, &mut evaluator);
+    let (candidates, solved) = descent_starts(set, settings, &mut evaluator);
     if candidates.is_empty() {
         return Err(format!(
             "the gradient method found no feasible start among {solved} candidate designs"
         ));
     }
     let mut iterates = Vec::new();
-    let mut best: Option<Point> = None;
     for (start, point) in candidates {
-        let end = descend(start, point, set, settings, &mut evaluator, &mut iterates);
-        if best.as_ref().is_none_or(|best| end.cost < best.cost) {
-            best = Some(end);
-        }
+        descend(start, point, set, settings, &mut evaluator, &mut iterates);
     }
-    let best = best.expect("at least one descent ran");
     let solves = evaluator.costs.len();
+    let stop_reason = format!(
+        "{solved} candidate starts solved, {} descents, {} iterates, {solves} solves",
+        settings.descents,
+        iterates.len()
+    );
+    let (best_ratios, best_cost, best_solution) = match evaluator.best {
+        Some(best) => (
+            best.ratios,
+            best.feasible_cost.expect("only feasible points are kept"),
+            Some(best.solution),
+        ),
+        // Only a graded descent can end without a feasible design.
+        None => (Vec::new(), penalty.base, None),
+    };
     Ok(DesignOutcome {
-        best_ratios: best.ratios,
-        best_cost: best.cost,
-        best_solution: Some(best.solution),
+        best_ratios,
+        best_cost,
+        best_solution,
         costs: evaluator.costs,
         seconds: evaluator.seconds,
         generations: Vec::new(),
-        stop_reason: format!(
-            "{solved} candidate starts solved, {} descents, {} iterates, {solves} solves",
-            settings.descents,
-            iterates.len()
-        ),
+        stop_reason,
         iterates,
         replayed: 0,
     })
 }
 
-/// Solves the candidate starts cold (the fallbacks only while fewer than `descents` feasible
-/// ones are known); returns the best `descents` feasible ones with their start indices, and how
-/// many candidates were solved.
-fn feasible_candidates(
+/// Solves the candidate starts cold (the fallbacks only while fewer than `descents` usable
+/// ones are known: feasible ones with a flat penalty, every solved one with a graded); returns
+/// the best `descents` usable ones with their start indices, and how many candidates were solved.
+fn descent_starts(
     set: &DesignSpace,
     settings: &GradientSettings,
     evaluator: &mut Evaluator<'_>,
@@ -285,7 +337,7 @@ fn is_stationary(set: &DesignSpace, point: &Point, tolerance: f64) -> bool {
 }
 
 /// Backtracking from the full step along `direction`, projected onto the design space: the
-/// first feasible trial with the Armijo decrease, and its step, within 12 halvings.
+/// first usable trial (see `Evaluator::solve`) with the Armijo decrease, and its step, within 12 halvings.
 fn line_search(
     set: &DesignSpace,
     point: &Point,
@@ -319,9 +371,9 @@ fn line_search(
     None
 }
 
-/// One descent from a feasible candidate: quasi-Newton steps with line search until the
-/// projected gradient step or the decrease is under the tolerance; returns its last point and
-/// appends its accepted iterates.
+/// One descent from a candidate: quasi-Newton steps with line search until the projected
+/// gradient step or the decrease is under the tolerance; appends its accepted iterates and offers
+/// each to the evaluator's best.
 fn descend(
     start: usize,
     mut point: Point,
@@ -329,8 +381,9 @@ fn descend(
     settings: &GradientSettings,
     evaluator: &mut Evaluator<'_>,
     iterates: &mut Vec<GradientIterate>,
-) -> Point {
+) {
     iterates.push(point.iterate(start));
+    evaluator.keep(&point);
     // The inverse Hessian starts scaled so that a unit step moves 10% of the box.
     let width = set.bounds().iter().map(|[l, u]| u - l).fold(0.0, f64::max);
     let scale = 0.1 * width / dot(&point.gradient, &point.gradient).sqrt().max(1e-12);
@@ -360,13 +413,13 @@ fn descend(
         let decrease = point.cost - next.cost;
         point = next;
         iterates.push(point.iterate(start));
+        evaluator.keep(&point);
         // The inner optimum is accurate to about IPOPT's tol (1e-8 relative); smaller
         // decreases are noise.
         if decrease <= settings.tolerance * point.cost.abs().max(1.0) {
             break;
         }
     }
-    point
 }
 
 /// The default candidate starts: the original design and the first `spread` designs of
@@ -411,6 +464,7 @@ pub fn spread_designs(transmission: &Transmission, indices: Range<u32>) -> Vec<V
 mod tests {
     use super::*;
     use crate::problem::Space;
+    use crate::solver::solve_design;
     use crate::testing;
 
     fn transmission() -> Transmission {
@@ -427,7 +481,7 @@ mod tests {
             descents: 1,
             ..GradientSettings::default()
         };
-        let outcome = optimize_gradient(&formulation, &settings, 1e6).unwrap();
+        let outcome = optimize_gradient(&formulation, &settings, Penalty::PAPER).unwrap();
         let first = &outcome.iterates[0];
         let last = outcome.iterates.last().unwrap();
         assert!(
@@ -467,6 +521,47 @@ mod tests {
             outcome.seconds.len(),
             "every solve ran"
         );
+    }
+
+    /// At 3 kg in actuation space the original design and the first Halton designs are
+    /// infeasible; the graded penalty descends from the best of them to a feasible design.
+    #[test]
+    fn graded_descent_reaches_feasibility_from_an_infeasible_start() {
+        let formulation = testing::formulation(3.0, Space::Actuation);
+        let settings = GradientSettings {
+            spread: 3,
+            fallbacks: 0,
+            descents: 1,
+            ..GradientSettings::default()
+        };
+        let flat = optimize_gradient(&formulation, &settings, Penalty::PAPER);
+        assert!(flat.is_err(), "no start is feasible: {flat:?}");
+        let graded: Penalty = "graded".parse().unwrap();
+        let outcome = optimize_gradient(&formulation, &settings, graded).unwrap();
+        let settings = SolveSettings::default();
+        let first = &outcome.iterates[0];
+        let start = solve_design(&formulation, &first.ratios, &settings).unwrap();
+        assert!(!start.feasible, "the descent starts infeasible");
+        // The merit falls along the accepted iterates, to a feasible design whose elastic solve
+        // warm-started from the descent's solution gives the reported cost.
+        assert!(outcome.iterates.windows(2).all(|w| w[1].cost <= w[0].cost));
+        let best = solve_design_from(
+            &formulation.elastic(),
+            &outcome.best_ratios,
+            &settings,
+            outcome.best_solution.as_ref(),
+        );
+        let (best, _) = best.unwrap();
+        assert!(best.feasible, "{}", best.status);
+        assert!(
+            (best.cost - outcome.best_cost).abs() <= 1e-6 * best.cost,
+            "{} against {}",
+            best.cost,
+            outcome.best_cost
+        );
+        // Every solve's fitness is recorded: the penalty band for infeasible ones.
+        assert_eq!(outcome.costs.len(), outcome.seconds.len());
+        assert!(outcome.costs.iter().any(|&c| (1e6..2e6).contains(&c)));
     }
 
     #[test]

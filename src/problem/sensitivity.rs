@@ -8,7 +8,8 @@
 //! - the motor-speed rows G v and the motor-torque rows G^-T u of the `exact` modes
 //!   (d(G^-T)/dr_l = -G^-T dG_l^T G^-T);
 //! - the variable bounds of the `paper` and `interval` modes (d/dr_l of |sum_j A_ij| lim and
-//!   sum_j |A_ij| lim, with A = G^T for torques and G^-1 for speeds).
+//!   sum_j |A_ij| lim, with A = G^T for torques and G^-1 for speeds), and the same bounds on
+//!   the speed rows v_k of the elastic kind, where the active bound's multiplier weighs them.
 //!
 //! The result holds where the active set does not change with r; at a kink of an absolute
 //! value (a bound that is exactly 0, such as joint 4's torque under the `paper` mode) the
@@ -55,7 +56,10 @@ fn box_bound_derivative(
     }
 }
 
-/// dJ*/dr at `solution`, a solution of `problem` (one entry per ratio).
+/// dJ*/dr at `solution`, a solution of `problem` (one entry per ratio). For the elastic kind
+/// (docs/model.md, section 14) the derivative of its optimal penalised objective: its slacks
+/// and their penalty do not depend on r, and the box speed limits it holds as rows enter
+/// through their bounds.
 pub fn cost_gradient(problem: &TrajectoryProblem<'_>, solution: &Solution) -> Vec<f64> {
     let f = problem.formulation();
     let layout = f.layout();
@@ -70,6 +74,9 @@ pub fn cost_gradient(problem: &TrajectoryProblem<'_>, solution: &Solution) -> Ve
         .map(|l| {
             let dg = f.transmission().matrix_derivative(l);
             let dg_inv = -(g_inv * &dg * g_inv);
+            let modes = f.modes();
+            let speed_box =
+                box_bound_derivative(modes.speed, g_inv, &dg_inv, task.motors.speed_limit_rad_s);
             let mut total = 0.0;
             for k in 0..steps {
                 let u = segment(layout.u(k, 0));
@@ -77,7 +84,13 @@ pub fn cost_gradient(problem: &TrajectoryProblem<'_>, solution: &Solution) -> Ve
                     total -= multipliers(layout.dynamics_row(k, 0)).dot(&dg.tr_mul(&u));
                 }
                 if let Some(row) = layout.speed_row(k, 0) {
-                    total += multipliers(row).dot(&(&dg * segment(layout.v(k, 0))));
+                    total += match &speed_box {
+                        // Rows G v within fixed bounds (mode `exact`).
+                        None => multipliers(row).dot(&(&dg * segment(layout.v(k, 0)))),
+                        // Rows v within [-b(r), b(r)] (the elastic kind's box modes): the
+                        // active bound's term -lambda . d(bound)/dr is -|lambda| . db/dr.
+                        Some(db) => -multipliers(row).abs().dot(&DVector::from_column_slice(db)),
+                    };
                 }
                 if let Some(row) = layout.torque_row(k, 0) {
                     // G^-T u differentiates to -G^-T dG^T G^-T u = dG_inv^T u.
@@ -96,11 +109,8 @@ pub fn cost_gradient(problem: &TrajectoryProblem<'_>, solution: &Solution) -> Ve
                     }
                 }
             };
-            let modes = f.modes();
-            if let Some(db) =
-                box_bound_derivative(modes.speed, g_inv, &dg_inv, task.motors.speed_limit_rad_s)
-            {
-                bound_term(&|k, i| layout.v(k, i), 1..steps, &db);
+            if let (Some(db), false) = (&speed_box, layout.speed_rows) {
+                bound_term(&|k, i| layout.v(k, i), 1..steps, db);
             }
             if f.space() == Space::Joint {
                 let (gt, dgt) = (g.transpose(), dg.transpose());
@@ -117,10 +127,11 @@ pub fn cost_gradient(problem: &TrajectoryProblem<'_>, solution: &Solution) -> Ve
 
 #[cfg(test)]
 mod tests {
+    use crate::ipopt::Solution;
     use crate::model::task::{LimitMode, LimitModes};
     use crate::model::Robot;
     use crate::problem::{Formulation, Space};
-    use crate::solver::{solve_design, SolveSettings};
+    use crate::solver::{solve_design, solve_design_from, SolveSettings};
 
     /// dJ*/dr against central differences of re-solved problems, at designs where the active
     /// set is stable, in both spaces and with box (paper, interval) and linear (exact) limits.
@@ -179,6 +190,62 @@ mod tests {
                 assert!(
                     (fd - gradient[l]).abs() <= 1e-4 * scale,
                     "{space} {torque:?}/{speed:?} r = {ratios:?}: dJ/dr{} = {} but differences give {fd}",
+                    l + 1,
+                    gradient[l]
+                );
+            }
+        }
+    }
+
+    /// The elastic kind's d(penalised objective)/dr against central differences of re-solved
+    /// problems, at infeasible designs (slacks active) of both spaces inside the design box, with
+    /// the box speed limits it holds as rows (paper, interval) and the linear ones (exact).
+    #[test]
+    fn elastic_objective_gradient_matches_differences_of_resolved_problems() {
+        let mut task = crate::testing::task();
+        task.solver.tol = 1e-10;
+        task.payload.mass_kg = 3.0;
+        let cases = [
+            (Space::Actuation, LimitMode::Paper, [6.0, 3.0, 1.5, 1.5]),
+            (Space::Actuation, LimitMode::Exact, [8.0, 5.0, 2.5, 2.0]),
+            (Space::Joint, LimitMode::Interval, [4.0, 2.0, 1.2, 1.2]),
+        ];
+        for (space, speed, ratios) in cases {
+            let robot = Robot::load(&task).unwrap();
+            let modes = LimitModes {
+                speed,
+                ..task.limit_modes
+            };
+            let formulation = Formulation::new(&task, robot, space, modes)
+                .unwrap()
+                .elastic();
+            let settings = SolveSettings::default();
+            // The perturbed problems start from the solution at `ratios`, so that they stay in
+            // its local optimum (cold starts of this non-convex problem may land in others).
+            let solve = |r: &[f64], warm: Option<&Solution>| {
+                let (result, solution) =
+                    solve_design_from(&formulation, r, &settings, warm).unwrap();
+                assert!(solution.status.is_success(), "{r:?}: {}", result.status);
+                (result, solution)
+            };
+            let (result, solution) = solve(&ratios, None);
+            assert!(
+                !result.feasible,
+                "{space} {ratios:?} is meant to be infeasible"
+            );
+            let gradient = result.elastic.unwrap().objective_gradient.unwrap();
+            let scale = gradient.iter().fold(1.0_f64, |m, g| m.max(g.abs()));
+            for l in 0..4 {
+                let step = 1e-4;
+                let at = |sign: f64| {
+                    let mut r = ratios;
+                    r[l] += sign * step;
+                    solve(&r, Some(&solution)).0.elastic.unwrap().objective
+                };
+                let fd = (at(1.0) - at(-1.0)) / (2.0 * step);
+                assert!(
+                    (fd - gradient[l]).abs() <= 1e-4 * scale,
+                    "{space} {speed:?} r = {ratios:?}: dphi/dr{} = {} but differences give {fd}",
                     l + 1,
                     gradient[l]
                 );
