@@ -177,7 +177,11 @@ fn the_plan_run_by_gnu_parallel_and_merged_matches_one_reproduction() {
     let split = dir.join("split");
     let plan_flags = [&sizes[..], &["--out-dir", split.to_str().unwrap()]].concat();
     let plan = succeed(&dir, &[&["reproduce", "--plan"], &plan_flags[..]].concat());
-    assert_eq!(plan.lines().count(), 6 + 4 + 4 + 2 + 1 + 2 + 2, "{plan}");
+    assert_eq!(
+        plan.lines().count(),
+        6 + 4 + (4 + 2) + 2 + 1 + 2 + 2,
+        "{plan}"
+    );
     std::fs::write(dir.join("plan.txt"), &plan).unwrap();
     // A gradient run that finds no feasible start fails its command, as `reproduce` reports and
     // skips it; every result the merge needs is checked there.

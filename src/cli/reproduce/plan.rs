@@ -296,25 +296,39 @@ impl Plan {
         runs
     }
 
-    /// Beyond the paper: the gradient method per co-designed payload and space. Its results
-    /// record no CMA-ES budget (population and generations 0).
+    /// Beyond the paper: the gradient method per co-designed payload and space, and with the
+    /// graded penalty at [`GRADED`] per space. Its results record no CMA-ES budget (population
+    /// and generations 0).
     pub fn gradient_runs(&self) -> Vec<PlannedRun> {
         let mut runs = Vec::new();
         for payload in CODESIGNED {
             for space in SPACES {
-                let mut case = self.case(space, Some(payload), Method::Gradient);
-                case.cmaes.population = 0;
-                case.cmaes.generations = 0;
-                if case.start == Start::Resume {
-                    case.start = Start::Fresh;
-                }
                 runs.push(PlannedRun {
                     name: format!("{space}-{payload}kg-gradient"),
-                    case,
+                    case: self.gradient_case(space, payload),
                 });
             }
         }
+        for space in SPACES {
+            let mut case = self.gradient_case(space, GRADED);
+            case.penalty = GRADED_PENALTY;
+            runs.push(PlannedRun {
+                name: format!("{space}-{GRADED}kg-graded-gradient"),
+                case,
+            });
+        }
         runs
+    }
+
+    /// The gradient method's run in `space` at `payload` (it has no log to resume).
+    fn gradient_case(&self, space: Space, payload: f64) -> Case {
+        let mut case = self.case(space, Some(payload), Method::Gradient);
+        case.cmaes.population = 0;
+        case.cmaes.generations = 0;
+        if case.start == Start::Resume {
+            case.start = Start::Fresh;
+        }
+        case
     }
 
     /// The CMA-ES runs beyond the paper: the capacity designs, the payload range, and the 3 kg
@@ -403,11 +417,14 @@ mod tests {
             .chain(quick.beyond_runs())
             .map(|run| run.name)
             .collect();
-        assert_eq!(names.len(), 2 * 2 * 2 + 4 + 2 + 1 + 2 * 2);
+        assert_eq!(names.len(), 2 * 2 * 2 + (4 + 2) + 2 + 1 + 2 * 2);
+        assert!(names.contains(&"actuation-3kg-graded-gradient".to_owned()));
         assert!(names.contains(&"joint-3kg-graded-seed1".to_owned()));
         assert!(names.contains(&"actuation-range-1-3kg-seed0".to_owned()));
         assert_eq!(names[0], "joint-1kg-seed0");
         assert!(names.contains(&"actuation-3kg-gradient".to_owned()));
+        let unique: std::collections::BTreeSet<&String> = names.iter().collect();
+        assert_eq!(unique.len(), names.len(), "{names:?}");
         assert!(names.contains(&"joint-capacity-seed0".to_owned()));
     }
 }

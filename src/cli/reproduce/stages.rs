@@ -95,22 +95,33 @@ fn cost_runs(plan: &Plan) -> Result<Vec<OptimizeDocument>, String> {
     Ok(documents)
 }
 
-/// Co-design by the gradient method for every co-designed case; a case where it finds no
-/// feasible start is reported and left out.
+/// Co-design by the gradient method for every co-designed case, and with the graded penalty at
+/// the edge of feasibility; a case where it finds no feasible start is reported and left out.
 fn gradient_runs(plan: &Plan) -> Vec<OptimizeDocument> {
     let mut documents = Vec::new();
     for planned in plan.gradient_runs() {
         let space = planned.case.problem.space;
         let payload = planned.case.model.payload.unwrap_or_default();
+        let penalty = planned.case.penalty;
+        let label = format!("gradient co-design, {space} space, {payload} kg, {penalty} penalty");
         match run(plan, &planned) {
-            Ok(document) => {
+            Ok(document) if document.best_ratios.is_empty() => {
                 say!(
-                    "gradient co-design, {space} space, {payload} kg: best r = {:?}, J = {:.4} ({} solves)",
-                    document.best_ratios, document.best_cost, document.evaluations
+                    "{label}: no feasible design found ({} solves)",
+                    document.evaluations
                 );
                 documents.push(document);
             }
-            Err(error) => say!("gradient co-design, {space} space, {payload} kg: {error}"),
+            Ok(document) => {
+                say!(
+                    "{label}: best r = {:?}, J = {:.4} ({} solves)",
+                    document.best_ratios,
+                    document.best_cost,
+                    document.evaluations
+                );
+                documents.push(document);
+            }
+            Err(error) => say!("{label}: {error}"),
         }
     }
     documents

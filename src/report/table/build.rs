@@ -125,6 +125,7 @@ fn row_mut(rows: &mut Vec<TableRow>, payload_kg: f64, space: Space) -> &mut Tabl
                 capacity_after_kg: None,
                 capacity_max: None,
                 graded: None,
+                graded_gradient: None,
                 paper,
             });
             rows.len() - 1
@@ -134,7 +135,8 @@ fn row_mut(rows: &mut Vec<TableRow>, payload_kg: f64, space: Space) -> &mut Tabl
 }
 
 /// Adds one co-design run to its row: a capacity run to the largest capacity found, a gradient
-/// run to the gradient column, a CMA-ES run to "after" (and to "before" when still empty).
+/// run to its penalty's gradient column, a CMA-ES run to "after" (and to "before" when still
+/// empty) or with the graded penalty to "graded".
 fn add_run(row: &mut TableRow, doc: &OptimizeDocument) {
     let motors = &doc.inputs.task.motors;
     if let Objective::Capacity(_) = doc.inputs.objective {
@@ -150,8 +152,12 @@ fn add_run(row: &mut TableRow, doc: &OptimizeDocument) {
         return;
     }
     if doc.inputs.method == Method::Gradient {
+        let column = match doc.inputs.grading {
+            Grading::Flat => &mut row.gradient,
+            Grading::Graded => &mut row.graded_gradient,
+        };
         if let Some(result) = doc.best_result.as_ref().filter(|r| r.feasible) {
-            row.gradient = Some((cell(result, motors), doc.solves));
+            *column = Some((cell(result, motors), doc.solves));
         }
         return;
     }

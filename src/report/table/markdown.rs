@@ -25,29 +25,47 @@ impl PaperTable {
         if !self.ranges.is_empty() {
             text.push_str(&self.payload_ranges());
         }
-        if self.rows.iter().any(|row| row.graded.is_some()) {
+        if self
+            .rows
+            .iter()
+            .any(|row| row.graded.is_some() || row.graded_gradient.is_some())
+        {
             text.push_str(&self.graded_runs());
         }
         text
     }
 
-    /// The CMA-ES runs with the graded penalty, one line per payload and space.
+    /// The co-design runs with the graded penalty (CMA-ES and the gradient method), one line per
+    /// payload and space.
     fn graded_runs(&self) -> String {
         let mut text = String::from(
-            "\nCMA-ES with the graded penalty (`codesign optimize --penalty graded`): every design is solved as the \
+            "\nWith the graded penalty (`codesign optimize --penalty graded`): every design is solved as the \
              elastic problem, and an infeasible one scores 1e6 to 2e6 by its torque deficit and speed excess instead of a \
-             flat 1e6, so that CMA-ES moves toward feasibility (`docs/model.md`, section 10).\n\n\
-             | payload | space | after (graded penalty) | seeds: best J | inner solves of evaluations | median solve |\n\
-             |---|---|---|---|---|---|\n",
+             flat 1e6, so that CMA-ES moves toward feasibility (`docs/model.md`, section 10); the gradient method \
+             descends on the elastic problem's optimal objective, from infeasible starts too (section 12).\n\n\
+             | payload | space | CMA-ES (graded penalty) | seeds: best J | inner solves of evaluations | median solve | gradient method (graded penalty) | its inner solves |\n\
+             |---|---|---|---|---|---|---|---|\n",
         );
         for row in &self.rows {
-            if let Some(graded) = &row.graded {
-                let [after, seeds, solves, median] = after_columns(graded);
-                text.push_str(&format!(
-                    "| {} kg | {} | {after} | {seeds} | {solves} | {median} |\n",
-                    row.payload_kg, row.space
-                ));
+            if row.graded.is_none() && row.graded_gradient.is_none() {
+                continue;
             }
+            let [after, seeds, solves, median] = row.graded.as_ref().map_or_else(
+                || {
+                    [
+                        "-".to_owned(),
+                        "-".to_owned(),
+                        "-".to_owned(),
+                        "-".to_owned(),
+                    ]
+                },
+                after_columns,
+            );
+            let (gradient, gradient_solves) = gradient_columns(row.graded_gradient.as_ref());
+            text.push_str(&format!(
+                "| {} kg | {} | {after} | {seeds} | {solves} | {median} | {gradient} | {gradient_solves} |\n",
+                row.payload_kg, row.space
+            ));
         }
         text
     }
@@ -209,12 +227,7 @@ fn after_columns(after: &AfterCell) -> [String; 4] {
 /// One line of the section beyond the paper.
 fn beyond_row(row: &TableRow) -> String {
     let kg = |v: Option<f64>| v.map_or_else(|| "-".to_owned(), |v| format!("{v:.2} kg"));
-    let (gradient, solves) = row
-        .gradient
-        .as_ref()
-        .map_or(("-".to_owned(), "-".to_owned()), |(cell, n)| {
-            (design_text(cell), n.to_string())
-        });
+    let (gradient, solves) = gradient_columns(row.gradient.as_ref());
     let cmaes = row
         .after
         .as_ref()
@@ -230,6 +243,13 @@ fn beyond_row(row: &TableRow) -> String {
         kg(row.capacity_before_kg),
         kg(row.capacity_after_kg)
     )
+}
+
+/// A gradient run's columns: its best design and its inner solves, or dashes.
+fn gradient_columns(run: Option<&(DesignCell, usize)>) -> (String, String) {
+    run.map_or(("-".to_owned(), "-".to_owned()), |(cell, n)| {
+        (design_text(cell), n.to_string())
+    })
 }
 
 /// The ratios rounded to two decimals, e.g. `(9, 5.62, 3, 1.8)`.

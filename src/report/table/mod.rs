@@ -147,6 +147,9 @@ pub struct TableRow {
     /// CMA-ES with the graded penalty (`--penalty graded`), beyond the paper: like `after`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub graded: Option<AfterCell>,
+    /// The gradient method with the graded penalty: its best design and its inner solves.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub graded_gradient: Option<(DesignCell, usize)>,
     /// The paper's values.
     pub paper: Option<PaperValues>,
 }
