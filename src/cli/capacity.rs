@@ -3,6 +3,7 @@
 use super::common::{ModelArgs, ProblemArgs};
 use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::model::task::MAX_PAYLOAD_KG;
+use crate::problem::Formulation;
 use crate::report::codesign::CapacityDocument;
 use crate::report::files::{check_output, write_json};
 use crate::report::trajectory::ToolInfo;
@@ -60,8 +61,10 @@ pub fn run(args: &Args) -> Result<(), String> {
         .ratios
         .clone()
         .unwrap_or_else(|| task.transmission.original.clone());
-    crate::transmission::Transmission::from_spec(&task.transmission)
-        .map_err(|e| format!("task: {e}"))?
+    let formulation = Formulation::new(&task, robot, args.problem.space, modes)
+        .map_err(|e| format!("{}: {e}", args.model.source()))?;
+    formulation
+        .transmission()
         .check_design(&ratios)
         .map_err(|e| match &args.ratios {
             Some(_) => format!("--ratios {}: invalid design: {e}", join(&ratios)),
@@ -76,7 +79,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         first_step_kg: args.first_step,
         max_kg: args.max,
     };
-    let capacity = payload_capacity(&task, &robot, args.problem.space, modes, &ratios, &settings)
+    let capacity = payload_capacity(&formulation, &ratios, &settings)
         .map_err(|e| format!("{}: {e}", args.model.source()))?;
     let seconds: f64 = capacity.probes.iter().map(|p| p.seconds).sum();
     let design = join(&ratios);

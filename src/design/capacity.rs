@@ -7,9 +7,7 @@
 //! payload; the probes are all reported, so a user can see when it does not.
 
 use crate::ipopt::Solution;
-use crate::model::task::{LimitModes, Task};
-use crate::model::Robot;
-use crate::problem::{Formulation, Space};
+use crate::problem::Formulation;
 use crate::solver::{solve_design_from, SolveSettings};
 use serde::{Deserialize, Serialize};
 
@@ -85,10 +83,7 @@ impl CapacitySettings {
 
 /// The solves of one search: a design at varying payloads, every probe recorded.
 struct Search<'a> {
-    task: &'a Task,
-    robot: &'a Robot,
-    space: Space,
-    modes: LimitModes,
+    formulation: &'a Formulation,
     ratios: &'a [f64],
     probes: Vec<CapacityProbe>,
 }
@@ -99,11 +94,10 @@ impl Search<'_> {
     /// as infeasible only when neither start leads to a feasible trajectory. The solution when
     /// feasible.
     fn probe(&mut self, payload: f64, warm: Option<&Solution>) -> Result<Option<Solution>, String> {
-        let mut loaded = self.task.clone();
-        loaded.payload.mass_kg = payload;
-        let robot = self.robot.with_payload(payload);
-        let formulation =
-            Formulation::new(&loaded, robot, self.space, self.modes).map_err(|e| e.to_string())?;
+        let formulation = self
+            .formulation
+            .with_payload(payload)
+            .map_err(|e| e.to_string())?;
         let starts: &[Option<&Solution>] = if warm.is_some() {
             &[warm, None]
         } else {
@@ -130,21 +124,15 @@ impl Search<'_> {
     }
 }
 
-/// Searches the payload capacity of design `ratios` for `task` (its payload ignored).
+/// Searches the payload capacity of design `ratios` in `formulation` (its payload ignored).
 pub fn payload_capacity(
-    task: &Task,
-    robot: &Robot,
-    space: Space,
-    modes: LimitModes,
+    formulation: &Formulation,
     ratios: &[f64],
     settings: &CapacitySettings,
 ) -> Result<Capacity, String> {
     settings.validate()?;
     let mut search = Search {
-        task,
-        robot,
-        space,
-        modes,
+        formulation,
         ratios,
         probes: Vec::new(),
     };
@@ -191,27 +179,19 @@ pub fn payload_capacity(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::problem::Space;
     use crate::testing;
 
     #[test]
     fn brackets_the_capacity_of_the_original_design_to_the_resolution() {
-        let task = testing::task();
-        let robot = Robot::load(&task).unwrap();
+        let formulation = testing::formulation(0.0, Space::Actuation);
         let settings = CapacitySettings {
             resolution_kg: 0.05,
             first_step_kg: 1.0,
             max_kg: 16.0,
         };
-        let original = task.transmission.original.clone();
-        let capacity = payload_capacity(
-            &task,
-            &robot,
-            Space::Actuation,
-            task.limit_modes,
-            &original,
-            &settings,
-        )
-        .unwrap();
+        let original = formulation.transmission().original().to_vec();
+        let capacity = payload_capacity(&formulation, &original, &settings).unwrap();
         let (low, high) = (
             capacity.capacity_kg.unwrap(),
             capacity.first_infeasible_kg.unwrap(),
@@ -233,14 +213,6 @@ mod tests {
             resolution_kg: 0.0,
             ..settings
         };
-        assert!(payload_capacity(
-            &task,
-            &robot,
-            Space::Actuation,
-            task.limit_modes,
-            &original,
-            &bad
-        )
-        .is_err());
+        assert!(payload_capacity(&formulation, &original, &bad).is_err());
     }
 }

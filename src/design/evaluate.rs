@@ -107,15 +107,7 @@ pub fn evaluate_capacity(
     if let Err(error) = formulation.transmission().check_design(ratios) {
         return Evaluation::penalised(ratios, penalty, "Invalid_Design", error.to_string());
     }
-    let robot = formulation.dynamics().robot();
-    let searched = payload_capacity(
-        formulation.task(),
-        robot,
-        formulation.space(),
-        *formulation.modes(),
-        ratios,
-        settings,
-    );
+    let searched = payload_capacity(formulation, ratios, settings);
     match searched {
         Ok(capacity) => {
             let iterations = capacity.probes.iter().map(|p| p.iterations).sum();

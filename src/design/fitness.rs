@@ -37,17 +37,14 @@ impl Fitness {
         objective: &Objective,
         penalty: Penalty,
     ) -> Result<Fitness, String> {
-        let formulation = |payload_kg: f64| {
-            let mut loaded = task.clone();
-            loaded.payload.mass_kg = payload_kg;
-            let robot = Robot::load(&loaded).map_err(|e| e.to_string())?;
-            let formulation =
-                Formulation::new(&loaded, robot, space, modes).map_err(|e| e.to_string())?;
-            Ok::<_, String>(match penalty.grading {
-                Grading::Flat => formulation,
-                Grading::Graded => formulation.elastic(),
-            })
+        let robot = Robot::load(task).map_err(|e| e.to_string())?;
+        let hard = Formulation::new(task, robot, space, modes).map_err(|e| e.to_string())?;
+        let base = match penalty.grading {
+            Grading::Flat => hard,
+            Grading::Graded => hard.elastic(),
         };
+        let formulation =
+            |payload_kg: f64| base.with_payload(payload_kg).map_err(|e| e.to_string());
         let scored = match objective {
             Objective::Cost => Scored::Cost(formulation(task.payload.mass_kg)?),
             Objective::Capacity(settings) => {

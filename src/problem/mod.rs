@@ -178,6 +178,19 @@ impl Formulation {
         elastic
     }
 
+    /// The same formulation (space, modes, kind) for the robot carrying `payload_kg` kg at the
+    /// task's payload point instead.
+    pub fn with_payload(&self, payload_kg: f64) -> Result<Formulation, FormulationError> {
+        let mut task = self.task.clone();
+        task.payload.mass_kg = payload_kg;
+        let robot = self.dynamics.robot().with_payload(payload_kg);
+        let hard = Formulation::new(&task, robot, self.space, self.modes)?;
+        Ok(match self.kind() {
+            ProblemKind::Hard => hard,
+            ProblemKind::Elastic => hard.elastic(),
+        })
+    }
+
     /// Hard or elastic.
     pub fn kind(&self) -> ProblemKind {
         self.layout.kind

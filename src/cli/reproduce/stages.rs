@@ -35,10 +35,10 @@ pub fn run_all(plan: &Plan, task: &Task) -> Result<Outcomes, String> {
 
 /// The formulation of `task` with `payload_kg` in `space`, with the task's limit modes.
 pub fn formulation_at(task: &Task, payload_kg: f64, space: Space) -> Result<Formulation, String> {
-    let mut loaded = task.clone();
-    loaded.payload.mass_kg = payload_kg;
-    let robot = Robot::load(&loaded).map_err(|e| e.to_string())?;
-    Formulation::new(&loaded, robot, space, loaded.limit_modes).map_err(|e| e.to_string())
+    let robot = Robot::load(task).map_err(|e| e.to_string())?;
+    Formulation::new(task, robot, space, task.limit_modes)
+        .and_then(|formulation| formulation.with_payload(payload_kg))
+        .map_err(|e| e.to_string())
 }
 
 /// Solves the original design at every payload in both spaces; writes each result and its
@@ -172,8 +172,8 @@ pub fn capacity_document(
     name: &str,
 ) -> Result<CapacityDocument, String> {
     let settings = CapacitySettings::default();
-    let robot = Robot::load(task).map_err(|e| e.to_string())?;
-    let capacity = payload_capacity(task, &robot, space, task.limit_modes, &ratios, &settings)?;
+    let formulation = formulation_at(task, task.payload.mass_kg, space)?;
+    let capacity = payload_capacity(&formulation, &ratios, &settings)?;
     say!("payload capacity, {name}: {:?} kg", capacity.capacity_kg);
     let document = CapacityDocument {
         tool: ToolInfo::current(task.solver.linear_solver()),
