@@ -170,11 +170,14 @@ pub fn optimize_gradient(
     penalty: Penalty,
 ) -> Result<DesignOutcome, String> {
     let set = formulation.transmission().design_space();
-    let elastic = formulation.elastic();
+    let elastic;
     let mut evaluator = Evaluator {
         formulation: match penalty.grading {
             Grading::Flat => formulation,
-            Grading::Graded => &elastic,
+            Grading::Graded => {
+                elastic = formulation.elastic();
+                &elastic
+            }
         },
         penalty,
         solve_settings: SolveSettings::default(),
