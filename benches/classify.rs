@@ -14,10 +14,10 @@
 //! and iterations on the designs both call infeasible, with the median per-design time ratio.
 
 use codesign::design::gradient::spread_designs;
-use codesign::model::task::Task;
+use codesign::model::task::{Task, TaskFile};
 use codesign::model::Robot;
 use codesign::problem::{Formulation, Space};
-use codesign::solver::{solve_design, SolveSettings, TrajectoryResult};
+use codesign::solve::{solve_design, SolveSettings, TrajectoryResult};
 use codesign::stats::median;
 
 /// Best designs of the 3 kg actuation-space runs (results/quick, results/runs).
@@ -59,7 +59,10 @@ fn near_the_best(formulation: &Formulation, n: usize) -> Vec<Vec<f64>> {
 /// Solves every design as the hard and the elastic problem and prints the comparison.
 fn compare(label: &str, hard: &Formulation, designs: &[Vec<f64>]) {
     let elastic = hard.elastic();
-    let settings = SolveSettings::default();
+    let section = TaskFile::built_in()
+        .expect("the built-in task loads")
+        .solver;
+    let settings = SolveSettings::from_section(section.as_ref()).expect("valid settings");
     let solve = |f: &Formulation, r: &[f64]| -> TrajectoryResult {
         solve_design(f, r, &settings).expect("a design of the design space solves")
     };

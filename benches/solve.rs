@@ -8,10 +8,10 @@
 //! (docs/model.md, section 14), 7 solves each.
 
 use codesign::ipopt::LinearSolver;
-use codesign::model::task::Task;
+use codesign::model::task::{Task, TaskFile};
 use codesign::model::Robot;
 use codesign::problem::{Formulation, ProblemKind, Space};
-use codesign::solver::{solve_design, SolveSeconds, SolveSettings};
+use codesign::solve::{solve_design, SolveSeconds, SolveSettings};
 use codesign::stats::median;
 
 /// Solves the problem of `kind` `runs` times (after `warm_up` unmeasured solves), prints the
@@ -23,16 +23,18 @@ fn measure(
     warm_up: usize,
     runs: usize,
 ) -> f64 {
-    let mut task = task.clone();
-    task.solver.linear_solver = Some(solver);
-    let robot = Robot::load(&task).expect("the robot loads");
-    let hard = Formulation::new(&task, robot, space, task.limit_modes).expect("formulation");
+    let section = TaskFile::built_in()
+        .expect("the built-in task loads")
+        .solver;
+    let mut settings = SolveSettings::from_section(section.as_ref()).expect("valid settings");
+    settings.linear_solver = Some(solver);
+    let robot = Robot::load(task).expect("the robot loads");
+    let hard = Formulation::new(task, robot, space, task.limit_modes).expect("formulation");
     let formulation = match kind {
         ProblemKind::Hard => hard,
         ProblemKind::Elastic => hard.elastic(),
     };
     let original = task.transmission.original.clone();
-    let settings = SolveSettings::default();
     for _ in 0..warm_up {
         solve_design(&formulation, &original, &settings).expect("solves");
     }

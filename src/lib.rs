@@ -13,7 +13,7 @@ pub mod ldl;
 pub mod model;
 pub mod problem;
 pub mod report;
-pub mod solver;
+pub mod solve;
 pub mod stats;
 #[cfg(test)]
 mod testing;

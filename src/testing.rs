@@ -1,9 +1,10 @@
 //! Fixtures of the unit tests: the repository's task, its problems, and seeded random numbers.
 
 use crate::design::rng::DesignRng;
-use crate::model::task::Task;
+use crate::model::task::{Task, TaskFile};
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
+use crate::solve::SolveSettings;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
@@ -15,6 +16,12 @@ pub fn task_path() -> PathBuf {
 /// The repository's task, loaded from its file.
 pub fn task() -> Task {
     Task::load(&task_path()).expect("the repository's task loads")
+}
+
+/// The solve settings of the repository's task file (its `solver` section).
+pub fn settings() -> SolveSettings {
+    let file = TaskFile::load(&task_path()).expect("the repository's task loads");
+    SolveSettings::from_section(file.solver.as_ref()).expect("its solver section is valid")
 }
 
 /// The repository's task carrying `payload_kg`, formulated in `space` with its limit modes.

@@ -6,7 +6,7 @@ use codesign::ipopt::LinearSolver;
 use codesign::model::task::Task;
 use codesign::model::Robot;
 use codesign::problem::{Formulation, Space};
-use codesign::solver::{solve_design, solve_design_from, solve_elastic, SolveSettings};
+use codesign::solve::{solve_design, solve_design_from, solve_elastic, SolveSettings};
 
 mod support;
 
@@ -22,7 +22,7 @@ fn reference_costs_are_reproduced() {
         .iter()
         .flat_map(|case| [LinearSolver::Ldl, LinearSolver::Mumps].map(|solver| (case, solver)))
     {
-        task.solver.linear_solver = Some(solver);
+        let settings = support::settings(solver);
         let space = match case["space"].as_str().unwrap() {
             "joint" => Space::Joint,
             "actuation" => Space::Actuation,
@@ -37,7 +37,7 @@ fn reference_costs_are_reproduced() {
             .collect();
         let robot = Robot::load(&task).unwrap();
         let formulation = Formulation::new(&task, robot, space, task.limit_modes).unwrap();
-        let result = solve_design(&formulation, &ratios, &SolveSettings::default()).unwrap();
+        let result = solve_design(&formulation, &ratios, &settings).unwrap();
         let expected = case["cost"].as_f64().unwrap();
         let relative = (result.cost - expected).abs() / expected.abs();
         println!(
@@ -58,8 +58,9 @@ fn reference_costs_are_reproduced() {
     }
 }
 
-/// A case to solve: (label, task, space, ratios, the hard problem's committed cost J).
-type Case = (String, Task, Space, Vec<f64>, f64);
+/// A case to solve: (label, task, solve settings, space, ratios, the hard problem's committed
+/// cost J).
+type Case = (String, Task, SolveSettings, Space, Vec<f64>, f64);
 
 /// The feasible cases of tests/data/ocp_reference.json (with either linear solver) and of the
 /// committed original designs (results/original, results/quick/original: those IPOPT solved),
@@ -92,13 +93,14 @@ fn feasible_cases() -> Vec<Case> {
         .flat_map(|case| solvers.map(|solver| (case, solver)))
     {
         let mut task = task_file.clone();
-        task.solver.linear_solver = Some(solver);
+        let settings = support::settings(solver);
         task.payload.mass_kg = case["payload_kg"].as_f64().unwrap();
         let label = format!("reference {solver} {case}");
         let cost = case["cost"].as_f64().unwrap();
         cases.push((
             label,
             task,
+            settings,
             space(&case["space"]),
             numbers(&case["ratios"]),
             cost,
@@ -121,7 +123,7 @@ fn feasible_cases() -> Vec<Case> {
                 _ => task_file.clone(),
             };
             task.payload.mass_kg = inputs["payload_kg"].as_f64().unwrap();
-            task.solver.linear_solver = Some(match result["tool"]["linear_solver"].as_str() {
+            let settings = support::settings(match result["tool"]["linear_solver"].as_str() {
                 Some("ldl") => LinearSolver::Ldl,
                 _ => LinearSolver::Mumps,
             });
@@ -130,6 +132,7 @@ fn feasible_cases() -> Vec<Case> {
             cases.push((
                 label,
                 task,
+                settings,
                 space(&inputs["space"]),
                 numbers(&inputs["ratios"]),
                 cost,
@@ -147,8 +150,7 @@ fn feasible_cases() -> Vec<Case> {
 fn elastic_solves_reproduce_the_feasible_costs() {
     let cases = feasible_cases();
     assert!(cases.len() >= 16, "{} cases", cases.len());
-    let settings = SolveSettings::default();
-    for (label, task, space, ratios, expected) in cases {
+    for (label, task, settings, space, ratios, expected) in cases {
         let robot = Robot::load(&task).unwrap();
         let hard = Formulation::new(&task, robot, space, task.limit_modes).unwrap();
         let (result, solution) =
@@ -164,7 +166,7 @@ fn elastic_solves_reproduce_the_feasible_costs() {
         );
         assert!(result.feasible, "{label}: {:?}", result.reason);
         assert!(
-            elastic.largest_slack <= task.solver.tol,
+            elastic.largest_slack <= settings.tol,
             "{label}: {elastic:?}"
         );
         assert_eq!(
@@ -206,12 +208,8 @@ fn elastic_solve_classifies_the_infeasible_original() {
     task.payload.mass_kg = 3.0;
     let robot = Robot::load(&task).unwrap();
     let formulation = Formulation::new(&task, robot, Space::Actuation, task.limit_modes).unwrap();
-    let result = solve_elastic(
-        &formulation,
-        &[6.0, 3.0, 1.0, 1.0],
-        &SolveSettings::default(),
-    )
-    .unwrap();
+    let settings = support::settings(LinearSolver::default());
+    let result = solve_elastic(&formulation, &[6.0, 3.0, 1.0, 1.0], &settings).unwrap();
     let elastic = result.elastic.unwrap();
     println!(
         "{} in {} iterations ({:.1} ms), J = {}, {elastic:?}",

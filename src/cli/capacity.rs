@@ -51,8 +51,8 @@ pub fn run(args: &Args) -> Result<(), String> {
             ));
         }
     }
-    let (mut task, robot) = args.model.load()?;
-    args.problem.configure(&mut task);
+    let (task, robot, mut solve) = args.model.load()?;
+    args.problem.configure(&mut solve);
     if let Some(path) = &args.out {
         check_output("--out", path, &args.model.inputs(&task))?;
     }
@@ -79,7 +79,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         first_step_kg: args.first_step,
         max_kg: args.max,
     };
-    let capacity = payload_capacity(&formulation, &ratios, &settings)
+    let capacity = payload_capacity(&formulation, &solve, &ratios, &settings)
         .map_err(|e| format!("{}: {e}", args.model.source()))?;
     let seconds: f64 = capacity.probes.iter().map(|p| p.seconds).sum();
     let design = join(&ratios);
@@ -100,7 +100,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     say!("  {} solves in {seconds:.1} s", capacity.probes.len());
     if let Some(path) = &args.out {
         let document = CapacityDocument {
-            tool: ToolInfo::current(task.solver.linear_solver()),
+            tool: ToolInfo::current(solve.linear_solver()),
             task_file: args.model.source().label(),
             space: args.problem.space,
             ratios: ratios.clone(),

@@ -11,6 +11,7 @@ use crate::design::penalty::{Grading, Penalty};
 use crate::design::workers::{Launcher, SOLVE_TIMEOUT_S};
 use crate::model::task::{check_payload, LimitModes, Task};
 use crate::report::codesign::{Method, OptimizeInputs};
+use crate::solve::{SolveSettings, TaskRecord};
 use std::path::Path;
 
 /// `text` quoted for `sh`: in single quotes, each single quote written as '\''.
@@ -223,18 +224,24 @@ impl Case {
     }
 
     /// The settings of the run as its document and log header record them, for `task` (the
-    /// overrides applied) with limit `modes`.
-    pub fn inputs(&self, task: &Task, modes: LimitModes) -> OptimizeInputs {
-        let mut recorded = task.clone();
-        // The linear solver is recorded in its own field, so that a log written before the
-        // field existed (MUMPS) compares by that field alone.
-        recorded.solver.linear_solver = None;
+    /// overrides applied) solved with `settings`, with limit `modes`.
+    pub fn inputs(
+        &self,
+        task: &Task,
+        settings: &SolveSettings,
+        modes: LimitModes,
+    ) -> OptimizeInputs {
         OptimizeInputs {
             method: self.method,
             objective: self.objective.clone(),
             task_file: self.model.source().label(),
-            task: recorded,
-            linear_solver: task.solver.linear_solver(),
+            // The linear solver is recorded in its own field, so that a log written before the
+            // field existed (MUMPS) compares by that field alone.
+            task: TaskRecord {
+                task: task.clone(),
+                solver: settings.recorded(),
+            },
+            linear_solver: settings.linear_solver(),
             space: self.problem.space,
             payload_kg: task.payload.mass_kg,
             limit_modes: modes,

@@ -4,6 +4,7 @@ use crate::ipopt::LinearSolver;
 use crate::model::task::{check_payload, LimitMode, LimitModes, Task, TaskSource};
 use crate::model::Robot;
 use crate::problem::Space;
+use crate::solve::SolveSettings;
 use std::path::{Path, PathBuf};
 
 /// Where the task and robot come from, and the payload.
@@ -41,9 +42,14 @@ impl ModelArgs {
         task_source(self.task.as_ref())
     }
 
-    /// Loads the task (with the overrides applied) and the robot carrying the payload.
-    pub fn load(&self) -> Result<(Task, Robot), String> {
-        let mut task = self.source().load().map_err(|e| e.to_string())?;
+    /// Loads the task (with the overrides applied), the robot carrying the payload, and the
+    /// solve settings of the task file's `solver` section.
+    pub fn load(&self) -> Result<(Task, Robot, SolveSettings), String> {
+        let source = self.source();
+        let file = source.load().map_err(|e| e.to_string())?;
+        let settings = SolveSettings::from_section(file.solver.as_ref())
+            .map_err(|e| format!("{source}: {e}"))?;
+        let mut task = file.task;
         if let Some(robot) = &self.robot {
             task.robot = Some(robot.clone());
         }
@@ -57,7 +63,7 @@ impl ModelArgs {
             ),
             _ => e.to_string(),
         })?;
-        Ok((task, robot))
+        Ok((task, robot, settings))
     }
 }
 
@@ -80,9 +86,9 @@ pub struct ProblemArgs {
 }
 
 impl ProblemArgs {
-    /// Applies `--linear-solver` to the task's solver settings.
-    pub fn configure(&self, task: &mut Task) {
-        task.solver.override_linear_solver(self.linear_solver);
+    /// Applies `--linear-solver` to the solve settings.
+    pub fn configure(&self, settings: &mut SolveSettings) {
+        settings.override_linear_solver(self.linear_solver);
     }
 
     /// The limit modes: the flags where given, else the task's.

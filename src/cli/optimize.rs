@@ -19,7 +19,7 @@ use crate::problem::Formulation;
 use crate::report::codesign::{Method, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
 use crate::report::files::{check_output, write_json};
 use crate::report::trajectory::ToolInfo;
-use crate::solver::{solve_design, solve_design_from, SolveSettings};
+use crate::solve::{solve_design, solve_design_from, SolveSettings};
 use crate::stats::median;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
@@ -144,32 +144,34 @@ pub fn log_path(out: &Path) -> PathBuf {
 /// evaluation log, locked, from before the first evaluation until the document is written.
 pub fn run_case(case: &Case, out: &Path) -> Result<OptimizeDocument, String> {
     case.validate()?;
-    let (mut task, robot) = case.model.load()?;
-    case.problem.configure(&mut task);
+    let (task, robot, mut settings) = case.model.load()?;
+    case.problem.configure(&mut settings);
     let read = case.model.inputs(&task);
     check_output("--out", out, &read)?;
     if case.method == Method::Cmaes {
         check_output("--out (its evaluation log)", &log_path(out), &read)?;
     }
     let modes = case.problem.modes(&task);
-    probe_solver(&task, &robot, case, modes)?;
+    probe_solver(&task, &settings, &robot, case, modes)?;
     let formulation =
         Formulation::new(&task, robot, case.problem.space, modes).map_err(|e| e.to_string())?;
-    let inputs = case.inputs(&task, modes);
+    let inputs = case.inputs(&task, &settings, modes);
     let mut log = match case.method {
         Method::Cmaes => Some(open_log(case.start, out, &inputs)?),
         Method::Gradient => None,
     };
     let started = Instant::now();
     let outcome = match log.as_mut() {
-        Some((log, finished)) => run_cmaes(case, &inputs, &task, &formulation, log, finished)
-            .map(|o| (o, log.earlier_seconds())),
-        None => {
-            optimize_gradient(&formulation, &case.gradient, case.penalty).map(|o| (o, Some(0.0)))
+        Some((log, finished)) => {
+            let setup = worker_setup(case, &inputs, &task, &settings, &formulation)?;
+            run_cmaes(case, &inputs, &setup, &formulation, log, finished)
+                .map(|o| (o, log.earlier_seconds()))
         }
+        None => optimize_gradient(&formulation, &settings, &case.gradient, case.penalty)
+            .map(|o| (o, Some(0.0))),
     };
     let result = outcome.and_then(|(outcome, earlier_seconds)| {
-        let mut document = document(case, &formulation, inputs, outcome)?;
+        let mut document = document(case, &formulation, &settings, inputs, outcome)?;
         document.earlier_seconds = earlier_seconds;
         document.wall_seconds = started.elapsed().as_secs_f64();
         write_json(out, &document)?;
@@ -204,10 +206,10 @@ fn open_log(
 fn document(
     case: &Case,
     formulation: &Formulation,
+    settings: &SolveSettings,
     inputs: OptimizeInputs,
     outcome: DesignOutcome,
 ) -> Result<OptimizeDocument, String> {
-    let settings = SolveSettings::default();
     let original_ratios = formulation.transmission().original().to_vec();
     // The designs are solved again as they were scored: the elastic problem for a graded
     // penalty, so that the reported cost is the one behind `best_cost`.
@@ -223,13 +225,14 @@ fn document(
         Objective::Range(_) => {
             let fitness = Fitness::new(
                 formulation.task(),
+                settings,
                 formulation.space(),
                 *formulation.modes(),
                 &case.objective,
                 case.penalty,
             )?;
-            let best = payload_costs(&fitness, &outcome.best_ratios);
-            let original = payload_costs(&fitness, &original_ratios);
+            let best = payload_costs(&fitness, settings, &outcome.best_ratios);
+            let original = payload_costs(&fitness, settings, &original_ratios);
             (None, None, Some(RangeCosts { best, original }))
         }
         // Warm-started from the method's own inner solution where it has one, so that the
@@ -238,12 +241,12 @@ fn document(
             solve_design_from(
                 scored,
                 &outcome.best_ratios,
-                &settings,
+                settings,
                 outcome.best_solution.as_ref(),
             )
             .ok()
             .map(|(result, _)| result),
-            solve_design(scored, &original_ratios, &settings).ok(),
+            solve_design(scored, &original_ratios, settings).ok(),
             None,
         ),
     };
@@ -280,7 +283,7 @@ fn document(
 
 /// `ratios` solved at every payload of a range `fitness` (none when `ratios` is empty: no
 /// feasible design was found).
-fn payload_costs(fitness: &Fitness, ratios: &[f64]) -> Vec<PayloadCost> {
+fn payload_costs(fitness: &Fitness, settings: &SolveSettings, ratios: &[f64]) -> Vec<PayloadCost> {
     if ratios.is_empty() {
         return Vec::new();
     }
@@ -288,7 +291,7 @@ fn payload_costs(fitness: &Fitness, ratios: &[f64]) -> Vec<PayloadCost> {
         .payloads()
         .iter()
         .map(|(payload_kg, formulation)| {
-            let solved = solve_design(formulation, ratios, &SolveSettings::default());
+            let solved = solve_design(formulation, ratios, settings);
             PayloadCost {
                 payload_kg: *payload_kg,
                 feasible: solved.as_ref().is_ok_and(|r| r.feasible),
@@ -310,36 +313,48 @@ pub enum ObjectiveKind {
     Range,
 }
 
-/// The CMA-ES run on its open evaluation log (with the `finished` evaluations of a resumed
-/// run): worker pool, progress bar.
-fn run_cmaes(
+/// What the workers of a CMA-ES run are told: the task (its robot's path made absolute), the
+/// solve settings, the problem and how designs are scored.
+fn worker_setup(
     case: &Case,
     inputs: &OptimizeInputs,
     task: &Task,
+    settings: &SolveSettings,
     formulation: &Formulation,
-    log: &mut EvaluationLog,
-    finished: &Finished,
-) -> Result<DesignOutcome, String> {
+) -> Result<WorkerSetup, String> {
     let mut worker_task = task.clone();
     if let Some(robot) = &task.robot {
         worker_task.robot = Some(
             std::fs::canonicalize(robot).map_err(|e| format!("robot {}: {e}", robot.display()))?,
         );
     }
-    let setup = WorkerSetup {
+    Ok(WorkerSetup {
         objective: inputs.objective.clone(),
         task: worker_task,
+        solve: settings.clone(),
         space: case.problem.space,
         modes: *formulation.modes(),
         penalty: case.penalty,
-    };
+    })
+}
+
+/// The CMA-ES run on its open evaluation log (with the `finished` evaluations of a resumed
+/// run): worker pool, progress bar.
+fn run_cmaes(
+    case: &Case,
+    inputs: &OptimizeInputs,
+    setup: &WorkerSetup,
+    formulation: &Formulation,
+    log: &mut EvaluationLog,
+    finished: &Finished,
+) -> Result<DesignOutcome, String> {
     let workers = case
         .workers
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     let program = std::env::current_exe()
         .map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
     let timeout = Duration::from_secs_f64(case.solve_timeout_s);
-    let mut pool = Pool::new(case.launcher(&program), &setup, workers, timeout)?;
+    let mut pool = Pool::new(case.launcher(&program), setup, workers, timeout)?;
     let settings = &case.cmaes;
     let bar = ProgressBar::new((settings.population * (settings.generations + 1)) as u64);
     bar.set_style(

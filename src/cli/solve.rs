@@ -6,7 +6,7 @@ use crate::model::task::{check_horizon, check_steps};
 use crate::problem::Formulation;
 use crate::report::files::{check_output, write_json};
 use crate::report::trajectory::{write_plots, SolveDocument};
-use crate::solver::{ipopt_options, solve_design, SolveError, SolveSettings, TrajectoryResult};
+use crate::solve::{solve_design, SolveError, SolveSettings, TrajectoryResult};
 use std::path::PathBuf;
 
 /// Flags of `codesign solve`.
@@ -48,8 +48,9 @@ pub struct Args {
 
 /// Solves, prints a summary, writes the requested files.
 pub fn run(args: &Args) -> Result<(), String> {
-    let (mut task, robot) = args.model.load()?;
-    args.problem.configure(&mut task);
+    let (mut task, robot, mut settings) = args.model.load()?;
+    args.problem.configure(&mut settings);
+    settings.verbose = args.verbose;
     if let Some(duration) = args.duration {
         check_horizon(duration).map_err(|why| format!("--duration {duration}: {why}"))?;
         task.motion.horizon_s = duration;
@@ -77,16 +78,9 @@ pub fn run(args: &Args) -> Result<(), String> {
         ),
     };
     if args.check_derivatives {
-        return check(&formulation, &ratios, &source, args.verbose);
+        return check(&formulation, &settings, &ratios, &source);
     }
-    let result = solve_design(
-        &formulation,
-        &ratios,
-        &SolveSettings {
-            verbose: args.verbose,
-        },
-    )
-    .map_err(|e| match e {
+    let result = solve_design(&formulation, &ratios, &settings).map_err(|e| match e {
         SolveError::Design(_) => format!("{source}: {e}"),
         SolveError::Ipopt(_) => format!("{} solver: {e}", args.model.source()),
     })?;
@@ -96,7 +90,12 @@ pub fn run(args: &Args) -> Result<(), String> {
         say!("plots written to {}", folder.display());
     }
     if let Some(path) = &args.out {
-        let document = SolveDocument::new(&args.model.source().label(), &formulation, result);
+        let document = SolveDocument::new(
+            &args.model.source().label(),
+            &formulation,
+            &settings,
+            result,
+        );
         write_json(path, &document)?;
         say!("result written to {}", path.display());
     }
@@ -106,14 +105,15 @@ pub fn run(args: &Args) -> Result<(), String> {
 /// Runs IPOPT's second-order derivative checker at the initial guess of design `ratios`.
 fn check(
     formulation: &Formulation,
+    settings: &SolveSettings,
     ratios: &[f64],
     source: &str,
-    verbose: bool,
 ) -> Result<(), String> {
     let mut problem = formulation
         .problem(ratios)
         .map_err(|e| format!("{source}: invalid design: {e}"))?;
-    let options = ipopt_options(formulation, &SolveSettings { verbose })
+    let options = settings
+        .ipopt_options()
         .num("point_perturbation_radius", 0.0);
     let started = std::time::Instant::now();
     let report = check_derivatives(&mut problem, &options, DerivativeOrder::Second)

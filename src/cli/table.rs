@@ -57,14 +57,18 @@ pub fn run(args: &Args) -> Result<(), String> {
 /// results of one task, and no result is silently dropped.
 fn check_one_motion(paths: &[PathBuf], files: &[ResultFile]) -> Result<(), String> {
     let motion = |file: &ResultFile| match file {
-        ResultFile::Solve(d) => Some((d.inputs.task.motion.horizon_s, d.inputs.task.motion.steps)),
-        ResultFile::Optimize(d) => {
-            Some((d.inputs.task.motion.horizon_s, d.inputs.task.motion.steps))
-        }
+        ResultFile::Solve(d) => Some((
+            d.inputs.task.task.motion.horizon_s,
+            d.inputs.task.task.motion.steps,
+        )),
+        ResultFile::Optimize(d) => Some((
+            d.inputs.task.task.motion.horizon_s,
+            d.inputs.task.task.motion.steps,
+        )),
         ResultFile::Capacity(_) => None,
     };
     let row = |file: &ResultFile| match file {
-        ResultFile::Solve(d) if d.result.ratios == d.inputs.task.transmission.original => {
+        ResultFile::Solve(d) if d.result.ratios == d.inputs.task.task.transmission.original => {
             Some((d.inputs.payload_kg, d.inputs.space))
         }
         _ => None,

@@ -8,7 +8,7 @@
 
 use crate::ipopt::Solution;
 use crate::problem::Formulation;
-use crate::solver::{solve_design_from, SolveSettings};
+use crate::solve::{solve_design_from, SolveSettings};
 use serde::{Deserialize, Serialize};
 
 /// How finely and how far to search.
@@ -84,6 +84,7 @@ impl CapacitySettings {
 /// The solves of one search: a design at varying payloads, every probe recorded.
 struct Search<'a> {
     formulation: &'a Formulation,
+    solve: &'a SolveSettings,
     ratios: &'a [f64],
     probes: Vec<CapacityProbe>,
 }
@@ -105,7 +106,7 @@ impl Search<'_> {
         };
         for &start in starts {
             let (result, solution) =
-                solve_design_from(&formulation, self.ratios, &SolveSettings::default(), start)
+                solve_design_from(&formulation, self.ratios, self.solve, start)
                     .map_err(|e| e.to_string())?;
             self.probes.push(CapacityProbe {
                 payload_kg: payload,
@@ -124,15 +125,18 @@ impl Search<'_> {
     }
 }
 
-/// Searches the payload capacity of design `ratios` in `formulation` (its payload ignored).
+/// Searches the payload capacity of design `ratios` in `formulation` (its payload ignored),
+/// each probe solved with `solve`.
 pub fn payload_capacity(
     formulation: &Formulation,
+    solve: &SolveSettings,
     ratios: &[f64],
     settings: &CapacitySettings,
 ) -> Result<Capacity, String> {
     settings.validate()?;
     let mut search = Search {
         formulation,
+        solve,
         ratios,
         probes: Vec::new(),
     };
@@ -191,7 +195,8 @@ mod tests {
             max_kg: 16.0,
         };
         let original = formulation.transmission().original().to_vec();
-        let capacity = payload_capacity(&formulation, &original, &settings).unwrap();
+        let capacity =
+            payload_capacity(&formulation, &testing::settings(), &original, &settings).unwrap();
         let (low, high) = (
             capacity.capacity_kg.unwrap(),
             capacity.first_infeasible_kg.unwrap(),
@@ -213,6 +218,6 @@ mod tests {
             resolution_kg: 0.0,
             ..settings
         };
-        assert!(payload_capacity(&formulation, &original, &bad).is_err());
+        assert!(payload_capacity(&formulation, &testing::settings(), &original, &bad).is_err());
     }
 }

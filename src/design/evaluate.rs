@@ -3,7 +3,7 @@
 
 use super::capacity::{payload_capacity, CapacitySettings};
 use crate::problem::Formulation;
-use crate::solver::{solve_design, SolveError, SolveSettings};
+use crate::solve::{solve_design, SolveError, SolveSettings};
 use serde::{Deserialize, Serialize};
 
 /// The outcome of evaluating one design, as logged and as the optimiser sees it.
@@ -66,12 +66,13 @@ pub struct PayloadRange {
 /// payload named in the reason.
 pub fn evaluate_range(
     formulations: &[(f64, Formulation)],
+    solve: &SolveSettings,
     ratios: &[f64],
     penalty: f64,
 ) -> Evaluation {
     let (mut iterations, mut seconds, mut sum) = (0, 0.0, 0.0);
     for (payload_kg, formulation) in formulations {
-        let one = evaluate(formulation, ratios, penalty);
+        let one = evaluate(formulation, solve, ratios, penalty);
         iterations += one.iterations;
         seconds += one.seconds;
         if !one.feasible {
@@ -100,6 +101,7 @@ pub fn evaluate_range(
 /// design that cannot even move unloaded, or is invalid, scores `penalty`.
 pub fn evaluate_capacity(
     formulation: &Formulation,
+    solve: &SolveSettings,
     ratios: &[f64],
     settings: &CapacitySettings,
     penalty: f64,
@@ -107,7 +109,7 @@ pub fn evaluate_capacity(
     if let Err(error) = formulation.transmission().check_design(ratios) {
         return Evaluation::penalised(ratios, penalty, "Invalid_Design", error.to_string());
     }
-    let searched = payload_capacity(formulation, ratios, settings);
+    let searched = payload_capacity(formulation, solve, ratios, settings);
     match searched {
         Ok(capacity) => {
             let iterations = capacity.probes.iter().map(|p| p.iterations).sum();
@@ -140,8 +142,13 @@ pub fn evaluate_capacity(
 
 /// Solves the trajectory problem of `ratios` and scores it; never fails: an invalid design, an
 /// infeasible problem or a solver error all score `penalty` with the reason recorded.
-pub fn evaluate(formulation: &Formulation, ratios: &[f64], penalty: f64) -> Evaluation {
-    match solve_design(formulation, ratios, &SolveSettings::default()) {
+pub fn evaluate(
+    formulation: &Formulation,
+    solve: &SolveSettings,
+    ratios: &[f64],
+    penalty: f64,
+) -> Evaluation {
+    match solve_design(formulation, ratios, solve) {
         Ok(result) => Evaluation {
             ratios: ratios.to_vec(),
             cost: if result.feasible {

@@ -7,13 +7,14 @@ use super::penalty::{Grading, Penalty};
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
-use crate::solver::{solve_design, SolveError, SolveSettings};
+use crate::solve::{solve_design, SolveError, SolveSettings};
 
 /// The formulations of an objective and the penalty of a run.
 #[derive(Debug)]
 pub struct Fitness {
     scored: Scored,
     penalty: Penalty,
+    solve: SolveSettings,
 }
 
 /// What is solved per design.
@@ -29,9 +30,11 @@ enum Scored {
 
 impl Fitness {
     /// The fitness of `objective` for `task` (its payload used by `Cost` and `Capacity`) in
-    /// `space` with limit `modes`; with a graded `penalty` the problems are the elastic ones.
+    /// `space` with limit `modes`, solved with `solve`; with a graded `penalty` the problems are
+    /// the elastic ones.
     pub fn new(
         task: &Task,
+        solve: &SolveSettings,
         space: Space,
         modes: LimitModes,
         objective: &Objective,
@@ -58,7 +61,11 @@ impl Fitness {
                     .collect::<Result<_, _>>()?,
             ),
         };
-        Ok(Fitness { scored, penalty })
+        Ok(Fitness {
+            scored,
+            penalty,
+            solve: solve.clone(),
+        })
     }
 
     /// The range's payloads with their formulations (empty for another objective).
@@ -71,22 +78,24 @@ impl Fitness {
 
     /// Scores `ratios`; an invalid or infeasible design scores the penalty.
     pub fn evaluate(&self, ratios: &[f64]) -> Evaluation {
-        let base = self.penalty.base;
+        let (base, solve) = (self.penalty.base, &self.solve);
         match (&self.scored, self.penalty.grading) {
-            (Scored::Cost(formulation), Grading::Flat) => evaluate(formulation, ratios, base),
+            (Scored::Cost(formulation), Grading::Flat) => {
+                evaluate(formulation, solve, ratios, base)
+            }
             (Scored::Capacity(formulation, settings), _) => {
-                evaluate_capacity(formulation, ratios, settings, base)
+                evaluate_capacity(formulation, solve, ratios, settings, base)
             }
             (Scored::Range(formulations), Grading::Flat) => {
-                evaluate_range(formulations, ratios, base)
+                evaluate_range(formulations, solve, ratios, base)
             }
             (Scored::Cost(formulation), Grading::Graded) => {
-                graded(&[(0.0, formulation)], ratios, &self.penalty)
+                graded(&[(0.0, formulation)], solve, ratios, &self.penalty)
             }
             (Scored::Range(formulations), Grading::Graded) => {
                 let each: Vec<(f64, &Formulation)> =
                     formulations.iter().map(|(kg, f)| (*kg, f)).collect();
-                graded(&each, ratios, &self.penalty)
+                graded(&each, solve, ratios, &self.penalty)
             }
         }
     }
@@ -102,12 +111,17 @@ pub(super) fn shortfall(formulation: &Formulation, deficit_nm_s: f64, excess_rad
 /// Scores `ratios` with the elastic problems of `formulations` (one per payload): the mean cost
 /// when every one is feasible, else the graded penalty of the summed shortfall; a design outside
 /// the design space scores the graded penalty of its distance from it.
-fn graded(formulations: &[(f64, &Formulation)], ratios: &[f64], penalty: &Penalty) -> Evaluation {
+fn graded(
+    formulations: &[(f64, &Formulation)],
+    solve: &SolveSettings,
+    ratios: &[f64],
+    penalty: &Penalty,
+) -> Evaluation {
     let (mut iterations, mut seconds, mut sum, mut short) = (0, 0.0, 0.0, 0.0);
     let mut reasons = Vec::new();
     for (payload_kg, formulation) in formulations {
         let space = formulation.transmission().design_space();
-        match solve_design(formulation, ratios, &SolveSettings::default()) {
+        match solve_design(formulation, ratios, solve) {
             Ok(result) => {
                 iterations += result.iterations;
                 seconds += result.solve_seconds.total;

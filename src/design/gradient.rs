@@ -17,7 +17,7 @@ use super::outcome::DesignOutcome;
 use super::penalty::{Grading, Penalty};
 use crate::ipopt::Solution;
 use crate::problem::Formulation;
-use crate::solver::{solve_design_from, SolveSettings};
+use crate::solve::{solve_design_from, SolveSettings};
 use crate::transmission::{DesignSpace, Transmission};
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
@@ -166,6 +166,7 @@ impl Evaluator<'_> {
 /// design is the result.
 pub fn optimize_gradient(
     formulation: &Formulation,
+    solve: &SolveSettings,
     settings: &GradientSettings,
     penalty: Penalty,
 ) -> Result<DesignOutcome, String> {
@@ -180,7 +181,7 @@ pub fn optimize_gradient(
             }
         },
         penalty,
-        solve_settings: SolveSettings::default(),
+        solve_settings: solve.clone(),
         costs: Vec::new(),
         seconds: Vec::new(),
         best: None,
@@ -467,7 +468,7 @@ pub fn spread_designs(transmission: &Transmission, indices: Range<u32>) -> Vec<V
 mod tests {
     use super::*;
     use crate::problem::Space;
-    use crate::solver::solve_design;
+    use crate::solve::solve_design;
     use crate::testing;
 
     fn transmission() -> Transmission {
@@ -484,7 +485,13 @@ mod tests {
             descents: 1,
             ..GradientSettings::default()
         };
-        let outcome = optimize_gradient(&formulation, &settings, Penalty::PAPER).unwrap();
+        let outcome = optimize_gradient(
+            &formulation,
+            &testing::settings(),
+            &settings,
+            Penalty::PAPER,
+        )
+        .unwrap();
         let first = &outcome.iterates[0];
         let last = outcome.iterates.last().unwrap();
         assert!(
@@ -531,17 +538,17 @@ mod tests {
     #[test]
     fn graded_descent_reaches_feasibility_from_an_infeasible_start() {
         let formulation = testing::formulation(3.0, Space::Actuation);
-        let settings = GradientSettings {
+        let descent = GradientSettings {
             spread: 3,
             fallbacks: 0,
             descents: 1,
             ..GradientSettings::default()
         };
-        let flat = optimize_gradient(&formulation, &settings, Penalty::PAPER);
+        let flat = optimize_gradient(&formulation, &testing::settings(), &descent, Penalty::PAPER);
         assert!(flat.is_err(), "no start is feasible: {flat:?}");
         let graded: Penalty = "graded".parse().unwrap();
-        let outcome = optimize_gradient(&formulation, &settings, graded).unwrap();
-        let settings = SolveSettings::default();
+        let settings = testing::settings();
+        let outcome = optimize_gradient(&formulation, &settings, &descent, graded).unwrap();
         let first = &outcome.iterates[0];
         let start = solve_design(&formulation, &first.ratios, &settings).unwrap();
         assert!(!start.feasible, "the descent starts infeasible");

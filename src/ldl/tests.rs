@@ -235,10 +235,13 @@ fn kkt_matrices_of_real_solves_agree_with_the_dense_reference() {
     use crate::model::task::Task;
     use crate::model::Robot;
     use crate::problem::{Formulation, Space};
-    use crate::solver::{solve_design, SolveSettings};
+    use crate::solve::{solve_design, SolveSettings};
     let mut task = Task::built_in().unwrap();
     task.motion.steps = 5;
-    task.solver.linear_solver = Some(LinearSolver::Ldl);
+    let settings = SolveSettings {
+        linear_solver: Some(LinearSolver::Ldl),
+        ..crate::testing::settings()
+    };
     let (mut checked, mut refused, mut unresolved) = (0, 0, 0);
     for (space, payload) in [
         (Space::Actuation, 0.0),
@@ -249,12 +252,7 @@ fn kkt_matrices_of_real_solves_agree_with_the_dense_reference() {
         let robot = Robot::load(&task).unwrap();
         let formulation = Formulation::new(&task, robot, space, task.limit_modes).unwrap();
         super::pardiso::capture::start();
-        solve_design(
-            &formulation,
-            &task.transmission.original,
-            &SolveSettings::default(),
-        )
-        .unwrap();
+        solve_design(&formulation, &task.transmission.original, &settings).unwrap();
         let matrices = super::pardiso::capture::take();
         assert!(
             matrices.len() > 5,

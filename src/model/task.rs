@@ -2,15 +2,15 @@
 //!
 //! A task file (JSON, e.g. `robots/tasks/pick_place.json`) names the robot's URDF, the tool point
 //! and payload, the motion to make, the cost weights, the Cartesian box, the motors, the
-//! transmission's structure with its design space, the limit modes and the solver settings.
-//! Units are SI throughout: m, kg, s, rad, N m. Frames: the world is the URDF's root link.
+//! transmission's structure with its design space and the limit modes. Its `solver` section, the
+//! settings of IPOPT, is not part of the model: [`TaskFile`] keeps it as written, for the solve
+//! layer to read (`solve::SolveSettings::from_section`). Units are SI throughout: m, kg, s, rad, N m. Frames: the world is the URDF's root link.
 //!
 //! `robots/tasks/pick_place.json` is compiled into the binary as the built-in task
 //! ([`Task::built_in`]), so that every command works without files from any folder.
 
-use crate::ipopt::LinearSolver;
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
+use serde_json::Value;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -42,8 +42,16 @@ pub struct Task {
     pub transmission: TransmissionSpec,
     /// How actuator limits become joint-space limits.
     pub limit_modes: LimitModes,
-    /// IPOPT settings of single trajectory solves.
-    pub solver: SolverSettings,
+}
+
+/// A task file as read: the task, and its `solver` section as written (absent: none), which the
+/// solve layer reads.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TaskFile {
+    /// The task.
+    pub task: Task,
+    /// The `solver` section: IPOPT's settings, not interpreted by the model.
+    pub solver: Option<Value>,
 }
 
 /// A point fixed in a link's frame.
@@ -173,37 +181,6 @@ pub struct LimitModes {
     pub speed: LimitMode,
 }
 
-/// IPOPT settings for one trajectory solve.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SolverSettings {
-    /// Convergence tolerance `tol`.
-    pub tol: f64,
-    /// `max_iter`.
-    pub max_iter: u32,
-    /// The linear solver, `"ldl"` or `"mumps"`; absent: [`LinearSolver::default`].
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub linear_solver: Option<LinearSolver>,
-    /// Further IPOPT options by name: JSON integers set integer options, other numbers real
-    /// options, strings string options (e.g. `"mumps_pivot_order": 6`).
-    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
-    pub options: BTreeMap<String, serde_json::Value>,
-}
-
-impl SolverSettings {
-    /// The linear solver of the task's solves: the one named, else the default.
-    pub fn linear_solver(&self) -> LinearSolver {
-        self.linear_solver.unwrap_or_default()
-    }
-
-    /// Applies a `--linear-solver` flag: the solver given replaces the task's.
-    pub fn override_linear_solver(&mut self, flag: Option<LinearSolver>) {
-        if flag.is_some() {
-            self.linear_solver = flag;
-        }
-    }
-}
-
 /// Where a task comes from.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum TaskSource {
@@ -222,11 +199,12 @@ impl TaskSource {
         }
     }
 
-    /// Loads the task from here: [`Task::built_in`] or [`Task::load`].
-    pub fn load(&self) -> Result<Task, TaskError> {
+    /// Loads the task file from here: the built-in one ([`Task::built_in`]) or a file
+    /// ([`Task::load`]), with its `solver` section.
+    pub fn load(&self) -> Result<TaskFile, TaskError> {
         match self {
-            TaskSource::BuiltIn => Task::built_in(),
-            TaskSource::File(path) => Task::load(path),
+            TaskSource::BuiltIn => TaskFile::built_in(),
+            TaskSource::File(path) => TaskFile::load(path),
         }
     }
 }
@@ -364,65 +342,55 @@ impl CartesianBox {
     }
 }
 
-impl SolverSettings {
-    /// Checks `tol` > 0 and that every further option is an integer, a number or a string other
-    /// than `linear_solver` (chosen by [`SolverSettings::linear_solver`] instead).
-    fn validate(&self) -> Result<(), String> {
-        if !(self.tol.is_finite() && self.tol > 0.0) {
-            return Err(format!("solver.tol = {} must be > 0", self.tol));
-        }
-        for (name, value) in &self.options {
-            if name == "linear_solver" {
-                return Err(
-                    "solver.options.linear_solver: choose the linear solver with solver.linear_solver (\"ldl\" or \"mumps\")"
-                        .to_owned(),
-                );
-            }
-            let valid = value.as_i64().is_some_and(|v| i32::try_from(v).is_ok())
-                || value.as_f64().is_some_and(f64::is_finite)
-                || value.is_string();
-            if !valid {
-                return Err(format!(
-                    "solver.options.{name} = {value} must be an integer, a number or a string"
-                ));
-            }
-        }
-        Ok(())
-    }
-}
-
-impl Task {
+impl TaskFile {
     /// Reads and checks a task file. A relative robot path is resolved against the file's folder.
-    pub fn load(path: &Path) -> Result<Task, TaskError> {
+    pub fn load(path: &Path) -> Result<TaskFile, TaskError> {
         let source = TaskSource::File(path.to_owned());
         let text = std::fs::read_to_string(path).map_err(|e| TaskError {
             source: source.clone(),
             message: format!("cannot read: {e}"),
         })?;
-        let mut task = Task::from_json(&text, source)?;
-        if let Some(robot) = task.robot.as_mut().filter(|robot| robot.is_relative()) {
+        let mut file = TaskFile::from_json(&text, source)?;
+        if let Some(robot) = file.task.robot.as_mut().filter(|robot| robot.is_relative()) {
             let folder = path.parent().unwrap_or(Path::new("."));
             *robot = folder.join(&*robot);
         }
-        Ok(task)
+        Ok(file)
     }
 
     /// The built-in task, [`BUILT_IN_TASK`], with the built-in robot. Its `robot` path,
     /// `../belt_arm.urdf` beside `robots/tasks/`, names the very URDF compiled in as the built-in
     /// robot, so it is replaced by `None`.
-    pub fn built_in() -> Result<Task, TaskError> {
-        let mut task = Task::from_json(BUILT_IN_TASK, TaskSource::BuiltIn)?;
-        task.robot = None;
-        Ok(task)
+    pub fn built_in() -> Result<TaskFile, TaskError> {
+        let mut file = TaskFile::from_json(BUILT_IN_TASK, TaskSource::BuiltIn)?;
+        file.task.robot = None;
+        Ok(file)
     }
 
     /// Parses and checks the JSON `text` of a task from `source` (named in errors); the robot
-    /// path is left as written.
-    fn from_json(text: &str, source: TaskSource) -> Result<Task, TaskError> {
-        let parsed = serde_json::from_str::<Task>(text)
+    /// path is left as written, the `solver` section is kept as written.
+    fn from_json(text: &str, source: TaskSource) -> Result<TaskFile, TaskError> {
+        let parsed = serde_json::from_str::<Value>(text)
             .map_err(|e| e.to_string())
-            .and_then(|task| task.validate().map(|()| task));
+            .and_then(|mut value| {
+                let solver = value.as_object_mut().and_then(|map| map.remove("solver"));
+                let task = Task::deserialize(value).map_err(|e| e.to_string())?;
+                task.validate()?;
+                Ok(TaskFile { task, solver })
+            });
         parsed.map_err(|message| TaskError { source, message })
+    }
+}
+
+impl Task {
+    /// Reads and checks a task file, without its `solver` section ([`TaskFile::load`]).
+    pub fn load(path: &Path) -> Result<Task, TaskError> {
+        TaskFile::load(path).map(|file| file.task)
+    }
+
+    /// The built-in task without its `solver` section ([`TaskFile::built_in`]).
+    pub fn built_in() -> Result<Task, TaskError> {
+        TaskFile::built_in().map(|file| file.task)
     }
 
     /// Checks every number for sense; the message names the offending field.
@@ -443,7 +411,7 @@ impl Task {
                 return Err(format!("{name} = {value} must be > 0"));
             }
         }
-        self.solver.validate()
+        Ok(())
     }
 
     /// The time step h = T / N, s.
@@ -493,7 +461,7 @@ mod tests {
     #[test]
     fn errors_name_the_built_in_task_and_a_task_without_robot_means_the_built_in_one() {
         let broken = BUILT_IN_TASK.replacen("\"steps\": 50", "\"steps\": 0", 1);
-        let message = Task::from_json(&broken, TaskSource::BuiltIn)
+        let message = TaskFile::from_json(&broken, TaskSource::BuiltIn)
             .unwrap_err()
             .to_string();
         assert!(
@@ -502,7 +470,9 @@ mod tests {
         );
         let without = BUILT_IN_TASK.replacen("\"robot\": \"../belt_arm.urdf\",", "", 1);
         assert_ne!(without, BUILT_IN_TASK);
-        let task = Task::from_json(&without, TaskSource::BuiltIn).unwrap();
+        let task = TaskFile::from_json(&without, TaskSource::BuiltIn)
+            .unwrap()
+            .task;
         assert_eq!(task.robot, None);
     }
 

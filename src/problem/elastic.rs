@@ -155,7 +155,6 @@ mod tests {
     use crate::ipopt;
     use crate::model::task::{LimitMode, LimitModes};
     use crate::model::Robot;
-    use crate::solver::{ipopt_options, SolveSettings};
 
     /// The feasible reference cases: every feasible case of tests/data/ocp_reference.json and
     /// the committed original designs that IPOPT solves (results/original): (space, payload kg,
@@ -184,7 +183,7 @@ mod tests {
                 };
                 let f = Formulation::new(&task, robot, space, modes).unwrap();
                 let mut problem = f.problem(&ratios).unwrap();
-                let options = ipopt_options(&f, &SolveSettings::default());
+                let options = crate::testing::settings().ipopt_options();
                 let solution = ipopt::solve(&mut problem, &options).unwrap();
                 let layout = f.layout();
                 let (mut torque, mut speed_multiplier) = (0.0_f64, 0.0_f64);

@@ -9,9 +9,9 @@ use crate::design::gradient::GradientIterate;
 use crate::design::optimize::GenerationSummary;
 use crate::design::penalty::Grading;
 use crate::ipopt::LinearSolver;
-use crate::model::task::{LimitModes, Task};
+use crate::model::task::LimitModes;
 use crate::problem::Space;
-use crate::solver::TrajectoryResult;
+use crate::solve::{TaskRecord, TrajectoryResult};
 use serde::{Deserialize, Serialize};
 
 /// The outer-level method of a co-design run.
@@ -36,8 +36,8 @@ pub struct OptimizeInputs {
     pub objective: Objective,
     /// The task file as given.
     pub task_file: String,
-    /// The task with every override applied, its linear solver aside.
-    pub task: Task,
+    /// The task with every override applied, and its solve settings, the linear solver aside.
+    pub task: TaskRecord,
     /// The linear solver of the inner solves (runs logged before it was recorded used MUMPS).
     #[serde(default = "LinearSolver::before_ldl")]
     pub linear_solver: LinearSolver,

@@ -4,7 +4,7 @@ use super::plots::{Chart, Figure, Guide, Series};
 use crate::ipopt::LinearSolver;
 use crate::model::task::{LimitModes, Task};
 use crate::problem::{Formulation, Space};
-use crate::solver::{Trajectory, TrajectoryResult};
+use crate::solve::{SolveSettings, TaskRecord, Trajectory, TrajectoryResult};
 use crate::transmission::JointLimits;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -49,8 +49,8 @@ pub struct SolveInputs {
     pub payload_kg: f64,
     /// Limit modes.
     pub limit_modes: LimitModes,
-    /// The task with every override applied (horizon, payload, robot).
-    pub task: Task,
+    /// The task with every override applied (horizon, payload, robot), and the solve settings.
+    pub task: TaskRecord,
 }
 
 /// The JSON file `codesign solve --out` writes.
@@ -67,22 +67,26 @@ pub struct SolveDocument {
 
 impl SolveDocument {
     /// The document of `result`, solved for `formulation` (its task, space and modes) from the
-    /// task file `task_file`.
+    /// task file `task_file` with `settings`.
     pub fn new(
         task_file: &str,
         formulation: &Formulation,
+        settings: &SolveSettings,
         result: TrajectoryResult,
     ) -> SolveDocument {
         let task = formulation.task();
         SolveDocument {
-            tool: ToolInfo::current(task.solver.linear_solver()),
+            tool: ToolInfo::current(settings.linear_solver()),
             inputs: SolveInputs {
                 task_file: task_file.to_owned(),
                 space: formulation.space(),
                 ratios: result.ratios.clone(),
                 payload_kg: task.payload.mass_kg,
                 limit_modes: *formulation.modes(),
-                task: task.clone(),
+                task: TaskRecord {
+                    task: task.clone(),
+                    solver: settings.clone(),
+                },
             },
             result,
         }

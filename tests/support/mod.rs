@@ -16,6 +16,15 @@ pub fn task_path() -> PathBuf {
     root().join("robots/tasks/pick_place.json")
 }
 
+/// The solve settings of the task file's `solver` section, with `linear_solver`.
+pub fn settings(linear_solver: codesign::ipopt::LinearSolver) -> codesign::solve::SolveSettings {
+    let file = codesign::model::task::TaskFile::load(&task_path()).expect("the task file loads");
+    let mut settings = codesign::solve::SolveSettings::from_section(file.solver.as_ref())
+        .expect("its solver section is valid");
+    settings.linear_solver = Some(linear_solver);
+    settings
+}
+
 /// The codesign binary, to run in `dir`.
 pub fn codesign_command(dir: &Path, args: &[&str]) -> Command {
     let mut command = Command::new(env!("CARGO_BIN_EXE_codesign"));

@@ -8,7 +8,6 @@ use super::common::task_source;
 use super::optimize::LOG_EXTENSION;
 use crate::design::log::Start;
 use crate::ipopt::LinearSolver;
-use crate::model::task::Task;
 use crate::problem::Space;
 use crate::report::codesign::{
     cost_evolution_chart, radar_chart, CapacityDocument, OptimizeDocument,
@@ -19,7 +18,7 @@ use crate::report::files::{
 use crate::report::plots::Figure;
 use crate::report::table::{build_table, ResultFile};
 use crate::report::trajectory::write_plots;
-use crate::solver::TrajectoryResult;
+use crate::solve::{SolveSettings, TaskRecord, TrajectoryResult};
 use plan::{Plan, CODESIGNED, FULL, SPACES};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -111,9 +110,14 @@ pub fn run(args: &Args) -> Result<(), String> {
         return Ok(());
     }
     let source = task_source(plan.task.as_ref());
-    let mut task = source.load().map_err(|e| e.to_string())?;
-    task.solver
-        .override_linear_solver(plan.problem.linear_solver);
+    let file = source.load().map_err(|e| e.to_string())?;
+    let mut solver =
+        SolveSettings::from_section(file.solver.as_ref()).map_err(|e| format!("{source}: {e}"))?;
+    solver.override_linear_solver(plan.problem.linear_solver);
+    let task = TaskRecord {
+        task: file.task,
+        solver,
+    };
     create_folder(&plan.out_dir)?;
     // Held until the reproduction ends: a second one on the same folder fails at once.
     let _lock = lock_folder(&plan.out_dir)?;
@@ -148,7 +152,7 @@ pub fn run(args: &Args) -> Result<(), String> {
 /// the table.
 fn finish(
     plan: &Plan,
-    task: &Task,
+    task: &TaskRecord,
     outcomes: Outcomes,
     merged: bool,
     seconds: f64,
@@ -239,7 +243,11 @@ fn best_of(runs: &[OptimizeDocument], payload: f64, space: Space) -> Option<&Tra
 
 /// Per case: the cost evolution of its seeds and the plots of its best design; and the radar
 /// chart of every case's best ratios.
-fn write_case_plots(plan: &Plan, task: &Task, runs: &[OptimizeDocument]) -> Result<(), String> {
+fn write_case_plots(
+    plan: &Plan,
+    task: &TaskRecord,
+    runs: &[OptimizeDocument],
+) -> Result<(), String> {
     let plots = plan.out_dir.join("plots");
     create_folder(&plots)?;
     let mut radar_cases = Vec::new();
@@ -260,7 +268,7 @@ fn write_case_plots(plan: &Plan, task: &Task, runs: &[OptimizeDocument]) -> Resu
             }
         }
     }
-    let upper: Vec<f64> = task.transmission.bounds.iter().map(|b| b[1]).collect();
+    let upper: Vec<f64> = task.task.transmission.bounds.iter().map(|b| b[1]).collect();
     radar_chart(
         "Optimal gear ratios (r_i / upper bound)",
         &radar_cases,

@@ -7,17 +7,16 @@ use crate::cli::common::task_source;
 use crate::cli::optimize::run_case;
 use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::design::evaluate::Objective;
-use crate::model::task::Task;
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
 use crate::report::codesign::{CapacityDocument, OptimizeDocument};
 use crate::report::files::write_json;
 use crate::report::table::ResultFile;
 use crate::report::trajectory::{write_plots, SolveDocument, ToolInfo};
-use crate::solver::{solve_design, SolveError, SolveSettings};
+use crate::solve::{solve_design, SolveError, TaskRecord};
 
 /// Runs every independent stage of `plan`: what its printed commands do elsewhere.
-pub fn run_all(plan: &Plan, task: &Task) -> Result<Outcomes, String> {
+pub fn run_all(plan: &Plan, task: &TaskRecord) -> Result<Outcomes, String> {
     Ok(Outcomes {
         originals: solve_originals(plan, task)?,
         runs: cost_runs(plan)?,
@@ -26,7 +25,7 @@ pub fn run_all(plan: &Plan, task: &Task) -> Result<Outcomes, String> {
         original_capacities: SPACES
             .iter()
             .map(|&space| {
-                let ratios = task.transmission.original.clone();
+                let ratios = task.task.transmission.original.clone();
                 capacity_document(plan, task, space, ratios, &format!("{space}-original"))
             })
             .collect::<Result<_, _>>()?,
@@ -34,7 +33,12 @@ pub fn run_all(plan: &Plan, task: &Task) -> Result<Outcomes, String> {
 }
 
 /// The formulation of `task` with `payload_kg` in `space`, with the task's limit modes.
-pub fn formulation_at(task: &Task, payload_kg: f64, space: Space) -> Result<Formulation, String> {
+pub fn formulation_at(
+    task: &TaskRecord,
+    payload_kg: f64,
+    space: Space,
+) -> Result<Formulation, String> {
+    let task = &task.task;
     let robot = Robot::load(task).map_err(|e| e.to_string())?;
     Formulation::new(task, robot, space, task.limit_modes)
         .and_then(|formulation| formulation.with_payload(payload_kg))
@@ -43,19 +47,18 @@ pub fn formulation_at(task: &Task, payload_kg: f64, space: Space) -> Result<Form
 
 /// Solves the original design at every payload in both spaces; writes each result and its
 /// plots.
-fn solve_originals(plan: &Plan, task: &Task) -> Result<Vec<ResultFile>, String> {
+fn solve_originals(plan: &Plan, task: &TaskRecord) -> Result<Vec<ResultFile>, String> {
     let source = task_source(plan.task.as_ref());
     let mut files = Vec::new();
     for payload in PAYLOADS {
         for space in SPACES {
             let formulation = formulation_at(task, payload, space)?;
-            let ratios = task.transmission.original.clone();
-            let result = solve_design(&formulation, &ratios, &SolveSettings::default()).map_err(
-                |e| match e {
+            let ratios = task.task.transmission.original.clone();
+            let result =
+                solve_design(&formulation, &ratios, &task.solver).map_err(|e| match e {
                     SolveError::Design(_) => format!("{source} transmission.original: {e}"),
                     SolveError::Ipopt(_) => format!("{source} solver: {e}"),
-                },
-            )?;
+                })?;
             say!(
                 "original design, {space} space, {payload} kg: {} J = {:.4} ({} iterations)",
                 result.status,
@@ -63,7 +66,7 @@ fn solve_originals(plan: &Plan, task: &Task) -> Result<Vec<ResultFile>, String> 
                 result.iterations
             );
             write_plots(&plan.original_plots(space, payload), &formulation, &result)?;
-            let document = SolveDocument::new(&source.label(), &formulation, result);
+            let document = SolveDocument::new(&source.label(), &formulation, &task.solver, result);
             write_json(&plan.original_file(space, payload), &document)?;
             files.push(ResultFile::Solve(Box::new(document)));
         }
@@ -166,21 +169,21 @@ fn beyond_runs(plan: &Plan) -> Result<Vec<OptimizeDocument>, String> {
 /// Searches the payload capacity of `ratios` in `space` and writes it as `capacity/NAME.json`.
 pub fn capacity_document(
     plan: &Plan,
-    task: &Task,
+    task: &TaskRecord,
     space: Space,
     ratios: Vec<f64>,
     name: &str,
 ) -> Result<CapacityDocument, String> {
     let settings = CapacitySettings::default();
-    let formulation = formulation_at(task, task.payload.mass_kg, space)?;
-    let capacity = payload_capacity(&formulation, &ratios, &settings)?;
+    let formulation = formulation_at(task, task.task.payload.mass_kg, space)?;
+    let capacity = payload_capacity(&formulation, &task.solver, &ratios, &settings)?;
     say!("payload capacity, {name}: {:?} kg", capacity.capacity_kg);
     let document = CapacityDocument {
         tool: ToolInfo::current(task.solver.linear_solver()),
         task_file: task_source(plan.task.as_ref()).label(),
         space,
         ratios,
-        limit_modes: task.limit_modes,
+        limit_modes: task.task.limit_modes,
         settings,
         capacity,
     };

@@ -409,6 +409,7 @@ mod tests {
         WorkerSetup {
             modes: task.limit_modes,
             task,
+            solve: crate::testing::settings(),
             space: Space::Actuation,
             penalty: crate::design::penalty::Penalty::PAPER,
             objective: Objective::Cost,

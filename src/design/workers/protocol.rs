@@ -7,6 +7,7 @@ use crate::design::penalty::Penalty;
 use crate::ipopt::{LinearSolver, IPOPT_VERSION};
 use crate::model::task::{LimitModes, Task};
 use crate::problem::Space;
+use crate::solve::SolveSettings;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::io::{BufRead, Write};
@@ -17,6 +18,8 @@ pub struct WorkerSetup {
     /// The task with every override applied (its robot path absolute or relative to the
     /// worker's working directory, which is the parent's; none for the built-in robot).
     pub task: Task,
+    /// IPOPT's settings of the solves (the worker's IPOPT log stays silent).
+    pub solve: SolveSettings,
     /// Joint or actuation space.
     pub space: Space,
     /// Limit modes.
@@ -33,6 +36,7 @@ impl WorkerSetup {
     pub fn fitness(&self) -> Result<Fitness, String> {
         Fitness::new(
             &self.task,
+            &self.solve,
             self.space,
             self.modes,
             &self.objective,
@@ -66,7 +70,7 @@ impl Hello {
         Ok(Hello {
             codesign: env!("CARGO_PKG_VERSION").to_owned(),
             ipopt: IPOPT_VERSION.to_owned(),
-            linear_solver: setup.task.solver.linear_solver(),
+            linear_solver: setup.solve.linear_solver(),
             setup_hash: format!("{hash:016x}"),
         })
     }

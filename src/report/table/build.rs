@@ -11,7 +11,7 @@ use crate::model::task::Motors;
 use crate::problem::Space;
 use crate::report::codesign::{Method, OptimizeDocument};
 use crate::report::trajectory::ToolInfo;
-use crate::solver::TrajectoryResult;
+use crate::solve::TrajectoryResult;
 use crate::stats::median;
 
 /// Builds the table from result files: solves of the original design give "before"; co-design
@@ -20,10 +20,10 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
     let mut rows: Vec<TableRow> = Vec::new();
     for file in files {
         if let ResultFile::Solve(doc) = file {
-            let original = &doc.inputs.task.transmission.original;
+            let original = &doc.inputs.task.task.transmission.original;
             if doc.result.ratios == *original {
                 row_mut(&mut rows, doc.inputs.payload_kg, doc.inputs.space).before =
-                    Some(cell(&doc.result, &doc.inputs.task.motors));
+                    Some(cell(&doc.result, &doc.inputs.task.task.motors));
             }
         }
     }
@@ -138,7 +138,7 @@ fn row_mut(rows: &mut Vec<TableRow>, payload_kg: f64, space: Space) -> &mut Tabl
 /// run to its penalty's gradient column, a CMA-ES run to "after" (and to "before" when still
 /// empty) or with the graded penalty to "graded".
 fn add_run(row: &mut TableRow, doc: &OptimizeDocument) {
-    let motors = &doc.inputs.task.motors;
+    let motors = &doc.inputs.task.task.motors;
     if let Objective::Capacity(_) = doc.inputs.objective {
         let capacity = -doc.best_cost;
         if row

@@ -1,0 +1,38 @@
+//! Why a design could not be solved at all.
+
+use crate::ipopt;
+use crate::transmission::DesignError;
+use std::fmt;
+
+/// Why a design could not be solved at all. (A design that is valid but infeasible is not an
+/// error: it is a [`super::TrajectoryResult`] with `feasible: false`.)
+#[derive(Clone, Debug, PartialEq)]
+pub enum SolveError {
+    /// The design is outside its space (bounds, order constraints, not finite, singular G).
+    Design(DesignError),
+    /// IPOPT could not run (a callback failed, an option was rejected).
+    Ipopt(ipopt::Error),
+}
+
+impl fmt::Display for SolveError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SolveError::Design(error) => write!(f, "invalid design: {error}"),
+            SolveError::Ipopt(error) => write!(f, "{error}"),
+        }
+    }
+}
+
+impl std::error::Error for SolveError {}
+
+impl From<DesignError> for SolveError {
+    fn from(error: DesignError) -> SolveError {
+        SolveError::Design(error)
+    }
+}
+
+impl From<ipopt::Error> for SolveError {
+    fn from(error: ipopt::Error) -> SolveError {
+        SolveError::Ipopt(error)
+    }
+}

@@ -1,0 +1,27 @@
+//! Solving the trajectory problem of one design and reading the result.
+//!
+//! [`solve_design`] runs IPOPT on a [`TrajectoryProblem`](crate::problem::TrajectoryProblem)
+//! with the [`SolveSettings`] the command or worker was given, and returns a
+//! [`TrajectoryResult`]: status, feasibility, cost, timing, the trajectory with joint and motor
+//! torques and the TCP path, and the largest violation of each constraint family. [`solve_elastic`]
+//! solves the elastic kind of the same problem (docs/model.md, section 14), which always has a
+//! solution, and reports how much torque and speed the design lacks.
+//!
+//! The rooms: `settings` (IPOPT's settings, read from a task file's `solver` section), `run`
+//! (the solve), `result` (the result and its file schema), `verify` (the constraint residuals
+//! evaluated again on the trajectory), `error`.
+
+mod error;
+mod result;
+mod run;
+mod settings;
+mod verify;
+
+pub use error::SolveError;
+pub use result::{ElasticMeasures, SolveSeconds, Trajectory, TrajectoryResult};
+pub use run::{solve_design, solve_design_from, solve_elastic};
+pub use settings::{SettingsError, SolveSettings, TaskRecord, DEFAULT_MAX_ITER, DEFAULT_TOL};
+pub use verify::Violations;
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,214 @@
+//! The result of a trajectory solve, as result files record it (their schema), and how it is
+//! read from IPOPT's solution.
+
+use super::verify::Violations;
+use crate::ipopt::{Nlp, Solution};
+use crate::problem::{cost_gradient, relaxation, ProblemKind, TrajectoryProblem};
+use serde::{Deserialize, Serialize};
+
+/// Wall time of a solve, s.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SolveSeconds {
+    /// The whole IPOPT call.
+    pub total: f64,
+    /// Inside the problem's callbacks (dynamics and derivatives).
+    pub callbacks: f64,
+    /// In IPOPT itself (`total - callbacks`).
+    pub ipopt: f64,
+}
+
+/// The trajectory at the nodes k = 0..=N (controls at k = 0..N-1).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Trajectory {
+    /// Node times, s.
+    pub time: Vec<f64>,
+    /// Joint positions per node, rad.
+    pub q: Vec<Vec<f64>>,
+    /// Joint speeds per node, rad/s.
+    pub v: Vec<Vec<f64>>,
+    /// Joint accelerations per interval, rad/s^2.
+    pub a: Vec<Vec<f64>>,
+    /// Joint torques per interval, N m.
+    pub joint_torque: Vec<Vec<f64>>,
+    /// Motor torques per interval, N m (G^-T tau for a joint-space solution).
+    pub motor_torque: Vec<Vec<f64>>,
+    /// Motor speeds per node, rad/s (G v).
+    pub motor_speed: Vec<Vec<f64>>,
+    /// TCP world y per node, m.
+    pub tcp_y: Vec<f64>,
+    /// TCP world z per node, m.
+    pub tcp_z: Vec<f64>,
+}
+
+/// What an elastic solve's slacks relax (docs/model.md, section 14).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ElasticMeasures {
+    /// The joint torque the motors lack, |RNEA - tau| summed over joints and integrated over
+    /// the horizon (times the step h), N m s.
+    pub torque_deficit: f64,
+    /// The speed above the limit (motor speeds in mode `exact`, joint speeds else), summed over
+    /// rows and integrated over the horizon, rad.
+    pub speed_excess: f64,
+    /// The largest single slack, N m or rad/s; the design is feasible when it is at most the
+    /// solve settings' `tol`.
+    pub largest_slack: f64,
+    /// The penalised objective IPOPT minimised: the cost J plus the slacks' penalty.
+    pub objective: f64,
+    /// Its exact sensitivity to each ratio (envelope theorem, `problem::cost_gradient`), when
+    /// IPOPT found an optimum; dJ*/dr where the design is feasible.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub objective_gradient: Option<Vec<f64>>,
+}
+
+/// The result of one trajectory solve.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrajectoryResult {
+    /// The design r.
+    pub ratios: Vec<f64>,
+    /// IPOPT's name for its return status.
+    pub status: String,
+    /// Whether IPOPT reported an optimum (strict or acceptable) and, for an elastic solve, every
+    /// slack is at most the solve settings' `tol` (N m or rad/s).
+    pub feasible: bool,
+    /// Why the result is infeasible, when it is.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+    /// The optimal cost J (of an elastic solve: without the slacks' penalty).
+    pub cost: f64,
+    /// IPOPT iterations.
+    pub iterations: usize,
+    /// Wall time.
+    pub solve_seconds: SolveSeconds,
+    /// Largest |motor torque| the trajectory needs, N m.
+    pub max_motor_torque: f64,
+    /// Largest |motor speed|, rad/s.
+    pub max_motor_speed: f64,
+    /// Largest violation per constraint family.
+    pub violations: Violations,
+    /// dJ*/dr, the exact sensitivity of the optimal cost to each ratio (envelope theorem; see
+    /// `problem::cost_gradient`), when a hard solve succeeded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cost_gradient: Option<Vec<f64>>,
+    /// The torque deficit and speed excess, for an elastic solve.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub elastic: Option<ElasticMeasures>,
+    /// The trajectory.
+    pub trajectory: Trajectory,
+}
+
+/// The result of `solution`, a solution of `problem`; an elastic solution is feasible when its
+/// largest slack is at most `tol` (the settings' `tol`, N m or rad/s).
+pub(super) fn read_result(
+    problem: &mut TrajectoryProblem<'_>,
+    solution: &Solution,
+    tol: f64,
+) -> TrajectoryResult {
+    let trajectory = read_trajectory(problem, &solution.x);
+    let violations = Violations::of(problem, &solution.x, &trajectory);
+    let (cost, elastic) = cost_and_measures(problem, solution);
+    let f = problem.formulation();
+    let reason = infeasibility(solution, elastic.as_ref(), tol);
+    let feasible = reason.is_none();
+    TrajectoryResult {
+        ratios: problem.ratios().to_vec(),
+        status: solution.status.name(),
+        feasible,
+        reason,
+        cost,
+        iterations: solution.iterations,
+        solve_seconds: SolveSeconds {
+            total: solution.timing.total.as_secs_f64(),
+            callbacks: solution.timing.callbacks.as_secs_f64(),
+            ipopt: solution.timing.ipopt.as_secs_f64(),
+        },
+        max_motor_torque: trajectory
+            .motor_torque
+            .iter()
+            .flatten()
+            .fold(0.0, |m, t| m.max(t.abs())),
+        max_motor_speed: trajectory
+            .motor_speed
+            .iter()
+            .flatten()
+            .fold(0.0, |m, w| m.max(w.abs())),
+        violations,
+        cost_gradient: (feasible && f.kind() == ProblemKind::Hard)
+            .then(|| cost_gradient(problem, solution)),
+        elastic,
+        trajectory,
+    }
+}
+
+/// The cost J at `solution` and, for an elastic problem, what its slacks relax. IPOPT's objective
+/// of an elastic problem comes from its own iterate, whose slacks its bound relaxation lets go to
+/// about -tol each (worth a penalty of -tol times the weight per slack, far above tol), so the
+/// elastic J and objective are evaluated again at the returned point, whose slacks are >= 0.
+fn cost_and_measures(
+    problem: &mut TrajectoryProblem<'_>,
+    solution: &Solution,
+) -> (f64, Option<ElasticMeasures>) {
+    let f = problem.formulation();
+    let Some(relaxed) = relaxation(f, &solution.x) else {
+        return (solution.objective, None);
+    };
+    let objective = problem.objective(&solution.x, true).unwrap_or(f64::NAN);
+    let measures = ElasticMeasures {
+        torque_deficit: relaxed.torque_deficit,
+        speed_excess: relaxed.speed_excess,
+        largest_slack: relaxed.largest,
+        objective,
+        objective_gradient: solution
+            .status
+            .is_success()
+            .then(|| cost_gradient(problem, solution)),
+    };
+    (objective - relaxed.penalty, Some(measures))
+}
+
+/// Why `solution` is infeasible, if it is: IPOPT found no optimum, or (elastic) a slack exceeds
+/// `tol` (the solve settings' `tol`, N m or rad/s).
+fn infeasibility(
+    solution: &Solution,
+    elastic: Option<&ElasticMeasures>,
+    tol: f64,
+) -> Option<String> {
+    if !solution.status.is_success() {
+        return Some(format!("IPOPT returned {}", solution.status.name()));
+    }
+    elastic.filter(|e| e.largest_slack > tol).map(|e| {
+        format!(
+            "the design lacks {:.3e} N m s of torque and exceeds the speed limit by {:.3e} rad",
+            e.torque_deficit, e.speed_excess
+        )
+    })
+}
+
+/// The trajectory of `problem`'s primal point x: states, torques, motor speeds, the TCP's path.
+fn read_trajectory(problem: &TrajectoryProblem<'_>, x: &[f64]) -> Trajectory {
+    let f = problem.formulation();
+    let layout = f.layout();
+    let (n, steps, h) = (layout.dof, layout.steps, f.step_s());
+    let slice = |start: usize| x[start..start + n].to_vec();
+    let dynamics = f.dynamics();
+    let mut data = dynamics.workspace();
+    let mut trajectory = Trajectory::default();
+    for k in 0..=steps {
+        let (q, v) = (slice(layout.q(k, 0)), slice(layout.v(k, 0)));
+        let tcp = dynamics.tcp_position(&mut data, &q);
+        trajectory.time.push(k as f64 * h);
+        trajectory.tcp_y.push(tcp[1]);
+        trajectory.tcp_z.push(tcp[2]);
+        trajectory
+            .motor_speed
+            .push(problem.coupling().motor_speeds(&v));
+        if k < steps {
+            let u = slice(layout.u(k, 0));
+            trajectory.a.push(slice(layout.a(k, 0)));
+            trajectory.joint_torque.push(problem.joint_torques(&u));
+            trajectory.motor_torque.push(problem.motor_torques(&u));
+        }
+        trajectory.q.push(q);
+        trajectory.v.push(v);
+    }
+    trajectory
+}

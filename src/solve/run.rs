@@ -1,0 +1,80 @@
+//! Running IPOPT on the trajectory problem of one design.
+
+use super::result::{read_result, TrajectoryResult};
+use super::settings::SolveSettings;
+use super::SolveError;
+use crate::ipopt::{self, Nlp, Solution};
+use crate::problem::{Formulation, ProblemKind, TrajectoryProblem};
+
+/// Solves the elastic trajectory problem (docs/model.md, section 14) of design `ratios` in
+/// `formulation` (of either kind) from the standard initial guess: always feasible as a problem,
+/// the result reports the torque deficit and the speed excess the design needs.
+pub fn solve_elastic(
+    formulation: &Formulation,
+    ratios: &[f64],
+    settings: &SolveSettings,
+) -> Result<TrajectoryResult, SolveError> {
+    solve_design(&formulation.elastic(), ratios, settings)
+}
+
+/// Solves the trajectory problem of design `ratios`, of the formulation's kind, from the standard
+/// initial guess.
+pub fn solve_design(
+    formulation: &Formulation,
+    ratios: &[f64],
+    settings: &SolveSettings,
+) -> Result<TrajectoryResult, SolveError> {
+    solve_design_from(formulation, ratios, settings, None).map(|(result, _)| result)
+}
+
+/// Solves the trajectory problem of design `ratios`, warm-started from `warm` (the raw solution
+/// of a nearby design of the same formulation) when given, else from the standard initial guess.
+/// Returns the result and the raw solution, to warm-start the next design from.
+pub fn solve_design_from(
+    formulation: &Formulation,
+    ratios: &[f64],
+    settings: &SolveSettings,
+    warm: Option<&Solution>,
+) -> Result<(TrajectoryResult, Solution), SolveError> {
+    let mut problem = formulation.problem(ratios)?;
+    let mut options = settings.ipopt_options();
+    if warm.is_some() {
+        // Keep the warm point and multipliers close to where they were; the barrier parameter
+        // starts at IPOPT's default, which measured best for steps of any size (a smaller
+        // mu_init halves the iterations after a tiny step but doubles them after a large one).
+        options = options
+            .num("warm_start_bound_push", 1e-6)
+            .num("warm_start_mult_bound_push", 1e-6);
+    }
+    if formulation.kind() == ProblemKind::Elastic {
+        options = options.num(
+            "obj_scaling_factor",
+            elastic_objective_scaling(&mut problem),
+        );
+    }
+    let solution = ipopt::solve_from(&mut problem, &options, warm)?;
+    Ok((read_result(&mut problem, &solution, settings.tol), solution))
+}
+
+/// IPOPT's default `nlp_scaling_max_gradient`: its gradient-based scaling scales the objective
+/// down when its largest gradient entry at the starting point exceeds this.
+const SCALING_MAX_GRADIENT: f64 = 100.0;
+
+/// The objective scaling that undoes, for an elastic problem, the extra scaling its penalty
+/// weights cause: IPOPT scales the objective by min(1, 100 / max |grad f(x0)|), in which the
+/// weights (up to 3e4 in joint space) would dominate the hard problem's gradient g. This
+/// factor restores the hard problem's scale min(1, 100 / g), so that the elastic solve follows
+/// the hard solve's path towards the same local optimum where that one is feasible.
+fn elastic_objective_scaling(problem: &mut TrajectoryProblem<'_>) -> f64 {
+    let n = problem.num_variables();
+    let (mut x, mut gradient) = (vec![0.0; n], vec![0.0; n]);
+    problem.initial_point(&mut x);
+    if problem.gradient(&x, true, &mut gradient).is_err() {
+        return 1.0;
+    }
+    let slacks = problem.formulation().layout().slacks();
+    let hard = super::verify::max_abs(gradient[..slacks.start].iter().copied());
+    let elastic = super::verify::max_abs(gradient[slacks].iter().copied()).max(hard);
+    let scale = |largest: f64| (SCALING_MAX_GRADIENT / largest).min(1.0);
+    scale(hard) / scale(elastic)
+}

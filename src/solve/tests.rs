@@ -1,0 +1,214 @@
+//! Tests of the solve layer: results and their verification on the repository's task, and the
+//! exact sensitivity dJ*/dr that results report, against differences of re-solved problems.
+
+use super::{solve_design, solve_design_from, SolveError, SolveSettings};
+use crate::ipopt::{self, Solution};
+use crate::model::task::{LimitMode, LimitModes};
+use crate::model::Robot;
+use crate::problem::{Formulation, Space};
+use crate::testing;
+
+/// The original design carries 1 kg in actuation space (results/original): the result is
+/// feasible, its trajectory has N + 1 nodes and N intervals, and the residuals evaluated again
+/// on the trajectory read back are within IPOPT's tolerance.
+#[test]
+fn a_feasible_result_satisfies_every_constraint_family() {
+    let formulation = testing::formulation(1.0, Space::Actuation);
+    let original = formulation.transmission().original().to_vec();
+    let result = solve_design(&formulation, &original, &testing::settings()).unwrap();
+    assert!(
+        result.feasible && result.reason.is_none(),
+        "{}",
+        result.status
+    );
+    let steps = formulation.layout().steps;
+    let t = &result.trajectory;
+    assert_eq!(
+        (t.q.len(), t.v.len(), t.tcp_y.len()),
+        (steps + 1, steps + 1, steps + 1)
+    );
+    assert_eq!(
+        (t.a.len(), t.joint_torque.len(), t.motor_torque.len()),
+        (steps, steps, steps)
+    );
+    let v = &result.violations;
+    for (family, value) in [
+        ("dynamics", v.dynamics),
+        ("integration", v.integration),
+        ("boundary", v.boundary),
+        ("joint position", v.joint_position),
+        ("speed limits", v.speed_limits),
+        ("control limits", v.control_limits),
+    ] {
+        assert!(value <= 1e-6, "{family}: {value:e}");
+    }
+    let limit = formulation.task().motors.torque_limit_nm;
+    assert!(result.max_motor_torque <= limit * (1.0 + 1e-6));
+    assert!(result
+        .cost_gradient
+        .as_ref()
+        .is_some_and(|g| g.len() == original.len()));
+    let seconds = &result.solve_seconds;
+    assert!(seconds.total >= seconds.callbacks && seconds.callbacks > 0.0);
+}
+
+/// An infeasible design is a result that says why; a design outside its space is an error.
+#[test]
+fn infeasible_designs_are_results_and_invalid_ones_errors() {
+    let formulation = testing::formulation(3.0, Space::Actuation);
+    let settings = testing::settings();
+    let original = formulation.transmission().original().to_vec();
+    let result = solve_design(&formulation, &original, &settings).unwrap();
+    assert!(!result.feasible, "the original design does not carry 3 kg");
+    assert!(result.reason.unwrap().starts_with("IPOPT returned"));
+    assert!(result.cost_gradient.is_none());
+    let outside = [100.0, 3.0, 1.0, 1.0];
+    let error = solve_design(&formulation, &outside, &settings).unwrap_err();
+    assert!(matches!(error, SolveError::Design(_)), "{error}");
+}
+
+/// The settings reach IPOPT: its iteration limit, and an option it rejects, named.
+#[test]
+fn the_settings_reach_ipopt() {
+    let formulation = testing::formulation(1.0, Space::Actuation);
+    let original = formulation.transmission().original().to_vec();
+    let few = SolveSettings {
+        max_iter: 3,
+        ..testing::settings()
+    };
+    let result = solve_design(&formulation, &original, &few).unwrap();
+    assert_eq!(result.status, "Maximum_Iterations_Exceeded");
+    assert_eq!(result.iterations, 3);
+    assert!(!result.feasible);
+    let mut unknown = testing::settings();
+    unknown.options.insert("no_such_option".into(), 1.into());
+    match solve_design(&formulation, &original, &unknown) {
+        Err(SolveError::Ipopt(ipopt::Error::InvalidOption { name, .. })) => {
+            assert_eq!(name, "no_such_option")
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+/// dJ*/dr against central differences of re-solved problems, at designs where the active
+/// set is stable, in both spaces and with box (paper, interval) and linear (exact) limits.
+#[test]
+fn cost_gradient_matches_differences_of_resolved_problems() {
+    let mut task = crate::testing::task();
+    let settings = SolveSettings {
+        tol: 1e-11,
+        ..crate::testing::settings()
+    };
+    let cases = [
+        (
+            Space::Actuation,
+            1.0,
+            LimitMode::Paper,
+            LimitMode::Exact,
+            [7.0, 4.0, 2.0, 2.0],
+        ),
+        (
+            Space::Actuation,
+            0.0,
+            LimitMode::Paper,
+            LimitMode::Interval,
+            [6.0, 3.0, 1.5, 1.5],
+        ),
+        (
+            Space::Joint,
+            0.0,
+            LimitMode::Interval,
+            LimitMode::Exact,
+            [6.5, 3.5, 1.5, 1.2],
+        ),
+        (
+            Space::Joint,
+            0.0,
+            LimitMode::Exact,
+            LimitMode::Paper,
+            [8.0, 4.0, 2.0, 2.5],
+        ),
+    ];
+    for (space, payload, torque, speed, ratios) in cases {
+        task.payload.mass_kg = payload;
+        let robot = Robot::load(&task).unwrap();
+        let formulation =
+            Formulation::new(&task, robot, space, LimitModes { torque, speed }).unwrap();
+        let result = solve_design(&formulation, &ratios, &settings).unwrap();
+        assert!(result.feasible, "{space} {ratios:?}: {}", result.status);
+        let gradient = result.cost_gradient.clone().unwrap();
+        for l in 0..4 {
+            let step = 1e-4;
+            let cost = |sign: f64| {
+                let mut r = ratios;
+                r[l] += sign * step;
+                solve_design(&formulation, &r, &settings).unwrap().cost
+            };
+            let fd = (cost(1.0) - cost(-1.0)) / (2.0 * step);
+            let scale = gradient.iter().fold(1.0_f64, |m, g| m.max(g.abs()));
+            assert!(
+                (fd - gradient[l]).abs() <= 1e-4 * scale,
+                "{space} {torque:?}/{speed:?} r = {ratios:?}: dJ/dr{} = {} but differences give {fd}",
+                l + 1,
+                gradient[l]
+            );
+        }
+    }
+}
+
+/// The elastic kind's d(penalised objective)/dr against central differences of re-solved
+/// problems, at infeasible designs (slacks active) of both spaces inside the design box, with
+/// the box speed limits it holds as rows (paper, interval) and the linear ones (exact).
+#[test]
+fn elastic_objective_gradient_matches_differences_of_resolved_problems() {
+    let mut task = crate::testing::task();
+    let settings = SolveSettings {
+        tol: 1e-10,
+        ..crate::testing::settings()
+    };
+    task.payload.mass_kg = 3.0;
+    let cases = [
+        (Space::Actuation, LimitMode::Paper, [6.0, 3.0, 1.5, 1.5]),
+        (Space::Actuation, LimitMode::Exact, [8.0, 5.0, 2.5, 2.0]),
+        (Space::Joint, LimitMode::Interval, [4.0, 2.0, 1.2, 1.2]),
+    ];
+    for (space, speed, ratios) in cases {
+        let robot = Robot::load(&task).unwrap();
+        let modes = LimitModes {
+            speed,
+            ..task.limit_modes
+        };
+        let formulation = Formulation::new(&task, robot, space, modes)
+            .unwrap()
+            .elastic();
+        // The perturbed problems start from the solution at `ratios`, so that they stay in
+        // its local optimum (cold starts of this non-convex problem may land in others).
+        let solve = |r: &[f64], warm: Option<&Solution>| {
+            let (result, solution) = solve_design_from(&formulation, r, &settings, warm).unwrap();
+            assert!(solution.status.is_success(), "{r:?}: {}", result.status);
+            (result, solution)
+        };
+        let (result, solution) = solve(&ratios, None);
+        assert!(
+            !result.feasible,
+            "{space} {ratios:?} is meant to be infeasible"
+        );
+        let gradient = result.elastic.unwrap().objective_gradient.unwrap();
+        let scale = gradient.iter().fold(1.0_f64, |m, g| m.max(g.abs()));
+        for l in 0..4 {
+            let step = 1e-4;
+            let at = |sign: f64| {
+                let mut r = ratios;
+                r[l] += sign * step;
+                solve(&r, Some(&solution)).0.elastic.unwrap().objective
+            };
+            let fd = (at(1.0) - at(-1.0)) / (2.0 * step);
+            assert!(
+                (fd - gradient[l]).abs() <= 1e-4 * scale,
+                "{space} {speed:?} r = {ratios:?}: dphi/dr{} = {} but differences give {fd}",
+                l + 1,
+                gradient[l]
+            );
+        }
+    }
+}

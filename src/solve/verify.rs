@@ -1,0 +1,158 @@
+//! How far a solution is from satisfying each constraint family: the problem's residuals
+//! evaluated again on the trajectory read back, independently of IPOPT's own measures.
+
+use super::result::Trajectory;
+use crate::model::task::Motion;
+use crate::problem::TrajectoryProblem;
+use crate::transmission::JointLimits;
+use serde::{Deserialize, Serialize};
+
+/// The largest violation of each constraint family at the returned point (0 when satisfied).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Violations {
+    /// |RNEA(q, v, a) - tau|, N m.
+    pub dynamics: f64,
+    /// Semi-implicit Euler residuals, rad/s or rad.
+    pub integration: f64,
+    /// Start and goal states, rad or rad/s.
+    pub boundary: f64,
+    /// Joint position limits, rad.
+    pub joint_position: f64,
+    /// The problem's speed limits in its speed mode, rad/s.
+    pub speed_limits: f64,
+    /// The problem's control bounds in its torque mode, N m.
+    pub control_limits: f64,
+    /// The soft Cartesian box (penalised, not enforced), m.
+    pub cartesian_box: f64,
+}
+
+/// The largest |value|, 0 for none.
+pub(super) fn max_abs(values: impl IntoIterator<Item = f64>) -> f64 {
+    values.into_iter().fold(0.0, |m: f64, v| m.max(v.abs()))
+}
+
+/// How far `value` lies outside [lower, upper].
+fn outside(value: f64, lower: f64, upper: f64) -> f64 {
+    (lower - value).max(value - upper).max(0.0)
+}
+
+impl Violations {
+    /// The violations of `problem`'s constraint families at x, whose trajectory is `trajectory`.
+    pub(super) fn of(
+        problem: &TrajectoryProblem<'_>,
+        x: &[f64],
+        trajectory: &Trajectory,
+    ) -> Violations {
+        let f = problem.formulation();
+        let layout = f.layout();
+        let (n, h) = (layout.dof, f.step_s());
+        let limits = f.dynamics().robot().position_limits();
+        let speed = problem.speed_limits();
+        let control = problem.control_limits();
+        Violations {
+            dynamics: dynamics_residual(problem, trajectory),
+            integration: integration_residual(h, trajectory),
+            boundary: boundary_residual(&f.task().motion, trajectory),
+            joint_position: trajectory
+                .q
+                .iter()
+                .flat_map(|q| {
+                    q.iter()
+                        .zip(limits)
+                        .map(|(&q, &(lo, hi))| outside(q, lo, hi))
+                })
+                .fold(0.0, f64::max),
+            speed_limits: trajectory
+                .v
+                .iter()
+                .map(|v| limit_violation(&speed, v))
+                .fold(0.0, f64::max),
+            control_limits: (0..layout.steps)
+                .map(|k| limit_violation(&control, &x[layout.u(k, 0)..layout.u(k, 0) + n]))
+                .fold(0.0, f64::max),
+            cartesian_box: box_violation(problem, trajectory),
+        }
+    }
+}
+
+/// The largest |RNEA(q, v, a) - tau| over the intervals, N m.
+fn dynamics_residual(problem: &TrajectoryProblem<'_>, trajectory: &Trajectory) -> f64 {
+    let dynamics = problem.formulation().dynamics();
+    let mut data = dynamics.workspace();
+    let mut rnea = vec![0.0; dynamics.dof()];
+    let mut largest = 0.0;
+    for (k, (a, tau)) in trajectory
+        .a
+        .iter()
+        .zip(&trajectory.joint_torque)
+        .enumerate()
+    {
+        dynamics.rnea(&mut data, &trajectory.q[k], &trajectory.v[k], a, &mut rnea);
+        largest = f64::max(largest, max_abs(rnea.iter().zip(tau).map(|(r, t)| r - t)));
+    }
+    largest
+}
+
+/// The largest semi-implicit Euler residual over the intervals (time step h, s), rad/s or rad.
+fn integration_residual(h: f64, trajectory: &Trajectory) -> f64 {
+    let (q, v) = (&trajectory.q, &trajectory.v);
+    let mut largest: f64 = 0.0;
+    for (k, a) in trajectory.a.iter().enumerate() {
+        for i in 0..a.len() {
+            largest = largest
+                .max((v[k + 1][i] - v[k][i] - h * a[i]).abs())
+                .max((q[k + 1][i] - q[k][i] - h * v[k + 1][i]).abs());
+        }
+    }
+    largest
+}
+
+/// The largest distance of the first and last states from the task's start and goal at rest.
+fn boundary_residual(motion: &Motion, trajectory: &Trajectory) -> f64 {
+    let last = trajectory.q.len() - 1;
+    let mut largest: f64 = 0.0;
+    for (k, pose) in [(0, &motion.start), (last, &motion.goal)] {
+        largest = largest
+            .max(max_abs(
+                trajectory.q[k].iter().zip(pose.iter()).map(|(q, p)| q - p),
+            ))
+            .max(max_abs(trajectory.v[k].iter().copied()));
+    }
+    largest
+}
+
+/// The TCP's largest distance outside the soft Cartesian box over the nodes, m.
+fn box_violation(problem: &TrajectoryProblem<'_>, trajectory: &Trajectory) -> f64 {
+    let f = problem.formulation();
+    let dynamics = f.dynamics();
+    let mut data = dynamics.workspace();
+    let b = &f.task().cartesian_box;
+    let mut largest: f64 = 0.0;
+    for q in &trajectory.q {
+        let tcp = dynamics.tcp_position(&mut data, q);
+        for (axis, interval) in [&b.x, &b.y, &b.z].into_iter().enumerate() {
+            if let Some(interval) = interval {
+                largest = largest.max(outside(tcp[axis], interval.range[0], interval.range[1]));
+            }
+        }
+    }
+    largest
+}
+
+/// How far a joint-space vector lies outside `limits`.
+fn limit_violation(limits: &JointLimits, values: &[f64]) -> f64 {
+    match limits {
+        JointLimits::Box { lower, upper } => values
+            .iter()
+            .zip(lower.iter().zip(upper))
+            .map(|(&v, (&lo, &hi))| outside(v, lo, hi))
+            .fold(0.0, f64::max),
+        JointLimits::Linear { matrix, limit } => {
+            let mapped = matrix * nalgebra::DVector::from_column_slice(values);
+            mapped
+                .iter()
+                .map(|m| outside(*m, -limit, *limit))
+                .fold(0.0, f64::max)
+        }
+    }
+}
