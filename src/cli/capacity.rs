@@ -6,7 +6,7 @@ use crate::model::task::MAX_PAYLOAD_KG;
 use crate::problem::Formulation;
 use crate::report::codesign::CapacityDocument;
 use crate::report::files::{check_output, write_json};
-use crate::report::trajectory::ToolInfo;
+use crate::solve::ToolInfo;
 use std::path::PathBuf;
 
 /// Flags of `codesign capacity`.

@@ -1,7 +1,9 @@
-//! Flags shared by the commands that load a task and a robot.
+//! Flags shared by the commands that load a task and a robot: parsed here into the design
+//! layer's [`ModelChoice`] and [`ProblemChoice`], which do the work.
 
+use crate::design::run::{ModelChoice, ProblemChoice};
 use crate::ipopt::LinearSolver;
-use crate::model::task::{check_payload, LimitMode, LimitModes, Task, TaskSource};
+use crate::model::task::{LimitMode, LimitModes, Task, TaskSource};
 use crate::model::Robot;
 use crate::problem::Space;
 use crate::solve::SolveSettings;
@@ -23,14 +25,17 @@ pub struct ModelArgs {
     pub payload: Option<f64>,
 }
 
-/// The task `--task` names, or the built-in one.
-pub fn task_source(task: Option<&PathBuf>) -> TaskSource {
-    task.map_or(TaskSource::BuiltIn, |path| TaskSource::File(path.clone()))
-}
-
 impl ModelArgs {
-    /// The files a command with these flags reads, each with where it was named: the task file
-    /// (unless built in) and the robot's URDF (unless built in). An output must be none of them.
+    /// What these flags choose.
+    pub fn choice(&self) -> ModelChoice {
+        ModelChoice {
+            task: self.task.clone(),
+            robot: self.robot.clone(),
+            payload: self.payload,
+        }
+    }
+
+    /// The files a command with these flags reads ([`ModelChoice::inputs`]).
     pub fn inputs<'a>(&'a self, task: &'a Task) -> Vec<(&'static str, &'a Path)> {
         let task_file = self.task.as_deref().map(|path| ("--task", path));
         let robot = task.robot.as_deref().map(|path| ("robot", path));
@@ -39,31 +44,12 @@ impl ModelArgs {
 
     /// Where the task comes from.
     pub fn source(&self) -> TaskSource {
-        task_source(self.task.as_ref())
+        self.choice().source()
     }
 
-    /// Loads the task (with the overrides applied), the robot carrying the payload, and the
-    /// solve settings of the task file's `solver` section.
+    /// Loads the task, the robot and the solve settings ([`ModelChoice::load`]).
     pub fn load(&self) -> Result<(Task, Robot, SolveSettings), String> {
-        let source = self.source();
-        let file = source.load().map_err(|e| e.to_string())?;
-        let settings = SolveSettings::from_section(file.solver.as_ref())
-            .map_err(|e| format!("{source}: {e}"))?;
-        let mut task = file.task;
-        if let Some(robot) = &self.robot {
-            task.robot = Some(robot.clone());
-        }
-        if let Some(payload) = self.payload {
-            check_payload(payload).map_err(|why| format!("--payload {payload}: {why}"))?;
-            task.payload.mass_kg = payload;
-        }
-        let robot = Robot::load(&task).map_err(|e| match (&self.robot, self.source()) {
-            (None, source @ TaskSource::File(_)) => format!(
-                "{e} (the `robot` of {source}, relative to its folder; see `codesign task --help`)"
-            ),
-            _ => e.to_string(),
-        })?;
-        Ok((task, robot, settings))
+        self.choice().load()
     }
 }
 
@@ -86,16 +72,23 @@ pub struct ProblemArgs {
 }
 
 impl ProblemArgs {
+    /// What these flags choose.
+    pub fn choice(&self) -> ProblemChoice {
+        ProblemChoice {
+            space: self.space,
+            torque_mode: self.torque_mode,
+            speed_mode: self.speed_mode,
+            linear_solver: self.linear_solver,
+        }
+    }
+
     /// Applies `--linear-solver` to the solve settings.
     pub fn configure(&self, settings: &mut SolveSettings) {
-        settings.override_linear_solver(self.linear_solver);
+        self.choice().configure(settings);
     }
 
     /// The limit modes: the flags where given, else the task's.
     pub fn modes(&self, task: &Task) -> LimitModes {
-        LimitModes {
-            torque: self.torque_mode.unwrap_or(task.limit_modes.torque),
-            speed: self.speed_mode.unwrap_or(task.limit_modes.speed),
-        }
+        self.choice().modes(task)
     }
 }

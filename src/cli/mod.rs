@@ -41,12 +41,10 @@ fn stdout_failure() -> Option<String> {
 }
 
 mod capacity;
-mod case;
 mod common;
 mod doctor;
 mod dynamics;
 mod optimize;
-mod preflight;
 mod reproduce;
 mod solve;
 mod table;

@@ -11,6 +11,7 @@ pub mod optimize;
 pub mod outcome;
 pub mod penalty;
 pub mod rng;
+pub mod run;
 pub mod workers;
 
 pub use penalty::PENALTY;

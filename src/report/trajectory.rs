@@ -1,40 +1,12 @@
 //! The result file and plots of one trajectory solve (`codesign solve`).
 
 use super::plots::{Chart, Figure, Guide, Series};
-use crate::ipopt::LinearSolver;
 use crate::model::task::{LimitModes, Task};
 use crate::problem::{Formulation, Space};
-use crate::solve::{SolveSettings, TaskRecord, Trajectory, TrajectoryResult};
+use crate::solve::{SolveSettings, TaskRecord, ToolInfo, Trajectory, TrajectoryResult};
 use crate::transmission::JointLimits;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-
-/// Which program and solver produced a result file.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ToolInfo {
-    /// Always `codesign`.
-    pub name: String,
-    /// The codesign version.
-    pub version: String,
-    /// The IPOPT version linked.
-    pub ipopt_version: String,
-    /// The linear solver IPOPT factorised with. Files written before it was recorded were all
-    /// solved with MUMPS.
-    #[serde(default = "LinearSolver::before_ldl")]
-    pub linear_solver: LinearSolver,
-}
-
-impl ToolInfo {
-    /// This binary, solving with `linear_solver`.
-    pub fn current(linear_solver: LinearSolver) -> ToolInfo {
-        ToolInfo {
-            name: env!("CARGO_PKG_NAME").to_owned(),
-            version: env!("CARGO_PKG_VERSION").to_owned(),
-            ipopt_version: crate::ipopt::IPOPT_VERSION.to_owned(),
-            linear_solver,
-        }
-    }
-}
 
 /// What defined a solve.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

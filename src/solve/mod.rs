@@ -18,7 +18,7 @@ mod settings;
 mod verify;
 
 pub use error::SolveError;
-pub use result::{ElasticMeasures, SolveSeconds, Trajectory, TrajectoryResult};
+pub use result::{ElasticMeasures, SolveSeconds, ToolInfo, Trajectory, TrajectoryResult};
 pub use run::{solve_design, solve_design_from, solve_elastic};
 pub use settings::{SettingsError, SolveSettings, TaskRecord, DEFAULT_MAX_ITER, DEFAULT_TOL};
 pub use verify::Violations;

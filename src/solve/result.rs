@@ -2,9 +2,36 @@
 //! read from IPOPT's solution.
 
 use super::verify::Violations;
-use crate::ipopt::{Nlp, Solution};
+use crate::ipopt::{LinearSolver, Nlp, Solution};
 use crate::problem::{cost_gradient, relaxation, ProblemKind, TrajectoryProblem};
 use serde::{Deserialize, Serialize};
+
+/// Which program and solver produced a result file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ToolInfo {
+    /// Always `codesign`.
+    pub name: String,
+    /// The codesign version.
+    pub version: String,
+    /// The IPOPT version linked.
+    pub ipopt_version: String,
+    /// The linear solver IPOPT factorised with. Files written before it was recorded were all
+    /// solved with MUMPS.
+    #[serde(default = "LinearSolver::before_ldl")]
+    pub linear_solver: LinearSolver,
+}
+
+impl ToolInfo {
+    /// This binary, solving with `linear_solver`.
+    pub fn current(linear_solver: LinearSolver) -> ToolInfo {
+        ToolInfo {
+            name: env!("CARGO_PKG_NAME").to_owned(),
+            version: env!("CARGO_PKG_VERSION").to_owned(),
+            ipopt_version: crate::ipopt::IPOPT_VERSION.to_owned(),
+            linear_solver,
+        }
+    }
+}
 
 /// Wall time of a solve, s.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]

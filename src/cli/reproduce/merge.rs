@@ -3,7 +3,8 @@
 
 use super::plan::{Plan, PAYLOADS, SPACES};
 use super::Outcomes;
-use crate::report::codesign::{CapacityDocument, OptimizeDocument};
+use crate::design::run::OptimizeDocument;
+use crate::report::codesign::CapacityDocument;
 use crate::report::table::{read_result_file, ResultFile};
 use std::path::Path;
 

@@ -4,14 +4,11 @@ mod merge;
 mod plan;
 mod stages;
 
-use super::common::task_source;
-use super::optimize::LOG_EXTENSION;
 use crate::design::log::Start;
+use crate::design::run::{task_source, OptimizeDocument, LOG_EXTENSION};
 use crate::ipopt::LinearSolver;
 use crate::problem::Space;
-use crate::report::codesign::{
-    cost_evolution_chart, radar_chart, CapacityDocument, OptimizeDocument,
-};
+use crate::report::codesign::{cost_evolution_chart, radar_chart, CapacityDocument};
 use crate::report::files::{
     check_output, create_folder, lock_or_name_holder, write_atomic, write_json,
 };

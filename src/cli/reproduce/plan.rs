@@ -2,15 +2,14 @@
 //! run of it as a [`Case`] with the file it writes.
 
 use super::Args;
-use crate::cli::case::{shell_quote, Case};
-use crate::cli::common::{ModelArgs, ProblemArgs};
+use crate::cli::common::ProblemArgs;
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::evaluate::{Objective, PayloadRange};
 use crate::design::log::Start;
 use crate::design::penalty::{Grading, Penalty, PENALTY};
+use crate::design::run::{shell_quote, Case, Method, ModelChoice, ProblemChoice};
 use crate::problem::Space;
-use crate::report::codesign::Method;
 use std::path::PathBuf;
 
 /// Payloads of the experiment, kg, and those that are co-designed (docs/model.md, section 13).
@@ -160,14 +159,14 @@ impl Plan {
     /// A run in `space` at `payload` (None: the task's) with `method`, the plan's shared flags
     /// and every other setting at its default.
     fn case(&self, space: Space, payload: Option<f64>, method: Method) -> Case {
-        let model = ModelArgs {
+        let model = ModelChoice {
             task: self.task.clone(),
             robot: None,
             payload,
         };
-        let problem = ProblemArgs {
+        let problem = ProblemChoice {
             space,
-            ..self.problem.clone()
+            ..self.problem.choice()
         };
         let mut case = Case::new(model, problem, method);
         case.workers = self.workers;

@@ -3,16 +3,17 @@
 
 use super::plan::{Plan, PlannedRun, PAYLOADS, SPACES};
 use super::Outcomes;
-use crate::cli::common::task_source;
-use crate::cli::optimize::run_case;
+use crate::cli::optimize::progress_bar;
 use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::design::evaluate::Objective;
+use crate::design::run::{run_case, task_source, OptimizeDocument};
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
-use crate::report::codesign::{CapacityDocument, OptimizeDocument};
+use crate::report::codesign::CapacityDocument;
 use crate::report::files::write_json;
 use crate::report::table::ResultFile;
-use crate::report::trajectory::{write_plots, SolveDocument, ToolInfo};
+use crate::report::trajectory::{write_plots, SolveDocument};
+use crate::solve::ToolInfo;
 use crate::solve::{solve_design, SolveError, TaskRecord};
 
 /// Runs every independent stage of `plan`: what its printed commands do elsewhere.
@@ -76,7 +77,7 @@ fn solve_originals(plan: &Plan, task: &TaskRecord) -> Result<Vec<ResultFile>, St
 
 /// Runs one planned co-design run.
 fn run(plan: &Plan, run: &PlannedRun) -> Result<OptimizeDocument, String> {
-    run_case(&run.case, &plan.run_file(run))
+    run_case(&run.case, &plan.run_file(run), &progress_bar)
 }
 
 /// The paper's co-design runs (CMA-ES on the cost), in order.

@@ -6,11 +6,11 @@ use super::{
 };
 use crate::design::evaluate::Objective;
 use crate::design::penalty::Grading;
+use crate::design::run::{Method, OptimizeDocument};
 use crate::ipopt::LinearSolver;
 use crate::model::task::Motors;
 use crate::problem::Space;
-use crate::report::codesign::{Method, OptimizeDocument};
-use crate::report::trajectory::ToolInfo;
+use crate::solve::ToolInfo;
 use crate::solve::TrajectoryResult;
 use crate::stats::median;
 

@@ -7,10 +7,12 @@ mod markdown;
 
 pub use build::build_table;
 
-use super::codesign::{CapacityDocument, OptimizeDocument, PayloadCost};
-use super::trajectory::{SolveDocument, ToolInfo};
+use super::codesign::CapacityDocument;
+use super::trajectory::SolveDocument;
+use crate::design::run::{OptimizeDocument, PayloadCost};
 use crate::ipopt::LinearSolver;
 use crate::problem::Space;
+use crate::solve::ToolInfo;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 

@@ -1,7 +1,8 @@
 //! One co-design run as plain data: what `optimize` reads from its flags and what `reproduce`
-//! plans, with every check of the settings in one place.
+//! plans, with every check of the settings in one place. Its errors name the flag of
+//! `codesign optimize` that sets each value, since a case is what those flags pose.
 
-use super::common::{ModelArgs, ProblemArgs};
+use super::document::OptimizeInputs;
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::evaluate::{Objective, PayloadRange};
@@ -9,10 +10,109 @@ use crate::design::gradient::GradientSettings;
 use crate::design::log::Start;
 use crate::design::penalty::{Grading, Penalty};
 use crate::design::workers::{Launcher, SOLVE_TIMEOUT_S};
-use crate::model::task::{check_payload, LimitModes, Task};
-use crate::report::codesign::{Method, OptimizeInputs};
+use crate::ipopt::LinearSolver;
+use crate::model::task::{check_payload, LimitMode, LimitModes, Task, TaskSource};
+use crate::model::Robot;
+use crate::problem::Space;
 use crate::solve::{SolveSettings, TaskRecord};
-use std::path::Path;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// The outer-level method of a co-design run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// CMA-ES as in pagmo (the paper's method), designs evaluated by worker processes.
+    #[default]
+    Cmaes,
+    /// Projected quasi-Newton with the exact sensitivity dJ*/dr, warm-started inner solves.
+    Gradient,
+}
+
+/// Where the task and robot of a run come from, and its payload (`--task`, `--robot`,
+/// `--payload`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ModelChoice {
+    /// The task file; None: the built-in task.
+    pub task: Option<PathBuf>,
+    /// The robot's URDF, replacing the task's; None: the task's.
+    pub robot: Option<PathBuf>,
+    /// The payload, kg, replacing the task's.
+    pub payload: Option<f64>,
+}
+
+/// The task `task` names, or the built-in one.
+pub fn task_source(task: Option<&PathBuf>) -> TaskSource {
+    task.map_or(TaskSource::BuiltIn, |path| TaskSource::File(path.clone()))
+}
+
+impl ModelChoice {
+    /// Where the task comes from.
+    pub fn source(&self) -> TaskSource {
+        task_source(self.task.as_ref())
+    }
+
+    /// The files a run with this choice reads, each with where it was named: the task file
+    /// (unless built in) and the robot's URDF (unless built in). An output must be none of them.
+    pub fn inputs<'a>(&'a self, task: &'a Task) -> Vec<(&'static str, &'a Path)> {
+        let task_file = self.task.as_deref().map(|path| ("--task", path));
+        let robot = task.robot.as_deref().map(|path| ("robot", path));
+        task_file.into_iter().chain(robot).collect()
+    }
+
+    /// Loads the task (with the overrides applied), the robot carrying the payload, and the
+    /// solve settings of the task file's `solver` section.
+    pub fn load(&self) -> Result<(Task, Robot, SolveSettings), String> {
+        let source = self.source();
+        let file = source.load().map_err(|e| e.to_string())?;
+        let settings = SolveSettings::from_section(file.solver.as_ref())
+            .map_err(|e| format!("{source}: {e}"))?;
+        let mut task = file.task;
+        if let Some(robot) = &self.robot {
+            task.robot = Some(robot.clone());
+        }
+        if let Some(payload) = self.payload {
+            check_payload(payload).map_err(|why| format!("--payload {payload}: {why}"))?;
+            task.payload.mass_kg = payload;
+        }
+        let robot = Robot::load(&task).map_err(|e| match (&self.robot, self.source()) {
+            (None, source @ TaskSource::File(_)) => format!(
+                "{e} (the `robot` of {source}, relative to its folder; see `codesign task --help`)"
+            ),
+            _ => e.to_string(),
+        })?;
+        Ok((task, robot, settings))
+    }
+}
+
+/// The space, limit modes and linear solver of a run's trajectory problems (`--space`,
+/// `--torque-mode`, `--speed-mode`, `--linear-solver`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProblemChoice {
+    /// Joint or actuation space.
+    pub space: Space,
+    /// Joint torque limit mode; None: the task's.
+    pub torque_mode: Option<LimitMode>,
+    /// Joint speed limit mode; None: the task's.
+    pub speed_mode: Option<LimitMode>,
+    /// Linear solver inside IPOPT; None: the task's `solver.linear_solver`, else ldl.
+    pub linear_solver: Option<LinearSolver>,
+}
+
+impl ProblemChoice {
+    /// Applies the linear solver chosen to the solve settings.
+    pub fn configure(&self, settings: &mut SolveSettings) {
+        settings.override_linear_solver(self.linear_solver);
+    }
+
+    /// The limit modes: the ones chosen, else the task's.
+    pub fn modes(&self, task: &Task) -> LimitModes {
+        LimitModes {
+            torque: self.torque_mode.unwrap_or(task.limit_modes.torque),
+            speed: self.speed_mode.unwrap_or(task.limit_modes.speed),
+        }
+    }
+}
 
 /// `text` quoted for `sh`: in single quotes, each single quote written as '\''.
 pub fn shell_quote(text: &str) -> String {
@@ -24,9 +124,9 @@ pub fn shell_quote(text: &str) -> String {
 #[derive(Clone, Debug)]
 pub struct Case {
     /// Task, robot and payload.
-    pub model: ModelArgs,
+    pub model: ModelChoice,
     /// Space, limit modes and linear solver.
-    pub problem: ProblemArgs,
+    pub problem: ProblemChoice,
     /// The outer method.
     pub method: Method,
     /// What is minimised.
@@ -52,7 +152,7 @@ pub struct Case {
 impl Case {
     /// A run of `method` with every setting at its default: the paper's CMA-ES, the flat
     /// penalty, one worker per core, a fresh start.
-    pub fn new(model: ModelArgs, problem: ProblemArgs, method: Method) -> Case {
+    pub fn new(model: ModelChoice, problem: ProblemChoice, method: Method) -> Case {
         Case {
             model,
             problem,
@@ -259,20 +359,18 @@ impl Case {
 
 #[cfg(test)]
 mod tests {
-    use super::Case;
-    use crate::cli::common::{ModelArgs, ProblemArgs};
+    use super::{Case, Method, ModelChoice, ProblemChoice};
     use crate::design::evaluate::Objective;
     use crate::design::log::Start;
     use crate::problem::Space;
-    use crate::report::codesign::Method;
 
     fn case(method: Method) -> Case {
-        let model = ModelArgs {
+        let model = ModelChoice {
             task: None,
             robot: None,
             payload: Some(1.0),
         };
-        let problem = ProblemArgs {
+        let problem = ProblemChoice {
             space: Space::Actuation,
             torque_mode: None,
             speed_mode: None,

@@ -1,0 +1,154 @@
+//! The document of a co-design run: its settings ([`OptimizeInputs`], also the header of its
+//! evaluation log) and what it found ([`OptimizeDocument`], the JSON file `optimize` writes).
+
+use super::case::Method;
+use crate::design::evaluate::Objective;
+use crate::design::gradient::GradientIterate;
+use crate::design::optimize::GenerationSummary;
+use crate::design::penalty::Grading;
+use crate::ipopt::LinearSolver;
+use crate::model::task::LimitModes;
+use crate::problem::Space;
+use crate::solve::{TaskRecord, ToolInfo, TrajectoryResult};
+use serde::{Deserialize, Serialize};
+
+/// Everything that defines a co-design run; two runs with equal inputs give equal results.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct OptimizeInputs {
+    /// The outer-level method.
+    #[serde(default)]
+    pub method: Method,
+    /// What is minimised.
+    #[serde(default)]
+    pub objective: Objective,
+    /// The task file as given.
+    pub task_file: String,
+    /// The task with every override applied, and its solve settings, the linear solver aside.
+    pub task: TaskRecord,
+    /// The linear solver of the inner solves (runs logged before it was recorded used MUMPS).
+    #[serde(default = "LinearSolver::before_ldl")]
+    pub linear_solver: LinearSolver,
+    /// Joint or actuation space.
+    pub space: Space,
+    /// Payload, kg.
+    pub payload_kg: f64,
+    /// Limit modes.
+    pub limit_modes: LimitModes,
+    /// CMA-ES seed.
+    pub seed: u64,
+    /// CMA-ES population lambda.
+    pub population: usize,
+    /// CMA-ES generations after the initial population.
+    pub generations: usize,
+    /// Initial step, relative to the design box.
+    pub sigma0: f64,
+    /// Fitness of invalid or infeasible designs (the base of a graded penalty).
+    pub penalty: f64,
+    /// Whether the penalty is graded by the distance from feasibility; flat (the paper's) when
+    /// left out.
+    #[serde(default, skip_serializing_if = "Grading::is_flat")]
+    pub grading: Grading,
+    /// Stop when the population's cost spread falls below this.
+    pub ftol: f64,
+    /// Stop when the step falls below this.
+    pub xtol: f64,
+}
+
+/// The JSON file `codesign optimize` writes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct OptimizeDocument {
+    /// Program and solver versions.
+    pub tool: ToolInfo,
+    /// The run's settings.
+    pub inputs: OptimizeInputs,
+    /// The best design found; empty when no evaluation found a design feasible (files written
+    /// before this rule may hold an infeasible design here, with the penalty as its cost).
+    pub best_ratios: Vec<f64>,
+    /// Its cost.
+    pub best_cost: f64,
+    /// The full solve of the best design.
+    pub best_result: Option<TrajectoryResult>,
+    /// The original design.
+    pub original_ratios: Vec<f64>,
+    /// The original design's cost (the penalty when infeasible).
+    pub original_cost: f64,
+    /// The full solve of the original design.
+    pub original_result: Option<TrajectoryResult>,
+    /// Per generation: best, median, feasible count.
+    pub generations: Vec<GenerationSummary>,
+    /// Inner solves of the run (including replayed ones).
+    pub evaluations: usize,
+    /// Every evaluation's fitness in (generation, index) order.
+    pub costs: Vec<f64>,
+    /// The accepted iterates of the gradient method (empty for CMA-ES).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub iterates: Vec<GradientIterate>,
+    /// Evaluations replayed from the log on resume.
+    pub replayed: usize,
+    /// Evaluations that ran IPOPT (designs that break a bound or an order constraint are scored
+    /// without a solve).
+    #[serde(default)]
+    pub solves: usize,
+    /// Wall time of those solves summed, s (replayed ones included, from the log).
+    #[serde(default)]
+    pub solve_seconds_total: f64,
+    /// Median wall time of an inner solve, s (NaN, written as null, when no solve ran).
+    #[serde(deserialize_with = "number_or_nan")]
+    pub median_solve_seconds: f64,
+    /// Why the method stopped.
+    pub stop_reason: String,
+    /// Wall time of this invocation, s (a resumed run's earlier invocations not included).
+    pub wall_seconds: f64,
+    /// Working time of the run's earlier invocations, s, from its evaluation log (0 for a run
+    /// done in one invocation; None when the log predates that record): the run took this plus
+    /// `wall_seconds` in all.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub earlier_seconds: Option<f64>,
+    /// For `--objective range`: the best and the original design solved at every payload (their
+    /// `best_result` and `original_result` are then None).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub payload_costs: Option<RangeCosts>,
+}
+
+/// The designs of a payload-range run, solved at each payload.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RangeCosts {
+    /// The best design, per payload.
+    pub best: Vec<PayloadCost>,
+    /// The original design, per payload.
+    pub original: Vec<PayloadCost>,
+}
+
+/// One design solved at one payload.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PayloadCost {
+    /// The payload, kg.
+    pub payload_kg: f64,
+    /// Whether its trajectory problem was solved.
+    pub feasible: bool,
+    /// The optimal cost J (meaningful when feasible).
+    pub cost: f64,
+    /// IPOPT's status, or why no solve ran.
+    pub status: String,
+}
+
+/// Reads a number that serde_json wrote as null because it was NaN.
+fn number_or_nan<'de, D: serde::Deserializer<'de>>(reader: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(reader)?.unwrap_or(f64::NAN))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::OptimizeDocument;
+
+    #[test]
+    fn a_run_without_timed_solves_reads_back() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("results/quick/runs/actuation-1kg-seed0.json");
+        let text = std::fs::read_to_string(path).unwrap();
+        let mut value: serde_json::Value = serde_json::from_str(&text).unwrap();
+        value["median_solve_seconds"] = serde_json::Value::Null;
+        let document: OptimizeDocument = serde_json::from_value(value).unwrap();
+        assert!(document.median_solve_seconds.is_nan());
+    }
+}

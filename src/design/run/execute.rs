@@ -1,0 +1,298 @@
+//! Running a co-design case: its checks before any work, the evaluation log, the outer method
+//! (CMA-ES in worker processes, or the gradient method), and the document of what it found.
+
+use super::case::{Case, Method};
+use super::document::{OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
+use crate::design::evaluate::Objective;
+use crate::design::fitness::Fitness;
+use crate::design::gradient::optimize_gradient;
+use crate::design::log::{EvaluationLog, Finished, Start};
+use crate::design::optimize::{optimize, Progress};
+use crate::design::outcome::DesignOutcome;
+use crate::design::penalty::Grading;
+use crate::design::workers::{Pool, WorkerSetup};
+use crate::model::task::{LimitModes, Task};
+use crate::model::Robot;
+use crate::problem::Formulation;
+use crate::report::files::{check_output, write_json};
+use crate::solve::{solve_design, solve_design_from, SolveError, SolveSettings, ToolInfo};
+use crate::stats::median;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Makes the progress display of a CMA-ES run, given its number of evaluations and a label.
+pub type ProgressDisplay<'a> = &'a dyn Fn(u64, String) -> Box<dyn Progress>;
+
+/// The extension of an evaluation log, which sits beside its result file.
+pub const LOG_EXTENSION: &str = "log.jsonl";
+
+/// The evaluation log beside a result file: `x.json` -> `x.log.jsonl`.
+pub fn log_path(out: &Path) -> PathBuf {
+    out.with_extension(LOG_EXTENSION)
+}
+
+/// Runs one co-design case and writes its document to `out`; returns it. A CMA-ES run holds its
+/// evaluation log, locked, from before the first evaluation until the document is written, and
+/// shows its progress on what `display` makes.
+pub fn run_case(
+    case: &Case,
+    out: &Path,
+    display: ProgressDisplay<'_>,
+) -> Result<OptimizeDocument, String> {
+    case.validate()?;
+    let (task, robot, mut settings) = case.model.load()?;
+    case.problem.configure(&mut settings);
+    let read = case.model.inputs(&task);
+    check_output("--out", out, &read)?;
+    if case.method == Method::Cmaes {
+        check_output("--out (its evaluation log)", &log_path(out), &read)?;
+    }
+    let modes = case.problem.modes(&task);
+    probe_solver(&task, &settings, &robot, case, modes)?;
+    let formulation =
+        Formulation::new(&task, robot, case.problem.space, modes).map_err(|e| e.to_string())?;
+    let inputs = case.inputs(&task, &settings, modes);
+    let mut log = match case.method {
+        Method::Cmaes => Some(open_log(case.start, out, &inputs)?),
+        Method::Gradient => None,
+    };
+    let started = Instant::now();
+    let outcome = match log.as_mut() {
+        Some((log, finished)) => {
+            let setup = worker_setup(case, &inputs, &task, &settings, &formulation)?;
+            let run = CmaesRun {
+                case,
+                inputs: &inputs,
+                setup: &setup,
+                formulation: &formulation,
+            };
+            run_cmaes(run, log, finished, display).map(|o| (o, log.earlier_seconds()))
+        }
+        None => optimize_gradient(&formulation, &settings, &case.gradient, case.penalty)
+            .map(|o| (o, Some(0.0))),
+    };
+    let result = outcome.and_then(|(outcome, earlier_seconds)| {
+        let mut document = document(case, &formulation, &settings, inputs, outcome)?;
+        document.earlier_seconds = earlier_seconds;
+        document.wall_seconds = started.elapsed().as_secs_f64();
+        write_json(out, &document)?;
+        Ok(document)
+    });
+    if let (Err(_), Some((log, _))) = (&result, log) {
+        log.discard_if_unused()?;
+    }
+    result
+}
+
+/// Opens (locked) the evaluation log of a CMA-ES run as `start` says.
+fn open_log(
+    start: Start,
+    out: &Path,
+    inputs: &OptimizeInputs,
+) -> Result<(EvaluationLog, Finished), String> {
+    let (log, finished) = EvaluationLog::open(&log_path(out), inputs, start)?;
+    if let Some(line) = log.dropped_line() {
+        eprintln!(
+            "note: {} ended in a line cut short by an interruption (line {line}); it was dropped \
+             and that evaluation is solved again",
+            log_path(out).display()
+        );
+    }
+    Ok((log, finished))
+}
+
+/// The result document of a run: the method's outcome with full solves of the best and the
+/// original design (at every payload of a range). The wall time and the earlier invocations'
+/// time are the caller's to set.
+fn document(
+    case: &Case,
+    formulation: &Formulation,
+    settings: &SolveSettings,
+    inputs: OptimizeInputs,
+    outcome: DesignOutcome,
+) -> Result<OptimizeDocument, String> {
+    let original_ratios = formulation.transmission().original().to_vec();
+    // The designs are solved again as they were scored: the elastic problem for a graded
+    // penalty, so that the reported cost is the one behind `best_cost`.
+    let elastic;
+    let scored = match case.penalty.grading {
+        Grading::Flat => formulation,
+        Grading::Graded => {
+            elastic = formulation.elastic();
+            &elastic
+        }
+    };
+    let (best_result, original_result, payload_costs) = match &case.objective {
+        Objective::Range(_) => {
+            let fitness = Fitness::new(
+                formulation.task(),
+                settings,
+                formulation.space(),
+                *formulation.modes(),
+                &case.objective,
+                case.penalty,
+            )?;
+            let best = payload_costs(&fitness, settings, &outcome.best_ratios);
+            let original = payload_costs(&fitness, settings, &original_ratios);
+            (None, None, Some(RangeCosts { best, original }))
+        }
+        // Warm-started from the method's own inner solution where it has one, so that the
+        // reported trajectory is the one behind `best_cost`.
+        _ => (
+            solve_design_from(
+                scored,
+                &outcome.best_ratios,
+                settings,
+                outcome.best_solution.as_ref(),
+            )
+            .ok()
+            .map(|(result, _)| result),
+            solve_design(scored, &original_ratios, settings).ok(),
+            None,
+        ),
+    };
+    let original_cost = match (&original_result, &payload_costs) {
+        (Some(result), _) if result.feasible => result.cost,
+        (_, Some(costs)) if costs.original.iter().all(|c| c.feasible) => {
+            costs.original.iter().map(|c| c.cost).sum::<f64>() / costs.original.len() as f64
+        }
+        _ => case.penalty.base,
+    };
+    Ok(OptimizeDocument {
+        tool: ToolInfo::current(inputs.linear_solver),
+        inputs,
+        best_ratios: outcome.best_ratios,
+        best_cost: outcome.best_cost,
+        best_result,
+        original_ratios,
+        original_cost,
+        original_result,
+        generations: outcome.generations,
+        evaluations: outcome.costs.len(),
+        costs: outcome.costs,
+        iterates: outcome.iterates,
+        replayed: outcome.replayed,
+        solves: outcome.seconds.len(),
+        solve_seconds_total: outcome.seconds.iter().sum(),
+        median_solve_seconds: median(&outcome.seconds),
+        stop_reason: outcome.stop_reason,
+        wall_seconds: 0.0,
+        earlier_seconds: None,
+        payload_costs,
+    })
+}
+
+/// `ratios` solved at every payload of a range `fitness` (none when `ratios` is empty: no
+/// feasible design was found).
+fn payload_costs(fitness: &Fitness, settings: &SolveSettings, ratios: &[f64]) -> Vec<PayloadCost> {
+    if ratios.is_empty() {
+        return Vec::new();
+    }
+    fitness
+        .payloads()
+        .iter()
+        .map(|(payload_kg, formulation)| {
+            let solved = solve_design(formulation, ratios, settings);
+            PayloadCost {
+                payload_kg: *payload_kg,
+                feasible: solved.as_ref().is_ok_and(|r| r.feasible),
+                cost: solved.as_ref().map_or(f64::NAN, |r| r.cost),
+                status: solved.map_or_else(|e| e.to_string(), |r| r.status),
+            }
+        })
+        .collect()
+}
+
+/// Solves the original design once on a 2-interval copy of the problem, so that a solver
+/// option IPOPT rejects (the task file's `solver`) fails the run before its first generation,
+/// with IPOPT's complaint, instead of penalising every design.
+fn probe_solver(
+    task: &Task,
+    settings: &SolveSettings,
+    robot: &Robot,
+    case: &Case,
+    modes: LimitModes,
+) -> Result<(), String> {
+    let mut small = task.clone();
+    small.motion.steps = 2;
+    let formulation = Formulation::new(&small, robot.clone(), case.problem.space, modes)
+        .map_err(|e| e.to_string())?;
+    match solve_design(&formulation, &small.transmission.original, settings) {
+        Err(SolveError::Ipopt(error)) => Err(format!(
+            "{} solver: {error} (checked by a solve of the original design before the run)",
+            case.model.source()
+        )),
+        _ => Ok(()),
+    }
+}
+/// What the workers of a CMA-ES run are told: the task (its robot's path made absolute), the
+/// solve settings, the problem and how designs are scored.
+fn worker_setup(
+    case: &Case,
+    inputs: &OptimizeInputs,
+    task: &Task,
+    settings: &SolveSettings,
+    formulation: &Formulation,
+) -> Result<WorkerSetup, String> {
+    let mut worker_task = task.clone();
+    if let Some(robot) = &task.robot {
+        worker_task.robot = Some(
+            std::fs::canonicalize(robot).map_err(|e| format!("robot {}: {e}", robot.display()))?,
+        );
+    }
+    Ok(WorkerSetup {
+        objective: inputs.objective.clone(),
+        task: worker_task,
+        solve: settings.clone(),
+        space: case.problem.space,
+        modes: *formulation.modes(),
+        penalty: case.penalty,
+    })
+}
+
+/// What a CMA-ES run is: its case, recorded inputs, workers' setup and formulation.
+struct CmaesRun<'a> {
+    case: &'a Case,
+    inputs: &'a OptimizeInputs,
+    setup: &'a WorkerSetup,
+    formulation: &'a Formulation,
+}
+
+/// The CMA-ES run on its open evaluation log (with the `finished` evaluations of a resumed
+/// run): worker pool, progress display.
+fn run_cmaes(
+    run: CmaesRun<'_>,
+    log: &mut EvaluationLog,
+    finished: &Finished,
+    display: ProgressDisplay<'_>,
+) -> Result<DesignOutcome, String> {
+    let CmaesRun {
+        case,
+        inputs,
+        setup,
+        formulation,
+    } = run;
+    let workers = case
+        .workers
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let program = std::env::current_exe()
+        .map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
+    let timeout = Duration::from_secs_f64(case.solve_timeout_s);
+    let mut pool = Pool::new(case.launcher(&program), setup, workers, timeout)?;
+    let settings = &case.cmaes;
+    let total = (settings.population * (settings.generations + 1)) as u64;
+    let label = format!(
+        "{} {} kg seed {}",
+        case.problem.space, inputs.payload_kg, settings.seed
+    );
+    let mut progress = display(total, label);
+    let bounds = formulation.transmission().bounds();
+    optimize(
+        settings.clone(),
+        bounds,
+        &mut pool,
+        log,
+        finished,
+        progress.as_mut(),
+    )
+}

@@ -1,0 +1,11 @@
+//! A co-design run as library code: the [`Case`] (what to run, with every check of its
+//! settings), its [`Method`], running it ([`run_case`]) and the [`OptimizeDocument`] it writes.
+//! The command line only parses flags into a case; `report/` only renders documents.
+
+mod case;
+mod document;
+mod execute;
+
+pub use case::{shell_quote, task_source, Case, Method, ModelChoice, ProblemChoice};
+pub use document::{OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
+pub use execute::{log_path, run_case, ProgressDisplay, LOG_EXTENSION};
