@@ -144,7 +144,10 @@ fn linear_solver_ready(solver: LinearSolver) -> Result<Option<MutexGuard<'static
                 .unwrap_or_else(|poisoned| poisoned.into_inner()),
         )),
         LinearSolver::Ldl => {
-            crate::ldl::install().map_err(|message| Error::LinearSolver { solver, message })?;
+            crate::ldl::install().map_err(|e| Error::LinearSolver {
+                solver,
+                message: e.to_string(),
+            })?;
             Ok(None)
         }
     }

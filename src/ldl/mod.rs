@@ -18,7 +18,7 @@ mod symbolic;
 #[cfg(test)]
 mod tests;
 
-pub use loader::install;
+pub use loader::{install, InstallError};
 pub use numeric::{Inertia, Numeric, CANCELLATION};
 pub use symbolic::{Symbolic, UpperCsr};
 

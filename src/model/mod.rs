@@ -5,6 +5,7 @@ mod error;
 mod robot;
 pub mod task;
 mod urdf;
+mod validate;
 
 pub use error::ModelError;
 pub use robot::{Robot, BUILT_IN_URDF};

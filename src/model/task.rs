@@ -14,6 +14,11 @@ use serde_json::Value;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+pub use super::validate::{
+    check_horizon, check_payload, check_steps, FieldError, OutOfRange, MAX_HORIZON_S,
+    MAX_PAYLOAD_KG, MAX_STEPS,
+};
+
 /// The built-in task: the text of `robots/tasks/pick_place.json`, compiled in.
 pub const BUILT_IN_TASK: &str = include_str!("../../robots/tasks/pick_place.json");
 
@@ -235,113 +240,6 @@ impl fmt::Display for TaskError {
 
 impl std::error::Error for TaskError {}
 
-/// Most intervals N of a motion: the problem has about 20 variables per interval and IPOPT's
-/// factorisation grows faster than that; 5000 is 100 times the paper's 50.
-pub const MAX_STEPS: usize = 5_000;
-
-/// Longest motion, s: an hour, far beyond a pick-and-place of seconds.
-pub const MAX_HORIZON_S: f64 = 3_600.0;
-
-/// Heaviest payload, kg: a tonne, far beyond what a 4-DOF arm of this class can lift.
-pub const MAX_PAYLOAD_KG: f64 = 1_000.0;
-
-/// Checks a number of intervals N; the message gives the limit and its reason.
-pub fn check_steps(steps: usize) -> Result<(), String> {
-    if (1..=MAX_STEPS).contains(&steps) {
-        Ok(())
-    } else {
-        Err(format!("the number of intervals must be 1 to {MAX_STEPS} (100 times the paper's 50; beyond that IPOPT's memory and time grow out of reach)"))
-    }
-}
-
-/// Checks a motion's duration, s; the message gives the limit and its reason.
-pub fn check_horizon(seconds: f64) -> Result<(), String> {
-    if seconds.is_finite() && seconds > 0.0 && seconds <= MAX_HORIZON_S {
-        Ok(())
-    } else {
-        Err(format!("the duration must be a number of seconds > 0 and <= {MAX_HORIZON_S} (an hour, far beyond any pick-and-place)"))
-    }
-}
-
-/// Checks a payload mass, kg; the message gives the limit and its reason.
-pub fn check_payload(kg: f64) -> Result<(), String> {
-    if kg.is_finite() && (0.0..=MAX_PAYLOAD_KG).contains(&kg) {
-        Ok(())
-    } else {
-        Err(format!("the payload must be a mass >= 0 and <= {MAX_PAYLOAD_KG} kg (a tonne, far beyond what this class of arm lifts)"))
-    }
-}
-
-/// Ok if every value is finite; else an error naming `name[i]` of the first that is not.
-fn check_finite(name: &str, values: &[f64]) -> Result<(), String> {
-    match values.iter().position(|v| !v.is_finite()) {
-        Some(i) => Err(format!("{name}[{i}] is not a finite number")),
-        None => Ok(()),
-    }
-}
-
-impl Motion {
-    /// Checks the end points (finite, one value per joint each), the horizon and the steps.
-    fn validate(&self) -> Result<(), String> {
-        check_finite("motion.start", &self.start)?;
-        check_finite("motion.goal", &self.goal)?;
-        if self.start.len() != self.goal.len() {
-            return Err(format!(
-                "motion.start has {} joints but motion.goal has {}",
-                self.start.len(),
-                self.goal.len()
-            ));
-        }
-        check_horizon(self.horizon_s)
-            .map_err(|why| format!("motion.horizon_s = {}: {why}", self.horizon_s))?;
-        check_steps(self.steps).map_err(|why| format!("motion.steps = {}: {why}", self.steps))
-    }
-}
-
-impl Weights {
-    /// Checks that every weight is finite and >= 0.
-    fn validate(&self) -> Result<(), String> {
-        let weights = [
-            ("weights.position", self.position),
-            ("weights.velocity", self.velocity),
-            ("weights.control", self.control),
-        ];
-        for (name, value) in weights {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(format!("{name} = {value} must be >= 0"));
-            }
-        }
-        Ok(())
-    }
-}
-
-impl CartesianBox {
-    /// Checks each given axis: a finite range with lower < upper and a finite weight >= 0.
-    fn validate(&self) -> Result<(), String> {
-        let axes = [("x", &self.x), ("y", &self.y), ("z", &self.z)];
-        for (axis, interval) in axes {
-            let Some(SoftInterval {
-                range: [lo, hi],
-                weight,
-            }) = interval
-            else {
-                continue;
-            };
-            if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-                return Err(format!(
-                    "cartesian_box.{axis}.range [{lo}, {hi}] must be finite with lower < upper"
-                ));
-            }
-            if !(weight.is_finite() && *weight >= 0.0) {
-                return Err(format!(
-                    "cartesian_box.{axis}.weight = {weight} must be >= 0"
-                ));
-            }
-        }
-        Ok(())
-    }
-}
-
 impl TaskFile {
     /// Reads and checks a task file. A relative robot path is resolved against the file's folder.
     pub fn load(path: &Path) -> Result<TaskFile, TaskError> {
@@ -375,7 +273,7 @@ impl TaskFile {
             .and_then(|mut value| {
                 let solver = value.as_object_mut().and_then(|map| map.remove("solver"));
                 let task = Task::deserialize(value).map_err(|e| e.to_string())?;
-                task.validate()?;
+                task.validate().map_err(|e| e.to_string())?;
                 Ok(TaskFile { task, solver })
             });
         parsed.map_err(|message| TaskError { source, message })
@@ -391,27 +289,6 @@ impl Task {
     /// The built-in task without its `solver` section ([`TaskFile::built_in`]).
     pub fn built_in() -> Result<Task, TaskError> {
         TaskFile::built_in().map(|file| file.task)
-    }
-
-    /// Checks every number for sense; the message names the offending field.
-    pub fn validate(&self) -> Result<(), String> {
-        check_finite("gravity", &self.gravity)?;
-        check_finite("tcp.point", &self.tcp.point)?;
-        check_finite("payload.at.point", &self.payload.at.point)?;
-        check_payload(self.payload.mass_kg)
-            .map_err(|why| format!("payload.mass_kg = {}: {why}", self.payload.mass_kg))?;
-        self.motion.validate()?;
-        self.weights.validate()?;
-        self.cartesian_box.validate()?;
-        for (name, value) in [
-            ("motors.torque_limit_nm", self.motors.torque_limit_nm),
-            ("motors.speed_limit_rad_s", self.motors.speed_limit_rad_s),
-        ] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(format!("{name} = {value} must be > 0"));
-            }
-        }
-        Ok(())
     }
 
     /// The time step h = T / N, s.
