@@ -5,6 +5,21 @@
 
 #![warn(missing_docs)]
 
+/// Writes a line on stderr like `eprintln!`, but a failed write (stderr on a full disk, a closed
+/// stderr) is ignored instead of panicking: a note is never worth a crash.
+macro_rules! note {
+    ($($arg:tt)*) => {
+        $crate::write_note(format_args!($($arg)*))
+    };
+}
+
+/// The writer behind `note!`: one line on stderr, write errors ignored.
+#[doc(hidden)]
+pub fn write_note(text: std::fmt::Arguments<'_>) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr().lock(), "{text}");
+}
+
 pub mod cli;
 pub mod design;
 pub mod dynamics;

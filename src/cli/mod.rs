@@ -17,27 +17,44 @@ macro_rules! say_raw {
 }
 
 /// The first error writing stdout, if any.
-static STDOUT_ERROR: Mutex<Option<String>> = Mutex::new(None);
+static STDOUT_ERROR: Mutex<Option<(ErrorKind, String)>> = Mutex::new(None);
 
 /// Writes `text` on stdout, remembering the first failure.
 pub(crate) fn print_out(text: std::fmt::Arguments<'_>) {
-    if let Err(error) = std::io::stdout().lock().write_fmt(text) {
+    if let Err(error) = write_stdout(text) {
         remember_stdout_error(&error);
     }
 }
 
-fn remember_stdout_error(error: &std::io::Error) {
-    let mut first = STDOUT_ERROR.lock().unwrap_or_else(|p| p.into_inner());
-    first.get_or_insert_with(|| error.to_string());
+/// Whether the process started with stdout closed (`>&-`), as the binary saw it.
+static STDOUT_CLOSED: AtomicBool = AtomicBool::new(false);
+
+/// Writes `text` on stdout. Rust's runtime puts /dev/null where stdout was closed (`>&-`);
+/// here writing there fails, so that output nobody can read is an error like output a full
+/// disk refused.
+fn write_stdout(text: std::fmt::Arguments<'_>) -> std::io::Result<()> {
+    if STDOUT_CLOSED.load(Ordering::Relaxed) {
+        return Err(std::io::Error::other("stdout is closed"));
+    }
+    std::io::stdout().lock().write_fmt(text)
 }
 
-/// Flushes stdout and returns the first failure to write it, if there was one.
+fn remember_stdout_error(error: &std::io::Error) {
+    let mut first = STDOUT_ERROR.lock().unwrap_or_else(|p| p.into_inner());
+    first.get_or_insert_with(|| (error.kind(), error.to_string()));
+}
+
+/// Flushes stdout and returns the first failure to write it, if there was one. A closed pipe
+/// (`codesign ... | head -1`) is none: the reader chose to stop, as with most Unix tools.
 fn stdout_failure() -> Option<String> {
     if let Err(error) = std::io::stdout().lock().flush() {
         remember_stdout_error(&error);
     }
     let first = STDOUT_ERROR.lock().unwrap_or_else(|p| p.into_inner());
-    first.clone()
+    match &*first {
+        Some((ErrorKind::BrokenPipe, _)) | None => None,
+        Some((_, message)) => Some(message.clone()),
+    }
 }
 
 mod capacity;
@@ -52,8 +69,9 @@ mod task;
 mod worker;
 
 use clap::{Parser, Subcommand};
-use std::io::Write;
+use std::io::{ErrorKind, Write};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 
 /// Co-design of gear ratios and motion for robots with parallel (belt) transmissions.
@@ -96,9 +114,13 @@ enum Command {
 
 /// Parses the command line, runs the subcommand, prints any error on stderr and returns the
 /// process exit code (0 on success, 1 on any error, a failed write on stdout included, 2 on a
-/// usage error).
-pub fn main() -> ExitCode {
-    let cli = Cli::parse();
+/// usage error). `stdout_closed`: the process started with its stdout closed.
+pub fn main(stdout_closed: bool) -> ExitCode {
+    STDOUT_CLOSED.store(stdout_closed, Ordering::Relaxed);
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(error) => return parse_failure(&error),
+    };
     // A worker answers on stdout itself and ends quietly when its parent stops reading.
     let answers_itself = matches!(cli.command, Command::Worker);
     let outcome = match cli.command {
@@ -121,8 +143,26 @@ pub fn main() -> ExitCode {
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
-            eprintln!("error: {message}");
+            note!("error: {message}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Prints what clap has to say (help and version on stdout, usage errors on stderr) and returns
+/// its exit code: 0 for help and version, 2 for a usage error; 1 when help or version could not
+/// be written (a full disk behind `>`, a closed stdout), unless the reader closed its pipe.
+fn parse_failure(error: &clap::Error) -> ExitCode {
+    let printed = match error.exit_code() {
+        0 => write_stdout(format_args!("{}", error.render()))
+            .and_then(|()| std::io::stdout().flush()),
+        _ => error.print(),
+    };
+    match (error.exit_code(), printed) {
+        (0, Err(failure)) if failure.kind() != ErrorKind::BrokenPipe => {
+            note!("error: cannot write the output on stdout: {failure}");
+            ExitCode::FAILURE
+        }
+        (code, _) => ExitCode::from(u8::try_from(code).unwrap_or(2)),
     }
 }

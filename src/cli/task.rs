@@ -2,7 +2,6 @@
 
 use crate::model::task::BUILT_IN_TASK;
 use crate::model::BUILT_IN_URDF;
-use std::io::Write;
 
 /// Flags of `codesign task`.
 #[derive(Debug, clap::Args)]
@@ -12,16 +11,14 @@ pub struct Args {
     urdf: bool,
 }
 
-/// Writes the text on stdout; a failed write (a full disk behind `>`) is an error.
+/// Writes the text on stdout; a failed write (a full disk behind `>`, a closed stdout) makes
+/// the command fail.
 pub fn run(args: &Args) -> Result<(), String> {
     let text = if args.urdf {
         BUILT_IN_URDF
     } else {
         BUILT_IN_TASK
     };
-    let mut stdout = std::io::stdout().lock();
-    stdout
-        .write_all(text.as_bytes())
-        .and_then(|()| stdout.flush())
-        .map_err(|e| format!("cannot write to stdout: {e}"))
+    say_raw!("{text}");
+    Ok(())
 }

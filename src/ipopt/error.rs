@@ -25,6 +25,8 @@ pub enum Error {
     },
     /// IPOPT could not open the requested log file.
     OutputFile(String),
+    /// IPOPT refused the options when the solve started (it checks some values only then).
+    OptionsAtStart,
     /// The linear solver could not be used; names it and says why.
     LinearSolver {
         /// The solver asked for.
@@ -45,6 +47,11 @@ impl fmt::Display for Error {
                 write!(f, "the {callback} callback failed: {message}")
             }
             Error::OutputFile(path) => write!(f, "IPOPT could not open its log file {path}"),
+            Error::OptionsAtStart => f.write_str(
+                "IPOPT refused an option's value when the solve started (a value out of its \
+                 range, or one that contradicts another); run `codesign solve --verbose` to see \
+                 IPOPT's message",
+            ),
             Error::LinearSolver { solver, message } => {
                 write!(f, "linear solver `{solver}` cannot be used: {message}")
             }

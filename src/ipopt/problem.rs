@@ -200,20 +200,28 @@ pub(super) fn apply_options(handle: &Handle, options: &Options) -> Result<(), Er
         // SAFETY: the handle is valid and the strings are NUL-terminated; IPOPT copies them.
         let accepted = unsafe {
             match value {
-                OptionValue::Str(text) => sys::AddIpoptStrOption(
-                    handle.0,
-                    key.as_ptr() as *mut c_char,
-                    c_string(text)?.as_ptr() as *mut c_char,
-                ),
+                OptionValue::Str(text) => {
+                    sys::AddIpoptStrOption(
+                        handle.0,
+                        key.as_ptr() as *mut c_char,
+                        c_string(text)?.as_ptr() as *mut c_char,
+                    ) != 0
+                }
+                // An integer is also a number: IPOPT takes it as the type it declared.
                 OptionValue::Int(number) => {
-                    sys::AddIpoptIntOption(handle.0, key.as_ptr() as *mut c_char, *number)
+                    sys::AddIpoptIntOption(handle.0, key.as_ptr() as *mut c_char, *number) != 0
+                        || sys::AddIpoptNumOption(
+                            handle.0,
+                            key.as_ptr() as *mut c_char,
+                            f64::from(*number),
+                        ) != 0
                 }
                 OptionValue::Num(number) => {
-                    sys::AddIpoptNumOption(handle.0, key.as_ptr() as *mut c_char, *number)
+                    sys::AddIpoptNumOption(handle.0, key.as_ptr() as *mut c_char, *number) != 0
                 }
             }
         };
-        if accepted == 0 {
+        if !accepted {
             return Err(Error::InvalidOption {
                 name: name.clone(),
                 value: match value {

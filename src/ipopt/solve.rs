@@ -112,10 +112,7 @@ pub fn solve_from<P: Nlp>(
     let status = Status::from_code(code);
     if status == Status::InvalidOption {
         // Options whose values are checked only when the solve starts.
-        return Err(Error::InvalidOption {
-            name: "(checked at solve start)".to_owned(),
-            value: "see IPOPT's log with --verbose".to_owned(),
-        });
+        return Err(Error::OptionsAtStart);
     }
     Ok(Solution {
         status,
@@ -398,6 +395,9 @@ mod tests {
             matches!(wrong_type, Err(Error::InvalidOption { .. })),
             "{wrong_type:?}"
         );
+        // A whole number for a real option is taken as a number.
+        let whole = solve(&mut Hs071, &Options::new().int("max_cpu_time", 100));
+        assert!(whole.is_ok_and(|s| s.status.is_success()));
     }
 
     #[test]

@@ -160,7 +160,7 @@ unsafe fn run_phase(slot: &mut *mut Handle, phase: c_int, mut call: Call<'_>) ->
             Symbolic::analyse(call.n, matrix, values.unwrap_or_default()).map_err(code)?;
         let numeric = Numeric::new(&symbolic);
         if call.verbose {
-            eprintln!(
+            note!(
                 "codesign LDL: n = {}, {} entries, {} in L",
                 call.n,
                 symbolic.entries(),
@@ -185,7 +185,7 @@ unsafe fn run_phase(slot: &mut *mut Handle, phase: c_int, mut call: Call<'_>) ->
             handle.symbolic = handle.symbolic.reanalyse(matrix, values).map_err(code)?;
             handle.numeric = Numeric::new(&handle.symbolic);
             if call.verbose {
-                eprintln!("codesign LDL: new zero diagonals, order analysed again");
+                note!("codesign LDL: new zero diagonals, order analysed again");
             }
         }
         #[cfg(test)]
@@ -212,7 +212,7 @@ fn release(slot: &mut *mut Handle) {
 fn factorise_into(handle: &mut Handle, values: &[f64], call: &mut Call<'_>) -> Result<(), c_int> {
     let outcome = handle.numeric.factorise(&handle.symbolic, values);
     if call.verbose {
-        eprintln!("codesign LDL: factorisation: {outcome:?}");
+        note!("codesign LDL: factorisation: {outcome:?}");
     }
     let inertia = outcome.map_err(code)?;
     let count = |value: usize| c_int::try_from(value).unwrap_or(c_int::MAX);
@@ -223,7 +223,7 @@ fn factorise_into(handle: &mut Handle, values: &[f64], call: &mut Call<'_>) -> R
     // their (rounding-level) effect on the solution.
     call.iparm[IPARM_PERTURBED_PIVOTS] = 0;
     if call.verbose && handle.numeric.regularised_pivots() > 0 {
-        eprintln!(
+        note!(
             "codesign LDL: {} pivots lost to cancellation, set to the rounding bound",
             handle.numeric.regularised_pivots()
         );

@@ -100,7 +100,8 @@ impl SolveSettings {
     }
 
     /// Checks `tol` > 0 and that every further option is an integer, a number or a string other
-    /// than `linear_solver` (chosen by [`SolveSettings::linear_solver`] instead).
+    /// than `linear_solver` (chosen by [`SolveSettings::linear_solver`] instead) and
+    /// `output_file` (which would write over any file it names).
     pub fn validate(&self) -> Result<(), SettingsError> {
         if !(self.tol.is_finite() && self.tol > 0.0) {
             return Err(SettingsError::new(
@@ -114,6 +115,13 @@ impl SolveSettings {
                 return Err(SettingsError::new(
                     field,
                     ": choose the linear solver with solver.linear_solver (\"ldl\" or \"mumps\")",
+                ));
+            }
+            if name == "output_file" {
+                return Err(SettingsError::new(
+                    field,
+                    ": codesign writes no IPOPT log file (its outputs are result files and \
+                     evaluation logs, written whole); `codesign solve --verbose` shows IPOPT's log",
                 ));
             }
             let valid = value.as_i64().is_some_and(|v| i32::try_from(v).is_ok())
@@ -225,6 +233,10 @@ mod tests {
             (
                 json!({"tol": 1e-8, "max_iter": 10, "tool": 1}),
                 "unknown field `tool`",
+            ),
+            (
+                json!({"options": {"output_file": "task.json"}}),
+                "solver.options.output_file: codesign writes no IPOPT log file",
             ),
             (
                 json!({"tol": 1e-8, "max_iter": 10, "linear_solver": "ma57"}),

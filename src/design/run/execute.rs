@@ -92,7 +92,7 @@ fn open_log(
 ) -> Result<(EvaluationLog, Finished), String> {
     let (log, finished) = EvaluationLog::open(&log_path(out), inputs, start)?;
     if let Some(line) = log.dropped_line() {
-        eprintln!(
+        note!(
             "note: {} ended in a line cut short by an interruption (line {line}); it was dropped \
              and that evaluation is solved again",
             log_path(out).display()

@@ -1,0 +1,96 @@
+//! Hostile inputs and environments, third round (issue 25): every path written is guarded,
+//! every input is bounded, and every failure gives a clear error and the right exit code.
+
+mod support;
+
+use std::fs::File;
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+use support::{codesign, codesign_command, fails_saying, root, scratch, task_with};
+
+fn path(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// Runs codesign with stdout and stderr sent to the given files.
+fn codesign_into(args: &[&str], stdout: Stdio, stderr: Stdio) -> Output {
+    codesign_command(root(), args)
+        .stdout(stdout)
+        .stderr(stderr)
+        .output()
+        .expect("the codesign binary runs")
+}
+
+fn full() -> Stdio {
+    Stdio::from(File::options().write(true).open("/dev/full").unwrap())
+}
+
+/// Item 2: an IPOPT log file would write over whatever it names (here the task file itself);
+/// the option is refused before anything is opened.
+#[test]
+fn an_ipopt_output_file_is_refused_and_the_file_it_names_kept() {
+    let dir = scratch("output-file");
+    let task = task_with(&dir, |_| {});
+    let text = std::fs::read_to_string(&task).unwrap();
+    let mut value: serde_json::Value = serde_json::from_str(&text).unwrap();
+    value["solver"]["options"]["output_file"] = path(&task).into();
+    let edited = value.to_string();
+    std::fs::write(&task, &edited).unwrap();
+    let output = codesign(&["solve", "--steps", "2", "--task", path(&task)]);
+    fails_saying(
+        &output,
+        "solver.options.output_file: codesign writes no IPOPT log file",
+    );
+    assert_eq!(std::fs::read_to_string(&task).unwrap(), edited);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Item 21: a whole number for a real IPOPT option is taken as a number.
+#[test]
+fn a_whole_number_sets_a_real_option() {
+    let dir = scratch("max-cpu-time");
+    let task = task_with(&dir, |task| {
+        task["solver"]["options"]["max_cpu_time"] = 100.into();
+    });
+    let output = codesign(&["solve", "--steps", "2", "--task", path(&task)]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Item 20: errors, help and version on a full disk or a closed stdout exit non-zero without a
+/// panic; a reader that closes its pipe early ends the command quietly.
+#[test]
+fn exit_codes_on_full_disks_closed_outputs_and_pipes() {
+    let failed = codesign_into(&["solve", "--ratios", "1,2"], Stdio::null(), full());
+    assert_eq!(failed.status.code(), Some(1));
+    let usage = codesign_into(&["--no-such-flag"], Stdio::null(), full());
+    assert_eq!(usage.status.code(), Some(2));
+    for flag in ["--help", "--version"] {
+        let output = codesign_into(&[flag], full(), Stdio::piped());
+        assert_eq!(output.status.code(), Some(1), "{flag}: {}", stderr(&output));
+        assert!(stderr(&output).contains("cannot write the output on stdout"));
+    }
+    let binary = env!("CARGO_BIN_EXE_codesign");
+    for args in ["--version", "task"] {
+        let closed = Command::new("sh")
+            .args(["-c", &format!("exec '{binary}' {args} >&-")])
+            .output()
+            .unwrap();
+        assert_eq!(closed.status.code(), Some(1), "{args}: {}", stderr(&closed));
+        assert!(
+            stderr(&closed).contains("stdout is closed"),
+            "{}",
+            stderr(&closed)
+        );
+    }
+    // The reader is gone before codesign writes: its write fails with EPIPE.
+    let script = format!("{{ sleep 0.3; '{binary}' task; }} | true; echo ${{PIPESTATUS[0]}}");
+    let piped = Command::new("bash").args(["-c", &script]).output().unwrap();
+    assert!(piped.status.success());
+    assert_eq!(String::from_utf8_lossy(&piped.stdout).trim(), "0");
+    assert_eq!(stderr(&piped), "");
+}
