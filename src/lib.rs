@@ -23,6 +23,7 @@ pub fn write_note(text: std::fmt::Arguments<'_>) {
 pub mod cli;
 pub mod design;
 pub mod dynamics;
+pub mod hash;
 pub mod ipopt;
 pub mod ldl;
 pub mod model;
@@ -32,4 +33,5 @@ pub mod solve;
 pub mod stats;
 #[cfg(test)]
 mod testing;
+pub mod text;
 pub mod transmission;

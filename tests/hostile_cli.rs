@@ -94,3 +94,109 @@ fn exit_codes_on_full_disks_closed_outputs_and_pipes() {
     assert_eq!(String::from_utf8_lossy(&piped.stdout).trim(), "0");
     assert_eq!(stderr(&piped), "");
 }
+
+/// Item 10: numbers out of any sensible range are refused before a solve, naming the flag or
+/// the field.
+#[test]
+fn absurd_numbers_are_refused_before_any_solve() {
+    let dir = scratch("ranges");
+    let out = dir.join("o.json");
+    let output = codesign(&["optimize", "--solve-timeout", "1e300", "--out", path(&out)]);
+    fails_saying(
+        &output,
+        "--solve-timeout 1e300: must be a positive number of seconds, at most",
+    );
+    fails_saying(
+        &codesign(&["solve", "--duration", "1e-300"]),
+        "the duration must be a number of seconds >= 0.01",
+    );
+    for (field, edit) in [
+        (
+            "gravity = [0.0, 0.0, -1e308] is longer than 1000",
+            ("gravity", 2, -1e308),
+        ),
+        (
+            "tcp.point = [1e300, 0.0, 0.15] is longer than 100",
+            ("tcp", 0, 1e300),
+        ),
+    ] {
+        let task = task_with(&dir, |task| match edit.0 {
+            "gravity" => task["gravity"][edit.1] = edit.2.into(),
+            _ => task["tcp"]["point"][edit.1] = edit.2.into(),
+        });
+        let output = codesign(&["solve", "--task", path(&task)]);
+        fails_saying(&output, field);
+    }
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().flatten().collect();
+    assert_eq!(left.len(), 1, "only the task file: {left:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Item 11: no more workers than designs in a generation, and a note above the core count.
+#[test]
+fn workers_are_capped_at_the_population() {
+    let dir = scratch("workers");
+    let out = dir.join("o.json");
+    let task = task_with(&dir, |task| task["motion"]["steps"] = 4.into());
+    let output = codesign(&[
+        "optimize",
+        "--task",
+        path(&task),
+        "--workers",
+        "100000",
+        "--population",
+        "5",
+        "--generations",
+        "0",
+        "--out",
+        path(&out),
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let said = stderr(&output);
+    assert!(
+        said.contains("--workers 100000: a generation has 5 designs, so 5 workers are started"),
+        "{said}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Item 17: a run is never resumed on an edited robot: the log records the URDF's hash.
+#[test]
+fn a_run_does_not_resume_on_an_edited_robot() {
+    let dir = scratch("robot-edit");
+    let urdf = dir.join("arm.urdf");
+    let original = std::fs::read_to_string(root().join("robots/belt_arm.urdf")).unwrap();
+    std::fs::write(&urdf, &original).unwrap();
+    let task = task_with(&dir, |task| {
+        task["robot"] = "arm.urdf".into();
+        task["motion"]["steps"] = 4.into();
+    });
+    let out = dir.join("o.json");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "optimize",
+            "--task",
+            path(&task),
+            "--population",
+            "5",
+            "--generations",
+            "0",
+            "--workers",
+            "1",
+            "--out",
+            path(&out),
+        ];
+        args.extend_from_slice(extra);
+        codesign(&args)
+    };
+    let first = run(&[]);
+    assert!(first.status.success(), "{}", stderr(&first));
+    let heavier = original.replacen("<mass value=\"0.36192\"", "<mass value=\"3\"", 1);
+    assert_ne!(heavier, original, "the URDF holds the mass to edit");
+    std::fs::write(&urdf, heavier).unwrap();
+    let log = dir.join("o.log.jsonl");
+    let before = std::fs::read(&log).unwrap();
+    fails_saying(&run(&["--resume"]), "robot_hash: log");
+    assert_eq!(std::fs::read(&log).unwrap(), before);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -7,6 +7,7 @@ use crate::problem::Formulation;
 use crate::report::files::{check_output, write_json};
 use crate::report::trajectory::{write_plots, SolveDocument};
 use crate::solve::{solve_design, SolveError, SolveSettings, TrajectoryResult};
+use crate::text::number;
 use std::path::PathBuf;
 
 /// Flags of `codesign solve`.
@@ -52,7 +53,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     args.problem.configure(&mut settings);
     settings.verbose = args.verbose;
     if let Some(duration) = args.duration {
-        check_horizon(duration).map_err(|why| format!("--duration {duration}: {why}"))?;
+        check_horizon(duration).map_err(|why| format!("--duration {}: {why}", number(duration)))?;
         task.motion.horizon_s = duration;
     }
     if let Some(steps) = args.steps {

@@ -16,6 +16,7 @@ pub struct Robot {
     tcp: PointOnBody,
     payload_at: PointOnBody,
     payload_kg: f64,
+    urdf_hash: String,
 }
 
 /// The built-in robot: the text of `robots/belt_arm.urdf`, compiled in.
@@ -63,6 +64,7 @@ impl Robot {
             chain,
             gravity,
             payload_kg,
+            urdf_hash: crate::hash::fnv1a(urdf.as_bytes()),
         })
     }
 
@@ -86,6 +88,11 @@ impl Robot {
     /// Where the payload sits: a point on a body of the chain.
     pub fn payload_point(&self) -> &PointOnBody {
         &self.payload_at
+    }
+
+    /// FNV-1a of the URDF's text, as 16 hex digits: tells a run whether its robot file changed.
+    pub fn urdf_hash(&self) -> &str {
+        &self.urdf_hash
     }
 
     /// The number of joints (degrees of freedom).

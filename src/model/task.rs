@@ -15,8 +15,8 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 pub use super::validate::{
-    check_horizon, check_payload, check_steps, FieldError, OutOfRange, MAX_HORIZON_S,
-    MAX_PAYLOAD_KG, MAX_STEPS,
+    check_horizon, check_payload, check_steps, FieldError, OutOfRange, MAX_GRAVITY, MAX_HORIZON_S,
+    MAX_PAYLOAD_KG, MAX_POINT_M, MAX_STEPS, MIN_HORIZON_S,
 };
 
 /// The built-in task: the text of `robots/tasks/pick_place.json`, compiled in.

@@ -2,6 +2,7 @@
 //! reasons ([`OutOfRange`]), and fields that make no sense ([`FieldError`]).
 
 use super::task::{CartesianBox, Motion, SoftInterval, Task, Weights};
+use crate::text::number;
 use std::fmt;
 
 /// Most intervals N of a motion: the problem has about 20 variables per interval and IPOPT's
@@ -11,6 +12,16 @@ pub const MAX_STEPS: usize = 5_000;
 /// Longest motion, s: an hour, far beyond a pick-and-place of seconds.
 pub const MAX_HORIZON_S: f64 = 3_600.0;
 
+/// Shortest motion, s: a hundredth of a second. Shorter motions ask for accelerations no motor
+/// gives, and IPOPT's numbers overflow on them.
+pub const MIN_HORIZON_S: f64 = 0.01;
+
+/// Largest gravity, m/s^2: a hundred times the Earth's, beyond any place a robot works.
+pub const MAX_GRAVITY: f64 = 1_000.0;
+
+/// Farthest a task's point (the TCP, the payload) may lie from its link's origin, m.
+pub const MAX_POINT_M: f64 = 100.0;
+
 /// Heaviest payload, kg: a tonne, far beyond what a 4-DOF arm of this class can lift.
 pub const MAX_PAYLOAD_KG: f64 = 1_000.0;
 
@@ -19,7 +30,7 @@ pub const MAX_PAYLOAD_KG: f64 = 1_000.0;
 pub enum OutOfRange {
     /// A number of intervals N outside 1..=[`MAX_STEPS`].
     Steps,
-    /// A duration outside (0, [`MAX_HORIZON_S`]] s.
+    /// A duration outside [[`MIN_HORIZON_S`], [`MAX_HORIZON_S`]] s.
     Horizon,
     /// A payload outside [0, [`MAX_PAYLOAD_KG`]] kg.
     Payload,
@@ -29,7 +40,7 @@ impl fmt::Display for OutOfRange {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             OutOfRange::Steps => write!(f, "the number of intervals must be 1 to {MAX_STEPS} (100 times the paper's 50; beyond that IPOPT's memory and time grow out of reach)"),
-            OutOfRange::Horizon => write!(f, "the duration must be a number of seconds > 0 and <= {MAX_HORIZON_S} (an hour, far beyond any pick-and-place)"),
+            OutOfRange::Horizon => write!(f, "the duration must be a number of seconds >= {MIN_HORIZON_S} and <= {MAX_HORIZON_S} (from a hundredth of a second, below which no motor makes the motion and IPOPT's numbers overflow, to an hour, far beyond any pick-and-place)"),
             OutOfRange::Payload => write!(f, "the payload must be a mass >= 0 and <= {MAX_PAYLOAD_KG} kg (a tonne, far beyond what this class of arm lifts)"),
         }
     }
@@ -55,8 +66,8 @@ impl FieldError {
     }
 
     /// The error of a `value` of `field` outside its range.
-    fn out_of_range(field: &str, value: impl fmt::Display, range: OutOfRange) -> FieldError {
-        FieldError::new(field, format!(" = {value}: {range}"))
+    fn out_of_range(field: &str, value: f64, range: OutOfRange) -> FieldError {
+        FieldError::new(field, format!(" = {}: {range}", number(value)))
     }
 }
 
@@ -79,7 +90,7 @@ pub fn check_steps(steps: usize) -> Result<(), OutOfRange> {
 
 /// Checks a motion's duration, s.
 pub fn check_horizon(seconds: f64) -> Result<(), OutOfRange> {
-    if seconds.is_finite() && seconds > 0.0 && seconds <= MAX_HORIZON_S {
+    if (MIN_HORIZON_S..=MAX_HORIZON_S).contains(&seconds) {
         Ok(())
     } else {
         Err(OutOfRange::Horizon)
@@ -92,6 +103,19 @@ pub fn check_payload(kg: f64) -> Result<(), OutOfRange> {
         Ok(())
     } else {
         Err(OutOfRange::Payload)
+    }
+}
+
+/// Ok if the vector's length is at most `largest`; else an error naming `name` with `why`.
+fn check_norm(name: &str, values: &[f64; 3], largest: f64, why: &str) -> Result<(), FieldError> {
+    let norm = values.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if norm <= largest {
+        Ok(())
+    } else {
+        Err(FieldError::new(
+            name,
+            format!(" = {values:?} is longer than {largest} ({why})"),
+        ))
     }
 }
 
@@ -124,7 +148,7 @@ impl Motion {
         check_horizon(self.horizon_s)
             .map_err(|why| FieldError::out_of_range("motion.horizon_s", self.horizon_s, why))?;
         check_steps(self.steps)
-            .map_err(|why| FieldError::out_of_range("motion.steps", self.steps, why))
+            .map_err(|why| FieldError::out_of_range("motion.steps", self.steps as f64, why))
     }
 }
 
@@ -180,6 +204,15 @@ impl Task {
         check_finite("gravity", &self.gravity)?;
         check_finite("tcp.point", &self.tcp.point)?;
         check_finite("payload.at.point", &self.payload.at.point)?;
+        let far = "m from its link: beyond any robot's reach";
+        check_norm(
+            "gravity",
+            &self.gravity,
+            MAX_GRAVITY,
+            "m/s^2: a hundred times the Earth's",
+        )?;
+        check_norm("tcp.point", &self.tcp.point, MAX_POINT_M, far)?;
+        check_norm("payload.at.point", &self.payload.at.point, MAX_POINT_M, far)?;
         check_payload(self.payload.mass_kg).map_err(|why| {
             FieldError::out_of_range("payload.mass_kg", self.payload.mass_kg, why)
         })?;

@@ -2,7 +2,7 @@
 //! plans, with every check of the settings in one place. Its errors name the flag of
 //! `codesign optimize` that sets each value, since a case is what those flags pose.
 
-use super::document::OptimizeInputs;
+use super::document::{OptimizeInputs, RecordedHash};
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::evaluate::{Objective, PayloadRange};
@@ -15,6 +15,7 @@ use crate::model::task::{check_payload, LimitMode, LimitModes, Task, TaskSource}
 use crate::model::Robot;
 use crate::problem::Space;
 use crate::solve::{SolveSettings, TaskRecord};
+use crate::text::number;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -72,7 +73,8 @@ impl ModelChoice {
             task.robot = Some(robot.clone());
         }
         if let Some(payload) = self.payload {
-            check_payload(payload).map_err(|why| format!("--payload {payload}: {why}"))?;
+            check_payload(payload)
+                .map_err(|why| format!("--payload {}: {why}", number(payload)))?;
             task.payload.mass_kg = payload;
         }
         let robot = Robot::load(&task).map_err(|e| match (&self.robot, self.source()) {
@@ -113,6 +115,10 @@ impl ProblemChoice {
         }
     }
 }
+
+/// The longest `--solve-timeout`, s: a week, beyond any solve of a task (the largest problem
+/// allowed solves in minutes).
+pub const MAX_SOLVE_TIMEOUT_S: f64 = 604_800.0;
 
 /// `text` quoted for `sh`: in single quotes, each single quote written as '\''.
 pub fn shell_quote(text: &str) -> String {
@@ -184,10 +190,14 @@ impl Case {
         if self.penalty.grading == Grading::Graded {
             self.check_graded()?;
         }
-        if !(self.solve_timeout_s.is_finite() && self.solve_timeout_s > 0.0) {
+        if !(self.solve_timeout_s.is_finite()
+            && self.solve_timeout_s > 0.0
+            && self.solve_timeout_s <= MAX_SOLVE_TIMEOUT_S)
+        {
             return Err(format!(
-                "--solve-timeout {}: must be a positive number of seconds",
-                self.solve_timeout_s
+                "--solve-timeout {}: must be a positive number of seconds, at most \
+                 {MAX_SOLVE_TIMEOUT_S} (a week: no solve of a task takes that long)",
+                number(self.solve_timeout_s)
             ));
         }
         if self.workers == Some(0) {
@@ -252,7 +262,8 @@ impl Case {
             return Err("--objective range: give the payloads with --payloads KG,KG,..".to_owned());
         }
         for &payload in &range.payloads_kg {
-            check_payload(payload).map_err(|why| format!("--payloads {payload}: {why}"))?;
+            check_payload(payload)
+                .map_err(|why| format!("--payloads {}: {why}", number(payload)))?;
         }
         Ok(())
     }
@@ -324,10 +335,11 @@ impl Case {
     }
 
     /// The settings of the run as its document and log header record them, for `task` (the
-    /// overrides applied) solved with `settings`, with limit `modes`.
+    /// overrides applied) on `robot` solved with `settings`, with limit `modes`.
     pub fn inputs(
         &self,
         task: &Task,
+        robot: &Robot,
         settings: &SolveSettings,
         modes: LimitModes,
     ) -> OptimizeInputs {
@@ -342,6 +354,7 @@ impl Case {
                 solver: settings.recorded(),
             },
             linear_solver: settings.linear_solver(),
+            robot_hash: RecordedHash(Some(robot.urdf_hash().to_owned())),
             space: self.problem.space,
             payload_kg: task.payload.mass_kg,
             limit_modes: modes,
@@ -417,10 +430,12 @@ mod tests {
         descent.penalty = "graded".parse().unwrap();
         descent.validate().unwrap();
         let mut timeout = case(Method::Cmaes);
-        timeout.solve_timeout_s = f64::NAN;
-        assert!(timeout
-            .validate()
-            .unwrap_err()
-            .starts_with("--solve-timeout"));
+        for absurd in [f64::NAN, 1e300, 0.0] {
+            timeout.solve_timeout_s = absurd;
+            assert!(timeout
+                .validate()
+                .unwrap_err()
+                .starts_with("--solve-timeout"));
+        }
     }
 }

@@ -28,6 +28,10 @@ pub struct OptimizeInputs {
     /// The linear solver of the inner solves (runs logged before it was recorded used MUMPS).
     #[serde(default = "LinearSolver::before_ldl")]
     pub linear_solver: LinearSolver,
+    /// FNV-1a of the robot's URDF text, so that a run is never resumed with an edited robot
+    /// (logs written before it was recorded leave it unknown).
+    #[serde(default, skip_serializing_if = "RecordedHash::is_unknown")]
+    pub robot_hash: RecordedHash,
     /// Joint or actuation space.
     pub space: Space,
     /// Payload, kg.
@@ -52,6 +56,28 @@ pub struct OptimizeInputs {
     pub ftol: f64,
     /// Stop when the step falls below this.
     pub xtol: f64,
+}
+
+/// A hash a run recorded, or unknown in records written before it was kept. Unknown matches
+/// any hash: an older log cannot say what it ran on, and is trusted on its other settings.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct RecordedHash(pub Option<String>);
+
+impl RecordedHash {
+    /// Whether no hash was recorded.
+    pub fn is_unknown(&self) -> bool {
+        self.0.is_none()
+    }
+}
+
+impl PartialEq for RecordedHash {
+    fn eq(&self, other: &RecordedHash) -> bool {
+        match (&self.0, &other.0) {
+            (Some(a), Some(b)) => a == b,
+            _ => true,
+        }
+    }
 }
 
 /// The JSON file `codesign optimize` writes.

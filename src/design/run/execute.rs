@@ -49,9 +49,9 @@ pub fn run_case(
     }
     let modes = case.problem.modes(&task);
     probe_solver(&task, &settings, &robot, case, modes)?;
+    let inputs = case.inputs(&task, &robot, &settings, modes);
     let formulation =
         Formulation::new(&task, robot, case.problem.space, modes).map_err(|e| e.to_string())?;
-    let inputs = case.inputs(&task, &settings, modes);
     let mut log = match case.method {
         Method::Cmaes => Some(open_log(case.start, out, &inputs)?),
         Method::Gradient => None,
@@ -250,6 +250,27 @@ fn worker_setup(
     })
 }
 
+/// How many workers a run of `population` starts: the number asked for (default: one per core),
+/// at most one per design of a generation, with a note when it is more than the cores.
+fn worker_count(asked: Option<usize>, population: usize) -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let workers = asked.unwrap_or(cores).min(population).max(1);
+    if asked.is_some_and(|n| n > population) {
+        note!(
+            "note: --workers {}: a generation has {population} designs, so {population} workers \
+             are started",
+            asked.unwrap_or_default()
+        );
+    }
+    if workers > cores {
+        note!(
+            "note: {workers} workers on {cores} cores here: unless the worker command places them \
+             on other machines, they share the cores"
+        );
+    }
+    workers
+}
+
 /// What a CMA-ES run is: its case, recorded inputs, workers' setup and formulation.
 struct CmaesRun<'a> {
     case: &'a Case,
@@ -272,9 +293,7 @@ fn run_cmaes(
         setup,
         formulation,
     } = run;
-    let workers = case
-        .workers
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let workers = worker_count(case.workers, case.cmaes.population);
     let program = std::env::current_exe()
         .map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
     let timeout = Duration::from_secs_f64(case.solve_timeout_s);

@@ -6,6 +6,8 @@ mod case;
 mod document;
 mod execute;
 
-pub use case::{shell_quote, task_source, Case, Method, ModelChoice, ProblemChoice};
+pub use case::{
+    shell_quote, task_source, Case, Method, ModelChoice, ProblemChoice, MAX_SOLVE_TIMEOUT_S,
+};
 pub use document::{OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
 pub use execute::{log_path, run_case, ProgressDisplay, LOG_EXTENSION};
