@@ -24,6 +24,7 @@ pub mod cli;
 pub mod design;
 pub mod dynamics;
 pub mod hash;
+pub mod input;
 pub mod ipopt;
 pub mod ldl;
 pub mod model;

@@ -200,3 +200,83 @@ fn a_run_does_not_resume_on_an_edited_robot() {
     assert_eq!(std::fs::read(&log).unwrap(), before);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Item 8: devices, FIFOs and huge files are refused at once as inputs, naming them; nothing
+/// is read whole first.
+#[test]
+fn inputs_must_be_regular_files_of_bounded_size() {
+    let dir = scratch("inputs");
+    let fifo = dir.join("fifo");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let huge = dir.join("huge.json");
+    let file = File::create(&huge).unwrap();
+    file.set_len(2 << 30).unwrap();
+    let cases: [(&[&str], &str); 6] = [
+        (
+            &["table", "/dev/zero"],
+            "/dev/zero: is a device, not a regular file",
+        ),
+        (
+            &["solve", "--task", "/dev/zero"],
+            "task file /dev/zero: is a device",
+        ),
+        (
+            &["solve", "--task", "/dev/urandom"],
+            "is a device, not a regular file",
+        ),
+        (
+            &["solve", "--robot", "/dev/zero"],
+            "/dev/zero: file: is a device",
+        ),
+        (
+            &["solve", "--task", path(&fifo)],
+            "is a FIFO, not a regular file",
+        ),
+        (&["solve", "--task", path(&huge)], "is larger than 1 MiB"),
+    ];
+    for (args, expected) in cases {
+        fails_saying(&codesign(args), expected);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Items 9 and 21: a URDF of 10,000 links is refused at once; empty, non-XML, cut and xacro
+/// files each say what they are; a task with a byte order mark reads.
+#[test]
+fn urdfs_and_tasks_as_users_have_them() {
+    let dir = scratch("urdfs");
+    let mut long = String::from("<robot name=\"long\">");
+    for i in 0..10_000 {
+        long.push_str(&format!("<link name=\"l{i}\"/>"));
+    }
+    long.push_str("</robot>");
+    let cases = [
+        (
+            long.as_str(),
+            "10000 links and 0 moving joints: at most 1000 links",
+        ),
+        ("", "the file is empty"),
+        ("{\"robot\": 1}", "not a URDF: it has no <robot> element"),
+        ("<robot name=\"x\"><link name=\"a\"/>", "is it cut short?"),
+        (
+            "<robot xmlns:xacro=\"x\"><xacro:property name=\"l\" value=\"1\"/></robot>",
+            "this is a xacro file: run xacro first",
+        ),
+    ];
+    for (k, (text, expected)) in cases.into_iter().enumerate() {
+        let urdf = dir.join(format!("robot{k}.urdf"));
+        std::fs::write(&urdf, text).unwrap();
+        let output = codesign(&["dynamics", "--robot", path(&urdf), "--q", "0,0,0,0"]);
+        fails_saying(&output, expected);
+    }
+    let task = task_with(&dir, |_| {});
+    let text = std::fs::read_to_string(&task).unwrap();
+    std::fs::write(&task, format!("\u{feff}{text}")).unwrap();
+    let output = codesign(&["solve", "--steps", "2", "--task", path(&task)]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -4,6 +4,7 @@ use super::chain::{Chain, PointOnBody};
 use super::error::ModelError;
 use super::task::{PointOnLink, Task};
 use super::urdf::read_chain;
+use crate::input::{read_text, MAX_URDF_BYTES};
 use nalgebra::Vector3;
 
 /// A serial-chain robot ready for the dynamics: kinematics and mass properties from a URDF,
@@ -33,8 +34,8 @@ impl Robot {
             return Robot::from_urdf_str(BUILT_IN_URDF, BUILT_IN_NAME, task);
         };
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| ModelError::new(&file, "file", format!("cannot read: {e}")))?;
+        let text = read_text(path, MAX_URDF_BYTES)
+            .map_err(|e| ModelError::new(&file, "file", e.to_string()))?;
         Robot::from_urdf_str(&text, &file, task)
     }
 

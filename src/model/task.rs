@@ -9,6 +9,7 @@
 //! `robots/tasks/pick_place.json` is compiled into the binary as the built-in task
 //! ([`Task::built_in`]), so that every command works without files from any folder.
 
+use crate::input::{read_text, MAX_TASK_BYTES};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::fmt;
@@ -244,9 +245,9 @@ impl TaskFile {
     /// Reads and checks a task file. A relative robot path is resolved against the file's folder.
     pub fn load(path: &Path) -> Result<TaskFile, TaskError> {
         let source = TaskSource::File(path.to_owned());
-        let text = std::fs::read_to_string(path).map_err(|e| TaskError {
+        let text = read_text(path, MAX_TASK_BYTES).map_err(|e| TaskError {
             source: source.clone(),
-            message: format!("cannot read: {e}"),
+            message: e.to_string(),
         })?;
         let mut file = TaskFile::from_json(&text, source)?;
         if let Some(robot) = file.task.robot.as_mut().filter(|robot| robot.is_relative()) {

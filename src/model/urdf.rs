@@ -18,16 +18,50 @@ use urdf_rs::{JointType, Pose};
 
 /// Reads the URDF text `urdf`; `file` names it in errors.
 pub fn read_chain(urdf: &str, file: &str) -> Result<Chain, ModelError> {
+    if urdf.contains("xacro:") || urdf.contains("${") {
+        return Err(ModelError::new(
+            file,
+            "robot",
+            "this is a xacro file: run xacro first (`xacro FILE.urdf.xacro > FILE.urdf`)",
+        ));
+    }
     let robot = urdf_rs::read_from_string(urdf).map_err(|e| {
-        let hint = if urdf.contains("</robot>") {
-            ""
+        let message = if urdf.trim().is_empty() {
+            "the file is empty".to_owned()
+        } else if !urdf.contains("<robot") {
+            format!("not a URDF: it has no <robot> element ({e})")
+        } else if !urdf.contains("</robot>") {
+            format!("not a readable URDF: {e} (the file ends before its closing </robot>: is it cut short?)")
         } else {
-            " (the file ends before its closing </robot>: is it cut short?)"
+            format!("not a readable URDF: {e}")
         };
-        ModelError::new(file, "robot", format!("not a readable URDF: {e}{hint}"))
+        ModelError::new(file, "robot", message)
     })?;
+    let moving = robot
+        .joints
+        .iter()
+        .filter(|joint| !matches!(joint.joint_type, JointType::Fixed))
+        .count();
+    if robot.links.len() > MAX_LINKS || moving > MAX_MOVING_JOINTS {
+        return Err(ModelError::new(
+            file,
+            "robot",
+            format!(
+                "{} links and {moving} moving joints: at most {MAX_LINKS} links and \
+                 {MAX_MOVING_JOINTS} moving joints (an arm has tens; the trajectory problem \
+                 grows with the square of the joints at every node)",
+                robot.links.len()
+            ),
+        ));
+    }
     Tree::new(&robot, file)?.chain()
 }
+
+/// The most links a URDF may have: arms with their sensors and tools have tens.
+pub const MAX_LINKS: usize = 1000;
+
+/// The most moving joints a URDF may have: the serial arms this tool designs have a few.
+pub const MAX_MOVING_JOINTS: usize = 64;
 
 /// The links and joints of a URDF as a tree, checked for being one.
 struct Tree<'a> {

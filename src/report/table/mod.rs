@@ -10,6 +10,7 @@ pub use build::build_table;
 use super::codesign::CapacityDocument;
 use super::trajectory::SolveDocument;
 use crate::design::run::{OptimizeDocument, PayloadCost};
+use crate::input::{read_text, MAX_RESULT_BYTES};
 use crate::ipopt::LinearSolver;
 use crate::problem::Space;
 use crate::solve::ToolInfo;
@@ -29,8 +30,7 @@ pub enum ResultFile {
 
 /// Reads a result file, telling its kind by its fields; errors name the file.
 pub fn read_result_file(path: &Path) -> Result<ResultFile, String> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let text = read_text(path, MAX_RESULT_BYTES).map_err(|e| format!("{}: {e}", path.display()))?;
     let value: serde_json::Value =
         serde_json::from_str(&text).map_err(|e| format!("{}: not JSON: {e}", path.display()))?;
     let kind = if value.get("best_ratios").is_some() {
