@@ -280,3 +280,95 @@ fn urdfs_and_tasks_as_users_have_them() {
     assert!(output.status.success(), "{}", stderr(&output));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Copies the committed quick reproduction's results (not its logs) into a scratch folder.
+fn quick_results(name: &str) -> std::path::PathBuf {
+    let dir = scratch(name);
+    for folder in ["original", "runs", "capacity"] {
+        std::fs::create_dir_all(dir.join(folder)).unwrap();
+        for entry in std::fs::read_dir(root().join("results/quick").join(folder)).unwrap() {
+            let from = entry.unwrap().path();
+            if from.extension().is_some_and(|e| e == "json") {
+                std::fs::copy(&from, dir.join(folder).join(from.file_name().unwrap())).unwrap();
+            }
+        }
+    }
+    dir
+}
+
+/// Edits the JSON file at `file` in place.
+fn edit_json(file: &Path, edit: impl Fn(&mut serde_json::Value)) {
+    let mut value: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(file).unwrap()).unwrap();
+    edit(&mut value);
+    std::fs::write(file, serde_json::to_string_pretty(&value).unwrap()).unwrap();
+}
+
+/// Item 18: a run made with other settings than the plan's is never merged as the plan's.
+#[test]
+fn from_runs_refuses_runs_of_other_settings() {
+    let dir = quick_results("from-runs");
+    let run = dir.join("runs/actuation-1kg-seed0.json");
+    edit_json(&run, |doc| doc["inputs"]["population"] = 6.into());
+    let output = codesign(&["reproduce", "--quick", "--from-runs", path(&dir)]);
+    fails_saying(&output, "actuation-1kg-seed0.json is not the plan's run");
+    fails_saying(&output, "population: recorded 6, planned");
+    // Another seed's result under this one's name.
+    std::fs::copy(dir.join("runs/actuation-1kg-seed1.json"), &run).unwrap();
+    let output = codesign(&["reproduce", "--quick", "--from-runs", path(&dir)]);
+    fails_saying(&output, "seed: recorded 1, planned 0");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Item 19: a result given twice, under one name or two, and an edited negative cost are
+/// refused by `table`.
+#[test]
+fn table_refuses_duplicates_and_edited_costs() {
+    let dir = quick_results("table");
+    let run = dir.join("runs/actuation-1kg-seed0.json");
+    let twin = dir.join("twin.json");
+    std::fs::copy(&run, &twin).unwrap();
+    for pair in [[&run, &run], [&run, &twin]] {
+        let output = codesign(&["table", path(pair[0]), path(pair[1])]);
+        fails_saying(&output, "hold the same result");
+    }
+    edit_json(&twin, |doc| doc["best_cost"] = (-5.0).into());
+    let output = codesign(&["table", path(&twin)]);
+    fails_saying(&output, "best_cost = -5 is not a trajectory cost");
+    let seeds = codesign(&[
+        "table",
+        path(&run),
+        path(&dir.join("runs/actuation-1kg-seed1.json")),
+    ]);
+    assert!(seeds.status.success(), "{}", stderr(&seeds));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Item 21: `reproduce` messages: --plan checks the task, --from-runs a missing folder creates
+/// nothing.
+#[test]
+fn reproduce_checks_before_it_plans_or_merges() {
+    let dir = scratch("plan");
+    let task = task_with(&dir, |task| task["motion"]["steps"] = 0.into());
+    let out = dir.join("out");
+    let output = codesign(&[
+        "reproduce",
+        "--quick",
+        "--plan",
+        "--task",
+        path(&task),
+        "--out-dir",
+        path(&out),
+    ]);
+    fails_saying(&output, "motion.steps = 0");
+    assert!(
+        !out.exists(),
+        "the plan's folders were made for an invalid task"
+    );
+    let missing = dir.join("missing");
+    let output = codesign(&["reproduce", "--quick", "--from-runs", path(&missing)]);
+    fails_saying(&output, "--from-runs");
+    fails_saying(&output, "not a folder");
+    assert!(!missing.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

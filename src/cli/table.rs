@@ -1,7 +1,7 @@
 //! `codesign table`: the paper's table rebuilt from result files (e.g. runs split across machines).
 
 use crate::report::files::{check_output, write_atomic, write_json};
-use crate::report::table::{build_table, read_result_file, ResultFile};
+use crate::report::table::{build_table, check_results, read_result_file};
 use std::path::{Path, PathBuf};
 
 /// Flags of `codesign table`.
@@ -35,7 +35,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         .iter()
         .map(|path| read_result_file(path))
         .collect::<Result<Vec<_>, _>>()?;
-    check_one_motion(&args.files, &files)?;
+    check_results(&args.files, &files)?;
     let table = build_table(&files, Vec::new());
     match outputs {
         Some((markdown, json)) => {
@@ -48,43 +48,6 @@ pub fn run(args: &Args) -> Result<(), String> {
             );
         }
         None => say_raw!("{}", table.to_markdown()),
-    }
-    Ok(())
-}
-
-/// Fails, naming both files, when two results describe different motions (horizon or number
-/// of intervals) or give the original design's solve of the same row twice: one table compares
-/// results of one task, and no result is silently dropped.
-fn check_one_motion(paths: &[PathBuf], files: &[ResultFile]) -> Result<(), String> {
-    let motion = |file: &ResultFile| match file {
-        ResultFile::Solve(d) => Some((
-            d.inputs.task.task.motion.horizon_s,
-            d.inputs.task.task.motion.steps,
-        )),
-        ResultFile::Optimize(d) => Some((
-            d.inputs.task.task.motion.horizon_s,
-            d.inputs.task.task.motion.steps,
-        )),
-        ResultFile::Capacity(_) => None,
-    };
-    let row = |file: &ResultFile| match file {
-        ResultFile::Solve(d) if d.result.ratios == d.inputs.task.task.transmission.original => {
-            Some((d.inputs.payload_kg, d.inputs.space))
-        }
-        _ => None,
-    };
-    for (i, a) in files.iter().enumerate() {
-        for (j, b) in files.iter().enumerate().skip(i + 1) {
-            let (first, second) = (paths[i].display(), paths[j].display());
-            if let (Some((ha, na)), Some((hb, nb))) = (motion(a), motion(b)) {
-                if (ha, na) != (hb, nb) {
-                    return Err(format!("{first} (horizon {ha} s, {na} intervals) and {second} (horizon {hb} s, {nb} intervals) describe different motions; a table compares the results of one task"));
-                }
-            }
-            if let (Some((payload, space)), true) = (row(a), row(a) == row(b)) {
-                return Err(format!("{first} and {second} both solve the original design at {payload} kg in {space} space; pass one of them"));
-            }
-        }
     }
     Ok(())
 }

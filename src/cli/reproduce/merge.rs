@@ -1,12 +1,12 @@
 //! `reproduce --from-runs`: the results that the plan's commands wrote (on other machines, by
 //! GNU parallel or a Slurm job array), read back from the output folder.
 
-use super::plan::{Plan, PAYLOADS, SPACES};
+use super::plan::{Plan, PlannedRun, PAYLOADS, SPACES};
 use super::Outcomes;
 use crate::design::run::OptimizeDocument;
 use crate::report::codesign::CapacityDocument;
-use crate::report::table::{read_result_file, ResultFile};
-use std::path::Path;
+use crate::report::table::{check_results, read_result_file, ResultFile};
+use std::path::{Path, PathBuf};
 
 /// Reads every result the plan's commands write; fails naming the first that is missing or of
 /// the wrong kind. A gradient run may be missing: the gradient method fails where it finds no
@@ -22,27 +22,29 @@ pub fn read_all(plan: &Plan) -> Result<Outcomes, String> {
             }
         }
     }
-    let optimize = |path: &Path| match read(path)? {
-        ResultFile::Optimize(document) => Ok(*document),
-        _ => Err(wrong_kind(path, "an `optimize` result")),
-    };
-    let runs = plan
-        .cost_runs()
+    // A gradient run may be missing: the gradient method fails where it finds no feasible
+    // start.
+    let present = |run: &PlannedRun| plan.run_file(run).exists();
+    let runs = planned_all(plan, plan.cost_runs())?;
+    let gradient_runs = planned_all(plan, plan.gradient_runs().into_iter().filter(present))?;
+    let beyond_runs = planned_all(plan, plan.beyond_runs())?;
+    let mut paths: Vec<PathBuf> = PAYLOADS
         .iter()
-        .map(|run| optimize(&plan.run_file(run)))
-        .collect::<Result<Vec<OptimizeDocument>, String>>()?;
-    let gradient_runs = plan
-        .gradient_runs()
-        .iter()
-        .map(|run| plan.run_file(run))
-        .filter(|path| path.exists())
-        .map(|path| optimize(&path))
-        .collect::<Result<_, _>>()?;
-    let beyond_runs = plan
-        .beyond_runs()
-        .iter()
-        .map(|run| optimize(&plan.run_file(run)))
-        .collect::<Result<_, _>>()?;
+        .flat_map(|&payload| SPACES.map(|space| plan.original_file(space, payload)))
+        .collect();
+    let mut files = originals.clone();
+    for (path, document) in runs.iter().chain(&gradient_runs).chain(&beyond_runs) {
+        paths.push(path.clone());
+        files.push(ResultFile::Optimize(Box::new(document.clone())));
+    }
+    check_results(&paths, &files).map_err(|why| format!("--from-runs: {why}"))?;
+    let documents =
+        |runs: Vec<(PathBuf, OptimizeDocument)>| runs.into_iter().map(|(_, d)| d).collect();
+    let (runs, gradient_runs, beyond_runs) = (
+        documents(runs),
+        documents(gradient_runs),
+        documents(beyond_runs),
+    );
     let original_capacities = SPACES
         .iter()
         .map(|space| {
@@ -60,6 +62,36 @@ pub fn read_all(plan: &Plan) -> Result<Outcomes, String> {
         beyond_runs,
         original_capacities,
     })
+}
+
+/// Reads the result of the planned `run` at `path`; fails naming the settings in which it
+/// differs from the plan (a run made with other flags is never merged as the plan's).
+fn planned(path: &Path, run: &PlannedRun) -> Result<OptimizeDocument, String> {
+    let ResultFile::Optimize(document) = read(path)? else {
+        return Err(wrong_kind(path, "an `optimize` result"));
+    };
+    let differences = run.case.differences(&document.inputs);
+    if !differences.is_empty() {
+        return Err(format!(
+            "--from-runs: {} is not the plan's run ({}); run the plan's command for it again",
+            path.display(),
+            differences.join("; ")
+        ));
+    }
+    Ok(*document)
+}
+
+/// The results of the planned `runs`, each with its path.
+fn planned_all(
+    plan: &Plan,
+    runs: impl IntoIterator<Item = PlannedRun>,
+) -> Result<Vec<(PathBuf, OptimizeDocument)>, String> {
+    runs.into_iter()
+        .map(|run| {
+            let path = plan.run_file(&run);
+            planned(&path, &run).map(|document| (path, document))
+        })
+        .collect()
 }
 
 /// Reads one result file, saying which command of the plan writes it when it is missing.

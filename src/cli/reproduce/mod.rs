@@ -7,6 +7,7 @@ mod stages;
 use crate::design::log::Start;
 use crate::design::run::{task_source, OptimizeDocument, LOG_EXTENSION};
 use crate::ipopt::LinearSolver;
+use crate::model::Robot;
 use crate::problem::Space;
 use crate::report::codesign::{cost_evolution_chart, radar_chart, CapacityDocument};
 use crate::report::files::{
@@ -93,6 +94,17 @@ pub struct Outcomes {
 pub fn run(args: &Args) -> Result<(), String> {
     let started = Instant::now();
     let plan = Plan::new(args)?;
+    if let Some(folder) = &args.from_runs {
+        if !folder.is_dir() {
+            return Err(format!(
+                "--from-runs {}: not a folder; give the --out-dir that the plan's commands wrote \
+                 into",
+                folder.display()
+            ));
+        }
+    }
+    // The task and its solver section are checked before anything is planned or written.
+    let task = load_task(&plan)?;
     if args.plan {
         let program = std::env::current_exe()
             .map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
@@ -106,15 +118,6 @@ pub fn run(args: &Args) -> Result<(), String> {
         }
         return Ok(());
     }
-    let source = task_source(plan.task.as_ref());
-    let file = source.load().map_err(|e| e.to_string())?;
-    let mut solver =
-        SolveSettings::from_section(file.solver.as_ref()).map_err(|e| format!("{source}: {e}"))?;
-    solver.override_linear_solver(plan.problem.linear_solver);
-    let task = TaskRecord {
-        task: file.task,
-        solver,
-    };
     create_folder(&plan.out_dir)?;
     // Held until the reproduction ends: a second one on the same folder fails at once.
     let _lock = lock_folder(&plan.out_dir)?;
@@ -143,6 +146,21 @@ pub fn run(args: &Args) -> Result<(), String> {
         merged,
         started.elapsed().as_secs_f64(),
     )
+}
+
+/// The plan's task and its solve settings (the plan's linear solver applied), checked, with
+/// its robot.
+fn load_task(plan: &Plan) -> Result<TaskRecord, String> {
+    let source = task_source(plan.task.as_ref());
+    let file = source.load().map_err(|e| e.to_string())?;
+    let mut solver =
+        SolveSettings::from_section(file.solver.as_ref()).map_err(|e| format!("{source}: {e}"))?;
+    solver.override_linear_solver(plan.problem.linear_solver);
+    Robot::load(&file.task).map_err(|e| e.to_string())?;
+    Ok(TaskRecord {
+        task: file.task,
+        solver,
+    })
 }
 
 /// The stages that need every run: the best designs' plots and capacities, the radar chart, and

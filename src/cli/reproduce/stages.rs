@@ -178,7 +178,10 @@ pub fn capacity_document(
     let settings = CapacitySettings::default();
     let formulation = formulation_at(task, task.task.payload.mass_kg, space)?;
     let capacity = payload_capacity(&formulation, &task.solver, &ratios, &settings)?;
-    say!("payload capacity, {name}: {:?} kg", capacity.capacity_kg);
+    match capacity.capacity_kg {
+        Some(kg) => say!("payload capacity, {name}: {kg} kg"),
+        None => say!("payload capacity, {name}: infeasible even without payload"),
+    }
     let document = CapacityDocument {
         tool: ToolInfo::current(task.solver.linear_solver()),
         task_file: task_source(plan.task.as_ref()).label(),

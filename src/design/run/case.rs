@@ -334,6 +334,62 @@ impl Case {
         flags
     }
 
+    /// The settings in which a run recorded as `inputs` differs from this case, as
+    /// `setting: recorded X, case Y` (none: it is a run of this case). The task itself is not
+    /// compared: the case names it by path only.
+    pub fn differences(&self, inputs: &OptimizeInputs) -> Vec<String> {
+        let mut found = Vec::new();
+        let mut compare = |name: &str, recorded: String, case: String| {
+            if recorded != case {
+                found.push(format!("{name}: recorded {recorded}, planned {case}"));
+            }
+        };
+        compare(
+            "method",
+            format!("{:?}", inputs.method),
+            format!("{:?}", self.method),
+        );
+        compare(
+            "objective",
+            format!("{:?}", inputs.objective),
+            format!("{:?}", self.objective),
+        );
+        compare(
+            "space",
+            inputs.space.to_string(),
+            self.problem.space.to_string(),
+        );
+        if let Some(payload) = self.model.payload {
+            compare(
+                "payload_kg",
+                inputs.payload_kg.to_string(),
+                payload.to_string(),
+            );
+        }
+        let penalty = |base: f64, grading| format!("{base} {grading:?}");
+        compare(
+            "penalty",
+            penalty(inputs.penalty, inputs.grading),
+            penalty(self.penalty.base, self.penalty.grading),
+        );
+        if self.method == Method::Cmaes {
+            let c = &self.cmaes;
+            compare("seed", inputs.seed.to_string(), c.seed.to_string());
+            compare(
+                "population",
+                inputs.population.to_string(),
+                c.population.to_string(),
+            );
+            compare(
+                "generations",
+                inputs.generations.to_string(),
+                c.generations.to_string(),
+            );
+            compare("sigma0", inputs.sigma0.to_string(), c.sigma0.to_string());
+        }
+        found
+    }
+
     /// The settings of the run as its document and log header record them, for `task` (the
     /// overrides applied) on `robot` solved with `settings`, with limit `modes`.
     pub fn inputs(

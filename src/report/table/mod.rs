@@ -3,9 +3,11 @@
 //! `markdown`.
 
 mod build;
+mod check;
 mod markdown;
 
 pub use build::build_table;
+pub use check::check_results;
 
 use super::codesign::CapacityDocument;
 use super::trajectory::SolveDocument;

@@ -1,0 +1,104 @@
+//! The checks of a set of result files before they make one table: one motion, no result
+//! twice, and numbers that a run can have written.
+
+use super::ResultFile;
+use crate::design::evaluate::Objective;
+use std::path::PathBuf;
+
+/// Fails, naming the files, when two results describe different motions (horizon or number of
+/// intervals), when one result is given twice (the same file, or the same run under another
+/// name), or when a result holds a cost no run writes (edited or damaged): one table compares
+/// the results of one task, each once.
+pub fn check_results(paths: &[PathBuf], files: &[ResultFile]) -> Result<(), String> {
+    for (path, file) in paths.iter().zip(files) {
+        check_values(file).map_err(|why| format!("{}: {why}", path.display()))?;
+    }
+    for (i, a) in files.iter().enumerate() {
+        for (j, b) in files.iter().enumerate().skip(i + 1) {
+            let (first, second) = (paths[i].display(), paths[j].display());
+            if let (Some((ha, na)), Some((hb, nb))) = (motion(a), motion(b)) {
+                if (ha, na) != (hb, nb) {
+                    return Err(format!("{first} (horizon {ha} s, {na} intervals) and {second} (horizon {hb} s, {nb} intervals) describe different motions; a table compares the results of one task"));
+                }
+            }
+            if let (Some((payload, space)), true) = (row(a), row(a) == row(b)) {
+                return Err(format!("{first} and {second} both solve the original design at {payload} kg in {space} space; pass one of them"));
+            }
+            if same_result(a, b) {
+                return Err(format!(
+                    "{first} and {second} hold the same result (the same run's settings, or one \
+                     file under two names); pass one of them"
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The horizon (s) and intervals of a result's motion, where it records them.
+fn motion(file: &ResultFile) -> Option<(f64, usize)> {
+    let motion = match file {
+        ResultFile::Solve(d) => &d.inputs.task.task.motion,
+        ResultFile::Optimize(d) => &d.inputs.task.task.motion,
+        ResultFile::Capacity(_) => return None,
+    };
+    Some((motion.horizon_s, motion.steps))
+}
+
+/// The table row of a solve of the original design: (payload kg, space).
+fn row(file: &ResultFile) -> Option<(f64, crate::problem::Space)> {
+    match file {
+        ResultFile::Solve(d) if d.result.ratios == d.inputs.task.task.transmission.original => {
+            Some((d.inputs.payload_kg, d.inputs.space))
+        }
+        _ => None,
+    }
+}
+
+/// Whether two results are one: runs with the same settings, solves of the same design and
+/// inputs, capacity searches of the same design.
+fn same_result(a: &ResultFile, b: &ResultFile) -> bool {
+    match (a, b) {
+        (ResultFile::Optimize(a), ResultFile::Optimize(b)) => a.inputs == b.inputs,
+        (ResultFile::Solve(a), ResultFile::Solve(b)) => {
+            a.inputs == b.inputs && a.result.ratios == b.result.ratios
+        }
+        (ResultFile::Capacity(a), ResultFile::Capacity(b)) => {
+            (&a.task_file, a.space, &a.ratios, a.limit_modes, a.settings)
+                == (&b.task_file, b.space, &b.ratios, b.limit_modes, b.settings)
+        }
+        _ => false,
+    }
+}
+
+/// Fails when a result holds a cost or mass no run writes: a trajectory cost J (a sum of
+/// squares) below zero or not a number, a capacity below zero.
+fn check_values(file: &ResultFile) -> Result<(), String> {
+    let cost = |name: &str, value: f64| {
+        if value.is_finite() && value >= 0.0 {
+            Ok(())
+        } else {
+            Err(format!(
+                "{name} = {value} is not a trajectory cost (J is a sum of squares, >= 0); the \
+                 file was edited or damaged"
+            ))
+        }
+    };
+    match file {
+        ResultFile::Optimize(d) => match d.inputs.objective {
+            // The capacity objective minimises minus the payload: its best cost is <= 0.
+            Objective::Capacity(_) => cost("best_cost", -d.best_cost),
+            Objective::Cost | Objective::Range(_) => {
+                cost("best_cost", d.best_cost)?;
+                cost("original_cost", d.original_cost)
+            }
+        },
+        ResultFile::Solve(d) => cost("cost", d.result.cost),
+        ResultFile::Capacity(d) => match d.capacity.capacity_kg {
+            Some(kg) if !(kg.is_finite() && kg >= 0.0) => Err(format!(
+                "capacity_kg = {kg} is not a payload; the file was edited or damaged"
+            )),
+            _ => Ok(()),
+        },
+    }
+}
