@@ -1,0 +1,220 @@
+//! Writing output files whole or not at all, and never over anything but a regular file.
+//!
+//! Symbolic links are followed: writing to a link replaces the regular file it points to and
+//! keeps the link. A link to nothing, a folder, a device, a FIFO or a socket is refused, and so
+//! is an output that is one of the command's inputs.
+
+use super::{Action, FileKind, Refusal, StoreError};
+use std::fs::Metadata;
+use std::io::Write;
+use std::os::unix::fs::{FileTypeExt, MetadataExt};
+use std::path::{Path, PathBuf};
+
+/// Checks, before any work, that `path` can take a result: its folder exists and is writable, it
+/// is absent or a regular file (through symbolic links), and it is none of `inputs` (each named
+/// by where it came from, e.g. `--task`). Creates nothing that outlives the call.
+pub fn check_output(path: &Path, inputs: &[(&str, &Path)]) -> Result<(), StoreError> {
+    let refused = |why| StoreError::Refused {
+        path: path.to_owned(),
+        why,
+    };
+    let target = resolve_target(path).map_err(refused)?;
+    if let Ok(output) = std::fs::metadata(&target) {
+        for (source, input) in inputs {
+            if std::fs::metadata(input).is_ok_and(|input| same_file(&input, &output)) {
+                return Err(refused(Refusal::Input {
+                    source: (*source).to_owned(),
+                    input: input.to_path_buf(),
+                }));
+            }
+        }
+    }
+    let probe = temporary_beside(&target, "probe")?;
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+        .map_err(|error| {
+            refused(Refusal::FolderNotWritable {
+                folder: folder_of(&target),
+                why: error.to_string(),
+            })
+        })?;
+    let _ = std::fs::remove_file(&probe);
+    Ok(())
+}
+
+/// Whether two metadata describe the same file (device and inode).
+pub fn same_file(a: &Metadata, b: &Metadata) -> bool {
+    a.dev() == b.dev() && a.ino() == b.ino()
+}
+
+/// The regular file that writing `path` replaces, or `path` itself when it does not exist:
+/// symbolic links are followed; anything else but a regular file is refused, naming its kind.
+fn resolve_target(path: &Path) -> Result<PathBuf, Refusal> {
+    let unreadable = |error: std::io::Error| Refusal::Unreadable(error.to_string());
+    let target = match std::fs::symlink_metadata(path) {
+        Err(error) if error.kind() == std::io::ErrorKind::NotFound => return Ok(path.to_owned()),
+        Err(error) => return Err(unreadable(error)),
+        Ok(meta) if meta.file_type().is_symlink() => {
+            std::fs::canonicalize(path).map_err(|_| Refusal::DanglingLink)?
+        }
+        Ok(_) => path.to_owned(),
+    };
+    let kind = std::fs::metadata(&target).map_err(unreadable)?.file_type();
+    let refused = if kind.is_file() {
+        return Ok(target);
+    } else if kind.is_dir() {
+        FileKind::Folder
+    } else if kind.is_char_device() || kind.is_block_device() {
+        FileKind::Device
+    } else if kind.is_fifo() {
+        FileKind::Fifo
+    } else if kind.is_socket() {
+        FileKind::Socket
+    } else {
+        FileKind::Other
+    };
+    Err(Refusal::Kind(refused))
+}
+
+/// The folder holding `path` (`.` for a bare file name).
+fn folder_of(path: &Path) -> PathBuf {
+    match path.parent() {
+        Some(folder) if !folder.as_os_str().is_empty() => folder.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// A hidden name beside `path` for this process: `.NAME.TAG<pid>`.
+fn temporary_beside(path: &Path, tag: &str) -> Result<PathBuf, StoreError> {
+    let name = path.file_name().ok_or_else(|| StoreError::NotAFilePath {
+        path: path.to_owned(),
+    })?;
+    Ok(folder_of(path).join(format!(
+        ".{}.{tag}{}",
+        name.to_string_lossy(),
+        std::process::id()
+    )))
+}
+
+/// Writes `bytes` to `path` through a temporary file in the same folder and a rename, so that a
+/// reader (or an interrupted run) never sees a half-written file. A symbolic link is followed
+/// (the file it points to is replaced); a target that is not a regular file is refused and left
+/// as it is. Errors name the path.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), StoreError> {
+    let target = resolve_target(path).map_err(|why| StoreError::NotWritten {
+        path: path.to_owned(),
+        why,
+    })?;
+    let temporary = temporary_beside(&target, "tmp")?;
+    let written = std::fs::File::create(&temporary)
+        .and_then(|mut file| file.write_all(bytes).and_then(|()| file.sync_all()))
+        .and_then(|()| std::fs::rename(&temporary, &target));
+    written.map_err(|error| {
+        let _ = std::fs::remove_file(&temporary);
+        StoreError::io(Action::Write, path, &error)
+    })
+}
+
+/// Serialises `value` as pretty JSON (with a final line end) and writes it atomically to `path`.
+pub fn write_json<T: serde::Serialize>(path: &Path, value: &T) -> Result<(), StoreError> {
+    let mut text = serde_json::to_string_pretty(value).map_err(|error| StoreError::Serialise {
+        path: path.to_owned(),
+        why: error.to_string(),
+    })?;
+    text.push('\n');
+    write_atomic(path, text.as_bytes())
+}
+
+/// Creates `folder` and its parents.
+pub fn create_folder(folder: &Path) -> Result<(), StoreError> {
+    std::fs::create_dir_all(folder)
+        .map_err(|error| StoreError::io(Action::CreateFolder, folder, &error))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scratch(name: &str) -> PathBuf {
+        let folder =
+            std::env::temp_dir().join(format!("codesign-files-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&folder);
+        create_folder(&folder).unwrap();
+        folder
+    }
+
+    #[test]
+    fn writes_whole_files_and_names_unwritable_paths() {
+        let folder = scratch("whole");
+        let path = folder.join("out.json");
+        write_json(&path, &serde_json::json!({"a": 1})).unwrap();
+        write_json(&path, &serde_json::json!({"a": 2})).unwrap();
+        let read: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        assert_eq!(read["a"], 2);
+        let leftovers = std::fs::read_dir(&folder).unwrap().count();
+        assert_eq!(leftovers, 1, "temporary files left behind");
+        let error = write_json(&folder.join("missing/out.json"), &1).unwrap_err();
+        assert!(error.to_string().contains("missing/out.json"), "{error}");
+        let missing = folder.join("missing/out.json");
+        let error = check_output(&missing, &[]).unwrap_err();
+        assert!(
+            matches!(&error, StoreError::Refused { path, why: Refusal::FolderNotWritable { .. } }
+                if *path == missing),
+            "{error:?}"
+        );
+        assert!(error.to_string().starts_with(&format!(
+            "{}: cannot write in its folder",
+            missing.display()
+        )));
+        std::fs::remove_dir_all(&folder).unwrap();
+    }
+
+    #[test]
+    fn follows_links_and_refuses_special_files_and_inputs() {
+        let folder = scratch("special");
+        let real = folder.join("real.json");
+        std::fs::write(&real, "old").unwrap();
+        let link = folder.join("link.json");
+        std::os::unix::fs::symlink(&real, &link).unwrap();
+        check_output(&link, &[]).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(std::fs::read_to_string(&real).unwrap(), "new");
+        let dangling = folder.join("dangling.json");
+        std::os::unix::fs::symlink(folder.join("nothing"), &dangling).unwrap();
+        let error = write_atomic(&dangling, b"x").unwrap_err();
+        assert!(error.to_string().contains("missing file"), "{error}");
+        let error = check_output(Path::new("/dev/null"), &[]).unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            "/dev/null: is a device; codesign writes only regular files and leaves it untouched"
+        );
+        assert!(write_atomic(Path::new("/dev/null"), b"x").is_err());
+        let error = write_atomic(&folder, b"x").unwrap_err();
+        assert_eq!(
+            error,
+            StoreError::NotWritten {
+                path: folder.clone(),
+                why: Refusal::Kind(FileKind::Folder)
+            }
+        );
+        assert!(error.to_string().starts_with("cannot write "), "{error}");
+        let error = check_output(&link, &[("--task", &real)]).unwrap_err();
+        assert!(
+            error.to_string().contains("input of this command (--task"),
+            "{error}"
+        );
+        assert_eq!(
+            std::fs::read_dir(&folder).unwrap().count(),
+            3,
+            "probe left behind"
+        );
+        std::fs::remove_dir_all(&folder).unwrap();
+    }
+}
