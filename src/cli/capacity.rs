@@ -1,12 +1,13 @@
 //! `codesign capacity`: the largest payload a design can move through the task.
 
 use super::common::{ModelArgs, ProblemArgs};
+use super::store_hints::check_output;
 use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::model::task::MAX_PAYLOAD_KG;
 use crate::problem::Formulation;
 use crate::report::codesign::CapacityDocument;
-use crate::report::files::{check_output, write_json};
 use crate::report::trajectory::ToolInfo;
+use crate::store::files::write_json;
 use std::path::PathBuf;
 
 /// Flags of `codesign capacity`.
@@ -108,7 +109,7 @@ pub fn run(args: &Args) -> Result<(), String> {
             settings,
             capacity,
         };
-        write_json(path, &document)?;
+        write_json(path, &document).map_err(|e| e.to_string())?;
         say!("result written to {}", path.display());
     }
     Ok(())

@@ -6,11 +6,11 @@ use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::evaluate::{Objective, PayloadRange};
 use crate::design::gradient::GradientSettings;
-use crate::design::log::Start;
 use crate::design::penalty::{Grading, Penalty};
 use crate::design::workers::{Launcher, SOLVE_TIMEOUT_S};
 use crate::model::task::{check_payload, LimitModes, Task};
 use crate::report::codesign::{Method, OptimizeInputs};
+use crate::store::log::Start;
 use std::path::Path;
 
 /// `text` quoted for `sh`: in single quotes, each single quote written as '\''.
@@ -255,9 +255,9 @@ mod tests {
     use super::Case;
     use crate::cli::common::{ModelArgs, ProblemArgs};
     use crate::design::evaluate::Objective;
-    use crate::design::log::Start;
     use crate::problem::Space;
     use crate::report::codesign::Method;
+    use crate::store::log::Start;
 
     fn case(method: Method) -> Case {
         let model = ModelArgs {

@@ -49,6 +49,7 @@ mod optimize;
 mod preflight;
 mod reproduce;
 mod solve;
+mod store_hints;
 mod table;
 mod task;
 mod worker;

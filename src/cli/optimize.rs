@@ -4,23 +4,24 @@
 use super::case::Case;
 use super::common::{ModelArgs, ProblemArgs};
 use super::preflight::probe_solver;
+use super::store_hints::{check_output, hint};
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::evaluate::{Objective, PayloadRange};
 use crate::design::fitness::Fitness;
 use crate::design::gradient::{optimize_gradient, GradientSettings};
-use crate::design::log::{EvaluationLog, Finished, Start};
-use crate::design::optimize::{optimize, Progress};
+use crate::design::optimize::{optimize, EvaluationLog, Finished, Progress};
 use crate::design::outcome::DesignOutcome;
 use crate::design::penalty::{Grading, Penalty};
 use crate::design::workers::{Pool, WorkerSetup, SOLVE_TIMEOUT_S};
 use crate::model::task::Task;
 use crate::problem::Formulation;
 use crate::report::codesign::{Method, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
-use crate::report::files::{check_output, write_json};
 use crate::report::trajectory::ToolInfo;
 use crate::solver::{solve_design, solve_design_from, SolveSettings};
 use crate::stats::median;
+use crate::store::files::write_json;
+use crate::store::log::Start;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -172,11 +173,11 @@ pub fn run_case(case: &Case, out: &Path) -> Result<OptimizeDocument, String> {
         let mut document = document(case, &formulation, inputs, outcome)?;
         document.earlier_seconds = earlier_seconds;
         document.wall_seconds = started.elapsed().as_secs_f64();
-        write_json(out, &document)?;
+        write_json(out, &document).map_err(|e| e.to_string())?;
         Ok(document)
     });
     if let (Err(_), Some((log, _))) = (&result, log) {
-        log.discard_if_unused()?;
+        log.discard_if_unused().map_err(|e| e.to_string())?;
     }
     result
 }
@@ -187,7 +188,8 @@ fn open_log(
     out: &Path,
     inputs: &OptimizeInputs,
 ) -> Result<(EvaluationLog, Finished), String> {
-    let (log, finished) = EvaluationLog::open(&log_path(out), inputs, start)?;
+    let (log, finished) =
+        EvaluationLog::open(&log_path(out), inputs, start).map_err(|e| hint(e, "--out"))?;
     if let Some(line) = log.dropped_line() {
         eprintln!(
             "note: {} ended in a line cut short by an interruption (line {line}); it was dropped \

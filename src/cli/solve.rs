@@ -1,12 +1,13 @@
 //! `codesign solve`: one trajectory problem for one design.
 
 use super::common::{ModelArgs, ProblemArgs};
+use super::store_hints::check_output;
 use crate::ipopt::{check_derivatives, DerivativeOrder};
 use crate::model::task::{check_horizon, check_steps};
 use crate::problem::Formulation;
-use crate::report::files::{check_output, write_json};
 use crate::report::trajectory::{write_plots, SolveDocument};
 use crate::solver::{ipopt_options, solve_design, SolveError, SolveSettings, TrajectoryResult};
+use crate::store::files::write_json;
 use std::path::PathBuf;
 
 /// Flags of `codesign solve`.
@@ -97,7 +98,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     }
     if let Some(path) = &args.out {
         let document = SolveDocument::new(&args.model.source().label(), &formulation, result);
-        write_json(path, &document)?;
+        write_json(path, &document).map_err(|e| e.to_string())?;
         say!("result written to {}", path.display());
     }
     Ok(())

@@ -11,10 +11,10 @@ use crate::model::task::Task;
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
 use crate::report::codesign::{CapacityDocument, OptimizeDocument};
-use crate::report::files::write_json;
 use crate::report::table::ResultFile;
 use crate::report::trajectory::{write_plots, SolveDocument, ToolInfo};
 use crate::solver::{solve_design, SolveError, SolveSettings};
+use crate::store::files::write_json;
 
 /// Runs every independent stage of `plan`: what its printed commands do elsewhere.
 pub fn run_all(plan: &Plan, task: &Task) -> Result<Outcomes, String> {
@@ -64,7 +64,8 @@ fn solve_originals(plan: &Plan, task: &Task) -> Result<Vec<ResultFile>, String> 
             );
             write_plots(&plan.original_plots(space, payload), &formulation, &result)?;
             let document = SolveDocument::new(&source.label(), &formulation, result);
-            write_json(&plan.original_file(space, payload), &document)?;
+            write_json(&plan.original_file(space, payload), &document)
+                .map_err(|e| e.to_string())?;
             files.push(ResultFile::Solve(Box::new(document)));
         }
     }
@@ -184,6 +185,6 @@ pub fn capacity_document(
         settings,
         capacity,
     };
-    write_json(&plan.capacity_file(name), &document)?;
+    write_json(&plan.capacity_file(name), &document).map_err(|e| e.to_string())?;
     Ok(document)
 }
