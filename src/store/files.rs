@@ -5,10 +5,14 @@
 //! is an output that is one of the command's inputs.
 
 use super::{Action, FileKind, Refusal, StoreError};
-use std::fs::Metadata;
+use std::ffi::OsStr;
+use std::fs::{File, Metadata, OpenOptions};
 use std::io::Write;
-use std::os::unix::fs::{FileTypeExt, MetadataExt};
+use std::os::unix::fs::{FileTypeExt, MetadataExt, OpenOptionsExt};
 use std::path::{Path, PathBuf};
+
+/// How many names a temporary file beside an output tries before giving up.
+const ATTEMPTS: usize = 100;
 
 /// Checks, before any work, that `path` can take a result: its folder exists and is writable, it
 /// is absent or a regular file (through symbolic links), and it is none of `inputs` (each named
@@ -29,18 +33,14 @@ pub fn check_output(path: &Path, inputs: &[(&str, &Path)]) -> Result<(), StoreEr
             }
         }
     }
-    let probe = temporary_beside(&target, "probe")?;
-    std::fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&probe)
-        .map_err(|error| {
-            refused(Refusal::FolderNotWritable {
-                folder: folder_of(&target),
-                why: error.to_string(),
-            })
-        })?;
-    let _ = std::fs::remove_file(&probe);
+    let (probe, name) = create_beside(&target, "probe")?.map_err(|error| {
+        refused(Refusal::FolderNotWritable {
+            folder: folder_of(&target),
+            why: error.to_string(),
+        })
+    })?;
+    drop(probe);
+    let _ = std::fs::remove_file(&name);
     Ok(())
 }
 
@@ -86,16 +86,41 @@ fn folder_of(path: &Path) -> PathBuf {
     }
 }
 
-/// A hidden name beside `path` for this process: `.NAME.TAG<pid>`.
-fn temporary_beside(path: &Path, tag: &str) -> Result<PathBuf, StoreError> {
+/// Creates a new hidden file beside `path` for this process, `.NAME.TAG<pid>`, or
+/// `.NAME.TAG<pid>.N` while a name is taken (by a file an interrupted run left, or a link planted
+/// there): exclusively (`O_EXCL`) and never through a symbolic link (`O_NOFOLLOW`), so that
+/// nothing already at a name is opened, let alone written. Returns the file and its name, or the
+/// system's reason it could not be created; a `path` that names no file is refused.
+fn create_beside(path: &Path, tag: &str) -> Result<std::io::Result<(File, PathBuf)>, StoreError> {
     let name = path.file_name().ok_or_else(|| StoreError::NotAFilePath {
         path: path.to_owned(),
     })?;
-    Ok(folder_of(path).join(format!(
-        ".{}.{tag}{}",
-        name.to_string_lossy(),
-        std::process::id()
-    )))
+    let folder = folder_of(path);
+    let mut attempt = 0;
+    loop {
+        let temporary = folder.join(temporary_name(name, tag, attempt));
+        let created = OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .custom_flags(libc::O_NOFOLLOW)
+            .open(&temporary);
+        attempt += 1;
+        match created {
+            Err(error)
+                if error.kind() == std::io::ErrorKind::AlreadyExists && attempt < ATTEMPTS => {}
+            created => return Ok(created.map(|file| (file, temporary))),
+        }
+    }
+}
+
+/// The `attempt`-th hidden name beside the file `name` for this process: `.NAME.TAG<pid>`, then
+/// `.NAME.TAG<pid>.N`.
+fn temporary_name(name: &OsStr, tag: &str, attempt: usize) -> String {
+    let base = format!(".{}.{tag}{}", name.to_string_lossy(), std::process::id());
+    match attempt {
+        0 => base,
+        n => format!("{base}.{n}"),
+    }
 }
 
 /// Writes `bytes` to `path` through a temporary file in the same folder and a rename, so that a
@@ -107,13 +132,15 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), StoreError> {
         path: path.to_owned(),
         why,
     })?;
-    let temporary = temporary_beside(&target, "tmp")?;
-    let written = std::fs::File::create(&temporary)
-        .and_then(|mut file| file.write_all(bytes).and_then(|()| file.sync_all()))
+    let failed = |error: std::io::Error| StoreError::io(Action::Write, path, &error);
+    let (mut file, temporary) = create_beside(&target, "tmp")?.map_err(failed)?;
+    let written = file
+        .write_all(bytes)
+        .and_then(|()| file.sync_all())
         .and_then(|()| std::fs::rename(&temporary, &target));
     written.map_err(|error| {
         let _ = std::fs::remove_file(&temporary);
-        StoreError::io(Action::Write, path, &error)
+        failed(error)
     })
 }
 
@@ -214,6 +241,34 @@ mod tests {
             std::fs::read_dir(&folder).unwrap().count(),
             3,
             "probe left behind"
+        );
+        std::fs::remove_dir_all(&folder).unwrap();
+    }
+
+    #[test]
+    fn temporaries_never_follow_a_link_planted_at_their_name() {
+        let folder = scratch("planted");
+        let victim = folder.join("victim");
+        std::fs::write(&victim, "precious").unwrap();
+        let out = folder.join("out.json");
+        let pid = std::process::id();
+        for tag in ["tmp", "probe"] {
+            let planted = folder.join(format!(".out.json.{tag}{pid}"));
+            std::os::unix::fs::symlink(&victim, &planted).unwrap();
+        }
+        check_output(&out, &[]).unwrap();
+        write_atomic(&out, b"result").unwrap();
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "result");
+        assert_eq!(std::fs::read_to_string(&victim).unwrap(), "precious");
+        for tag in ["tmp", "probe"] {
+            let planted = folder.join(format!(".out.json.{tag}{pid}"));
+            let meta = std::fs::symlink_metadata(&planted).unwrap();
+            assert!(meta.file_type().is_symlink(), "{tag}");
+        }
+        assert_eq!(
+            std::fs::read_dir(&folder).unwrap().count(),
+            4,
+            "temporary left behind"
         );
         std::fs::remove_dir_all(&folder).unwrap();
     }

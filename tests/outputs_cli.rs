@@ -1,0 +1,94 @@
+//! Outputs replaced with care: a temporary file never follows a link planted at its name.
+
+mod support;
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+use support::{scratch, start_in_background, wait_for};
+
+fn path(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// A short co-design run's flags, writing to `out`.
+fn optimize(out: &Path) -> Vec<String> {
+    [
+        "optimize",
+        "--payload",
+        "1",
+        "--population",
+        "8",
+        "--generations",
+        "3",
+        "--workers",
+        "1",
+        "--out",
+        path(out),
+    ]
+    .map(str::to_owned)
+    .to_vec()
+}
+
+/// The flags of a run whose worker starts only once the file `gate` exists: the run holds its
+/// evaluation log, locked, and has written nothing else until then.
+fn gated(out: &Path, gate: &Gate) -> Vec<String> {
+    let mut flags = optimize(out);
+    let wait = format!(
+        "while [ ! -e '{}' ]; do sleep 0.01; done; exec {{}} worker",
+        path(&gate.0)
+    );
+    flags.extend(["--worker-command".to_owned(), wait]);
+    flags
+}
+
+/// The file that lets gated runs go on: created by [`Gate::open`], or when dropped at the latest,
+/// so that a failing test leaves no run waiting.
+struct Gate(PathBuf);
+
+impl Gate {
+    fn open(&self) {
+        std::fs::write(&self.0, "").unwrap();
+    }
+}
+
+impl Drop for Gate {
+    fn drop(&mut self) {
+        let _ = std::fs::write(&self.0, "");
+    }
+}
+
+/// Starts `flags` in the background and waits until its log at `log` holds its header.
+fn start_holding(flags: &[String], log: &Path) -> std::process::Child {
+    let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
+    let run = start_in_background(&flags);
+    wait_for(Duration::from_secs(300), || {
+        std::fs::read_to_string(log).is_ok_and(|t| t.ends_with('\n'))
+    });
+    run
+}
+
+/// Whether `path` holds a run's result document.
+fn holds_a_result(path: &Path) -> bool {
+    let text = std::fs::read_to_string(path).unwrap();
+    serde_json::from_str::<serde_json::Value>(&text).is_ok_and(|v| v["best_cost"].is_number())
+}
+
+#[test]
+fn a_link_planted_at_a_temporary_name_is_never_followed() {
+    let dir = scratch("planted");
+    let out = dir.join("o.json");
+    let victim = dir.join("victim");
+    std::fs::write(&victim, "precious").unwrap();
+    let gate = Gate(dir.join("gate"));
+    let mut run = start_holding(&gated(&out, &gate), &dir.join("o.log.jsonl"));
+    // The name the run's temporary file of its result would take.
+    let planted = dir.join(format!(".o.json.tmp{}", run.id()));
+    std::os::unix::fs::symlink(&victim, &planted).unwrap();
+    gate.open();
+    assert!(run.wait().unwrap().success());
+    assert_eq!(std::fs::read_to_string(&victim).unwrap(), "precious");
+    assert!(holds_a_result(&out));
+    let planted = std::fs::symlink_metadata(&planted).unwrap();
+    assert!(planted.file_type().is_symlink());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
