@@ -1,10 +1,11 @@
-//! Outputs replaced with care: a temporary file never follows a link planted at its name.
+//! Outputs replaced with care: a temporary file never follows a link planted at its name, and
+//! every name of one output shares one lock.
 
 mod support;
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
-use support::{scratch, start_in_background, wait_for};
+use support::{codesign, fails_saying, scratch, start_in_background, wait_for};
 
 fn path(p: &Path) -> &str {
     p.to_str().unwrap()
@@ -90,5 +91,36 @@ fn a_link_planted_at_a_temporary_name_is_never_followed() {
     assert!(holds_a_result(&out));
     let planted = std::fs::symlink_metadata(&planted).unwrap();
     assert!(planted.file_type().is_symlink());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn every_name_of_one_output_shares_its_lock() {
+    let dir = scratch("alias");
+    let out = dir.join("a.json");
+    std::fs::write(&out, "{}").unwrap();
+    let alias = dir.join("alias.json");
+    std::os::unix::fs::symlink("a.json", &alias).unwrap();
+    let gate = Gate(dir.join("gate"));
+    // The log, and so the lock, sits beside the file the link points to.
+    let mut first = start_holding(&gated(&alias, &gate), &dir.join("a.log.jsonl"));
+    assert!(!dir.join("alias.log.jsonl").exists());
+    for flag in [None, Some("--resume"), Some("--overwrite")] {
+        let mut second = optimize(&out);
+        second.extend(flag.map(str::to_owned));
+        let second: Vec<&str> = second.iter().map(String::as_str).collect();
+        let output = codesign(&second);
+        fails_saying(
+            &output,
+            &format!("in use by another run (pid {})", first.id()),
+        );
+    }
+    gate.open();
+    assert!(first.wait().unwrap().success());
+    assert!(holds_a_result(&out));
+    assert!(std::fs::symlink_metadata(&alias)
+        .unwrap()
+        .file_type()
+        .is_symlink());
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -21,7 +21,7 @@ use crate::report::trajectory::ToolInfo;
 use crate::solver::{solve_design, solve_design_from, SolveSettings};
 use crate::stats::median;
 use crate::store::files::write_json;
-use crate::store::log::Start;
+use crate::store::log::{log_beside, Start};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -82,7 +82,8 @@ pub struct Args {
     pub worker_command: Option<String>,
     /// Result file (JSON); the evaluation log is written beside it as FILE.log.jsonl and locked
     /// for the whole run (a second run on the same file fails at once). A symbolic link is
-    /// followed; an input file, a folder or a special file is refused.
+    /// followed, and the log sits beside the file it points to; an input file, a folder or a
+    /// special file is refused.
     #[arg(long, value_name = "FILE.json")]
     pub out: Option<PathBuf>,
     /// Continue an interrupted run from its evaluation log (a run without a log starts afresh).
@@ -133,14 +134,6 @@ impl Progress for Bar {
     }
 }
 
-/// The extension of an evaluation log, which sits beside its result file.
-pub const LOG_EXTENSION: &str = "log.jsonl";
-
-/// The evaluation log beside a result file: `x.json` -> `x.log.jsonl`.
-pub fn log_path(out: &Path) -> PathBuf {
-    out.with_extension(LOG_EXTENSION)
-}
-
 /// Runs one co-design case and writes its document to `out`; returns it. A CMA-ES run holds its
 /// evaluation log, locked, from before the first evaluation until the document is written.
 pub fn run_case(case: &Case, out: &Path) -> Result<OptimizeDocument, String> {
@@ -150,7 +143,7 @@ pub fn run_case(case: &Case, out: &Path) -> Result<OptimizeDocument, String> {
     let read = case.model.inputs(&task);
     check_output("--out", out, &read)?;
     if case.method == Method::Cmaes {
-        check_output("--out (its evaluation log)", &log_path(out), &read)?;
+        check_output("--out (its evaluation log)", &log_beside(out), &read)?;
     }
     let modes = case.problem.modes(&task);
     probe_solver(&task, &robot, case, modes)?;
@@ -189,12 +182,12 @@ fn open_log(
     inputs: &OptimizeInputs,
 ) -> Result<(EvaluationLog, Finished), String> {
     let (log, finished) =
-        EvaluationLog::open(&log_path(out), inputs, start).map_err(|e| hint(e, "--out"))?;
+        EvaluationLog::open(&log_beside(out), inputs, start).map_err(|e| hint(e, "--out"))?;
     if let Some(line) = log.dropped_line() {
         eprintln!(
             "note: {} ended in a line cut short by an interruption (line {line}); it was dropped \
              and that evaluation is solved again",
-            log_path(out).display()
+            log_beside(out).display()
         );
     }
     Ok((log, finished))
@@ -429,7 +422,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         Method::Cmaes => say!(
             "result written to {} (evaluation log {})",
             out.display(),
-            log_path(&out).display()
+            log_beside(&out).display()
         ),
         Method::Gradient => say!("result written to {}", out.display()),
     }

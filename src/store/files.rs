@@ -49,6 +49,12 @@ pub fn same_file(a: &Metadata, b: &Metadata) -> bool {
     a.dev() == b.dev() && a.ino() == b.ino()
 }
 
+/// The file that writing `path` replaces: the regular file a symbolic link `path` points to, or
+/// `path` itself (when it is no link, or a link that [`check_output`] refuses).
+pub fn resolved(path: &Path) -> PathBuf {
+    resolve_target(path).unwrap_or_else(|_| path.to_owned())
+}
+
 /// The regular file that writing `path` replaces, or `path` itself when it does not exist:
 /// symbolic links are followed; anything else but a regular file is refused, naming its kind.
 fn resolve_target(path: &Path) -> Result<PathBuf, Refusal> {

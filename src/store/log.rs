@@ -15,7 +15,7 @@
 //! The log is generic over what an entry holds (`E`, serialised flattened into the entry's
 //! object): the design level logs its evaluations.
 
-use super::files::same_file;
+use super::files::{resolved, same_file};
 use super::lock::lock_file;
 use super::{Action, Damage, StoreError, Thing};
 use serde::de::DeserializeOwned;
@@ -27,6 +27,16 @@ use std::io::{Read, Seek, SeekFrom, Write};
 use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+/// The extension of an evaluation log, which sits beside its result file.
+pub const LOG_EXTENSION: &str = "log.jsonl";
+
+/// The evaluation log of the result file `output`, `x.json` -> `x.log.jsonl`, beside the file
+/// that writing `output` replaces (the one a symbolic link points to): every name of one output
+/// has one log, and so one lock.
+pub fn log_beside(output: &Path) -> PathBuf {
+    resolved(output).with_extension(LOG_EXTENSION)
+}
 
 /// What makes two runs the same run: any difference forbids resuming.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -480,6 +490,21 @@ mod tests {
             std::env::temp_dir().join(format!("codesign-log-{name}-{}.jsonl", std::process::id()));
         let _ = std::fs::remove_file(&path);
         path
+    }
+
+    #[test]
+    fn every_name_of_one_output_has_one_log() {
+        let folder =
+            std::env::temp_dir().join(format!("codesign-log-names-{}", std::process::id()));
+        std::fs::create_dir_all(&folder).unwrap();
+        let out = folder.join("a.json");
+        assert_eq!(log_beside(&out), folder.join("a.log.jsonl"));
+        std::fs::write(&out, "{}").unwrap();
+        let alias = folder.join("alias.json");
+        std::os::unix::fs::symlink(&out, &alias).unwrap();
+        let real = std::fs::canonicalize(&folder).unwrap().join("a.log.jsonl");
+        assert_eq!(log_beside(&alias), real);
+        std::fs::remove_dir_all(&folder).unwrap();
     }
 
     #[test]

@@ -5,7 +5,6 @@ mod plan;
 mod stages;
 
 use super::common::task_source;
-use super::optimize::LOG_EXTENSION;
 use super::store_hints::{check_output, hint};
 use crate::ipopt::LinearSolver;
 use crate::model::task::Task;
@@ -19,7 +18,7 @@ use crate::report::trajectory::write_plots;
 use crate::solver::TrajectoryResult;
 use crate::store::files::{create_folder, write_atomic, write_json};
 use crate::store::lock::lock_folder;
-use crate::store::log::Start;
+use crate::store::log::{Start, LOG_EXTENSION};
 use plan::{Plan, CODESIGNED, FULL, SPACES};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
