@@ -1,8 +1,10 @@
-//! Outputs replaced with care: a temporary file never follows a link planted at its name, and
-//! every name of one output shares one lock.
+//! Outputs replaced with care: a temporary file never follows a link planted at its name, every
+//! name of one output shares one lock, and a file replaced keeps its permissions while one the
+//! user may not write is refused.
 
 mod support;
 
+use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 use support::{codesign, fails_saying, scratch, start_in_background, wait_for};
@@ -122,5 +124,36 @@ fn every_name_of_one_output_shares_its_lock() {
         .unwrap()
         .file_type()
         .is_symlink());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_replaced_output_keeps_its_mode_and_a_read_only_one_is_refused() {
+    let dir = scratch("mode");
+    let out = dir.join("r.json");
+    let solve = || codesign(&["solve", "--steps", "2", "--out", path(&out)]);
+    let mode = || std::fs::metadata(&out).unwrap().permissions().mode() & 0o777;
+    let chmod =
+        |mode: u32| std::fs::set_permissions(&out, std::fs::Permissions::from_mode(mode)).unwrap();
+    assert!(solve().status.success());
+    chmod(0o600);
+    let output = solve();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert_eq!(mode(), 0o600);
+    chmod(0o444);
+    let before = std::fs::read(&out).unwrap();
+    fails_saying(
+        &solve(),
+        &format!(
+            "--out {}: is not writable by this user (mode 444)",
+            out.display()
+        ),
+    );
+    assert_eq!(std::fs::read(&out).unwrap(), before);
+    assert_eq!(mode(), 0o444);
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -30,7 +30,8 @@ pub struct Args {
     #[arg(long, value_name = "KG", default_value_t = 64.0)]
     max: f64,
     /// Write the search as JSON to this file (checked before the search; a symbolic link is
-    /// followed, an input file, a folder or a special file refused).
+    /// followed, an input file, a folder, a special file or a file the user may not write
+    /// refused; a file replaced keeps its permissions).
     #[arg(long, value_name = "FILE.json")]
     out: Option<PathBuf>,
 }

@@ -82,8 +82,8 @@ pub struct Args {
     pub worker_command: Option<String>,
     /// Result file (JSON); the evaluation log is written beside it as FILE.log.jsonl and locked
     /// for the whole run (a second run on the same file fails at once). A symbolic link is
-    /// followed, and the log sits beside the file it points to; an input file, a folder or a
-    /// special file is refused.
+    /// followed, and the log sits beside the file it points to; an input file, a folder, a
+    /// special file or a file the user may not write is refused.
     #[arg(long, value_name = "FILE.json")]
     pub out: Option<PathBuf>,
     /// Continue an interrupted run from its evaluation log (a run without a log starts afresh).

@@ -27,7 +27,8 @@ pub struct Args {
     #[arg(long, value_name = "N")]
     steps: Option<usize>,
     /// Write the result as JSON to this file (checked before the solve; a symbolic link is
-    /// followed, an input file, a folder or a special file refused).
+    /// followed, an input file, a folder, a special file or a file the user may not write
+    /// refused; a file replaced keeps its permissions).
     #[arg(long, value_name = "FILE.json")]
     out: Option<PathBuf>,
     /// Draw SVG plots of the trajectory into this folder.

@@ -13,7 +13,7 @@ pub struct Args {
     files: Vec<PathBuf>,
     /// Write the Markdown table here and its JSON beside it (`T.md` gives `T.json`, any other
     /// name `NAME.json` appended); default: print it. Symbolic links are followed; an input
-    /// file, a folder or a special file is refused.
+    /// file, a folder, a special file or a file the user may not write is refused.
     #[arg(long, value_name = "FILE.md")]
     out: Option<PathBuf>,
 }

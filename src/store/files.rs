@@ -2,27 +2,30 @@
 //!
 //! Symbolic links are followed: writing to a link replaces the regular file it points to and
 //! keeps the link. A link to nothing, a folder, a device, a FIFO or a socket is refused, and so
-//! is an output that is one of the command's inputs.
+//! is an output that is one of the command's inputs or a file the user may not write. A file
+//! replaced keeps its permission bits. Temporary files never open what is already at their name.
 
 use super::{Action, FileKind, Refusal, StoreError};
-use std::ffi::OsStr;
-use std::fs::{File, Metadata, OpenOptions};
+use std::ffi::{CString, OsStr};
+use std::fs::{File, Metadata, OpenOptions, Permissions};
 use std::io::Write;
-use std::os::unix::fs::{FileTypeExt, MetadataExt, OpenOptionsExt};
+use std::os::unix::ffi::OsStrExt;
+use std::os::unix::fs::{FileTypeExt, MetadataExt, OpenOptionsExt, PermissionsExt};
 use std::path::{Path, PathBuf};
 
 /// How many names a temporary file beside an output tries before giving up.
 const ATTEMPTS: usize = 100;
 
 /// Checks, before any work, that `path` can take a result: its folder exists and is writable, it
-/// is absent or a regular file (through symbolic links), and it is none of `inputs` (each named
-/// by where it came from, e.g. `--task`). Creates nothing that outlives the call.
+/// is absent or a regular file (through symbolic links) that this user may write, and it is none
+/// of `inputs` (each named by where it came from, e.g. `--task`). Creates nothing that outlives
+/// the call.
 pub fn check_output(path: &Path, inputs: &[(&str, &Path)]) -> Result<(), StoreError> {
     let refused = |why| StoreError::Refused {
         path: path.to_owned(),
         why,
     };
-    let target = resolve_target(path).map_err(refused)?;
+    let (target, _) = resolve_target(path).map_err(refused)?;
     if let Ok(output) = std::fs::metadata(&target) {
         for (source, input) in inputs {
             if std::fs::metadata(input).is_ok_and(|input| same_file(&input, &output)) {
@@ -52,24 +55,33 @@ pub fn same_file(a: &Metadata, b: &Metadata) -> bool {
 /// The file that writing `path` replaces: the regular file a symbolic link `path` points to, or
 /// `path` itself (when it is no link, or a link that [`check_output`] refuses).
 pub fn resolved(path: &Path) -> PathBuf {
-    resolve_target(path).unwrap_or_else(|_| path.to_owned())
+    resolve_target(path).map_or_else(|_| path.to_owned(), |(target, _)| target)
 }
 
-/// The regular file that writing `path` replaces, or `path` itself when it does not exist:
-/// symbolic links are followed; anything else but a regular file is refused, naming its kind.
-fn resolve_target(path: &Path) -> Result<PathBuf, Refusal> {
+/// The regular file that writing `path` replaces, with its permission bits, or `path` itself
+/// when it does not exist: symbolic links are followed; anything else but a regular file is
+/// refused, naming its kind, and so is a regular file this user may not write.
+fn resolve_target(path: &Path) -> Result<(PathBuf, Option<u32>), Refusal> {
     let unreadable = |error: std::io::Error| Refusal::Unreadable(error.to_string());
     let target = match std::fs::symlink_metadata(path) {
-        Err(error) if error.kind() == std::io::ErrorKind::NotFound => return Ok(path.to_owned()),
+        Err(error) if error.kind() == std::io::ErrorKind::NotFound => {
+            return Ok((path.to_owned(), None))
+        }
         Err(error) => return Err(unreadable(error)),
         Ok(meta) if meta.file_type().is_symlink() => {
             std::fs::canonicalize(path).map_err(|_| Refusal::DanglingLink)?
         }
         Ok(_) => path.to_owned(),
     };
-    let kind = std::fs::metadata(&target).map_err(unreadable)?.file_type();
+    let meta = std::fs::metadata(&target).map_err(unreadable)?;
+    let kind = meta.file_type();
     let refused = if kind.is_file() {
-        return Ok(target);
+        let mode = meta.mode() & 0o777;
+        return if may_write(&target, mode) {
+            Ok((target, Some(mode)))
+        } else {
+            Err(Refusal::NotWritable { mode })
+        };
     } else if kind.is_dir() {
         FileKind::Folder
     } else if kind.is_char_device() || kind.is_block_device() {
@@ -82,6 +94,17 @@ fn resolve_target(path: &Path) -> Result<PathBuf, Refusal> {
         FileKind::Other
     };
     Err(Refusal::Kind(refused))
+}
+
+/// Whether this user may replace the regular file at `path` of permission bits `mode`: it has a
+/// write bit (a file marked read-only is refused, to root too), and the system grants this user
+/// write access to it.
+fn may_write(path: &Path, mode: u32) -> bool {
+    let Ok(name) = CString::new(path.as_os_str().as_bytes()) else {
+        return false;
+    };
+    // SAFETY: `name` is a NUL-terminated string that outlives the call, which only reads it.
+    mode & 0o222 != 0 && unsafe { libc::access(name.as_ptr(), libc::W_OK) } == 0
 }
 
 /// The folder holding `path` (`.` for a bare file name).
@@ -131,17 +154,21 @@ fn temporary_name(name: &OsStr, tag: &str, attempt: usize) -> String {
 
 /// Writes `bytes` to `path` through a temporary file in the same folder and a rename, so that a
 /// reader (or an interrupted run) never sees a half-written file. A symbolic link is followed
-/// (the file it points to is replaced); a target that is not a regular file is refused and left
-/// as it is. Errors name the path.
+/// (the file it points to is replaced, keeping its permission bits); a target that is not a
+/// regular file, or that this user may not write, is refused and left as it is. Errors name the
+/// path.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), StoreError> {
-    let target = resolve_target(path).map_err(|why| StoreError::NotWritten {
+    let (target, mode) = resolve_target(path).map_err(|why| StoreError::NotWritten {
         path: path.to_owned(),
         why,
     })?;
     let failed = |error: std::io::Error| StoreError::io(Action::Write, path, &error);
     let (mut file, temporary) = create_beside(&target, "tmp")?.map_err(failed)?;
-    let written = file
-        .write_all(bytes)
+    let written = mode
+        .map_or(Ok(()), |mode| {
+            file.set_permissions(Permissions::from_mode(mode))
+        })
+        .and_then(|()| file.write_all(bytes))
         .and_then(|()| file.sync_all())
         .and_then(|()| std::fs::rename(&temporary, &target));
     written.map_err(|error| {
@@ -248,6 +275,44 @@ mod tests {
             3,
             "probe left behind"
         );
+        std::fs::remove_dir_all(&folder).unwrap();
+    }
+
+    #[test]
+    fn a_replaced_file_keeps_its_mode_and_a_read_only_one_is_refused() {
+        let folder = scratch("mode");
+        let out = folder.join("out.json");
+        let mode = |path: &Path| std::fs::metadata(path).unwrap().mode() & 0o777;
+        let chmod = |path: &Path, mode: u32| {
+            std::fs::set_permissions(path, Permissions::from_mode(mode)).unwrap()
+        };
+        write_atomic(&out, b"first").unwrap();
+        for kept in [0o600, 0o664] {
+            chmod(&out, kept);
+            check_output(&out, &[]).unwrap();
+            write_atomic(&out, b"again").unwrap();
+            assert_eq!(mode(&out), kept);
+        }
+        chmod(&out, 0o444);
+        let why = Refusal::NotWritable { mode: 0o444 };
+        let error = check_output(&out, &[]).unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            format!(
+                "{}: is not writable by this user (mode 444); codesign leaves it untouched",
+                out.display()
+            )
+        );
+        let error = write_atomic(&out, b"lost").unwrap_err();
+        assert_eq!(
+            error,
+            StoreError::NotWritten {
+                path: out.clone(),
+                why
+            }
+        );
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "again");
+        assert_eq!(mode(&out), 0o444);
         std::fs::remove_dir_all(&folder).unwrap();
     }
 

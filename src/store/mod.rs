@@ -142,6 +142,12 @@ pub enum Refusal {
         /// The input's path.
         input: PathBuf,
     },
+    /// It is a regular file that this user may not write (or that no one may), of these
+    /// permission bits.
+    NotWritable {
+        /// Its permission bits.
+        mode: u32,
+    },
     /// Its folder takes no new file.
     FolderNotWritable {
         /// The folder.
@@ -231,6 +237,10 @@ impl fmt::Display for Refusal {
                 "that is an input of this command ({source} {}); writing there would destroy it, \
                  choose another path",
                 input.display()
+            ),
+            Refusal::NotWritable { mode } => write!(
+                f,
+                "is not writable by this user (mode {mode:03o}); codesign leaves it untouched"
             ),
             Refusal::FolderNotWritable { folder, why } => {
                 write!(f, "cannot write in its folder {}: {why}", folder.display())
