@@ -1,7 +1,8 @@
 //! Co-design of the gear ratios and the motion of robots with parallel (belt) transmissions.
 //!
 //! The data flow one way: the robot model, its rigid-body dynamics, the trajectory problem, the
-//! IPOPT solve, the design loop, and the reports.
+//! IPOPT solve, the design loop, and the reports. Beneath them all, the store writes result
+//! files and the evaluation log, and imports nothing from the rest of the crate.
 
 #![warn(missing_docs)]
 
@@ -32,6 +33,7 @@ pub mod problem;
 pub mod report;
 pub mod solve;
 pub mod stats;
+pub mod store;
 #[cfg(test)]
 mod testing;
 pub mod text;

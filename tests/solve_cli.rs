@@ -151,10 +151,12 @@ fn bad_input_gets_a_clear_error() {
     assert!(!Path::new("/nonexistent-folder").exists());
 }
 
-/// A closed stdout neither panics nor stops the result file being written, but the lost output
-/// is reported: exit 1, naming stdout.
+/// A reader that closes its end of the pipe neither makes codesign panic nor stops the result
+/// file being written; like most Unix tools, codesign then ends quietly (exit 0). Output that
+/// cannot be written for another reason (a full disk, a closed stdout) exits 1: see
+/// tests/hostile_cli.rs.
 #[test]
-fn a_closed_stdout_is_no_reason_to_panic() {
+fn a_closed_pipe_is_no_reason_to_panic() {
     let dir = scratch("pipe");
     let out = dir.join("result.json");
     let mut child = codesign_command(support::root(), &["solve", "--out", out.to_str().unwrap()])
@@ -165,11 +167,8 @@ fn a_closed_stdout_is_no_reason_to_panic() {
     drop(child.stdout.take());
     let output = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(1), "{stderr}");
-    assert!(
-        stderr.contains("cannot write the output on stdout"),
-        "{stderr}"
-    );
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    assert!(!stderr.contains("cannot write"), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(out.exists());
     std::fs::remove_dir_all(&dir).unwrap();

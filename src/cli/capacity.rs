@@ -1,12 +1,13 @@
 //! `codesign capacity`: the largest payload a design can move through the task.
 
 use super::common::{ModelArgs, ProblemArgs};
+use super::store_hints::check_output;
 use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::model::task::MAX_PAYLOAD_KG;
 use crate::problem::Formulation;
 use crate::report::codesign::CapacityDocument;
-use crate::report::files::{check_output, write_json};
 use crate::solve::ToolInfo;
+use crate::store::files::write_json;
 use std::path::PathBuf;
 
 /// Flags of `codesign capacity`.
@@ -29,7 +30,8 @@ pub struct Args {
     #[arg(long, value_name = "KG", default_value_t = 64.0)]
     max: f64,
     /// Write the search as JSON to this file (checked before the search; a symbolic link is
-    /// followed, an input file, a folder or a special file refused).
+    /// followed, an input file, a folder, a special file or a file the user may not write
+    /// refused; a file replaced keeps its permissions).
     #[arg(long, value_name = "FILE.json")]
     out: Option<PathBuf>,
 }
@@ -108,7 +110,7 @@ pub fn run(args: &Args) -> Result<(), String> {
             settings,
             capacity,
         };
-        write_json(path, &document)?;
+        write_json(path, &document).map_err(|e| e.to_string())?;
         say!("result written to {}", path.display());
     }
     Ok(())

@@ -64,6 +64,7 @@ mod dynamics;
 mod optimize;
 mod reproduce;
 mod solve;
+mod store_hints;
 mod table;
 mod task;
 mod worker;

@@ -2,15 +2,16 @@
 //! method.
 
 use super::common::{ModelArgs, ProblemArgs};
+use super::store_hints::run_error;
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::evaluate::{Objective, PayloadRange};
 use crate::design::gradient::GradientSettings;
-use crate::design::log::Start;
 use crate::design::optimize::Progress;
 use crate::design::penalty::Penalty;
-use crate::design::run::{log_path, run_case, Case, Method, OptimizeDocument};
+use crate::design::run::{run_case, Case, Method, OptimizeDocument};
 use crate::design::workers::SOLVE_TIMEOUT_S;
+use crate::store::log::{log_beside, Start};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 
@@ -70,7 +71,8 @@ pub struct Args {
     pub worker_command: Option<String>,
     /// Result file (JSON); the evaluation log is written beside it as FILE.log.jsonl and locked
     /// for the whole run (a second run on the same file fails at once). A symbolic link is
-    /// followed; an input file, a folder or a special file is refused.
+    /// followed, and the log sits beside the file it points to; an input file, a folder, a
+    /// special file or a file the user may not write is refused.
     #[arg(long, value_name = "FILE.json")]
     pub out: Option<PathBuf>,
     /// Continue an interrupted run from its evaluation log (a run without a log starts afresh).
@@ -208,13 +210,13 @@ pub fn run(args: &Args) -> Result<(), String> {
     if args.payloads.is_some() && args.objective != ObjectiveKind::Range {
         return Err("--payloads: only with --objective range".to_owned());
     }
-    let document = run_case(&args.case(), &out, &progress_bar)?;
+    let document = run_case(&args.case(), &out, &progress_bar).map_err(run_error)?;
     say!("{}", summary(&document));
     match args.method {
         Method::Cmaes => say!(
             "result written to {} (evaluation log {})",
             out.display(),
-            log_path(&out).display()
+            log_beside(&out).display()
         ),
         Method::Gradient => say!("result written to {}", out.display()),
     }

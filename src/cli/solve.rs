@@ -1,12 +1,13 @@
 //! `codesign solve`: one trajectory problem for one design.
 
 use super::common::{ModelArgs, ProblemArgs};
+use super::store_hints::check_output;
 use crate::ipopt::{check_derivatives, DerivativeOrder};
 use crate::model::task::{check_horizon, check_steps};
 use crate::problem::Formulation;
-use crate::report::files::{check_output, write_json};
 use crate::report::trajectory::{write_plots, SolveDocument};
 use crate::solve::{solve_design, SolveError, SolveSettings, TrajectoryResult};
+use crate::store::files::write_json;
 use crate::text::number;
 use std::path::PathBuf;
 
@@ -27,7 +28,8 @@ pub struct Args {
     #[arg(long, value_name = "N")]
     steps: Option<usize>,
     /// Write the result as JSON to this file (checked before the solve; a symbolic link is
-    /// followed, an input file, a folder or a special file refused).
+    /// followed, an input file, a folder, a special file or a file the user may not write
+    /// refused; a file replaced keeps its permissions).
     #[arg(long, value_name = "FILE.json")]
     out: Option<PathBuf>,
     /// Draw SVG plots of the trajectory into this folder.
@@ -97,7 +99,7 @@ pub fn run(args: &Args) -> Result<(), String> {
             &settings,
             result,
         );
-        write_json(path, &document)?;
+        write_json(path, &document).map_err(|e| e.to_string())?;
         say!("result written to {}", path.display());
     }
     Ok(())

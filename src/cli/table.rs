@@ -1,7 +1,8 @@
 //! `codesign table`: the paper's table rebuilt from result files (e.g. runs split across machines).
 
-use crate::report::files::{check_output, write_atomic, write_json};
+use super::store_hints::check_output;
 use crate::report::table::{build_table, check_results, read_result_file};
+use crate::store::files::{write_atomic, write_json};
 use std::path::{Path, PathBuf};
 
 /// Flags of `codesign table`.
@@ -12,7 +13,7 @@ pub struct Args {
     files: Vec<PathBuf>,
     /// Write the Markdown table here and its JSON beside it (`T.md` gives `T.json`, any other
     /// name `NAME.json` appended); default: print it. Symbolic links are followed; an input
-    /// file, a folder or a special file is refused.
+    /// file, a folder, a special file or a file the user may not write is refused.
     #[arg(long, value_name = "FILE.md")]
     out: Option<PathBuf>,
 }
@@ -39,8 +40,8 @@ pub fn run(args: &Args) -> Result<(), String> {
     let table = build_table(&files, Vec::new());
     match outputs {
         Some((markdown, json)) => {
-            write_atomic(markdown, table.to_markdown().as_bytes())?;
-            write_json(&json, &table)?;
+            write_atomic(markdown, table.to_markdown().as_bytes()).map_err(|e| e.to_string())?;
+            write_json(&json, &table).map_err(|e| e.to_string())?;
             say!(
                 "table written to {} and {}",
                 markdown.display(),

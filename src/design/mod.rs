@@ -6,7 +6,6 @@ pub mod cmaes;
 pub mod evaluate;
 pub mod fitness;
 pub mod gradient;
-pub mod log;
 pub mod optimize;
 pub mod outcome;
 pub mod penalty;

@@ -3,11 +3,17 @@
 
 use super::cmaes::{Cmaes, CmaesSettings};
 use super::evaluate::Evaluation;
-use super::log::{EvaluationLog, Finished};
 use super::outcome::DesignOutcome;
 use super::workers::Pool;
 use crate::stats::median;
+use crate::store;
 use serde::{Deserialize, Serialize};
+
+/// The evaluation log of a co-design run: one entry per evaluation (see [`store::log`]).
+pub type EvaluationLog = store::log::EvaluationLog<Evaluation>;
+
+/// The finished evaluations of a resumed run by (generation, index).
+pub type Finished = store::log::Finished<Evaluation>;
 
 /// The cost statistics of one generation.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -171,6 +177,7 @@ fn evaluate_generation(
         *best = best.min(evaluation.cost);
         progress.evaluated(*best);
         log.append(generation, index, evaluation)
+            .map_err(|e| e.to_string())
     })?;
     for ((index, _), evaluation) in pending.iter().zip(solved) {
         slots[*index] = Some(evaluation);

@@ -1,7 +1,7 @@
-//! Reports: result files written atomically, SVG plots, and the documents of each command.
+//! Reports: SVG plots, the paper table, and the documents of each command (written through
+//! [`crate::store`]).
 
 pub mod codesign;
-pub mod files;
 pub mod plots;
 pub mod table;
 pub mod trajectory;

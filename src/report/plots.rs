@@ -111,7 +111,8 @@ pub trait Figure {
 
     /// Renders the figure and writes it atomically to `path`.
     fn write(&self, path: &Path) -> Result<(), String> {
-        super::files::write_atomic(path, self.to_svg()?.as_bytes())
+        crate::store::files::write_atomic(path, self.to_svg()?.as_bytes())
+            .map_err(|e| e.to_string())
     }
 }
 

@@ -84,7 +84,7 @@ pub fn write_plots(
     formulation: &Formulation,
     result: &TrajectoryResult,
 ) -> Result<(), String> {
-    super::files::create_folder(folder)?;
+    crate::store::files::create_folder(folder).map_err(|e| e.to_string())?;
     let task = formulation.task();
     let t = &result.trajectory;
     let title = plot_title(formulation, result);

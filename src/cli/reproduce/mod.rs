@@ -4,19 +4,19 @@ mod merge;
 mod plan;
 mod stages;
 
-use crate::design::log::Start;
-use crate::design::run::{task_source, OptimizeDocument, LOG_EXTENSION};
+use super::store_hints::{check_output, hint};
+use crate::design::run::{task_source, OptimizeDocument};
 use crate::ipopt::LinearSolver;
 use crate::model::Robot;
 use crate::problem::Space;
 use crate::report::codesign::{cost_evolution_chart, radar_chart, CapacityDocument};
-use crate::report::files::{
-    check_output, create_folder, lock_or_name_holder, write_atomic, write_json,
-};
 use crate::report::plots::Figure;
 use crate::report::table::{build_table, ResultFile};
 use crate::report::trajectory::write_plots;
 use crate::solve::{SolveSettings, TaskRecord, TrajectoryResult};
+use crate::store::files::{create_folder, write_atomic, write_json};
+use crate::store::lock::lock_folder;
+use crate::store::log::{Start, LOG_EXTENSION};
 use plan::{Plan, CODESIGNED, FULL, SPACES};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -109,18 +109,18 @@ pub fn run(args: &Args) -> Result<(), String> {
         let program = std::env::current_exe()
             .map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
         // The commands write into these folders, on whichever machine runs them.
-        create_folder(&plan.out_dir)?;
+        create_folder(&plan.out_dir).map_err(|e| e.to_string())?;
         for folder in ["original", "runs", "plots", "capacity"] {
-            create_folder(&plan.out_dir.join(folder))?;
+            create_folder(&plan.out_dir.join(folder)).map_err(|e| e.to_string())?;
         }
         for line in plan.commands(&program.to_string_lossy()) {
             say!("{line}");
         }
         return Ok(());
     }
-    create_folder(&plan.out_dir)?;
+    create_folder(&plan.out_dir).map_err(|e| e.to_string())?;
     // Held until the reproduction ends: a second one on the same folder fails at once.
-    let _lock = lock_folder(&plan.out_dir)?;
+    let _lock = lock_folder(&plan.out_dir).map_err(|e| hint(e, "--out-dir"))?;
     let inputs: Vec<(&str, &Path)> = plan
         .task
         .iter()
@@ -134,7 +134,7 @@ pub fn run(args: &Args) -> Result<(), String> {
             refuse_earlier_logs(&plan.out_dir.join("runs"))?;
         }
         for folder in ["original", "runs", "plots", "capacity"] {
-            create_folder(&plan.out_dir.join(folder))?;
+            create_folder(&plan.out_dir.join(folder)).map_err(|e| e.to_string())?;
         }
         stages::run_all(&plan, &task)?
     };
@@ -172,7 +172,7 @@ fn finish(
     merged: bool,
     seconds: f64,
 ) -> Result<(), String> {
-    create_folder(&plan.out_dir.join("capacity"))?;
+    create_folder(&plan.out_dir.join("capacity")).map_err(|e| e.to_string())?;
     write_case_plots(plan, task, &outcomes.runs)?;
     let mut capacities = outcomes.original_capacities;
     for payload in CODESIGNED {
@@ -228,8 +228,9 @@ fn finish(
     write_atomic(
         &plan.out_dir.join("paper_table.md"),
         table.to_markdown().as_bytes(),
-    )?;
-    write_json(&plan.out_dir.join("paper_table.json"), &table)?;
+    )
+    .map_err(|e| e.to_string())?;
+    write_json(&plan.out_dir.join("paper_table.json"), &table).map_err(|e| e.to_string())?;
     say_raw!("{}", table.to_markdown());
     say!("results written to {}", plan.out_dir.display());
     Ok(())
@@ -264,7 +265,7 @@ fn write_case_plots(
     runs: &[OptimizeDocument],
 ) -> Result<(), String> {
     let plots = plan.out_dir.join("plots");
-    create_folder(&plots)?;
+    create_folder(&plots).map_err(|e| e.to_string())?;
     let mut radar_cases = Vec::new();
     for payload in CODESIGNED {
         for space in SPACES {
@@ -290,16 +291,6 @@ fn write_case_plots(
         &upper,
     )
     .write(&plots.join("optimal_ratios.svg"))
-}
-
-/// Opens the output folder and takes its advisory lock (`flock`), so that two reproductions
-/// never write one folder at once.
-fn lock_folder(folder: &Path) -> Result<std::fs::File, String> {
-    let handle = std::fs::File::open(folder)
-        .map_err(|e| format!("cannot open --out-dir {}: {e}", folder.display()))?;
-    let what = format!("the output folder {}", folder.display());
-    lock_or_name_holder(&handle, &what, "--out-dir")?;
-    Ok(handle)
 }
 
 /// Fails, naming a log and the two ways on, when `runs` holds evaluation logs of an earlier

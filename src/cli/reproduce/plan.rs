@@ -6,10 +6,10 @@ use crate::cli::common::ProblemArgs;
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::evaluate::{Objective, PayloadRange};
-use crate::design::log::Start;
 use crate::design::penalty::{Grading, Penalty, PENALTY};
 use crate::design::run::{shell_quote, Case, Method, ModelChoice, ProblemChoice};
 use crate::problem::Space;
+use crate::store::log::Start;
 use std::path::PathBuf;
 
 /// Payloads of the experiment, kg, and those that are co-designed (docs/model.md, section 13).

@@ -4,17 +4,18 @@
 use super::plan::{Plan, PlannedRun, PAYLOADS, SPACES};
 use super::Outcomes;
 use crate::cli::optimize::progress_bar;
+use crate::cli::store_hints::run_error;
 use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::design::evaluate::Objective;
 use crate::design::run::{run_case, task_source, OptimizeDocument};
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
 use crate::report::codesign::CapacityDocument;
-use crate::report::files::write_json;
 use crate::report::table::ResultFile;
 use crate::report::trajectory::{write_plots, SolveDocument};
 use crate::solve::ToolInfo;
 use crate::solve::{solve_design, SolveError, TaskRecord};
+use crate::store::files::write_json;
 
 /// Runs every independent stage of `plan`: what its printed commands do elsewhere.
 pub fn run_all(plan: &Plan, task: &TaskRecord) -> Result<Outcomes, String> {
@@ -68,7 +69,8 @@ fn solve_originals(plan: &Plan, task: &TaskRecord) -> Result<Vec<ResultFile>, St
             );
             write_plots(&plan.original_plots(space, payload), &formulation, &result)?;
             let document = SolveDocument::new(&source.label(), &formulation, &task.solver, result);
-            write_json(&plan.original_file(space, payload), &document)?;
+            write_json(&plan.original_file(space, payload), &document)
+                .map_err(|e| e.to_string())?;
             files.push(ResultFile::Solve(Box::new(document)));
         }
     }
@@ -77,7 +79,7 @@ fn solve_originals(plan: &Plan, task: &TaskRecord) -> Result<Vec<ResultFile>, St
 
 /// Runs one planned co-design run.
 fn run(plan: &Plan, run: &PlannedRun) -> Result<OptimizeDocument, String> {
-    run_case(&run.case, &plan.run_file(run), &progress_bar)
+    run_case(&run.case, &plan.run_file(run), &progress_bar).map_err(run_error)
 }
 
 /// The paper's co-design runs (CMA-ES on the cost), in order.
@@ -191,6 +193,6 @@ pub fn capacity_document(
         settings,
         capacity,
     };
-    write_json(&plan.capacity_file(name), &document)?;
+    write_json(&plan.capacity_file(name), &document).map_err(|e| e.to_string())?;
     Ok(document)
 }

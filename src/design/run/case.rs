@@ -7,7 +7,6 @@ use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::evaluate::{Objective, PayloadRange};
 use crate::design::gradient::GradientSettings;
-use crate::design::log::Start;
 use crate::design::penalty::{Grading, Penalty};
 use crate::design::workers::{Launcher, SOLVE_TIMEOUT_S};
 use crate::ipopt::LinearSolver;
@@ -15,6 +14,7 @@ use crate::model::task::{check_payload, LimitMode, LimitModes, Task, TaskSource}
 use crate::model::Robot;
 use crate::problem::Space;
 use crate::solve::{SolveSettings, TaskRecord};
+use crate::store::log::Start;
 use crate::text::number;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -430,8 +430,8 @@ impl Case {
 mod tests {
     use super::{Case, Method, ModelChoice, ProblemChoice};
     use crate::design::evaluate::Objective;
-    use crate::design::log::Start;
     use crate::problem::Space;
+    use crate::store::log::Start;
 
     fn case(method: Method) -> Case {
         let model = ModelChoice {

@@ -3,33 +3,26 @@
 
 use super::case::{Case, Method};
 use super::document::{OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
+use super::error::{Output, RunError};
 use crate::design::evaluate::Objective;
 use crate::design::fitness::Fitness;
 use crate::design::gradient::optimize_gradient;
-use crate::design::log::{EvaluationLog, Finished, Start};
-use crate::design::optimize::{optimize, Progress};
+use crate::design::optimize::{optimize, EvaluationLog, Finished, Progress};
 use crate::design::outcome::DesignOutcome;
 use crate::design::penalty::Grading;
 use crate::design::workers::{Pool, WorkerSetup};
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;
 use crate::problem::Formulation;
-use crate::report::files::{check_output, write_json};
 use crate::solve::{solve_design, solve_design_from, SolveError, SolveSettings, ToolInfo};
 use crate::stats::median;
-use std::path::{Path, PathBuf};
+use crate::store::files::{check_output, write_json};
+use crate::store::log::{log_beside, Start};
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 /// Makes the progress display of a CMA-ES run, given its number of evaluations and a label.
 pub type ProgressDisplay<'a> = &'a dyn Fn(u64, String) -> Box<dyn Progress>;
-
-/// The extension of an evaluation log, which sits beside its result file.
-pub const LOG_EXTENSION: &str = "log.jsonl";
-
-/// The evaluation log beside a result file: `x.json` -> `x.log.jsonl`.
-pub fn log_path(out: &Path) -> PathBuf {
-    out.with_extension(LOG_EXTENSION)
-}
 
 /// Runs one co-design case and writes its document to `out`; returns it. A CMA-ES run holds its
 /// evaluation log, locked, from before the first evaluation until the document is written, and
@@ -38,20 +31,20 @@ pub fn run_case(
     case: &Case,
     out: &Path,
     display: ProgressDisplay<'_>,
-) -> Result<OptimizeDocument, String> {
-    case.validate()?;
-    let (task, robot, mut settings) = case.model.load()?;
+) -> Result<OptimizeDocument, RunError> {
+    case.validate().map_err(RunError::Case)?;
+    let (task, robot, mut settings) = case.model.load().map_err(RunError::Load)?;
     case.problem.configure(&mut settings);
     let read = case.model.inputs(&task);
-    check_output("--out", out, &read)?;
+    check_output(out, &read).map_err(RunError::store(Output::Result))?;
     if case.method == Method::Cmaes {
-        check_output("--out (its evaluation log)", &log_path(out), &read)?;
+        check_output(&log_beside(out), &read).map_err(RunError::store(Output::Log))?;
     }
     let modes = case.problem.modes(&task);
-    probe_solver(&task, &settings, &robot, case, modes)?;
+    probe_solver(&task, &settings, &robot, case, modes).map_err(RunError::Failed)?;
     let inputs = case.inputs(&task, &robot, &settings, modes);
-    let formulation =
-        Formulation::new(&task, robot, case.problem.space, modes).map_err(|e| e.to_string())?;
+    let formulation = Formulation::new(&task, robot, case.problem.space, modes)
+        .map_err(|e| RunError::Load(e.to_string()))?;
     let mut log = match case.method {
         Method::Cmaes => Some(open_log(case.start, out, &inputs)?),
         Method::Gradient => None,
@@ -59,7 +52,8 @@ pub fn run_case(
     let started = Instant::now();
     let outcome = match log.as_mut() {
         Some((log, finished)) => {
-            let setup = worker_setup(case, &inputs, &task, &settings, &formulation)?;
+            let setup = worker_setup(case, &inputs, &task, &settings, &formulation)
+                .map_err(RunError::Load)?;
             let run = CmaesRun {
                 case,
                 inputs: &inputs,
@@ -71,15 +65,19 @@ pub fn run_case(
         None => optimize_gradient(&formulation, &settings, &case.gradient, case.penalty)
             .map(|o| (o, Some(0.0))),
     };
-    let result = outcome.and_then(|(outcome, earlier_seconds)| {
-        let mut document = document(case, &formulation, &settings, inputs, outcome)?;
-        document.earlier_seconds = earlier_seconds;
-        document.wall_seconds = started.elapsed().as_secs_f64();
-        write_json(out, &document)?;
-        Ok(document)
-    });
+    let result = outcome
+        .map_err(|e| RunError::Failed(e.to_string()))
+        .and_then(|(outcome, earlier_seconds)| {
+            let mut document = document(case, &formulation, &settings, inputs, outcome)
+                .map_err(RunError::Failed)?;
+            document.earlier_seconds = earlier_seconds;
+            document.wall_seconds = started.elapsed().as_secs_f64();
+            write_json(out, &document).map_err(RunError::store(Output::Result))?;
+            Ok(document)
+        });
     if let (Err(_), Some((log, _))) = (&result, log) {
-        log.discard_if_unused()?;
+        log.discard_if_unused()
+            .map_err(RunError::store(Output::Log))?;
     }
     result
 }
@@ -89,13 +87,14 @@ fn open_log(
     start: Start,
     out: &Path,
     inputs: &OptimizeInputs,
-) -> Result<(EvaluationLog, Finished), String> {
-    let (log, finished) = EvaluationLog::open(&log_path(out), inputs, start)?;
+) -> Result<(EvaluationLog, Finished), RunError> {
+    let (log, finished) = EvaluationLog::open(&log_beside(out), inputs, start)
+        .map_err(RunError::store(Output::Log))?;
     if let Some(line) = log.dropped_line() {
         note!(
             "note: {} ended in a line cut short by an interruption (line {line}); it was dropped \
              and that evaluation is solved again",
-            log_path(out).display()
+            log_beside(out).display()
         );
     }
     Ok((log, finished))

@@ -4,10 +4,12 @@
 
 mod case;
 mod document;
+mod error;
 mod execute;
 
 pub use case::{
     shell_quote, task_source, Case, Method, ModelChoice, ProblemChoice, MAX_SOLVE_TIMEOUT_S,
 };
 pub use document::{OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
-pub use execute::{log_path, run_case, ProgressDisplay, LOG_EXTENSION};
+pub use error::{Output, RunError};
+pub use execute::{run_case, ProgressDisplay};

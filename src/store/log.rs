@@ -1,7 +1,7 @@
 //! The evaluation log of a co-design run: JSON lines, appended as each evaluation finishes.
 //!
 //! The first line is a [`LogHeader`] describing the run; every further line is a [`LogEntry`]
-//! carrying a checksum of its content. `--resume` reads the log back, checks that the header
+//! carrying a checksum of its content. A resumed run reads the log back, checks that the header
 //! matches the run being resumed and every record its checksum, and replays finished evaluations
 //! instead of solving them again. Only a last line cut short by an interruption is dropped (and
 //! overwritten by the next append); a damaged line anywhere else is an error naming it.
@@ -11,18 +11,32 @@
 //!
 //! Each entry also records the run's working time when it finished: wall time summed over the
 //! invocations of the run, so a resumed run still knows how long it took in all.
+//!
+//! The log is generic over what an entry holds (`E`, serialised flattened into the entry's
+//! object): the design level logs its evaluations.
 
-use super::evaluate::Evaluation;
-use crate::report::files::lock_or_name_holder;
+use super::files::{resolved, same_file};
+use super::lock::lock_file;
+use super::{Action, Damage, StoreError, Thing};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::collections::HashMap;
 use std::fs::{File, OpenOptions};
 use std::io::{Read, Seek, SeekFrom, Write};
-use std::os::unix::fs::MetadataExt;
+use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+/// The extension of an evaluation log, which sits beside its result file.
+pub const LOG_EXTENSION: &str = "log.jsonl";
+
+/// The evaluation log of the result file `output`, `x.json` -> `x.log.jsonl`, beside the file
+/// that writing `output` replaces (the one a symbolic link points to): every name of one output
+/// has one log, and so one lock.
+pub fn log_beside(output: &Path) -> PathBuf {
+    resolved(output).with_extension(LOG_EXTENSION)
+}
 
 /// What makes two runs the same run: any difference forbids resuming.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -36,16 +50,16 @@ pub struct LogHeader {
     pub checksums: bool,
 }
 
-/// One finished evaluation.
+/// One finished evaluation, holding `E`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct LogEntry {
+pub struct LogEntry<E> {
     /// Generation (0 = the initial population).
     pub generation: usize,
     /// Index of the design in its generation.
     pub index: usize,
-    /// The evaluation.
+    /// The evaluation, its fields inline in the entry's object.
     #[serde(flatten)]
-    pub evaluation: Evaluation,
+    pub evaluation: E,
     /// Wall time of the run when this evaluation finished, s, summed over its invocations (the
     /// time between an interruption and the last evaluation finished before it is not counted,
     /// as that work is done again). Absent in logs written before it was recorded.
@@ -57,12 +71,12 @@ pub struct LogEntry {
 }
 
 /// Finished evaluations of a log by (generation, index).
-pub type Finished = HashMap<(usize, usize), Evaluation>;
+pub type Finished<E> = HashMap<(usize, usize), E>;
 
 /// How a run treats a log already at its path.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Start {
-    /// Refuse it (`--resume` or `--overwrite` decides).
+    /// Refuse it (the user decides between resuming and overwriting).
     Fresh,
     /// Continue it (or start a new one where there is none).
     Resume,
@@ -71,7 +85,8 @@ pub enum Start {
 }
 
 impl Start {
-    /// The start that `--resume` and `--overwrite` ask for (clap keeps them exclusive).
+    /// The start asked for by a request to resume and one to overwrite (exclusive; resuming
+    /// wins), neither being a fresh start.
     pub fn from_flags(resume: bool, overwrite: bool) -> Start {
         match (resume, overwrite) {
             (true, _) => Start::Resume,
@@ -81,9 +96,10 @@ impl Start {
     }
 }
 
-/// An open log, appended to line by line, locked against other runs while open.
+/// An open log of entries holding `E`, appended to line by line, locked against other runs while
+/// open.
 #[derive(Debug)]
-pub struct EvaluationLog {
+pub struct EvaluationLog<E> {
     path: PathBuf,
     file: File,
     /// When this invocation opened the log.
@@ -97,6 +113,8 @@ pub struct EvaluationLog {
     appended: usize,
     /// The number of a torn last line dropped on resuming, if any.
     dropped_line: Option<usize>,
+    /// What the entries hold.
+    entries: PhantomData<fn(&E)>,
 }
 
 const FORMAT: &str = "codesign-evaluation-log";
@@ -109,31 +127,67 @@ fn checksum(text: &str) -> String {
     format!("{hash:016x}")
 }
 
+impl<E: Serialize> LogEntry<E> {
+    /// The entry's line, without its end: its JSON, with the checksum of its JSON without one.
+    pub fn to_line(&self) -> Result<String, serde_json::Error> {
+        let unchecked = LogEntry {
+            generation: self.generation,
+            index: self.index,
+            evaluation: &self.evaluation,
+            run_seconds: self.run_seconds,
+            check: None,
+        };
+        let check = checksum(&serde_json::to_string(&unchecked)?);
+        serde_json::to_string(&LogEntry {
+            check: Some(check),
+            ..unchecked
+        })
+    }
+}
+
+impl<E: Serialize + DeserializeOwned> LogEntry<E> {
+    /// Parses an entry line and checks its checksum (required when `checksums`); the entry
+    /// returned has none.
+    pub fn from_line(line: &str, checksums: bool) -> Result<LogEntry<E>, Damage> {
+        let mut entry: LogEntry<E> =
+            serde_json::from_str(line).map_err(|e| Damage::NotARecord(e.to_string()))?;
+        match entry.check.take() {
+            Some(logged) => {
+                let text =
+                    serde_json::to_string(&entry).map_err(|e| Damage::NotARecord(e.to_string()))?;
+                if checksum(&text) != logged {
+                    return Err(Damage::ChecksumMismatch);
+                }
+            }
+            None if checksums => return Err(Damage::NoChecksum),
+            None => {}
+        }
+        Ok(entry)
+    }
+}
+
 /// Opens (creating if absent) and locks the log at `path`; returns the file and whether this
 /// call created it. Fails at once when another process holds the lock, naming it.
-fn open_locked(path: &Path) -> Result<(File, bool), String> {
-    let shown = path.display();
+fn open_locked(path: &Path) -> Result<(File, bool), StoreError> {
+    let thing = Thing::EvaluationLog;
     let options = || OpenOptions::new().read(true).write(true).clone();
     let (file, created) = match options().create_new(true).open(path) {
         Ok(file) => (file, true),
         Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => (
             options()
                 .open(path)
-                .map_err(|e| format!("cannot open the evaluation log {shown}: {e}"))?,
+                .map_err(|e| StoreError::io(Action::Open(thing), path, &e))?,
             false,
         ),
-        Err(e) => return Err(format!("cannot create the evaluation log {shown}: {e}")),
+        Err(e) => return Err(StoreError::io(Action::Create(thing), path, &e)),
     };
-    lock_or_name_holder(&file, &format!("the evaluation log {shown}"), "--out")?;
+    lock_file(&file, thing, path)?;
     // Another run may have replaced the file between the open and the lock.
-    let same =
-        |a: &std::fs::Metadata, b: &std::fs::Metadata| a.dev() == b.dev() && a.ino() == b.ino();
-    let on_disk = std::fs::metadata(path);
-    match (on_disk, file.metadata()) {
-        (Ok(a), Ok(b)) if same(&a, &b) => Ok((file, created)),
-        _ => Err(format!(
-            "the evaluation log {shown} was replaced while this run opened it; run again"
-        )),
+    match (std::fs::metadata(path), file.metadata()) {
+        (Ok(a), Ok(b)) if same_file(&a, &b) => Ok((file, created)),
+        _ => Err(StoreError::Replaced {
+            path: path.to_owned(),
+        }),
     }
 }
 
@@ -172,7 +226,7 @@ fn differences(logged: &Value, current: &Value, path: &str, found: &mut Vec<Stri
     }
 }
 
-impl EvaluationLog {
+impl<E: Serialize + DeserializeOwned> EvaluationLog<E> {
     /// Opens the log at `path` for `run`, locked against any other run while it is open. A
     /// missing or empty log starts afresh; an existing one is refused, resumed (its finished
     /// evaluations are returned by (generation, index)) or emptied, as `start` says.
@@ -180,11 +234,11 @@ impl EvaluationLog {
         path: &Path,
         run: &T,
         start: Start,
-    ) -> Result<(EvaluationLog, Finished), String> {
+    ) -> Result<(EvaluationLog<E>, Finished<E>), StoreError> {
         let (file, created) = open_locked(path)?;
         let length = file
             .metadata()
-            .map_err(|e| format!("cannot read {}: {e}", path.display()))?
+            .map_err(|e| StoreError::io(Action::Read, path, &e))?
             .len();
         let mut log = EvaluationLog {
             path: path.to_owned(),
@@ -194,28 +248,33 @@ impl EvaluationLog {
             created,
             appended: 0,
             dropped_line: None,
+            entries: PhantomData,
         };
         if length > 0 {
             let entries = log.holds_entries()?;
             match start {
                 Start::Resume if entries => return log.replay(run),
-                Start::Fresh if entries => return Err(format!("the evaluation log {} exists already: pass --resume to continue that run, or --overwrite to start afresh", path.display())),
+                Start::Fresh if entries => {
+                    return Err(StoreError::LogExists {
+                        path: path.to_owned(),
+                    })
+                }
                 // Overwritten, or a header alone: nothing is lost.
                 _ => {
                     log.file
                         .set_len(0)
                         .and_then(|()| log.file.seek(SeekFrom::Start(0)))
-                        .map_err(|e| format!("cannot empty {}: {e}", path.display()))?;
+                        .map_err(|e| StoreError::io(Action::Empty, path, &e))?;
                     log.created = true;
                 }
             }
         }
         let header = LogHeader {
             format: FORMAT.to_owned(),
-            run: serde_json::to_value(run).map_err(|e| e.to_string())?,
+            run: serde_json::to_value(run).map_err(|e| log.serialise_error(&e))?,
             checksums: true,
         };
-        let line = serde_json::to_string(&header).map_err(|e| e.to_string())?;
+        let line = serde_json::to_string(&header).map_err(|e| log.serialise_error(&e))?;
         log.write_line(&line)?;
         Ok((log, Finished::new()))
     }
@@ -225,18 +284,21 @@ impl EvaluationLog {
     fn replay<T: Serialize + DeserializeOwned + PartialEq>(
         mut self,
         run: &T,
-    ) -> Result<(EvaluationLog, Finished), String> {
-        let shown = self.path.display().to_string();
+    ) -> Result<(EvaluationLog<E>, Finished<E>), StoreError> {
         let mut text = String::new();
         self.file
             .read_to_string(&mut text)
-            .map_err(|e| format!("cannot read {shown}: {e}"))?;
+            .map_err(|e| StoreError::io(Action::Read, &self.path, &e))?;
         let mut lines = text.split_inclusive('\n');
         let header_line = lines.next().unwrap_or_default();
-        let header: LogHeader = serde_json::from_str(header_line)
-            .map_err(|e| format!("{shown} is not an evaluation log (line 1: {e})"))?;
+        let not_a_log = |why| StoreError::NotALog {
+            path: self.path.clone(),
+            why,
+        };
+        let header: LogHeader =
+            serde_json::from_str(header_line).map_err(|e| not_a_log(Some(e.to_string())))?;
         if header.format != FORMAT {
-            return Err(format!("{shown} is not an evaluation log"));
+            return Err(not_a_log(None));
         }
         self.check_same_run(&header.run, run)?;
         let mut finished = HashMap::new();
@@ -247,8 +309,12 @@ impl EvaluationLog {
                 self.dropped_line = Some(number);
                 break;
             }
-            let entry = read_entry(line, header.checksums).map_err(|why| {
-                format!("{shown} line {number}: {why}; the log was edited or damaged (remove that line to resume without it, or pass --overwrite to start afresh)")
+            let entry = LogEntry::<E>::from_line(line, header.checksums).map_err(|why| {
+                StoreError::DamagedLine {
+                    path: self.path.clone(),
+                    line: number,
+                    why,
+                }
             })?;
             self.earlier_seconds = self
                 .earlier_seconds
@@ -260,7 +326,7 @@ impl EvaluationLog {
         self.file
             .set_len(valid_end as u64)
             .and_then(|()| self.file.seek(SeekFrom::End(0)))
-            .map_err(|e| format!("cannot truncate {shown}: {e}"))?;
+            .map_err(|e| StoreError::io(Action::Truncate, &self.path, &e))?;
         Ok((self, finished))
     }
 
@@ -270,7 +336,7 @@ impl EvaluationLog {
         &self,
         logged: &Value,
         run: &T,
-    ) -> Result<(), String> {
+    ) -> Result<(), StoreError> {
         let parsed = serde_json::from_value::<T>(logged.clone());
         if parsed.as_ref().is_ok_and(|logged| logged == run) {
             return Ok(());
@@ -279,7 +345,7 @@ impl EvaluationLog {
             Ok(parsed) => serde_json::to_value(parsed).unwrap_or(Value::Null),
             Err(_) => logged.clone(),
         };
-        let current = serde_json::to_value(run).map_err(|e| e.to_string())?;
+        let current = serde_json::to_value(run).map_err(|e| self.serialise_error(&e))?;
         let mut found = Vec::new();
         differences(&logged, &current, "", &mut found);
         let more = found.len().saturating_sub(3);
@@ -287,20 +353,19 @@ impl EvaluationLog {
         if more > 0 {
             found.push(format!("{more} more"));
         }
-        Err(format!(
-            "{} belongs to a different run ({}); use another --out, or --overwrite to replace it",
-            self.path.display(),
-            found.join("; ")
-        ))
+        Err(StoreError::DifferentRun {
+            path: self.path.clone(),
+            differences: found,
+        })
     }
 
     /// Whether the log holds anything beyond its header line; leaves the file at its start.
-    fn holds_entries(&mut self) -> Result<bool, String> {
+    fn holds_entries(&mut self) -> Result<bool, StoreError> {
         let mut text = String::new();
         self.file
             .read_to_string(&mut text)
             .and_then(|_| self.file.seek(SeekFrom::Start(0)))
-            .map_err(|e| format!("cannot read {}: {e}", self.path.display()))?;
+            .map_err(|e| StoreError::io(Action::Read, &self.path, &e))?;
         Ok(text.split_inclusive('\n').nth(1).is_some())
     }
 
@@ -311,10 +376,10 @@ impl EvaluationLog {
 
     /// Removes the log when this invocation created (or emptied) it and appended nothing (a run
     /// that failed before its first evaluation leaves nothing behind); otherwise just closes it.
-    pub fn discard_if_unused(self) -> Result<(), String> {
+    pub fn discard_if_unused(self) -> Result<(), StoreError> {
         if self.created && self.appended == 0 {
             std::fs::remove_file(&self.path)
-                .map_err(|e| format!("cannot remove {}: {e}", self.path.display()))?;
+                .map_err(|e| StoreError::io(Action::Remove, &self.path, &e))?;
         }
         Ok(())
     }
@@ -338,49 +403,37 @@ impl EvaluationLog {
         &mut self,
         generation: usize,
         index: usize,
-        evaluation: &Evaluation,
-    ) -> Result<(), String> {
-        let mut entry = LogEntry {
+        evaluation: &E,
+    ) -> Result<(), StoreError> {
+        let entry = LogEntry {
             generation,
             index,
-            evaluation: evaluation.clone(),
+            evaluation,
             run_seconds: self.run_seconds(),
             check: None,
         };
-        entry.check = Some(checksum(
-            &serde_json::to_string(&entry).map_err(|e| e.to_string())?,
-        ));
-        let line = serde_json::to_string(&entry).map_err(|e| e.to_string())?;
+        let line = entry.to_line().map_err(|e| self.serialise_error(&e))?;
         self.write_line(&line)?;
         self.appended += 1;
         Ok(())
     }
 
     /// Writes `line` and its end in one write and flushes it to disk.
-    fn write_line(&mut self, line: &str) -> Result<(), String> {
+    fn write_line(&mut self, line: &str) -> Result<(), StoreError> {
         let whole = format!("{line}\n");
         self.file
             .write_all(whole.as_bytes())
             .and_then(|()| self.file.sync_data())
-            .map_err(|e| format!("cannot write {}: {e}", self.path.display()))
+            .map_err(|e| StoreError::io(Action::Write, &self.path, &e))
     }
-}
 
-/// Parses one entry line and checks its checksum (required when `checksums`).
-fn read_entry(line: &str, checksums: bool) -> Result<LogEntry, String> {
-    let mut entry: LogEntry =
-        serde_json::from_str(line).map_err(|e| format!("not an evaluation record ({e})"))?;
-    match entry.check.take() {
-        Some(logged) => {
-            let text = serde_json::to_string(&entry).map_err(|e| e.to_string())?;
-            if checksum(&text) != logged {
-                return Err("its checksum does not match its content".to_owned());
-            }
+    /// The failure to serialise a line of this log.
+    fn serialise_error(&self, error: &serde_json::Error) -> StoreError {
+        StoreError::Serialise {
+            path: self.path.clone(),
+            why: error.to_string(),
         }
-        None if checksums => return Err("the record has no checksum".to_owned()),
-        None => {}
     }
-    Ok(entry)
 }
 
 #[cfg(test)]
@@ -403,17 +456,24 @@ mod tests {
         extra: u32,
     }
 
-    fn entry(generation: usize, index: usize, cost: f64) -> LogEntry {
+    /// What an entry holds in these tests: a design and its cost.
+    #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+    struct Design {
+        ratios: Vec<f64>,
+        cost: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        reason: Option<String>,
+    }
+
+    type Log = EvaluationLog<Design>;
+
+    fn entry(generation: usize, index: usize, cost: f64) -> LogEntry<Design> {
         LogEntry {
             generation,
             index,
-            evaluation: Evaluation {
+            evaluation: Design {
                 ratios: vec![6.0, 3.0, 1.0, 0.1 + cost],
                 cost,
-                feasible: true,
-                status: "Solve_Succeeded".into(),
-                iterations: 30,
-                seconds: 0.02,
                 reason: None,
             },
             run_seconds: None,
@@ -421,15 +481,30 @@ mod tests {
         }
     }
 
-    /// The line `append` would write for `entry` (checksummed).
-    fn line_of(entry: &LogEntry) -> String {
-        let mut entry = entry.clone();
-        entry.check = Some(checksum(&serde_json::to_string(&entry).unwrap()));
-        serde_json::to_string(&entry).unwrap()
+    fn create(path: &Path, run: &Run) -> Log {
+        Log::open(path, run, Start::Fresh).unwrap().0
     }
 
-    fn create(path: &Path, run: &Run) -> EvaluationLog {
-        EvaluationLog::open(path, run, Start::Fresh).unwrap().0
+    fn scratch(name: &str) -> PathBuf {
+        let path =
+            std::env::temp_dir().join(format!("codesign-log-{name}-{}.jsonl", std::process::id()));
+        let _ = std::fs::remove_file(&path);
+        path
+    }
+
+    #[test]
+    fn every_name_of_one_output_has_one_log() {
+        let folder =
+            std::env::temp_dir().join(format!("codesign-log-names-{}", std::process::id()));
+        std::fs::create_dir_all(&folder).unwrap();
+        let out = folder.join("a.json");
+        assert_eq!(log_beside(&out), folder.join("a.log.jsonl"));
+        std::fs::write(&out, "{}").unwrap();
+        let alias = folder.join("alias.json");
+        std::os::unix::fs::symlink(&out, &alias).unwrap();
+        let real = std::fs::canonicalize(&folder).unwrap().join("a.log.jsonl");
+        assert_eq!(log_beside(&alias), real);
+        std::fs::remove_dir_all(&folder).unwrap();
     }
 
     #[test]
@@ -441,43 +516,67 @@ mod tests {
             state ^= state << 17;
             let value = 1.0 + 8.0 * (state >> 11) as f64 / (1u64 << 53) as f64;
             let original = entry(1, 2, value);
-            let text = serde_json::to_string(&original).unwrap();
-            let back: LogEntry = serde_json::from_str(&text).unwrap();
+            let line = original.to_line().unwrap();
+            let back = LogEntry::<Design>::from_line(&line, true).unwrap();
             assert_eq!(
                 back.evaluation.ratios[3].to_bits(),
                 original.evaluation.ratios[3].to_bits()
             );
+            assert_eq!(back.to_line().unwrap(), line);
         }
     }
 
     #[test]
+    fn lines_keep_their_format() {
+        let mut written = entry(0, 1, 2.5);
+        written.run_seconds = Some(0.25);
+        let line = written.to_line().unwrap();
+        let text =
+            r#"{"generation":0,"index":1,"ratios":[6.0,3.0,1.0,2.6],"cost":2.5,"run_seconds":0.25"#;
+        assert_eq!(
+            line,
+            format!(r#"{text},"check":"{}"}}"#, checksum(&format!("{text}}}")))
+        );
+        let path = scratch("format");
+        let run = Run {
+            seed: 7,
+            method: Some("cmaes".into()),
+        };
+        drop(create(&path, &run));
+        let header = r#"{"format":"codesign-evaluation-log","run":{"method":"cmaes","seed":7},"checksums":true}"#;
+        assert_eq!(
+            std::fs::read_to_string(&path).unwrap(),
+            format!("{header}\n")
+        );
+        std::fs::remove_file(&path).unwrap();
+    }
+
+    #[test]
     fn resumes_its_own_run_and_drops_a_torn_last_line() {
-        let path = std::env::temp_dir().join(format!("codesign-log-{}.jsonl", std::process::id()));
-        let _ = std::fs::remove_file(&path);
+        let path = scratch("resume");
         let run = Run {
             seed: 3,
             method: None,
         };
-        let append = |log: &mut EvaluationLog, e: LogEntry| {
+        let append = |log: &mut Log, e: LogEntry<Design>| {
             log.append(e.generation, e.index, &e.evaluation).unwrap()
         };
         let mut log = create(&path, &run);
         append(&mut log, entry(0, 0, 1.5));
         append(&mut log, entry(0, 1, 2.5));
         drop(log);
-        assert!(EvaluationLog::open(&path, &run, Start::Fresh)
-            .unwrap_err()
-            .contains("--resume"));
+        let error = Log::open(&path, &run, Start::Fresh).unwrap_err();
+        assert_eq!(error, StoreError::LogExists { path: path.clone() });
         let mut file = OpenOptions::new().append(true).open(&path).unwrap();
         write!(file, "{{\"generation\": 0, \"ind").unwrap();
         drop(file);
-        let (mut log, finished) = EvaluationLog::open(&path, &run, Start::Resume).unwrap();
+        let (mut log, finished) = Log::open(&path, &run, Start::Resume).unwrap();
         assert_eq!(log.dropped_line(), Some(4));
         assert_eq!(finished.len(), 2);
         assert_eq!(finished[&(0, 1)], entry(0, 1, 2.5).evaluation);
         append(&mut log, entry(0, 2, 3.5));
         drop(log);
-        let (_, finished) = EvaluationLog::open(&path, &run, Start::Resume).unwrap();
+        let (_, finished) = Log::open(&path, &run, Start::Resume).unwrap();
         assert_eq!(finished.len(), 3);
         // A log written before a defaulted field existed still belongs to the run.
         let newer = NewerRun {
@@ -485,18 +584,23 @@ mod tests {
             method: None,
             extra: 0,
         };
-        assert!(EvaluationLog::open(&path, &newer, Start::Resume).is_ok());
-        let other = EvaluationLog::open(
-            &path,
-            &Run {
-                seed: 4,
-                method: None,
-            },
-            Start::Resume,
+        assert!(Log::open(&path, &newer, Start::Resume).is_ok());
+        let other = Run {
+            seed: 4,
+            method: None,
+        };
+        let error = Log::open(&path, &other, Start::Resume).unwrap_err();
+        assert_eq!(
+            error,
+            StoreError::DifferentRun {
+                path: path.clone(),
+                differences: vec!["seed: log 3, this command 4".to_owned()],
+            }
         );
-        let error = other.err().unwrap();
         assert!(
-            error.contains("different run (seed: log 3, this command 4)"),
+            error
+                .to_string()
+                .ends_with("belongs to a different run (seed: log 3, this command 4)"),
             "{error}"
         );
         std::fs::remove_file(&path).unwrap();
@@ -504,9 +608,7 @@ mod tests {
 
     #[test]
     fn working_time_adds_up_over_invocations_and_is_unknown_for_old_logs() {
-        let path =
-            std::env::temp_dir().join(format!("codesign-log-time-{}.jsonl", std::process::id()));
-        let _ = std::fs::remove_file(&path);
+        let path = scratch("time");
         let run = Run {
             seed: 5,
             method: None,
@@ -515,15 +617,15 @@ mod tests {
         log.earlier_seconds = Some(100.0); // as if a first invocation had worked 100 s
         log.append(0, 0, &entry(0, 0, 1.0).evaluation).unwrap();
         drop(log);
-        let (log, _) = EvaluationLog::open(&path, &run, Start::Resume).unwrap();
+        let (log, _) = Log::open(&path, &run, Start::Resume).unwrap();
         let total = log.run_seconds().unwrap();
         assert!((100.0..101.0).contains(&total), "{total}");
         drop(log);
         // An entry without the record (an older log): the run's total is unknown from then on.
         let mut file = OpenOptions::new().append(true).open(&path).unwrap();
-        writeln!(file, "{}", line_of(&entry(0, 1, 2.0))).unwrap();
+        writeln!(file, "{}", entry(0, 1, 2.0).to_line().unwrap()).unwrap();
         drop(file);
-        let (mut log, finished) = EvaluationLog::open(&path, &run, Start::Resume).unwrap();
+        let (mut log, finished) = Log::open(&path, &run, Start::Resume).unwrap();
         assert_eq!(finished.len(), 2);
         assert_eq!(log.run_seconds(), None);
         log.append(0, 2, &entry(0, 2, 3.0).evaluation).unwrap();
@@ -534,9 +636,7 @@ mod tests {
 
     #[test]
     fn damaged_or_edited_lines_are_errors_naming_them() {
-        let path =
-            std::env::temp_dir().join(format!("codesign-log-bad-{}.jsonl", std::process::id()));
-        let _ = std::fs::remove_file(&path);
+        let path = scratch("bad");
         let run = Run {
             seed: 1,
             method: None,
@@ -555,9 +655,22 @@ mod tests {
             std::fs::write(&path, edited.join("\n") + "\n").unwrap();
         };
         rewrite("garbage");
-        let error = EvaluationLog::open(&path, &run, Start::Resume).unwrap_err();
+        let error = Log::open(&path, &run, Start::Resume).unwrap_err();
         assert!(
-            error.contains("line 3: not an evaluation record"),
+            matches!(
+                error,
+                StoreError::DamagedLine {
+                    line: 3,
+                    why: Damage::NotARecord(_),
+                    ..
+                }
+            ),
+            "{error:?}"
+        );
+        assert!(
+            error
+                .to_string()
+                .contains("line 3: not an evaluation record"),
             "{error}"
         );
         assert_eq!(
@@ -568,35 +681,58 @@ mod tests {
         let edited = lines[2].replacen("\"cost\":1.0", "\"cost\":0.5", 1);
         assert_ne!(edited, lines[2]);
         rewrite(&edited);
-        let error = EvaluationLog::open(&path, &run, Start::Resume).unwrap_err();
+        let error = Log::open(&path, &run, Start::Resume).unwrap_err();
+        assert_eq!(
+            error,
+            StoreError::DamagedLine {
+                path: path.clone(),
+                line: 3,
+                why: Damage::ChecksumMismatch,
+            }
+        );
         assert!(
-            error.contains("line 3: its checksum does not match"),
+            error
+                .to_string()
+                .contains("line 3: its checksum does not match"),
             "{error}"
+        );
+        std::fs::write(&path, "{\"format\":\"other\",\"run\":{}}\n{}\n").unwrap();
+        let error = Log::open(&path, &run, Start::Resume).unwrap_err();
+        assert_eq!(
+            error,
+            StoreError::NotALog {
+                path: path.clone(),
+                why: None
+            }
         );
         std::fs::remove_file(&path).unwrap();
     }
 
     #[test]
     fn one_run_at_a_time_and_no_empty_log_left_behind() {
-        let path =
-            std::env::temp_dir().join(format!("codesign-log-lock-{}.jsonl", std::process::id()));
-        let _ = std::fs::remove_file(&path);
+        let path = scratch("lock");
         let run = Run {
             seed: 2,
             method: None,
         };
         let log = create(&path, &run);
         for start in [Start::Fresh, Start::Resume, Start::Overwrite] {
-            let error = EvaluationLog::open(&path, &run, start).unwrap_err();
-            let pid = format!("in use by another run (pid {})", std::process::id());
-            assert!(error.contains(&pid), "{error}");
+            let error = Log::open(&path, &run, start).unwrap_err();
+            assert_eq!(
+                error,
+                StoreError::Locked {
+                    thing: Thing::EvaluationLog,
+                    path: path.clone(),
+                    pid: Some(std::process::id()),
+                }
+            );
         }
         log.discard_if_unused().unwrap();
         assert!(!path.exists(), "a log without evaluations is removed");
         let mut log = create(&path, &run);
         log.append(0, 0, &entry(0, 0, 1.0).evaluation).unwrap();
         log.discard_if_unused().unwrap();
-        let (log, finished) = EvaluationLog::open(&path, &run, Start::Overwrite).unwrap();
+        let (log, finished) = Log::open(&path, &run, Start::Overwrite).unwrap();
         assert!(finished.is_empty());
         drop(log);
         // A header alone holds nothing to lose: a fresh or resumed run of any settings takes
@@ -605,7 +741,7 @@ mod tests {
             seed: 9,
             method: None,
         };
-        let (log, finished) = EvaluationLog::open(&path, &other, Start::Resume).unwrap();
+        let (log, finished) = Log::open(&path, &other, Start::Resume).unwrap();
         assert!(finished.is_empty());
         drop(log);
         create(&path, &run).discard_if_unused().unwrap();
