@@ -372,3 +372,95 @@ fn reproduce_checks_before_it_plans_or_merges() {
     assert!(!missing.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Item 1: a plot planted as a link to the task file is refused before the solve; the task
+/// file stays as it was.
+#[test]
+fn a_plot_never_writes_through_a_link_to_an_input() {
+    let dir = scratch("plot-link");
+    let task = task_with(&dir, |_| {});
+    let before = std::fs::read(&task).unwrap();
+    let plots = dir.join("plots");
+    std::fs::create_dir(&plots).unwrap();
+    std::os::unix::fs::symlink(&task, plots.join("tcp_path.svg")).unwrap();
+    let output = codesign(&[
+        "solve",
+        "--steps",
+        "2",
+        "--task",
+        path(&task),
+        "--plot",
+        path(&plots),
+    ]);
+    fails_saying(&output, "--plot");
+    fails_saying(&output, "that is an input of this command (--task");
+    assert_eq!(std::fs::read(&task).unwrap(), before);
+    // A folder not made yet is made, with every plot.
+    let fresh = dir.join("fresh");
+    let output = codesign(&[
+        "solve",
+        "--steps",
+        "2",
+        "--task",
+        path(&task),
+        "--plot",
+        path(&fresh),
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert_eq!(std::fs::read_dir(&fresh).unwrap().count(), 4);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Items 4, 5 and 12: where the log goes, a file that is no log is left alone; an --out named
+/// like a log, or naming a folder, or too long a name, is refused before any work; nothing is
+/// left behind.
+#[test]
+fn outputs_that_would_replace_what_they_should_not_are_refused_first() {
+    let dir = scratch("log-place");
+    let optimize = |out: &Path| {
+        codesign(&[
+            "optimize",
+            "--population",
+            "5",
+            "--generations",
+            "0",
+            "--workers",
+            "1",
+            "--out",
+            path(out),
+        ])
+    };
+    let foreign = dir.join("b.log.jsonl");
+    for text in ["{\"hello\": 1}\n".to_owned(), "x".repeat(4 << 20)] {
+        std::fs::write(&foreign, &text).unwrap();
+        fails_saying(&optimize(&dir.join("b.json")), "is not an evaluation log");
+        assert_eq!(std::fs::read_to_string(&foreign).unwrap(), text);
+    }
+    std::fs::remove_file(&foreign).unwrap();
+    fails_saying(
+        &optimize(&dir.join("x.log.jsonl")),
+        "is named like an evaluation log",
+    );
+    fails_saying(
+        &codesign(&["solve", "--out", path(&dir.join("y.log.jsonl"))]),
+        "named like",
+    );
+    let folder = format!("{}/", dir.join("newdir2").display());
+    fails_saying(
+        &optimize(Path::new(&folder)),
+        "ends in /: it names a folder",
+    );
+    fails_saying(&codesign(&["solve", "--out", &folder]), "ends in /");
+    fails_saying(&codesign(&["capacity", "--out", &folder]), "ends in /");
+    let long = dir.join("a".repeat(255));
+    fails_saying(
+        &codesign(&["solve", "--out", path(&long)]),
+        "its file name is 255 bytes long; at most",
+    );
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        0,
+        "something was left"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -5,7 +5,7 @@ use super::store_hints::check_output;
 use crate::ipopt::{check_derivatives, DerivativeOrder};
 use crate::model::task::{check_horizon, check_steps};
 use crate::problem::Formulation;
-use crate::report::trajectory::{write_plots, SolveDocument};
+use crate::report::trajectory::{write_plots, SolveDocument, PLOT_FILES};
 use crate::solve::{solve_design, SolveError, SolveSettings, TrajectoryResult};
 use crate::store::files::write_json;
 use crate::text::number;
@@ -62,8 +62,15 @@ pub fn run(args: &Args) -> Result<(), String> {
         check_steps(steps).map_err(|why| format!("--steps {steps}: {why}"))?;
         task.motion.steps = steps;
     }
+    let inputs = args.model.inputs(&task);
     if let Some(path) = &args.out {
-        check_output("--out", path, &args.model.inputs(&task))?;
+        check_output("--out", path, &inputs)?;
+    }
+    // A folder not made yet holds nothing to protect.
+    if let Some(folder) = args.plot.as_ref().filter(|folder| folder.is_dir()) {
+        for name in PLOT_FILES {
+            check_output("--plot", &folder.join(name), &inputs)?;
+        }
     }
     let modes = args.problem.modes(&task);
     let hard =

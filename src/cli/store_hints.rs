@@ -18,6 +18,10 @@ pub fn hint(error: StoreError, flag: &str) -> String {
         StoreError::DifferentRun { .. } => {
             format!("{error}; use another {flag}, or --overwrite to replace it")
         }
+        StoreError::NotALog { .. } => format!(
+            "{error}; codesign leaves it untouched: move it away, use another {flag}, or pass \
+             --overwrite to replace it"
+        ),
         StoreError::DamagedLine { .. } => format!(
             "{error} (remove that line to resume without it, or pass --overwrite to start afresh)"
         ),
@@ -43,10 +47,10 @@ pub fn run_error(error: RunError) -> String {
     }
 }
 
-/// Checks, before any work, that `path`, given by `flag`, can take a result and is none of
-/// `inputs` (see [`files::check_output`]).
+/// Checks, before any work, that `path`, given by `flag`, can take a result, is none of
+/// `inputs` and is not named like an evaluation log (see [`files::check_result`]).
 pub fn check_output(flag: &str, path: &Path, inputs: &[(&str, &Path)]) -> Result<(), String> {
-    files::check_output(path, inputs).map_err(|error| hint(error, flag))
+    files::check_result(path, inputs).map_err(|error| hint(error, flag))
 }
 
 #[cfg(test)]

@@ -77,8 +77,17 @@ fn per_joint(time: &[f64], rows: &[Vec<f64>], label: &str) -> Vec<Series> {
         .collect()
 }
 
-/// Writes the plots of a solve into `folder`: joint positions, joint torques and motor torques
-/// with their limits, and the TCP path in the world y-z plane with the Cartesian box.
+/// The files of the plots of a solve, in the order [`write_plots`] writes them.
+pub const PLOT_FILES: [&str; 4] = [
+    "joint_positions.svg",
+    "joint_torques.svg",
+    "motor_torques.svg",
+    "tcp_path.svg",
+];
+
+/// Writes the plots of a solve into `folder` ([`PLOT_FILES`]): joint positions, joint torques
+/// and motor torques with their limits, and the TCP path in the world y-z plane with the
+/// Cartesian box.
 pub fn write_plots(
     folder: &Path,
     formulation: &Formulation,
@@ -89,18 +98,12 @@ pub fn write_plots(
     let t = &result.trajectory;
     let title = plot_title(formulation, result);
     let charts = [
-        (
-            "joint_positions.svg",
-            joint_positions(formulation, t, &title),
-        ),
-        (
-            "joint_torques.svg",
-            joint_torques(formulation, result, &title)?,
-        ),
-        ("motor_torques.svg", motor_torques(task, t, &title)),
-        ("tcp_path.svg", tcp_path(task, t, &title)),
+        joint_positions(formulation, t, &title),
+        joint_torques(formulation, result, &title)?,
+        motor_torques(task, t, &title),
+        tcp_path(task, t, &title),
     ];
-    for (name, chart) in charts {
+    for (name, chart) in PLOT_FILES.into_iter().zip(charts) {
         chart.write(&folder.join(name))?;
     }
     Ok(())

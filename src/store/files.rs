@@ -25,6 +25,7 @@ pub fn check_output(path: &Path, inputs: &[(&str, &Path)]) -> Result<(), StoreEr
         path: path.to_owned(),
         why,
     };
+    check_name(path).map_err(refused)?;
     let (target, _) = resolve_target(path).map_err(refused)?;
     if let Ok(output) = std::fs::metadata(&target) {
         for (source, input) in inputs {
@@ -44,6 +45,39 @@ pub fn check_output(path: &Path, inputs: &[(&str, &Path)]) -> Result<(), StoreEr
     })?;
     drop(probe);
     let _ = std::fs::remove_file(&name);
+    Ok(())
+}
+
+/// [`check_output`] for a result file a command is given: besides, it must not be named like an
+/// evaluation log (`x.log.jsonl`), which would replace another run's log.
+pub fn check_result(path: &Path, inputs: &[(&str, &Path)]) -> Result<(), StoreError> {
+    if path.to_string_lossy().ends_with(".log.jsonl") {
+        return Err(StoreError::Refused {
+            path: path.to_owned(),
+            why: Refusal::LogName,
+        });
+    }
+    check_output(path, inputs)
+}
+
+/// The longest file name Linux takes, bytes.
+const NAME_MAX: usize = 255;
+
+/// The most a temporary file's name adds to its output's: `.`, `.probe`, a process id of up to
+/// 7 digits and `.NN`.
+const TEMPORARY_SUFFIX: usize = 18;
+
+/// Refuses a path that names a folder (ends in `/`) or whose file name is too long to be
+/// written through a temporary file beside it.
+fn check_name(path: &Path) -> Result<(), Refusal> {
+    if path.as_os_str().as_bytes().ends_with(b"/") {
+        return Err(Refusal::NamesFolder);
+    }
+    let bytes = path.file_name().map_or(0, |name| name.len());
+    let limit = NAME_MAX - TEMPORARY_SUFFIX;
+    if bytes > limit {
+        return Err(Refusal::NameTooLong { bytes, limit });
+    }
     Ok(())
 }
 

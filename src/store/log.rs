@@ -226,6 +226,16 @@ fn differences(logged: &Value, current: &Value, path: &str, found: &mut Vec<Stri
     }
 }
 
+/// What a non-empty file where a log goes holds.
+enum Contents {
+    /// A log header and entries.
+    Entries,
+    /// A log header alone: a run that ended before its first evaluation.
+    HeaderOnly,
+    /// No log: the parser's reason, when its first line is no JSON of a header.
+    Foreign(Option<String>),
+}
+
 impl<E: Serialize + DeserializeOwned> EvaluationLog<E> {
     /// Opens the log at `path` for `run`, locked against any other run while it is open. A
     /// missing or empty log starts afresh; an existing one is refused, resumed (its finished
@@ -251,12 +261,19 @@ impl<E: Serialize + DeserializeOwned> EvaluationLog<E> {
             entries: PhantomData,
         };
         if length > 0 {
-            let entries = log.holds_entries()?;
-            match start {
-                Start::Resume if entries => return log.replay(run),
-                Start::Fresh if entries => {
+            let contents = log.contents()?;
+            match (start, contents) {
+                (Start::Resume, Contents::Entries) => return log.replay(run),
+                (Start::Fresh, Contents::Entries) => {
                     return Err(StoreError::LogExists {
                         path: path.to_owned(),
+                    })
+                }
+                // Someone else's file where the log goes: only --overwrite replaces it.
+                (Start::Fresh | Start::Resume, Contents::Foreign(why)) => {
+                    return Err(StoreError::NotALog {
+                        path: path.to_owned(),
+                        why,
                     })
                 }
                 // Overwritten, or a header alone: nothing is lost.
@@ -359,14 +376,22 @@ impl<E: Serialize + DeserializeOwned> EvaluationLog<E> {
         })
     }
 
-    /// Whether the log holds anything beyond its header line; leaves the file at its start.
-    fn holds_entries(&mut self) -> Result<bool, StoreError> {
+    /// What the non-empty file at the log's path holds: a log with entries, a log header alone,
+    /// or something else; leaves the file at its start.
+    fn contents(&mut self) -> Result<Contents, StoreError> {
         let mut text = String::new();
         self.file
             .read_to_string(&mut text)
             .and_then(|_| self.file.seek(SeekFrom::Start(0)))
             .map_err(|e| StoreError::io(Action::Read, &self.path, &e))?;
-        Ok(text.split_inclusive('\n').nth(1).is_some())
+        let mut lines = text.split_inclusive('\n');
+        let header = serde_json::from_str::<LogHeader>(lines.next().unwrap_or_default());
+        Ok(match header {
+            Err(error) => Contents::Foreign(Some(error.to_string())),
+            Ok(header) if header.format != FORMAT => Contents::Foreign(None),
+            Ok(_) if lines.next().is_some() => Contents::Entries,
+            Ok(_) => Contents::HeaderOnly,
+        })
     }
 
     /// The number of the torn last line dropped on resuming, if there was one.

@@ -148,6 +148,18 @@ pub enum Refusal {
         /// Its permission bits.
         mode: u32,
     },
+    /// It ends in `/`: it names a folder, not a file.
+    NamesFolder,
+    /// Its file name is longer than the system takes with a temporary file's suffix, bytes.
+    NameTooLong {
+        /// The name's length.
+        bytes: usize,
+        /// The longest name that fits.
+        limit: usize,
+    },
+    /// It is named like an evaluation log, which only a co-design run writes beside its
+    /// result.
+    LogName,
     /// Its folder takes no new file.
     FolderNotWritable {
         /// The folder.
@@ -241,6 +253,16 @@ impl fmt::Display for Refusal {
             Refusal::NotWritable { mode } => write!(
                 f,
                 "is not writable by this user (mode {mode:03o}); codesign leaves it untouched"
+            ),
+            Refusal::NamesFolder => f.write_str("ends in /: it names a folder; give a file name"),
+            Refusal::NameTooLong { bytes, limit } => write!(
+                f,
+                "its file name is {bytes} bytes long; at most {limit} fit beside the suffix of \
+                 the temporary file it is written through"
+            ),
+            Refusal::LogName => f.write_str(
+                "is named like an evaluation log (.log.jsonl), which only a co-design run writes \
+                 beside its result; choose another name",
             ),
             Refusal::FolderNotWritable { folder, why } => {
                 write!(f, "cannot write in its folder {}: {why}", folder.display())

@@ -121,12 +121,12 @@ pub fn run(args: &Args) -> Result<(), String> {
     create_folder(&plan.out_dir).map_err(|e| e.to_string())?;
     // Held until the reproduction ends: a second one on the same folder fails at once.
     let _lock = lock_folder(&plan.out_dir).map_err(|e| hint(e, "--out-dir"))?;
-    let inputs: Vec<(&str, &Path)> = plan
-        .task
-        .iter()
-        .map(|path| ("--task", path.as_path()))
-        .collect();
-    check_output("--out-dir", &plan.out_dir.join("paper_table.md"), &inputs)?;
+    let task_file = plan.task.iter().map(|path| ("--task", path.as_path()));
+    let robot = task.task.robot.iter().map(|path| ("robot", path.as_path()));
+    let inputs: Vec<(&str, &Path)> = task_file.chain(robot).collect();
+    for output in plan.outputs() {
+        check_output("--out-dir", &output, &inputs)?;
+    }
     let outcomes = if args.from_runs.is_some() {
         merge::read_all(&plan)?
     } else {

@@ -9,8 +9,9 @@ use crate::design::evaluate::{Objective, PayloadRange};
 use crate::design::penalty::{Grading, Penalty, PENALTY};
 use crate::design::run::{shell_quote, Case, Method, ModelChoice, ProblemChoice};
 use crate::problem::Space;
+use crate::report::trajectory::PLOT_FILES;
 use crate::store::log::Start;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Payloads of the experiment, kg, and those that are co-designed (docs/model.md, section 13).
 pub const PAYLOADS: [f64; 3] = [0.0, 1.0, 3.0];
@@ -222,6 +223,32 @@ impl Plan {
     /// The result file of a capacity search, `capacity/NAME.json`.
     pub fn capacity_file(&self, name: &str) -> PathBuf {
         self.out_dir.join("capacity").join(format!("{name}.json"))
+    }
+
+    /// Every file the reproduction writes itself, existing ones to be checked before any work
+    /// (a co-design run checks its own): the table, the original designs' results and plots,
+    /// the capacities.
+    pub fn outputs(&self) -> Vec<PathBuf> {
+        let mut files = vec![
+            self.out_dir.join("paper_table.md"),
+            self.out_dir.join("paper_table.json"),
+        ];
+        for payload in PAYLOADS {
+            for space in SPACES {
+                files.push(self.original_file(space, payload));
+                let plots = self.original_plots(space, payload);
+                files.extend(PLOT_FILES.iter().map(|name| plots.join(name)));
+            }
+        }
+        for space in SPACES {
+            files.push(self.capacity_file(&format!("{space}-original")));
+            for payload in CODESIGNED {
+                files.push(self.capacity_file(&format!("{space}-{payload}kg-best")));
+            }
+        }
+        // Folders not made yet hold nothing to protect.
+        files.retain(|file| file.parent().is_some_and(Path::is_dir));
+        files
     }
 
     /// The experiment's independent commands, one a line, with `program` as the binary: the

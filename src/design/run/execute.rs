@@ -16,7 +16,7 @@ use crate::model::Robot;
 use crate::problem::Formulation;
 use crate::solve::{solve_design, solve_design_from, SolveError, SolveSettings, ToolInfo};
 use crate::stats::median;
-use crate::store::files::{check_output, write_json};
+use crate::store::files::{check_output, check_result, write_json};
 use crate::store::log::{log_beside, Start};
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -36,7 +36,7 @@ pub fn run_case(
     let (task, robot, mut settings) = case.model.load().map_err(RunError::Load)?;
     case.problem.configure(&mut settings);
     let read = case.model.inputs(&task);
-    check_output(out, &read).map_err(RunError::store(Output::Result))?;
+    check_result(out, &read).map_err(RunError::store(Output::Result))?;
     if case.method == Method::Cmaes {
         check_output(&log_beside(out), &read).map_err(RunError::store(Output::Log))?;
     }
