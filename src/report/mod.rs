@@ -2,6 +2,9 @@
 //! [`crate::store`]).
 
 pub mod codesign;
+mod error;
 pub mod plots;
 pub mod table;
 pub mod trajectory;
+
+pub use error::{ReadFailure, ReportError};

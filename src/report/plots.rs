@@ -1,5 +1,6 @@
 //! SVG line charts: trajectories (the paper's figures 4 and 5) and co-design histories.
 
+use super::ReportError;
 use plotters::coord::ranged1d::ValueFormatter;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
@@ -102,17 +103,21 @@ pub trait Figure {
     fn draw(&self, svg: &mut String) -> DrawResult;
 
     /// Renders the figure as an SVG document.
-    fn to_svg(&self) -> Result<String, String> {
+    fn to_svg(&self) -> Result<String, ReportError> {
         let mut svg = String::new();
-        self.draw(&mut svg)
-            .map_err(|error| format!("cannot draw chart '{}': {error}", self.title()))?;
+        self.draw(&mut svg).map_err(|error| ReportError::Draw {
+            title: self.title().to_owned(),
+            why: error.to_string(),
+        })?;
         Ok(svg)
     }
 
     /// Renders the figure and writes it atomically to `path`.
-    fn write(&self, path: &Path) -> Result<(), String> {
-        crate::store::files::write_atomic(path, self.to_svg()?.as_bytes())
-            .map_err(|e| e.to_string())
+    fn write(&self, path: &Path) -> Result<(), ReportError> {
+        Ok(crate::store::files::write_atomic(
+            path,
+            self.to_svg()?.as_bytes(),
+        )?)
     }
 }
 

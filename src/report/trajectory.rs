@@ -1,6 +1,7 @@
 //! The result file and plots of one trajectory solve (`codesign solve`).
 
 use super::plots::{Chart, Figure, Guide, Series};
+use super::ReportError;
 use crate::model::task::{LimitModes, Task};
 use crate::problem::{Formulation, Space};
 use crate::solve::{SolveSettings, TaskRecord, ToolInfo, Trajectory, TrajectoryResult};
@@ -92,8 +93,8 @@ pub fn write_plots(
     folder: &Path,
     formulation: &Formulation,
     result: &TrajectoryResult,
-) -> Result<(), String> {
-    crate::store::files::create_folder(folder).map_err(|e| e.to_string())?;
+) -> Result<(), ReportError> {
+    crate::store::files::create_folder(folder)?;
     let task = formulation.task();
     let t = &result.trajectory;
     let title = plot_title(formulation, result);
@@ -148,14 +149,11 @@ fn joint_torques(
     formulation: &Formulation,
     result: &TrajectoryResult,
     title: &str,
-) -> Result<Chart, String> {
+) -> Result<Chart, ReportError> {
     let t = &result.trajectory;
     let guides = match formulation.space() {
         Space::Joint => {
-            let coupling = formulation
-                .transmission()
-                .coupling(&result.ratios)
-                .map_err(|e| e.to_string())?;
+            let coupling = formulation.transmission().coupling(&result.ratios)?;
             let limit = formulation.task().motors.torque_limit_nm;
             match coupling.torque_limits(formulation.modes().torque, limit) {
                 JointLimits::Box { lower, upper } => lower

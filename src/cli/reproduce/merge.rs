@@ -103,7 +103,7 @@ fn read(path: &Path) -> Result<ResultFile, String> {
             path.display()
         ));
     }
-    read_result_file(path)
+    Ok(read_result_file(path)?)
 }
 
 fn wrong_kind(path: &Path, expected: &str) -> String {

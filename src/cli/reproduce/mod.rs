@@ -285,12 +285,12 @@ fn write_case_plots(
         }
     }
     let upper: Vec<f64> = task.task.transmission.bounds.iter().map(|b| b[1]).collect();
-    radar_chart(
+    let radar = radar_chart(
         "Optimal gear ratios (r_i / upper bound)",
         &radar_cases,
         &upper,
-    )
-    .write(&plots.join("optimal_ratios.svg"))
+    );
+    Ok(radar.write(&plots.join("optimal_ratios.svg"))?)
 }
 
 /// Fails, naming a log and the two ways on, when `runs` holds evaluation logs of an earlier

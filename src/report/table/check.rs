@@ -3,32 +3,35 @@
 
 use super::ResultFile;
 use crate::design::evaluate::Objective;
+use crate::report::ReportError;
 use std::path::PathBuf;
 
 /// Fails, naming the files, when two results describe different motions (horizon or number of
 /// intervals), when one result is given twice (the same file, or the same run under another
 /// name), or when a result holds a cost no run writes (edited or damaged): one table compares
 /// the results of one task, each once.
-pub fn check_results(paths: &[PathBuf], files: &[ResultFile]) -> Result<(), String> {
+pub fn check_results(paths: &[PathBuf], files: &[ResultFile]) -> Result<(), ReportError> {
     for (path, file) in paths.iter().zip(files) {
-        check_values(file).map_err(|why| format!("{}: {why}", path.display()))?;
+        if let Some(why) = odd_value(file) {
+            return Err(ReportError::Table(format!("{}: {why}", path.display())));
+        }
     }
     for (i, a) in files.iter().enumerate() {
         for (j, b) in files.iter().enumerate().skip(i + 1) {
             let (first, second) = (paths[i].display(), paths[j].display());
             if let (Some((ha, na)), Some((hb, nb))) = (motion(a), motion(b)) {
                 if (ha, na) != (hb, nb) {
-                    return Err(format!("{first} (horizon {ha} s, {na} intervals) and {second} (horizon {hb} s, {nb} intervals) describe different motions; a table compares the results of one task"));
+                    return Err(ReportError::Table(format!("{first} (horizon {ha} s, {na} intervals) and {second} (horizon {hb} s, {nb} intervals) describe different motions; a table compares the results of one task")));
                 }
             }
             if let (Some((payload, space)), true) = (row(a), row(a) == row(b)) {
-                return Err(format!("{first} and {second} both solve the original design at {payload} kg in {space} space; pass one of them"));
+                return Err(ReportError::Table(format!("{first} and {second} both solve the original design at {payload} kg in {space} space; pass one of them")));
             }
             if same_result(a, b) {
-                return Err(format!(
+                return Err(ReportError::Table(format!(
                     "{first} and {second} hold the same result (the same run's settings, or one \
                      file under two names); pass one of them"
-                ));
+                )));
             }
         }
     }
@@ -71,34 +74,32 @@ fn same_result(a: &ResultFile, b: &ResultFile) -> bool {
     }
 }
 
-/// Fails when a result holds a cost or mass no run writes: a trajectory cost J (a sum of
-/// squares) below zero or not a number, a capacity below zero.
-fn check_values(file: &ResultFile) -> Result<(), String> {
+/// What is wrong when a result holds a cost or mass no run writes: a trajectory cost J (a sum
+/// of squares) below zero or not a number, a capacity below zero.
+fn odd_value(file: &ResultFile) -> Option<String> {
     let cost = |name: &str, value: f64| {
-        if value.is_finite() && value >= 0.0 {
-            Ok(())
-        } else {
-            Err(format!(
+        (!(value.is_finite() && value >= 0.0)).then(|| {
+            format!(
                 "{name} = {value} is not a trajectory cost (J is a sum of squares, >= 0); the \
                  file was edited or damaged"
-            ))
-        }
+            )
+        })
     };
     match file {
         ResultFile::Optimize(d) => match d.inputs.objective {
             // The capacity objective minimises minus the payload: its best cost is <= 0.
             Objective::Capacity(_) => cost("best_cost", -d.best_cost),
             Objective::Cost | Objective::Range(_) => {
-                cost("best_cost", d.best_cost)?;
-                cost("original_cost", d.original_cost)
+                cost("best_cost", d.best_cost).or_else(|| cost("original_cost", d.original_cost))
             }
         },
         ResultFile::Solve(d) => cost("cost", d.result.cost),
-        ResultFile::Capacity(d) => match d.capacity.capacity_kg {
-            Some(kg) if !(kg.is_finite() && kg >= 0.0) => Err(format!(
-                "capacity_kg = {kg} is not a payload; the file was edited or damaged"
-            )),
-            _ => Ok(()),
-        },
+        ResultFile::Capacity(d) => d
+            .capacity
+            .capacity_kg
+            .filter(|kg| !(kg.is_finite() && *kg >= 0.0))
+            .map(|kg| {
+                format!("capacity_kg = {kg} is not a payload; the file was edited or damaged")
+            }),
     }
 }

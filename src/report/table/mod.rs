@@ -11,6 +11,7 @@ pub use check::check_results;
 
 use super::codesign::CapacityDocument;
 use super::trajectory::SolveDocument;
+use super::{ReadFailure, ReportError};
 use crate::design::run::{OptimizeDocument, PayloadCost};
 use crate::input::{read_text, MAX_RESULT_BYTES};
 use crate::ipopt::LinearSolver;
@@ -31,10 +32,14 @@ pub enum ResultFile {
 }
 
 /// Reads a result file, telling its kind by its fields; errors name the file.
-pub fn read_result_file(path: &Path) -> Result<ResultFile, String> {
-    let text = read_text(path, MAX_RESULT_BYTES).map_err(|e| format!("{}: {e}", path.display()))?;
+pub fn read_result_file(path: &Path) -> Result<ResultFile, ReportError> {
+    let failed = |why| ReportError::Read {
+        path: path.to_owned(),
+        why,
+    };
+    let text = read_text(path, MAX_RESULT_BYTES).map_err(|e| failed(ReadFailure::Input(e)))?;
     let value: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| format!("{}: not JSON: {e}", path.display()))?;
+        serde_json::from_str(&text).map_err(|e| failed(ReadFailure::NotJson(e.to_string())))?;
     let kind = if value.get("best_ratios").is_some() {
         "optimize"
     } else if value.get("probes").is_some() {
@@ -49,7 +54,12 @@ pub fn read_result_file(path: &Path) -> Result<ResultFile, String> {
     } else {
         serde_json::from_value(value).map(|d| ResultFile::Solve(Box::new(d)))
     };
-    parsed.map_err(|e| format!("{}: not a codesign {kind} result: {e}", path.display()))
+    parsed.map_err(|e| {
+        failed(ReadFailure::NotAResult {
+            kind,
+            why: e.to_string(),
+        })
+    })
 }
 
 /// What the paper reports for one row (docs/model.md, section 13, from the paper's Table II).

@@ -1,0 +1,91 @@
+//! Why a report could not be made: a chart not drawn, a file not written, a result file not
+//! read, or results that make no table together.
+
+use crate::input::InputError;
+use crate::store::StoreError;
+use crate::transmission::DesignError;
+use std::fmt;
+use std::path::PathBuf;
+
+/// Why a report could not be made.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ReportError {
+    /// plotters could not draw the chart of this title.
+    Draw {
+        /// The chart's title.
+        title: String,
+        /// plotters' reason.
+        why: String,
+    },
+    /// A file could not be written.
+    Store(StoreError),
+    /// The design of a result is outside its design space (it cannot be plotted).
+    Design(DesignError),
+    /// A result file could not be read, or is no codesign result.
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        why: ReadFailure,
+    },
+    /// Results that make no table together, or an edited one; the message names the files.
+    Table(String),
+}
+
+/// Why a result file could not be read.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ReadFailure {
+    /// The file itself (missing, not regular, too large, not text).
+    Input(InputError),
+    /// It is no JSON; the parser's reason.
+    NotJson(String),
+    /// It is no codesign result of the kind its fields suggest; the kind and the reason.
+    NotAResult {
+        /// `solve`, `optimize` or `capacity`.
+        kind: &'static str,
+        /// The parser's reason.
+        why: String,
+    },
+}
+
+impl fmt::Display for ReportError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ReportError::Draw { title, why } => write!(f, "cannot draw chart '{title}': {why}"),
+            ReportError::Store(error) => write!(f, "{error}"),
+            ReportError::Design(error) => write!(f, "{error}"),
+            ReportError::Read { path, why } => {
+                let path = path.display();
+                match why {
+                    ReadFailure::Input(error) => write!(f, "{path}: {error}"),
+                    ReadFailure::NotJson(why) => write!(f, "{path}: not JSON: {why}"),
+                    ReadFailure::NotAResult { kind, why } => {
+                        write!(f, "{path}: not a codesign {kind} result: {why}")
+                    }
+                }
+            }
+            ReportError::Table(message) => f.write_str(message),
+        }
+    }
+}
+
+impl std::error::Error for ReportError {}
+
+impl From<StoreError> for ReportError {
+    fn from(error: StoreError) -> ReportError {
+        ReportError::Store(error)
+    }
+}
+
+impl From<DesignError> for ReportError {
+    fn from(error: DesignError) -> ReportError {
+        ReportError::Design(error)
+    }
+}
+
+/// The command line shows a report's error as its message.
+impl From<ReportError> for String {
+    fn from(error: ReportError) -> String {
+        error.to_string()
+    }
+}
