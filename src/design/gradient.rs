@@ -14,12 +14,12 @@
 
 use super::fitness::shortfall;
 use super::outcome::DesignOutcome;
+pub use super::outcome::GradientIterate;
 use super::penalty::{Grading, Penalty};
 use crate::ipopt::Solution;
 use crate::problem::Formulation;
 use crate::solve::{solve_design_from, SolveSettings};
 use crate::transmission::{DesignSpace, Transmission};
-use serde::{Deserialize, Serialize};
 use std::ops::Range;
 
 /// Settings of a gradient-based run; `Default` gives the values `optimize` and `reproduce` use.
@@ -50,20 +50,6 @@ impl Default for GradientSettings {
             descents: 3,
         }
     }
-}
-
-/// One accepted iterate.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct GradientIterate {
-    /// Which start it belongs to.
-    pub start: usize,
-    /// The design.
-    pub ratios: Vec<f64>,
-    /// Its merit: the optimal cost J*, or with the graded penalty the elastic problem's optimal
-    /// penalised objective (J* where the design is feasible).
-    pub cost: f64,
-    /// The merit's gradient with respect to the ratios.
-    pub gradient: Vec<f64>,
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {

@@ -5,24 +5,9 @@ use super::cmaes::{Cmaes, CmaesSettings};
 use super::evaluate::Evaluation;
 use super::log::{EvaluationLog, Finished};
 use super::outcome::DesignOutcome;
+pub use super::outcome::GenerationSummary;
 use super::workers::Pool;
 use crate::stats::median;
-use serde::{Deserialize, Serialize};
-
-/// The cost statistics of one generation.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct GenerationSummary {
-    /// Generation (0 = the initial population).
-    pub generation: usize,
-    /// Best cost in the generation.
-    pub best: f64,
-    /// Median cost in the generation.
-    pub median: f64,
-    /// Designs with a feasible trajectory.
-    pub feasible: usize,
-    /// Designs evaluated.
-    pub evaluated: usize,
-}
 
 /// What the CMA-ES loop gathers while it runs.
 struct Run {
