@@ -7,12 +7,12 @@ use super::preflight::probe_solver;
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::evaluate::{Objective, PayloadRange};
-use crate::design::fitness::Fitness;
 use crate::design::gradient::{optimize_gradient, GradientSettings};
 use crate::design::log::{EvaluationLog, Finished, Start};
 use crate::design::optimize::{optimize, Progress};
 use crate::design::outcome::DesignOutcome;
 use crate::design::penalty::{Grading, Penalty};
+use crate::design::score::Fitness;
 use crate::design::workers::{Pool, WorkerSetup, SOLVE_TIMEOUT_S};
 use crate::model::task::Task;
 use crate::problem::Formulation;
@@ -230,7 +230,8 @@ fn document(
                 *formulation.modes(),
                 &case.objective,
                 case.penalty,
-            )?;
+            )
+            .map_err(|e| e.to_string())?;
             let best = payload_costs(&fitness, settings, &outcome.best_ratios);
             let original = payload_costs(&fitness, settings, &original_ratios);
             (None, None, Some(RangeCosts { best, original }))

@@ -12,13 +12,13 @@
 //! larger by the weighted slack elsewhere, so that descents from infeasible designs move toward
 //! feasibility.
 
-use super::fitness::shortfall;
 use super::outcome::DesignOutcome;
 pub use super::outcome::GradientIterate;
 use super::penalty::{Grading, Penalty};
+use super::score;
 use crate::ipopt::Solution;
 use crate::problem::Formulation;
-use crate::solve::{solve_design_from, SolveSettings};
+use crate::solve::SolveSettings;
 use crate::transmission::{DesignSpace, Transmission};
 use std::ops::Range;
 
@@ -94,39 +94,31 @@ struct Evaluator<'a> {
 }
 
 impl Evaluator<'_> {
-    /// Solves `ratios` (warm-started from `warm`); the point when the descent can use it.
+    /// Solves `ratios` (warm-started from `warm`) and records its fitness; the point when the
+    /// descent can use it.
     fn solve(&mut self, ratios: &[f64], warm: Option<&Solution>) -> Option<Point> {
-        let Ok((result, solution)) =
-            solve_design_from(self.formulation, ratios, &self.solve_settings, warm)
-        else {
-            self.costs.push(self.penalty.base);
-            return None;
+        let solved = score::validate(self.formulation.transmission(), ratios)
+            .and_then(|()| score::solve(self.formulation, &self.solve_settings, ratios, warm));
+        let (result, solution) = match solved {
+            Ok(solved) => solved,
+            Err(verdict) => {
+                self.costs.push(verdict.fitness(&self.penalty));
+                return None;
+            }
         };
         self.seconds.push(result.solve_seconds.total);
-        let feasible_cost = result.feasible.then_some(result.cost);
+        let verdict = score::judge(self.formulation, &result);
+        self.costs.push(verdict.fitness(&self.penalty));
         let (cost, gradient) = match result.elastic {
-            Some(measures) => {
-                let shortfall = shortfall(
-                    self.formulation,
-                    measures.torque_deficit,
-                    measures.speed_excess,
-                );
-                self.costs
-                    .push(feasible_cost.unwrap_or(self.penalty.infeasible(shortfall)));
-                (measures.objective, measures.objective_gradient?)
-            }
-            None => {
-                self.costs
-                    .push(feasible_cost.unwrap_or(self.penalty.infeasible(0.0)));
-                (result.cost, result.cost_gradient?)
-            }
+            Some(measures) => (measures.objective, measures.objective_gradient?),
+            None => (result.cost, result.cost_gradient?),
         };
         Some(Point {
             ratios: ratios.to_vec(),
             cost,
             gradient,
             solution,
-            feasible_cost,
+            feasible_cost: result.feasible.then_some(result.cost),
         })
     }
 
@@ -454,7 +446,7 @@ pub fn spread_designs(transmission: &Transmission, indices: Range<u32>) -> Vec<V
 mod tests {
     use super::*;
     use crate::problem::Space;
-    use crate::solve::solve_design;
+    use crate::solve::{solve_design, solve_design_from};
     use crate::testing;
 
     fn transmission() -> Transmission {

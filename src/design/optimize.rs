@@ -2,10 +2,10 @@
 //! evaluation logged, and finished ones replayed on resume.
 
 use super::cmaes::{Cmaes, CmaesSettings};
-use super::evaluate::Evaluation;
 use super::log::{EvaluationLog, Finished};
 use super::outcome::DesignOutcome;
 pub use super::outcome::GenerationSummary;
+use super::score::Evaluation;
 use super::workers::Pool;
 use crate::stats::median;
 
@@ -95,8 +95,7 @@ pub fn optimize(
 /// Fails when no evaluation judged a design: every one failed for the same reason that is not
 /// the design's (a solver error, a crashed worker), so the run's result would mean nothing.
 pub fn check_evaluations(evaluations: &[Evaluation]) -> Result<(), String> {
-    let not_judged =
-        |e: &Evaluation| !e.feasible && (e.status == "Solver_Error" || e.status == "Worker_Failed");
+    let not_judged = |e: &Evaluation| !e.feasible && !e.status.is_judged();
     match evaluations.first() {
         Some(first)
             if evaluations
@@ -166,19 +165,33 @@ fn evaluate_generation(
 #[cfg(test)]
 mod tests {
     use super::check_evaluations;
-    use crate::design::evaluate::Evaluation;
+    use crate::design::penalty::Penalty;
+    use crate::design::score::{Evaluation, Score, Verdict};
+
+    fn penalised(verdict: Verdict) -> Evaluation {
+        Evaluation::new(&[6.0], &Score::unsolved(verdict), &Penalty::PAPER)
+    }
 
     #[test]
     fn a_run_fails_when_its_evaluations_all_failed_alike() {
-        let failed =
-            |reason: &str| Evaluation::penalised(&[6.0], 1e6, "Solver_Error", reason.to_owned());
+        let failed = |message: &str| {
+            penalised(Verdict::SolverError {
+                message: message.to_owned(),
+            })
+        };
         let alike = vec![failed("IPOPT rejected option `x` = 3"); 3];
         let error = check_evaluations(&alike).unwrap_err();
         assert!(error.contains("every one of the 3 evaluations"), "{error}");
         assert!(error.contains("IPOPT rejected option"), "{error}");
         let differing = vec![failed("a"), failed("b")];
         assert!(check_evaluations(&differing).is_ok());
-        let invalid = vec![Evaluation::penalised(&[6.0], 1e6, "Invalid_Design", "r".into()); 2];
+        let invalid = vec![
+            penalised(Verdict::Invalid {
+                distance: 1.0,
+                reason: "r".into()
+            });
+            2
+        ];
         assert!(
             check_evaluations(&invalid).is_ok(),
             "the designs were judged"

@@ -10,7 +10,8 @@ mod protocol;
 
 pub use protocol::{serve, Hello, Request, Response, WorkerSetup};
 
-use super::evaluate::Evaluation;
+use super::penalty::Penalty;
+use super::score::{Evaluation, Score, Verdict};
 use std::collections::VecDeque;
 use std::io::{BufRead, BufReader, Write};
 use std::path::PathBuf;
@@ -85,7 +86,8 @@ pub struct Pool {
     setup_line: String,
     /// The hello every worker must send.
     hello: Hello,
-    penalty: f64,
+    /// How a design whose worker failed twice is scored.
+    penalty: Penalty,
     timeout: Duration,
     workers: Vec<Worker>,
     sender: Sender<Message>,
@@ -117,7 +119,7 @@ impl Pool {
             launcher,
             setup_line: serde_json::to_string(setup).map_err(|e| e.to_string())?,
             hello: Hello::new(setup)?,
-            penalty: setup.penalty.base,
+            penalty: setup.penalty,
             timeout,
             workers: Vec::with_capacity(count),
             sender,
@@ -352,15 +354,14 @@ impl Pool {
                 job.attempt += 1;
                 queue.push_front(job);
             } else if let Some(index) = position(job.id) {
+                let failed = Verdict::WorkerFailed {
+                    message: format!("{reason}, twice"),
+                };
+                let evaluation =
+                    Evaluation::new(&job.ratios, &Score::unsolved(failed), &self.penalty);
                 eprintln!(
                     "warning: {reason} again on design {:?}; scoring it {}",
-                    job.ratios, self.penalty
-                );
-                let evaluation = Evaluation::penalised(
-                    &job.ratios,
-                    self.penalty,
-                    "Worker_Failed",
-                    format!("{reason}, twice"),
+                    job.ratios, evaluation.cost
                 );
                 done(job.id, &evaluation)?;
                 results[index] = Some(evaluation);
@@ -383,7 +384,7 @@ impl Drop for Pool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::design::evaluate::Objective;
+    use crate::design::score::{Objective, Status};
     use crate::problem::Space;
     use std::os::unix::fs::PermissionsExt;
 
@@ -441,7 +442,7 @@ mod tests {
             for (evaluation, (_, ratios)) in results.iter().zip(designs()) {
                 assert_eq!(evaluation.ratios, ratios);
                 assert_eq!(evaluation.cost, 1e6);
-                assert_eq!(evaluation.status, "Worker_Failed");
+                assert_eq!(evaluation.status, Status::WorkerFailed);
                 let text = evaluation.reason.as_deref().unwrap();
                 assert!(text.contains(reason) && text.contains("twice"), "{text}");
             }

@@ -1,9 +1,8 @@
 //! The worker protocol, one JSON object a line: the parent sends a [`WorkerSetup`], the worker
 //! answers with its [`Hello`], then each [`Request`] gets one [`Response`].
 
-use crate::design::evaluate::{Evaluation, Objective};
-use crate::design::fitness::Fitness;
 use crate::design::penalty::Penalty;
+use crate::design::score::{Evaluation, Fitness, Objective, ScoreError};
 use crate::ipopt::{LinearSolver, IPOPT_VERSION};
 use crate::model::task::{LimitModes, Task};
 use crate::problem::Space;
@@ -33,7 +32,7 @@ pub struct WorkerSetup {
 
 impl WorkerSetup {
     /// Builds the fitness this setup describes.
-    pub fn fitness(&self) -> Result<Fitness, String> {
+    pub fn fitness(&self) -> Result<Fitness, ScoreError> {
         Fitness::new(
             &self.task,
             &self.solve,
@@ -118,7 +117,7 @@ pub fn serve(input: impl BufRead, mut output: impl Write) -> Result<(), String> 
     };
     let setup: WorkerSetup = serde_json::from_str(&setup_line)
         .map_err(|e| format!("worker: malformed setup line: {e}"))?;
-    let fitness = setup.fitness()?;
+    let fitness = setup.fitness().map_err(|e| e.to_string())?;
     let hello = serde_json::to_string(&Hello::new(&setup)?).map_err(|e| format!("worker: {e}"))?;
     if !answer(&mut output, &hello)? {
         return Ok(());
