@@ -168,7 +168,8 @@ pub fn run_case(case: &Case, out: &Path) -> Result<OptimizeDocument, String> {
                 .map(|o| (o, log.earlier_seconds()))
         }
         None => optimize_gradient(&formulation, &settings, &case.gradient, case.penalty)
-            .map(|o| (o, Some(0.0))),
+            .map(|o| (o, Some(0.0)))
+            .map_err(|e| e.to_string()),
     };
     let result = outcome.and_then(|(outcome, earlier_seconds)| {
         let mut document = document(case, &formulation, &settings, inputs, outcome)?;
@@ -355,7 +356,8 @@ fn run_cmaes(
     let program = std::env::current_exe()
         .map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
     let timeout = Duration::from_secs_f64(case.solve_timeout_s);
-    let mut pool = Pool::new(case.launcher(&program), setup, workers, timeout)?;
+    let mut pool =
+        Pool::new(case.launcher(&program), setup, workers, timeout).map_err(|e| e.to_string())?;
     let settings = &case.cmaes;
     let bar = ProgressBar::new((settings.population * (settings.generations + 1)) as u64);
     bar.set_style(
@@ -375,7 +377,8 @@ fn run_cmaes(
         log,
         finished,
         &mut progress,
-    )?;
+    )
+    .map_err(|e| e.to_string())?;
     progress.0.finish();
     Ok(outcome)
 }

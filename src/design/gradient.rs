@@ -20,6 +20,7 @@ use crate::ipopt::Solution;
 use crate::problem::Formulation;
 use crate::solve::SolveSettings;
 use crate::transmission::{DesignSpace, Transmission};
+use std::fmt;
 use std::ops::Range;
 
 /// Settings of a gradient-based run; `Default` gives the values `optimize` and `reproduce` use.
@@ -135,6 +136,29 @@ impl Evaluator<'_> {
     }
 }
 
+/// Why a gradient-based run found no result.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum GradientError {
+    /// With the flat penalty, no candidate start was feasible to descend from.
+    NoFeasibleStart {
+        /// The candidate designs solved.
+        solved: usize,
+    },
+}
+
+impl fmt::Display for GradientError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            GradientError::NoFeasibleStart { solved } => write!(
+                f,
+                "the gradient method found no feasible start among {solved} candidate designs"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for GradientError {}
+
 /// Runs the projected quasi-Newton method from the best candidate starts (the original design
 /// and Halton-spread designs, see [`default_starts`]). With a flat `penalty` the descents start
 /// from feasible candidates and lower J*, and the run fails when no candidate is feasible; with
@@ -147,7 +171,7 @@ pub fn optimize_gradient(
     solve: &SolveSettings,
     settings: &GradientSettings,
     penalty: Penalty,
-) -> Result<DesignOutcome, String> {
+) -> Result<DesignOutcome, GradientError> {
     let set = formulation.transmission().design_space();
     let elastic;
     let mut evaluator = Evaluator {
@@ -166,9 +190,7 @@ pub fn optimize_gradient(
     };
     let (candidates, solved) = descent_starts(set, settings, &mut evaluator);
     if candidates.is_empty() {
-        return Err(format!(
-            "the gradient method found no feasible start among {solved} candidate designs"
-        ));
+        return Err(GradientError::NoFeasibleStart { solved });
     }
     let mut iterates = Vec::new();
     for (start, point) in candidates {
@@ -523,7 +545,8 @@ mod tests {
             ..GradientSettings::default()
         };
         let flat = optimize_gradient(&formulation, &testing::settings(), &descent, Penalty::PAPER);
-        assert!(flat.is_err(), "no start is feasible: {flat:?}");
+        let none = GradientError::NoFeasibleStart { solved: 4 };
+        assert_eq!(flat, Err(none), "no start is feasible");
         let graded: Penalty = "graded".parse().unwrap();
         let settings = testing::settings();
         let outcome = optimize_gradient(&formulation, &settings, &descent, graded).unwrap();

@@ -5,9 +5,68 @@ use super::cmaes::{Cmaes, CmaesSettings};
 use super::log::{EvaluationLog, Finished};
 use super::outcome::DesignOutcome;
 pub use super::outcome::GenerationSummary;
-use super::score::Evaluation;
-use super::workers::Pool;
+use super::score::{Evaluation, Status};
+use super::workers::{Pool, WorkerError};
 use crate::stats::median;
+use std::fmt;
+
+/// Why a CMA-ES run stopped without a result.
+#[derive(Debug)]
+pub enum OptimizeError {
+    /// CMA-ES refused its settings or a generation's fitness.
+    Cmaes(String),
+    /// The worker pool stopped.
+    Workers(WorkerError),
+    /// An evaluation could not be appended to the evaluation log.
+    Log(String),
+    /// No evaluation judged a design: every one failed alike, for a reason not the design's.
+    NotJudged {
+        /// The evaluations made.
+        evaluations: usize,
+        /// Their status (a solver error, a failed worker).
+        status: Status,
+        /// Their reason.
+        reason: Option<String>,
+    },
+    /// CMA-ES ended without a best design.
+    NoBest,
+}
+
+impl fmt::Display for OptimizeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            OptimizeError::Cmaes(message) | OptimizeError::Log(message) => f.write_str(message),
+            OptimizeError::Workers(error) => error.fmt(f),
+            OptimizeError::NotJudged {
+                evaluations,
+                status,
+                reason,
+            } => write!(
+                f,
+                "every one of the {evaluations} evaluations failed alike ({status}: {}); no \
+                 design was judged, so no result is written (fix the cause, then start afresh \
+                 with --overwrite)",
+                reason.as_deref().unwrap_or("no reason given")
+            ),
+            OptimizeError::NoBest => f.write_str("CMA-ES has no best design"),
+        }
+    }
+}
+
+impl std::error::Error for OptimizeError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            OptimizeError::Workers(error) => Some(error),
+            _ => None,
+        }
+    }
+}
+
+impl From<WorkerError> for OptimizeError {
+    fn from(error: WorkerError) -> OptimizeError {
+        OptimizeError::Workers(error)
+    }
+}
 
 /// What the CMA-ES loop gathers while it runs.
 struct Run {
@@ -37,10 +96,10 @@ pub fn optimize(
     log: &mut EvaluationLog,
     finished: &Finished,
     progress: &mut dyn Progress,
-) -> Result<DesignOutcome, String> {
+) -> Result<DesignOutcome, OptimizeError> {
     let lower = bounds.iter().map(|b| b[0]).collect();
     let upper = bounds.iter().map(|b| b[1]).collect();
-    let mut cmaes = Cmaes::new(settings, lower, upper)?;
+    let mut cmaes = Cmaes::new(settings, lower, upper).map_err(OptimizeError::Cmaes)?;
     let mut outcome = Run {
         best_cost: f64::INFINITY,
         generations: Vec::new(),
@@ -50,7 +109,9 @@ pub fn optimize(
     let initial = cmaes.initial_population();
     let mut evaluations =
         evaluate_generation(0, &initial, pool, log, finished, &mut outcome, progress)?;
-    cmaes.tell_initial(&record(0, evaluations, &mut outcome))?;
+    cmaes
+        .tell_initial(&record(0, evaluations, &mut outcome))
+        .map_err(OptimizeError::Cmaes)?;
     while let Some(designs) = cmaes.ask() {
         let generation = cmaes.generation() + 1;
         evaluations = evaluate_generation(
@@ -62,10 +123,12 @@ pub fn optimize(
             &mut outcome,
             progress,
         )?;
-        cmaes.tell(&record(generation, evaluations, &mut outcome))?;
+        cmaes
+            .tell(&record(generation, evaluations, &mut outcome))
+            .map_err(OptimizeError::Cmaes)?;
     }
     check_evaluations(&outcome.evaluations)?;
-    let (best, cost) = cmaes.best().ok_or("CMA-ES has no best design")?;
+    let (best, cost) = cmaes.best().ok_or(OptimizeError::NoBest)?;
     // A design no evaluation found feasible is no result: the run reports none.
     let any_feasible = outcome.evaluations.iter().any(|e| e.feasible);
     Ok(DesignOutcome {
@@ -94,7 +157,7 @@ pub fn optimize(
 
 /// Fails when no evaluation judged a design: every one failed for the same reason that is not
 /// the design's (a solver error, a crashed worker), so the run's result would mean nothing.
-pub fn check_evaluations(evaluations: &[Evaluation]) -> Result<(), String> {
+pub fn check_evaluations(evaluations: &[Evaluation]) -> Result<(), OptimizeError> {
     let not_judged = |e: &Evaluation| !e.feasible && !e.status.is_judged();
     match evaluations.first() {
         Some(first)
@@ -102,13 +165,11 @@ pub fn check_evaluations(evaluations: &[Evaluation]) -> Result<(), String> {
                 .iter()
                 .all(|e| not_judged(e) && e.reason == first.reason) =>
         {
-            Err(format!(
-                "every one of the {} evaluations failed alike ({}: {}); no design was judged, \
-                 so no result is written (fix the cause, then start afresh with --overwrite)",
-                evaluations.len(),
-                first.status,
-                first.reason.as_deref().unwrap_or("no reason given")
-            ))
+            Err(OptimizeError::NotJudged {
+                evaluations: evaluations.len(),
+                status: first.status.clone(),
+                reason: first.reason.clone(),
+            })
         }
         _ => Ok(()),
     }
@@ -136,7 +197,7 @@ fn evaluate_generation(
     finished: &Finished,
     outcome: &mut Run,
     progress: &mut dyn Progress,
-) -> Result<Vec<Evaluation>, String> {
+) -> Result<Vec<Evaluation>, OptimizeError> {
     let mut slots: Vec<Option<Evaluation>> = vec![None; designs.len()];
     let mut pending = Vec::new();
     for (index, ratios) in designs.iter().enumerate() {
@@ -155,6 +216,7 @@ fn evaluate_generation(
         *best = best.min(evaluation.cost);
         progress.evaluated(*best);
         log.append(generation, index, evaluation)
+            .map_err(OptimizeError::Log)
     })?;
     for ((index, _), evaluation) in pending.iter().zip(solved) {
         slots[*index] = Some(evaluation);
@@ -180,9 +242,13 @@ mod tests {
             })
         };
         let alike = vec![failed("IPOPT rejected option `x` = 3"); 3];
-        let error = check_evaluations(&alike).unwrap_err();
-        assert!(error.contains("every one of the 3 evaluations"), "{error}");
-        assert!(error.contains("IPOPT rejected option"), "{error}");
+        let error = check_evaluations(&alike).unwrap_err().to_string();
+        assert_eq!(
+            error,
+            "every one of the 3 evaluations failed alike (Solver_Error: IPOPT rejected option \
+             `x` = 3); no design was judged, so no result is written (fix the cause, then start \
+             afresh with --overwrite)"
+        );
         let differing = vec![failed("a"), failed("b")];
         assert!(check_evaluations(&differing).is_ok());
         let invalid = vec![

@@ -176,7 +176,8 @@ pub fn capacity_document(
 ) -> Result<CapacityDocument, String> {
     let settings = CapacitySettings::default();
     let formulation = formulation_at(task, task.task.payload.mass_kg, space)?;
-    let capacity = payload_capacity(&formulation, &task.solver, &ratios, &settings)?;
+    let capacity = payload_capacity(&formulation, &task.solver, &ratios, &settings)
+        .map_err(|e| e.to_string())?;
     say!("payload capacity, {name}: {:?} kg", capacity.capacity_kg);
     let document = CapacityDocument {
         tool: ToolInfo::current(task.solver.linear_solver()),
