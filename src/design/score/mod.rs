@@ -214,7 +214,7 @@ pub fn judge(formulation: &Formulation, result: &TrajectoryResult) -> Verdict {
 
 /// How far an elastic solve's trajectory is from a feasible one, motor-seconds (s): the torque
 /// deficit (N m s) over the motor torque limit plus the speed excess (rad) over the speed limit.
-pub fn shortfall(formulation: &Formulation, measures: &ElasticMeasures) -> f64 {
+fn shortfall(formulation: &Formulation, measures: &ElasticMeasures) -> f64 {
     let motors = &formulation.task().motors;
     measures.torque_deficit / motors.torque_limit_nm
         + measures.speed_excess / motors.speed_limit_rad_s
