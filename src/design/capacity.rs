@@ -7,9 +7,10 @@
 //! payload; the probes are all reported, so a user can see when it does not.
 
 use crate::ipopt::Solution;
-use crate::problem::Formulation;
-use crate::solve::{solve_design_from, SolveSettings};
+use crate::problem::{Formulation, FormulationError};
+use crate::solve::{solve_design_from, SolveError, SolveSettings};
 use serde::{Deserialize, Serialize};
+use std::fmt;
 
 /// How finely and how far to search.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -68,16 +69,60 @@ pub struct Capacity {
 
 impl CapacitySettings {
     /// Checks that every mass is a positive number of kg.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), CapacityError> {
         let valid = |v: f64| v.is_finite() && v > 0.0;
         if valid(self.resolution_kg) && valid(self.first_step_kg) && valid(self.max_kg) {
             return Ok(());
         }
-        Err(format!(
-            "capacity settings must be positive numbers of kg: resolution {}, first step {}, \
-             max {}",
-            self.resolution_kg, self.first_step_kg, self.max_kg
-        ))
+        Err(CapacityError::Settings(*self))
+    }
+}
+
+/// Why a capacity search could not run.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CapacityError {
+    /// A mass of the settings is not a positive number of kg.
+    Settings(CapacitySettings),
+    /// The problem could not be formulated at a payload.
+    Payload(FormulationError),
+    /// A probe could not be solved (an invalid design, IPOPT could not run).
+    Solve(SolveError),
+}
+
+impl fmt::Display for CapacityError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            CapacityError::Settings(settings) => write!(
+                f,
+                "capacity settings must be positive numbers of kg: resolution {}, first step {}, \
+                 max {}",
+                settings.resolution_kg, settings.first_step_kg, settings.max_kg
+            ),
+            CapacityError::Payload(error) => error.fmt(f),
+            CapacityError::Solve(error) => error.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for CapacityError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            CapacityError::Settings(_) => None,
+            CapacityError::Payload(error) => Some(error),
+            CapacityError::Solve(error) => Some(error),
+        }
+    }
+}
+
+impl From<FormulationError> for CapacityError {
+    fn from(error: FormulationError) -> CapacityError {
+        CapacityError::Payload(error)
+    }
+}
+
+impl From<SolveError> for CapacityError {
+    fn from(error: SolveError) -> CapacityError {
+        CapacityError::Solve(error)
     }
 }
 
@@ -94,11 +139,12 @@ impl Search<'_> {
     /// IPOPT's verdict of infeasibility is local (the problem is not convex), so a payload counts
     /// as infeasible only when neither start leads to a feasible trajectory. The solution when
     /// feasible.
-    fn probe(&mut self, payload: f64, warm: Option<&Solution>) -> Result<Option<Solution>, String> {
-        let formulation = self
-            .formulation
-            .with_payload(payload)
-            .map_err(|e| e.to_string())?;
+    fn probe(
+        &mut self,
+        payload: f64,
+        warm: Option<&Solution>,
+    ) -> Result<Option<Solution>, CapacityError> {
+        let formulation = self.formulation.with_payload(payload)?;
         let starts: &[Option<&Solution>] = if warm.is_some() {
             &[warm, None]
         } else {
@@ -106,8 +152,7 @@ impl Search<'_> {
         };
         for &start in starts {
             let (result, solution) =
-                solve_design_from(&formulation, self.ratios, self.solve, start)
-                    .map_err(|e| e.to_string())?;
+                solve_design_from(&formulation, self.ratios, self.solve, start)?;
             self.probes.push(CapacityProbe {
                 payload_kg: payload,
                 feasible: result.feasible,
@@ -132,7 +177,7 @@ pub fn payload_capacity(
     solve: &SolveSettings,
     ratios: &[f64],
     settings: &CapacitySettings,
-) -> Result<Capacity, String> {
+) -> Result<Capacity, CapacityError> {
     settings.validate()?;
     let mut search = Search {
         formulation,
@@ -218,6 +263,11 @@ mod tests {
             resolution_kg: 0.0,
             ..settings
         };
-        assert!(payload_capacity(&formulation, &testing::settings(), &original, &bad).is_err());
+        let error = payload_capacity(&formulation, &testing::settings(), &original, &bad);
+        assert_eq!(error, Err(CapacityError::Settings(bad)));
+        assert!(error
+            .unwrap_err()
+            .to_string()
+            .starts_with("capacity settings must be positive numbers of kg: resolution 0,"));
     }
 }

@@ -12,14 +12,15 @@
 //! larger by the weighted slack elsewhere, so that descents from infeasible designs move toward
 //! feasibility.
 
-use super::fitness::shortfall;
 use super::outcome::DesignOutcome;
+pub use super::outcome::GradientIterate;
 use super::penalty::{Grading, Penalty};
+use super::score;
 use crate::ipopt::Solution;
 use crate::problem::Formulation;
-use crate::solve::{solve_design_from, SolveSettings};
+use crate::solve::SolveSettings;
 use crate::transmission::{DesignSpace, Transmission};
-use serde::{Deserialize, Serialize};
+use std::fmt;
 use std::ops::Range;
 
 /// Settings of a gradient-based run; `Default` gives the values `optimize` and `reproduce` use.
@@ -50,20 +51,6 @@ impl Default for GradientSettings {
             descents: 3,
         }
     }
-}
-
-/// One accepted iterate.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct GradientIterate {
-    /// Which start it belongs to.
-    pub start: usize,
-    /// The design.
-    pub ratios: Vec<f64>,
-    /// Its merit: the optimal cost J*, or with the graded penalty the elastic problem's optimal
-    /// penalised objective (J* where the design is feasible).
-    pub cost: f64,
-    /// The merit's gradient with respect to the ratios.
-    pub gradient: Vec<f64>,
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -108,39 +95,31 @@ struct Evaluator<'a> {
 }
 
 impl Evaluator<'_> {
-    /// Solves `ratios` (warm-started from `warm`); the point when the descent can use it.
+    /// Solves `ratios` (warm-started from `warm`) and records its fitness; the point when the
+    /// descent can use it.
     fn solve(&mut self, ratios: &[f64], warm: Option<&Solution>) -> Option<Point> {
-        let Ok((result, solution)) =
-            solve_design_from(self.formulation, ratios, &self.solve_settings, warm)
-        else {
-            self.costs.push(self.penalty.base);
-            return None;
+        let solved = score::validate(self.formulation.transmission(), ratios)
+            .and_then(|()| score::solve(self.formulation, &self.solve_settings, ratios, warm));
+        let (result, solution) = match solved {
+            Ok(solved) => solved,
+            Err(verdict) => {
+                self.costs.push(verdict.fitness(&self.penalty));
+                return None;
+            }
         };
         self.seconds.push(result.solve_seconds.total);
-        let feasible_cost = result.feasible.then_some(result.cost);
+        let verdict = score::judge(self.formulation, &result);
+        self.costs.push(verdict.fitness(&self.penalty));
         let (cost, gradient) = match result.elastic {
-            Some(measures) => {
-                let shortfall = shortfall(
-                    self.formulation,
-                    measures.torque_deficit,
-                    measures.speed_excess,
-                );
-                self.costs
-                    .push(feasible_cost.unwrap_or(self.penalty.infeasible(shortfall)));
-                (measures.objective, measures.objective_gradient?)
-            }
-            None => {
-                self.costs
-                    .push(feasible_cost.unwrap_or(self.penalty.infeasible(0.0)));
-                (result.cost, result.cost_gradient?)
-            }
+            Some(measures) => (measures.objective, measures.objective_gradient?),
+            None => (result.cost, result.cost_gradient?),
         };
         Some(Point {
             ratios: ratios.to_vec(),
             cost,
             gradient,
             solution,
-            feasible_cost,
+            feasible_cost: result.feasible.then_some(result.cost),
         })
     }
 
@@ -157,6 +136,29 @@ impl Evaluator<'_> {
     }
 }
 
+/// Why a gradient-based run found no result.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum GradientError {
+    /// With the flat penalty, no candidate start was feasible to descend from.
+    NoFeasibleStart {
+        /// The candidate designs solved.
+        solved: usize,
+    },
+}
+
+impl fmt::Display for GradientError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            GradientError::NoFeasibleStart { solved } => write!(
+                f,
+                "the gradient method found no feasible start among {solved} candidate designs"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for GradientError {}
+
 /// Runs the projected quasi-Newton method from the best candidate starts (the original design
 /// and Halton-spread designs, see [`default_starts`]). With a flat `penalty` the descents start
 /// from feasible candidates and lower J*, and the run fails when no candidate is feasible; with
@@ -169,7 +171,7 @@ pub fn optimize_gradient(
     solve: &SolveSettings,
     settings: &GradientSettings,
     penalty: Penalty,
-) -> Result<DesignOutcome, String> {
+) -> Result<DesignOutcome, GradientError> {
     let set = formulation.transmission().design_space();
     let elastic;
     let mut evaluator = Evaluator {
@@ -188,9 +190,7 @@ pub fn optimize_gradient(
     };
     let (candidates, solved) = descent_starts(set, settings, &mut evaluator);
     if candidates.is_empty() {
-        return Err(format!(
-            "the gradient method found no feasible start among {solved} candidate designs"
-        ));
+        return Err(GradientError::NoFeasibleStart { solved });
     }
     let mut iterates = Vec::new();
     for (start, point) in candidates {
@@ -468,7 +468,7 @@ pub fn spread_designs(transmission: &Transmission, indices: Range<u32>) -> Vec<V
 mod tests {
     use super::*;
     use crate::problem::Space;
-    use crate::solve::solve_design;
+    use crate::solve::{solve_design, solve_design_from};
     use crate::testing;
 
     fn transmission() -> Transmission {
@@ -545,7 +545,8 @@ mod tests {
             ..GradientSettings::default()
         };
         let flat = optimize_gradient(&formulation, &testing::settings(), &descent, Penalty::PAPER);
-        assert!(flat.is_err(), "no start is feasible: {flat:?}");
+        let none = GradientError::NoFeasibleStart { solved: 4 };
+        assert_eq!(flat, Err(none), "no start is feasible");
         let graded: Penalty = "graded".parse().unwrap();
         let settings = testing::settings();
         let outcome = optimize_gradient(&formulation, &settings, &descent, graded).unwrap();

@@ -4,13 +4,13 @@
 pub mod capacity;
 pub mod cmaes;
 pub mod evaluate;
-pub mod fitness;
 pub mod gradient;
 pub mod optimize;
 pub mod outcome;
 pub mod penalty;
 pub mod rng;
 pub mod run;
+pub mod score;
 pub mod workers;
 
 pub use penalty::PENALTY;

@@ -2,12 +2,13 @@
 //! evaluation logged, and finished ones replayed on resume.
 
 use super::cmaes::{Cmaes, CmaesSettings};
-use super::evaluate::Evaluation;
 use super::outcome::DesignOutcome;
-use super::workers::Pool;
+pub use super::outcome::GenerationSummary;
+use super::score::{Evaluation, Status};
+use super::workers::{Pool, WorkerError};
 use crate::stats::median;
-use crate::store;
-use serde::{Deserialize, Serialize};
+use crate::store::{self, StoreError};
+use std::fmt;
 
 /// The evaluation log of a co-design run: one entry per evaluation (see [`store::log`]).
 pub type EvaluationLog = store::log::EvaluationLog<Evaluation>;
@@ -15,19 +16,63 @@ pub type EvaluationLog = store::log::EvaluationLog<Evaluation>;
 /// The finished evaluations of a resumed run by (generation, index).
 pub type Finished = store::log::Finished<Evaluation>;
 
-/// The cost statistics of one generation.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct GenerationSummary {
-    /// Generation (0 = the initial population).
-    pub generation: usize,
-    /// Best cost in the generation.
-    pub best: f64,
-    /// Median cost in the generation.
-    pub median: f64,
-    /// Designs with a feasible trajectory.
-    pub feasible: usize,
-    /// Designs evaluated.
-    pub evaluated: usize,
+/// Why a CMA-ES run stopped without a result.
+#[derive(Debug)]
+pub enum OptimizeError {
+    /// CMA-ES refused its settings or a generation's fitness.
+    Cmaes(String),
+    /// The worker pool stopped.
+    Workers(WorkerError),
+    /// An evaluation could not be appended to the evaluation log.
+    Log(StoreError),
+    /// No evaluation judged a design: every one failed alike, for a reason not the design's.
+    NotJudged {
+        /// The evaluations made.
+        evaluations: usize,
+        /// Their status (a solver error, a failed worker).
+        status: Status,
+        /// Their reason.
+        reason: Option<String>,
+    },
+    /// CMA-ES ended without a best design.
+    NoBest,
+}
+
+impl fmt::Display for OptimizeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            OptimizeError::Cmaes(message) => f.write_str(message),
+            OptimizeError::Log(error) => error.fmt(f),
+            OptimizeError::Workers(error) => error.fmt(f),
+            OptimizeError::NotJudged {
+                evaluations,
+                status,
+                reason,
+            } => write!(
+                f,
+                "every one of the {evaluations} evaluations failed alike ({status}: {}); no \
+                 design was judged, so no result is written (fix the cause, then start afresh \
+                 with --overwrite)",
+                reason.as_deref().unwrap_or("no reason given")
+            ),
+            OptimizeError::NoBest => f.write_str("CMA-ES has no best design"),
+        }
+    }
+}
+
+impl std::error::Error for OptimizeError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            OptimizeError::Workers(error) => Some(error),
+            _ => None,
+        }
+    }
+}
+
+impl From<WorkerError> for OptimizeError {
+    fn from(error: WorkerError) -> OptimizeError {
+        OptimizeError::Workers(error)
+    }
 }
 
 /// What the CMA-ES loop gathers while it runs.
@@ -58,10 +103,10 @@ pub fn optimize(
     log: &mut EvaluationLog,
     finished: &Finished,
     progress: &mut dyn Progress,
-) -> Result<DesignOutcome, String> {
+) -> Result<DesignOutcome, OptimizeError> {
     let lower = bounds.iter().map(|b| b[0]).collect();
     let upper = bounds.iter().map(|b| b[1]).collect();
-    let mut cmaes = Cmaes::new(settings, lower, upper)?;
+    let mut cmaes = Cmaes::new(settings, lower, upper).map_err(OptimizeError::Cmaes)?;
     let mut outcome = Run {
         best_cost: f64::INFINITY,
         generations: Vec::new(),
@@ -71,7 +116,9 @@ pub fn optimize(
     let initial = cmaes.initial_population();
     let mut evaluations =
         evaluate_generation(0, &initial, pool, log, finished, &mut outcome, progress)?;
-    cmaes.tell_initial(&record(0, evaluations, &mut outcome))?;
+    cmaes
+        .tell_initial(&record(0, evaluations, &mut outcome))
+        .map_err(OptimizeError::Cmaes)?;
     while let Some(designs) = cmaes.ask() {
         let generation = cmaes.generation() + 1;
         evaluations = evaluate_generation(
@@ -83,10 +130,12 @@ pub fn optimize(
             &mut outcome,
             progress,
         )?;
-        cmaes.tell(&record(generation, evaluations, &mut outcome))?;
+        cmaes
+            .tell(&record(generation, evaluations, &mut outcome))
+            .map_err(OptimizeError::Cmaes)?;
     }
     check_evaluations(&outcome.evaluations)?;
-    let (best, cost) = cmaes.best().ok_or("CMA-ES has no best design")?;
+    let (best, cost) = cmaes.best().ok_or(OptimizeError::NoBest)?;
     // A design no evaluation found feasible is no result: the run reports none.
     let any_feasible = outcome.evaluations.iter().any(|e| e.feasible);
     Ok(DesignOutcome {
@@ -115,22 +164,19 @@ pub fn optimize(
 
 /// Fails when no evaluation judged a design: every one failed for the same reason that is not
 /// the design's (a solver error, a crashed worker), so the run's result would mean nothing.
-pub fn check_evaluations(evaluations: &[Evaluation]) -> Result<(), String> {
-    let not_judged =
-        |e: &Evaluation| !e.feasible && (e.status == "Solver_Error" || e.status == "Worker_Failed");
+pub fn check_evaluations(evaluations: &[Evaluation]) -> Result<(), OptimizeError> {
+    let not_judged = |e: &Evaluation| !e.feasible && !e.status.is_judged();
     match evaluations.first() {
         Some(first)
             if evaluations
                 .iter()
                 .all(|e| not_judged(e) && e.reason == first.reason) =>
         {
-            Err(format!(
-                "every one of the {} evaluations failed alike ({}: {}); no design was judged, \
-                 so no result is written (fix the cause, then start afresh with --overwrite)",
-                evaluations.len(),
-                first.status,
-                first.reason.as_deref().unwrap_or("no reason given")
-            ))
+            Err(OptimizeError::NotJudged {
+                evaluations: evaluations.len(),
+                status: first.status.clone(),
+                reason: first.reason.clone(),
+            })
         }
         _ => Ok(()),
     }
@@ -158,7 +204,7 @@ fn evaluate_generation(
     finished: &Finished,
     outcome: &mut Run,
     progress: &mut dyn Progress,
-) -> Result<Vec<Evaluation>, String> {
+) -> Result<Vec<Evaluation>, OptimizeError> {
     let mut slots: Vec<Option<Evaluation>> = vec![None; designs.len()];
     let mut pending = Vec::new();
     for (index, ratios) in designs.iter().enumerate() {
@@ -177,7 +223,7 @@ fn evaluate_generation(
         *best = best.min(evaluation.cost);
         progress.evaluated(*best);
         log.append(generation, index, evaluation)
-            .map_err(|e| e.to_string())
+            .map_err(OptimizeError::Log)
     })?;
     for ((index, _), evaluation) in pending.iter().zip(solved) {
         slots[*index] = Some(evaluation);
@@ -188,19 +234,37 @@ fn evaluate_generation(
 #[cfg(test)]
 mod tests {
     use super::check_evaluations;
-    use crate::design::evaluate::Evaluation;
+    use crate::design::penalty::Penalty;
+    use crate::design::score::{Evaluation, Score, Verdict};
+
+    fn penalised(verdict: Verdict) -> Evaluation {
+        Evaluation::new(&[6.0], &Score::unsolved(verdict), &Penalty::PAPER)
+    }
 
     #[test]
     fn a_run_fails_when_its_evaluations_all_failed_alike() {
-        let failed =
-            |reason: &str| Evaluation::penalised(&[6.0], 1e6, "Solver_Error", reason.to_owned());
+        let failed = |message: &str| {
+            penalised(Verdict::SolverError {
+                message: message.to_owned(),
+            })
+        };
         let alike = vec![failed("IPOPT rejected option `x` = 3"); 3];
-        let error = check_evaluations(&alike).unwrap_err();
-        assert!(error.contains("every one of the 3 evaluations"), "{error}");
-        assert!(error.contains("IPOPT rejected option"), "{error}");
+        let error = check_evaluations(&alike).unwrap_err().to_string();
+        assert_eq!(
+            error,
+            "every one of the 3 evaluations failed alike (Solver_Error: IPOPT rejected option \
+             `x` = 3); no design was judged, so no result is written (fix the cause, then start \
+             afresh with --overwrite)"
+        );
         let differing = vec![failed("a"), failed("b")];
         assert!(check_evaluations(&differing).is_ok());
-        let invalid = vec![Evaluation::penalised(&[6.0], 1e6, "Invalid_Design", "r".into()); 2];
+        let invalid = vec![
+            penalised(Verdict::Invalid {
+                distance: 1.0,
+                reason: "r".into()
+            });
+            2
+        ];
         assert!(
             check_evaluations(&invalid).is_ok(),
             "the designs were judged"

@@ -1,8 +1,8 @@
-//! What an outer method found, in one type for CMA-ES and the gradient method.
+//! What an outer method found, in one type for CMA-ES and the gradient method, with the
+//! progress records each keeps.
 
-use super::gradient::GradientIterate;
-use super::optimize::GenerationSummary;
 use crate::ipopt::Solution;
+use serde::{Deserialize, Serialize};
 
 /// The result of a co-design run, whichever method made it.
 #[derive(Clone, Debug, PartialEq)]
@@ -28,4 +28,33 @@ pub struct DesignOutcome {
     pub replayed: usize,
     /// Why the method stopped, in words.
     pub stop_reason: String,
+}
+
+/// The cost statistics of one CMA-ES generation.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GenerationSummary {
+    /// Generation (0 = the initial population).
+    pub generation: usize,
+    /// Best cost in the generation.
+    pub best: f64,
+    /// Median cost in the generation.
+    pub median: f64,
+    /// Designs with a feasible trajectory.
+    pub feasible: usize,
+    /// Designs evaluated.
+    pub evaluated: usize,
+}
+
+/// One accepted iterate of the gradient method.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GradientIterate {
+    /// Which start it belongs to.
+    pub start: usize,
+    /// The design.
+    pub ratios: Vec<f64>,
+    /// Its merit: the optimal cost J*, or with the graded penalty the elastic problem's optimal
+    /// penalised objective (J* where the design is feasible).
+    pub cost: f64,
+    /// The merit's gradient with respect to the ratios.
+    pub gradient: Vec<f64>,
 }

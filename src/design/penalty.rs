@@ -76,11 +76,23 @@ fn squash(x: f64) -> f64 {
     }
 }
 
+/// A penalty text that is none of `flat`, `graded` or a finite number.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PenaltyError;
+
+impl fmt::Display for PenaltyError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("expected flat, graded or a finite number")
+    }
+}
+
+impl std::error::Error for PenaltyError {}
+
 impl FromStr for Penalty {
-    type Err = String;
+    type Err = PenaltyError;
 
     /// `flat` (the paper's 1e6), `graded`, or a number: a flat penalty of that value.
-    fn from_str(text: &str) -> Result<Penalty, String> {
+    fn from_str(text: &str) -> Result<Penalty, PenaltyError> {
         match text {
             "flat" => Ok(Penalty::PAPER),
             "graded" => Ok(Penalty {
@@ -92,7 +104,7 @@ impl FromStr for Penalty {
                     base,
                     grading: Grading::Flat,
                 }),
-                _ => Err("expected flat, graded or a finite number".to_owned()),
+                _ => Err(PenaltyError),
             },
         }
     }
@@ -110,7 +122,7 @@ impl fmt::Display for Penalty {
 
 #[cfg(test)]
 mod tests {
-    use super::{Grading, Penalty, PENALTY};
+    use super::{Grading, Penalty, PenaltyError, PENALTY};
 
     #[test]
     fn graded_scores_rank_feasible_infeasible_and_invalid_designs() {
@@ -126,7 +138,7 @@ mod tests {
         assert_eq!(flat.infeasible(5.0), flat.invalid(5.0));
         let value: Penalty = "2e6".parse().unwrap();
         assert_eq!((value.base, value.to_string()), (2e6, "2000000".to_owned()));
-        assert!("steep".parse::<Penalty>().is_err());
+        assert_eq!("steep".parse::<Penalty>(), Err(PenaltyError));
         assert!("inf".parse::<Penalty>().is_err());
     }
 }

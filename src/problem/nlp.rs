@@ -40,7 +40,7 @@ pub struct TrajectoryProblem<'a> {
 
 impl<'a> TrajectoryProblem<'a> {
     pub(super) fn new(formulation: &'a Formulation, ratios: &[f64]) -> Result<Self, DesignError> {
-        formulation.transmission.check_design(ratios)?;
+        // The coupling checks the design (bounds, order, G(r) invertible) before building G(r).
         let coupling = formulation.transmission.coupling(ratios)?;
         let n = formulation.layout.dof;
         let control_map = match formulation.space {

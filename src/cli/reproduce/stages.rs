@@ -179,7 +179,8 @@ pub fn capacity_document(
 ) -> Result<CapacityDocument, String> {
     let settings = CapacitySettings::default();
     let formulation = formulation_at(task, task.task.payload.mass_kg, space)?;
-    let capacity = payload_capacity(&formulation, &task.solver, &ratios, &settings)?;
+    let capacity = payload_capacity(&formulation, &task.solver, &ratios, &settings)
+        .map_err(|e| e.to_string())?;
     match capacity.capacity_kg {
         Some(kg) => say!("payload capacity, {name}: {kg} kg"),
         None => say!("payload capacity, {name}: infeasible even without payload"),

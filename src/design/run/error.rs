@@ -1,5 +1,9 @@
 //! Why a co-design run failed, by what failed: the case, its inputs, its outputs or the run.
 
+use crate::design::gradient::GradientError;
+use crate::design::optimize::OptimizeError;
+use crate::design::score::ScoreError;
+use crate::design::workers::WorkerError;
 use crate::store::StoreError;
 use std::fmt;
 
@@ -17,7 +21,8 @@ pub enum Output {
 pub enum RunError {
     /// A setting of the case is out of its range; the message names the `optimize` flag.
     Case(String),
-    /// The task, the robot or the solver settings could not be loaded; names file and field.
+    /// The task, the robot, the solver settings or the program itself could not be loaded;
+    /// names file and field.
     Load(String),
     /// An output was refused before any work, or could not be written, opened or locked.
     Store {
@@ -26,23 +31,58 @@ pub enum RunError {
         /// What the store said.
         error: StoreError,
     },
-    /// The run failed: IPOPT refused the settings, the workers failed, no evaluation judged a
-    /// design, or the gradient method found no start.
-    Failed(String),
+    /// IPOPT refused the solver settings in the solve made before the run; names the task.
+    Solver(String),
+    /// The workers could not be started.
+    Workers(WorkerError),
+    /// The CMA-ES run failed: its workers, its log, or no evaluation judged a design.
+    Cmaes(OptimizeError),
+    /// The gradient method failed (no feasible start).
+    Gradient(GradientError),
+    /// The payload range's formulations for the document could not be built.
+    Score(ScoreError),
 }
 
 impl fmt::Display for RunError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            RunError::Case(message) | RunError::Load(message) | RunError::Failed(message) => {
+            RunError::Case(message) | RunError::Load(message) | RunError::Solver(message) => {
                 f.write_str(message)
             }
             RunError::Store { error, .. } => write!(f, "{error}"),
+            RunError::Workers(error) => write!(f, "{error}"),
+            RunError::Cmaes(error) => write!(f, "{error}"),
+            RunError::Gradient(error) => write!(f, "{error}"),
+            RunError::Score(error) => write!(f, "{error}"),
         }
     }
 }
 
 impl std::error::Error for RunError {}
+
+impl From<WorkerError> for RunError {
+    fn from(error: WorkerError) -> RunError {
+        RunError::Workers(error)
+    }
+}
+
+impl From<OptimizeError> for RunError {
+    fn from(error: OptimizeError) -> RunError {
+        RunError::Cmaes(error)
+    }
+}
+
+impl From<GradientError> for RunError {
+    fn from(error: GradientError) -> RunError {
+        RunError::Gradient(error)
+    }
+}
+
+impl From<ScoreError> for RunError {
+    fn from(error: ScoreError) -> RunError {
+        RunError::Score(error)
+    }
+}
 
 impl RunError {
     /// A store error about `output`.

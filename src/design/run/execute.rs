@@ -5,11 +5,11 @@ use super::case::{Case, Method};
 use super::document::{OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
 use super::error::{Output, RunError};
 use crate::design::evaluate::Objective;
-use crate::design::fitness::Fitness;
 use crate::design::gradient::optimize_gradient;
 use crate::design::optimize::{optimize, EvaluationLog, Finished, Progress};
 use crate::design::outcome::DesignOutcome;
 use crate::design::penalty::Grading;
+use crate::design::score::Fitness;
 use crate::design::workers::{Pool, WorkerSetup};
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;
@@ -41,7 +41,7 @@ pub fn run_case(
         check_output(&log_beside(out), &read).map_err(RunError::store(Output::Log))?;
     }
     let modes = case.problem.modes(&task);
-    probe_solver(&task, &settings, &robot, case, modes).map_err(RunError::Failed)?;
+    probe_solver(&task, &settings, &robot, case, modes)?;
     let inputs = case.inputs(&task, &robot, &settings, modes);
     let formulation = Formulation::new(&task, robot, case.problem.space, modes)
         .map_err(|e| RunError::Load(e.to_string()))?;
@@ -52,8 +52,7 @@ pub fn run_case(
     let started = Instant::now();
     let outcome = match log.as_mut() {
         Some((log, finished)) => {
-            let setup = worker_setup(case, &inputs, &task, &settings, &formulation)
-                .map_err(RunError::Load)?;
+            let setup = worker_setup(case, &inputs, &task, &settings, &formulation)?;
             let run = CmaesRun {
                 case,
                 inputs: &inputs,
@@ -63,18 +62,16 @@ pub fn run_case(
             run_cmaes(run, log, finished, display).map(|o| (o, log.earlier_seconds()))
         }
         None => optimize_gradient(&formulation, &settings, &case.gradient, case.penalty)
-            .map(|o| (o, Some(0.0))),
+            .map(|o| (o, Some(0.0)))
+            .map_err(RunError::from),
     };
-    let result = outcome
-        .map_err(|e| RunError::Failed(e.to_string()))
-        .and_then(|(outcome, earlier_seconds)| {
-            let mut document = document(case, &formulation, &settings, inputs, outcome)
-                .map_err(RunError::Failed)?;
-            document.earlier_seconds = earlier_seconds;
-            document.wall_seconds = started.elapsed().as_secs_f64();
-            write_json(out, &document).map_err(RunError::store(Output::Result))?;
-            Ok(document)
-        });
+    let result = outcome.and_then(|(outcome, earlier_seconds)| {
+        let mut document = document(case, &formulation, &settings, inputs, outcome)?;
+        document.earlier_seconds = earlier_seconds;
+        document.wall_seconds = started.elapsed().as_secs_f64();
+        write_json(out, &document).map_err(RunError::store(Output::Result))?;
+        Ok(document)
+    });
     if let (Err(_), Some((log, _))) = (&result, log) {
         log.discard_if_unused()
             .map_err(RunError::store(Output::Log))?;
@@ -109,7 +106,7 @@ fn document(
     settings: &SolveSettings,
     inputs: OptimizeInputs,
     outcome: DesignOutcome,
-) -> Result<OptimizeDocument, String> {
+) -> Result<OptimizeDocument, RunError> {
     let original_ratios = formulation.transmission().original().to_vec();
     // The designs are solved again as they were scored: the elastic problem for a graded
     // penalty, so that the reported cost is the one behind `best_cost`.
@@ -211,16 +208,16 @@ fn probe_solver(
     robot: &Robot,
     case: &Case,
     modes: LimitModes,
-) -> Result<(), String> {
+) -> Result<(), RunError> {
     let mut small = task.clone();
     small.motion.steps = 2;
     let formulation = Formulation::new(&small, robot.clone(), case.problem.space, modes)
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| RunError::Load(e.to_string()))?;
     match solve_design(&formulation, &small.transmission.original, settings) {
-        Err(SolveError::Ipopt(error)) => Err(format!(
+        Err(SolveError::Ipopt(error)) => Err(RunError::Solver(format!(
             "{} solver: {error} (checked by a solve of the original design before the run)",
             case.model.source()
-        )),
+        ))),
         _ => Ok(()),
     }
 }
@@ -232,12 +229,12 @@ fn worker_setup(
     task: &Task,
     settings: &SolveSettings,
     formulation: &Formulation,
-) -> Result<WorkerSetup, String> {
+) -> Result<WorkerSetup, RunError> {
     let mut worker_task = task.clone();
     if let Some(robot) = &task.robot {
-        worker_task.robot = Some(
-            std::fs::canonicalize(robot).map_err(|e| format!("robot {}: {e}", robot.display()))?,
-        );
+        let absolute = std::fs::canonicalize(robot)
+            .map_err(|e| RunError::Load(format!("robot {}: {e}", robot.display())))?;
+        worker_task.robot = Some(absolute);
     }
     Ok(WorkerSetup {
         objective: inputs.objective.clone(),
@@ -285,7 +282,7 @@ fn run_cmaes(
     log: &mut EvaluationLog,
     finished: &Finished,
     display: ProgressDisplay<'_>,
-) -> Result<DesignOutcome, String> {
+) -> Result<DesignOutcome, RunError> {
     let CmaesRun {
         case,
         inputs,
@@ -294,7 +291,7 @@ fn run_cmaes(
     } = run;
     let workers = worker_count(case.workers, case.cmaes.population);
     let program = std::env::current_exe()
-        .map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
+        .map_err(|e| RunError::Load(format!("cannot locate the codesign executable: {e}")))?;
     let timeout = Duration::from_secs_f64(case.solve_timeout_s);
     let mut pool = Pool::new(case.launcher(&program), setup, workers, timeout)?;
     let settings = &case.cmaes;
@@ -305,12 +302,12 @@ fn run_cmaes(
     );
     let mut progress = display(total, label);
     let bounds = formulation.transmission().bounds();
-    optimize(
+    Ok(optimize(
         settings.clone(),
         bounds,
         &mut pool,
         log,
         finished,
         progress.as_mut(),
-    )
+    )?)
 }

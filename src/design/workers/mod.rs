@@ -6,11 +6,14 @@
 //! exceeds the time limit: its design is retried once on a fresh worker, then penalised with the
 //! reason. One bad design never stops a run, and the results do not depend on the worker count.
 
+mod error;
 mod protocol;
 
+pub use error::WorkerError;
 pub use protocol::{serve, Hello, Request, Response, WorkerSetup};
 
-use super::evaluate::Evaluation;
+use super::penalty::Penalty;
+use super::score::{Evaluation, Score, Verdict};
 use std::collections::VecDeque;
 use std::io::{BufRead, BufReader, Write};
 use std::path::PathBuf;
@@ -85,7 +88,8 @@ pub struct Pool {
     setup_line: String,
     /// The hello every worker must send.
     hello: Hello,
-    penalty: f64,
+    /// How a design whose worker failed twice is scored.
+    penalty: Penalty,
     timeout: Duration,
     workers: Vec<Worker>,
     sender: Sender<Message>,
@@ -108,16 +112,16 @@ impl Pool {
         setup: &WorkerSetup,
         count: usize,
         timeout: Duration,
-    ) -> Result<Pool, String> {
+    ) -> Result<Pool, WorkerError> {
         if count == 0 {
-            return Err("--workers must be at least 1".to_owned());
+            return Err(WorkerError::NoWorkers);
         }
         let (sender, receiver) = channel();
         let mut pool = Pool {
             launcher,
-            setup_line: serde_json::to_string(setup).map_err(|e| e.to_string())?,
+            setup_line: serde_json::to_string(setup).map_err(WorkerError::Encode)?,
             hello: Hello::new(setup)?,
-            penalty: setup.penalty.base,
+            penalty: setup.penalty,
             timeout,
             workers: Vec::with_capacity(count),
             sender,
@@ -136,7 +140,7 @@ impl Pool {
         self.workers.iter().map(|w| w.child.id()).collect()
     }
 
-    fn spawn(&mut self, slot: usize) -> Result<Worker, String> {
+    fn spawn(&mut self, slot: usize) -> Result<Worker, WorkerError> {
         let mut child = self
             .launcher
             .command()
@@ -144,11 +148,13 @@ impl Pool {
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
             .spawn()
-            .map_err(|e| format!("cannot start a worker with `{}`: {e}", self.launcher))?;
-        let mut stdin = child.stdin.take().ok_or("worker has no stdin")?;
-        let stdout = child.stdout.take().ok_or("worker has no stdout")?;
-        writeln!(stdin, "{}", self.setup_line)
-            .map_err(|e| format!("cannot send the setup to a worker: {e}"))?;
+            .map_err(|source| WorkerError::Start {
+                launcher: self.launcher.to_string(),
+                source,
+            })?;
+        let mut stdin = child.stdin.take().ok_or(WorkerError::NoPipe("stdin"))?;
+        let stdout = child.stdout.take().ok_or(WorkerError::NoPipe("stdout"))?;
+        writeln!(stdin, "{}", self.setup_line).map_err(WorkerError::SendSetup)?;
         self.incarnations += 1;
         let incarnation = self.incarnations;
         let sender = self.sender.clone();
@@ -175,7 +181,7 @@ impl Pool {
     }
 
     /// Replaces the worker in `slot` (killing it if it still runs) and returns its job, if any.
-    fn replace(&mut self, slot: usize) -> Result<Option<Job>, String> {
+    fn replace(&mut self, slot: usize) -> Result<Option<Job>, WorkerError> {
         let fresh = self.spawn(slot)?;
         let mut old = std::mem::replace(&mut self.workers[slot], fresh);
         let _ = old.child.kill();
@@ -184,12 +190,13 @@ impl Pool {
     }
 
     /// Evaluates every design, in any order across workers, and returns the evaluations in the
-    /// order given. `done` is called as each one finishes (for logging and progress).
-    pub fn evaluate_all(
+    /// order given. `done` is called as each one finishes (for logging and progress); its error,
+    /// or the pool's, stops the evaluation.
+    pub fn evaluate_all<E: From<WorkerError>>(
         &mut self,
         designs: &[(usize, Vec<f64>)],
-        mut done: impl FnMut(usize, &Evaluation) -> Result<(), String>,
-    ) -> Result<Vec<Evaluation>, String> {
+        mut done: impl FnMut(usize, &Evaluation) -> Result<(), E>,
+    ) -> Result<Vec<Evaluation>, E> {
         let mut queue: VecDeque<Job> = designs
             .iter()
             .map(|(id, ratios)| Job {
@@ -227,7 +234,7 @@ impl Pool {
     }
 
     /// Hands the next queued jobs to the idle workers, each with its deadline.
-    fn dispatch(&mut self, queue: &mut VecDeque<Job>) -> Result<(), String> {
+    fn dispatch(&mut self, queue: &mut VecDeque<Job>) -> Result<(), WorkerError> {
         for worker in &mut self.workers {
             if worker.job.is_some() {
                 continue;
@@ -237,7 +244,7 @@ impl Pool {
                 id: job.id,
                 ratios: job.ratios.clone(),
             })
-            .map_err(|e| e.to_string())?;
+            .map_err(WorkerError::Encode)?;
             let deadline = Instant::now() + self.timeout;
             // A worker that died between jobs fails to take it: its reader reports EOF and the
             // job is retried.
@@ -250,7 +257,7 @@ impl Pool {
     /// Waits, at most until the nearest deadline, for one worker's answer; classifies what came:
     /// an answer to the job its worker holds, or the workers that failed (crashed, answered
     /// nonsense, ran past their deadline; none when a replaced worker's late line came).
-    fn listen(&mut self) -> Result<Heard, String> {
+    fn listen(&mut self) -> Result<Heard, WorkerError> {
         let next_deadline = self
             .workers
             .iter()
@@ -300,19 +307,19 @@ impl Pool {
                         .collect(),
                 ))
             }
-            Err(RecvTimeoutError::Disconnected) => Err("all worker readers stopped".to_owned()),
+            Err(RecvTimeoutError::Disconnected) => Err(WorkerError::ReadersStopped),
         }
     }
 
     /// Checks a worker's first line, its hello, against the pool's: a worker of another build, or
     /// one that reads the setup otherwise, fails the run.
-    fn introduce(&mut self, slot: usize, line: &str) -> Result<(), String> {
+    fn introduce(&mut self, slot: usize, line: &str) -> Result<(), WorkerError> {
         let refuse = |what: String| {
-            Err(format!(
-                "refused the worker started by `{}`: {what}; this run is {}. Results of mixed \
-                 builds are never merged: run the same codesign build on every machine",
-                self.launcher, self.hello
-            ))
+            Err(WorkerError::Refused {
+                launcher: self.launcher.to_string(),
+                what,
+                expected: Box::new(self.hello.clone()),
+            })
         };
         match serde_json::from_str::<Hello>(line) {
             Ok(hello) if hello == self.hello => {
@@ -331,15 +338,15 @@ impl Pool {
     }
 
     /// Replaces each failed worker; its job goes back to the queue once, then is penalised.
-    fn retry_or_penalise(
+    fn retry_or_penalise<E: From<WorkerError>>(
         &mut self,
         failed: Vec<(usize, String)>,
         queue: &mut VecDeque<Job>,
         results: &mut [Option<Evaluation>],
         position: &impl Fn(usize) -> Option<usize>,
         remaining: &mut usize,
-        done: &mut impl FnMut(usize, &Evaluation) -> Result<(), String>,
-    ) -> Result<(), String> {
+        done: &mut impl FnMut(usize, &Evaluation) -> Result<(), E>,
+    ) -> Result<(), E> {
         for (slot, reason) in failed {
             let Some(mut job) = self.replace(slot)? else {
                 continue;
@@ -352,15 +359,14 @@ impl Pool {
                 job.attempt += 1;
                 queue.push_front(job);
             } else if let Some(index) = position(job.id) {
+                let failed = Verdict::WorkerFailed {
+                    message: format!("{reason}, twice"),
+                };
+                let evaluation =
+                    Evaluation::new(&job.ratios, &Score::unsolved(failed), &self.penalty);
                 eprintln!(
                     "warning: {reason} again on design {:?}; scoring it {}",
-                    job.ratios, self.penalty
-                );
-                let evaluation = Evaluation::penalised(
-                    &job.ratios,
-                    self.penalty,
-                    "Worker_Failed",
-                    format!("{reason}, twice"),
+                    job.ratios, evaluation.cost
                 );
                 done(job.id, &evaluation)?;
                 results[index] = Some(evaluation);
@@ -383,7 +389,7 @@ impl Drop for Pool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::design::evaluate::Objective;
+    use crate::design::score::{Objective, Status};
     use crate::problem::Space;
     use std::os::unix::fs::PermissionsExt;
 
@@ -416,6 +422,11 @@ mod tests {
         }
     }
 
+    /// A `done` of `Pool::evaluate_all` that does nothing.
+    fn none(_: usize, _: &Evaluation) -> Result<(), WorkerError> {
+        Ok(())
+    }
+
     fn designs() -> Vec<(usize, Vec<f64>)> {
         vec![(0, vec![6.0, 3.0, 1.0, 1.0]), (1, vec![7.0, 3.0, 1.0, 1.0])]
     }
@@ -433,7 +444,7 @@ mod tests {
             let results = pool
                 .evaluate_all(&designs(), |id, evaluation| {
                     finished.push((id, evaluation.clone()));
-                    Ok(())
+                    Ok::<(), WorkerError>(())
                 })
                 .unwrap();
             assert_eq!(results.len(), 2);
@@ -441,7 +452,7 @@ mod tests {
             for (evaluation, (_, ratios)) in results.iter().zip(designs()) {
                 assert_eq!(evaluation.ratios, ratios);
                 assert_eq!(evaluation.cost, 1e6);
-                assert_eq!(evaluation.status, "Worker_Failed");
+                assert_eq!(evaluation.status, Status::WorkerFailed);
                 let text = evaluation.reason.as_deref().unwrap();
                 assert!(text.contains(reason) && text.contains("twice"), "{text}");
             }
@@ -463,7 +474,7 @@ mod tests {
         let path = script_saying("other", &other, "while read request; do sleep 30; done");
         let launcher = Launcher::Shell(format!("{} worker", path.display()));
         let mut pool = Pool::new(launcher, &setup(), 1, Duration::from_secs(20)).unwrap();
-        let error = pool.evaluate_all(&designs(), |_, _| Ok(())).unwrap_err();
+        let error = pool.evaluate_all(&designs(), none).unwrap_err().to_string();
         assert!(error.contains("refused the worker started by"), "{error}");
         assert!(error.contains("it is codesign 0.0.1"), "{error}");
         assert!(
@@ -485,7 +496,7 @@ mod tests {
 done"#;
         let launcher = script("answer", body);
         let mut pool = Pool::new(launcher.clone(), &setup(), 2, Duration::from_secs(20)).unwrap();
-        let results = pool.evaluate_all(&designs(), |_, _| Ok(())).unwrap();
+        let results = pool.evaluate_all(&designs(), none).unwrap();
         let costs: Vec<f64> = results.iter().map(|e| e.cost).collect();
         assert_eq!(costs, vec![10.0, 11.0]);
         drop(pool);
@@ -511,8 +522,13 @@ done"#;
             serde_json::to_string(&setup()).unwrap()
         );
         let gone = serve(input.as_bytes(), Closed(std::io::ErrorKind::BrokenPipe));
-        assert_eq!(gone, Ok(()));
+        assert!(gone.is_ok(), "{gone:?}");
         let full = serve(input.as_bytes(), Closed(std::io::ErrorKind::StorageFull));
-        assert!(full.unwrap_err().contains("cannot answer"));
+        let full = full.unwrap_err();
+        assert!(matches!(full, WorkerError::Answer(_)), "{full:?}");
+        assert!(
+            full.to_string().starts_with("worker: cannot answer: "),
+            "{full}"
+        );
     }
 }

@@ -1,9 +1,9 @@
 //! The worker protocol, one JSON object a line: the parent sends a [`WorkerSetup`], the worker
 //! answers with its [`Hello`], then each [`Request`] gets one [`Response`].
 
-use crate::design::evaluate::{Evaluation, Objective};
-use crate::design::fitness::Fitness;
+use super::WorkerError;
 use crate::design::penalty::Penalty;
+use crate::design::score::{Evaluation, Fitness, Objective, ScoreError};
 use crate::ipopt::{LinearSolver, IPOPT_VERSION};
 use crate::model::task::{LimitModes, Task};
 use crate::problem::Space;
@@ -33,7 +33,7 @@ pub struct WorkerSetup {
 
 impl WorkerSetup {
     /// Builds the fitness this setup describes.
-    pub fn fitness(&self) -> Result<Fitness, String> {
+    pub fn fitness(&self) -> Result<Fitness, ScoreError> {
         Fitness::new(
             &self.task,
             &self.solve,
@@ -62,8 +62,8 @@ pub struct Hello {
 
 impl Hello {
     /// The hello of this build for `setup`.
-    pub fn new(setup: &WorkerSetup) -> Result<Hello, String> {
-        let text = serde_json::to_string(setup).map_err(|e| format!("worker setup: {e}"))?;
+    pub fn new(setup: &WorkerSetup) -> Result<Hello, WorkerError> {
+        let text = serde_json::to_string(setup).map_err(WorkerError::EncodeSetup)?;
         let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |hash, byte| {
             (hash ^ u64::from(byte)).wrapping_mul(0x0000_0100_0000_01b3)
         });
@@ -110,28 +110,28 @@ pub struct Response {
 /// The worker's side: reads the setup and requests from `input`, writes responses to `output`,
 /// until `input` ends or the parent stops reading (a closed pipe ends it quietly). Errors (a
 /// malformed line, an unbuildable formulation) end the worker.
-pub fn serve(input: impl BufRead, mut output: impl Write) -> Result<(), String> {
+pub fn serve(input: impl BufRead, mut output: impl Write) -> Result<(), WorkerError> {
     let mut lines = input.lines();
     let setup_line = match lines.next() {
-        Some(line) => line.map_err(|e| format!("worker: cannot read its setup: {e}"))?,
+        Some(line) => line.map_err(WorkerError::ReadSetup)?,
         None => return Ok(()),
     };
-    let setup: WorkerSetup = serde_json::from_str(&setup_line)
-        .map_err(|e| format!("worker: malformed setup line: {e}"))?;
+    let setup: WorkerSetup =
+        serde_json::from_str(&setup_line).map_err(WorkerError::MalformedSetup)?;
     let fitness = setup.fitness()?;
-    let hello = serde_json::to_string(&Hello::new(&setup)?).map_err(|e| format!("worker: {e}"))?;
+    let hello = serde_json::to_string(&Hello::new(&setup)?).map_err(WorkerError::EncodeAnswer)?;
     if !answer(&mut output, &hello)? {
         return Ok(());
     }
     for line in lines {
-        let line = line.map_err(|e| format!("worker: cannot read a request: {e}"))?;
+        let line = line.map_err(WorkerError::ReadRequest)?;
         let request: Request =
-            serde_json::from_str(&line).map_err(|e| format!("worker: malformed request: {e}"))?;
+            serde_json::from_str(&line).map_err(WorkerError::MalformedRequest)?;
         let response = Response {
             id: request.id,
             evaluation: fitness.evaluate(&request.ratios),
         };
-        let text = serde_json::to_string(&response).map_err(|e| format!("worker: {e}"))?;
+        let text = serde_json::to_string(&response).map_err(WorkerError::EncodeAnswer)?;
         if !answer(&mut output, &text)? {
             return Ok(());
         }
@@ -141,10 +141,10 @@ pub fn serve(input: impl BufRead, mut output: impl Write) -> Result<(), String> 
 
 /// Writes one line to the parent; false when the parent is gone (it finished, failed or was
 /// stopped: nobody to answer).
-fn answer(output: &mut impl Write, line: &str) -> Result<bool, String> {
+fn answer(output: &mut impl Write, line: &str) -> Result<bool, WorkerError> {
     match writeln!(output, "{line}").and_then(|()| output.flush()) {
         Ok(()) => Ok(true),
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(false),
-        Err(e) => Err(format!("worker: cannot answer: {e}")),
+        Err(e) => Err(WorkerError::Answer(e)),
     }
 }

@@ -1,0 +1,221 @@
+//! Scoring one design (docs/model.md, section 10): the one place where a design is validated,
+//! solved and judged, and where the judgement and the run's [`Penalty`] become the fitness that
+//! CMA-ES and the gradient method compare.
+//!
+//! A [`Verdict`] says what a design is: feasible with its cost, infeasible by a shortfall,
+//! invalid at a distance from the design space, or not judged (a solver error, a failed worker).
+//! [`Verdict::fitness`] is the one rule turning it into a number; [`Evaluation`] is its record as
+//! the evaluation log and the worker protocol write it. The rooms: `objective` (what is solved
+//! per design: the cost, a range's mean cost, the payload capacity, elastic solves for a graded
+//! penalty), `record` (the evaluation record and its status texts).
+
+mod objective;
+mod record;
+#[cfg(test)]
+mod tests;
+
+pub use objective::{Fitness, Objective, PayloadRange, ScoreError};
+pub use record::{Evaluation, SolveStatus, Status};
+
+use super::penalty::Penalty;
+use crate::ipopt::Solution;
+use crate::problem::Formulation;
+use crate::solve::{
+    solve_design_from, ElasticMeasures, SolveError, SolveSettings, TrajectoryResult,
+};
+use crate::transmission::{DesignError, Transmission};
+
+/// What scoring one design found.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Verdict {
+    /// The design is valid and its trajectory problem feasible (at every payload).
+    Feasible {
+        /// The objective's value: the optimal cost J, the mean J over a range, or minus the
+        /// payload capacity, kg.
+        cost: f64,
+        /// What the solves said.
+        status: SolveStatus,
+    },
+    /// The design is valid but a trajectory problem of it has no feasible solution.
+    Infeasible {
+        /// How far it is from feasible, motor-seconds (s): over the elastic solves, the torque
+        /// deficit over the torque limit plus the speed excess over the speed limit; 0 when a
+        /// hard solve decided, which does not measure it.
+        shortfall: f64,
+        /// Why, in words.
+        reason: String,
+        /// What the solves said.
+        status: SolveStatus,
+    },
+    /// The design is outside the design space (bounds, order constraints) or its G(r) is
+    /// singular: nothing was solved.
+    Invalid {
+        /// Its Euclidean distance from the design space (dimensionless, as the ratios): 0 when
+        /// only G(r) is singular, infinite when the number of ratios is wrong.
+        distance: f64,
+        /// The violation, e.g. `r2 = 9.5 is outside [1, 9]`.
+        reason: String,
+    },
+    /// IPOPT could not run (an option rejected, a callback failed): the design was not judged.
+    SolverError {
+        /// The solver's complaint.
+        message: String,
+    },
+    /// The worker evaluating the design crashed, hung or answered nonsense, twice: the design
+    /// was not judged.
+    WorkerFailed {
+        /// What went wrong.
+        message: String,
+    },
+}
+
+impl Verdict {
+    /// The fitness under `penalty`: the cost of a feasible design, else the penalty of an
+    /// infeasible one (by its shortfall) or an invalid one (by its distance), or the base
+    /// penalty when the design was not judged.
+    pub fn fitness(&self, penalty: &Penalty) -> f64 {
+        match self {
+            Verdict::Feasible { cost, .. } => *cost,
+            Verdict::Infeasible { shortfall, .. } => penalty.infeasible(*shortfall),
+            Verdict::Invalid { distance, .. } => penalty.invalid(*distance),
+            Verdict::SolverError { .. } | Verdict::WorkerFailed { .. } => penalty.base,
+        }
+    }
+
+    /// Whether the design is valid and feasible.
+    pub fn is_feasible(&self) -> bool {
+        matches!(self, Verdict::Feasible { .. })
+    }
+
+    /// What decided the verdict, as the record names it.
+    pub fn status(&self) -> Status {
+        match self {
+            Verdict::Feasible { status, .. } | Verdict::Infeasible { status, .. } => {
+                Status::Solved(status.clone())
+            }
+            Verdict::Invalid { .. } => Status::InvalidDesign,
+            Verdict::SolverError { .. } => Status::SolverError,
+            Verdict::WorkerFailed { .. } => Status::WorkerFailed,
+        }
+    }
+
+    /// Why the design was penalised (none when it is feasible).
+    pub fn reason(&self) -> Option<&str> {
+        match self {
+            Verdict::Feasible { .. } => None,
+            Verdict::Infeasible { reason, .. } | Verdict::Invalid { reason, .. } => Some(reason),
+            Verdict::SolverError { message } | Verdict::WorkerFailed { message } => Some(message),
+        }
+    }
+
+    /// The verdict with its reason prefixed by the payload it was reached at, kg.
+    fn at(mut self, payload_kg: f64) -> Verdict {
+        match &mut self {
+            Verdict::Feasible { .. } => {}
+            Verdict::Infeasible { reason, .. }
+            | Verdict::Invalid { reason, .. }
+            | Verdict::SolverError { message: reason }
+            | Verdict::WorkerFailed { message: reason } => {
+                *reason = format!("at {payload_kg} kg: {reason}");
+            }
+        }
+        self
+    }
+}
+
+/// A verdict with the solver work behind it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Score {
+    /// What the design is.
+    pub verdict: Verdict,
+    /// IPOPT iterations over the evaluation's solves (0 when none ran).
+    pub iterations: usize,
+    /// Wall time of those solves, s.
+    pub seconds: f64,
+}
+
+impl Score {
+    /// A verdict reached without a solve.
+    pub fn unsolved(verdict: Verdict) -> Score {
+        Score {
+            verdict,
+            iterations: 0,
+            seconds: 0.0,
+        }
+    }
+}
+
+/// Checks `ratios` against `transmission` (bounds, order constraints, G(r) invertible): the one
+/// check of an evaluation, made before its solves. The invalid verdict when it fails.
+pub fn validate(transmission: &Transmission, ratios: &[f64]) -> Result<(), Verdict> {
+    transmission
+        .check_design(ratios)
+        .map_err(|error| invalid(transmission, ratios, &error))
+}
+
+/// The invalid verdict of `ratios`, with its distance from the design space.
+fn invalid(transmission: &Transmission, ratios: &[f64], error: &DesignError) -> Verdict {
+    let space = transmission.design_space();
+    let distance = if ratios.len() == space.num_ratios() {
+        let projected = space.project(ratios);
+        let squares = ratios
+            .iter()
+            .zip(&projected)
+            .map(|(a, b)| (a - b) * (a - b));
+        squares.sum::<f64>().sqrt()
+    } else {
+        f64::INFINITY
+    };
+    Verdict::Invalid {
+        distance,
+        reason: error.to_string(),
+    }
+}
+
+/// Solves the trajectory problem of `ratios`, validated by [`validate`], in `formulation`, from
+/// `warm` (a nearby design's solution) or the standard initial guess: the result and the raw
+/// solution, or the verdict of a solve that could not run.
+pub fn solve(
+    formulation: &Formulation,
+    settings: &SolveSettings,
+    ratios: &[f64],
+    warm: Option<&Solution>,
+) -> Result<(TrajectoryResult, Solution), Verdict> {
+    solve_design_from(formulation, ratios, settings, warm).map_err(|error| match error {
+        SolveError::Design(error) => invalid(formulation.transmission(), ratios, &error),
+        SolveError::Ipopt(error) => Verdict::SolverError {
+            message: error.to_string(),
+        },
+    })
+}
+
+/// The verdict of one solve of `formulation`: feasible with the optimal cost J, or infeasible
+/// with IPOPT's reason and, for an elastic solve, its shortfall.
+pub fn judge(formulation: &Formulation, result: &TrajectoryResult) -> Verdict {
+    let status = SolveStatus::Ipopt(result.status.clone());
+    if result.feasible {
+        return Verdict::Feasible {
+            cost: result.cost,
+            status,
+        };
+    }
+    Verdict::Infeasible {
+        shortfall: result
+            .elastic
+            .as_ref()
+            .map_or(0.0, |measures| shortfall(formulation, measures)),
+        reason: result
+            .reason
+            .clone()
+            .unwrap_or_else(|| result.status.clone()),
+        status,
+    }
+}
+
+/// How far an elastic solve's trajectory is from a feasible one, motor-seconds (s): the torque
+/// deficit (N m s) over the motor torque limit plus the speed excess (rad) over the speed limit.
+fn shortfall(formulation: &Formulation, measures: &ElasticMeasures) -> f64 {
+    let motors = &formulation.task().motors;
+    measures.torque_deficit / motors.torque_limit_nm
+        + measures.speed_excess / motors.speed_limit_rad_s
+}

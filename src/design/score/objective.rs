@@ -1,0 +1,309 @@
+//! What co-design minimises, and how a design is solved for it: the cost at one payload, the
+//! mean cost over several, or minus the payload capacity; with a graded penalty the solves are
+//! the elastic ones, which measure how far an infeasible design is from feasible.
+
+use super::{judge, solve, validate, Evaluation, Score, SolveStatus, Verdict};
+use crate::design::capacity::{payload_capacity, CapacitySettings};
+use crate::design::penalty::{Grading, Penalty};
+use crate::ipopt;
+use crate::model::task::{LimitModes, Task};
+use crate::model::{ModelError, Robot};
+use crate::problem::{Formulation, FormulationError, Space};
+use crate::solve::SolveSettings;
+use crate::transmission::Transmission;
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// What co-design minimises.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase", tag = "kind")]
+pub enum Objective {
+    /// The optimal trajectory cost J at the task's payload (the paper's criterion).
+    #[default]
+    Cost,
+    /// Minus the payload capacity, kg: the design that lifts the most.
+    Capacity(CapacitySettings),
+    /// The mean of the optimal costs over several payloads: one design for the whole range.
+    Range(PayloadRange),
+}
+
+/// The payloads of [`Objective::Range`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PayloadRange {
+    /// The payloads, kg, in the order they are solved (the mean sums in this order).
+    pub payloads_kg: Vec<f64>,
+}
+
+/// Why the formulations of an objective could not be built.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ScoreError {
+    /// The robot model could not be loaded.
+    Model(ModelError),
+    /// The trajectory problem could not be formulated (at some payload).
+    Formulation(FormulationError),
+}
+
+impl fmt::Display for ScoreError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ScoreError::Model(error) => error.fmt(f),
+            ScoreError::Formulation(error) => error.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for ScoreError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            ScoreError::Model(error) => Some(error),
+            ScoreError::Formulation(error) => Some(error),
+        }
+    }
+}
+
+impl From<ModelError> for ScoreError {
+    fn from(error: ModelError) -> ScoreError {
+        ScoreError::Model(error)
+    }
+}
+
+impl From<FormulationError> for ScoreError {
+    fn from(error: FormulationError) -> ScoreError {
+        ScoreError::Formulation(error)
+    }
+}
+
+/// The formulations of an objective and the penalty of a run: what a worker scores designs with.
+#[derive(Debug)]
+pub struct Fitness {
+    scored: Scored,
+    /// The design space every design is validated against.
+    transmission: Transmission,
+    penalty: Penalty,
+    solve: SolveSettings,
+}
+
+/// What is solved per design.
+#[derive(Debug)]
+enum Scored {
+    /// The cost at one payload.
+    Cost(Formulation),
+    /// Minus the capacity; the formulation's payload is ignored.
+    Capacity(Formulation, CapacitySettings),
+    /// The mean cost over the payloads, each with its formulation.
+    Range(Vec<(f64, Formulation)>),
+}
+
+impl Fitness {
+    /// The fitness of `objective` for `task` (its payload used by `Cost` and `Capacity`) in
+    /// `space` with limit `modes`, solved with `solve`; with a graded `penalty` the problems are
+    /// the elastic ones.
+    pub fn new(
+        task: &Task,
+        solve: &SolveSettings,
+        space: Space,
+        modes: LimitModes,
+        objective: &Objective,
+        penalty: Penalty,
+    ) -> Result<Fitness, ScoreError> {
+        let hard = Formulation::new(task, Robot::load(task)?, space, modes)?;
+        let base = match penalty.grading {
+            Grading::Flat => hard,
+            Grading::Graded => hard.elastic(),
+        };
+        let formulation = |payload_kg: f64| base.with_payload(payload_kg);
+        let scored = match objective {
+            Objective::Cost => Scored::Cost(formulation(task.payload.mass_kg)?),
+            Objective::Capacity(settings) => {
+                Scored::Capacity(formulation(task.payload.mass_kg)?, *settings)
+            }
+            Objective::Range(range) => Scored::Range(
+                range
+                    .payloads_kg
+                    .iter()
+                    .map(|&kg| formulation(kg).map(|f| (kg, f)))
+                    .collect::<Result<_, _>>()?,
+            ),
+        };
+        Ok(Fitness {
+            scored,
+            transmission: base.transmission().clone(),
+            penalty,
+            solve: solve.clone(),
+        })
+    }
+
+    /// The range's payloads with their formulations (empty for another objective).
+    pub fn payloads(&self) -> &[(f64, Formulation)] {
+        match &self.scored {
+            Scored::Range(formulations) => formulations,
+            _ => &[],
+        }
+    }
+
+    /// Scores `ratios`: validated once, then solved as the objective and the penalty ask.
+    pub fn score(&self, ratios: &[f64]) -> Score {
+        let graded = self.penalty.grading == Grading::Graded;
+        if let Err(verdict) = validate(&self.transmission, ratios) {
+            // A flat range names the payload an evaluation stops at: the first.
+            return Score::unsolved(match (&self.scored, self.payloads().first()) {
+                (Scored::Range(_), Some((payload_kg, _))) if !graded => verdict.at(*payload_kg),
+                _ => verdict,
+            });
+        }
+        let solve = &self.solve;
+        match &self.scored {
+            Scored::Capacity(formulation, settings) => {
+                capacity(formulation, solve, ratios, settings)
+            }
+            Scored::Cost(formulation) if graded => elastic(&[(0.0, formulation)], solve, ratios),
+            Scored::Cost(formulation) => cost(formulation, solve, ratios),
+            Scored::Range(formulations) if graded => {
+                let each: Vec<(f64, &Formulation)> =
+                    formulations.iter().map(|(kg, f)| (*kg, f)).collect();
+                elastic(&each, solve, ratios)
+            }
+            Scored::Range(formulations) => range(formulations, solve, ratios),
+        }
+    }
+
+    /// Scores `ratios` and records the evaluation, its fitness under the run's penalty.
+    pub fn evaluate(&self, ratios: &[f64]) -> Evaluation {
+        Evaluation::new(ratios, &self.score(ratios), &self.penalty)
+    }
+}
+
+/// The score of one solve of valid `ratios`: its optimal cost J, or why it is infeasible.
+fn cost(formulation: &Formulation, settings: &SolveSettings, ratios: &[f64]) -> Score {
+    match solve(formulation, settings, ratios, None) {
+        Ok((result, _)) => Score {
+            verdict: judge(formulation, &result),
+            iterations: result.iterations,
+            seconds: result.solve_seconds.total,
+        },
+        Err(verdict) => Score::unsolved(verdict),
+    }
+}
+
+/// The score of valid `ratios` over the payloads of `formulations`: the mean of the optimal
+/// costs (summed in order), or the first payload's verdict that is not feasible, that payload
+/// named in its reason.
+fn range(formulations: &[(f64, Formulation)], settings: &SolveSettings, ratios: &[f64]) -> Score {
+    let (mut iterations, mut seconds, mut sum) = (0, 0.0, 0.0);
+    for (payload_kg, formulation) in formulations {
+        let one = cost(formulation, settings, ratios);
+        iterations += one.iterations;
+        seconds += one.seconds;
+        match one.verdict {
+            Verdict::Feasible { cost, .. } => sum += cost,
+            verdict => {
+                return Score {
+                    verdict: verdict.at(*payload_kg),
+                    iterations,
+                    seconds,
+                }
+            }
+        }
+    }
+    Score {
+        verdict: Verdict::Feasible {
+            cost: sum / formulations.len() as f64,
+            status: SolveStatus::Ipopt(ipopt::Status::SolveSucceeded.name()),
+        },
+        iterations,
+        seconds,
+    }
+}
+
+/// The score of valid `ratios` by the elastic problems of `formulations` (one per payload, the
+/// payload named in reasons when there are several): the mean cost when every one is feasible,
+/// else infeasible by the summed shortfall.
+fn elastic(
+    formulations: &[(f64, &Formulation)],
+    settings: &SolveSettings,
+    ratios: &[f64],
+) -> Score {
+    let (mut iterations, mut seconds, mut sum, mut short) = (0, 0.0, 0.0, 0.0);
+    let mut reasons = Vec::new();
+    for (payload_kg, formulation) in formulations {
+        let result = match solve(formulation, settings, ratios, None) {
+            Ok((result, _)) => result,
+            Err(verdict) => {
+                return Score {
+                    verdict,
+                    iterations,
+                    seconds,
+                }
+            }
+        };
+        iterations += result.iterations;
+        seconds += result.solve_seconds.total;
+        let Verdict::Infeasible { shortfall, .. } = judge(formulation, &result) else {
+            sum += result.cost;
+            continue;
+        };
+        short += shortfall;
+        let measures = result.elastic.unwrap_or_default();
+        let at = match formulations.len() {
+            1 => String::new(),
+            _ => format!("at {payload_kg} kg: "),
+        };
+        reasons.push(format!(
+            "{at}torque deficit {:.4} N m s, speed excess {:.4} rad",
+            measures.torque_deficit, measures.speed_excess
+        ));
+    }
+    let verdict = if reasons.is_empty() {
+        Verdict::Feasible {
+            cost: sum / formulations.len() as f64,
+            status: SolveStatus::Ipopt(ipopt::Status::SolveSucceeded.name()),
+        }
+    } else {
+        Verdict::Infeasible {
+            shortfall: short,
+            reason: reasons.join("; "),
+            status: SolveStatus::ElasticDeficit,
+        }
+    };
+    Score {
+        verdict,
+        iterations,
+        seconds,
+    }
+}
+
+/// The score of valid `ratios` by minus its payload capacity (the formulation's payload
+/// ignored); a design that cannot even move unloaded is infeasible, one whose search failed has
+/// a solver error.
+fn capacity(
+    formulation: &Formulation,
+    settings: &SolveSettings,
+    ratios: &[f64],
+    search: &CapacitySettings,
+) -> Score {
+    let capacity = match payload_capacity(formulation, settings, ratios, search) {
+        Ok(capacity) => capacity,
+        Err(error) => {
+            return Score::unsolved(Verdict::SolverError {
+                message: error.to_string(),
+            })
+        }
+    };
+    let probes = capacity.probes.len();
+    let verdict = match capacity.capacity_kg {
+        Some(kg) => Verdict::Feasible {
+            cost: -kg,
+            status: SolveStatus::Capacity { probes },
+        },
+        None => Verdict::Infeasible {
+            shortfall: 0.0,
+            reason: "infeasible even without payload".to_owned(),
+            status: SolveStatus::InfeasibleUnloaded,
+        },
+    };
+    Score {
+        verdict,
+        iterations: capacity.probes.iter().map(|p| p.iterations).sum(),
+        seconds: capacity.probes.iter().map(|p| p.seconds).sum(),
+    }
+}
