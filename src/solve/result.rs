@@ -1,7 +1,6 @@
 //! The result of a trajectory solve, as result files record it (their schema), and how it is
 //! read from IPOPT's solution.
 
-use super::verify::Violations;
 use crate::ipopt::{LinearSolver, Nlp, Solution};
 use crate::problem::{cost_gradient, relaxation, ProblemKind, TrajectoryProblem};
 use serde::{Deserialize, Serialize};
@@ -85,6 +84,25 @@ pub struct ElasticMeasures {
     /// IPOPT found an optimum; dJ*/dr where the design is feasible.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub objective_gradient: Option<Vec<f64>>,
+}
+
+/// The largest violation of each constraint family at the returned point (0 when satisfied).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Violations {
+    /// |RNEA(q, v, a) - tau|, N m.
+    pub dynamics: f64,
+    /// Semi-implicit Euler residuals, rad/s or rad.
+    pub integration: f64,
+    /// Start and goal states, rad or rad/s.
+    pub boundary: f64,
+    /// Joint position limits, rad.
+    pub joint_position: f64,
+    /// The problem's speed limits in its speed mode, rad/s.
+    pub speed_limits: f64,
+    /// The problem's control bounds in its torque mode, N m.
+    pub control_limits: f64,
+    /// The soft Cartesian box (penalised, not enforced), m.
+    pub cartesian_box: f64,
 }
 
 /// The result of one trajectory solve.

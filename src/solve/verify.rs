@@ -1,30 +1,11 @@
 //! How far a solution is from satisfying each constraint family: the problem's residuals
-//! evaluated again on the trajectory read back, independently of IPOPT's own measures.
+//! evaluated again on the trajectory read back, independently of IPOPT's own measures
+//! ([`Violations::of`]).
 
-use super::result::Trajectory;
+use super::result::{Trajectory, Violations};
 use crate::model::task::Motion;
 use crate::problem::TrajectoryProblem;
 use crate::transmission::JointLimits;
-use serde::{Deserialize, Serialize};
-
-/// The largest violation of each constraint family at the returned point (0 when satisfied).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct Violations {
-    /// |RNEA(q, v, a) - tau|, N m.
-    pub dynamics: f64,
-    /// Semi-implicit Euler residuals, rad/s or rad.
-    pub integration: f64,
-    /// Start and goal states, rad or rad/s.
-    pub boundary: f64,
-    /// Joint position limits, rad.
-    pub joint_position: f64,
-    /// The problem's speed limits in its speed mode, rad/s.
-    pub speed_limits: f64,
-    /// The problem's control bounds in its torque mode, N m.
-    pub control_limits: f64,
-    /// The soft Cartesian box (penalised, not enforced), m.
-    pub cartesian_box: f64,
-}
 
 /// The largest |value|, 0 for none.
 pub(super) fn max_abs(values: impl IntoIterator<Item = f64>) -> f64 {

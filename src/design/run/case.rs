@@ -2,7 +2,7 @@
 //! plans, with every check of the settings in one place. Its errors name the flag of
 //! `codesign optimize` that sets each value, since a case is what those flags pose.
 
-use super::document::{OptimizeInputs, RecordedHash};
+use super::document::{Method, OptimizeInputs, RecordedHash};
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::evaluate::{Objective, PayloadRange};
@@ -16,19 +16,7 @@ use crate::problem::Space;
 use crate::solve::{SolveSettings, TaskRecord};
 use crate::store::log::Start;
 use crate::text::number;
-use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
-
-/// The outer-level method of a co-design run.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "lowercase")]
-pub enum Method {
-    /// CMA-ES as in pagmo (the paper's method), designs evaluated by worker processes.
-    #[default]
-    Cmaes,
-    /// Projected quasi-Newton with the exact sensitivity dJ*/dr, warm-started inner solves.
-    Gradient,
-}
 
 /// Where the task and robot of a run come from, and its payload (`--task`, `--robot`,
 /// `--payload`).

@@ -1,7 +1,6 @@
 //! The document of a co-design run: its settings ([`OptimizeInputs`], also the header of its
 //! evaluation log) and what it found ([`OptimizeDocument`], the JSON file `optimize` writes).
 
-use super::case::Method;
 use crate::design::evaluate::Objective;
 use crate::design::gradient::GradientIterate;
 use crate::design::optimize::GenerationSummary;
@@ -11,6 +10,17 @@ use crate::model::task::LimitModes;
 use crate::problem::Space;
 use crate::solve::{TaskRecord, ToolInfo, TrajectoryResult};
 use serde::{Deserialize, Serialize};
+
+/// The outer-level method of a co-design run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// CMA-ES as in pagmo (the paper's method), designs evaluated by worker processes.
+    #[default]
+    Cmaes,
+    /// Projected quasi-Newton with the exact sensitivity dJ*/dr, warm-started inner solves.
+    Gradient,
+}
 
 /// Everything that defines a co-design run; two runs with equal inputs give equal results.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

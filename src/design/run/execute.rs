@@ -1,8 +1,8 @@
 //! Running a co-design case: its checks before any work, the evaluation log, the outer method
 //! (CMA-ES in worker processes, or the gradient method), and the document of what it found.
 
-use super::case::{Case, Method};
-use super::document::{OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
+use super::case::Case;
+use super::document::{Method, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
 use super::error::{Output, RunError};
 use crate::design::evaluate::Objective;
 use crate::design::gradient::optimize_gradient;

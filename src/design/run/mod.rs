@@ -7,9 +7,7 @@ mod document;
 mod error;
 mod execute;
 
-pub use case::{
-    shell_quote, task_source, Case, Method, ModelChoice, ProblemChoice, MAX_SOLVE_TIMEOUT_S,
-};
-pub use document::{OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
+pub use case::{shell_quote, task_source, Case, ModelChoice, ProblemChoice, MAX_SOLVE_TIMEOUT_S};
+pub use document::{Method, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
 pub use error::{Output, RunError};
 pub use execute::{run_case, ProgressDisplay};
