@@ -464,3 +464,150 @@ fn outputs_that_would_replace_what_they_should_not_are_refused_first() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A small co-design run in `dir` (a 4-interval task, population 5) with `extra` flags.
+fn small_run(dir: &Path, extra: &[&str]) -> Command {
+    let task = task_with(dir, |task| task["motion"]["steps"] = 4.into());
+    let out = dir.join("o.json");
+    let mut args = vec![
+        "optimize".to_owned(),
+        "--task".to_owned(),
+        path(&task).to_owned(),
+        "--population".to_owned(),
+        "5".to_owned(),
+        "--out".to_owned(),
+        path(&out).to_owned(),
+    ];
+    args.extend(extra.iter().map(|a| a.to_string()));
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    codesign_command(root(), &args)
+}
+
+/// Whether a process whose command line holds `marker` still runs.
+fn running(marker: &str) -> bool {
+    Command::new("pgrep")
+        .args(["-f", marker])
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+/// Items 13, 14 and 21: a worker command that floods its output, or never says hello, fails the
+/// run at once, naming the command, and leaves no process behind; so does TERM to the run.
+#[test]
+fn workers_that_flood_or_hang_are_stopped_with_all_they_started() {
+    let dir = scratch("flood");
+    let output = small_run(
+        &dir,
+        &["--generations", "0", "--worker-command", "cat /dev/zero"],
+    )
+    .output()
+    .unwrap();
+    fails_saying(&output, "no codesign hello");
+    fails_saying(&output, "not the worker protocol");
+    let hang = "sleep 987";
+    let output = small_run(
+        &dir,
+        &[
+            "--generations",
+            "0",
+            "--solve-timeout",
+            "2",
+            "--worker-command",
+            hang,
+        ],
+    )
+    .output()
+    .unwrap();
+    fails_saying(&output, "said no hello within 2 s");
+    assert!(!running(hang), "a hung worker was left running");
+    // TERM while workers (each with a child of its own) are busy.
+    let command = "sleep 986 & exec {} worker";
+    let out = dir.join("term.json");
+    let mut child = codesign_command(
+        root(),
+        &[
+            "optimize",
+            "--population",
+            "20",
+            "--generations",
+            "50",
+            "--workers",
+            "2",
+            "--worker-command",
+            command,
+            "--out",
+            path(&out),
+        ],
+    )
+    .stdout(Stdio::null())
+    .stderr(Stdio::null())
+    .spawn()
+    .unwrap();
+    support::wait_for(std::time::Duration::from_secs(20), || running("sleep 986"));
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    // SAFETY: a signal to the child this test started.
+    unsafe { libc::kill(child.id() as i32, libc::SIGTERM) };
+    let status = child.wait().unwrap();
+    assert!(!status.success());
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    assert!(
+        !running("sleep 986"),
+        "TERM left the workers' children running"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Items 15 and 16: answers for other designs, or with impossible costs, are refused; a run
+/// whose every evaluation failed that way exits 1; its resumption solves those designs again
+/// instead of replaying the failures.
+#[test]
+fn worker_answers_are_checked_and_failures_never_replayed() {
+    let dir = scratch("answers");
+    let liars = [
+        r#"{} worker | sed -u 's/"ratios":\[[0-9.e+-]*/"ratios":[1.5/'"#,
+        r#"{} worker | sed -u 's/"cost":[^,]*/"cost":-1e300/'"#,
+    ];
+    for liar in liars {
+        let output = small_run(
+            &dir,
+            &[
+                "--generations",
+                "0",
+                "--workers",
+                "1",
+                "--worker-command",
+                liar,
+                "--overwrite",
+            ],
+        )
+        .output()
+        .unwrap();
+        fails_saying(&output, "evaluations failed for a reason not the design's");
+        assert!(!dir.join("o.json").exists(), "a result was written");
+    }
+    let log = std::fs::read_to_string(dir.join("o.log.jsonl")).unwrap();
+    assert!(log.contains("Worker_Failed"), "{log}");
+    let output = small_run(&dir, &["--generations", "0", "--workers", "1", "--resume"])
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", stderr(&output));
+    let result: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("o.json")).unwrap()).unwrap();
+    assert_eq!(result["replayed"], 0, "worker failures were replayed");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Item 8: a worker reading an endless line stops with an error instead of filling the memory.
+#[test]
+fn a_worker_refuses_an_endless_line() {
+    let output = codesign_command(root(), &["worker"])
+        .stdin(File::open("/dev/zero").unwrap())
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("not the worker protocol"),
+        "{}",
+        stderr(&output)
+    );
+}

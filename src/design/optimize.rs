@@ -25,7 +25,7 @@ pub enum OptimizeError {
     Workers(WorkerError),
     /// An evaluation could not be appended to the evaluation log.
     Log(StoreError),
-    /// No evaluation judged a design: every one failed alike, for a reason not the design's.
+    /// No evaluation judged a design: every one failed for a reason not the design's.
     NotJudged {
         /// The evaluations made.
         evaluations: usize,
@@ -50,9 +50,9 @@ impl fmt::Display for OptimizeError {
                 reason,
             } => write!(
                 f,
-                "every one of the {evaluations} evaluations failed alike ({status}: {}); no \
-                 design was judged, so no result is written (fix the cause, then start afresh \
-                 with --overwrite)",
+                "every one of the {evaluations} evaluations failed for a reason not the \
+                 design's (the first: {status}: {}); no design was judged, so no result is \
+                 written (fix the cause, then resume: those designs are solved again)",
                 reason.as_deref().unwrap_or("no reason given")
             ),
             OptimizeError::NoBest => f.write_str("CMA-ES has no best design"),
@@ -162,22 +162,16 @@ pub fn optimize(
     })
 }
 
-/// Fails when no evaluation judged a design: every one failed for the same reason that is not
-/// the design's (a solver error, a crashed worker), so the run's result would mean nothing.
+/// Fails when no evaluation judged a design: every one failed for a reason that is not the
+/// design's (a solver error, a crashed or lying worker), so the run's result would mean nothing.
 pub fn check_evaluations(evaluations: &[Evaluation]) -> Result<(), OptimizeError> {
     let not_judged = |e: &Evaluation| !e.feasible && !e.status.is_judged();
     match evaluations.first() {
-        Some(first)
-            if evaluations
-                .iter()
-                .all(|e| not_judged(e) && e.reason == first.reason) =>
-        {
-            Err(OptimizeError::NotJudged {
-                evaluations: evaluations.len(),
-                status: first.status.clone(),
-                reason: first.reason.clone(),
-            })
-        }
+        Some(first) if evaluations.iter().all(not_judged) => Err(OptimizeError::NotJudged {
+            evaluations: evaluations.len(),
+            status: first.status.clone(),
+            reason: first.reason.clone(),
+        }),
         _ => Ok(()),
     }
 }
@@ -209,7 +203,8 @@ fn evaluate_generation(
     let mut pending = Vec::new();
     for (index, ratios) in designs.iter().enumerate() {
         match finished.get(&(generation, index)) {
-            Some(evaluation) if evaluation.ratios == *ratios => {
+            // A worker failure or solver error is no score of the design: solved again.
+            Some(evaluation) if evaluation.ratios == *ratios && evaluation.status.is_judged() => {
                 outcome.best_cost = outcome.best_cost.min(evaluation.cost);
                 outcome.replayed += 1;
                 progress.evaluated(outcome.best_cost);
@@ -242,7 +237,7 @@ mod tests {
     }
 
     #[test]
-    fn a_run_fails_when_its_evaluations_all_failed_alike() {
+    fn a_run_fails_when_no_evaluation_judged_a_design() {
         let failed = |message: &str| {
             penalised(Verdict::SolverError {
                 message: message.to_owned(),
@@ -252,12 +247,18 @@ mod tests {
         let error = check_evaluations(&alike).unwrap_err().to_string();
         assert_eq!(
             error,
-            "every one of the 3 evaluations failed alike (Solver_Error: IPOPT rejected option \
-             `x` = 3); no design was judged, so no result is written (fix the cause, then start \
-             afresh with --overwrite)"
+            "every one of the 3 evaluations failed for a reason not the design's (the first: \
+             Solver_Error: IPOPT rejected option `x` = 3); no design was judged, so no result is \
+             written (fix the cause, then resume: those designs are solved again)"
         );
         let differing = vec![failed("a"), failed("b")];
-        assert!(check_evaluations(&differing).is_ok());
+        assert!(check_evaluations(&differing).is_err());
+        let mut mixed = differing;
+        mixed.push(penalised(Verdict::Invalid {
+            distance: 1.0,
+            reason: "r".into(),
+        }));
+        assert!(check_evaluations(&mixed).is_ok(), "one design was judged");
         let invalid = vec![
             penalised(Verdict::Invalid {
                 distance: 1.0,

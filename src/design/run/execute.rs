@@ -10,7 +10,7 @@ use crate::design::optimize::{optimize, EvaluationLog, Finished, Progress};
 use crate::design::outcome::DesignOutcome;
 use crate::design::penalty::Grading;
 use crate::design::score::Fitness;
-use crate::design::workers::{Pool, WorkerSetup};
+use crate::design::workers::{Pool, WorkerSetup, MAX_GROUPS};
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;
 use crate::problem::Formulation;
@@ -243,6 +243,7 @@ fn worker_setup(
         space: case.problem.space,
         modes: *formulation.modes(),
         penalty: case.penalty,
+        robot_hash: inputs.robot_hash.0.clone().unwrap_or_default(),
     })
 }
 
@@ -250,7 +251,7 @@ fn worker_setup(
 /// at most one per design of a generation, with a note when it is more than the cores.
 fn worker_count(asked: Option<usize>, population: usize) -> usize {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let workers = asked.unwrap_or(cores).min(population).max(1);
+    let workers = asked.unwrap_or(cores).min(population).clamp(1, MAX_GROUPS);
     if asked.is_some_and(|n| n > population) {
         note!(
             "note: --workers {}: a generation has {population} designs, so {population} workers \

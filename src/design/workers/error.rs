@@ -2,6 +2,7 @@
 
 use super::protocol::Hello;
 use crate::design::score::ScoreError;
+use crate::model::ModelError;
 use std::fmt;
 use std::io;
 
@@ -11,6 +12,15 @@ use std::io;
 pub enum WorkerError {
     /// The pool was asked for no workers.
     NoWorkers,
+    /// More workers than [`super::MAX_GROUPS`] would run at once.
+    TooMany,
+    /// A worker said no hello within the time limit: the command starts no codesign worker.
+    NoHello {
+        /// The command that started it.
+        launcher: String,
+        /// The time it was given, s.
+        seconds: f64,
+    },
     /// A worker process could not be started.
     Start {
         /// The command that starts it.
@@ -45,6 +55,8 @@ pub enum WorkerError {
     MalformedSetup(serde_json::Error),
     /// A worker could not build the formulations of its setup.
     Fitness(ScoreError),
+    /// A worker could not read the robot of its setup.
+    Robot(ModelError),
     /// A worker could not read a request line.
     ReadRequest(io::Error),
     /// A worker's request line is not a request.
@@ -57,6 +69,17 @@ impl fmt::Display for WorkerError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             WorkerError::NoWorkers => f.write_str("--workers must be at least 1"),
+            WorkerError::NoHello { launcher, seconds } => write!(
+                f,
+                "the worker started by `{launcher}` said no hello within {seconds:.0} s (the \
+                 --solve-timeout): is it a codesign worker (`codesign worker`, `{{}} worker`)?"
+            ),
+            WorkerError::TooMany => write!(
+                f,
+                "more than {} workers at once: each is a process group this run must be able \
+                 to stop",
+                super::MAX_GROUPS
+            ),
             WorkerError::Start { launcher, source } => {
                 write!(f, "cannot start a worker with `{launcher}`: {source}")
             }
@@ -79,6 +102,7 @@ impl fmt::Display for WorkerError {
             WorkerError::ReadSetup(e) => write!(f, "worker: cannot read its setup: {e}"),
             WorkerError::MalformedSetup(e) => write!(f, "worker: malformed setup line: {e}"),
             WorkerError::Fitness(e) => e.fmt(f),
+            WorkerError::Robot(e) => write!(f, "worker: {e}"),
             WorkerError::ReadRequest(e) => write!(f, "worker: cannot read a request: {e}"),
             WorkerError::MalformedRequest(e) => write!(f, "worker: malformed request: {e}"),
             WorkerError::Answer(e) => write!(f, "worker: cannot answer: {e}"),
@@ -100,7 +124,10 @@ impl std::error::Error for WorkerError {
             | WorkerError::MalformedSetup(e)
             | WorkerError::MalformedRequest(e) => Some(e),
             WorkerError::Fitness(e) => Some(e),
+            WorkerError::Robot(e) => Some(e),
             WorkerError::NoWorkers
+            | WorkerError::TooMany
+            | WorkerError::NoHello { .. }
             | WorkerError::NoPipe(_)
             | WorkerError::ReadersStopped
             | WorkerError::Refused { .. } => None,

@@ -7,17 +7,18 @@
 //! reason. One bad design never stops a run, and the results do not depend on the worker count.
 
 mod error;
+mod process;
 mod protocol;
 
 pub use error::WorkerError;
-pub use protocol::{serve, Hello, Request, Response, WorkerSetup};
+pub use process::{Launcher, MAX_GROUPS};
+pub use protocol::{read_line, serve, Hello, Request, Response, WorkerSetup, MAX_LINE_BYTES};
 
 use super::penalty::Penalty;
-use super::score::{Evaluation, Score, Verdict};
+use super::score::{Evaluation, Objective, Score, Verdict};
 use std::collections::VecDeque;
-use std::io::{BufRead, BufReader, Write};
-use std::path::PathBuf;
-use std::process::{Child, ChildStdin, Command, Stdio};
+use std::io::{BufReader, Write};
+use std::process::{Child, ChildStdin, Stdio};
 use std::sync::mpsc::{channel, Receiver, RecvTimeoutError, Sender};
 use std::time::{Duration, Instant};
 
@@ -25,44 +26,17 @@ use std::time::{Duration, Instant};
 /// `--solve-timeout`).
 pub const SOLVE_TIMEOUT_S: f64 = 600.0;
 
-/// A message from a worker's reader thread: its slot, its incarnation, and a line (None at EOF).
-type Message = (usize, u64, Option<String>);
+/// A message from a worker's reader thread: its slot, its incarnation, and what it read.
+type Message = (usize, u64, Read);
 
-/// How a worker process is started.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Launcher {
-    /// `PROGRAM worker` (normally this executable).
-    Program(PathBuf),
-    /// A shell command (`sh -c`) that starts one worker speaking the protocol on its
-    /// stdin/stdout, e.g. `srun --ntasks=1 /path/codesign worker` or `ssh node7 codesign worker`.
-    Shell(String),
-}
-
-impl Launcher {
-    /// The process to start.
-    fn command(&self) -> Command {
-        match self {
-            Launcher::Program(program) => {
-                let mut command = Command::new(program);
-                command.arg("worker");
-                command
-            }
-            Launcher::Shell(line) => {
-                let mut command = Command::new("sh");
-                command.arg("-c").arg(line);
-                command
-            }
-        }
-    }
-}
-
-impl std::fmt::Display for Launcher {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Launcher::Program(program) => write!(f, "{} worker", program.display()),
-            Launcher::Shell(line) => f.write_str(line),
-        }
-    }
+/// What a worker's reader thread read.
+enum Read {
+    /// A line of the protocol.
+    Line(String),
+    /// The end of the worker's output: it exited.
+    End,
+    /// Output that is no protocol (a line too long, not UTF-8), or a failed read; the reason.
+    Broken(String),
 }
 
 struct Worker {
@@ -90,6 +64,8 @@ pub struct Pool {
     hello: Hello,
     /// How a design whose worker failed twice is scored.
     penalty: Penalty,
+    /// Whether a fitness may be negative (minus a capacity, kg); a cost J never is.
+    negative_fitness: bool,
     timeout: Duration,
     workers: Vec<Worker>,
     sender: Sender<Message>,
@@ -120,8 +96,9 @@ impl Pool {
         let mut pool = Pool {
             launcher,
             setup_line: serde_json::to_string(setup).map_err(WorkerError::Encode)?,
-            hello: Hello::new(setup)?,
+            hello: Hello::expected(setup)?,
             penalty: setup.penalty,
+            negative_fitness: matches!(setup.objective, Objective::Capacity(_)),
             timeout,
             workers: Vec::with_capacity(count),
             sender,
@@ -152,6 +129,10 @@ impl Pool {
                 launcher: self.launcher.to_string(),
                 source,
             })?;
+        if !process::register(&child) {
+            process::kill(&mut child);
+            return Err(WorkerError::TooMany);
+        }
         let mut stdin = child.stdin.take().ok_or(WorkerError::NoPipe("stdin"))?;
         let stdout = child.stdout.take().ok_or(WorkerError::NoPipe("stdout"))?;
         writeln!(stdin, "{}", self.setup_line).map_err(WorkerError::SendSetup)?;
@@ -159,17 +140,18 @@ impl Pool {
         let incarnation = self.incarnations;
         let sender = self.sender.clone();
         std::thread::spawn(move || {
-            for line in BufReader::new(stdout).lines() {
-                match line {
-                    Ok(line) => {
-                        if sender.send((slot, incarnation, Some(line))).is_err() {
-                            return;
-                        }
-                    }
-                    Err(_) => break,
+            let mut stdout = BufReader::new(stdout);
+            loop {
+                let read = match read_line(&mut stdout) {
+                    Ok(Some(line)) => Read::Line(line),
+                    Ok(None) => Read::End,
+                    Err(error) => Read::Broken(error.to_string()),
+                };
+                let last = !matches!(read, Read::Line(_));
+                if sender.send((slot, incarnation, read)).is_err() || last {
+                    return;
                 }
             }
-            let _ = sender.send((slot, incarnation, None));
         });
         Ok(Worker {
             child,
@@ -184,8 +166,7 @@ impl Pool {
     fn replace(&mut self, slot: usize) -> Result<Option<Job>, WorkerError> {
         let fresh = self.spawn(slot)?;
         let mut old = std::mem::replace(&mut self.workers[slot], fresh);
-        let _ = old.child.kill();
-        let _ = old.child.wait();
+        process::kill(&mut old.child);
         Ok(old.job.take().map(|(job, _)| job))
     }
 
@@ -256,7 +237,8 @@ impl Pool {
 
     /// Waits, at most until the nearest deadline, for one worker's answer; classifies what came:
     /// an answer to the job its worker holds, or the workers that failed (crashed, answered
-    /// nonsense, ran past their deadline; none when a replaced worker's late line came).
+    /// nonsense, ran past their deadline; none when a replaced worker's late line came). A
+    /// worker whose first line is no matching hello, or that says none in time, fails the run.
     fn listen(&mut self) -> Result<Heard, WorkerError> {
         let next_deadline = self
             .workers
@@ -266,49 +248,73 @@ impl Pool {
         let wait = next_deadline.map_or(self.timeout, |d| {
             d.saturating_duration_since(Instant::now())
         });
+        let failed = |slot: usize, why: String| Ok(Heard::Failed(vec![(slot, why)]));
         match self.receiver.recv_timeout(wait) {
             Ok((slot, incarnation, _)) if self.workers[slot].incarnation != incarnation => {
                 Ok(Heard::Failed(Vec::new()))
             }
-            Ok((slot, _, None)) => Ok(Heard::Failed(vec![(
-                slot,
-                "worker process crashed".to_owned(),
-            )])),
-            Ok((slot, _, Some(line))) if !self.workers[slot].introduced => {
+            Ok((slot, _, Read::Line(line))) if !self.workers[slot].introduced => {
                 self.introduce(slot, &line)?;
                 Ok(Heard::Failed(Vec::new()))
             }
-            Ok((slot, _, Some(line))) => {
-                let response = match serde_json::from_str::<Response>(&line) {
-                    Ok(response) => response,
-                    Err(e) => {
-                        let why = format!("worker sent a malformed answer: {e}");
-                        return Ok(Heard::Failed(vec![(slot, why)]));
-                    }
-                };
-                let worker = &mut self.workers[slot];
-                match worker.job.take_if(|(job, _)| job.id == response.id) {
-                    Some((job, _)) => Ok(Heard::Answer(job, response.evaluation)),
-                    None => Ok(Heard::Failed(vec![(
-                        slot,
-                        "worker answered a design it was not given".to_owned(),
-                    )])),
-                }
+            Ok((slot, _, Read::Broken(why))) if !self.workers[slot].introduced => {
+                self.introduce(slot, &why)?;
+                Ok(Heard::Failed(Vec::new()))
             }
-            Err(RecvTimeoutError::Timeout) => {
-                let now = Instant::now();
-                let late = format!("solve exceeded {:.0} s", self.timeout.as_secs_f64());
-                Ok(Heard::Failed(
-                    self.workers
-                        .iter()
-                        .enumerate()
-                        .filter(|(_, w)| matches!(&w.job, Some((_, deadline)) if *deadline <= now))
-                        .map(|(slot, _)| (slot, late.clone()))
-                        .collect(),
-                ))
-            }
+            Ok((slot, _, Read::End)) => failed(slot, "worker process crashed".to_owned()),
+            Ok((slot, _, Read::Broken(why))) => failed(slot, format!("worker sent {why}")),
+            Ok((slot, _, Read::Line(line))) => Ok(self.answer(slot, &line)),
+            Err(RecvTimeoutError::Timeout) => self.late(),
             Err(RecvTimeoutError::Disconnected) => Err(WorkerError::ReadersStopped),
         }
+    }
+
+    /// The answer `line` of the worker in `slot`, checked against the job it holds: the same
+    /// design, a finite fitness of the objective's sign. Anything else fails the worker.
+    fn answer(&mut self, slot: usize, line: &str) -> Heard {
+        let fail = |why: String| Heard::Failed(vec![(slot, why)]);
+        let response = match serde_json::from_str::<Response>(line) {
+            Ok(response) => response,
+            Err(e) => return fail(format!("worker sent a malformed answer: {e}")),
+        };
+        let worker = &mut self.workers[slot];
+        let Some((job, _)) = worker.job.take_if(|(job, _)| job.id == response.id) else {
+            return fail("worker answered a design it was not given".to_owned());
+        };
+        let evaluation = response.evaluation;
+        let cost = evaluation.cost;
+        let why = if evaluation.ratios != job.ratios {
+            format!(
+                "worker answered for r = {:?} when asked for r = {:?}",
+                evaluation.ratios, job.ratios
+            )
+        } else if !cost.is_finite() || (cost < 0.0 && !self.negative_fitness) {
+            format!("worker answered a fitness of {cost}, which no design has")
+        } else {
+            return Heard::Answer(job, evaluation);
+        };
+        worker.job = Some((job, Instant::now() + self.timeout));
+        fail(why)
+    }
+
+    /// The workers past their deadline; an error when one of them never said its hello.
+    fn late(&self) -> Result<Heard, WorkerError> {
+        let now = Instant::now();
+        let late: Vec<usize> = (0..self.workers.len())
+            .filter(
+                |&slot| matches!(&self.workers[slot].job, Some((_, deadline)) if *deadline <= now),
+            )
+            .collect();
+        if late.iter().any(|&slot| !self.workers[slot].introduced) {
+            return Err(WorkerError::NoHello {
+                launcher: self.launcher.to_string(),
+                seconds: self.timeout.as_secs_f64(),
+            });
+        }
+        let why = format!("solve exceeded {:.0} s", self.timeout.as_secs_f64());
+        Ok(Heard::Failed(
+            late.into_iter().map(|slot| (slot, why.clone())).collect(),
+        ))
     }
 
     /// Checks a worker's first line, its hello, against the pool's: a worker of another build, or
@@ -380,8 +386,7 @@ impl Pool {
 impl Drop for Pool {
     fn drop(&mut self) {
         for worker in &mut self.workers {
-            let _ = worker.child.kill();
-            let _ = worker.child.wait();
+            process::kill(&mut worker.child);
         }
     }
 }
@@ -392,6 +397,7 @@ mod tests {
     use crate::design::score::{Objective, Status};
     use crate::problem::Space;
     use std::os::unix::fs::PermissionsExt;
+    use std::path::PathBuf;
 
     /// A stand-in worker: a shell script that reads the setup, says `hello` (as JSON), then
     /// answers, hangs or crashes.
@@ -407,7 +413,11 @@ mod tests {
 
     /// A stand-in worker of this build.
     fn script(name: &str, body: &str) -> Launcher {
-        Launcher::Program(script_saying(name, &Hello::new(&setup()).unwrap(), body))
+        Launcher::Program(script_saying(
+            name,
+            &Hello::expected(&setup()).unwrap(),
+            body,
+        ))
     }
 
     fn setup() -> WorkerSetup {
@@ -419,6 +429,7 @@ mod tests {
             space: Space::Actuation,
             penalty: crate::design::penalty::Penalty::PAPER,
             objective: Objective::Cost,
+            robot_hash: crate::hash::fnv1a(crate::model::BUILT_IN_URDF.as_bytes()),
         }
     }
 
@@ -469,7 +480,7 @@ mod tests {
 
     #[test]
     fn a_worker_of_another_build_is_refused_naming_both() {
-        let mut other = Hello::new(&setup()).unwrap();
+        let mut other = Hello::expected(&setup()).unwrap();
         other.codesign = "0.0.1".to_owned();
         let path = script_saying("other", &other, "while read request; do sleep 30; done");
         let launcher = Launcher::Shell(format!("{} worker", path.display()));
@@ -491,8 +502,9 @@ mod tests {
         // makes later requests finish first.
         let body = r#"while read request; do
   id=$(echo "$request" | sed 's/.*"id":\([0-9]*\).*/\1/')
+  ratios=$(echo "$request" | sed 's/.*"ratios":\(\[[^]]*\]\).*/\1/')
   sleep 0.$((3 - id))
-  echo "{\"id\":$id,\"evaluation\":{\"ratios\":[$id],\"cost\":1$id,\"feasible\":true,\"status\":\"Solve_Succeeded\",\"iterations\":1,\"seconds\":0.1}}"
+  echo "{\"id\":$id,\"evaluation\":{\"ratios\":$ratios,\"cost\":1$id,\"feasible\":true,\"status\":\"Solve_Succeeded\",\"iterations\":1,\"seconds\":0.1}}"
 done"#;
         let launcher = script("answer", body);
         let mut pool = Pool::new(launcher.clone(), &setup(), 2, Duration::from_secs(20)).unwrap();

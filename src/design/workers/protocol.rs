@@ -4,13 +4,42 @@
 use super::WorkerError;
 use crate::design::penalty::Penalty;
 use crate::design::score::{Evaluation, Fitness, Objective, ScoreError};
+use crate::hash::fnv1a;
 use crate::ipopt::{LinearSolver, IPOPT_VERSION};
 use crate::model::task::{LimitModes, Task};
+use crate::model::Robot;
 use crate::problem::Space;
 use crate::solve::SolveSettings;
 use serde::{Deserialize, Serialize};
 use std::fmt;
-use std::io::{BufRead, Write};
+use std::io::{self, BufRead, Read, Write};
+
+/// The longest line of the protocol, bytes: a setup is a few kB, an answer a few hundred bytes.
+pub const MAX_LINE_BYTES: usize = 16 << 20;
+
+/// Reads one line of the protocol, without its end, at most [`MAX_LINE_BYTES`] long (a longer
+/// one is an error, not a reason to fill the memory); None at the end of the input.
+pub fn read_line(input: &mut impl BufRead) -> io::Result<Option<String>> {
+    let mut line = Vec::new();
+    let limit = MAX_LINE_BYTES as u64 + 1;
+    if input.by_ref().take(limit).read_until(b'\n', &mut line)? == 0 {
+        return Ok(None);
+    }
+    if line.last() == Some(&b'\n') {
+        line.pop();
+    } else if line.len() > MAX_LINE_BYTES {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!(
+                "a line longer than {} MiB: not the worker protocol",
+                MAX_LINE_BYTES >> 20
+            ),
+        ));
+    }
+    String::from_utf8(line)
+        .map(Some)
+        .map_err(|_| io::Error::new(io::ErrorKind::InvalidData, "a line that is not UTF-8"))
+}
 
 /// Everything a worker needs to build its [`Formulation`], sent as its first line.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -29,6 +58,8 @@ pub struct WorkerSetup {
     /// What the fitness is.
     #[serde(default)]
     pub objective: Objective,
+    /// FNV-1a of the robot's URDF text as the parent read it (`Robot::urdf_hash`).
+    pub robot_hash: String,
 }
 
 impl WorkerSetup {
@@ -58,21 +89,28 @@ pub struct Hello {
     /// FNV-1a (64 bit, hex) of the setup as the worker re-serialises it: equal exactly when
     /// both sides read the same task, space, limit modes, penalty and objective.
     pub setup_hash: String,
+    /// FNV-1a of the robot's URDF text as the worker read it: equal to the setup's
+    /// `robot_hash` exactly when both sides read the same robot file.
+    pub robot_hash: String,
 }
 
 impl Hello {
-    /// The hello of this build for `setup`.
-    pub fn new(setup: &WorkerSetup) -> Result<Hello, WorkerError> {
+    /// The hello of this build for `setup`, having read a robot of `robot_hash` (the parent
+    /// expects the setup's own).
+    pub fn new(setup: &WorkerSetup, robot_hash: &str) -> Result<Hello, WorkerError> {
         let text = serde_json::to_string(setup).map_err(WorkerError::EncodeSetup)?;
-        let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |hash, byte| {
-            (hash ^ u64::from(byte)).wrapping_mul(0x0000_0100_0000_01b3)
-        });
         Ok(Hello {
             codesign: env!("CARGO_PKG_VERSION").to_owned(),
             ipopt: IPOPT_VERSION.to_owned(),
             linear_solver: setup.solve.linear_solver(),
-            setup_hash: format!("{hash:016x}"),
+            setup_hash: fnv1a(text.as_bytes()),
+            robot_hash: robot_hash.to_owned(),
         })
+    }
+
+    /// The hello the parent expects of every worker for `setup`.
+    pub fn expected(setup: &WorkerSetup) -> Result<Hello, WorkerError> {
+        Hello::new(setup, &setup.robot_hash)
     }
 }
 
@@ -80,11 +118,12 @@ impl fmt::Display for Hello {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "codesign {} with IPOPT {}, linear solver {}, setup {}",
+            "codesign {} with IPOPT {}, linear solver {}, setup {}, robot {}",
             self.codesign,
             self.ipopt,
             self.linear_solver.name(),
-            self.setup_hash
+            self.setup_hash,
+            self.robot_hash
         )
     }
 }
@@ -110,21 +149,20 @@ pub struct Response {
 /// The worker's side: reads the setup and requests from `input`, writes responses to `output`,
 /// until `input` ends or the parent stops reading (a closed pipe ends it quietly). Errors (a
 /// malformed line, an unbuildable formulation) end the worker.
-pub fn serve(input: impl BufRead, mut output: impl Write) -> Result<(), WorkerError> {
-    let mut lines = input.lines();
-    let setup_line = match lines.next() {
-        Some(line) => line.map_err(WorkerError::ReadSetup)?,
-        None => return Ok(()),
+pub fn serve(mut input: impl BufRead, mut output: impl Write) -> Result<(), WorkerError> {
+    let Some(setup_line) = read_line(&mut input).map_err(WorkerError::ReadSetup)? else {
+        return Ok(());
     };
     let setup: WorkerSetup =
         serde_json::from_str(&setup_line).map_err(WorkerError::MalformedSetup)?;
     let fitness = setup.fitness()?;
-    let hello = serde_json::to_string(&Hello::new(&setup)?).map_err(WorkerError::EncodeAnswer)?;
+    let robot = Robot::load(&setup.task).map_err(WorkerError::Robot)?;
+    let hello = Hello::new(&setup, robot.urdf_hash())?;
+    let hello = serde_json::to_string(&hello).map_err(WorkerError::EncodeAnswer)?;
     if !answer(&mut output, &hello)? {
         return Ok(());
     }
-    for line in lines {
-        let line = line.map_err(WorkerError::ReadRequest)?;
+    while let Some(line) = read_line(&mut input).map_err(WorkerError::ReadRequest)? {
         let request: Request =
             serde_json::from_str(&line).map_err(WorkerError::MalformedRequest)?;
         let response = Response {

@@ -1,0 +1,117 @@
+//! Worker processes as the operating system sees them: each started in a process group of its
+//! own, so that a hung worker is killed with everything it started (a shell's children, an
+//! `srun` step), and all of them are killed when the run ends, fails, or is interrupted by INT
+//! or TERM.
+
+use std::os::unix::process::CommandExt;
+use std::path::PathBuf;
+use std::process::{Child, Command};
+use std::sync::atomic::{AtomicI32, Ordering};
+use std::sync::Once;
+
+/// The most worker process groups alive at once in one run.
+pub const MAX_GROUPS: usize = 4096;
+
+/// The process groups of the running workers (0: a free slot), for the signal handler, which
+/// may only read atomics.
+static GROUPS: [AtomicI32; MAX_GROUPS] = [const { AtomicI32::new(0) }; MAX_GROUPS];
+
+/// How a worker process is started.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Launcher {
+    /// `PROGRAM worker` (normally this executable).
+    Program(PathBuf),
+    /// A shell command (`sh -c`) that starts one worker speaking the protocol on its
+    /// stdin/stdout, e.g. `srun --ntasks=1 /path/codesign worker` or `ssh node7 codesign worker`.
+    Shell(String),
+}
+
+impl Launcher {
+    /// The process to start: in a process group of its own, killed if this process dies.
+    pub(super) fn command(&self) -> Command {
+        let mut command = match self {
+            Launcher::Program(program) => {
+                let mut command = Command::new(program);
+                command.arg("worker");
+                command
+            }
+            Launcher::Shell(line) => {
+                let mut command = Command::new("sh");
+                command.arg("-c").arg(line);
+                command
+            }
+        };
+        command.process_group(0);
+        // SAFETY: the closure runs in the child between fork and exec and only calls prctl,
+        // which is async-signal-safe.
+        unsafe {
+            command.pre_exec(|| {
+                libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL);
+                Ok(())
+            });
+        }
+        command
+    }
+}
+
+impl std::fmt::Display for Launcher {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Launcher::Program(program) => write!(f, "{} worker", program.display()),
+            Launcher::Shell(line) => f.write_str(line),
+        }
+    }
+}
+
+/// Notes the process group of a worker just started (its pid), so that INT or TERM kill it;
+/// false when the table is full.
+pub(super) fn register(child: &Child) -> bool {
+    install_handlers();
+    let group = i32::try_from(child.id()).unwrap_or(0);
+    GROUPS.iter().any(|slot| {
+        slot.compare_exchange(0, group, Ordering::SeqCst, Ordering::SeqCst)
+            .is_ok()
+    })
+}
+
+/// Kills a worker's whole process group, reaps the worker and forgets the group.
+pub(super) fn kill(child: &mut Child) {
+    let group = i32::try_from(child.id()).unwrap_or(0);
+    if group > 0 {
+        // SAFETY: kill with a negative pid signals the process group the worker leads.
+        unsafe { libc::kill(-group, libc::SIGKILL) };
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    for slot in &GROUPS {
+        let _ = slot.compare_exchange(group, 0, Ordering::SeqCst, Ordering::SeqCst);
+    }
+}
+
+/// On INT or TERM: kills every worker's process group, then ends this process as the signal
+/// would have. Only async-signal-safe calls.
+extern "C" fn on_signal(signal: libc::c_int) {
+    for slot in &GROUPS {
+        let group = slot.load(Ordering::SeqCst);
+        if group > 0 {
+            // SAFETY: kill is async-signal-safe.
+            unsafe { libc::kill(-group, libc::SIGKILL) };
+        }
+    }
+    // SAFETY: signal and raise are async-signal-safe; the default action ends the process.
+    unsafe {
+        libc::signal(signal, libc::SIG_DFL);
+        libc::raise(signal);
+    }
+}
+
+/// Installs [`on_signal`] for INT and TERM, once per process.
+fn install_handlers() {
+    static INSTALLED: Once = Once::new();
+    INSTALLED.call_once(|| {
+        for signal in [libc::SIGINT, libc::SIGTERM] {
+            // SAFETY: the handler only makes async-signal-safe calls.
+            unsafe { libc::signal(signal, on_signal as *const () as libc::sighandler_t) };
+        }
+    });
+}
