@@ -483,12 +483,21 @@ fn small_run(dir: &Path, extra: &[&str]) -> Command {
     codesign_command(root(), &args)
 }
 
-/// Whether a process whose command line holds `marker` still runs.
+/// Whether a process whose command line is `marker` (its words joined by spaces) still runs
+/// (read from /proc; a zombie left to be reaped has an empty command line and does not count).
 fn running(marker: &str) -> bool {
-    Command::new("pgrep")
-        .args(["-f", marker])
-        .output()
-        .is_ok_and(|o| o.status.success())
+    let Ok(entries) = std::fs::read_dir("/proc") else {
+        return false;
+    };
+    entries.flatten().any(|entry| {
+        std::fs::read(entry.path().join("cmdline")).is_ok_and(|bytes| {
+            let text: String = bytes
+                .iter()
+                .map(|&b| if b == 0 { ' ' } else { b as char })
+                .collect();
+            text.trim_end() == marker
+        })
+    })
 }
 
 /// Items 13, 14 and 21: a worker command that floods its output, or never says hello, fails the
