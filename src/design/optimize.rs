@@ -1,7 +1,7 @@
 //! The co-design loop: CMA-ES over the gear ratios, designs evaluated by worker processes, every
 //! evaluation logged, and finished ones replayed on resume.
 
-use super::cmaes::{Cmaes, CmaesSettings};
+use super::cmaes::{Cmaes, CmaesError, CmaesSettings};
 use super::outcome::DesignOutcome;
 pub use super::outcome::GenerationSummary;
 use super::score::{Evaluation, Status};
@@ -20,7 +20,7 @@ pub type Finished = store::log::Finished<Evaluation>;
 #[derive(Debug)]
 pub enum OptimizeError {
     /// CMA-ES refused its settings or a generation's fitness.
-    Cmaes(String),
+    Cmaes(CmaesError),
     /// The worker pool stopped.
     Workers(WorkerError),
     /// An evaluation could not be appended to the evaluation log.
@@ -41,7 +41,7 @@ pub enum OptimizeError {
 impl fmt::Display for OptimizeError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            OptimizeError::Cmaes(message) => f.write_str(message),
+            OptimizeError::Cmaes(error) => error.fmt(f),
             OptimizeError::Log(error) => error.fmt(f),
             OptimizeError::Workers(error) => error.fmt(f),
             OptimizeError::NotJudged {

@@ -26,8 +26,10 @@ use std::cmp::Ordering;
 /// keeps the previous B and D).
 const EIGEN_MAX_ITERATIONS: usize = 10_000;
 
+mod error;
 mod settings;
 
+pub use error::CmaesError;
 pub use settings::{CmaesSettings, SettingError, StopReason, MAX_GENERATIONS, MAX_POPULATION};
 
 /// The constants of the strategy, pagmo's formulas with N = dimension.
@@ -154,20 +156,24 @@ impl Cmaes {
     /// Checks the settings ([`CmaesSettings::validate`]) and the box (finite bounds, lower <=
     /// upper, at least one dimension)
     /// and draws the initial population.
-    pub fn new(settings: CmaesSettings, lower: Vec<f64>, upper: Vec<f64>) -> Result<Cmaes, String> {
-        settings.validate().map_err(|e| format!("CMA-ES: {e}"))?;
+    pub fn new(
+        settings: CmaesSettings,
+        lower: Vec<f64>,
+        upper: Vec<f64>,
+    ) -> Result<Cmaes, CmaesError> {
+        settings.validate().map_err(CmaesError::Settings)?;
         if lower.len() != upper.len() || lower.is_empty() {
-            return Err(format!(
+            return Err(CmaesError::Bounds(format!(
                 "the bounds have {} lower and {} upper values; they must agree and not be empty",
                 lower.len(),
                 upper.len()
-            ));
+            )));
         }
         for (j, (lo, hi)) in lower.iter().zip(&upper).enumerate() {
             if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
-                return Err(format!(
+                return Err(CmaesError::Bounds(format!(
                     "bounds of x[{j}] = [{lo}, {hi}] must be finite with lower <= upper"
-                ));
+                )));
             }
         }
         let dim = lower.len();
@@ -216,9 +222,11 @@ impl Cmaes {
 
     /// Takes the fitness of the initial population, in its order; the mean moves to its best.
     /// Then draws generation 1, or stops (generations = 0, or a stopping test).
-    pub fn tell_initial(&mut self, fitness: &[f64]) -> Result<(), String> {
+    pub fn tell_initial(&mut self, fitness: &[f64]) -> Result<(), CmaesError> {
         if !matches!(self.phase, Phase::Initial) {
-            return Err("the initial population has already been told its fitness".to_owned());
+            return Err(CmaesError::Order(
+                "the initial population has already been told its fitness",
+            ));
         }
         self.check_length(fitness)?;
         for (x, &f) in self.initial.iter().zip(fitness) {
@@ -242,11 +250,11 @@ impl Cmaes {
 
     /// Takes the fitness of the designs `ask` gave, in their order, adapts the distribution and
     /// draws the next generation, or stops.
-    pub fn tell(&mut self, fitness: &[f64]) -> Result<(), String> {
+    pub fn tell(&mut self, fitness: &[f64]) -> Result<(), CmaesError> {
         let samples = match &self.phase {
             Phase::Sampled(samples) => samples.clone(),
-            Phase::Initial => return Err("tell_initial must come before tell".to_owned()),
-            Phase::Stopped(reason) => return Err(format!("the run has stopped ({reason})")),
+            Phase::Initial => return Err(CmaesError::Order("tell_initial must come before tell")),
+            Phase::Stopped(reason) => return Err(CmaesError::Stopped(reason.to_string())),
         };
         self.check_length(fitness)?;
         for (x, &f) in samples.iter().zip(fitness) {
@@ -299,13 +307,12 @@ impl Cmaes {
         &self.settings
     }
 
-    fn check_length(&self, fitness: &[f64]) -> Result<(), String> {
+    fn check_length(&self, fitness: &[f64]) -> Result<(), CmaesError> {
         if fitness.len() != self.settings.population {
-            return Err(format!(
-                "expected {} fitness values, got {}",
-                self.settings.population,
-                fitness.len()
-            ));
+            return Err(CmaesError::Length {
+                expected: self.settings.population,
+                got: fitness.len(),
+            });
         }
         Ok(())
     }
@@ -694,7 +701,9 @@ mod tests {
 
     #[test]
     fn bad_settings_and_calls_are_errors() {
-        let new = |s: CmaesSettings, lo: Vec<f64>, hi: Vec<f64>| Cmaes::new(s, lo, hi).unwrap_err();
+        let new = |s: CmaesSettings, lo: Vec<f64>, hi: Vec<f64>| {
+            Cmaes::new(s, lo, hi).unwrap_err().to_string()
+        };
         assert!(new(settings(4, 1, 0), vec![0.0], vec![1.0]).contains("at least 5"));
         let mut s = settings(5, 1, 0);
         s.sigma0 = 0.0;
@@ -710,17 +719,34 @@ mod tests {
         let mut es = Cmaes::new(settings(5, 1, 0), vec![0.0], vec![1.0]).unwrap();
         assert_eq!(es.ask(), None);
         assert_eq!(es.best(), None);
-        assert!(es.tell(&[1.0; 5]).unwrap_err().contains("tell_initial"));
+        assert!(es
+            .tell(&[1.0; 5])
+            .unwrap_err()
+            .to_string()
+            .contains("tell_initial"));
         assert!(es
             .tell_initial(&[1.0; 4])
             .unwrap_err()
+            .to_string()
             .contains("expected 5"));
         es.tell_initial(&[1.0, 2.0, 3.0, 4.0, 5.0]).unwrap();
-        assert!(es.tell_initial(&[1.0; 5]).unwrap_err().contains("already"));
-        assert!(es.tell(&[1.0; 6]).unwrap_err().contains("expected 5"));
+        assert!(es
+            .tell_initial(&[1.0; 5])
+            .unwrap_err()
+            .to_string()
+            .contains("already"));
+        assert!(es
+            .tell(&[1.0; 6])
+            .unwrap_err()
+            .to_string()
+            .contains("expected 5"));
         es.tell(&[1.0, 2.0, 3.0, 4.0, 5.0]).unwrap();
         assert_eq!(es.stop_reason(), Some(StopReason::Generations));
-        assert!(es.tell(&[1.0; 5]).unwrap_err().contains("stopped"));
+        assert!(es
+            .tell(&[1.0; 5])
+            .unwrap_err()
+            .to_string()
+            .contains("stopped"));
     }
 
     #[test]
