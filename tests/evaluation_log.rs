@@ -3,8 +3,8 @@
 
 mod support;
 
-use codesign::design::evaluate::Evaluation;
 use codesign::design::optimize::EvaluationLog;
+use codesign::design::score::Evaluation;
 use codesign::store::log::{LogEntry, LogHeader, Start};
 use std::collections::HashSet;
 use std::path::PathBuf;

@@ -13,7 +13,7 @@
 //! feasibility.
 
 use super::outcome::DesignOutcome;
-pub use super::outcome::GradientIterate;
+use super::outcome::GradientIterate;
 use super::penalty::{Grading, Penalty};
 use super::score;
 use crate::ipopt::Solution;

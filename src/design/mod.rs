@@ -3,7 +3,6 @@
 
 pub mod capacity;
 pub mod cmaes;
-pub mod evaluate;
 pub mod gradient;
 pub mod optimize;
 pub mod outcome;

@@ -3,7 +3,7 @@
 
 use super::cmaes::{Cmaes, CmaesError, CmaesSettings};
 use super::outcome::DesignOutcome;
-pub use super::outcome::GenerationSummary;
+use super::outcome::GenerationSummary;
 use super::score::{Evaluation, Status};
 use super::workers::{Pool, WorkerError};
 use crate::stats::median;

@@ -5,9 +5,9 @@
 use super::document::{Method, OptimizeInputs, RecordedHash};
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
-use crate::design::evaluate::{Objective, PayloadRange};
 use crate::design::gradient::GradientSettings;
 use crate::design::penalty::{Grading, Penalty};
+use crate::design::score::{Objective, PayloadRange};
 use crate::design::workers::{Launcher, SOLVE_TIMEOUT_S};
 use crate::ipopt::LinearSolver;
 use crate::model::task::{check_payload, LimitMode, LimitModes, Task, TaskSource};
@@ -417,7 +417,7 @@ impl Case {
 #[cfg(test)]
 mod tests {
     use super::{Case, Method, ModelChoice, ProblemChoice};
-    use crate::design::evaluate::Objective;
+    use crate::design::score::Objective;
     use crate::problem::Space;
     use crate::store::log::Start;
 

@@ -1,10 +1,10 @@
 //! The document of a co-design run: its settings ([`OptimizeInputs`], also the header of its
 //! evaluation log) and what it found ([`OptimizeDocument`], the JSON file `optimize` writes).
 
-use crate::design::evaluate::Objective;
-use crate::design::gradient::GradientIterate;
-use crate::design::optimize::GenerationSummary;
+use crate::design::outcome::GenerationSummary;
+use crate::design::outcome::GradientIterate;
 use crate::design::penalty::Grading;
+use crate::design::score::Objective;
 use crate::ipopt::LinearSolver;
 use crate::model::task::LimitModes;
 use crate::problem::Space;

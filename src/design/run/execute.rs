@@ -4,12 +4,12 @@
 use super::case::Case;
 use super::document::{Method, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
 use super::error::{Output, RunError};
-use crate::design::evaluate::Objective;
 use crate::design::gradient::optimize_gradient;
 use crate::design::optimize::{optimize, EvaluationLog, Finished, Progress};
 use crate::design::outcome::DesignOutcome;
 use crate::design::penalty::Grading;
 use crate::design::score::Fitness;
+use crate::design::score::Objective;
 use crate::design::workers::{Pool, WorkerSetup, MAX_GROUPS};
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;

@@ -4,9 +4,9 @@
 use super::{
     AfterCell, DesignCell, PaperTable, PaperValues, RangeRow, ResultFile, TableRow, PAPER,
 };
-use crate::design::evaluate::Objective;
 use crate::design::penalty::Grading;
 use crate::design::run::{Method, OptimizeDocument};
+use crate::design::score::Objective;
 use crate::ipopt::LinearSolver;
 use crate::model::task::Motors;
 use crate::problem::Space;

@@ -2,7 +2,7 @@
 //! twice, and numbers that a run can have written.
 
 use super::ResultFile;
-use crate::design::evaluate::Objective;
+use crate::design::score::Objective;
 use crate::report::ReportError;
 use std::path::PathBuf;
 
