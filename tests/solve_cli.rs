@@ -173,3 +173,42 @@ fn a_closed_pipe_is_no_reason_to_panic() {
     assert!(out.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A task whose G has scaled entries (`k*r<i>`) solves, with its gradient; a zero scale is
+/// refused naming the entry.
+#[test]
+fn scaled_ratio_entries_solve() {
+    let dir = scratch("scaled");
+    let scaled = support::task_with(&dir, |task| {
+        task["transmission"]["matrix"][1][0] = "0.5*r2".into();
+        task["transmission"]["matrix"][2][1] = "-2*r3".into();
+        task["transmission"]["matrix"][3][1] = "-2*r3".into();
+    });
+    let out = dir.join("scaled.json");
+    let output = codesign(&[
+        "solve",
+        "--task",
+        scaled.to_str().unwrap(),
+        "--payload",
+        "1",
+        "--ratios",
+        "7,4,2,2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let result: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(result["feasible"], true);
+    assert_eq!(result["cost_gradient"].as_array().unwrap().len(), 4);
+    let zero = support::task_with(&dir, |task| {
+        task["transmission"]["matrix"][1][0] = "0*r2".into();
+    });
+    let output = codesign(&["solve", "--task", zero.to_str().unwrap()]);
+    support::fails_saying(&output, "transmission.matrix[1][0] = \"0*r2\"");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

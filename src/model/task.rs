@@ -147,7 +147,8 @@ pub struct Motors {
 pub enum MatrixEntry {
     /// A fixed number.
     Constant(f64),
-    /// `"r2"` or `"-r4"`: plus or minus the named ratio (1-based).
+    /// `"r2"`, `"-r4"` or `"0.5*r2"`: a finite non-zero multiple of the named ratio
+    /// (1-based).
     Ratio(String),
 }
 

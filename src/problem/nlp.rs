@@ -381,8 +381,33 @@ mod tests {
         Formulation::new(&task, robot, space, LimitModes { torque, speed }).unwrap()
     }
 
-    /// Every combination of space and modes (torque modes only matter in joint space), each in
-    /// the hard and the elastic kind.
+    /// [`formulation`] with scaled entries in G (`0.5*r2`, `-2*r3`), in both spaces with the
+    /// linear (exact) limits, whose rows carry G's entries.
+    fn scaled_formulations() -> Vec<Formulation> {
+        use crate::model::task::MatrixEntry;
+        [Space::Actuation, Space::Joint]
+            .into_iter()
+            .map(|space| {
+                let mut task = task();
+                task.motion.steps = 5;
+                task.payload.mass_kg = 1.0;
+                let matrix = &mut task.transmission.matrix;
+                matrix[1][0] = MatrixEntry::Ratio("0.5*r2".into());
+                for row in [2, 3] {
+                    matrix[row][1] = MatrixEntry::Ratio("-2*r3".into());
+                }
+                let robot = Robot::load(&task).unwrap();
+                let modes = LimitModes {
+                    torque: LimitMode::Exact,
+                    speed: LimitMode::Exact,
+                };
+                Formulation::new(&task, robot, space, modes).unwrap()
+            })
+            .collect()
+    }
+
+    /// Every combination of space and modes (torque modes only matter in joint space), and a G
+    /// with scaled entries, each in the hard and the elastic kind.
     fn all_formulations() -> Vec<Formulation> {
         let modes = [LimitMode::Paper, LimitMode::Interval, LimitMode::Exact];
         let mut list = Vec::new();
@@ -392,6 +417,7 @@ mod tests {
                 list.push(formulation(Space::Joint, torque, speed, 1.0));
             }
         }
+        list.extend(scaled_formulations());
         let elastic: Vec<_> = list.iter().map(Formulation::elastic).collect();
         list.extend(elastic);
         list

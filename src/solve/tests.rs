@@ -212,3 +212,48 @@ fn elastic_objective_gradient_matches_differences_of_resolved_problems() {
         }
     }
 }
+
+/// dJ*/dr against central differences of re-solved problems with scaled entries in G
+/// (`0.5*r2`, `-2*r3`): the envelope formula carries the scales through dG/dr.
+#[test]
+fn cost_gradient_with_scaled_entries_matches_differences() {
+    use crate::model::task::MatrixEntry;
+    let mut task = crate::testing::task();
+    let settings = SolveSettings {
+        tol: 1e-11,
+        ..crate::testing::settings()
+    };
+    let matrix = &mut task.transmission.matrix;
+    matrix[1][0] = MatrixEntry::Ratio("0.5*r2".into());
+    for row in [2, 3] {
+        matrix[row][1] = MatrixEntry::Ratio("-2*r3".into());
+    }
+    let ratios = [7.0, 4.0, 2.0, 2.0];
+    for space in [Space::Actuation, Space::Joint] {
+        let robot = Robot::load(&task).unwrap();
+        let modes = LimitModes {
+            torque: LimitMode::Exact,
+            speed: LimitMode::Exact,
+        };
+        let formulation = Formulation::new(&task, robot, space, modes).unwrap();
+        let result = solve_design(&formulation, &ratios, &settings).unwrap();
+        assert!(result.feasible, "{space}: {}", result.status);
+        let gradient = result.cost_gradient.clone().unwrap();
+        let scale = gradient.iter().fold(1.0_f64, |m, g| m.max(g.abs()));
+        for l in 0..4 {
+            let step = 1e-4;
+            let cost = |sign: f64| {
+                let mut r = ratios;
+                r[l] += sign * step;
+                solve_design(&formulation, &r, &settings).unwrap().cost
+            };
+            let fd = (cost(1.0) - cost(-1.0)) / (2.0 * step);
+            assert!(
+                (fd - gradient[l]).abs() <= 1e-4 * scale,
+                "{space} r = {ratios:?}: dJ/dr{} = {} but differences give {fd}",
+                l + 1,
+                gradient[l]
+            );
+        }
+    }
+}

@@ -24,7 +24,7 @@ impl Transmission {
             self.dof,
             self.entries.iter().map(|entry| match *entry {
                 Entry::Constant(value) => value,
-                Entry::Ratio { index, sign } => sign * r[index],
+                Entry::Ratio { index, scale } => scale * r[index],
             }),
         )
     }
@@ -36,7 +36,7 @@ impl Transmission {
             self.dof,
             self.dof,
             self.entries.iter().map(|entry| match *entry {
-                Entry::Ratio { index, sign } if index == i => sign,
+                Entry::Ratio { index, scale } if index == i => scale,
                 _ => 0.0,
             }),
         )

@@ -1,19 +1,20 @@
-//! Reading the task's `transmission` section: the entries of G (numbers and `[-]r<i>` names) and
-//! the order strings `r<i> <= r<j>` / `r<i> < r<j>`, with errors naming the field at fault.
+//! Reading the task's `transmission` section: the entries of G (numbers, `[-]r<i>` names and
+//! scaled names `k*r<i>`) and the order strings `r<i> <= r<j>` / `r<i> < r<j>`, with errors
+//! naming the field at fault.
 
 use super::design_space::{DesignSpace, OrderConstraint};
 use super::Transmission;
 use crate::model::task::{MatrixEntry, TransmissionSpec};
 use std::fmt;
 
-/// One entry of G: a constant or plus/minus one design ratio.
+/// One entry of G: a constant or a multiple of one design ratio.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) enum Entry {
     Constant(f64),
-    /// `sign * r[index]` (index 0-based, sign +-1).
+    /// `scale * r[index]` (index 0-based; scale finite and non-zero: +-1 for `[-]r<i>`).
     Ratio {
         index: usize,
-        sign: f64,
+        scale: f64,
     },
 }
 
@@ -53,7 +54,8 @@ pub enum SpecError {
         /// The matrix's rows.
         rows: usize,
     },
-    /// `transmission.matrix[row][column]` is neither a finite number nor `[-]r<i>` of a ratio.
+    /// `transmission.matrix[row][column]` is neither a finite number nor `[-]r<i>` or `k*r<i>`
+    /// (k finite and non-zero) of a ratio.
     Entry {
         /// Row of G (motor).
         row: usize,
@@ -117,8 +119,9 @@ impl fmt::Display for SpecError {
                 };
                 write!(
                     f,
-                    "transmission.matrix[{row}][{column}] = {shown} must be a finite number or \
-                     \"r<i>\" / \"-r<i>\" with 1 <= i <= {ratios} (the number of bounds)"
+                    "transmission.matrix[{row}][{column}] = {shown} must be a finite number, \
+                     \"r<i>\", \"-r<i>\" or \"k*r<i>\" (k a finite non-zero number, e.g. \
+                     \"0.5*r2\") with 1 <= i <= {ratios} (the number of bounds)"
                 )
             }
             SpecError::Order {
@@ -150,15 +153,21 @@ fn parse_ratio_name(text: &str, count: usize) -> Option<usize> {
     (1..=count).contains(&number).then(|| number - 1)
 }
 
-/// Parses `r<i>` or `-r<i>`.
+/// Parses `r<i>`, `-r<i>` or `k*r<i>` (k a finite non-zero number).
 fn parse_entry(text: &str, count: usize) -> Option<Entry> {
     let text = text.trim();
-    let (sign, name) = match text.strip_prefix('-') {
-        Some(rest) => (-1.0, rest),
-        None => (1.0, text),
+    let (scale, name) = match text.split_once('*') {
+        Some((factor, name)) => (factor.trim().parse::<f64>().ok()?, name),
+        None => match text.strip_prefix('-') {
+            Some(rest) => (-1.0, rest),
+            None => (1.0, text),
+        },
     };
+    if !(scale.is_finite() && scale != 0.0) {
+        return None;
+    }
     let index = parse_ratio_name(name, count)?;
-    Some(Entry::Ratio { index, sign })
+    Some(Entry::Ratio { index, scale })
 }
 
 /// Parses `r<i> <= r<j>` or `r<i> < r<j>`.
@@ -258,8 +267,8 @@ fn parse_orders(order: &[String], count: usize) -> Result<Vec<OrderConstraint>, 
 }
 
 impl Transmission {
-    /// Parses and checks the spec: a square matrix whose entries are finite numbers or `[-]r<i>`
-    /// with 1 <= i <= number of ratios (= number of bounds), as many original values as bounds,
+    /// Parses and checks the spec: a square matrix whose entries are finite numbers, `[-]r<i>`
+    /// or `k*r<i>` (k finite and non-zero) with 1 <= i <= number of ratios (= number of bounds), as many original values as bounds,
     /// finite bounds with lower <= upper, finite original values, and order strings
     /// `r<i> <= r<j>` or `r<i> < r<j>` with i != j. Errors name the field, e.g.
     /// `transmission.matrix[2][1]` (0-based indices). The original design is not held to the
@@ -310,6 +319,23 @@ mod tests {
         assert_eq!(g, expected);
     }
 
+    /// `k*r<i>` entries scale their ratio in G and in dG/dr; `-r<i>` is `-1*r<i>`.
+    #[test]
+    fn scaled_entries_scale_g_and_its_derivative() {
+        let mut spec = pick_place().transmission;
+        spec.matrix[1][0] = MatrixEntry::Ratio("0.5*r2".into());
+        spec.matrix[2][1] = MatrixEntry::Ratio(" -2 * r3 ".into());
+        spec.matrix[3][3] = MatrixEntry::Ratio("-1*r4".into());
+        let t = Transmission::from_spec(&spec).unwrap();
+        let g = t.matrix(&[6.0, 3.0, 1.5, 2.0]);
+        assert_eq!(g[(1, 0)], 1.5);
+        assert_eq!(g[(2, 1)], -3.0);
+        assert_eq!(g[(3, 3)], -2.0);
+        assert_eq!(t.matrix_derivative(1)[(1, 0)], 0.5);
+        assert_eq!(t.matrix_derivative(2)[(2, 1)], -2.0);
+        assert_eq!(t.matrix_derivative(3), belt_arm().matrix_derivative(3));
+    }
+
     #[test]
     fn spec_errors_name_the_field() {
         let good = pick_place().transmission;
@@ -326,6 +352,22 @@ mod tests {
             (
                 Box::new(|s| s.matrix[3][3] = MatrixEntry::Ratio("-r0".into())),
                 "transmission.matrix[3][3]",
+            ),
+            (
+                Box::new(|s| s.matrix[1][0] = MatrixEntry::Ratio("0*r2".into())),
+                "transmission.matrix[1][0] = \"0*r2\" must be a finite number, \"r<i>\"",
+            ),
+            (
+                Box::new(|s| s.matrix[1][0] = MatrixEntry::Ratio("inf*r2".into())),
+                "transmission.matrix[1][0]",
+            ),
+            (
+                Box::new(|s| s.matrix[1][0] = MatrixEntry::Ratio("2*r9".into())),
+                "transmission.matrix[1][0]",
+            ),
+            (
+                Box::new(|s| s.matrix[1][0] = MatrixEntry::Ratio("r2*2".into())),
+                "transmission.matrix[1][0]",
             ),
             (
                 Box::new(|s| s.matrix[1][0] = MatrixEntry::Constant(f64::NAN)),
@@ -387,8 +429,9 @@ mod tests {
         spec.matrix[2][1] = MatrixEntry::Ratio("r5".into());
         assert_eq!(
             Transmission::from_spec(&spec).unwrap_err().to_string(),
-            "transmission.matrix[2][1] = \"r5\" must be a finite number or \"r<i>\" / \"-r<i>\" \
-             with 1 <= i <= 4 (the number of bounds)"
+            "transmission.matrix[2][1] = \"r5\" must be a finite number, \"r<i>\", \"-r<i>\" or \
+             \"k*r<i>\" (k a finite non-zero number, e.g. \"0.5*r2\") with 1 <= i <= 4 (the number \
+             of bounds)"
         );
         spec.matrix[2][1] = MatrixEntry::Constant(f64::INFINITY);
         assert_eq!(
