@@ -58,6 +58,7 @@ fn stdout_failure() -> Option<String> {
 }
 
 mod capacity;
+mod check;
 mod common;
 mod doctor;
 mod dynamics;
@@ -87,6 +88,9 @@ pub struct Cli {
 enum Command {
     /// Check the installation: IPOPT version, a solve of HS071, IPOPT's derivative checker.
     Doctor(doctor::Args),
+    /// Inspect a robot and its task before solving: the chain, G, the static torques at the
+    /// start and the goal, the design space, and a verdict per check (exit 1 on any problem).
+    Check(check::Args),
     /// Evaluate the robot's dynamics and TCP kinematics, with derivatives, at one state (JSON).
     Dynamics(dynamics::Args),
     /// Solve the trajectory problem of one design and report cost, feasibility and trajectory.
@@ -126,6 +130,7 @@ pub fn main(stdout_closed: bool) -> ExitCode {
     let answers_itself = matches!(cli.command, Command::Worker);
     let outcome = match cli.command {
         Command::Doctor(args) => doctor::run(&args),
+        Command::Check(args) => check::run(&args),
         Command::Dynamics(args) => dynamics::run(&args),
         Command::Solve(args) => solve::run(&args),
         Command::Optimize(args) => optimize::run(&args),

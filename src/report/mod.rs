@@ -1,6 +1,7 @@
 //! Reports: SVG plots, the paper table, and the documents of each command (written through
 //! [`crate::store`]).
 
+pub mod check;
 pub mod codesign;
 mod error;
 pub mod plots;

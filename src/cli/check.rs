@@ -1,0 +1,54 @@
+//! `codesign check`: inspects a robot and its task before any solve, and lists every problem.
+
+use super::common::ModelArgs;
+use crate::report::check::Inspection;
+use crate::transmission::Transmission;
+
+/// Flags of `codesign check`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Gear ratios of the design to inspect, one per ratio of the task's transmission; default:
+    /// the task's original design.
+    #[arg(long, value_name = "R1,R2,..", value_delimiter = ',', num_args = 1..)]
+    ratios: Option<Vec<f64>>,
+    /// Print the inspection as one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Loads and inspects; prints the inspection; fails (exit 1) listing every problem found.
+pub fn run(args: &Args) -> Result<(), String> {
+    let (task, robot, _) = args.model.load()?;
+    let source = args.model.source();
+    let transmission =
+        Transmission::from_spec(&task.transmission).map_err(|e| format!("{source}: {e}"))?;
+    if transmission.dof() != robot.dof() {
+        return Err(format!(
+            "{source}: transmission.matrix is {0}x{0} but the robot has {1} moving joints",
+            transmission.dof(),
+            robot.dof()
+        ));
+    }
+    let ratios = args
+        .ratios
+        .clone()
+        .unwrap_or_else(|| task.transmission.original.clone());
+    let inspection = Inspection::of(&task, &robot, &transmission, &ratios);
+    if args.json {
+        let text = serde_json::to_string_pretty(&inspection).map_err(|e| e.to_string())?;
+        say!("{text}");
+    } else {
+        say_raw!("{}", inspection.to_text());
+    }
+    let problems = inspection.problems();
+    if problems.is_empty() {
+        return Ok(());
+    }
+    Err(format!(
+        "{} problem(s) found: {}",
+        problems.len(),
+        problems.join("; ")
+    ))
+}

@@ -1,0 +1,293 @@
+//! The inspection of a robot and its task before any solve (`codesign check`): the chain, the
+//! TCP at the start and the goal, G at a design and its inverse, the static gravity torques at
+//! both ends against the motors' limit, the design space, and a verdict per check.
+
+use crate::dynamics::Dynamics;
+use crate::model::task::Task;
+use crate::model::Robot;
+use crate::transmission::Transmission;
+use nalgebra::DMatrix;
+use serde::Serialize;
+use std::fmt::Write as _;
+
+/// One moving joint of the chain, from the base outward.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct JointReport {
+    /// The joint's name in the URDF.
+    pub name: String,
+    /// Its position limits (lower, upper), rad; infinite for a continuous joint.
+    pub limits: (f64, f64),
+    /// The mass it carries: its body and every body outboard, with the payload, kg.
+    pub carries_kg: f64,
+}
+
+/// The static torques that hold the arm still at one pose.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct HoldReport {
+    /// The pose, `start` or `goal`.
+    pub pose: String,
+    /// Joint angles, rad.
+    pub q: Vec<f64>,
+    /// The TCP's position in the world, m.
+    pub tcp_m: [f64; 3],
+    /// Gravity torques g(q) at the joints, with the payload, N m.
+    pub joint_torques_nm: Vec<f64>,
+    /// The motor torques G^-T g(q) that hold the arm still, N m.
+    pub motor_torques_nm: Vec<f64>,
+}
+
+/// One check and its verdict.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Verdict {
+    /// What was checked.
+    pub check: String,
+    /// Whether it passed.
+    pub ok: bool,
+    /// What was found.
+    pub detail: String,
+}
+
+/// Everything `codesign check` reports.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Inspection {
+    /// The moving joints.
+    pub joints: Vec<JointReport>,
+    /// The payload, kg.
+    pub payload_kg: f64,
+    /// The design inspected.
+    pub ratios: Vec<f64>,
+    /// Bounds of each ratio.
+    pub bounds: Vec<[f64; 2]>,
+    /// The order constraints, as written.
+    pub order: Vec<String>,
+    /// G at the design (row = motor), when it is invertible.
+    pub g: Option<Vec<Vec<f64>>>,
+    /// G^-1 at the design.
+    pub g_inverse: Option<Vec<Vec<f64>>>,
+    /// The static torques at the start and the goal.
+    pub holds: Vec<HoldReport>,
+    /// The motors' torque limit, N m.
+    pub torque_limit_nm: f64,
+    /// Every check, in order.
+    pub verdicts: Vec<Verdict>,
+}
+
+fn rows(matrix: &DMatrix<f64>) -> Vec<Vec<f64>> {
+    matrix
+        .row_iter()
+        .map(|row| row.iter().copied().collect())
+        .collect()
+}
+
+/// The mass each joint carries: its body and those outboard, with the payload, kg.
+fn carried(robot: &Robot) -> Vec<f64> {
+    let bodies = &robot.chain().bodies;
+    let payload_body = robot.payload_point().body;
+    (0..bodies.len())
+        .map(|i| {
+            let own: f64 = bodies[i..].iter().map(|b| b.mass.mass).sum();
+            let payload = payload_body
+                .filter(|&b| b >= i)
+                .map_or(0.0, |_| robot.payload_kg());
+            own + payload
+        })
+        .collect()
+}
+
+impl Inspection {
+    /// Inspects `robot` (with the task's payload) and `task` at design `ratios`.
+    pub fn of(
+        task: &Task,
+        robot: &Robot,
+        transmission: &Transmission,
+        ratios: &[f64],
+    ) -> Inspection {
+        let joints = robot
+            .joint_names()
+            .iter()
+            .zip(robot.position_limits())
+            .zip(carried(robot))
+            .map(|((name, &limits), carries_kg)| JointReport {
+                name: name.clone(),
+                limits,
+                carries_kg,
+            })
+            .collect();
+        let mut inspection = Inspection {
+            joints,
+            payload_kg: robot.payload_kg(),
+            ratios: ratios.to_vec(),
+            bounds: transmission.bounds().to_vec(),
+            order: transmission
+                .design_space()
+                .order()
+                .iter()
+                .map(|c| c.to_string())
+                .collect(),
+            g: None,
+            g_inverse: None,
+            holds: Vec::new(),
+            torque_limit_nm: task.motors.torque_limit_nm,
+            verdicts: Vec::new(),
+        };
+        inspection.check_motion(task, robot);
+        inspection.check_design(task, robot, transmission, ratios);
+        inspection
+    }
+
+    fn verdict(&mut self, check: &str, problem: Option<String>, fine: String) {
+        self.verdicts.push(Verdict {
+            check: check.to_owned(),
+            ok: problem.is_none(),
+            detail: problem.unwrap_or(fine),
+        });
+    }
+
+    /// The start and goal: one angle per moving joint, inside the joint limits.
+    fn check_motion(&mut self, task: &Task, robot: &Robot) {
+        let limits = robot.position_limits();
+        let mut problems = Vec::new();
+        for (pose, q) in [("start", &task.motion.start), ("goal", &task.motion.goal)] {
+            if q.len() != limits.len() {
+                problems.push(format!(
+                    "motion.{pose} has {} angles for {} moving joints",
+                    q.len(),
+                    limits.len()
+                ));
+                continue;
+            }
+            for (i, (&angle, &(lo, hi))) in q.iter().zip(limits).enumerate() {
+                if !(lo..=hi).contains(&angle) {
+                    problems.push(format!(
+                        "motion.{pose}[{i}] = {angle} rad is outside joint '{}' [{lo}, {hi}]",
+                        robot.joint_names()[i]
+                    ));
+                }
+            }
+        }
+        let problem = (!problems.is_empty()).then(|| problems.join("; "));
+        self.verdict(
+            "motion",
+            problem,
+            "start and goal within the joint limits".into(),
+        );
+    }
+
+    /// The design in its space with an invertible G, and the motors holding the arm still at
+    /// both ends.
+    fn check_design(&mut self, task: &Task, robot: &Robot, t: &Transmission, ratios: &[f64]) {
+        let coupling = match t.coupling(ratios) {
+            Ok(coupling) => coupling,
+            Err(error) => {
+                self.verdict("design", Some(error.to_string()), String::new());
+                return;
+            }
+        };
+        self.verdict(
+            "design",
+            None,
+            "inside the design space, G invertible".into(),
+        );
+        self.g = Some(rows(coupling.matrix()));
+        self.g_inverse = Some(rows(coupling.inverse()));
+        let dof = robot.dof();
+        if task.motion.start.len() != dof || task.motion.goal.len() != dof {
+            return;
+        }
+        let dynamics = Dynamics::new(robot.clone());
+        let mut data = dynamics.workspace();
+        for (pose, q) in [("start", &task.motion.start), ("goal", &task.motion.goal)] {
+            let mut g = vec![0.0; dynamics.dof()];
+            dynamics.gravity_torques(&mut data, q, &mut g);
+            let motors = coupling.motor_torques(&g);
+            let tcp = dynamics.tcp_position(&mut data, q);
+            let limit = task.motors.torque_limit_nm;
+            let worst = motors
+                .iter()
+                .enumerate()
+                .filter(|(_, m)| m.abs() > limit)
+                .map(|(i, m)| format!("motor {} needs {:.3} N m", i + 1, m.abs()))
+                .collect::<Vec<_>>();
+            let problem = (!worst.is_empty()).then(|| {
+                format!(
+                    "{} (limit {limit} N m): the motors cannot hold the load still",
+                    worst.join(", ")
+                )
+            });
+            let largest = motors.iter().fold(0.0_f64, |m, t| m.max(t.abs()));
+            let fine = format!("largest motor torque {largest:.3} N m of {limit}");
+            self.verdict(&format!("hold at {pose}"), problem, fine);
+            self.holds.push(HoldReport {
+                pose: pose.to_owned(),
+                q: q.clone(),
+                tcp_m: [tcp[0], tcp[1], tcp[2]],
+                joint_torques_nm: g,
+                motor_torques_nm: motors,
+            });
+        }
+    }
+
+    /// The problems found, one a line; empty when every check passed.
+    pub fn problems(&self) -> Vec<String> {
+        self.verdicts
+            .iter()
+            .filter(|v| !v.ok)
+            .map(|v| format!("{}: {}", v.check, v.detail))
+            .collect()
+    }
+
+    /// The inspection as text, for a terminal.
+    pub fn to_text(&self) -> String {
+        let list = |values: &[f64]| {
+            // A value that rounds to zero is written 0, never -0.
+            let shown = |v: f64| if v.abs() < 5e-5 { 0.0 } else { v };
+            let texts: Vec<String> = values.iter().map(|&v| format!("{:.4}", shown(v))).collect();
+            texts.join(", ")
+        };
+        let mut text = format!(
+            "{} moving joints, payload {} kg\n",
+            self.joints.len(),
+            self.payload_kg
+        );
+        for (i, joint) in self.joints.iter().enumerate() {
+            let (lo, hi) = joint.limits;
+            let _ = writeln!(
+                text,
+                "  joint {} '{}': limits [{lo:.4}, {hi:.4}] rad, carries {:.3} kg",
+                i + 1,
+                joint.name,
+                joint.carries_kg
+            );
+        }
+        let _ = writeln!(
+            text,
+            "design r = ({}); bounds {:?}; order {}",
+            list(&self.ratios),
+            self.bounds,
+            self.order.join(", ")
+        );
+        for (name, matrix) in [("G", &self.g), ("G^-1", &self.g_inverse)] {
+            if let Some(matrix) = matrix {
+                let _ = writeln!(text, "{name}:");
+                for row in matrix {
+                    let _ = writeln!(text, "  [{}]", list(row));
+                }
+            }
+        }
+        for hold in &self.holds {
+            let _ = writeln!(
+                text,
+                "{}: TCP ({}) m; gravity torques at the joints ({}) N m, at the motors ({}) N m",
+                hold.pose,
+                list(&hold.tcp_m),
+                list(&hold.joint_torques_nm),
+                list(&hold.motor_torques_nm)
+            );
+        }
+        for verdict in &self.verdicts {
+            let mark = if verdict.ok { "ok  " } else { "FAIL" };
+            let _ = writeln!(text, "{mark} {}: {}", verdict.check, verdict.detail);
+        }
+        text
+    }
+}
