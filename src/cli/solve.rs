@@ -191,6 +191,25 @@ fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
             elastic.objective
         );
     }
+    if let Some(t) = &result.cost_terms {
+        let terms = [
+            ("position", t.position),
+            ("velocity", t.velocity),
+            ("control", t.control),
+            ("box", t.cartesian_box),
+        ];
+        let largest = terms
+            .iter()
+            .fold(terms[0], |m, &t| if t.1 > m.1 { t } else { m });
+        say!(
+            "  J by term: position {:.4}, velocity {:.4}, control {:.4}, box {:.4} (the largest: {})",
+            t.position,
+            t.velocity,
+            t.control,
+            t.cartesian_box,
+            largest.0
+        );
+    }
     let s = &result.solve_seconds;
     say!(
         "  solve {:.1} ms (callbacks {:.1} ms, IPOPT {:.1} ms)",

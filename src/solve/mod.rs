@@ -19,7 +19,7 @@ mod verify;
 
 pub use error::SolveError;
 pub use result::{
-    ElasticMeasures, SolveSeconds, ToolInfo, Trajectory, TrajectoryResult, Violations,
+    CostTerms, ElasticMeasures, SolveSeconds, ToolInfo, Trajectory, TrajectoryResult, Violations,
 };
 pub use run::{solve_design, solve_design_from, solve_elastic};
 pub use settings::{SettingsError, SolveSettings, TaskRecord, DEFAULT_MAX_ITER, DEFAULT_TOL};

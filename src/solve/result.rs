@@ -60,10 +60,28 @@ pub struct Trajectory {
     pub motor_torque: Vec<Vec<f64>>,
     /// Motor speeds per node, rad/s (G v).
     pub motor_speed: Vec<Vec<f64>>,
+    /// TCP world x per node, m (absent in files written before it was recorded).
+    #[serde(default)]
+    pub tcp_x: Vec<f64>,
     /// TCP world y per node, m.
     pub tcp_y: Vec<f64>,
     /// TCP world z per node, m.
     pub tcp_z: Vec<f64>,
+}
+
+/// The cost J by term (docs/model.md, section 7), so that a user sees which one dominates; they
+/// sum to J.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct CostTerms {
+    /// w_q sum_(k<N) |q_k|^2.
+    pub position: f64,
+    /// w_v sum_(k<N) |v_k|^2.
+    pub velocity: f64,
+    /// w_u sum_(k<N) |u_k|^2 (u: joint torques in joint space, motor torques in actuation
+    /// space).
+    pub control: f64,
+    /// sum_(k<N) sum_axis rho c_axis(p_k)^2: the soft Cartesian box.
+    pub cartesian_box: f64,
 }
 
 /// What an elastic solve's slacks relax (docs/model.md, section 14).
@@ -137,6 +155,13 @@ pub struct TrajectoryResult {
     /// The torque deficit and speed excess, for an elastic solve.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub elastic: Option<ElasticMeasures>,
+    /// J by term (absent in files written before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cost_terms: Option<CostTerms>,
+    /// The moving joints' names in the URDF, from the base outward (the order of every
+    /// per-joint vector; empty in files written before it was recorded).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joints: Vec<String>,
     /// The trajectory.
     pub trajectory: Trajectory,
 }
@@ -180,6 +205,8 @@ pub(super) fn read_result(
         cost_gradient: (feasible && f.kind() == ProblemKind::Hard)
             .then(|| cost_gradient(problem, solution)),
         elastic,
+        cost_terms: Some(cost_terms(problem, &solution.x, &trajectory)),
+        joints: f.dynamics().robot().joint_names().to_vec(),
         trajectory,
     }
 }
@@ -228,6 +255,44 @@ fn infeasibility(
     })
 }
 
+/// J at x by term; the TCP path is the trajectory's.
+fn cost_terms(problem: &TrajectoryProblem<'_>, x: &[f64], trajectory: &Trajectory) -> CostTerms {
+    let f = problem.formulation();
+    let (layout, task) = (f.layout(), f.task());
+    let squares = |index: fn(&crate::problem::Layout, usize, usize) -> usize| {
+        let mut sum = 0.0;
+        for k in 0..layout.steps {
+            for i in 0..layout.dof {
+                sum += x[index(layout, k, i)].powi(2);
+            }
+        }
+        sum
+    };
+    let b = &task.cartesian_box;
+    let mut cartesian_box = 0.0;
+    for k in 0..layout.steps {
+        let p = [
+            trajectory.tcp_x[k],
+            trajectory.tcp_y[k],
+            trajectory.tcp_z[k],
+        ];
+        for (axis, interval) in [&b.x, &b.y, &b.z].into_iter().enumerate() {
+            if let Some(interval) = interval {
+                let [lo, hi] = interval.range;
+                let c = (lo - p[axis]).max(0.0) + (p[axis] - hi).max(0.0);
+                cartesian_box += interval.weight * c * c;
+            }
+        }
+    }
+    let w = &task.weights;
+    CostTerms {
+        position: w.position * squares(crate::problem::Layout::q),
+        velocity: w.velocity * squares(crate::problem::Layout::v),
+        control: w.control * squares(crate::problem::Layout::u),
+        cartesian_box,
+    }
+}
+
 /// The trajectory of `problem`'s primal point x: states, torques, motor speeds, the TCP's path.
 fn read_trajectory(problem: &TrajectoryProblem<'_>, x: &[f64]) -> Trajectory {
     let f = problem.formulation();
@@ -241,6 +306,7 @@ fn read_trajectory(problem: &TrajectoryProblem<'_>, x: &[f64]) -> Trajectory {
         let (q, v) = (slice(layout.q(k, 0)), slice(layout.v(k, 0)));
         let tcp = dynamics.tcp_position(&mut data, &q);
         trajectory.time.push(k as f64 * h);
+        trajectory.tcp_x.push(tcp[0]);
         trajectory.tcp_y.push(tcp[1]);
         trajectory.tcp_z.push(tcp[2]);
         trajectory

@@ -50,6 +50,18 @@ fn a_feasible_result_satisfies_every_constraint_family() {
         .is_some_and(|g| g.len() == original.len()));
     let seconds = &result.solve_seconds;
     assert!(seconds.total >= seconds.callbacks && seconds.callbacks > 0.0);
+    // J by term sums to J; the joints are named, the TCP has its three coordinates.
+    let terms = result.cost_terms.unwrap();
+    let sum = terms.position + terms.velocity + terms.control + terms.cartesian_box;
+    assert!(
+        (sum - result.cost).abs() <= 1e-9 * result.cost,
+        "{terms:?} against {}",
+        result.cost
+    );
+    assert!(terms.control > 0.0 && terms.position > 0.0);
+    assert_eq!(result.joints.len(), 4);
+    assert_eq!(result.joints[0], "joint_arm_1");
+    assert_eq!(t.tcp_x.len(), steps + 1);
 }
 
 /// An infeasible design is a result that says why; a design outside its space is an error.
