@@ -139,6 +139,9 @@ pub struct Chain {
     pub limits: Vec<(f64, f64)>,
     /// Every link of the URDF.
     pub links: Vec<LinkFrame>,
+    /// What reading the URDF changed, one sentence each naming the joint or link: joints locked
+    /// (treated as fixed), inertias ignored.
+    pub notes: Vec<String>,
 }
 
 impl Chain {

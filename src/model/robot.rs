@@ -42,7 +42,7 @@ impl Robot {
     /// Reads the URDF text `urdf` with the gravity, TCP and payload of `task`; `source` names the
     /// URDF in errors (its file name).
     pub fn from_urdf_str(urdf: &str, source: &str, task: &Task) -> Result<Robot, ModelError> {
-        let chain = read_chain(urdf, source)?;
+        let chain = read_chain(urdf, source, Some(&task.tcp.link))?;
         let gravity = Vector3::from(task.gravity);
         if !gravity.iter().all(|g| g.is_finite()) {
             return Err(ModelError::new(
@@ -109,6 +109,12 @@ impl Robot {
     /// Position limits (lower, upper) per joint, rad; infinite for continuous joints.
     pub fn position_limits(&self) -> &[(f64, f64)] {
         &self.chain.limits
+    }
+
+    /// What reading the URDF changed, one sentence each naming the joint or link (joints locked,
+    /// inertias ignored), for a command to show; empty when the URDF was taken as it is.
+    pub fn notes(&self) -> &[String] {
+        &self.chain.notes
     }
 
     /// The serial chain: bodies, joints and links.

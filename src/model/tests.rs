@@ -3,6 +3,7 @@
 
 use super::chain::MassProperties;
 use super::task::Task;
+use super::urdf::read_chain;
 use super::{ModelError, Robot};
 use nalgebra::{Matrix3, Vector3};
 use std::path::{Path, PathBuf};
@@ -132,14 +133,29 @@ fn loops_and_branches_are_named() {
         "<joint name=\"closing\" type=\"fixed\"><parent link=\"link_4\"/><child link=\"base_link_al\"/></joint></robot>",
         &["robot", "'closing'", "'joint_arm_4'", "loop"],
     );
-    // A second moving joint on the forearm: a branch.
-    assert_fails(
+    // A second moving joint on the forearm: a branch, refused without a TCP link.
+    let branched = belt_arm_text().replacen(
         "</robot>",
         "<link name=\"link_5\"><inertial><mass value=\"1\"/><inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" \
          iyy=\"1\" iyz=\"0\" izz=\"1\"/></inertial></link>\
          <joint name=\"joint_arm_5\" type=\"revolute\"><parent link=\"link_2\"/><child link=\"link_5\"/>\
          <axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint></robot>",
-        &["serial", "link_2"],
+        1,
+    );
+    let message = read_chain(&branched, "test.urdf", None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("serial") && message.contains("link_2"),
+        "{message}"
+    );
+    // With the TCP link on link_4 the branch is locked.
+    let robot = load(&branched).unwrap();
+    assert_eq!(robot.dof(), 4);
+    assert_eq!(
+        robot.notes(),
+        ["joint 'joint_arm_5' (revolute) is not on the chain to the TCP link 'link_4': locked at \
+          q = 0 (treated as fixed)"]
     );
     // Two roots.
     assert_fails(
@@ -176,10 +192,11 @@ fn bad_masses_and_inertias_are_named() {
             "exceeds the sum of the other two",
         ],
     );
+    // Massless with an inertia: the inertia is ignored, and the body has no mass.
     assert_fails(
         "<mass value=\"0.14631\"/>",
         "<mass value=\"0\"/>",
-        &["link 'link_3' <inertia>", "mass is 0"],
+        &["joint 'joint_arm_3'", "without mass"],
     );
 }
 
@@ -203,7 +220,7 @@ fn unsupported_joints_are_named() {
     // The public file's joint_arm_1 limits.
     assert_fails(
         "lower=\"-3.5\" upper=\"3.5\"",
-        "lower=\"3\" upper=\"3\"",
+        "lower=\"3\" upper=\"2\"",
         &["joint 'joint_arm_1' <limit>", "lower = 3"],
     );
     assert_fails(
@@ -250,11 +267,139 @@ fn unknown_task_links_and_unreadable_files_are_named() {
             && message.contains("ends before its closing </robot>"),
         "{message}"
     );
-    let message = load("<robot name=\"r\"><link name=\"a\"/></robot>")
+    let message = load("<robot name=\"r\"><link name=\"link_4\"/></robot>")
         .unwrap_err()
         .to_string();
     assert!(
         message.contains("no revolute or continuous joint"),
         "{message}"
     );
+}
+
+fn idiom(name: &str) -> String {
+    std::fs::read_to_string(root().join("tests/data/urdf").join(name)).unwrap()
+}
+
+/// Bodies equal to 1e-12 in every number.
+fn assert_same_bodies(got: &Robot, want: &Robot) {
+    assert_eq!(got.dof(), want.dof());
+    for (g, w) in got.chain().bodies.iter().zip(&want.chain().bodies) {
+        let close = |a: &Matrix3<f64>, b: &Matrix3<f64>| (a - b).norm() < 1e-12;
+        assert!(close(
+            &g.joint_placement.rotation,
+            &w.joint_placement.rotation
+        ));
+        assert!((g.joint_placement.translation - w.joint_placement.translation).norm() < 1e-12);
+        assert_eq!(g.axis, w.axis);
+        assert!((g.mass.mass - w.mass.mass).abs() < 1e-12);
+        assert!((g.mass.com - w.mass.com).norm() < 1e-12, "{}", g.mass.com);
+        assert!(close(&g.mass.inertia, &w.mass.inertia));
+    }
+}
+
+#[test]
+fn the_belt_arm_has_no_notes() {
+    assert!(Robot::load(&task()).unwrap().notes().is_empty());
+}
+
+#[test]
+fn a_joint_with_lower_equal_to_upper_is_locked_at_that_angle() {
+    let text = idiom("locked_joint.urdf");
+    let robot = load(&text).unwrap();
+    assert_eq!(robot.joint_names(), ["joint_1", "joint_2"]);
+    assert_eq!(
+        robot.notes(),
+        ["joint 'wrist_locked' has lower = upper = 0.5: locked at 0.5 rad (treated as fixed)"]
+    );
+    // The same as a fixed joint turned by 0.5 rad about its x axis.
+    let fixed = text.replacen(
+        "<joint name=\"wrist_locked\" type=\"revolute\">",
+        "<joint name=\"wrist_locked\" type=\"fixed\">",
+        1,
+    );
+    let fixed = fixed.replacen(
+        "<origin xyz=\"0 0 0.2\"/><axis xyz=\"1 0 0\"/>",
+        "<origin xyz=\"0 0 0.2\" rpy=\"0.5 0 0\"/>",
+        1,
+    );
+    assert_same_bodies(&robot, &load(&fixed).unwrap());
+}
+
+#[test]
+fn joints_off_the_chain_to_the_tcp_are_locked_at_zero() {
+    let text = idiom("gripper.urdf");
+    let robot = load(&text).unwrap();
+    assert_eq!(robot.joint_names(), ["joint_1", "joint_2"]);
+    let notes = robot.notes().join("\n");
+    for finger in ["'finger_left' (prismatic)", "'finger_right' (prismatic)"] {
+        assert!(
+            notes.contains(&format!(
+                "joint {finger} is not on the chain to the TCP link 'link_4': locked at q = 0 \
+                 (treated as fixed)"
+            )),
+            "{notes}"
+        );
+    }
+    let fixed = text.replace("type=\"prismatic\"", "type=\"fixed\"");
+    let fixed_robot = load(&fixed).unwrap();
+    assert!(fixed_robot.notes().is_empty());
+    assert_same_bodies(&robot, &fixed_robot);
+    // The hand and fingers ride on the second body: 1 + 0.5 + 2 * 0.05 kg.
+    assert!((robot.chain().bodies[1].mass.mass - 1.6).abs() < 1e-12);
+    // Without a TCP link the fingers are moving joints, which cannot be.
+    let message = read_chain(&text, "g.urdf", None).unwrap_err().to_string();
+    assert!(message.starts_with("g.urdf: joint 'finger_"), "{message}");
+}
+
+#[test]
+fn a_massless_link_with_an_inertia_is_taken_with_a_note() {
+    let robot = load(&idiom("massless_flange.urdf")).unwrap();
+    assert_eq!(robot.dof(), 2);
+    assert_eq!(
+        robot.notes(),
+        ["link 'flange' has mass 0 and a nonzero inertia: its inertia is ignored (a massless link \
+          has none)"]
+    );
+    assert_eq!(robot.chain().bodies[1].mass.mass, 1.0);
+    assert!((robot.tcp().point - Vector3::new(0.0, 0.0, 0.37)).norm() < 1e-12);
+    // A negative mass is still refused.
+    let negative =
+        idiom("massless_flange.urdf").replacen("<mass value=\"0\"/>", "<mass value=\"-1\"/>", 1);
+    let message = load(&negative).unwrap_err().to_string();
+    assert!(message.contains("link 'flange' <mass>"), "{message}");
+}
+
+#[test]
+fn a_prismatic_joint_on_the_chain_and_a_second_limit_are_named() {
+    let message = load(&idiom("prismatic_on_chain.urdf"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.starts_with(
+            "test.urdf: joint 'slider': is prismatic: only revolute and continuous joints move \
+             in codesign's chains"
+        ),
+        "{message}"
+    );
+    let message = load(&idiom("duplicate_limit.urdf"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.starts_with(
+            "test.urdf: joint 'joint_2' <limit>: has 2 <limit> elements: a joint has at most one"
+        ),
+        "{message}"
+    );
+    // A joint without <parent> is named too; a revolute one without <limit> is refused.
+    let text = idiom("locked_joint.urdf");
+    let orphan = text.replacen("<parent link=\"link_1\"/>", "", 1);
+    let message = load(&orphan).unwrap_err().to_string();
+    assert!(message.contains("joint 'wrist_locked'"), "{message}");
+    let unlimited = text.replacen(
+        "<limit lower=\"-3\" upper=\"3\" effort=\"10\" velocity=\"3\"/>",
+        "",
+        1,
+    );
+    let message = load(&unlimited).unwrap_err().to_string();
+    assert!(message.contains("joint 'joint_1' <limit>"), "{message}");
 }
