@@ -15,7 +15,7 @@ fn the_built_in_task_passes_every_check() {
         String::from_utf8_lossy(&output.stderr)
     );
     for line in [
-        "4 moving joints, payload 0 kg",
+        "4 moving joints, TCP on link 'link_4', payload 0 kg",
         "joint 2 'joint_arm_2'",
         "G:",
         "G^-1:",
@@ -54,4 +54,38 @@ fn every_problem_is_listed() {
     );
     fails_saying(&output, "design: ");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// With `--robot` and no task, the robot alone: its chain to its tip link and the notes of what
+/// reading it locked.
+#[test]
+fn a_robot_alone_is_inspected() {
+    let urdf = support::root().join("tests/data/urdf/gripper.urdf");
+    let output = codesign(&["check", "--robot", urdf.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(
+        text.contains("2 moving joints, TCP on link 'link_4'"),
+        "{text}"
+    );
+    assert!(
+        text.contains("note: joint 'finger_left' (prismatic) is not on the chain"),
+        "{text}"
+    );
+    let dynamics = codesign(&[
+        "dynamics",
+        "--robot",
+        urdf.to_str().unwrap(),
+        "--q",
+        "0.1,0.2",
+    ]);
+    assert!(
+        dynamics.status.success(),
+        "{}",
+        String::from_utf8_lossy(&dynamics.stderr)
+    );
 }

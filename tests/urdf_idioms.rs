@@ -9,9 +9,20 @@ use serde_json::Value;
 use std::process::Output;
 use support::{fails_saying, root};
 
+/// `codesign dynamics` on the URDF `urdf` with the repository's task, whose TCP link is
+/// `link_4` (without `--task`, the TCP would be the robot's own tip link).
 fn dynamics(urdf: &str, q: &str) -> Output {
     let file = root().join("tests/data/urdf").join(urdf);
-    support::codesign(&["dynamics", "--robot", file.to_str().unwrap(), "--q", q])
+    let task = support::task_path();
+    support::codesign(&[
+        "dynamics",
+        "--task",
+        task.to_str().unwrap(),
+        "--robot",
+        file.to_str().unwrap(),
+        "--q",
+        q,
+    ])
 }
 
 /// The robot loads, takes a state of `dof` joints, and refuses one more.

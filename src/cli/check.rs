@@ -18,9 +18,15 @@ pub struct Args {
     json: bool,
 }
 
-/// Loads and inspects; prints the inspection; fails (exit 1) listing every problem found.
+/// Loads and inspects; prints the inspection; fails (exit 1) listing every problem found. With
+/// `--robot` and no `--task`, the robot alone: its chain, its notes and its tip link.
 pub fn run(args: &Args) -> Result<(), String> {
-    let (task, robot, _) = args.model.load()?;
+    let (task, robot, alone) = args.model.load_robot()?;
+    if alone {
+        let inspection = Inspection::of_robot(&robot);
+        print(&inspection, args.json)?;
+        return Ok(());
+    }
     let source = args.model.source();
     let transmission =
         Transmission::from_spec(&task.transmission).map_err(|e| format!("{source}: {e}"))?;
@@ -36,12 +42,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         .clone()
         .unwrap_or_else(|| task.transmission.original.clone());
     let inspection = Inspection::of(&task, &robot, &transmission, &ratios);
-    if args.json {
-        let text = serde_json::to_string_pretty(&inspection).map_err(|e| e.to_string())?;
-        say!("{text}");
-    } else {
-        say_raw!("{}", inspection.to_text());
-    }
+    print(&inspection, args.json)?;
     let problems = inspection.problems();
     if problems.is_empty() {
         return Ok(());
@@ -51,4 +52,15 @@ pub fn run(args: &Args) -> Result<(), String> {
         problems.len(),
         problems.join("; ")
     ))
+}
+
+/// Prints the inspection as text, or as JSON.
+fn print(inspection: &Inspection, json: bool) -> Result<(), String> {
+    if json {
+        let text = serde_json::to_string_pretty(inspection).map_err(|e| e.to_string())?;
+        say!("{text}");
+    } else {
+        say_raw!("{}", inspection.to_text());
+    }
+    Ok(())
 }

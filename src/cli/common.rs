@@ -3,10 +3,11 @@
 
 use crate::design::run::{ModelChoice, ProblemChoice};
 use crate::ipopt::LinearSolver;
-use crate::model::task::{LimitMode, LimitModes, Task, TaskSource};
+use crate::model::task::{check_payload, LimitMode, LimitModes, Task, TaskSource};
 use crate::model::Robot;
 use crate::problem::Space;
 use crate::solve::SolveSettings;
+use crate::text::number;
 use std::path::{Path, PathBuf};
 
 /// Where the task and robot come from, and the payload.
@@ -50,6 +51,26 @@ impl ModelArgs {
     /// Loads the task, the robot and the solve settings ([`ModelChoice::load`]).
     pub fn load(&self) -> Result<(Task, Robot, SolveSettings), String> {
         self.choice().load()
+    }
+
+    /// For the commands that inspect a robot (`check`, `dynamics`): with `--robot` and no
+    /// `--task`, the robot alone, its TCP (and payload point) at the origin of its chain's last
+    /// link, and true; else the task's robot ([`ModelArgs::load`]) and false.
+    pub fn load_robot(&self) -> Result<(Task, Robot, bool), String> {
+        let (Some(urdf), None) = (&self.robot, &self.task) else {
+            return self.load().map(|(task, robot, _)| (task, robot, false));
+        };
+        let tip = Robot::tip_link(urdf).map_err(|e| e.to_string())?;
+        let mut task = Task::built_in().map_err(|e| e.to_string())?;
+        task.robot = Some(urdf.clone());
+        task.tcp.link.clone_from(&tip);
+        task.tcp.point = [0.0; 3];
+        task.payload.at = task.tcp.clone();
+        let payload = self.payload.unwrap_or(0.0);
+        check_payload(payload).map_err(|why| format!("--payload {}: {why}", number(payload)))?;
+        task.payload.mass_kg = payload;
+        let robot = Robot::load(&task).map_err(|e| e.to_string())?;
+        Ok((task, robot, true))
     }
 }
 

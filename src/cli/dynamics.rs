@@ -71,7 +71,7 @@ struct Output {
 
 /// Loads the robot, evaluates everything at the given state and prints it as JSON on stdout.
 pub fn run(args: &Args) -> Result<(), String> {
-    let (_, robot, _) = args.model.load()?;
+    let (_, robot, _) = args.model.load_robot()?;
     let n = robot.dof();
     let joints = robot.joint_names().join(", ");
     let state = |flag: &str, values: Option<&Vec<f64>>| -> Result<Vec<f64>, String> {

@@ -3,7 +3,7 @@
 use super::chain::{Chain, PointOnBody};
 use super::error::ModelError;
 use super::task::{PointOnLink, Task};
-use super::urdf::read_chain;
+use super::urdf::{read_chain, tip_link};
 use crate::input::{read_text, MAX_URDF_BYTES};
 use nalgebra::Vector3;
 
@@ -37,6 +37,15 @@ impl Robot {
         let text = read_text(path, MAX_URDF_BYTES)
             .map_err(|e| ModelError::new(&file, "file", e.to_string()))?;
         Robot::from_urdf_str(&text, &file, task)
+    }
+
+    /// The link at the end of the longest chain of revolute and continuous joints of the URDF
+    /// at `path` (see `urdf::tip_link`): the TCP's link when no task names one.
+    pub fn tip_link(path: &std::path::Path) -> Result<String, ModelError> {
+        let file = path.display().to_string();
+        let text = read_text(path, MAX_URDF_BYTES)
+            .map_err(|e| ModelError::new(&file, "file", e.to_string()))?;
+        tip_link(&text, &file)
     }
 
     /// Reads the URDF text `urdf` with the gravity, TCP and payload of `task`; `source` names the

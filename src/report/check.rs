@@ -52,6 +52,10 @@ pub struct Verdict {
 pub struct Inspection {
     /// The moving joints.
     pub joints: Vec<JointReport>,
+    /// What reading the URDF locked or ignored, and why.
+    pub notes: Vec<String>,
+    /// The TCP's link.
+    pub tcp_link: String,
     /// The payload, kg.
     pub payload_kg: f64,
     /// The design inspected.
@@ -115,6 +119,8 @@ impl Inspection {
             .collect();
         let mut inspection = Inspection {
             joints,
+            notes: robot.notes().to_vec(),
+            tcp_link: task.tcp.link.clone(),
             payload_kg: robot.payload_kg(),
             ratios: ratios.to_vec(),
             bounds: transmission.bounds().to_vec(),
@@ -133,6 +139,41 @@ impl Inspection {
         inspection.check_motion(task, robot);
         inspection.check_design(task, robot, transmission, ratios);
         inspection
+    }
+
+    /// Inspects a robot alone (no task): its chain and notes, with no design and no motion.
+    pub fn of_robot(robot: &Robot) -> Inspection {
+        let joints = robot
+            .joint_names()
+            .iter()
+            .zip(robot.position_limits())
+            .zip(carried(robot))
+            .map(|((name, &limits), carries_kg)| JointReport {
+                name: name.clone(),
+                limits,
+                carries_kg,
+            })
+            .collect();
+        Inspection {
+            joints,
+            notes: robot.notes().to_vec(),
+            tcp_link: robot
+                .chain()
+                .links
+                .iter()
+                .rev()
+                .find(|link| link.body == robot.tcp().body)
+                .map_or_else(String::new, |link| link.name.clone()),
+            payload_kg: robot.payload_kg(),
+            ratios: Vec::new(),
+            bounds: Vec::new(),
+            order: Vec::new(),
+            g: None,
+            g_inverse: None,
+            holds: Vec::new(),
+            torque_limit_nm: 0.0,
+            verdicts: Vec::new(),
+        }
     }
 
     fn verdict(&mut self, check: &str, problem: Option<String>, fine: String) {
@@ -245,8 +286,9 @@ impl Inspection {
             texts.join(", ")
         };
         let mut text = format!(
-            "{} moving joints, payload {} kg\n",
+            "{} moving joints, TCP on link '{}', payload {} kg\n",
             self.joints.len(),
+            self.tcp_link,
             self.payload_kg
         );
         for (i, joint) in self.joints.iter().enumerate() {
@@ -259,13 +301,18 @@ impl Inspection {
                 joint.carries_kg
             );
         }
-        let _ = writeln!(
-            text,
-            "design r = ({}); bounds {:?}; order {}",
-            list(&self.ratios),
-            self.bounds,
-            self.order.join(", ")
-        );
+        for note in &self.notes {
+            let _ = writeln!(text, "  note: {note}");
+        }
+        if !self.ratios.is_empty() {
+            let _ = writeln!(
+                text,
+                "design r = ({}); bounds {:?}; order {}",
+                list(&self.ratios),
+                self.bounds,
+                self.order.join(", ")
+            );
+        }
         for (name, matrix) in [("G", &self.g), ("G^-1", &self.g_inverse)] {
             if let Some(matrix) = matrix {
                 let _ = writeln!(text, "{name}:");

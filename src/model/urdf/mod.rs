@@ -32,6 +32,15 @@ use urdf_rs::JointType;
 /// `tcp.link`; `None`: every non-fixed joint, which must then form one serial chain); `file`
 /// names it in errors.
 pub fn read_chain(urdf: &str, file: &str, tcp_link: Option<&str>) -> Result<Chain, ModelError> {
+    let robot = parse(urdf, file)?;
+    let elements = xml::top_elements(urdf);
+    let tree = Tree::new(&robot, file)?;
+    walk::chain(&tree, tcp_link, &elements)
+}
+
+/// Parses the URDF text `urdf` (`file` names it in errors): refuses a xacro file, a text that
+/// is no URDF, and more links or moving joints than a chain of this tool has.
+fn parse(urdf: &str, file: &str) -> Result<urdf_rs::Robot, ModelError> {
     if urdf.contains("xacro:") || urdf.contains("${") {
         return Err(ModelError::new(
             file,
@@ -57,9 +66,46 @@ pub fn read_chain(urdf: &str, file: &str, tcp_link: Option<&str>) -> Result<Chai
             ),
         ));
     }
-    let elements = xml::top_elements(urdf);
-    let tree = Tree::new(&robot, file)?;
-    walk::chain(&tree, tcp_link, &elements)
+    Ok(robot)
+}
+
+/// The link at the end of the longest chain of revolute and continuous joints from the root
+/// (a link fixed after it counts as further out): the TCP's link when no task names one.
+/// Branches through other joints (prismatic fingers, mimic joints) are not followed; ties go to
+/// the link written first. `file` names the URDF in errors.
+pub fn tip_link(urdf: &str, file: &str) -> Result<String, ModelError> {
+    let robot = parse(urdf, file)?;
+    let parent: std::collections::HashMap<&str, &urdf_rs::Joint> = robot
+        .joints
+        .iter()
+        .map(|joint| (joint.child.link.as_str(), joint))
+        .collect();
+    let reach = |link: &str| -> Option<(usize, usize)> {
+        let (mut moving, mut steps, mut at) = (0, 0, link);
+        while let Some(joint) = parent.get(at) {
+            match joint.joint_type {
+                JointType::Revolute | JointType::Continuous if joint.mimic.is_none() => moving += 1,
+                JointType::Fixed => {}
+                _ => return None,
+            }
+            steps += 1;
+            if steps > robot.links.len() {
+                return None;
+            }
+            at = &joint.parent.link;
+        }
+        Some((moving, steps))
+    };
+    let mut best: Option<((usize, usize), &str)> = None;
+    for link in &robot.links {
+        if let Some(depth) = reach(&link.name) {
+            if best.is_none_or(|(most, _)| depth > most) {
+                best = Some((depth, &link.name));
+            }
+        }
+    }
+    best.map(|(_, name)| name.to_owned())
+        .ok_or_else(|| ModelError::new(file, "robot", "has no link"))
 }
 
 /// The error for a URDF that `urdf-rs` cannot read: the joint or link at fault when the text
