@@ -116,8 +116,9 @@ pub fn optimize(
     let initial = cmaes.initial_population();
     let mut evaluations =
         evaluate_generation(0, &initial, pool, log, finished, &mut outcome, progress)?;
+    let (fitness, feasible) = record(0, evaluations, &mut outcome);
     cmaes
-        .tell_initial(&record(0, evaluations, &mut outcome))
+        .tell_initial(&fitness, &feasible)
         .map_err(OptimizeError::Cmaes)?;
     while let Some(designs) = cmaes.ask() {
         let generation = cmaes.generation() + 1;
@@ -130,8 +131,9 @@ pub fn optimize(
             &mut outcome,
             progress,
         )?;
+        let (fitness, feasible) = record(generation, evaluations, &mut outcome);
         cmaes
-            .tell(&record(generation, evaluations, &mut outcome))
+            .tell(&fitness, &feasible)
             .map_err(OptimizeError::Cmaes)?;
     }
     check_evaluations(&outcome.evaluations)?;
@@ -176,9 +178,15 @@ pub fn check_evaluations(evaluations: &[Evaluation]) -> Result<(), OptimizeError
     }
 }
 
-/// Adds a generation's evaluations to the outcome and returns their costs.
-fn record(generation: usize, evaluations: Vec<Evaluation>, outcome: &mut Run) -> Vec<f64> {
+/// Adds a generation's evaluations to the outcome and returns their costs and whether each was
+/// feasible (CMA-ES's stopping tests ignore a generation with no feasible design).
+fn record(
+    generation: usize,
+    evaluations: Vec<Evaluation>,
+    outcome: &mut Run,
+) -> (Vec<f64>, Vec<bool>) {
     let costs: Vec<f64> = evaluations.iter().map(|e| e.cost).collect();
+    let feasible: Vec<bool> = evaluations.iter().map(|e| e.feasible).collect();
     outcome.generations.push(GenerationSummary {
         generation,
         best: costs.iter().copied().fold(f64::INFINITY, f64::min),
@@ -187,7 +195,7 @@ fn record(generation: usize, evaluations: Vec<Evaluation>, outcome: &mut Run) ->
         evaluated: evaluations.len(),
     });
     outcome.evaluations.extend(evaluations);
-    costs
+    (costs, feasible)
 }
 
 fn evaluate_generation(
