@@ -323,3 +323,60 @@ fn the_graded_penalty_ranks_infeasible_designs_by_their_shortfall() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn clipped_samples_are_evaluated_inside_the_design_space() {
+    let dir = scratch("clip");
+    let task = support::task_with(&dir, |task| task["motion"]["steps"] = 4.into());
+    let out = dir.join("clip.json");
+    let clipped = run_to_completion(
+        &[
+            "optimize",
+            "--task",
+            task.to_str().unwrap(),
+            "--payload",
+            "1",
+            "--bounds",
+            "clip",
+            "--population",
+            "5",
+            "--generations",
+            "1",
+            "--workers",
+            "2",
+        ],
+        &out,
+    );
+    assert_eq!(clipped["inputs"]["bounds"], "clip");
+    let text = std::fs::read_to_string(out.with_extension("log.jsonl")).unwrap();
+    let mut lines = text.lines();
+    let header: Value = serde_json::from_str(lines.next().unwrap()).unwrap();
+    assert_eq!(header["run"]["bounds"], "clip");
+    let bounds = [[1.0, 9.0], [1.0, 9.0], [1.0, 3.0], [1.0, 3.0]];
+    let mut logged = 0;
+    for line in lines {
+        let entry: Value = serde_json::from_str(line).unwrap();
+        let r: Vec<f64> = entry["ratios"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        for (value, [lo, hi]) in r.iter().zip(bounds) {
+            assert!((lo..=hi).contains(value), "{r:?} outside the bounds");
+        }
+        // The task's order constraints: r3 <= r2 and r2 < r1.
+        assert!(r[2] <= r[1] && r[1] < r[0], "{r:?} breaks the order");
+        assert_ne!(entry["status"], "Invalid_Design", "{entry}");
+        logged += 1;
+    }
+    assert_eq!(logged, 10);
+    let best: Vec<f64> = clipped["best_ratios"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert!(best.is_empty() || (best[2] <= best[1] && best[1] < best[0]));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -3,6 +3,7 @@
 
 use super::common::{ModelArgs, ProblemArgs};
 use super::store_hints::run_error;
+use crate::design::bounds::BoundHandling;
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::gradient::GradientSettings;
@@ -58,6 +59,11 @@ pub struct Args {
     /// problem's objective, from infeasible starts too), or a number (flat, of that value).
     #[arg(long, value_name = "flat|graded|VALUE", default_value_t = Penalty::PAPER)]
     pub penalty: Penalty,
+    /// What CMA-ES does with a sample outside the design space (bounds, order constraints):
+    /// `penalty` evaluates it as drawn, so it scores the penalty (the paper's rule); `clip`
+    /// evaluates and logs its Euclidean projection onto the space instead (pagmo's force_bounds).
+    #[arg(long, value_enum, default_value_t = BoundHandling::Penalty)]
+    pub bounds: BoundHandling,
     /// Worker processes (default: one per core).
     #[arg(long, value_name = "N")]
     pub workers: Option<usize>,
@@ -106,6 +112,7 @@ impl Args {
         };
         case.gradient.max_iterations = self.gradient_iterations;
         case.penalty = self.penalty;
+        case.bounds = self.bounds;
         case.workers = self.workers;
         case.solve_timeout_s = self.solve_timeout;
         case.worker_command = self.worker_command.clone();

@@ -1,6 +1,7 @@
 //! The co-design loop: CMA-ES over the gear ratios, designs evaluated by worker processes, every
 //! evaluation logged, and finished ones replayed on resume.
 
+use super::bounds::BoundHandling;
 use super::cmaes::{Cmaes, CmaesError, CmaesSettings};
 use super::outcome::DesignOutcome;
 use super::outcome::GenerationSummary;
@@ -8,6 +9,7 @@ use super::score::{Evaluation, Status};
 use super::workers::{Pool, WorkerError};
 use crate::stats::median;
 use crate::store::{self, StoreError};
+use crate::transmission::DesignSpace;
 use std::fmt;
 
 /// The evaluation log of a co-design run: one entry per evaluation (see [`store::log`]).
@@ -93,19 +95,21 @@ impl Progress for () {
     fn evaluated(&mut self, _best: f64) {}
 }
 
-/// Runs CMA-ES with `settings` in the box `bounds`, evaluating with `pool`, logging to `log`, and
+/// Runs CMA-ES with `settings` in the box of `space`, evaluating with `pool` the design `bounds`
+/// makes of each sample (the sample, or its projection onto `space`), logging to `log`, and
 /// replaying `finished` evaluations (from a resumed log) whose design matches exactly. Fails when
 /// no evaluation judged a design (see [`check_evaluations`]).
 pub fn optimize(
     settings: CmaesSettings,
-    bounds: &[[f64; 2]],
+    space: &DesignSpace,
+    bounds: BoundHandling,
     pool: &mut Pool,
     log: &mut EvaluationLog,
     finished: &Finished,
     progress: &mut dyn Progress,
 ) -> Result<DesignOutcome, OptimizeError> {
-    let lower = bounds.iter().map(|b| b[0]).collect();
-    let upper = bounds.iter().map(|b| b[1]).collect();
+    let lower = space.bounds().iter().map(|b| b[0]).collect();
+    let upper = space.bounds().iter().map(|b| b[1]).collect();
     let mut cmaes = Cmaes::new(settings, lower, upper).map_err(OptimizeError::Cmaes)?;
     let mut outcome = Run {
         best_cost: f64::INFINITY,
@@ -113,14 +117,16 @@ pub fn optimize(
         evaluations: Vec::new(),
         replayed: 0,
     };
-    let initial = cmaes.initial_population();
+    let initial = bounds.designs(space, &cmaes.initial_population());
     let mut evaluations =
         evaluate_generation(0, &initial, pool, log, finished, &mut outcome, progress)?;
+    let (fitness, feasible) = record(0, evaluations, &mut outcome);
     cmaes
-        .tell_initial(&record(0, evaluations, &mut outcome))
+        .tell_initial(&fitness, &feasible)
         .map_err(OptimizeError::Cmaes)?;
-    while let Some(designs) = cmaes.ask() {
+    while let Some(samples) = cmaes.ask() {
         let generation = cmaes.generation() + 1;
+        let designs = bounds.designs(space, &samples);
         evaluations = evaluate_generation(
             generation,
             &designs,
@@ -130,8 +136,9 @@ pub fn optimize(
             &mut outcome,
             progress,
         )?;
+        let (fitness, feasible) = record(generation, evaluations, &mut outcome);
         cmaes
-            .tell(&record(generation, evaluations, &mut outcome))
+            .tell(&fitness, &feasible)
             .map_err(OptimizeError::Cmaes)?;
     }
     check_evaluations(&outcome.evaluations)?;
@@ -139,8 +146,9 @@ pub fn optimize(
     // A design no evaluation found feasible is no result: the run reports none.
     let any_feasible = outcome.evaluations.iter().any(|e| e.feasible);
     Ok(DesignOutcome {
+        // CMA-ES's best is a sample: the design evaluated for it is its projection when clipped.
         best_ratios: if any_feasible {
-            best.to_vec()
+            bounds.design(space, best)
         } else {
             Vec::new()
         },
@@ -176,9 +184,15 @@ pub fn check_evaluations(evaluations: &[Evaluation]) -> Result<(), OptimizeError
     }
 }
 
-/// Adds a generation's evaluations to the outcome and returns their costs.
-fn record(generation: usize, evaluations: Vec<Evaluation>, outcome: &mut Run) -> Vec<f64> {
+/// Adds a generation's evaluations to the outcome and returns their costs and whether each was
+/// feasible (CMA-ES's stopping tests ignore a generation with no feasible design).
+fn record(
+    generation: usize,
+    evaluations: Vec<Evaluation>,
+    outcome: &mut Run,
+) -> (Vec<f64>, Vec<bool>) {
     let costs: Vec<f64> = evaluations.iter().map(|e| e.cost).collect();
+    let feasible: Vec<bool> = evaluations.iter().map(|e| e.feasible).collect();
     outcome.generations.push(GenerationSummary {
         generation,
         best: costs.iter().copied().fold(f64::INFINITY, f64::min),
@@ -187,7 +201,7 @@ fn record(generation: usize, evaluations: Vec<Evaluation>, outcome: &mut Run) ->
         evaluated: evaluations.len(),
     });
     outcome.evaluations.extend(evaluations);
-    costs
+    (costs, feasible)
 }
 
 fn evaluate_generation(

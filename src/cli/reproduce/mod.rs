@@ -5,6 +5,7 @@ mod plan;
 mod stages;
 
 use super::store_hints::{check_output, hint};
+use crate::design::bounds::BoundHandling;
 use crate::design::run::{task_source, OptimizeDocument};
 use crate::ipopt::LinearSolver;
 use crate::model::Robot;
@@ -50,6 +51,10 @@ pub struct Args {
     /// Linear solver inside IPOPT; default: the task's `solver.linear_solver`, else ldl.
     #[arg(long, value_enum, value_name = "SOLVER")]
     linear_solver: Option<LinearSolver>,
+    /// What every CMA-ES run does with a sample outside the design space (see `optimize
+    /// --bounds`): penalised as drawn (the paper's rule) or projected onto the space.
+    #[arg(long, value_enum, default_value_t = BoundHandling::Penalty)]
+    bounds: BoundHandling,
     /// Continue an interrupted reproduction from its evaluation logs.
     #[arg(long)]
     resume: bool,

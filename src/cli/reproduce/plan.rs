@@ -3,6 +3,7 @@
 
 use super::Args;
 use crate::cli::common::ProblemArgs;
+use crate::design::bounds::BoundHandling;
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::penalty::{Grading, Penalty, PENALTY};
@@ -93,6 +94,8 @@ pub struct Plan {
     pub workers: Option<usize>,
     /// The shell command that starts one worker (None: this binary's `worker`).
     pub worker_command: Option<String>,
+    /// What the CMA-ES runs do with a sample outside the design space.
+    pub bounds: BoundHandling,
     /// How the CMA-ES runs treat the logs of an earlier reproduction.
     pub start: Start,
 }
@@ -130,6 +133,7 @@ impl Plan {
             },
             workers: args.workers,
             worker_command: args.worker_command.clone(),
+            bounds: args.bounds,
             start: Start::from_flags(args.resume, args.overwrite),
         };
         plan.check_sizes()?;
@@ -158,7 +162,7 @@ impl Plan {
     }
 
     /// A run in `space` at `payload` (None: the task's) with `method`, the plan's shared flags
-    /// and every other setting at its default.
+    /// (`bounds` for CMA-ES only) and every other setting at its default.
     fn case(&self, space: Space, payload: Option<f64>, method: Method) -> Case {
         let model = ModelChoice {
             task: self.task.clone(),
@@ -170,6 +174,10 @@ impl Plan {
             ..self.problem.choice()
         };
         let mut case = Case::new(model, problem, method);
+        if method == Method::Cmaes {
+            // The gradient method keeps its iterates in the design space itself.
+            case.bounds = self.bounds;
+        }
         case.workers = self.workers;
         case.worker_command = self.worker_command.clone();
         case.start = self.start;

@@ -14,7 +14,7 @@ pub enum CmaesError {
     Order(&'static str),
     /// The run has stopped, for this reason.
     Stopped(String),
-    /// A generation's fitness has the wrong number of values.
+    /// A generation's fitness values or feasibility flags are not one per design.
     Length {
         /// The population size.
         expected: usize,
@@ -31,7 +31,7 @@ impl fmt::Display for CmaesError {
             CmaesError::Order(message) => f.write_str(message),
             CmaesError::Stopped(reason) => write!(f, "the run has stopped ({reason})"),
             CmaesError::Length { expected, got } => {
-                write!(f, "expected {expected} fitness values, got {got}")
+                write!(f, "expected {expected} values, one per design, got {got}")
             }
         }
     }

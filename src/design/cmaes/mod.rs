@@ -9,7 +9,10 @@
 //!    bounds. Before they are handed out the stopping tests run, as in pagmo: stop when the last
 //!    sample's step |sigma B D z| < xtol, or when |f_best - f_worst| of the generation evaluated
 //!    last (the initial population before generation 1) < ftol; the stopped run's samples are
-//!    never evaluated. The run also stops after `generations` generations.
+//!    never evaluated. Unlike pagmo, neither test runs after a generation none of whose designs
+//!    was feasible (the caller says which were, see `tell`): a generation penalised alike has
+//!    spread 0 because of the penalty, not because the search converged. The run also stops after
+//!    `generations` generations.
 //! 3. `tell` ranks the samples (a NaN fitness ranks last, ties keep sample order), moves the mean
 //!    to the weighted mean of the best mu = lambda/2, updates the paths ps and pc, C (rank-one and
 //!    rank-mu) and sigma, and re-decomposes C when pagmo does.
@@ -220,20 +223,22 @@ impl Cmaes {
         self.initial.clone()
     }
 
-    /// Takes the fitness of the initial population, in its order; the mean moves to its best.
-    /// Then draws generation 1, or stops (generations = 0, or a stopping test).
-    pub fn tell_initial(&mut self, fitness: &[f64]) -> Result<(), CmaesError> {
+    /// Takes the fitness of the initial population, in its order, and whether each design was
+    /// feasible (as in [`Cmaes::tell`]); the mean moves to its best. Then draws generation 1, or
+    /// stops (generations = 0, or a stopping test).
+    pub fn tell_initial(&mut self, fitness: &[f64], feasible: &[bool]) -> Result<(), CmaesError> {
         if !matches!(self.phase, Phase::Initial) {
             return Err(CmaesError::Order(
                 "the initial population has already been told its fitness",
             ));
         }
         self.check_length(fitness)?;
+        self.check_length(feasible)?;
         for (x, &f) in self.initial.iter().zip(fitness) {
             Self::update_best(&mut self.best, x, f);
         }
         self.mean = DVector::from_column_slice(&self.initial[best_index(fitness)]);
-        self.advance(spread(fitness));
+        self.advance(spread(fitness), feasible.contains(&true));
         Ok(())
     }
 
@@ -249,14 +254,18 @@ impl Cmaes {
     }
 
     /// Takes the fitness of the designs `ask` gave, in their order, adapts the distribution and
-    /// draws the next generation, or stops.
-    pub fn tell(&mut self, fitness: &[f64]) -> Result<(), CmaesError> {
+    /// draws the next generation, or stops. `feasible[i]` says whether design i's fitness is its
+    /// objective value rather than a penalty for breaking a constraint: when no design of the
+    /// generation was feasible, the ftol and xtol tests are skipped (the run goes on, at most to
+    /// `generations`), since a spread of 0 among penalties says nothing about convergence.
+    pub fn tell(&mut self, fitness: &[f64], feasible: &[bool]) -> Result<(), CmaesError> {
         let samples = match &self.phase {
             Phase::Sampled(samples) => samples.clone(),
             Phase::Initial => return Err(CmaesError::Order("tell_initial must come before tell")),
             Phase::Stopped(reason) => return Err(CmaesError::Stopped(reason.to_string())),
         };
         self.check_length(fitness)?;
+        self.check_length(feasible)?;
         for (x, &f) in samples.iter().zip(fitness) {
             Self::update_best(&mut self.best, x.as_slice(), f);
         }
@@ -269,7 +278,7 @@ impl Cmaes {
             .map(|&i| &samples[i])
             .collect();
         self.adapt(&elite);
-        self.advance(spread(fitness));
+        self.advance(spread(fitness), feasible.contains(&true));
         Ok(())
     }
 
@@ -307,11 +316,12 @@ impl Cmaes {
         &self.settings
     }
 
-    fn check_length(&self, fitness: &[f64]) -> Result<(), CmaesError> {
-        if fitness.len() != self.settings.population {
+    /// Fails unless `values` has one entry per design of a generation.
+    fn check_length<T>(&self, values: &[T]) -> Result<(), CmaesError> {
+        if values.len() != self.settings.population {
             return Err(CmaesError::Length {
                 expected: self.settings.population,
-                got: fitness.len(),
+                got: values.len(),
             });
         }
         Ok(())
@@ -328,8 +338,8 @@ impl Cmaes {
     }
 
     /// Draws the next generation and runs pagmo's stopping tests on it and on the fitness spread
-    /// of the generation just told.
-    fn advance(&mut self, spread: f64) {
+    /// of the generation just told, unless none of that generation's designs was `feasible`.
+    fn advance(&mut self, spread: f64, feasible: bool) {
         if self.generation >= self.settings.generations {
             self.phase = Phase::Stopped(StopReason::Generations);
             return;
@@ -343,7 +353,9 @@ impl Cmaes {
             last_step = step.norm();
             samples.push(&self.mean + step);
         }
-        self.phase = if last_step < self.settings.xtol {
+        self.phase = if !feasible {
+            Phase::Sampled(samples)
+        } else if last_step < self.settings.xtol {
             Phase::Stopped(StopReason::Xtol { step: last_step })
         } else if spread < self.settings.ftol {
             Phase::Stopped(StopReason::Ftol { spread })
@@ -440,20 +452,31 @@ mod tests {
         }
     }
 
-    /// Runs to the end, evaluating `f` here; returns the run and every design asked, in order.
+    /// Runs to the end, evaluating `f` here (every design feasible); returns the run and every
+    /// design asked, in order.
     fn run(
         settings: CmaesSettings,
         lower: Vec<f64>,
         upper: Vec<f64>,
         f: impl Fn(&[f64]) -> f64,
     ) -> (Cmaes, Vec<Vec<f64>>) {
+        run_penalised(settings, lower, upper, |x| (f(x), true))
+    }
+
+    /// Runs to the end, `f` giving each design's fitness and whether it was feasible.
+    fn run_penalised(
+        settings: CmaesSettings,
+        lower: Vec<f64>,
+        upper: Vec<f64>,
+        f: impl Fn(&[f64]) -> (f64, bool),
+    ) -> (Cmaes, Vec<Vec<f64>>) {
         let mut es = Cmaes::new(settings, lower, upper).unwrap();
         let mut asked = es.initial_population();
-        let fitness: Vec<f64> = asked.iter().map(|x| f(x)).collect();
-        es.tell_initial(&fitness).unwrap();
+        let (fitness, feasible): (Vec<f64>, Vec<bool>) = asked.iter().map(|x| f(x)).unzip();
+        es.tell_initial(&fitness, &feasible).unwrap();
         while let Some(designs) = es.ask() {
-            let fitness: Vec<f64> = designs.iter().map(|x| f(x)).collect();
-            es.tell(&fitness).unwrap();
+            let (fitness, feasible): (Vec<f64>, Vec<bool>) = designs.iter().map(|x| f(x)).unzip();
+            es.tell(&fitness, &feasible).unwrap();
             asked.extend(designs);
         }
         (es, asked)
@@ -515,7 +538,7 @@ mod tests {
             .all(|x| (0..3).all(|j| x[j] >= lower[j] && x[j] < upper[j])));
 
         let fitness: Vec<f64> = initial.iter().map(|x| sphere(x)).collect();
-        es.tell_initial(&fitness).unwrap();
+        es.tell_initial(&fitness, &[true; 6]).unwrap();
         let best = (0..6)
             .min_by(|&a, &b| fitness[a].partial_cmp(&fitness[b]).unwrap())
             .unwrap();
@@ -552,13 +575,14 @@ mod tests {
         let (damps, chi_n): (f64, f64) = (1.4089687727837696, 1.254272742818995);
         let (sigma0, widths) = (0.3, [2.0, 4.0]);
         let mut es = Cmaes::new(settings(5, 3, 9), vec![0.0, -2.0], vec![2.0, 2.0]).unwrap();
-        es.tell_initial(&[5.0, 4.0, 3.0, 2.0, 1.0]).unwrap();
+        es.tell_initial(&[5.0, 4.0, 3.0, 2.0, 1.0], &[true; 5])
+            .unwrap();
         let m0 = es.initial_population()[4].clone();
         assert_eq!(es.mean(), m0.as_slice());
         es.ps = DVector::from_column_slice(&ps0);
         let x = es.ask().unwrap();
         // Ranks: sample 3 best, then sample 1.
-        es.tell(&[9.0, 2.0, 7.0, 0.5, 8.0]).unwrap();
+        es.tell(&[9.0, 2.0, 7.0, 0.5, 8.0], &[true; 5]).unwrap();
         let m1: Vec<f64> = (0..2).map(|j| w[0] * x[3][j] + w[1] * x[1][j]).collect();
         for (got, want) in es.mean().iter().zip(&m1) {
             assert!((got - want).abs() < 1e-14);
@@ -666,7 +690,8 @@ mod tests {
 
     #[test]
     fn stops_on_a_flat_fitness_and_on_small_steps() {
-        // Every design infeasible: the initial population is flat and the run ends at once.
+        // Every design feasible and scored alike: the initial population is flat and the run
+        // ends at once.
         let (es, designs) = run(settings(8, 30, 0), vec![1.0; 4], vec![9.0; 4], |_| 1e6);
         assert_eq!(es.stop_reason(), Some(StopReason::Ftol { spread: 0.0 }));
         assert_eq!(designs.len(), 8);
@@ -677,6 +702,56 @@ mod tests {
         let (es, _) = run(settings(10, 10_000, 0), vec![-1.0; 2], vec![1.0; 2], sphere);
         assert!(matches!(es.stop_reason(), Some(StopReason::Ftol { spread }) if spread < 1e-6));
         assert!(es.generation() < 10_000);
+    }
+
+    #[test]
+    fn generations_penalised_alike_never_stop_the_run() {
+        // Every design penalised alike: spread 0 every generation, yet the run goes to its limit.
+        let (es, designs) = run_penalised(settings(8, 30, 0), vec![1.0; 4], vec![9.0; 4], |_| {
+            (1e6, false)
+        });
+        assert_eq!(es.stop_reason(), Some(StopReason::Generations));
+        assert_eq!((es.generation(), designs.len()), (30, 8 * 31));
+        // A point box gives steps under xtol; with no feasible design that stops nothing either.
+        let (es, _) = run_penalised(settings(8, 5, 0), vec![2.0; 2], vec![2.0; 2], |_| {
+            (1e6, false)
+        });
+        assert_eq!(es.stop_reason(), Some(StopReason::Generations));
+        // The initial population and the first two generations penalised alike, then the
+        // sphere: the run goes on through them and then converges and stops as before.
+        let evaluations = std::cell::Cell::new(0);
+        let f = |x: &[f64]| {
+            evaluations.set(evaluations.get() + 1);
+            if evaluations.get() <= 30 {
+                (1e6, false)
+            } else {
+                (sphere(x), true)
+            }
+        };
+        let mut s = settings(10, 2000, 3);
+        s.xtol = 1e-10;
+        let (es, _) = run_penalised(s, vec![-5.0; 2], vec![5.0; 2], f);
+        let (x, best) = es.best().unwrap();
+        assert!(best < 1e-6, "{best} at {x:?}");
+        assert!(matches!(es.stop_reason(), Some(StopReason::Ftol { .. })));
+        assert!(es.generation() > 3 && es.generation() < 2000);
+    }
+
+    #[test]
+    fn one_feasible_design_lets_the_tests_run() {
+        // Flat penalties with one feasible design at the same value: the spread is 0 and ftol
+        // stops the run, as pagmo's would.
+        let mut es = Cmaes::new(settings(5, 10, 0), vec![0.0], vec![1.0]).unwrap();
+        es.tell_initial(&[1e6; 5], &[false, false, true, false, false])
+            .unwrap();
+        assert_eq!(es.stop_reason(), Some(StopReason::Ftol { spread: 0.0 }));
+        let mut es = Cmaes::new(settings(5, 10, 0), vec![0.0], vec![1.0]).unwrap();
+        es.tell_initial(&[1e6; 5], &[false; 5]).unwrap();
+        assert_eq!(es.stop_reason(), None);
+        es.tell(&[1e6; 5], &[false; 5]).unwrap();
+        assert_eq!((es.stop_reason(), es.generation()), (None, 1));
+        es.tell(&[1e6; 5], &[true; 5]).unwrap();
+        assert_eq!(es.stop_reason(), Some(StopReason::Ftol { spread: 0.0 }));
     }
 
     #[test]
@@ -720,30 +795,36 @@ mod tests {
         assert_eq!(es.ask(), None);
         assert_eq!(es.best(), None);
         assert!(es
-            .tell(&[1.0; 5])
+            .tell(&[1.0; 5], &[true; 5])
             .unwrap_err()
             .to_string()
             .contains("tell_initial"));
         assert!(es
-            .tell_initial(&[1.0; 4])
+            .tell_initial(&[1.0; 4], &[true; 4])
             .unwrap_err()
             .to_string()
             .contains("expected 5"));
-        es.tell_initial(&[1.0, 2.0, 3.0, 4.0, 5.0]).unwrap();
         assert!(es
-            .tell_initial(&[1.0; 5])
+            .tell_initial(&[1.0; 5], &[true; 4])
+            .unwrap_err()
+            .to_string()
+            .contains("expected 5 values"));
+        es.tell_initial(&[1.0, 2.0, 3.0, 4.0, 5.0], &[true; 5])
+            .unwrap();
+        assert!(es
+            .tell_initial(&[1.0; 5], &[true; 5])
             .unwrap_err()
             .to_string()
             .contains("already"));
         assert!(es
-            .tell(&[1.0; 6])
+            .tell(&[1.0; 6], &[true; 6])
             .unwrap_err()
             .to_string()
             .contains("expected 5"));
-        es.tell(&[1.0, 2.0, 3.0, 4.0, 5.0]).unwrap();
+        es.tell(&[1.0, 2.0, 3.0, 4.0, 5.0], &[true; 5]).unwrap();
         assert_eq!(es.stop_reason(), Some(StopReason::Generations));
         assert!(es
-            .tell(&[1.0; 5])
+            .tell(&[1.0; 5], &[true; 5])
             .unwrap_err()
             .to_string()
             .contains("stopped"));

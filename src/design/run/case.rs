@@ -3,6 +3,7 @@
 //! `codesign optimize` that sets each value, since a case is what those flags pose.
 
 use super::document::{Method, OptimizeInputs, RecordedHash};
+use crate::design::bounds::BoundHandling;
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::gradient::GradientSettings;
@@ -132,6 +133,8 @@ pub struct Case {
     pub gradient: GradientSettings,
     /// How invalid or infeasible designs are scored.
     pub penalty: Penalty,
+    /// Whether CMA-ES's samples are evaluated as drawn or projected onto the design space.
+    pub bounds: BoundHandling,
     /// Worker processes (default: one per core).
     pub workers: Option<usize>,
     /// A solve taking longer than this counts as a hung worker, s.
@@ -155,6 +158,7 @@ impl Case {
             cmaes: CmaesSettings::default(),
             gradient: GradientSettings::default(),
             penalty: Penalty::PAPER,
+            bounds: BoundHandling::Penalty,
             workers: None,
             solve_timeout_s: SOLVE_TIMEOUT_S,
             worker_command: None,
@@ -177,6 +181,13 @@ impl Case {
         }
         if self.penalty.grading == Grading::Graded {
             self.check_graded()?;
+        }
+        if self.method == Method::Gradient && !self.bounds.is_penalty() {
+            return Err(format!(
+                "--bounds {}: the gradient method keeps its iterates in the design space itself; \
+                 use --method cmaes",
+                self.bounds
+            ));
         }
         if !(self.solve_timeout_s.is_finite()
             && self.solve_timeout_s > 0.0
@@ -308,6 +319,9 @@ impl Case {
         push("--generations", self.cmaes.generations.to_string());
         push("--sigma", self.cmaes.sigma0.to_string());
         push("--penalty", self.penalty.to_string());
+        if !self.bounds.is_penalty() {
+            push("--bounds", self.bounds.to_string());
+        }
         if let Some(workers) = self.workers {
             push("--workers", workers.to_string());
         }
@@ -374,6 +388,7 @@ impl Case {
                 c.generations.to_string(),
             );
             compare("sigma0", inputs.sigma0.to_string(), c.sigma0.to_string());
+            compare("bounds", inputs.bounds.to_string(), self.bounds.to_string());
         }
         found
     }
@@ -408,6 +423,7 @@ impl Case {
             sigma0: self.cmaes.sigma0,
             penalty: self.penalty.base,
             grading: self.penalty.grading,
+            bounds: self.bounds,
             ftol: self.cmaes.ftol,
             xtol: self.cmaes.xtol,
         }
@@ -417,6 +433,7 @@ impl Case {
 #[cfg(test)]
 mod tests {
     use super::{Case, Method, ModelChoice, ProblemChoice};
+    use crate::design::bounds::BoundHandling;
     use crate::design::score::Objective;
     use crate::problem::Space;
     use crate::store::log::Start;
@@ -473,6 +490,11 @@ mod tests {
         let mut descent = case(Method::Gradient);
         descent.penalty = "graded".parse().unwrap();
         descent.validate().unwrap();
+        let mut clipped = case(Method::Gradient);
+        clipped.bounds = BoundHandling::Clip;
+        assert!(clipped.validate().unwrap_err().starts_with("--bounds clip"));
+        clipped.method = Method::Cmaes;
+        clipped.validate().unwrap();
         let mut timeout = case(Method::Cmaes);
         for absurd in [f64::NAN, 1e300, 0.0] {
             timeout.solve_timeout_s = absurd;

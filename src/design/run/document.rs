@@ -1,6 +1,7 @@
 //! The document of a co-design run: its settings ([`OptimizeInputs`], also the header of its
 //! evaluation log) and what it found ([`OptimizeDocument`], the JSON file `optimize` writes).
 
+use crate::design::bounds::BoundHandling;
 use crate::design::outcome::GenerationSummary;
 use crate::design::outcome::GradientIterate;
 use crate::design::penalty::Grading;
@@ -62,6 +63,10 @@ pub struct OptimizeInputs {
     /// left out.
     #[serde(default, skip_serializing_if = "Grading::is_flat")]
     pub grading: Grading,
+    /// Whether CMA-ES's samples outside the design space were projected onto it before they
+    /// were evaluated; penalised as drawn (the paper's rule) when left out.
+    #[serde(default, skip_serializing_if = "BoundHandling::is_penalty")]
+    pub bounds: BoundHandling,
     /// Stop when the population's cost spread falls below this.
     pub ftol: f64,
     /// Stop when the step falls below this.

@@ -302,10 +302,10 @@ fn run_cmaes(
         case.problem.space, inputs.payload_kg, settings.seed
     );
     let mut progress = display(total, label);
-    let bounds = formulation.transmission().bounds();
     Ok(optimize(
         settings.clone(),
-        bounds,
+        formulation.transmission().design_space(),
+        case.bounds,
         &mut pool,
         log,
         finished,
