@@ -98,6 +98,21 @@ fn carried(robot: &Robot) -> Vec<f64> {
         .collect()
 }
 
+/// The moving joints of `robot` with their limits and the mass each carries.
+fn joints(robot: &Robot) -> Vec<JointReport> {
+    robot
+        .joint_names()
+        .iter()
+        .zip(robot.position_limits())
+        .zip(carried(robot))
+        .map(|((name, &limits), carries_kg)| JointReport {
+            name: name.clone(),
+            limits,
+            carries_kg,
+        })
+        .collect()
+}
+
 impl Inspection {
     /// Inspects `robot` (with the task's payload) and `task` at design `ratios`.
     pub fn of(
@@ -106,17 +121,7 @@ impl Inspection {
         transmission: &Transmission,
         ratios: &[f64],
     ) -> Inspection {
-        let joints = robot
-            .joint_names()
-            .iter()
-            .zip(robot.position_limits())
-            .zip(carried(robot))
-            .map(|((name, &limits), carries_kg)| JointReport {
-                name: name.clone(),
-                limits,
-                carries_kg,
-            })
-            .collect();
+        let joints = joints(robot);
         let mut inspection = Inspection {
             joints,
             notes: robot.notes().to_vec(),
@@ -143,17 +148,7 @@ impl Inspection {
 
     /// Inspects a robot alone (no task): its chain and notes, with no design and no motion.
     pub fn of_robot(robot: &Robot) -> Inspection {
-        let joints = robot
-            .joint_names()
-            .iter()
-            .zip(robot.position_limits())
-            .zip(carried(robot))
-            .map(|((name, &limits), carries_kg)| JointReport {
-                name: name.clone(),
-                limits,
-                carries_kg,
-            })
-            .collect();
+        let joints = joints(robot);
         Inspection {
             joints,
             notes: robot.notes().to_vec(),

@@ -102,6 +102,32 @@ fn the_settings_reach_ipopt() {
     }
 }
 
+/// Checks `gradient` at `ratios` against central differences (step 1e-4) of `value`, to 1e-4
+/// relative to its largest entry; `label` names the case.
+fn assert_matches_differences(
+    label: &str,
+    gradient: &[f64],
+    ratios: [f64; 4],
+    value: impl Fn(&[f64]) -> f64,
+) {
+    let step = 1e-4;
+    let scale = gradient.iter().fold(1.0_f64, |m, g| m.max(g.abs()));
+    for l in 0..4 {
+        let at = |sign: f64| {
+            let mut r = ratios;
+            r[l] += sign * step;
+            value(&r)
+        };
+        let fd = (at(1.0) - at(-1.0)) / (2.0 * step);
+        assert!(
+            (fd - gradient[l]).abs() <= 1e-4 * scale,
+            "{label} r = {ratios:?}: d/dr{} = {} but differences give {fd}",
+            l + 1,
+            gradient[l]
+        );
+    }
+}
+
 /// dJ*/dr against central differences of re-solved problems, at designs where the active
 /// set is stable, in both spaces and with box (paper, interval) and linear (exact) limits.
 #[test]
@@ -149,22 +175,10 @@ fn cost_gradient_matches_differences_of_resolved_problems() {
         let result = solve_design(&formulation, &ratios, &settings).unwrap();
         assert!(result.feasible, "{space} {ratios:?}: {}", result.status);
         let gradient = result.cost_gradient.clone().unwrap();
-        for l in 0..4 {
-            let step = 1e-4;
-            let cost = |sign: f64| {
-                let mut r = ratios;
-                r[l] += sign * step;
-                solve_design(&formulation, &r, &settings).unwrap().cost
-            };
-            let fd = (cost(1.0) - cost(-1.0)) / (2.0 * step);
-            let scale = gradient.iter().fold(1.0_f64, |m, g| m.max(g.abs()));
-            assert!(
-                (fd - gradient[l]).abs() <= 1e-4 * scale,
-                "{space} {torque:?}/{speed:?} r = {ratios:?}: dJ/dr{} = {} but differences give {fd}",
-                l + 1,
-                gradient[l]
-            );
-        }
+        let label = format!("{space} {torque:?}/{speed:?}");
+        assert_matches_differences(&label, &gradient, ratios, |r| {
+            solve_design(&formulation, r, &settings).unwrap().cost
+        });
     }
 }
 
@@ -206,22 +220,10 @@ fn elastic_objective_gradient_matches_differences_of_resolved_problems() {
             "{space} {ratios:?} is meant to be infeasible"
         );
         let gradient = result.elastic.unwrap().objective_gradient.unwrap();
-        let scale = gradient.iter().fold(1.0_f64, |m, g| m.max(g.abs()));
-        for l in 0..4 {
-            let step = 1e-4;
-            let at = |sign: f64| {
-                let mut r = ratios;
-                r[l] += sign * step;
-                solve(&r, Some(&solution)).0.elastic.unwrap().objective
-            };
-            let fd = (at(1.0) - at(-1.0)) / (2.0 * step);
-            assert!(
-                (fd - gradient[l]).abs() <= 1e-4 * scale,
-                "{space} {speed:?} r = {ratios:?}: dphi/dr{} = {} but differences give {fd}",
-                l + 1,
-                gradient[l]
-            );
-        }
+        let label = format!("{space} {speed:?} elastic");
+        assert_matches_differences(&label, &gradient, ratios, |r| {
+            solve(r, Some(&solution)).0.elastic.unwrap().objective
+        });
     }
 }
 
@@ -251,21 +253,8 @@ fn cost_gradient_with_scaled_entries_matches_differences() {
         let result = solve_design(&formulation, &ratios, &settings).unwrap();
         assert!(result.feasible, "{space}: {}", result.status);
         let gradient = result.cost_gradient.clone().unwrap();
-        let scale = gradient.iter().fold(1.0_f64, |m, g| m.max(g.abs()));
-        for l in 0..4 {
-            let step = 1e-4;
-            let cost = |sign: f64| {
-                let mut r = ratios;
-                r[l] += sign * step;
-                solve_design(&formulation, &r, &settings).unwrap().cost
-            };
-            let fd = (cost(1.0) - cost(-1.0)) / (2.0 * step);
-            assert!(
-                (fd - gradient[l]).abs() <= 1e-4 * scale,
-                "{space} r = {ratios:?}: dJ/dr{} = {} but differences give {fd}",
-                l + 1,
-                gradient[l]
-            );
-        }
+        assert_matches_differences(&format!("{space} scaled"), &gradient, ratios, |r| {
+            solve_design(&formulation, r, &settings).unwrap().cost
+        });
     }
 }
