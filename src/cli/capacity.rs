@@ -56,7 +56,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     let (task, robot, mut solve) = args.model.load()?;
     args.problem.configure(&mut solve);
     if let Some(path) = &args.out {
-        check_output("--out", path, &args.model.inputs(&task))?;
+        check_output("--out", path, &args.model.choice().inputs(&task))?;
     }
     let modes = args.problem.modes(&task);
     let ratios = args

@@ -8,7 +8,7 @@ use crate::model::Robot;
 use crate::problem::Space;
 use crate::solve::SolveSettings;
 use crate::text::number;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Where the task and robot come from, and the payload.
 #[derive(Debug, Clone, clap::Args)]
@@ -34,13 +34,6 @@ impl ModelArgs {
             robot: self.robot.clone(),
             payload: self.payload,
         }
-    }
-
-    /// The files a command with these flags reads ([`ModelChoice::inputs`]).
-    pub fn inputs<'a>(&'a self, task: &'a Task) -> Vec<(&'static str, &'a Path)> {
-        let task_file = self.task.as_deref().map(|path| ("--task", path));
-        let robot = task.robot.as_deref().map(|path| ("robot", path));
-        task_file.into_iter().chain(robot).collect()
     }
 
     /// Where the task comes from.

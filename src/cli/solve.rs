@@ -62,7 +62,8 @@ pub fn run(args: &Args) -> Result<(), String> {
         check_steps(steps).map_err(|why| format!("--steps {steps}: {why}"))?;
         task.motion.steps = steps;
     }
-    let inputs = args.model.inputs(&task);
+    let choice = args.model.choice();
+    let inputs = choice.inputs(&task);
     if let Some(path) = &args.out {
         check_output("--out", path, &inputs)?;
     }

@@ -18,6 +18,7 @@
 use super::files::{resolved, same_file};
 use super::lock::lock_file;
 use super::{Action, Damage, StoreError, Thing};
+use crate::hash::fnv1a;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -121,10 +122,7 @@ const FORMAT: &str = "codesign-evaluation-log";
 
 /// The checksum of a log line's text: FNV-1a, 64 bits, as 16 hex digits.
 fn checksum(text: &str) -> String {
-    let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |hash, byte| {
-        (hash ^ u64::from(byte)).wrapping_mul(0x0100_0000_01b3)
-    });
-    format!("{hash:016x}")
+    fnv1a(text.as_bytes())
 }
 
 impl<E: Serialize> LogEntry<E> {
