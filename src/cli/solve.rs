@@ -18,7 +18,8 @@ pub struct Args {
     model: ModelArgs,
     #[command(flatten)]
     problem: ProblemArgs,
-    /// Gear ratios r1,r2,r3,r4; default: the task's original design.
+    /// Gear ratios of the design, one per ratio of the task's transmission (r1,r2,..); default:
+    /// the task's original design.
     #[arg(long, value_name = "R1,R2,..", value_delimiter = ',', num_args = 1..)]
     ratios: Option<Vec<f64>>,
     /// Duration of the motion, s; default: the task's horizon.

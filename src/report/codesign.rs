@@ -1,7 +1,8 @@
 //! The result file of a capacity search, and the plots of co-design runs: the evolution of the cost over the
-//! evaluations (the paper's figure 6) and the optimal ratios per case (figure 10).
+//! evaluations (the paper's figure 6) and the optimal ratios per case (figure 10, a radar; a bar
+//! chart for one or two ratios).
 
-use super::plots::{Chart, Mark, Radar, Series};
+use super::plots::{Bars, Chart, DrawResult, Figure, Mark, Radar, Series};
 use crate::design::capacity::{Capacity, CapacitySettings};
 use crate::design::run::OptimizeDocument;
 use crate::model::task::LimitModes;
@@ -67,22 +68,106 @@ pub fn cost_evolution_chart(title: &str, runs: &[&OptimizeDocument]) -> Chart {
     }
 }
 
-/// The optimal ratios of each case as closed polygons on a radar (the paper's figure 10), each
-/// ratio r_i on its spoke as a fraction of its upper bound.
-pub fn radar_chart(title: &str, cases: &[(String, Vec<f64>)], upper: &[f64]) -> Radar {
-    Radar {
-        title: title.to_owned(),
-        axes: upper
+/// The chart of the optimal ratios per case: a radar for three ratios or more, bars otherwise.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RatioChart {
+    /// Each case a closed polygon on one spoke per ratio.
+    Radar(Radar),
+    /// One group of bars per ratio, one bar per case.
+    Bars(Bars),
+}
+
+impl Figure for RatioChart {
+    fn title(&self) -> &str {
+        match self {
+            RatioChart::Radar(radar) => radar.title(),
+            RatioChart::Bars(bars) => bars.title(),
+        }
+    }
+
+    fn draw(&self, svg: &mut String) -> DrawResult {
+        match self {
+            RatioChart::Radar(radar) => radar.draw(svg),
+            RatioChart::Bars(bars) => bars.draw(svg),
+        }
+    }
+}
+
+/// The fewest ratios a radar is drawn for: with one or two its polygons have no area.
+pub const RADAR_MIN_RATIOS: usize = 3;
+
+/// The optimal ratios of each case, each ratio r_i as a fraction of its upper bound `upper[i]`:
+/// closed polygons on a radar (the paper's figure 10) for [`RADAR_MIN_RATIOS`] ratios or more,
+/// grouped bars (one group per ratio) for fewer.
+pub fn ratio_chart(title: &str, cases: &[(String, Vec<f64>)], upper: &[f64]) -> RatioChart {
+    let axes = upper
+        .iter()
+        .enumerate()
+        .map(|(i, max)| format!("r{} (max {max})", i + 1))
+        .collect();
+    let cases = cases
+        .iter()
+        .map(|(name, ratios)| {
+            let fractions = ratios.iter().zip(upper).map(|(r, max)| r / max).collect();
+            (name.clone(), fractions)
+        })
+        .collect();
+    if upper.len() >= RADAR_MIN_RATIOS {
+        RatioChart::Radar(Radar {
+            title: title.to_owned(),
+            axes,
+            cases,
+        })
+    } else {
+        RatioChart::Bars(Bars {
+            title: title.to_owned(),
+            axes,
+            y_label: "r_i / upper bound".into(),
+            cases,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cases(ratios: usize) -> Vec<(String, Vec<f64>)> {
+        ["joint, 1 kg", "actuation, 1 kg"]
             .iter()
             .enumerate()
-            .map(|(i, max)| format!("r{} (max {max})", i + 1))
-            .collect(),
-        cases: cases
-            .iter()
-            .map(|(name, ratios)| {
-                let fractions = ratios.iter().zip(upper).map(|(r, max)| r / max).collect();
-                (name.clone(), fractions)
+            .map(|(k, name)| {
+                let values = (0..ratios).map(|i| 1.0 + (i + k) as f64).collect();
+                (name.to_string(), values)
             })
-            .collect(),
+            .collect()
+    }
+
+    #[test]
+    fn a_radar_for_three_ratios_or_more_and_bars_below() {
+        for ratios in 1..=6 {
+            let upper = vec![9.0; ratios];
+            let chart = ratio_chart("optimal ratios", &cases(ratios), &upper);
+            let svg = chart.to_svg().unwrap();
+            for i in 1..=ratios {
+                assert!(svg.contains(&format!("r{i} (max 9)")), "r{i} missing");
+            }
+            assert!(svg.contains("joint, 1 kg") && svg.contains("actuation, 1 kg"));
+            // Bars are rectangles: one per ratio and case, two legend keys, the background
+            // and the legend's box (filled and framed); a radar draws only the last three.
+            let rectangles = svg.matches("<rect").count();
+            match chart {
+                RatioChart::Radar(radar) => {
+                    assert!(ratios >= 3, "{ratios} ratios on a radar");
+                    assert_eq!(radar.cases[1].1[0], 2.0 / 9.0);
+                    assert_eq!(rectangles, 3, "{ratios} ratios");
+                }
+                RatioChart::Bars(bars) => {
+                    assert!(ratios < 3, "{ratios} ratios as bars");
+                    assert_eq!(bars.cases[1].1[0], 2.0 / 9.0);
+                    assert_eq!(rectangles, 2 * ratios + 5, "{ratios} ratios");
+                }
+            }
+        }
     }
 }

@@ -2,7 +2,7 @@
 
 use super::plots::{Chart, Figure, Guide, Series};
 use super::ReportError;
-use crate::model::task::{LimitModes, Task};
+use crate::model::task::{LimitModes, SoftInterval, Task};
 use crate::problem::{Formulation, Space};
 use crate::solve::{SolveSettings, TaskRecord, ToolInfo, Trajectory, TrajectoryResult};
 use crate::transmission::JointLimits;
@@ -66,16 +66,34 @@ impl SolveDocument {
     }
 }
 
-fn per_joint(time: &[f64], rows: &[Vec<f64>], label: &str) -> Vec<Series> {
-    let joints = rows.first().map_or(0, Vec::len);
-    (0..joints)
-        .map(|i| {
+/// One series per column of `rows` (one row per time of `time`), named by `labels`.
+fn per_column(time: &[f64], rows: &[Vec<f64>], labels: &[String]) -> Vec<Series> {
+    labels
+        .iter()
+        .enumerate()
+        .map(|(i, label)| {
             Series::line(
-                format!("{label} {}", i + 1),
+                label.clone(),
                 time.iter().zip(rows).map(|(&t, row)| (t, row[i])).collect(),
             )
         })
         .collect()
+}
+
+/// The moving joints' URDF names: the result's, or the robot's for a result written before
+/// they were recorded.
+fn joint_labels(formulation: &Formulation, result: &TrajectoryResult) -> Vec<String> {
+    let robot = formulation.dynamics().robot();
+    if result.joints.len() == robot.dof() {
+        result.joints.clone()
+    } else {
+        robot.joint_names().to_vec()
+    }
+}
+
+/// The motors' names, `motor 1` to `motor m` (row i of G drives motor i).
+fn motor_labels(motors: usize) -> Vec<String> {
+    (1..=motors).map(|i| format!("motor {i}")).collect()
 }
 
 /// The files of the plots of a solve, in the order [`write_plots`] writes them.
@@ -86,9 +104,9 @@ pub const PLOT_FILES: [&str; 4] = [
     "tcp_path.svg",
 ];
 
-/// Writes the plots of a solve into `folder` ([`PLOT_FILES`]): joint positions, joint torques
-/// and motor torques with their limits, and the TCP path in the world y-z plane with the
-/// Cartesian box.
+/// Writes the plots of a solve into `folder` ([`PLOT_FILES`]): joint positions and joint
+/// torques (named as in the URDF) and motor torques with their limits, and the TCP path in the
+/// world plane it moves most in ([`path_plane`]) with the Cartesian box.
 pub fn write_plots(
     folder: &Path,
     formulation: &Formulation,
@@ -98,9 +116,10 @@ pub fn write_plots(
     let task = formulation.task();
     let t = &result.trajectory;
     let title = plot_title(formulation, result);
+    let joints = joint_labels(formulation, result);
     let charts = [
-        joint_positions(formulation, t, &title),
-        joint_torques(formulation, result, &title)?,
+        joint_positions(formulation, t, &joints, &title),
+        joint_torques(formulation, result, &joints, &title)?,
         motor_torques(task, t, &title),
         tcp_path(task, t, &title),
     ];
@@ -126,7 +145,12 @@ fn plot_title(formulation: &Formulation, result: &TrajectoryResult) -> String {
 }
 
 /// Joint positions over time, rad, with the robot's finite position limits.
-fn joint_positions(formulation: &Formulation, t: &Trajectory, title: &str) -> Chart {
+fn joint_positions(
+    formulation: &Formulation,
+    t: &Trajectory,
+    joints: &[String],
+    title: &str,
+) -> Chart {
     let limits = formulation.dynamics().robot().position_limits();
     let position_guides = limits
         .iter()
@@ -137,7 +161,7 @@ fn joint_positions(formulation: &Formulation, t: &Trajectory, title: &str) -> Ch
         title: format!("Joint positions: {title}"),
         x_label: "time [s]".into(),
         y_label: "q [rad]".into(),
-        series: per_joint(&t.time, &t.q, "joint"),
+        series: per_column(&t.time, &t.q, joints),
         guides: position_guides.collect(),
         log_y: false,
     }
@@ -148,6 +172,7 @@ fn joint_positions(formulation: &Formulation, t: &Trajectory, title: &str) -> Ch
 fn joint_torques(
     formulation: &Formulation,
     result: &TrajectoryResult,
+    joints: &[String],
     title: &str,
 ) -> Result<Chart, ReportError> {
     let t = &result.trajectory;
@@ -170,7 +195,7 @@ fn joint_torques(
         title: format!("Joint torques: {title}"),
         x_label: "time [s]".into(),
         y_label: "tau [N m]".into(),
-        series: per_joint(&t.time[..t.joint_torque.len()], &t.joint_torque, "joint"),
+        series: per_column(&t.time[..t.joint_torque.len()], &t.joint_torque, joints),
         guides,
         log_y: false,
     })
@@ -183,35 +208,204 @@ fn motor_torques(task: &Task, t: &Trajectory, title: &str) -> Chart {
         title: format!("Motor torques: {title}"),
         x_label: "time [s]".into(),
         y_label: "tau_u [N m]".into(),
-        series: per_joint(&t.time[..t.joint_torque.len()], &t.motor_torque, "motor"),
+        series: per_column(
+            &t.time[..t.joint_torque.len()],
+            &t.motor_torque,
+            &motor_labels(t.motor_torque.first().map_or(0, Vec::len)),
+        ),
         guides: vec![Guide::Horizontal(-limit), Guide::Horizontal(limit)],
         log_y: false,
     }
 }
 
-/// The TCP's path in the world y-z plane, m, with the task's Cartesian box.
-fn tcp_path(task: &Task, t: &Trajectory, title: &str) -> Chart {
-    let b = &task.cartesian_box;
-    let mut box_guides = Vec::new();
-    if let Some(y) = &b.y {
-        box_guides.extend(y.range.map(Guide::Vertical));
+/// An axis of the world frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WorldAxis {
+    /// World x.
+    X,
+    /// World y.
+    Y,
+    /// World z.
+    Z,
+}
+
+impl WorldAxis {
+    /// The axis' name, `x`, `y` or `z`.
+    fn name(self) -> &'static str {
+        match self {
+            WorldAxis::X => "x",
+            WorldAxis::Y => "y",
+            WorldAxis::Z => "z",
+        }
     }
-    if let Some(z) = &b.z {
-        box_guides.extend(z.range.map(Guide::Horizontal));
+
+    /// The trajectory's TCP coordinates along the axis, m (x is empty in files written before
+    /// it was recorded).
+    fn of(self, t: &Trajectory) -> &[f64] {
+        match self {
+            WorldAxis::X => &t.tcp_x,
+            WorldAxis::Y => &t.tcp_y,
+            WorldAxis::Z => &t.tcp_z,
+        }
+    }
+
+    /// The task's Cartesian box along the axis, when it has one.
+    fn interval(self, task: &Task) -> Option<&SoftInterval> {
+        let b = &task.cartesian_box;
+        match self {
+            WorldAxis::X => b.x.as_ref(),
+            WorldAxis::Y => b.y.as_ref(),
+            WorldAxis::Z => b.z.as_ref(),
+        }
+    }
+}
+
+/// The world plane the TCP's path moves most in, as (horizontal, vertical) axes of its plot:
+/// the two axes over which the path extends furthest (max - min), in x, y, z order; of axes
+/// that extend equally, x is left out first, then y. A path in the world's y-z plane (the
+/// built-in arm's) gives (y, z).
+pub fn path_plane(t: &Trajectory) -> (WorldAxis, WorldAxis) {
+    let extent = |axis: WorldAxis| {
+        let (lo, hi) = axis
+            .of(t)
+            .iter()
+            .filter(|v| v.is_finite())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                (lo.min(v), hi.max(v))
+            });
+        if hi >= lo {
+            hi - lo
+        } else {
+            0.0
+        }
+    };
+    let (x, y, z) = (
+        extent(WorldAxis::X),
+        extent(WorldAxis::Y),
+        extent(WorldAxis::Z),
+    );
+    if x <= y && x <= z {
+        (WorldAxis::Y, WorldAxis::Z)
+    } else if y <= z {
+        (WorldAxis::X, WorldAxis::Z)
+    } else {
+        (WorldAxis::X, WorldAxis::Y)
+    }
+}
+
+/// The TCP's path in the world plane it moves most in ([`path_plane`]), m, with the task's
+/// Cartesian box on those axes.
+fn tcp_path(task: &Task, t: &Trajectory, title: &str) -> Chart {
+    let (across, up) = path_plane(t);
+    let mut box_guides = Vec::new();
+    if let Some(interval) = across.interval(task) {
+        box_guides.extend(interval.range.map(Guide::Vertical));
+    }
+    if let Some(interval) = up.interval(task) {
+        box_guides.extend(interval.range.map(Guide::Horizontal));
     }
     Chart {
         title: format!("TCP path: {title}"),
-        x_label: "world y [m]".into(),
-        y_label: "world z [m]".into(),
+        x_label: format!("world {} [m]", across.name()),
+        y_label: format!("world {} [m]", up.name()),
         series: vec![Series::line(
             "TCP",
-            t.tcp_y
+            across
+                .of(t)
                 .iter()
                 .copied()
-                .zip(t.tcp_z.iter().copied())
+                .zip(up.of(t).iter().copied())
                 .collect(),
         )],
         guides: box_guides,
         log_y: false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing;
+
+    /// A trajectory of `nodes` nodes whose TCP runs through `tcp(s)`, s from 0 to 1, with
+    /// `joints` joints and motors.
+    fn trajectory(nodes: usize, joints: usize, tcp: impl Fn(f64) -> [f64; 3]) -> Trajectory {
+        let s = |k: usize| k as f64 / (nodes - 1) as f64;
+        let rows = |n: usize| (0..n).map(|k| vec![s(k); joints]).collect::<Vec<_>>();
+        Trajectory {
+            time: (0..nodes).map(s).collect(),
+            q: rows(nodes),
+            v: rows(nodes),
+            a: rows(nodes - 1),
+            joint_torque: rows(nodes - 1),
+            motor_torque: rows(nodes - 1),
+            motor_speed: rows(nodes),
+            tcp_x: (0..nodes).map(|k| tcp(s(k))[0]).collect(),
+            tcp_y: (0..nodes).map(|k| tcp(s(k))[1]).collect(),
+            tcp_z: (0..nodes).map(|k| tcp(s(k))[2]).collect(),
+        }
+    }
+
+    #[test]
+    fn the_path_is_drawn_in_the_plane_it_moves_most_in() {
+        use WorldAxis::{X, Y, Z};
+        let arc = |s: f64| (std::f64::consts::PI * s).sin_cos();
+        // The built-in arm's kind of path: an arc in y-z, x still to a few micrometres.
+        let yz = trajectory(21, 4, |s| [4e-6 * s, -arc(s).1, 0.3 * arc(s).0]);
+        assert_eq!(path_plane(&yz), (Y, Z));
+        // A planar arm swinging in x-z, and one turning in x-y.
+        let xz = trajectory(21, 2, |s| [arc(s).1, 0.0, 0.5 * arc(s).0 - 0.2]);
+        assert_eq!(path_plane(&xz), (X, Z));
+        let xy = trajectory(21, 2, |s| [arc(s).1, 0.4 * arc(s).0, 0.1 + 1e-3 * s]);
+        assert_eq!(path_plane(&xy), (X, Y));
+        // A file written before tcp_x was recorded, and a path that stands still.
+        let mut old = xz.clone();
+        old.tcp_x.clear();
+        assert_eq!(path_plane(&old), (Y, Z));
+        assert_eq!(path_plane(&trajectory(3, 1, |_| [1.0, 2.0, 3.0])), (Y, Z));
+    }
+
+    #[test]
+    fn the_path_plot_names_its_axes_and_draws_the_box_on_them() {
+        let mut task = testing::task();
+        let xz = trajectory(11, 2, |s| [s, 0.0, 0.2 * s]);
+        let chart = tcp_path(&task, &xz, "planar");
+        assert_eq!(
+            (chart.x_label.as_str(), chart.y_label.as_str()),
+            ("world x [m]", "world z [m]")
+        );
+        // The task's box bounds y and z: only z shows in the x-z plane.
+        assert_eq!(
+            chart.guides,
+            vec![Guide::Horizontal(-0.9), Guide::Horizontal(0.6)]
+        );
+        task.cartesian_box.x = task.cartesian_box.y.clone();
+        let chart = tcp_path(&task, &xz, "planar");
+        assert_eq!(
+            chart.guides[..2],
+            [Guide::Vertical(-1.0), Guide::Vertical(0.4)]
+        );
+        assert_eq!(chart.series[0].points[10], (1.0, 0.2));
+    }
+
+    #[test]
+    fn joints_and_motors_are_named_in_the_plots() {
+        let formulation = testing::formulation(0.0, Space::Actuation);
+        let t = trajectory(5, 4, |s| [0.0, s, s]);
+        let joints = formulation.dynamics().robot().joint_names().to_vec();
+        assert_eq!(joints[0], "joint_arm_1");
+        let svg = joint_positions(&formulation, &t, &joints, "test")
+            .to_svg()
+            .unwrap();
+        for name in &joints {
+            assert!(svg.contains(name.as_str()), "{name} missing");
+        }
+        assert!(!svg.contains("joint 1"));
+        let svg = motor_torques(formulation.task(), &t, "test")
+            .to_svg()
+            .unwrap();
+        for i in 1..=4 {
+            assert!(svg.contains(&format!("motor {i}")), "motor {i} missing");
+        }
     }
 }

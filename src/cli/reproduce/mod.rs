@@ -10,7 +10,7 @@ use crate::design::run::{task_source, OptimizeDocument};
 use crate::ipopt::LinearSolver;
 use crate::model::Robot;
 use crate::problem::Space;
-use crate::report::codesign::{cost_evolution_chart, radar_chart, CapacityDocument};
+use crate::report::codesign::{cost_evolution_chart, ratio_chart, CapacityDocument};
 use crate::report::plots::Figure;
 use crate::report::table::{build_table, ResultFile};
 use crate::report::trajectory::write_plots;
@@ -263,7 +263,7 @@ fn best_of(runs: &[OptimizeDocument], payload: f64, space: Space) -> Option<&Tra
 }
 
 /// Per case: the cost evolution of its seeds and the plots of its best design; and the radar
-/// chart of every case's best ratios.
+/// (or bar) chart of every case's best ratios.
 fn write_case_plots(
     plan: &Plan,
     task: &TaskRecord,
@@ -290,12 +290,12 @@ fn write_case_plots(
         }
     }
     let upper: Vec<f64> = task.task.transmission.bounds.iter().map(|b| b[1]).collect();
-    let radar = radar_chart(
+    let ratios = ratio_chart(
         "Optimal gear ratios (r_i / upper bound)",
         &radar_cases,
         &upper,
     );
-    Ok(radar.write(&plots.join("optimal_ratios.svg"))?)
+    Ok(ratios.write(&plots.join("optimal_ratios.svg"))?)
 }
 
 /// Fails, naming a log and the two ways on, when `runs` holds evaluation logs of an earlier

@@ -1,10 +1,14 @@
-//! SVG line charts: trajectories (the paper's figures 4 and 5) and co-design histories.
+//! SVG figures: line charts of trajectories (the paper's figures 4 and 5) and co-design
+//! histories, and the radar or bar chart of values per case ([`ratios`]).
+
+mod ratios;
+
+pub use ratios::{Bars, Radar};
 
 use super::ReportError;
 use plotters::coord::ranged1d::ValueFormatter;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
 
 /// How a series is drawn.
@@ -84,14 +88,55 @@ fn span(values: impl Iterator<Item = f64>) -> (f64, f64) {
 /// The outcome of drawing a figure.
 pub type DrawResult = Result<(), Box<dyn std::error::Error>>;
 
+/// The series colours, in order: Palette99's first six (the colours of every committed plot),
+/// then six dark ones that stay readable on white.
+const PALETTE: [RGBColor; 12] = [
+    RGBColor(230, 25, 75),
+    RGBColor(60, 180, 75),
+    RGBColor(255, 225, 25),
+    RGBColor(0, 130, 200),
+    RGBColor(245, 130, 48),
+    RGBColor(145, 30, 180),
+    RGBColor(0, 128, 128),
+    RGBColor(128, 0, 0),
+    RGBColor(0, 0, 128),
+    RGBColor(170, 110, 40),
+    RGBColor(128, 128, 0),
+    RGBColor(240, 50, 230),
+];
+
+/// The colour of the `i`-th series (or case) of a figure, cycling through [`PALETTE`].
+fn palette(i: usize) -> RGBAColor {
+    PALETTE[i % PALETTE.len()].to_rgba()
+}
+
+/// Whether the `i`-th line of a chart is dashed: those of the palette's second round, fourth
+/// and so on, so that no two of 24 lines look alike.
+fn dashed(i: usize) -> bool {
+    (i / PALETTE.len()) % 2 == 1
+}
+
 /// The colour of the `i`-th series of its mark (so the k-th dots and the k-th line of a chart
 /// match): dots a lighter shade, so lines over them stay readable.
 fn colour(i: usize, mark: Mark) -> RGBAColor {
-    let colour = Palette99::pick(i).to_rgba();
+    let colour = palette(i);
     match mark {
         Mark::Line => colour,
         Mark::Dots => colour.mix(0.45),
     }
+}
+
+/// The font size (plotters' points) of the caption `title` over a figure `width` pixels wide
+/// with `margin` pixels each side: 22, or less for a title too long to fit (many ratios in a
+/// design), down to 10. An SVG viewer lays the text out, so its width is estimated: 0.55 em per
+/// character, and plotters writes 1/1.24 of the size as the SVG font size.
+fn caption_size(title: &str, width: u32, margin: u32) -> f64 {
+    const LARGEST: f64 = 22.0;
+    const SMALLEST: f64 = 10.0;
+    let pixels_per_point = 0.55 / 1.24;
+    let room = f64::from(width.saturating_sub(2 * margin));
+    let fit = room / (pixels_per_point * title.chars().count().max(1) as f64);
+    fit.clamp(SMALLEST, LARGEST)
 }
 
 /// A figure drawn as SVG.
@@ -144,7 +189,10 @@ impl Figure for Chart {
         root.fill(&WHITE)?;
         let mut builder = ChartBuilder::on(&root);
         builder
-            .caption(&self.title, ("sans-serif", 22))
+            .caption(
+                &self.title,
+                ("sans-serif", caption_size(&self.title, 900, 12)),
+            )
             .margin(12)
             .x_label_area_size(45)
             .y_label_area_size(70);
@@ -205,25 +253,19 @@ impl Chart {
                 .count();
             let colour = colour(ordinal, series.mark);
             match series.mark {
-                Mark::Line => chart
-                    .draw_series(LineSeries::new(
-                        series.points.iter().copied(),
-                        colour.stroke_width(2),
-                    ))?
-                    .label(&series.name)
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-                    }),
-                Mark::Dots => chart
-                    .draw_series(
-                        series
-                            .points
-                            .iter()
-                            .map(|&(x, y)| Circle::new((x, y), 2, colour.filled())),
-                    )?
-                    .label(&series.name)
-                    .legend(move |(x, y)| Circle::new((x + 10, y), 3, colour.filled())),
-            };
+                Mark::Line => draw_line(&mut chart, series, colour, dashed(ordinal))?,
+                Mark::Dots => {
+                    chart
+                        .draw_series(
+                            series
+                                .points
+                                .iter()
+                                .map(|&(x, y)| Circle::new((x, y), 2, colour.filled())),
+                        )?
+                        .label(&series.name)
+                        .legend(move |(x, y)| Circle::new((x + 10, y), 3, colour.filled()));
+                }
+            }
         }
         chart
             .configure_series_labels()
@@ -234,87 +276,34 @@ impl Chart {
     }
 }
 
-/// A radar chart: one spoke per axis, each case a closed polygon of its values on the spokes.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Radar {
-    /// Title above the plot.
-    pub title: String,
-    /// Spoke labels, clockwise from the top.
-    pub axes: Vec<String>,
-    /// (legend text, one value per axis as a fraction of the spoke's length, in [0, 1]).
-    pub cases: Vec<(String, Vec<f64>)>,
-}
-
-impl Radar {
-    /// The point at `fraction` of spoke `i`, in chart units (unit circle).
-    fn at(&self, i: usize, fraction: f64) -> (f64, f64) {
-        let n = self.axes.len() as f64;
-        let angle = std::f64::consts::FRAC_PI_2 - std::f64::consts::TAU * i as f64 / n;
-        (fraction * angle.cos(), fraction * angle.sin())
-    }
-}
-
-impl Figure for Radar {
-    fn title(&self) -> &str {
-        &self.title
-    }
-
-    fn draw(&self, svg: &mut String) -> DrawResult {
-        let root = SVGBackend::with_string(svg, (760, 640)).into_drawing_area();
-        root.fill(&WHITE)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(&self.title, ("sans-serif", 22))
-            .margin(20)
-            .build_cartesian_2d(-1.35..1.95, -1.25..1.25)?;
-        let grey = BLACK.mix(0.35);
-        let n = self.axes.len();
-        for ring in [0.25, 0.5, 0.75, 1.0] {
-            let outline: Vec<(f64, f64)> = (0..=n).map(|i| self.at(i % n, ring)).collect();
-            chart.draw_series(LineSeries::new(outline, grey.stroke_width(1)))?;
-            chart.draw_series(std::iter::once(Text::new(
-                format!("{ring}"),
-                (0.03, ring + 0.04),
-                ("sans-serif", 12).into_font().color(&grey),
-            )))?;
-        }
-        for (i, label) in self.axes.iter().enumerate() {
-            chart.draw_series(LineSeries::new(
-                vec![(0.0, 0.0), self.at(i, 1.0)],
-                grey.stroke_width(1),
-            ))?;
-            let (x, y) = self.at(i, 1.12);
-            let anchor = Pos::new(
-                if x > 0.05 {
-                    HPos::Left
-                } else if x < -0.05 {
-                    HPos::Right
-                } else {
-                    HPos::Center
-                },
-                VPos::Center,
-            );
-            let style = ("sans-serif", 16).into_font().color(&BLACK).pos(anchor);
-            chart.draw_series(std::iter::once(Text::new(label.clone(), (x, y), style)))?;
-        }
-        for (k, (name, values)) in self.cases.iter().enumerate() {
-            let colour = Palette99::pick(k).to_rgba();
-            let outline: Vec<(f64, f64)> = (0..=n).map(|i| self.at(i % n, values[i % n])).collect();
-            chart
-                .draw_series(LineSeries::new(outline, colour.stroke_width(2)))?
-                .label(name)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-                });
-        }
+/// Draws `series` as a line of `colour`, solid or dashed, with its legend entry.
+fn draw_line<'a, Y>(
+    chart: &mut ChartContext<'a, SVGBackend<'a>, Cartesian2d<RangedCoordf64, Y>>,
+    series: &Series,
+    colour: RGBAColor,
+    dashed: bool,
+) -> DrawResult
+where
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let style = colour.stroke_width(2);
+    let points = series.points.iter().copied();
+    if dashed {
         chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()?;
-        root.present()?;
-        Ok(())
+            .draw_series(DashedLineSeries::new(points, 8, 5, style))?
+            .label(&series.name)
+            .legend(move |(x, y)| {
+                EmptyElement::at((x, y))
+                    + PathElement::new(vec![(0, 0), (8, 0)], style)
+                    + PathElement::new(vec![(13, 0), (20, 0)], style)
+            });
+    } else {
+        chart
+            .draw_series(LineSeries::new(points, style))?
+            .label(&series.name)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
     }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -346,22 +335,5 @@ mod tests {
             ..chart
         };
         assert!(log.to_svg().unwrap().contains("<svg"));
-    }
-
-    #[test]
-    fn radar_labels_its_spokes_and_cases() {
-        let radar = Radar {
-            title: "ratios".into(),
-            axes: vec!["r1".into(), "r2".into(), "r3".into()],
-            cases: vec![("case A".into(), vec![1.0, 0.5, 0.25])],
-        };
-        let svg = radar.to_svg().unwrap();
-        for text in ["ratios", "r1", "r3", "case A", "0.75"] {
-            assert!(svg.contains(text), "{text} missing");
-        }
-        let top = radar.at(0, 1.0);
-        assert!(top.0.abs() < 1e-12 && (top.1 - 1.0).abs() < 1e-12);
-        let second = radar.at(1, 1.0);
-        assert!(second.0 > 0.0, "spokes run clockwise");
     }
 }
