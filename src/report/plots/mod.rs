@@ -336,4 +336,44 @@ mod tests {
         };
         assert!(log.to_svg().unwrap().contains("<svg"));
     }
+
+    #[test]
+    fn many_series_cycle_through_the_palette_then_dash() {
+        assert_eq!(palette(0), palette(PALETTE.len()));
+        assert_ne!(palette(5), palette(6));
+        assert!((0..PALETTE.len()).all(|i| !dashed(i)));
+        assert!(dashed(PALETTE.len()) && dashed(2 * PALETTE.len() - 1));
+        assert!(!dashed(2 * PALETTE.len()));
+        let series = (0..14)
+            .map(|i| Series::line(format!("joint_{i}"), vec![(0.0, i as f64), (1.0, 0.0)]))
+            .collect();
+        let chart = Chart {
+            title: "fourteen joints".into(),
+            x_label: "t [s]".into(),
+            y_label: "q [rad]".into(),
+            series,
+            guides: vec![],
+            log_y: false,
+        };
+        let svg = chart.to_svg().unwrap();
+        assert!((0..14).all(|i| svg.contains(&format!("joint_{i}"))));
+        // The 13th line (the palette's first colour again) is drawn in dashes: many segments.
+        let red = svg.matches("stroke=\"#E6194B\"").count();
+        assert!(red > 6, "{red} red strokes");
+    }
+
+    #[test]
+    fn a_long_title_gets_a_smaller_caption() {
+        let design = |n: usize| vec!["6.514"; n].join(", ");
+        let title = |n: usize| {
+            format!(
+                "Joint positions: actuation space, r = ({}), payload 3 kg",
+                design(n)
+            )
+        };
+        assert_eq!(caption_size(&title(4), 900, 12), 22.0);
+        let eight = caption_size(&title(8), 900, 12);
+        assert!(10.0 < eight && eight < 22.0, "{eight}");
+        assert_eq!(caption_size(&title(60), 900, 12), 10.0);
+    }
 }
