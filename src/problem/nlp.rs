@@ -105,21 +105,20 @@ impl<'a> TrajectoryProblem<'a> {
     /// The box or linear rows that limit the joint speeds v in the formulation's speed mode, rad/s.
     pub fn speed_limits(&self) -> JointLimits {
         let f = self.formulation;
-        self.coupling
-            .speed_limits(f.modes.speed, f.task.motors.speed_limit_rad_s)
+        self.coupling.speed_limits(f.modes.speed, &f.speed_limits)
     }
 
-    /// The box or linear rows that limit the controls u: |u| <= the motor torque limit in
+    /// The box or linear rows that limit the controls u: |u_i| <= motor i's torque limit in
     /// actuation space, the formulation's torque mode in joint space, N m.
     pub fn control_limits(&self) -> JointLimits {
         let f = self.formulation;
-        let limit = f.task.motors.torque_limit_nm;
+        let limits = &f.torque_limits;
         match f.space {
             Space::Actuation => JointLimits::Box {
-                lower: vec![-limit; f.layout.dof],
-                upper: vec![limit; f.layout.dof],
+                lower: limits.iter().map(|limit| -limit).collect(),
+                upper: limits.clone(),
             },
-            Space::Joint => self.coupling.torque_limits(f.modes.torque, limit),
+            Space::Joint => self.coupling.torque_limits(f.modes.torque, limits),
         }
     }
 
@@ -206,18 +205,18 @@ impl Nlp for TrajectoryProblem<'_> {
         let layout = &f.layout;
         lower.fill(0.0);
         upper.fill(0.0);
-        let t = f.task.motors.torque_limit_nm;
+        let torque = &f.torque_limits;
         let speed = self.speed_limits();
         for k in 0..layout.steps {
             for i in 0..layout.dof {
                 if let Some(row) = layout.speed_row(k, i) {
                     (lower[row], upper[row]) = match &speed {
-                        JointLimits::Linear { limit, .. } => (-limit, *limit),
+                        JointLimits::Linear { limits, .. } => (-limits[i], limits[i]),
                         JointLimits::Box { lower, upper } => (lower[i], upper[i]),
                     };
                 }
                 if let Some(row) = layout.torque_row(k, i) {
-                    (lower[row], upper[row]) = (-t, t);
+                    (lower[row], upper[row]) = (-torque[i], torque[i]);
                 }
             }
         }

@@ -42,8 +42,17 @@ fn a_feasible_result_satisfies_every_constraint_family() {
     ] {
         assert!(value <= 1e-6, "{family}: {value:e}");
     }
-    let limit = formulation.task().motors.torque_limit_nm;
-    assert!(result.max_motor_torque <= limit * (1.0 + 1e-6));
+    let peaks = t.motor_torque_peaks();
+    let limits = formulation.motor_torque_limits();
+    assert_eq!(peaks.len(), limits.len());
+    assert!(peaks
+        .iter()
+        .zip(limits)
+        .all(|(peak, limit)| *peak <= limit * (1.0 + 1e-6)));
+    assert_eq!(
+        result.max_motor_torque,
+        peaks.iter().fold(0.0_f64, |m, p| m.max(*p))
+    );
     assert!(result
         .cost_gradient
         .as_ref()
