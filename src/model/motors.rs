@@ -41,7 +41,8 @@ impl PerMotor {
     }
 
     /// The mean over the motors, computed as v_0 + sum_i (v_i - v_0) / n so that equal values
-    /// give exactly that value (and a single number itself).
+    /// give exactly that value (and a single number itself); NaN for an empty list, which
+    /// [`PerMotor::check`] refuses.
     pub fn mean(&self) -> f64 {
         match self {
             PerMotor::All(value) => *value,

@@ -9,8 +9,8 @@
 //!   (d(G^-T)/dr_l = -G^-T dG_l^T G^-T);
 //! - the variable bounds of the `paper` and `interval` modes (d/dr_l of |sum_j A_ij l_j| and
 //!   sum_j |A_ij| l_j, with A = G^T for torques and G^-1 for speeds and l_j motor j's own
-//!   limit), and the same bounds on
-//!   the speed rows v_k of the elastic kind, where the active bound's multiplier weighs them.
+//!   limit), and the same bounds on the speed rows v_k of the elastic kind, where the active
+//!   bound's multiplier weighs them.
 //!
 //! The result holds where the active set does not change with r; at a kink of an absolute
 //! value (a bound that is exactly 0, such as joint 4's torque under the `paper` mode) the
