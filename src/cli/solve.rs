@@ -3,7 +3,7 @@
 use super::common::{ModelArgs, ProblemArgs};
 use super::store_hints::check_output;
 use crate::ipopt::{check_derivatives, DerivativeOrder};
-use crate::model::task::{check_horizon, check_steps};
+use crate::model::task::{check_horizon, check_steps, PerMotor};
 use crate::problem::Formulation;
 use crate::report::trajectory::{write_plots, SolveDocument, PLOT_FILES};
 use crate::solve::{solve_design, SolveError, SolveSettings, TrajectoryResult};
@@ -156,6 +156,25 @@ fn join(values: &[f64]) -> String {
         .join(",")
 }
 
+/// `max motor torque 1.234 N m (limit 1.7)` where every motor has one limit, else each
+/// motor's peak beside the motors' limits: `max motor torques (1.234, 0.5) N m (limits [1.7,
+/// 0.9])`; (largest, peaks, decimals) of the trajectory.
+fn peak_text(name: &str, unit: &str, peaks: (f64, &[f64], usize), limits: &PerMotor) -> String {
+    let (largest, each, decimals) = peaks;
+    match limits {
+        PerMotor::All(_) => {
+            format!("max motor {name} {largest:.decimals$} {unit} (limit {limits})")
+        }
+        PerMotor::Each(_) => {
+            let texts: Vec<String> = each.iter().map(|p| format!("{p:.decimals$}")).collect();
+            format!(
+                "max motor {name}s ({}) {unit} (limits {limits})",
+                texts.join(", ")
+            )
+        }
+    }
+}
+
 fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
     let task = formulation.task();
     say!(
@@ -172,17 +191,26 @@ fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
         result.iterations,
         result.cost
     );
+    let t = &result.trajectory;
     say!(
-        "  {}; max motor torque {:.3} N m (limit {}), max motor speed {:.1} rad/s (limit {})",
+        "  {}; {}, {}",
         if result.feasible {
             "feasible"
         } else {
             "INFEASIBLE"
         },
-        result.max_motor_torque,
-        task.motors.torque_limit_nm,
-        result.max_motor_speed,
-        task.motors.speed_limit_rad_s
+        peak_text(
+            "torque",
+            "N m",
+            (result.max_motor_torque, &t.motor_torque_peaks(), 3),
+            &task.motors.torque_limit_nm
+        ),
+        peak_text(
+            "speed",
+            "rad/s",
+            (result.max_motor_speed, &t.motor_speed_peaks(), 1),
+            &task.motors.speed_limit_rad_s
+        )
     );
     if let Some(elastic) = &result.elastic {
         say!(

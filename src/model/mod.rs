@@ -2,6 +2,7 @@
 
 pub mod chain;
 mod error;
+mod motors;
 mod robot;
 pub mod task;
 mod urdf;

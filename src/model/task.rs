@@ -15,6 +15,7 @@ use serde_json::Value;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+pub use super::motors::{Motors, PerMotor};
 pub use super::validate::{
     check_horizon, check_payload, check_steps, FieldError, OutOfRange, MAX_GRAVITY, MAX_HORIZON_S,
     MAX_PAYLOAD_KG, MAX_POINT_M, MAX_STEPS, MIN_HORIZON_S,
@@ -129,16 +130,6 @@ pub struct CartesianBox {
     /// World z.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub z: Option<SoftInterval>,
-}
-
-/// Limits of every motor (all motors alike).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Motors {
-    /// |tau_u| limit, N m.
-    pub torque_limit_nm: f64,
-    /// |qd_u| limit, rad/s.
-    pub speed_limit_rad_s: f64,
 }
 
 /// One entry of the transmission matrix G: a constant or a signed design ratio.

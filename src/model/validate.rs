@@ -58,7 +58,7 @@ pub struct FieldError {
 }
 
 impl FieldError {
-    fn new(field: impl Into<String>, problem: impl Into<String>) -> FieldError {
+    pub(super) fn new(field: impl Into<String>, problem: impl Into<String>) -> FieldError {
         FieldError {
             field: field.into(),
             problem: problem.into(),
@@ -219,14 +219,6 @@ impl Task {
         self.motion.validate()?;
         self.weights.validate()?;
         self.cartesian_box.validate()?;
-        for (name, value) in [
-            ("motors.torque_limit_nm", self.motors.torque_limit_nm),
-            ("motors.speed_limit_rad_s", self.motors.speed_limit_rad_s),
-        ] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(FieldError::new(name, format!(" = {value} must be > 0")));
-            }
-        }
-        Ok(())
+        self.motors.validate(self.transmission.matrix.len())
     }
 }

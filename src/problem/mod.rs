@@ -74,6 +74,10 @@ pub struct Formulation {
     dynamics: Dynamics,
     space: Space,
     modes: LimitModes,
+    /// Each motor's torque limit (the task's `motors.torque_limit_nm`), N m, one per row of G.
+    torque_limits: Vec<f64>,
+    /// Each motor's speed limit (the task's `motors.speed_limit_rad_s`), rad/s, one per row of G.
+    speed_limits: Vec<f64>,
     layout: Layout,
     /// Structural non-zeros of G (row = motor, column = joint) over the whole design space.
     g_pattern: DMatrix<f64>,
@@ -103,6 +107,9 @@ impl Formulation {
                 transmission.dof()
             )));
         }
+        task.motors
+            .validate(n)
+            .map_err(|error| FormulationError(format!("task: {error}")))?;
         for (name, pose) in [
             ("motion.start", &task.motion.start),
             ("motion.goal", &task.motion.goal),
@@ -147,6 +154,8 @@ impl Formulation {
             dynamics: Dynamics::new(robot),
             space,
             modes,
+            torque_limits: task.motors.torque_limit_nm.values(n),
+            speed_limits: task.motors.speed_limit_rad_s.values(n),
             layout,
             speed_pattern: g_pattern.clone(),
             g_pattern,
@@ -224,6 +233,16 @@ impl Formulation {
     /// The limit modes.
     pub fn modes(&self) -> &LimitModes {
         &self.modes
+    }
+
+    /// Each motor's torque limit |tau_u,i| <= limit_i, N m (motor i = row i of G).
+    pub fn motor_torque_limits(&self) -> &[f64] {
+        &self.torque_limits
+    }
+
+    /// Each motor's speed limit |qd_u,i| <= limit_i, rad/s (motor i = row i of G).
+    pub fn motor_speed_limits(&self) -> &[f64] {
+        &self.speed_limits
     }
 
     /// The index layout.

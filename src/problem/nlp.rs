@@ -105,21 +105,20 @@ impl<'a> TrajectoryProblem<'a> {
     /// The box or linear rows that limit the joint speeds v in the formulation's speed mode, rad/s.
     pub fn speed_limits(&self) -> JointLimits {
         let f = self.formulation;
-        self.coupling
-            .speed_limits(f.modes.speed, f.task.motors.speed_limit_rad_s)
+        self.coupling.speed_limits(f.modes.speed, &f.speed_limits)
     }
 
-    /// The box or linear rows that limit the controls u: |u| <= the motor torque limit in
+    /// The box or linear rows that limit the controls u: |u_i| <= motor i's torque limit in
     /// actuation space, the formulation's torque mode in joint space, N m.
     pub fn control_limits(&self) -> JointLimits {
         let f = self.formulation;
-        let limit = f.task.motors.torque_limit_nm;
+        let limits = &f.torque_limits;
         match f.space {
             Space::Actuation => JointLimits::Box {
-                lower: vec![-limit; f.layout.dof],
-                upper: vec![limit; f.layout.dof],
+                lower: limits.iter().map(|limit| -limit).collect(),
+                upper: limits.clone(),
             },
-            Space::Joint => self.coupling.torque_limits(f.modes.torque, limit),
+            Space::Joint => self.coupling.torque_limits(f.modes.torque, limits),
         }
     }
 
@@ -206,18 +205,18 @@ impl Nlp for TrajectoryProblem<'_> {
         let layout = &f.layout;
         lower.fill(0.0);
         upper.fill(0.0);
-        let t = f.task.motors.torque_limit_nm;
+        let torque = &f.torque_limits;
         let speed = self.speed_limits();
         for k in 0..layout.steps {
             for i in 0..layout.dof {
                 if let Some(row) = layout.speed_row(k, i) {
                     (lower[row], upper[row]) = match &speed {
-                        JointLimits::Linear { limit, .. } => (-limit, *limit),
+                        JointLimits::Linear { limits, .. } => (-limits[i], limits[i]),
                         JointLimits::Box { lower, upper } => (lower[i], upper[i]),
                     };
                 }
                 if let Some(row) = layout.torque_row(k, i) {
-                    (lower[row], upper[row]) = (-t, t);
+                    (lower[row], upper[row]) = (-torque[i], torque[i]);
                 }
             }
         }
@@ -655,6 +654,116 @@ mod tests {
                 upper[u]
             );
         }
+    }
+
+    /// Variable and row bounds of `f` at `ratios`.
+    fn all_bounds(f: &Formulation, ratios: &[f64]) -> [Vec<f64>; 4] {
+        let problem = f.problem(ratios).unwrap();
+        let (n, m) = (problem.num_variables(), problem.num_constraints());
+        let (mut lower, mut upper) = (vec![0.0; n], vec![0.0; n]);
+        problem.variable_bounds(&mut lower, &mut upper);
+        let (mut row_lower, mut row_upper) = (vec![0.0; m], vec![0.0; m]);
+        problem.constraint_bounds(&mut row_lower, &mut row_upper);
+        [lower, upper, row_lower, row_upper]
+    }
+
+    /// [`all_formulations`]' hard kinds with the task's motors replaced by `motors`.
+    fn with_motors(motors: &crate::model::task::Motors) -> Vec<Formulation> {
+        all_formulations()
+            .into_iter()
+            .filter(|f| f.kind() == ProblemKind::Hard)
+            .map(|f| {
+                let mut task = f.task().clone();
+                task.motors = motors.clone();
+                Formulation::new(&task, f.dynamics().robot().clone(), f.space(), *f.modes())
+                    .unwrap()
+            })
+            .collect()
+    }
+
+    /// A list of equal limits bounds every variable and row to the bit as the one number does,
+    /// in both spaces and every mode.
+    #[test]
+    fn equal_limits_per_motor_bound_as_one_limit() {
+        use crate::model::task::{Motors, PerMotor};
+        let listed = Motors {
+            torque_limit_nm: PerMotor::Each(vec![1.7; 4]),
+            speed_limit_rad_s: PerMotor::Each(vec![100.0; 4]),
+        };
+        let one = all_formulations()
+            .into_iter()
+            .filter(|f| f.kind() == ProblemKind::Hard);
+        for (one, listed) in one.zip(with_motors(&listed)) {
+            assert_eq!(one.task().motors.torque_limit_nm, PerMotor::All(1.7));
+            for ratios in [[6.0, 3.0, 1.0, 1.0], [7.3, 4.1, 2.2, 1.6]] {
+                assert_eq!(all_bounds(&one, &ratios), all_bounds(&listed, &ratios));
+            }
+        }
+    }
+
+    /// Each motor's own limit bounds its control (actuation space) and its exact rows, and the
+    /// box modes' joint bounds are the coupling's for the motors' limits.
+    #[test]
+    fn each_motor_is_bounded_by_its_own_limit() {
+        use crate::model::task::{Motors, PerMotor};
+        let (torques, speeds) = ([1.7, 1.0, 2.5, 0.5], [100.0, 60.0, 120.0, 40.0]);
+        let motors = Motors {
+            torque_limit_nm: PerMotor::Each(torques.to_vec()),
+            speed_limit_rad_s: PerMotor::Each(speeds.to_vec()),
+        };
+        let ratios = [7.3, 4.1, 2.2, 1.6];
+        for f in with_motors(&motors) {
+            assert_eq!(f.motor_torque_limits(), torques);
+            assert_eq!(f.motor_speed_limits(), speeds);
+            let [lower, upper, row_lower, row_upper] = all_bounds(&f, &ratios);
+            let coupling = f.transmission().coupling(&ratios).unwrap();
+            let layout = f.layout();
+            let torque = match f.space() {
+                Space::Actuation => JointLimits::Box {
+                    lower: torques.iter().map(|t| -t).collect(),
+                    upper: torques.to_vec(),
+                },
+                Space::Joint => coupling.torque_limits(f.modes().torque, &torques),
+            };
+            let speed = coupling.speed_limits(f.modes().speed, &speeds);
+            for (k, i) in (1..layout.steps).flat_map(|k| (0..layout.dof).map(move |i| (k, i))) {
+                let (u, v) = (layout.u(k, i), layout.v(k, i));
+                match &torque {
+                    JointLimits::Box {
+                        lower: lo,
+                        upper: hi,
+                    } => {
+                        assert_eq!((lower[u], upper[u]), (lo[i], hi[i]));
+                    }
+                    JointLimits::Linear { .. } => {
+                        let row = layout.torque_row(k, i).unwrap();
+                        assert_eq!((row_lower[row], row_upper[row]), (-torques[i], torques[i]));
+                    }
+                }
+                match &speed {
+                    JointLimits::Box {
+                        lower: lo,
+                        upper: hi,
+                    } => {
+                        assert_eq!((lower[v], upper[v]), (lo[i], hi[i]));
+                    }
+                    JointLimits::Linear { .. } => {
+                        let row = layout.speed_row(k, i).unwrap();
+                        assert_eq!((row_lower[row], row_upper[row]), (-speeds[i], speeds[i]));
+                    }
+                }
+            }
+        }
+        let mut task = task();
+        task.motors.torque_limit_nm = PerMotor::Each(vec![1.7; 3]);
+        let robot = Robot::load(&task).unwrap();
+        let error = Formulation::new(&task, robot, Space::Actuation, task.limit_modes).unwrap_err();
+        assert!(
+            error
+                .0
+                .starts_with("task: motors.torque_limit_nm has 3 values"),
+            "{error}"
+        );
     }
 
     #[test]

@@ -7,9 +7,10 @@
 //! - the dynamics rows of the actuation-space problem, RNEA - G^T u (d/dr_l: -dG_l^T u);
 //! - the motor-speed rows G v and the motor-torque rows G^-T u of the `exact` modes
 //!   (d(G^-T)/dr_l = -G^-T dG_l^T G^-T);
-//! - the variable bounds of the `paper` and `interval` modes (d/dr_l of |sum_j A_ij| lim and
-//!   sum_j |A_ij| lim, with A = G^T for torques and G^-1 for speeds), and the same bounds on
-//!   the speed rows v_k of the elastic kind, where the active bound's multiplier weighs them.
+//! - the variable bounds of the `paper` and `interval` modes (d/dr_l of |sum_j A_ij l_j| and
+//!   sum_j |A_ij| l_j, with A = G^T for torques and G^-1 for speeds and l_j motor j's own
+//!   limit), and the same bounds on the speed rows v_k of the elastic kind, where the active
+//!   bound's multiplier weighs them.
 //!
 //! The result holds where the active set does not change with r; at a kink of an absolute
 //! value (a bound that is exactly 0, such as joint 4's torque under the `paper` mode) the
@@ -18,14 +19,17 @@
 use super::{Space, TrajectoryProblem};
 use crate::ipopt::Solution;
 use crate::model::task::LimitMode;
-use nalgebra::{DMatrix, DVector};
+use crate::transmission::limit_weights;
+use nalgebra::{DMatrix, DVector, RowDVector};
 
-/// d(upper bound)/dr of the box limits |x_i| <= b_i(r) of a mode, for A(r) and dA/dr.
+/// d(upper bound)/dr of the box limits |x_i| <= b_i(r) of a mode, for A(r), dA/dr and the
+/// motors' own limits l (b = |A l| in mode `paper`, b_i = sum_j |A_ij| l_j in mode `interval`).
+/// The sums over the motors are formed as the limits' bounds are ([`limit_weights`]).
 fn box_bound_derivative(
     mode: LimitMode,
     a: &DMatrix<f64>,
     da: &DMatrix<f64>,
-    limit: f64,
+    limits: &[f64],
 ) -> Option<Vec<f64>> {
     let sign = |value: f64| {
         if value > 0.0 {
@@ -36,18 +40,24 @@ fn box_bound_derivative(
             0.0
         }
     };
+    let (scale, weights) = limit_weights(limits);
+    let w = RowDVector::from_row_slice(&weights);
     match mode {
         LimitMode::Paper => Some(
             (0..a.nrows())
-                .map(|i| sign(a.row(i).sum()) * limit * da.row(i).sum())
+                .map(|i| {
+                    sign(a.row(i).component_mul(&w).sum())
+                        * scale
+                        * da.row(i).component_mul(&w).sum()
+                })
                 .collect(),
         ),
         LimitMode::Interval => Some(
             (0..a.nrows())
                 .map(|i| {
-                    limit
+                    scale
                         * (0..a.ncols())
-                            .map(|j| sign(a[(i, j)]) * da[(i, j)])
+                            .map(|j| sign(a[(i, j)]) * da[(i, j)] * weights[j])
                             .sum::<f64>()
                 })
                 .collect(),
@@ -64,7 +74,6 @@ pub fn cost_gradient(problem: &TrajectoryProblem<'_>, solution: &Solution) -> Ve
     let f = problem.formulation();
     let layout = f.layout();
     let (n, steps) = (layout.dof, layout.steps);
-    let task = f.task();
     let g = problem.coupling().matrix();
     let g_inv = problem.coupling().inverse();
     let (x, lambda) = (&solution.x, &solution.lambda);
@@ -76,7 +85,7 @@ pub fn cost_gradient(problem: &TrajectoryProblem<'_>, solution: &Solution) -> Ve
             let dg_inv = -(g_inv * &dg * g_inv);
             let modes = f.modes();
             let speed_box =
-                box_bound_derivative(modes.speed, g_inv, &dg_inv, task.motors.speed_limit_rad_s);
+                box_bound_derivative(modes.speed, g_inv, &dg_inv, f.motor_speed_limits());
             let mut total = 0.0;
             for k in 0..steps {
                 let u = segment(layout.u(k, 0));
@@ -115,7 +124,7 @@ pub fn cost_gradient(problem: &TrajectoryProblem<'_>, solution: &Solution) -> Ve
             if f.space() == Space::Joint {
                 let (gt, dgt) = (g.transpose(), dg.transpose());
                 if let Some(db) =
-                    box_bound_derivative(modes.torque, &gt, &dgt, task.motors.torque_limit_nm)
+                    box_bound_derivative(modes.torque, &gt, &dgt, f.motor_torque_limits())
                 {
                     bound_term(&|k, i| layout.u(k, i), 0..steps, &db);
                 }

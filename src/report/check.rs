@@ -1,6 +1,6 @@
 //! The inspection of a robot and its task before any solve (`codesign check`): the chain, the
 //! TCP at the start and the goal, G at a design and its inverse, the static gravity torques at
-//! both ends against the motors' limit, the design space, and a verdict per check.
+//! both ends against each motor's own torque limit, the design space, and a verdict per check.
 
 use crate::dynamics::Dynamics;
 use crate::model::task::Task;
@@ -70,8 +70,8 @@ pub struct Inspection {
     pub g_inverse: Option<Vec<Vec<f64>>>,
     /// The static torques at the start and the goal.
     pub holds: Vec<HoldReport>,
-    /// The motors' torque limit, N m.
-    pub torque_limit_nm: f64,
+    /// Each motor's torque limit, N m (motor i = row i of G; empty without a task).
+    pub torque_limits_nm: Vec<f64>,
     /// Every check, in order.
     pub verdicts: Vec<Verdict>,
 }
@@ -113,6 +113,32 @@ fn joints(robot: &Robot) -> Vec<JointReport> {
         .collect()
 }
 
+/// The verdict on static motor torques `motors` against each motor's own limit in `limits`,
+/// N m: the motors over their limits, or every torque beside its limit.
+fn hold_verdict(motors: &[f64], limits: &[f64]) -> (Option<String>, String) {
+    let worst = motors
+        .iter()
+        .zip(limits)
+        .enumerate()
+        .filter(|(_, (m, limit))| m.abs() > **limit)
+        .map(|(i, (m, limit))| format!("motor {} needs {:.3} N m (limit {limit})", i + 1, m.abs()))
+        .collect::<Vec<_>>();
+    let problem = (!worst.is_empty()).then(|| {
+        format!(
+            "{}: the motors cannot hold the load still",
+            worst.join(", ")
+        )
+    });
+    let torques: Vec<String> = motors.iter().map(|m| format!("{:.3}", m.abs())).collect();
+    let allowed: Vec<String> = limits.iter().map(f64::to_string).collect();
+    let fine = format!(
+        "motor torques ({}) N m within the motors' limits ({}) N m",
+        torques.join(", "),
+        allowed.join(", ")
+    );
+    (problem, fine)
+}
+
 impl Inspection {
     /// Inspects `robot` (with the task's payload) and `task` at design `ratios`.
     pub fn of(
@@ -138,7 +164,7 @@ impl Inspection {
             g: None,
             g_inverse: None,
             holds: Vec::new(),
-            torque_limit_nm: task.motors.torque_limit_nm,
+            torque_limits_nm: task.motors.torque_limit_nm.values(transmission.dof()),
             verdicts: Vec::new(),
         };
         inspection.check_motion(task, robot);
@@ -166,7 +192,7 @@ impl Inspection {
             g: None,
             g_inverse: None,
             holds: Vec::new(),
-            torque_limit_nm: 0.0,
+            torque_limits_nm: Vec::new(),
             verdicts: Vec::new(),
         }
     }
@@ -237,21 +263,7 @@ impl Inspection {
             dynamics.gravity_torques(&mut data, q, &mut g);
             let motors = coupling.motor_torques(&g);
             let tcp = dynamics.tcp_position(&mut data, q);
-            let limit = task.motors.torque_limit_nm;
-            let worst = motors
-                .iter()
-                .enumerate()
-                .filter(|(_, m)| m.abs() > limit)
-                .map(|(i, m)| format!("motor {} needs {:.3} N m", i + 1, m.abs()))
-                .collect::<Vec<_>>();
-            let problem = (!worst.is_empty()).then(|| {
-                format!(
-                    "{} (limit {limit} N m): the motors cannot hold the load still",
-                    worst.join(", ")
-                )
-            });
-            let largest = motors.iter().fold(0.0_f64, |m, t| m.max(t.abs()));
-            let fine = format!("largest motor torque {largest:.3} N m of {limit}");
+            let (problem, fine) = hold_verdict(&motors, &self.torque_limits_nm);
             self.verdict(&format!("hold at {pose}"), problem, fine);
             self.holds.push(HoldReport {
                 pose: pose.to_owned(),
@@ -315,6 +327,10 @@ impl Inspection {
                     let _ = writeln!(text, "  [{}]", list(row));
                 }
             }
+        }
+        if !self.torque_limits_nm.is_empty() {
+            let allowed: Vec<String> = self.torque_limits_nm.iter().map(f64::to_string).collect();
+            let _ = writeln!(text, "motor torque limits ({}) N m", allowed.join(", "));
         }
         for hold in &self.holds {
             let _ = writeln!(

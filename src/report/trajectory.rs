@@ -120,7 +120,7 @@ pub fn write_plots(
     let charts = [
         joint_positions(formulation, t, &joints, &title),
         joint_torques(formulation, result, &joints, &title)?,
-        motor_torques(task, t, &title),
+        motor_torques(formulation.motor_torque_limits(), t, &title),
         tcp_path(task, t, &title),
     ];
     for (name, chart) in PLOT_FILES.into_iter().zip(charts) {
@@ -179,8 +179,8 @@ fn joint_torques(
     let guides = match formulation.space() {
         Space::Joint => {
             let coupling = formulation.transmission().coupling(&result.ratios)?;
-            let limit = formulation.task().motors.torque_limit_nm;
-            match coupling.torque_limits(formulation.modes().torque, limit) {
+            let limits = formulation.motor_torque_limits();
+            match coupling.torque_limits(formulation.modes().torque, limits) {
                 JointLimits::Box { lower, upper } => lower
                     .into_iter()
                     .chain(upper)
@@ -201,9 +201,15 @@ fn joint_torques(
     })
 }
 
-/// Motor torques over the control intervals, N m, with the motors' limit.
-fn motor_torques(task: &Task, t: &Trajectory, title: &str) -> Chart {
-    let limit = task.motors.torque_limit_nm;
+/// Motor torques over the control intervals, N m, with the motors' limits (`limits`, one per
+/// motor): a pair of lines at -+ each limit, once for motors that share it.
+fn motor_torques(limits: &[f64], t: &Trajectory, title: &str) -> Chart {
+    let mut distinct: Vec<f64> = Vec::new();
+    for &limit in limits {
+        if !distinct.contains(&limit) {
+            distinct.push(limit);
+        }
+    }
     Chart {
         title: format!("Motor torques: {title}"),
         x_label: "time [s]".into(),
@@ -213,7 +219,10 @@ fn motor_torques(task: &Task, t: &Trajectory, title: &str) -> Chart {
             &t.motor_torque,
             &motor_labels(t.motor_torque.first().map_or(0, Vec::len)),
         ),
-        guides: vec![Guide::Horizontal(-limit), Guide::Horizontal(limit)],
+        guides: distinct
+            .into_iter()
+            .flat_map(|limit| [Guide::Horizontal(-limit), Guide::Horizontal(limit)])
+            .collect(),
         log_y: false,
     }
 }

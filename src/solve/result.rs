@@ -69,6 +69,30 @@ pub struct Trajectory {
     pub tcp_z: Vec<f64>,
 }
 
+impl Trajectory {
+    /// Each motor's largest |torque| over the intervals, N m (motor i at index i).
+    pub fn motor_torque_peaks(&self) -> Vec<f64> {
+        peaks(&self.motor_torque)
+    }
+
+    /// Each motor's largest |speed| over the nodes, rad/s (motor i at index i).
+    pub fn motor_speed_peaks(&self) -> Vec<f64> {
+        peaks(&self.motor_speed)
+    }
+}
+
+/// The largest |value| of each column of `rows`.
+fn peaks(rows: &[Vec<f64>]) -> Vec<f64> {
+    let mut largest: Vec<f64> = Vec::new();
+    for row in rows {
+        largest.resize(largest.len().max(row.len()), 0.0);
+        for (peak, value) in largest.iter_mut().zip(row) {
+            *peak = peak.max(value.abs());
+        }
+    }
+    largest
+}
+
 /// The cost J by term (docs/model.md, section 7), so that a user sees which one dominates; they
 /// sum to J.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]

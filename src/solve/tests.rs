@@ -3,7 +3,7 @@
 
 use super::{solve_design, solve_design_from, SolveError, SolveSettings};
 use crate::ipopt::{self, Solution};
-use crate::model::task::{LimitMode, LimitModes};
+use crate::model::task::{LimitMode, LimitModes, PerMotor, Task};
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
 use crate::testing;
@@ -42,8 +42,17 @@ fn a_feasible_result_satisfies_every_constraint_family() {
     ] {
         assert!(value <= 1e-6, "{family}: {value:e}");
     }
-    let limit = formulation.task().motors.torque_limit_nm;
-    assert!(result.max_motor_torque <= limit * (1.0 + 1e-6));
+    let peaks = t.motor_torque_peaks();
+    let limits = formulation.motor_torque_limits();
+    assert_eq!(peaks.len(), limits.len());
+    assert!(peaks
+        .iter()
+        .zip(limits)
+        .all(|(peak, limit)| *peak <= limit * (1.0 + 1e-6)));
+    assert_eq!(
+        result.max_motor_torque,
+        peaks.iter().fold(0.0_f64, |m, p| m.max(*p))
+    );
     assert!(result
         .cost_gradient
         .as_ref()
@@ -133,10 +142,6 @@ fn assert_matches_differences(
 #[test]
 fn cost_gradient_matches_differences_of_resolved_problems() {
     let mut task = crate::testing::task();
-    let settings = SolveSettings {
-        tol: 1e-11,
-        ..crate::testing::settings()
-    };
     let cases = [
         (
             Space::Actuation,
@@ -169,22 +174,104 @@ fn cost_gradient_matches_differences_of_resolved_problems() {
     ];
     for (space, payload, torque, speed, ratios) in cases {
         task.payload.mass_kg = payload;
-        let robot = Robot::load(&task).unwrap();
-        let formulation =
-            Formulation::new(&task, robot, space, LimitModes { torque, speed }).unwrap();
-        let result = solve_design(&formulation, &ratios, &settings).unwrap();
-        assert!(result.feasible, "{space} {ratios:?}: {}", result.status);
-        let gradient = result.cost_gradient.clone().unwrap();
-        let label = format!("{space} {torque:?}/{speed:?}");
-        assert_matches_differences(&label, &gradient, ratios, |r| {
-            solve_design(&formulation, r, &settings).unwrap().cost
+        assert_cost_gradient(&task, space, LimitModes { torque, speed }, ratios);
+    }
+}
+
+/// Checks dJ*/dr of `task` in `space` with `modes` at `ratios` (a feasible design) against
+/// central differences of re-solved problems.
+fn assert_cost_gradient(task: &Task, space: Space, modes: LimitModes, ratios: [f64; 4]) {
+    let settings = SolveSettings {
+        tol: 1e-11,
+        ..crate::testing::settings()
+    };
+    let robot = Robot::load(task).unwrap();
+    let formulation = Formulation::new(task, robot, space, modes).unwrap();
+    let result = solve_design(&formulation, &ratios, &settings).unwrap();
+    assert!(result.feasible, "{space} {ratios:?}: {}", result.status);
+    let gradient = result.cost_gradient.clone().unwrap();
+    let label = format!("{space} {:?}/{:?}", modes.torque, modes.speed);
+    assert_matches_differences(&label, &gradient, ratios, |r| {
+        solve_design(&formulation, r, &settings).unwrap().cost
+    });
+}
+
+/// dJ*/dr with a different limit per motor, where those limits bound the solution (the bound
+/// multipliers are non-zero): the `interval` and `paper` bounds' derivatives weigh each motor
+/// by its own limit.
+#[test]
+fn cost_gradient_with_per_motor_limits_matches_differences() {
+    let mut task = crate::testing::task();
+    let cases = [
+        (
+            LimitMode::Interval,
+            LimitMode::Interval,
+            [6.5, 3.5, 1.5, 1.2],
+            [1.7, 1.2, 1.5, 1.4],
+            [40.0, 30.0, 40.0, 100.0],
+        ),
+        (
+            LimitMode::Paper,
+            LimitMode::Exact,
+            [7.0, 4.0, 2.0, 2.0],
+            [1.7, 1.5, 1.2, 1.6],
+            [100.0, 80.0, 90.0, 100.0],
+        ),
+        (
+            LimitMode::Exact,
+            LimitMode::Paper,
+            [8.0, 4.0, 2.0, 2.5],
+            [1.7, 1.5, 1.2, 1.6],
+            [90.0, 80.0, 70.0, 100.0],
+        ),
+    ];
+    task.payload.mass_kg = 0.0;
+    for (torque, speed, ratios, torques, speeds) in cases {
+        task.motors.torque_limit_nm = PerMotor::Each(torques.to_vec());
+        task.motors.speed_limit_rad_s = PerMotor::Each(speeds.to_vec());
+        assert_cost_gradient(&task, Space::Joint, LimitModes { torque, speed }, ratios);
+    }
+}
+
+/// The task's limits written as one number per motor, all equal, solve to the bit as the one
+/// number does: the same iterations, trajectory, cost and dJ*/dr.
+#[test]
+fn equal_limits_per_motor_solve_as_one_limit() {
+    let settings = testing::settings();
+    let cases = [
+        (Space::Actuation, 1.0, testing::task().limit_modes),
+        (
+            Space::Joint,
+            0.0,
+            LimitModes {
+                torque: LimitMode::Interval,
+                speed: LimitMode::Interval,
+            },
+        ),
+    ];
+    for (space, payload, modes) in cases {
+        let mut task = testing::task();
+        task.payload.mass_kg = payload;
+        let mut listed = task.clone();
+        listed.motors.torque_limit_nm = PerMotor::Each(vec![1.7; 4]);
+        listed.motors.speed_limit_rad_s = PerMotor::Each(vec![100.0; 4]);
+        let [one, each] = [task, listed].map(|task| {
+            let robot = Robot::load(&task).unwrap();
+            let formulation = Formulation::new(&task, robot, space, modes).unwrap();
+            let original = formulation.transmission().original().to_vec();
+            let mut result = solve_design(&formulation, &original, &settings).unwrap();
+            result.solve_seconds = Default::default();
+            result
         });
+        assert!(one.feasible && one.cost_gradient.is_some(), "{space}");
+        assert_eq!(one, each, "{space}");
     }
 }
 
 /// The elastic kind's d(penalised objective)/dr against central differences of re-solved
 /// problems, at infeasible designs (slacks active) of both spaces inside the design box, with
-/// the box speed limits it holds as rows (paper, interval) and the linear ones (exact).
+/// the box speed limits it holds as rows (paper, interval) and the linear ones (exact), for
+/// one speed limit and for one per motor.
 #[test]
 fn elastic_objective_gradient_matches_differences_of_resolved_problems() {
     let mut task = crate::testing::task();
@@ -193,12 +280,42 @@ fn elastic_objective_gradient_matches_differences_of_resolved_problems() {
         ..crate::testing::settings()
     };
     task.payload.mass_kg = 3.0;
+    let one = task.motors.speed_limit_rad_s.clone();
+    let each = PerMotor::Each(vec![100.0, 100.0, 60.0, 90.0]);
     let cases = [
-        (Space::Actuation, LimitMode::Paper, [6.0, 3.0, 1.5, 1.5]),
-        (Space::Actuation, LimitMode::Exact, [8.0, 5.0, 2.5, 2.0]),
-        (Space::Joint, LimitMode::Interval, [4.0, 2.0, 1.2, 1.2]),
+        (
+            Space::Actuation,
+            LimitMode::Paper,
+            [6.0, 3.0, 1.5, 1.5],
+            &one,
+        ),
+        (
+            Space::Actuation,
+            LimitMode::Exact,
+            [8.0, 5.0, 2.5, 2.0],
+            &one,
+        ),
+        (
+            Space::Joint,
+            LimitMode::Interval,
+            [4.0, 2.0, 1.2, 1.2],
+            &one,
+        ),
+        (
+            Space::Actuation,
+            LimitMode::Paper,
+            [6.0, 3.0, 1.5, 1.5],
+            &each,
+        ),
+        (
+            Space::Joint,
+            LimitMode::Interval,
+            [4.0, 2.0, 1.2, 1.2],
+            &each,
+        ),
     ];
-    for (space, speed, ratios) in cases {
+    for (space, speed, ratios, speeds) in cases {
+        task.motors.speed_limit_rad_s = speeds.clone();
         let robot = Robot::load(&task).unwrap();
         let modes = LimitModes {
             speed,
@@ -220,7 +337,7 @@ fn elastic_objective_gradient_matches_differences_of_resolved_problems() {
             "{space} {ratios:?} is meant to be infeasible"
         );
         let gradient = result.elastic.unwrap().objective_gradient.unwrap();
-        let label = format!("{space} {speed:?} elastic");
+        let label = format!("{space} {speed:?} elastic, speed limits {speeds}");
         assert_matches_differences(&label, &gradient, ratios, |r| {
             solve(r, Some(&solution)).0.elastic.unwrap().objective
         });

@@ -128,11 +128,12 @@ fn limit_violation(limits: &JointLimits, values: &[f64]) -> f64 {
             .zip(lower.iter().zip(upper))
             .map(|(&v, (&lo, &hi))| outside(v, lo, hi))
             .fold(0.0, f64::max),
-        JointLimits::Linear { matrix, limit } => {
+        JointLimits::Linear { matrix, limits } => {
             let mapped = matrix * nalgebra::DVector::from_column_slice(values);
             mapped
                 .iter()
-                .map(|m| outside(*m, -limit, *limit))
+                .zip(limits)
+                .map(|(m, limit)| outside(*m, -limit, *limit))
                 .fold(0.0, f64::max)
         }
     }

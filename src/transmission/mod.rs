@@ -17,7 +17,7 @@ mod spec;
 
 pub use coupling::Coupling;
 pub use design_space::{DesignError, DesignSpace, HalfSpace, OrderConstraint};
-pub use limits::JointLimits;
+pub use limits::{limit_weights, JointLimits};
 pub use spec::SpecError;
 
 use spec::Entry;

@@ -213,9 +213,11 @@ pub fn judge(formulation: &Formulation, result: &TrajectoryResult) -> Verdict {
 }
 
 /// How far an elastic solve's trajectory is from a feasible one, motor-seconds (s): the torque
-/// deficit (N m s) over the motor torque limit plus the speed excess (rad) over the speed limit.
+/// deficit (N m s) over the motors' mean torque limit plus the speed excess (rad) over their
+/// mean speed limit (each motor's own limit where they differ; the deficit and the excess are
+/// sums over the joints, so no one motor's limit measures them).
 fn shortfall(formulation: &Formulation, measures: &ElasticMeasures) -> f64 {
     let motors = &formulation.task().motors;
-    measures.torque_deficit / motors.torque_limit_nm
-        + measures.speed_excess / motors.speed_limit_rad_s
+    measures.torque_deficit / motors.torque_limit_nm.mean()
+        + measures.speed_excess / motors.speed_limit_rad_s.mean()
 }

@@ -8,7 +8,7 @@ use crate::design::penalty::Grading;
 use crate::design::run::{Method, OptimizeDocument};
 use crate::design::score::Objective;
 use crate::ipopt::LinearSolver;
-use crate::model::task::Motors;
+use crate::model::task::{Motors, PerMotor};
 use crate::problem::Space;
 use crate::solve::ToolInfo;
 use crate::solve::TrajectoryResult;
@@ -84,13 +84,20 @@ fn range_row(doc: &OptimizeDocument) -> Option<RangeRow> {
     })
 }
 
-/// One design's cell; the motors can execute it when its largest motor torque and speed are
-/// within the limits of `motors` to 1e-6 relative.
+/// One design's cell; the motors can execute it when each motor's largest torque and speed
+/// on its trajectory are within that motor's own limits in `motors` to 1e-6 relative.
 fn cell(result: &TrajectoryResult, motors: &Motors) -> DesignCell {
-    let within = |value: f64, limit: f64| value <= limit * (1.0 + 1e-6);
+    let within = |peaks: Vec<f64>, limits: &PerMotor| {
+        peaks.iter().enumerate().all(|(motor, &peak)| {
+            limits
+                .get(motor)
+                .is_some_and(|limit| peak <= limit * (1.0 + 1e-6))
+        })
+    };
+    let t = &result.trajectory;
     DesignCell {
-        motors_can_execute: within(result.max_motor_torque, motors.torque_limit_nm)
-            && within(result.max_motor_speed, motors.speed_limit_rad_s),
+        motors_can_execute: within(t.motor_torque_peaks(), &motors.torque_limit_nm)
+            && within(t.motor_speed_peaks(), &motors.speed_limit_rad_s),
         ratios: result.ratios.clone(),
         feasible: result.feasible,
         cost: result.cost,

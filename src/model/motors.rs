@@ -1,0 +1,294 @@
+//! The task's `motors` section: quantities given for all motors at once or one per motor.
+//!
+//! Motor i drives row i of the transmission matrix G (`transmission.matrix`), so a per-motor
+//! list has one value per row of G, in that order.
+
+use super::validate::FieldError;
+use crate::text::number;
+use serde::de::{self, Deserializer, SeqAccess, Visitor};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// A quantity of the motors: one number for every motor, or one per motor (row of G).
+///
+/// Written in a task file as a number (`1.7`) or as an array with one number per motor
+/// (`[1.7, 1.7, 0.9, 0.9]`), and written back the same way.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum PerMotor {
+    /// The same value for every motor.
+    All(f64),
+    /// Motor i's value at index i (0-based, the rows of G).
+    Each(Vec<f64>),
+}
+
+impl PerMotor {
+    /// Motor `motor`'s value (0-based); None past the end of a per-motor list.
+    pub fn get(&self, motor: usize) -> Option<f64> {
+        match self {
+            PerMotor::All(value) => Some(*value),
+            PerMotor::Each(values) => values.get(motor).copied(),
+        }
+    }
+
+    /// The values of `motors` motors, motor i's at index i. A per-motor list is returned as
+    /// written: [`PerMotor::check`] holds it to `motors` values.
+    pub fn values(&self, motors: usize) -> Vec<f64> {
+        match self {
+            PerMotor::All(value) => vec![*value; motors],
+            PerMotor::Each(values) => values.clone(),
+        }
+    }
+
+    /// The mean over the motors, computed as v_0 + sum_i (v_i - v_0) / n so that equal values
+    /// give exactly that value (and a single number itself); NaN for an empty list, which
+    /// [`PerMotor::check`] refuses.
+    pub fn mean(&self) -> f64 {
+        match self {
+            PerMotor::All(value) => *value,
+            PerMotor::Each(values) => {
+                let Some(&first) = values.first() else {
+                    return f64::NAN;
+                };
+                let n = values.len() as f64;
+                first + values.iter().map(|v| (v - first) / n).sum::<f64>()
+            }
+        }
+    }
+
+    /// Checks the quantity `field` (e.g. `motors.torque_limit_nm`) for `motors` motors: a list
+    /// has one value per motor, and every value is finite and `accept`s, whose rule `rule`
+    /// (e.g. `> 0`) the error states. The error names the value at fault, e.g.
+    /// `motors.torque_limit_nm[2] = -1 must be > 0`.
+    pub fn check(
+        &self,
+        field: &str,
+        motors: usize,
+        accept: fn(f64) -> bool,
+        rule: &str,
+    ) -> Result<(), FieldError> {
+        let fine = |value: f64| value.is_finite() && accept(value);
+        match self {
+            PerMotor::All(value) if fine(*value) => Ok(()),
+            PerMotor::All(value) => Err(FieldError::new(
+                field,
+                format!(" = {} must be {rule}", number(*value)),
+            )),
+            PerMotor::Each(values) if values.len() != motors => Err(FieldError::new(
+                field,
+                format!(
+                    " has {} values but transmission.matrix has {motors} rows: give one number \
+                     for every motor or one per motor (row of G)",
+                    values.len()
+                ),
+            )),
+            PerMotor::Each(values) => match values.iter().position(|&v| !fine(v)) {
+                Some(i) => Err(FieldError::new(
+                    format!("{field}[{i}]"),
+                    format!(" = {} must be {rule}", number(values[i])),
+                )),
+                None => Ok(()),
+            },
+        }
+    }
+}
+
+impl fmt::Display for PerMotor {
+    /// As written in a task file: `1.7`, or `[1.7, 2, 0.9, 0.9]`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PerMotor::All(value) => write!(f, "{}", number(*value)),
+            PerMotor::Each(values) => {
+                let texts: Vec<String> = values.iter().map(|v| number(*v).to_string()).collect();
+                write!(f, "[{}]", texts.join(", "))
+            }
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for PerMotor {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<PerMotor, D::Error> {
+        deserializer.deserialize_any(PerMotorVisitor)
+    }
+}
+
+/// Reads a number or an array of numbers, with an error that says which it expects.
+struct PerMotorVisitor;
+
+impl<'de> Visitor<'de> for PerMotorVisitor {
+    type Value = PerMotor;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("a number (every motor) or an array with one number per motor")
+    }
+
+    fn visit_f64<E: de::Error>(self, value: f64) -> Result<PerMotor, E> {
+        Ok(PerMotor::All(value))
+    }
+
+    fn visit_i64<E: de::Error>(self, value: i64) -> Result<PerMotor, E> {
+        Ok(PerMotor::All(value as f64))
+    }
+
+    fn visit_u64<E: de::Error>(self, value: u64) -> Result<PerMotor, E> {
+        Ok(PerMotor::All(value as f64))
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<PerMotor, A::Error> {
+        let mut values = Vec::with_capacity(seq.size_hint().unwrap_or(0).min(64));
+        while let Some(value) = seq.next_element::<f64>()? {
+            values.push(value);
+        }
+        Ok(PerMotor::Each(values))
+    }
+}
+
+/// The limits of the motors, each for every motor at once or one per motor.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Motors {
+    /// |tau_u,i| limit of motor i, N m.
+    pub torque_limit_nm: PerMotor,
+    /// |qd_u,i| limit of motor i, rad/s.
+    pub speed_limit_rad_s: PerMotor,
+}
+
+impl Motors {
+    /// Checks both limits for `motors` motors (the rows of G): one value per motor where a
+    /// list is given, each finite and > 0.
+    pub fn validate(&self, motors: usize) -> Result<(), FieldError> {
+        let positive = |value: f64| value > 0.0;
+        self.torque_limit_nm
+            .check("motors.torque_limit_nm", motors, positive, "> 0")?;
+        self.speed_limit_rad_s
+            .check("motors.speed_limit_rad_s", motors, positive, "> 0")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    fn motors(value: serde_json::Value) -> Result<Motors, String> {
+        serde_json::from_value(value).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn a_number_is_every_motors_and_a_list_each_motors() {
+        let all = motors(json!({"torque_limit_nm": 1.7, "speed_limit_rad_s": 100})).unwrap();
+        assert_eq!(all.torque_limit_nm, PerMotor::All(1.7));
+        assert_eq!(all.speed_limit_rad_s, PerMotor::All(100.0));
+        assert_eq!(all.torque_limit_nm.get(3), Some(1.7));
+        assert_eq!(all.torque_limit_nm.values(2), vec![1.7, 1.7]);
+        assert!(all.validate(4).is_ok());
+        let each = motors(json!({
+            "torque_limit_nm": [1.7, 2, 0.5, 0.5],
+            "speed_limit_rad_s": 100.0
+        }))
+        .unwrap();
+        assert_eq!(
+            each.torque_limit_nm,
+            PerMotor::Each(vec![1.7, 2.0, 0.5, 0.5])
+        );
+        assert_eq!(each.torque_limit_nm.get(1), Some(2.0));
+        assert_eq!(each.torque_limit_nm.get(4), None);
+        assert_eq!(each.torque_limit_nm.values(4), vec![1.7, 2.0, 0.5, 0.5]);
+        assert!(each.validate(4).is_ok());
+    }
+
+    /// A number is written back as a number, a list as a list: a recorded task reads as written.
+    #[test]
+    fn written_back_as_read() {
+        for text in [
+            r#"{"torque_limit_nm":1.7,"speed_limit_rad_s":100.0}"#,
+            r#"{"torque_limit_nm":[1.7,2.0],"speed_limit_rad_s":[100.0,50.0]}"#,
+        ] {
+            let read: Motors = serde_json::from_str(text).unwrap();
+            assert_eq!(serde_json::to_string(&read).unwrap(), text);
+        }
+    }
+
+    #[test]
+    fn shown_as_written() {
+        assert_eq!(PerMotor::All(1.7).to_string(), "1.7");
+        assert_eq!(
+            PerMotor::Each(vec![1.7, 2.0, 1e-9]).to_string(),
+            "[1.7, 2, 1e-9]"
+        );
+    }
+
+    #[test]
+    fn mean_of_equal_values_is_that_value() {
+        assert_eq!(PerMotor::Each(vec![1.7; 4]).mean(), 1.7);
+        assert_eq!(PerMotor::All(1.7).mean(), 1.7);
+        assert!((PerMotor::Each(vec![1.0, 2.0, 3.0, 6.0]).mean() - 3.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn errors_name_the_field_and_the_motor() {
+        let cases = [
+            (
+                json!({"torque_limit_nm": [1.7, 1.7, 1.7], "speed_limit_rad_s": 100}),
+                "motors.torque_limit_nm has 3 values but transmission.matrix has 4 rows",
+            ),
+            (
+                json!({"torque_limit_nm": 1.7, "speed_limit_rad_s": [100, 100, -5, 100]}),
+                "motors.speed_limit_rad_s[2] = -5 must be > 0",
+            ),
+            (
+                json!({"torque_limit_nm": [1.7, 0, 1.7, 1.7], "speed_limit_rad_s": 100}),
+                "motors.torque_limit_nm[1] = 0 must be > 0",
+            ),
+            (
+                json!({"torque_limit_nm": -1.7, "speed_limit_rad_s": 100}),
+                "motors.torque_limit_nm = -1.7 must be > 0",
+            ),
+            (
+                json!({"torque_limit_nm": [], "speed_limit_rad_s": 100}),
+                "motors.torque_limit_nm has 0 values",
+            ),
+        ];
+        for (value, expected) in cases {
+            let error = motors(value).unwrap().validate(4).unwrap_err().to_string();
+            assert!(error.starts_with(expected), "{error}");
+        }
+        let infinite = Motors {
+            torque_limit_nm: PerMotor::Each(vec![1.0, f64::INFINITY]),
+            speed_limit_rad_s: PerMotor::All(1.0),
+        };
+        assert_eq!(
+            infinite.validate(2).unwrap_err().to_string(),
+            "motors.torque_limit_nm[1] = inf must be > 0"
+        );
+    }
+
+    #[test]
+    fn other_values_are_refused_saying_what_is_expected() {
+        let refused = |value: serde_json::Value| {
+            motors(json!({"torque_limit_nm": value, "speed_limit_rad_s": 1})).unwrap_err()
+        };
+        let expected = "expected a number (every motor) or an array with one number per motor";
+        for value in [json!("1.7"), json!({"a": 1}), json!(null), json!(true)] {
+            let error = refused(value);
+            assert!(error.contains(expected), "{error}");
+        }
+        for value in [json!([1.7, "x"]), json!([[1.7]])] {
+            let error = refused(value);
+            assert!(error.contains("expected f64"), "{error}");
+        }
+    }
+
+    /// A task checks its motors against the rows of its G.
+    #[test]
+    fn a_task_holds_its_lists_to_the_rows_of_g() {
+        let mut task = crate::testing::task();
+        task.motors.speed_limit_rad_s = PerMotor::Each(vec![100.0, 90.0, 80.0, 70.0]);
+        assert!(task.validate().is_ok());
+        task.transmission.matrix.pop();
+        assert_eq!(
+            task.validate().unwrap_err().field,
+            "motors.speed_limit_rad_s"
+        );
+    }
+}

@@ -1,0 +1,175 @@
+//! Motors one by one, end to end: a task whose `motors.torque_limit_nm` and
+//! `motors.speed_limit_rad_s` give one number per motor is solved, tabled and checked against
+//! each motor's own limit, and lists that do not fit are named.
+
+mod support;
+
+use serde_json::{json, Value};
+use std::path::Path;
+use support::{codesign, fails_saying, scratch, task_with};
+
+/// Runs codesign and returns its stdout, failing on a non-zero exit.
+fn succeed(args: &[&str]) -> String {
+    let output = codesign(args);
+    assert!(
+        output.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+fn read_json(path: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// Each motor's largest |value| over the rows of a trajectory's per-motor table.
+fn peaks(rows: &Value) -> Vec<f64> {
+    let mut largest = vec![0.0_f64; 4];
+    for row in rows.as_array().unwrap() {
+        for (peak, value) in largest.iter_mut().zip(row.as_array().unwrap()) {
+            *peak = peak.max(value.as_f64().unwrap().abs());
+        }
+    }
+    largest
+}
+
+/// The table's verdict on the original design of the solve result `result`.
+fn motors_can_execute(dir: &Path, result: &Path) -> bool {
+    let table = dir.join("table.md");
+    succeed(&[
+        "table",
+        result.to_str().unwrap(),
+        "--out",
+        table.to_str().unwrap(),
+    ]);
+    let value = read_json(&dir.join("table.json"));
+    value["rows"][0]["before"]["motors_can_execute"]
+        .as_bool()
+        .unwrap()
+}
+
+/// A joint-space solve with the exact torque limits: motor 3's own torque limit (1 N m, below
+/// the others' 1.7) and motor 1's own speed limit (45 rad/s) bind; the result records the
+/// lists as written, every motor stays within its own limits, and the table says the motors
+/// can execute it although the largest motor torque is above motor 3's limit. Recorded with a
+/// lower limit for motor 3, the same trajectory is one they cannot execute.
+#[test]
+fn a_limit_per_motor_binds_that_motor_in_solve_and_table() {
+    let dir = scratch("solve");
+    let torques = [1.7, 1.7, 1.0, 1.7];
+    let speeds = [45.0, 100.0, 100.0, 100.0];
+    let task = task_with(&dir, |task| {
+        task["motors"] = json!({"torque_limit_nm": torques, "speed_limit_rad_s": speeds});
+    });
+    let out = dir.join("result.json");
+    let stdout = succeed(&[
+        "solve",
+        "--task",
+        task.to_str().unwrap(),
+        "--space",
+        "joint",
+        "--torque-mode",
+        "exact",
+        "--payload",
+        "0",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(stdout.contains("(limits [1.7, 1.7, 1, 1.7])"), "{stdout}");
+    assert!(stdout.contains("(limits [45, 100, 100, 100])"), "{stdout}");
+    let result = read_json(&out);
+    assert_eq!(result["feasible"], true);
+    assert_eq!(
+        result["inputs"]["task"]["motors"],
+        json!({"torque_limit_nm": torques, "speed_limit_rad_s": speeds})
+    );
+    let torque_peaks = peaks(&result["trajectory"]["motor_torque"]);
+    let speed_peaks = peaks(&result["trajectory"]["motor_speed"]);
+    for motor in 0..4 {
+        assert!(
+            torque_peaks[motor] <= torques[motor] * (1.0 + 1e-6),
+            "{torque_peaks:?}"
+        );
+        assert!(
+            speed_peaks[motor] <= speeds[motor] * (1.0 + 1e-6),
+            "{speed_peaks:?}"
+        );
+    }
+    assert!(
+        torque_peaks[2] > 0.99,
+        "motor 3's limit binds: {torque_peaks:?}"
+    );
+    assert!(
+        speed_peaks[0] > 44.9,
+        "motor 1's limit binds: {speed_peaks:?}"
+    );
+    assert!(result["max_motor_torque"].as_f64().unwrap() > 1.5);
+    assert!(motors_can_execute(&dir, &out));
+    let mut recorded = result.clone();
+    recorded["inputs"]["task"]["motors"]["torque_limit_nm"] = json!([1.7, 1.7, 0.9, 1.7]);
+    let edited = dir.join("edited.json");
+    std::fs::write(&edited, recorded.to_string()).unwrap();
+    assert!(!motors_can_execute(&dir, &edited));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `check` holds the static torques to each motor's own limit and shows the limits.
+#[test]
+fn check_holds_each_motor_to_its_own_limit() {
+    let dir = scratch("check");
+    let task = task_with(&dir, |task| {
+        task["motors"]["torque_limit_nm"] = json!([1.7, 1.2, 1.7, 1.7]);
+    });
+    let text = succeed(&["check", "--task", task.to_str().unwrap()]);
+    for line in [
+        "motor torque limits (1.7, 1.2, 1.7, 1.7) N m",
+        "ok   hold at start: motor torques (",
+        ") N m within the motors' limits (1.7, 1.2, 1.7, 1.7) N m",
+    ] {
+        assert!(text.contains(line), "{line}: {text}");
+    }
+    let task = task_with(&dir, |task| {
+        task["motors"]["torque_limit_nm"] = json!([1.7, 0.5, 1.7, 1.7]);
+    });
+    let output = codesign(&["check", "--task", task.to_str().unwrap()]);
+    fails_saying(
+        &output,
+        "hold at start: motor 2 needs 0.892 N m (limit 0.5)",
+    );
+    let json = codesign(&["check", "--task", task.to_str().unwrap(), "--json"]);
+    let value: Value = serde_json::from_slice(&json.stdout).unwrap();
+    assert_eq!(value["torque_limits_nm"], json!([1.7, 0.5, 1.7, 1.7]));
+    let built_in: Value = serde_json::from_slice(&codesign(&["check", "--json"]).stdout).unwrap();
+    assert_eq!(built_in["torque_limits_nm"], json!([1.7, 1.7, 1.7, 1.7]));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A list of another length than G has rows, a value that is not > 0, and a value that is
+/// neither a number nor a list are errors naming the field.
+#[test]
+fn lists_that_do_not_fit_are_named() {
+    let dir = scratch("bad");
+    let cases = [
+        (
+            json!({"torque_limit_nm": [1.7, 1.7, 1.7], "speed_limit_rad_s": 100}),
+            "motors.torque_limit_nm has 3 values but transmission.matrix has 4 rows",
+        ),
+        (
+            json!({"torque_limit_nm": 1.7, "speed_limit_rad_s": [100, 100, -5, 100]}),
+            "motors.speed_limit_rad_s[2] = -5 must be > 0",
+        ),
+        (
+            json!({"torque_limit_nm": "1.7", "speed_limit_rad_s": 100}),
+            "expected a number (every motor) or an array with one number per motor",
+        ),
+    ];
+    for (motors, expected) in cases {
+        let task = task_with(&dir, |task| task["motors"] = motors.clone());
+        let task = task.to_str().unwrap();
+        for command in ["solve", "check"] {
+            fails_saying(&codesign(&[command, "--task", task]), expected);
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
