@@ -2,7 +2,7 @@
 
 use super::common::{ModelArgs, ProblemArgs};
 use super::store_hints::check_output;
-use crate::design::capacity::{payload_capacity, CapacitySettings};
+use crate::design::capacity::{payload_capacity, CapacityLimit, CapacitySettings};
 use crate::model::task::MAX_PAYLOAD_KG;
 use crate::problem::Formulation;
 use crate::report::codesign::CapacityDocument;
@@ -86,19 +86,29 @@ pub fn run(args: &Args) -> Result<(), String> {
         .map_err(|e| format!("{}: {e}", args.model.source()))?;
     let seconds: f64 = capacity.probes.iter().map(|p| p.seconds).sum();
     let design = join(&ratios);
-    match (capacity.capacity_kg, capacity.first_infeasible_kg) {
-        (None, _) => say!(
-            "{} space, r = ({design}): infeasible even without payload",
-            args.problem.space
+    let space = args.problem.space;
+    match (capacity.capacity_kg, capacity.limited_by, capacity.first_infeasible_kg) {
+        (None, Some(CapacityLimit::Hold), _) => {
+            let unloaded = formulation.with_payload(0.0).map_err(|e| e.to_string())?;
+            let reason = unloaded
+                .static_hold(&ratios)
+                .map_err(|e| format!("invalid design: {e}"))?
+                .reason()
+                .unwrap_or_default();
+            say!("{space} space, r = ({design}): infeasible even without payload: {reason}")
+        }
+        (None, _, _) => say!("{space} space, r = ({design}): infeasible even without payload"),
+        (Some(kg), Some(CapacityLimit::Hold), _) => say!(
+            "{space} space, r = ({design}): payload capacity {kg:.3} kg, bounded by static hold \
+             (the motors cannot hold more at rest at the start or the goal)"
         ),
-        (Some(kg), Some(limit)) => say!(
-            "{} space, r = ({design}): payload capacity {kg:.3} kg ({limit:.3} kg is infeasible)",
-            args.problem.space
+        (Some(kg), _, Some(limit)) => say!(
+            "{space} space, r = ({design}): payload capacity {kg:.3} kg ({limit:.3} kg is infeasible)"
         ),
-        (Some(kg), None) => say!(
-            "{} space, r = ({design}): carries at least {kg:.3} kg (--max)",
-            args.problem.space
-        ),
+        (Some(kg), _, None) => say!("{space} space, r = ({design}): carries at least {kg:.3} kg (--max)"),
+    }
+    if let Some(kg) = capacity.hold_kg {
+        say!("  the motors hold at most {kg:.3} kg at rest at both ends");
     }
     say!("  {} solves in {seconds:.1} s", capacity.probes.len());
     if let Some(path) = &args.out {

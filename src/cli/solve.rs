@@ -4,7 +4,7 @@ use super::common::{ModelArgs, ProblemArgs};
 use super::store_hints::check_output;
 use crate::ipopt::{check_derivatives, DerivativeOrder};
 use crate::model::task::{check_horizon, check_steps, PerMotor};
-use crate::problem::Formulation;
+use crate::problem::{EndHold, Formulation, StaticHold};
 use crate::report::trajectory::{write_plots, SolveDocument, PLOT_FILES};
 use crate::solve::{solve_design, SolveError, SolveSettings, TrajectoryResult};
 use crate::store::files::write_json;
@@ -175,6 +175,20 @@ fn peak_text(name: &str, unit: &str, peaks: (f64, &[f64], usize), limits: &PerMo
     }
 }
 
+/// The load held at rest, for the summary: each end's least margin, or what it lacks.
+fn hold_text(hold: &StaticHold) -> String {
+    if let Some(reason) = hold.reason() {
+        return format!("static hold: {reason}");
+    }
+    let least = |end: &EndHold| end.margins_nm.iter().copied().fold(f64::INFINITY, f64::min);
+    format!(
+        "static hold: the load is held at rest at the start and the goal (least {} margin {:.3} and {:.3} N m)",
+        hold.rows.name(),
+        least(&hold.start),
+        least(&hold.goal)
+    )
+}
+
 fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
     let task = formulation.task();
     say!(
@@ -212,6 +226,9 @@ fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
             &task.motors.speed_limit_rad_s
         )
     );
+    if let Some(hold) = &result.static_hold {
+        say!("  {}", hold_text(hold));
+    }
     if let Some(elastic) = &result.elastic {
         say!(
             "  elastic: torque deficit {:.4e} N m s, speed excess {:.4e} rad (largest slack {:.1e}); penalised objective {:.6}",

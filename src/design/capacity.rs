@@ -4,7 +4,9 @@
 //! resolution; every solve after the first is warm-started from the solution of the largest
 //! feasible payload so far, and retried from the standard initial guess when that fails (IPOPT's
 //! infeasibility verdicts are local). Feasibility is assumed to fall monotonically with the
-//! payload; the probes are all reported, so a user can see when it does not.
+//! payload; the probes are all reported, so a user can see when it does not. The search never
+//! goes beyond the largest payload the motors hold at rest at both ends, which is known in
+//! closed form ([`Formulation::hold_capacity`]), so no capacity exceeds it.
 
 use crate::ipopt::Solution;
 use crate::problem::{Formulation, FormulationError};
@@ -54,6 +56,19 @@ pub struct CapacityProbe {
     pub warm_start: bool,
 }
 
+/// What ends a capacity search.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CapacityLimit {
+    /// The trajectory problem: the first payload above the capacity has no feasible trajectory.
+    Trajectory,
+    /// The static hold: the capacity is the largest payload the motors hold at rest at both
+    /// ends (no payload at all when they cannot hold the arm unloaded).
+    Hold,
+    /// The search: `max_kg` was feasible.
+    Search,
+}
+
 /// The outcome of a capacity search.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Capacity {
@@ -61,8 +76,16 @@ pub struct Capacity {
     /// bound: every payload up to it that was tried has a feasible trajectory.
     pub capacity_kg: Option<f64>,
     /// The smallest payload above it for which IPOPT found no feasible trajectory from either
-    /// start, kg (None when `max_kg` was feasible).
+    /// start, kg (None when `max_kg` was feasible or the hold bound ended the search).
     pub first_infeasible_kg: Option<f64>,
+    /// The largest payload the motors hold at rest at both ends, kg, in closed form (docs/model.md,
+    /// section 11); absent when no payload is too heavy to hold, when not even 0 kg is held
+    /// (`limited_by` says `hold`), and in files written before it was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hold_kg: Option<f64>,
+    /// Which bound the capacity hit (absent in files written before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub limited_by: Option<CapacityLimit>,
     /// Every solve, in order.
     pub probes: Vec<CapacityProbe>,
 }
@@ -171,7 +194,8 @@ impl Search<'_> {
 }
 
 /// Searches the payload capacity of design `ratios` in `formulation` (its payload ignored),
-/// each probe solved with `solve`.
+/// each probe solved with `solve`, up to the smaller of `max_kg` and the payload the motors
+/// hold at rest.
 pub fn payload_capacity(
     formulation: &Formulation,
     solve: &SolveSettings,
@@ -179,30 +203,55 @@ pub fn payload_capacity(
     settings: &CapacitySettings,
 ) -> Result<Capacity, CapacityError> {
     settings.validate()?;
+    let hold = formulation
+        .hold_capacity(ratios)
+        .map_err(SolveError::Design)?;
+    let mut capacity = Capacity {
+        capacity_kg: None,
+        first_infeasible_kg: Some(0.0),
+        hold_kg: hold.filter(|kg| kg.is_finite()),
+        limited_by: Some(CapacityLimit::Hold),
+        probes: Vec::new(),
+    };
+    let Some(hold) = hold else {
+        return Ok(capacity);
+    };
     let mut search = Search {
         formulation,
         solve,
         ratios,
         probes: Vec::new(),
     };
+    let (low, high) = bracket(&mut search, settings.max_kg.min(hold), settings)?;
+    capacity.probes = search.probes;
+    capacity.capacity_kg = low;
+    capacity.first_infeasible_kg = high;
+    capacity.limited_by = Some(match (low, high) {
+        (None, _) | (_, Some(_)) => CapacityLimit::Trajectory,
+        (Some(_), None) if hold < settings.max_kg => CapacityLimit::Hold,
+        (Some(_), None) => CapacityLimit::Search,
+    });
+    Ok(capacity)
+}
+
+/// The bracketing and bisection of `search` up to `top` kg: the largest feasible payload (None
+/// when 0 kg is infeasible) and the first infeasible one above it (None when `top` is feasible).
+fn bracket(
+    search: &mut Search<'_>,
+    top: f64,
+    settings: &CapacitySettings,
+) -> Result<(Option<f64>, Option<f64>), CapacityError> {
     let Some(mut best) = search.probe(0.0, None)? else {
-        return Ok(Capacity {
-            capacity_kg: None,
-            first_infeasible_kg: Some(0.0),
-            probes: search.probes,
-        });
+        return Ok((None, Some(0.0)));
     };
     // Bracketing: double the payload until it is infeasible or the largest allowed.
     let (mut low, mut high) = (0.0, None);
-    let mut payload = settings.first_step_kg.min(settings.max_kg);
-    while high.is_none() {
+    let mut payload = settings.first_step_kg.min(top);
+    while high.is_none() && low < top {
         match search.probe(payload, Some(&best))? {
             Some(solution) => {
                 (low, best) = (payload, solution);
-                if payload >= settings.max_kg {
-                    break;
-                }
-                payload = (2.0 * payload).min(settings.max_kg);
+                payload = (2.0 * payload).min(top);
             }
             None => high = Some(payload),
         }
@@ -218,11 +267,7 @@ pub fn payload_capacity(
         }
         high = Some(upper);
     }
-    Ok(Capacity {
-        capacity_kg: Some(low),
-        first_infeasible_kg: high,
-        probes: search.probes,
-    })
+    Ok((Some(low), high))
 }
 
 #[cfg(test)]

@@ -93,6 +93,16 @@ pub struct Motion {
     pub horizon_s: f64,
     /// Number of intervals N (nodes 0..=N).
     pub steps: usize,
+    /// Whether the motion starts and ends at rest: zero joint acceleration at node 0 and at
+    /// node N-1 (the last node with an acceleration) besides v_0 = v_N = 0. Written only when
+    /// true.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub rest_at_ends: bool,
+}
+
+/// Whether `value` is false (serde's `skip_serializing_if` for flags written only when set).
+fn is_false(value: &bool) -> bool {
+    !*value
 }
 
 /// Weights of J = sum_k wq |q_k|^2 + wv |v_k|^2 + wu |u_k|^2 + box penalties.

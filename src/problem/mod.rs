@@ -8,6 +8,7 @@
 mod cost;
 mod elastic;
 mod hessian;
+mod hold;
 mod jacobian;
 mod layout;
 mod nlp;
@@ -15,6 +16,7 @@ mod node;
 mod sensitivity;
 
 pub use elastic::{penalty_weights, relaxation, PenaltyWeights, ProblemKind, Relaxation};
+pub use hold::{margins, EndHold, HoldRows, StaticHold, HOLD_TOLERANCE_NM};
 pub use layout::Layout;
 pub use nlp::TrajectoryProblem;
 pub use sensitivity::cost_gradient;

@@ -196,6 +196,14 @@ impl Nlp for TrajectoryProblem<'_> {
                 (lower[q], upper[q]) = (pose[i], pose[i]);
                 (lower[v], upper[v]) = (0.0, 0.0);
             }
+            if task.motion.rest_at_ends {
+                // At rest at both ends: a = 0 at node 0 and at node N-1, the last node with an
+                // acceleration (its interval ends at q_N, v_N).
+                for k in [0, layout.steps - 1] {
+                    let a = layout.a(k, i);
+                    (lower[a], upper[a]) = (0.0, 0.0);
+                }
+            }
         }
         lower[layout.slacks()].fill(0.0);
     }

@@ -5,7 +5,8 @@
 use crate::dynamics::Dynamics;
 use crate::model::task::Task;
 use crate::model::Robot;
-use crate::transmission::Transmission;
+use crate::problem::{EndHold, HoldRows, Space};
+use crate::transmission::{JointLimits, Transmission};
 use nalgebra::DMatrix;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -113,23 +114,20 @@ fn joints(robot: &Robot) -> Vec<JointReport> {
         .collect()
 }
 
-/// The verdict on static motor torques `motors` against each motor's own limit in `limits`,
-/// N m: the motors over their limits, or every torque beside its limit.
-fn hold_verdict(motors: &[f64], limits: &[f64]) -> (Option<String>, String) {
-    let worst = motors
-        .iter()
-        .zip(limits)
-        .enumerate()
-        .filter(|(_, (m, limit))| m.abs() > **limit)
-        .map(|(i, (m, limit))| format!("motor {} needs {:.3} N m (limit {limit})", i + 1, m.abs()))
-        .collect::<Vec<_>>();
-    let problem = (!worst.is_empty()).then(|| {
+/// The verdict on the static torques `end` against each motor's own limit in `limits`, N m:
+/// the motors over their limits, or every torque beside its limit.
+fn hold_verdict(end: &EndHold, limits: &[f64]) -> (Option<String>, String) {
+    let problem = (!end.holds).then(|| {
         format!(
             "{}: the motors cannot hold the load still",
-            worst.join(", ")
+            end.shortfalls(HoldRows::Motors).join(", ")
         )
     });
-    let torques: Vec<String> = motors.iter().map(|m| format!("{:.3}", m.abs())).collect();
+    let torques: Vec<String> = end
+        .motor_torques_nm
+        .iter()
+        .map(|m| format!("{:.3}", m.abs()))
+        .collect();
     let allowed: Vec<String> = limits.iter().map(f64::to_string).collect();
     let fine = format!(
         "motor torques ({}) N m within the motors' limits ({}) N m",
@@ -258,19 +256,22 @@ impl Inspection {
         }
         let dynamics = Dynamics::new(robot.clone());
         let mut data = dynamics.workspace();
+        // The motors' own limits: the actuation space's control limits.
+        let limits = JointLimits::Box {
+            lower: self.torque_limits_nm.iter().map(|l| -l).collect(),
+            upper: self.torque_limits_nm.clone(),
+        };
         for (pose, q) in [("start", &task.motion.start), ("goal", &task.motion.goal)] {
-            let mut g = vec![0.0; dynamics.dof()];
-            dynamics.gravity_torques(&mut data, q, &mut g);
-            let motors = coupling.motor_torques(&g);
+            let end = EndHold::at(&dynamics, &coupling, Space::Actuation, &limits, q);
             let tcp = dynamics.tcp_position(&mut data, q);
-            let (problem, fine) = hold_verdict(&motors, &self.torque_limits_nm);
+            let (problem, fine) = hold_verdict(&end, &self.torque_limits_nm);
             self.verdict(&format!("hold at {pose}"), problem, fine);
             self.holds.push(HoldReport {
                 pose: pose.to_owned(),
                 q: q.clone(),
                 tcp_m: [tcp[0], tcp[1], tcp[2]],
-                joint_torques_nm: g,
-                motor_torques_nm: motors,
+                joint_torques_nm: end.joint_torques_nm,
+                motor_torques_nm: end.motor_torques_nm,
             });
         }
     }

@@ -2,7 +2,7 @@
 //! read from IPOPT's solution.
 
 use crate::ipopt::{LinearSolver, Nlp, Solution};
-use crate::problem::{cost_gradient, relaxation, ProblemKind, TrajectoryProblem};
+use crate::problem::{cost_gradient, relaxation, ProblemKind, StaticHold, TrajectoryProblem};
 use serde::{Deserialize, Serialize};
 
 /// Which program and solver produced a result file.
@@ -154,10 +154,12 @@ pub struct TrajectoryResult {
     pub ratios: Vec<f64>,
     /// IPOPT's name for its return status.
     pub status: String,
-    /// Whether IPOPT reported an optimum (strict or acceptable) and, for an elastic solve, every
-    /// slack is at most the solve settings' `tol` (N m or rad/s).
+    /// Whether IPOPT reported an optimum (strict or acceptable), for an elastic solve every
+    /// slack is at most the solve settings' `tol` (N m or rad/s), and the motors hold the load
+    /// at rest at both ends (`static_hold`).
     pub feasible: bool,
-    /// Why the result is infeasible, when it is.
+    /// Why the result is infeasible, when it is: the end and the motors that cannot hold the
+    /// load at rest first, then IPOPT's or the elastic solve's reason.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
     /// The optimal cost J (of an elastic solve: without the slacks' penalty).
@@ -176,6 +178,11 @@ pub struct TrajectoryResult {
     /// `problem::cost_gradient`), when a hard solve succeeded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cost_gradient: Option<Vec<f64>>,
+    /// The static torques at the start and the goal against the problem's control limits
+    /// (docs/model.md, section 6), computed without IPOPT (absent in files written before it
+    /// was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub static_hold: Option<StaticHold>,
     /// The torque deficit and speed excess, for an elastic solve.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub elastic: Option<ElasticMeasures>,
@@ -201,8 +208,16 @@ pub(super) fn read_result(
     let violations = Violations::of(problem, &solution.x, &trajectory);
     let (cost, elastic) = cost_and_measures(problem, solution);
     let f = problem.formulation();
-    let reason = infeasibility(solution, elastic.as_ref(), tol);
-    let feasible = reason.is_none();
+    let static_hold = problem.static_hold();
+    let reasons: Vec<String> = [
+        static_hold.reason(),
+        infeasibility(solution, elastic.as_ref(), tol),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    let feasible = reasons.is_empty();
+    let reason = (!feasible).then(|| reasons.join("; "));
     TrajectoryResult {
         ratios: problem.ratios().to_vec(),
         status: solution.status.name(),
@@ -228,6 +243,7 @@ pub(super) fn read_result(
         violations,
         cost_gradient: (feasible && f.kind() == ProblemKind::Hard)
             .then(|| cost_gradient(problem, solution)),
+        static_hold: Some(static_hold),
         elastic,
         cost_terms: Some(cost_terms(problem, &solution.x, &trajectory)),
         joints: f.dynamics().robot().joint_names().to_vec(),

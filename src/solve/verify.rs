@@ -88,10 +88,16 @@ fn integration_residual(h: f64, trajectory: &Trajectory) -> f64 {
     largest
 }
 
-/// The largest distance of the first and last states from the task's start and goal at rest.
+/// The largest distance of the first and last states from the task's start and goal at rest,
+/// and with `rest_at_ends` of the accelerations at nodes 0 and N-1 from zero.
 fn boundary_residual(motion: &Motion, trajectory: &Trajectory) -> f64 {
     let last = trajectory.q.len() - 1;
     let mut largest: f64 = 0.0;
+    if motion.rest_at_ends {
+        for a in [trajectory.a.first(), trajectory.a.last()].into_iter().flatten() {
+            largest = largest.max(max_abs(a.iter().copied()));
+        }
+    }
     for (k, pose) in [(0, &motion.start), (last, &motion.goal)] {
         largest = largest
             .max(max_abs(

@@ -19,10 +19,8 @@ pub use record::{Evaluation, SolveStatus, Status};
 
 use super::penalty::Penalty;
 use crate::ipopt::Solution;
-use crate::problem::Formulation;
-use crate::solve::{
-    solve_design_from, ElasticMeasures, SolveError, SolveSettings, TrajectoryResult,
-};
+use crate::problem::{Formulation, StaticHold};
+use crate::solve::{solve_design_from, SolveError, SolveSettings, TrajectoryResult};
 use crate::transmission::{DesignError, Transmission};
 
 /// What scoring one design found.
@@ -38,9 +36,10 @@ pub enum Verdict {
     },
     /// The design is valid but a trajectory problem of it has no feasible solution.
     Infeasible {
-        /// How far it is from feasible, motor-seconds (s): over the elastic solves, the torque
-        /// deficit over the torque limit plus the speed excess over the speed limit; 0 when a
-        /// hard solve decided, which does not measure it.
+        /// How far it is from feasible, motor-seconds (s): the torque deficit of the elastic
+        /// solves plus the static hold's deficit times the horizon, over the torque limit, plus
+        /// the speed excess over the speed limit; a hard solve measures only the hold's part
+        /// (0 when the load is held).
         shortfall: f64,
         /// Why, in words.
         reason: String,
@@ -200,10 +199,7 @@ pub fn judge(formulation: &Formulation, result: &TrajectoryResult) -> Verdict {
         };
     }
     Verdict::Infeasible {
-        shortfall: result
-            .elastic
-            .as_ref()
-            .map_or(0.0, |measures| shortfall(formulation, measures)),
+        shortfall: shortfall(formulation, result),
         reason: result
             .reason
             .clone()
@@ -212,12 +208,25 @@ pub fn judge(formulation: &Formulation, result: &TrajectoryResult) -> Verdict {
     }
 }
 
-/// How far an elastic solve's trajectory is from a feasible one, motor-seconds (s): the torque
-/// deficit (N m s) over the motors' mean torque limit plus the speed excess (rad) over their
-/// mean speed limit (each motor's own limit where they differ; the deficit and the excess are
-/// sums over the joints, so no one motor's limit measures them).
-fn shortfall(formulation: &Formulation, measures: &ElasticMeasures) -> f64 {
-    let motors = &formulation.task().motors;
-    measures.torque_deficit / motors.torque_limit_nm.mean()
-        + measures.speed_excess / motors.speed_limit_rad_s.mean()
+/// How far a solve's design is from a feasible one, motor-seconds (s): the torque deficit of an
+/// elastic solve (N m s) plus the static hold's deficit held over the horizon (N m times T, s),
+/// over the motors' mean torque limit, plus the speed excess (rad) over their mean speed limit
+/// (each motor's own limit where they differ; the deficits and the excess are sums over rows,
+/// so no one motor's limit measures them). A hard solve measures only the hold's deficit.
+fn shortfall(formulation: &Formulation, result: &TrajectoryResult) -> f64 {
+    let hold = result.static_hold.as_ref().map_or(0.0, StaticHold::deficit_nm);
+    let (torque, speed) = result
+        .elastic
+        .as_ref()
+        .map_or((0.0, 0.0), |e| (e.torque_deficit, e.speed_excess));
+    shortfall_of(formulation, torque, hold, speed)
+}
+
+/// The shortfall, motor-seconds (s), of a torque deficit (N m s), a static hold deficit (N m,
+/// held over the horizon T) and a speed excess (rad), as [`Verdict::Infeasible`] measures it.
+fn shortfall_of(formulation: &Formulation, torque: f64, hold: f64, speed: f64) -> f64 {
+    let task = formulation.task();
+    let motors = &task.motors;
+    (torque + hold * task.motion.horizon_s) / motors.torque_limit_nm.mean()
+        + speed / motors.speed_limit_rad_s.mean()
 }

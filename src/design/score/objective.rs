@@ -2,13 +2,13 @@
 //! mean cost over several, or minus the payload capacity; with a graded penalty the solves are
 //! the elastic ones, which measure how far an infeasible design is from feasible.
 
-use super::{judge, solve, validate, Evaluation, Score, SolveStatus, Verdict};
+use super::{judge, shortfall_of, solve, validate, Evaluation, Score, SolveStatus, Verdict};
 use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::design::penalty::{Grading, Penalty};
 use crate::ipopt;
 use crate::model::task::{LimitModes, Task};
 use crate::model::{ModelError, Robot};
-use crate::problem::{Formulation, FormulationError, Space};
+use crate::problem::{Formulation, FormulationError, Space, StaticHold};
 use crate::solve::SolveSettings;
 use crate::transmission::Transmission;
 use serde::{Deserialize, Serialize};
@@ -243,15 +243,20 @@ fn elastic(
             continue;
         };
         short += shortfall;
-        let measures = result.elastic.unwrap_or_default();
         let at = match formulations.len() {
             1 => String::new(),
             _ => format!("at {payload_kg} kg: "),
         };
-        reasons.push(format!(
-            "{at}torque deficit {:.4} N m s, speed excess {:.4} rad",
+        let hold = result.static_hold.as_ref().and_then(|hold| hold.reason());
+        let measures = result.elastic.unwrap_or_default();
+        let deficit = format!(
+            "torque deficit {:.4} N m s, speed excess {:.4} rad",
             measures.torque_deficit, measures.speed_excess
-        ));
+        );
+        reasons.push(match hold {
+            Some(hold) => format!("{at}{hold}; {deficit}"),
+            None => format!("{at}{deficit}"),
+        });
     }
     let verdict = if reasons.is_empty() {
         Verdict::Feasible {
@@ -295,15 +300,30 @@ fn capacity(
             cost: -kg,
             status: SolveStatus::Capacity { probes },
         },
-        None => Verdict::Infeasible {
-            shortfall: 0.0,
-            reason: "infeasible even without payload".to_owned(),
-            status: SolveStatus::InfeasibleUnloaded,
-        },
+        None => unloaded(formulation, ratios),
     };
     Score {
         verdict,
         iterations: capacity.probes.iter().map(|p| p.iterations).sum(),
         seconds: capacity.probes.iter().map(|p| p.seconds).sum(),
+    }
+}
+
+/// The verdict of valid `ratios` that cannot move even without payload: infeasible, by the
+/// static hold's deficit at 0 kg when the motors cannot hold the arm at rest.
+fn unloaded(formulation: &Formulation, ratios: &[f64]) -> Verdict {
+    let hold = formulation
+        .with_payload(0.0)
+        .ok()
+        .and_then(|unloaded| unloaded.static_hold(ratios).ok());
+    let deficit = hold.as_ref().map_or(0.0, StaticHold::deficit_nm);
+    let reason = hold.and_then(|hold| hold.reason());
+    Verdict::Infeasible {
+        shortfall: shortfall_of(formulation, 0.0, deficit, 0.0),
+        reason: match reason {
+            Some(reason) => format!("infeasible even without payload: {reason}"),
+            None => "infeasible even without payload".to_owned(),
+        },
+        status: SolveStatus::InfeasibleUnloaded,
     }
 }
