@@ -2,6 +2,8 @@
 
 pub mod chain;
 mod error;
+pub mod experiment;
+pub mod identity;
 mod robot;
 pub mod task;
 mod urdf;
