@@ -1,6 +1,7 @@
 //! The table's rows from result files: the original design's solves ("before"), the co-design
 //! runs ("after", the gradient method, the largest capacity), the capacities and the totals.
 
+use super::check::motion;
 use super::{
     AfterCell, DesignCell, PaperTable, PaperValues, RangeRow, ResultFile, TableRow, PAPER,
 };
@@ -9,7 +10,7 @@ use crate::design::run::{Method, OptimizeDocument};
 use crate::design::score::Objective;
 use crate::ipopt::LinearSolver;
 use crate::model::identity::built_in_task_hash;
-use crate::model::task::Motors;
+use crate::model::task::{Motors, Task};
 use crate::problem::Space;
 use crate::solve::ToolInfo;
 use crate::solve::TrajectoryResult;
@@ -113,7 +114,8 @@ struct TableTask {
     hash: Option<String>,
     /// The task file the first file records.
     file: String,
-    /// Whether every file is of the paper's task, the built-in one.
+    /// Whether every file is of the paper's task, the built-in one, with its motion (`solve
+    /// --steps` or `--duration` keep the task hash, as read, but change the problem).
     paper: bool,
 }
 
@@ -126,6 +128,12 @@ impl TableTask {
             .iter()
             .map(|file| file.task(built_in.as_deref()))
             .collect();
+        let paper_motion = Task::built_in()
+            .ok()
+            .map(|task| (task.motion.horizon_s, task.motion.steps));
+        let own_motion = files
+            .iter()
+            .all(|file| motion(file).is_none_or(|m| Some(m) == paper_motion));
         TableTask {
             hash: tasks.iter().flatten().next().cloned(),
             file: files
@@ -133,6 +141,7 @@ impl TableTask {
                 .map_or_else(String::new, |f| f.task_file().to_owned()),
             paper: !files.is_empty()
                 && built_in.is_some()
+                && own_motion
                 && tasks.iter().all(|task| *task == built_in),
         }
     }

@@ -58,7 +58,7 @@ pub fn check_results(paths: &[PathBuf], files: &[ResultFile]) -> Result<(), Repo
 }
 
 /// The horizon (s) and intervals of a result's motion, where it records them.
-fn motion(file: &ResultFile) -> Option<(f64, usize)> {
+pub(super) fn motion(file: &ResultFile) -> Option<(f64, usize)> {
     let motion = match file {
         ResultFile::Solve(d) => &d.inputs.task.task.motion,
         ResultFile::Optimize(d) => &d.inputs.task.task.motion,

@@ -16,7 +16,12 @@ impl PaperTable {
             text.push_str("| payload | space | before | after | seeds: best J | inner solves of evaluations | median solve |\n");
             text.push_str("|---|---|---|---|---|---|---|\n");
         }
-        for row in &self.rows {
+        // A row with nothing of its own here (a capacity run's row) shows below only.
+        let shown = self
+            .rows
+            .iter()
+            .filter(|r| r.before.is_some() || r.after.is_some() || r.paper.is_some());
+        for row in shown {
             text.push_str(&main_row(row, self.paper_task));
         }
         let beyond = self.rows.iter().any(|r| {
