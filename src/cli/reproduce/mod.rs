@@ -1,4 +1,5 @@
-//! `codesign reproduce`: the paper's experiment (docs/model.md, section 13) end to end.
+//! `codesign reproduce`: the task's experiment, by default the paper's (docs/model.md, section
+//! 13), end to end.
 
 mod merge;
 mod plan;
@@ -28,24 +29,28 @@ use std::time::Instant;
 /// Flags of `codesign reproduce`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// A reduced run that ends in minutes (population 16, 8 generations, 2 seeds unless given),
-    /// written to results/quick/ unless --out-dir is given; labelled as reduced in the table.
+    /// A reduced run that ends in minutes, on the task's `experiment.quick_budget` (the
+    /// paper's task: population 16, 8 generations, 2 seeds), written to results/quick/ unless
+    /// --out-dir is given; labelled as reduced in the table.
     #[arg(long)]
     quick: bool,
-    /// Seeds of CMA-ES per case (0..N); default 5 (2 with --quick).
+    /// Seeds of CMA-ES per case (0..N); default: the task's experiment's (the paper's 5, 2 with
+    /// --quick).
     #[arg(long, value_name = "N")]
     seeds: Option<u64>,
-    /// CMA-ES population; default 100 (16 with --quick).
+    /// CMA-ES population; default: the task's experiment's (the paper's 100, 16 with --quick).
     #[arg(long)]
     population: Option<usize>,
-    /// CMA-ES generations; default 30 (8 with --quick).
+    /// CMA-ES generations; default: the task's experiment's (the paper's 30, 8 with --quick).
     #[arg(long)]
     generations: Option<usize>,
     /// Output folder; default results/ (results/quick/ with --quick). Locked while the
     /// reproduction runs: a second one on the same folder fails at once.
     #[arg(long, value_name = "DIR")]
     out_dir: Option<PathBuf>,
-    /// Task file [default: the built-in task, which `codesign task` prints].
+    /// Task file, its optional `experiment` section saying which payloads, seeds and budgets
+    /// to run [default: the built-in task, which `codesign task` prints, and the paper's
+    /// experiment].
     #[arg(long, value_name = "FILE")]
     task: Option<PathBuf>,
     /// Worker processes (default: one per core).

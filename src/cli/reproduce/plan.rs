@@ -1,5 +1,6 @@
-//! The experiment `reproduce` runs, as data: its budget, its output folder and every co-design
-//! run of it as a [`Case`] with the file it writes.
+//! The experiment `reproduce` runs, as data: the task's [`Experiment`] (its payloads), its
+//! budget, its output folder and every co-design run of it as a [`Case`] with the file it
+//! writes.
 
 use super::Args;
 use crate::cli::common::ProblemArgs;
@@ -466,5 +467,49 @@ mod tests {
         let unique: std::collections::BTreeSet<&String> = names.iter().collect();
         assert_eq!(unique.len(), names.len(), "{names:?}");
         assert!(names.contains(&"joint-capacity-seed0".to_owned()));
+    }
+
+    #[test]
+    fn the_task_s_experiment_names_the_runs() {
+        let experiment = Experiment {
+            codesign_payloads_kg: vec![2.0],
+            graded_payloads_kg: vec![],
+            range_payloads_kg: vec![0.5, 2.5],
+            budget: Budget {
+                seeds: 1,
+                ..Budget::PAPER
+            },
+            ..Experiment::paper()
+        };
+        let args = Command::parse_from(["reproduce"]).args;
+        let plan = Plan::new(&args, experiment).unwrap();
+        let names: Vec<String> = plan
+            .cost_runs()
+            .into_iter()
+            .chain(plan.gradient_runs())
+            .chain(plan.beyond_runs())
+            .map(|run| run.name)
+            .collect();
+        assert_eq!(
+            names,
+            [
+                "joint-2kg-seed0",
+                "actuation-2kg-seed0",
+                "joint-2kg-gradient",
+                "actuation-2kg-gradient",
+                "joint-capacity-seed0",
+                "actuation-capacity-seed0",
+                "actuation-range-0.5-2.5kg-seed0",
+            ]
+        );
+        // A task's budget below the paper's is the experiment's full run, not a reduced one.
+        assert!(!plan.is_reduced());
+        let mut quick = Command::parse_from(["reproduce", "--quick"]).args;
+        assert!(Plan::new(&quick, Experiment::paper()).unwrap().is_reduced());
+        quick.seeds = Some(1);
+        assert_eq!(
+            Plan::new(&quick, Experiment::paper()).unwrap().budget.seeds,
+            1
+        );
     }
 }
