@@ -4,6 +4,7 @@ pub mod chain;
 mod error;
 pub mod experiment;
 pub mod identity;
+mod read_experiment;
 mod robot;
 pub mod task;
 mod urdf;
