@@ -3,6 +3,7 @@
 use super::common::{ModelArgs, ProblemArgs};
 use super::store_hints::check_output;
 use crate::design::capacity::{payload_capacity, CapacityLimit, CapacitySettings};
+use crate::design::run::{Loaded, RecordedHash};
 use crate::model::task::MAX_PAYLOAD_KG;
 use crate::problem::Formulation;
 use crate::report::codesign::CapacityDocument;
@@ -54,7 +55,12 @@ pub fn run(args: &Args) -> Result<(), String> {
             ));
         }
     }
-    let (task, robot, mut solve) = args.model.load()?;
+    let Loaded {
+        task,
+        robot,
+        settings: mut solve,
+        task_hash,
+    } = args.model.load()?;
     args.problem.configure(&mut solve);
     if let Some(path) = &args.out {
         check_output("--out", path, &args.model.choice().inputs(&task))?;
@@ -115,6 +121,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         let document = CapacityDocument {
             tool: ToolInfo::current(solve.linear_solver()),
             task_file: args.model.source().label(),
+            task_hash: RecordedHash(Some(task_hash)),
             space: args.problem.space,
             ratios: ratios.clone(),
             limit_modes: modes,

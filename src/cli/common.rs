@@ -1,7 +1,7 @@
 //! Flags shared by the commands that load a task and a robot: parsed here into the design
 //! layer's [`ModelChoice`] and [`ProblemChoice`], which do the work.
 
-use crate::design::run::{ModelChoice, ProblemChoice};
+use crate::design::run::{Loaded, ModelChoice, ProblemChoice};
 use crate::ipopt::LinearSolver;
 use crate::model::task::{check_payload, LimitMode, LimitModes, Task, TaskSource};
 use crate::model::Robot;
@@ -41,8 +41,8 @@ impl ModelArgs {
         self.choice().source()
     }
 
-    /// Loads the task, the robot and the solve settings ([`ModelChoice::load`]).
-    pub fn load(&self) -> Result<(Task, Robot, SolveSettings), String> {
+    /// Loads the task, the robot, the solve settings and the task hash ([`ModelChoice::load`]).
+    pub fn load(&self) -> Result<Loaded, String> {
         self.choice().load()
     }
 
@@ -51,7 +51,7 @@ impl ModelArgs {
     /// link, and true; else the task's robot ([`ModelArgs::load`]) and false.
     pub fn load_robot(&self) -> Result<(Task, Robot, bool), String> {
         let (Some(urdf), None) = (&self.robot, &self.task) else {
-            return self.load().map(|(task, robot, _)| (task, robot, false));
+            return self.load().map(|loaded| (loaded.task, loaded.robot, false));
         };
         let tip = Robot::tip_link(urdf).map_err(|e| e.to_string())?;
         let mut task = Task::built_in().map_err(|e| e.to_string())?;

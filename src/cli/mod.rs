@@ -99,9 +99,9 @@ enum Command {
     Capacity(capacity::Args),
     /// Co-design: search the gear ratios with CMA-ES, solving each design in worker processes.
     Optimize(optimize::Args),
-    /// Reproduce the paper's experiment (and more): original designs, co-design, capacities, table, plots.
+    /// Run the task's experiment, by default the paper's (and more): original designs, co-design, capacities, table, plots.
     Reproduce(reproduce::Args),
-    /// Rebuild the paper's table from result files of `solve`, `optimize` and `capacity`.
+    /// Rebuild the table from result files of `solve`, `optimize` and `capacity` of one task.
     Table(table::Args),
     /// Print the built-in task (JSON), a starting point for one's own: `codesign task > my.json`.
     ///

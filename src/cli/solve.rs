@@ -2,6 +2,7 @@
 
 use super::common::{ModelArgs, ProblemArgs};
 use super::store_hints::check_output;
+use crate::design::run::Loaded;
 use crate::ipopt::{check_derivatives, DerivativeOrder};
 use crate::model::task::{check_horizon, check_steps, PerMotor};
 use crate::problem::{EndHold, Formulation, StaticHold};
@@ -52,7 +53,12 @@ pub struct Args {
 
 /// Solves, prints a summary, writes the requested files.
 pub fn run(args: &Args) -> Result<(), String> {
-    let (mut task, robot, mut settings) = args.model.load()?;
+    let Loaded {
+        mut task,
+        robot,
+        mut settings,
+        task_hash,
+    } = args.model.load()?;
     args.problem.configure(&mut settings);
     settings.verbose = args.verbose;
     if let Some(duration) = args.duration {
@@ -104,6 +110,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     if let Some(path) = &args.out {
         let document = SolveDocument::new(
             &args.model.source().label(),
+            &task_hash,
             &formulation,
             &settings,
             result,

@@ -2,7 +2,10 @@
 
 pub mod chain;
 mod error;
+pub mod experiment;
+pub mod identity;
 mod motors;
+mod read_experiment;
 mod robot;
 pub mod task;
 mod urdf;

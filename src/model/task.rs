@@ -4,11 +4,13 @@
 //! and payload, the motion to make, the cost weights, the Cartesian box, the motors, the
 //! transmission's structure with its design space and the limit modes. Its `solver` section, the
 //! settings of IPOPT, is not part of the model: [`TaskFile`] keeps it as written, for the solve
-//! layer to read (`solve::SolveSettings::from_section`). Units are SI throughout: m, kg, s, rad, N m. Frames: the world is the URDF's root link.
+//! layer to read (`solve::SolveSettings::from_section`); its optional `experiment` section, what
+//! `reproduce` runs, is read into [`Experiment`] (`super::experiment`). Units are SI throughout: m, kg, s, rad, N m. Frames: the world is the URDF's root link.
 //!
 //! `robots/tasks/pick_place.json` is compiled into the binary as the built-in task
 //! ([`Task::built_in`]), so that every command works without files from any folder.
 
+use super::experiment::Experiment;
 use crate::input::{read_text, MAX_TASK_BYTES};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -51,14 +53,17 @@ pub struct Task {
     pub limit_modes: LimitModes,
 }
 
-/// A task file as read: the task, and its `solver` section as written (absent: none), which the
-/// solve layer reads.
+/// A task file as read: the task, its `solver` section as written (absent: none), which the
+/// solve layer reads, and its `experiment` section, which `reproduce` runs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TaskFile {
     /// The task.
     pub task: Task,
     /// The `solver` section: IPOPT's settings, not interpreted by the model.
     pub solver: Option<Value>,
+    /// The `experiment` section, checked, its fields left out at the paper's values (absent:
+    /// the paper's experiment).
+    pub experiment: Experiment,
 }
 
 /// A point fixed in a link's frame.
@@ -269,15 +274,23 @@ impl TaskFile {
     }
 
     /// Parses and checks the JSON `text` of a task from `source` (named in errors); the robot
-    /// path is left as written, the `solver` section is kept as written.
+    /// path is left as written, the `solver` section is kept as written, the `experiment`
+    /// section is read and checked.
     fn from_json(text: &str, source: TaskSource) -> Result<TaskFile, TaskError> {
         let parsed = serde_json::from_str::<Value>(text)
             .map_err(|e| e.to_string())
             .and_then(|mut value| {
-                let solver = value.as_object_mut().and_then(|map| map.remove("solver"));
+                let mut section = |name| value.as_object_mut().and_then(|map| map.remove(name));
+                let solver = section("solver");
+                let experiment = Experiment::from_section(section("experiment").as_ref())
+                    .map_err(|e| e.to_string())?;
                 let task = Task::deserialize(value).map_err(|e| e.to_string())?;
                 task.validate().map_err(|e| e.to_string())?;
-                Ok(TaskFile { task, solver })
+                Ok(TaskFile {
+                    task,
+                    solver,
+                    experiment,
+                })
             });
         parsed.map_err(|message| TaskError { source, message })
     }
@@ -382,6 +395,11 @@ mod tests {
             ("\"mass_kg\": 0.0", "\"mass_kg\": -2", "payload.mass_kg"),
             ("[-1.0, 0.4]", "[0.4, -1.0]", "cartesian_box.y.range"),
             ("\"torque\": \"paper\"", "\"torque\": \"papr\"", "papr"),
+            (
+                "\"limit_modes\"",
+                "\"experiment\": {\"budget\": {\"seeds\": 0}}, \"limit_modes\"",
+                "experiment.budget.seeds = 0: must be 1 to 100",
+            ),
         ];
         for (k, (from, to, field)) in cases.into_iter().enumerate() {
             assert!(text.contains(from));

@@ -4,7 +4,7 @@
 
 use super::plots::{Bars, Chart, DrawResult, Figure, Mark, Radar, Series};
 use crate::design::capacity::{Capacity, CapacitySettings};
-use crate::design::run::OptimizeDocument;
+use crate::design::run::{OptimizeDocument, RecordedHash};
 use crate::model::task::LimitModes;
 use crate::problem::Space;
 use crate::solve::ToolInfo;
@@ -17,6 +17,10 @@ pub struct CapacityDocument {
     pub tool: ToolInfo,
     /// The task file as given.
     pub task_file: String,
+    /// The task hash of the task as read on its robot (`model::identity::task_hash`); unknown in
+    /// files written before it was recorded.
+    #[serde(default, skip_serializing_if = "RecordedHash::is_unknown")]
+    pub task_hash: RecordedHash,
     /// Joint or actuation space.
     pub space: Space,
     /// The design r.

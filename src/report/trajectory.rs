@@ -2,6 +2,7 @@
 
 use super::plots::{Chart, Figure, Guide, Series};
 use super::ReportError;
+use crate::design::run::RecordedHash;
 use crate::model::task::{LimitModes, SoftInterval, Task};
 use crate::problem::{Formulation, Space};
 use crate::solve::{SolveSettings, TaskRecord, ToolInfo, Trajectory, TrajectoryResult};
@@ -14,6 +15,10 @@ use std::path::Path;
 pub struct SolveInputs {
     /// The task file as given.
     pub task_file: String,
+    /// The task hash of the task as read on its robot (`model::identity::task_hash`); unknown in
+    /// files written before it was recorded.
+    #[serde(default, skip_serializing_if = "RecordedHash::is_unknown")]
+    pub task_hash: RecordedHash,
     /// Joint or actuation space.
     pub space: Space,
     /// The design r.
@@ -40,9 +45,10 @@ pub struct SolveDocument {
 
 impl SolveDocument {
     /// The document of `result`, solved for `formulation` (its task, space and modes) from the
-    /// task file `task_file` with `settings`.
+    /// task file `task_file` of task hash `task_hash` with `settings`.
     pub fn new(
         task_file: &str,
+        task_hash: &str,
         formulation: &Formulation,
         settings: &SolveSettings,
         result: TrajectoryResult,
@@ -52,6 +58,7 @@ impl SolveDocument {
             tool: ToolInfo::current(settings.linear_solver()),
             inputs: SolveInputs {
                 task_file: task_file.to_owned(),
+                task_hash: RecordedHash(Some(task_hash.to_owned())),
                 space: formulation.space(),
                 ratios: result.ratios.clone(),
                 payload_kg: task.payload.mass_kg,
@@ -410,7 +417,7 @@ mod tests {
             assert!(svg.contains(name.as_str()), "{name} missing");
         }
         assert!(!svg.contains("joint 1"));
-        let svg = motor_torques(formulation.task(), &t, "test")
+        let svg = motor_torques(formulation.motor_torque_limits(), &t, "test")
             .to_svg()
             .unwrap();
         for i in 1..=4 {

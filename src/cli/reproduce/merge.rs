@@ -1,19 +1,22 @@
 //! `reproduce --from-runs`: the results that the plan's commands wrote (on other machines, by
 //! GNU parallel or a Slurm job array), read back from the output folder.
 
-use super::plan::{Plan, PlannedRun, PAYLOADS, SPACES};
+use super::plan::{Plan, PlannedRun, SPACES};
 use super::Outcomes;
 use crate::design::run::OptimizeDocument;
 use crate::report::codesign::CapacityDocument;
 use crate::report::table::{check_results, read_result_file, ResultFile};
 use std::path::{Path, PathBuf};
 
-/// Reads every result the plan's commands write; fails naming the first that is missing or of
-/// the wrong kind. A gradient run may be missing: the gradient method fails where it finds no
-/// feasible start, and `reproduce` leaves that case out too.
-pub fn read_all(plan: &Plan) -> Result<Outcomes, String> {
+/// Reads every result the plan's commands write; fails naming the first that is missing, of
+/// the wrong kind, or of another task than the plan's (task hash `task_hash`). A gradient run
+/// may be missing: the gradient method fails where it finds no feasible start, and `reproduce`
+/// leaves that case out too.
+pub fn read_all(plan: &Plan, task_hash: &str) -> Result<Outcomes, String> {
+    let read = |path: &Path| read_of_task(path, task_hash);
     let mut originals = Vec::new();
-    for payload in PAYLOADS {
+    let payloads = &plan.experiment.original_payloads_kg;
+    for &payload in payloads {
         for space in SPACES {
             let path = plan.original_file(space, payload);
             match read(&path)? {
@@ -25,10 +28,14 @@ pub fn read_all(plan: &Plan) -> Result<Outcomes, String> {
     // A gradient run may be missing: the gradient method fails where it finds no feasible
     // start.
     let present = |run: &PlannedRun| plan.run_file(run).exists();
-    let runs = planned_all(plan, plan.cost_runs())?;
-    let gradient_runs = planned_all(plan, plan.gradient_runs().into_iter().filter(present))?;
-    let beyond_runs = planned_all(plan, plan.beyond_runs())?;
-    let mut paths: Vec<PathBuf> = PAYLOADS
+    let runs = planned_all(plan, task_hash, plan.cost_runs())?;
+    let gradient_runs = planned_all(
+        plan,
+        task_hash,
+        plan.gradient_runs().into_iter().filter(present),
+    )?;
+    let beyond_runs = planned_all(plan, task_hash, plan.beyond_runs())?;
+    let mut paths: Vec<PathBuf> = payloads
         .iter()
         .flat_map(|&payload| SPACES.map(|space| plan.original_file(space, payload)))
         .collect();
@@ -65,9 +72,10 @@ pub fn read_all(plan: &Plan) -> Result<Outcomes, String> {
 }
 
 /// Reads the result of the planned `run` at `path`; fails naming the settings in which it
-/// differs from the plan (a run made with other flags is never merged as the plan's).
-fn planned(path: &Path, run: &PlannedRun) -> Result<OptimizeDocument, String> {
-    let ResultFile::Optimize(document) = read(path)? else {
+/// differs from the plan (a run made with other flags is never merged as the plan's), its task
+/// included (`task_hash`).
+fn planned(path: &Path, run: &PlannedRun, task_hash: &str) -> Result<OptimizeDocument, String> {
+    let ResultFile::Optimize(document) = read_of_task(path, task_hash)? else {
         return Err(wrong_kind(path, "an `optimize` result"));
     };
     let differences = run.case.differences(&document.inputs);
@@ -81,17 +89,33 @@ fn planned(path: &Path, run: &PlannedRun) -> Result<OptimizeDocument, String> {
     Ok(*document)
 }
 
-/// The results of the planned `runs`, each with its path.
+/// The results of the planned `runs` of the task of `task_hash`, each with its path.
 fn planned_all(
     plan: &Plan,
+    task_hash: &str,
     runs: impl IntoIterator<Item = PlannedRun>,
 ) -> Result<Vec<(PathBuf, OptimizeDocument)>, String> {
     runs.into_iter()
         .map(|run| {
             let path = plan.run_file(&run);
-            planned(&path, &run).map(|document| (path, document))
+            planned(&path, &run, task_hash).map(|document| (path, document))
         })
         .collect()
+}
+
+/// Reads one result file ([`read`]); fails naming it when it records another task hash than
+/// `task_hash`, the plan's (a file written before the hash was recorded is not checked).
+fn read_of_task(path: &Path, task_hash: &str) -> Result<ResultFile, String> {
+    let file = read(path)?;
+    match file.task(None) {
+        Some(recorded) if recorded != task_hash => Err(format!(
+            "--from-runs: {} is a result of another task (task hash {recorded}, task file {}) \
+             than the plan's (task hash {task_hash}); run the plan's command for it again",
+            path.display(),
+            file.task_file()
+        )),
+        _ => Ok(file),
+    }
 }
 
 /// Reads one result file, saying which command of the plan writes it when it is missing.

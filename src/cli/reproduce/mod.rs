@@ -1,4 +1,5 @@
-//! `codesign reproduce`: the paper's experiment (docs/model.md, section 13) end to end.
+//! `codesign reproduce`: the task's experiment, by default the paper's (docs/model.md, section
+//! 13), end to end.
 
 mod merge;
 mod plan;
@@ -8,41 +9,48 @@ use super::store_hints::{check_output, hint};
 use crate::design::bounds::BoundHandling;
 use crate::design::run::{task_source, OptimizeDocument};
 use crate::ipopt::LinearSolver;
+use crate::model::experiment::Budget;
+use crate::model::identity::task_hash;
+use crate::model::task::{Task, TaskFile};
 use crate::model::Robot;
 use crate::problem::Space;
 use crate::report::codesign::{cost_evolution_chart, ratio_chart, CapacityDocument};
 use crate::report::plots::Figure;
 use crate::report::table::{build_table, ResultFile};
 use crate::report::trajectory::write_plots;
-use crate::solve::{SolveSettings, TaskRecord, TrajectoryResult};
+use crate::solve::{SolveSettings, TrajectoryResult};
 use crate::store::files::{create_folder, write_atomic, write_json};
 use crate::store::lock::lock_folder;
 use crate::store::log::{Start, LOG_EXTENSION};
-use plan::{Plan, CODESIGNED, FULL, SPACES};
+use plan::{Plan, SPACES};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Flags of `codesign reproduce`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// A reduced run that ends in minutes (population 16, 8 generations, 2 seeds unless given),
-    /// written to results/quick/ unless --out-dir is given; labelled as reduced in the table.
+    /// A reduced run that ends in minutes, on the task's `experiment.quick_budget` (the
+    /// paper's task: population 16, 8 generations, 2 seeds), written to results/quick/ unless
+    /// --out-dir is given; labelled as reduced in the table.
     #[arg(long)]
     quick: bool,
-    /// Seeds of CMA-ES per case (0..N); default 5 (2 with --quick).
+    /// Seeds of CMA-ES per case (0..N); default: the task's experiment's (the paper's 5, 2 with
+    /// --quick).
     #[arg(long, value_name = "N")]
     seeds: Option<u64>,
-    /// CMA-ES population; default 100 (16 with --quick).
+    /// CMA-ES population; default: the task's experiment's (the paper's 100, 16 with --quick).
     #[arg(long)]
     population: Option<usize>,
-    /// CMA-ES generations; default 30 (8 with --quick).
+    /// CMA-ES generations; default: the task's experiment's (the paper's 30, 8 with --quick).
     #[arg(long)]
     generations: Option<usize>,
     /// Output folder; default results/ (results/quick/ with --quick). Locked while the
     /// reproduction runs: a second one on the same folder fails at once.
     #[arg(long, value_name = "DIR")]
     out_dir: Option<PathBuf>,
-    /// Task file [default: the built-in task, which `codesign task` prints].
+    /// Task file, its optional `experiment` section saying which payloads, seeds and budgets
+    /// to run [default: the built-in task, which `codesign task` prints, and the paper's
+    /// experiment].
     #[arg(long, value_name = "FILE")]
     task: Option<PathBuf>,
     /// Worker processes (default: one per core).
@@ -98,7 +106,12 @@ pub struct Outcomes {
 /// and plots.
 pub fn run(args: &Args) -> Result<(), String> {
     let started = Instant::now();
-    let plan = Plan::new(args)?;
+    // The task and its solver and experiment sections are checked before anything is planned or
+    // written.
+    let file = task_source(args.task.as_ref())
+        .load()
+        .map_err(|e| e.to_string())?;
+    let plan = Plan::new(args, file.experiment.clone())?;
     if let Some(folder) = &args.from_runs {
         if !folder.is_dir() {
             return Err(format!(
@@ -108,8 +121,7 @@ pub fn run(args: &Args) -> Result<(), String> {
             ));
         }
     }
-    // The task and its solver section are checked before anything is planned or written.
-    let task = load_task(&plan)?;
+    let task = load_task(&plan, file)?;
     if args.plan {
         let program = std::env::current_exe()
             .map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
@@ -133,7 +145,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         check_output("--out-dir", &output, &inputs)?;
     }
     let outcomes = if args.from_runs.is_some() {
-        merge::read_all(&plan)?
+        merge::read_all(&plan, &task.hash)?
     } else {
         if plan.start == Start::Fresh {
             refuse_earlier_logs(&plan.out_dir.join("runs"))?;
@@ -153,16 +165,26 @@ pub fn run(args: &Args) -> Result<(), String> {
     )
 }
 
-/// The plan's task and its solve settings (the plan's linear solver applied), checked, with
-/// its robot.
-fn load_task(plan: &Plan) -> Result<TaskRecord, String> {
+/// The experiment's task, checked with its robot.
+pub struct ExperimentTask {
+    /// The task as read.
+    pub task: Task,
+    /// Its solve settings, the plan's linear solver applied.
+    pub solver: SolveSettings,
+    /// Its task hash on its robot (`model::identity::task_hash`).
+    pub hash: String,
+}
+
+/// The plan's task from its `file`, its solve settings (the plan's linear solver applied) and
+/// its task hash, checked with its robot.
+fn load_task(plan: &Plan, file: TaskFile) -> Result<ExperimentTask, String> {
     let source = task_source(plan.task.as_ref());
-    let file = source.load().map_err(|e| e.to_string())?;
     let mut solver =
         SolveSettings::from_section(file.solver.as_ref()).map_err(|e| format!("{source}: {e}"))?;
     solver.override_linear_solver(plan.problem.linear_solver);
-    Robot::load(&file.task).map_err(|e| e.to_string())?;
-    Ok(TaskRecord {
+    let robot = Robot::load(&file.task).map_err(|e| e.to_string())?;
+    Ok(ExperimentTask {
+        hash: task_hash(&file.task, robot.urdf_hash()),
         task: file.task,
         solver,
     })
@@ -172,7 +194,7 @@ fn load_task(plan: &Plan) -> Result<TaskRecord, String> {
 /// the table.
 fn finish(
     plan: &Plan,
-    task: &TaskRecord,
+    task: &ExperimentTask,
     outcomes: Outcomes,
     merged: bool,
     seconds: f64,
@@ -180,7 +202,7 @@ fn finish(
     create_folder(&plan.out_dir.join("capacity")).map_err(|e| e.to_string())?;
     write_case_plots(plan, task, &outcomes.runs)?;
     let mut capacities = outcomes.original_capacities;
-    for payload in CODESIGNED {
+    for &payload in &plan.experiment.codesign_payloads_kg {
         for space in SPACES {
             if let Some(best) = best_of(&outcomes.runs, payload, space) {
                 let name = format!("{space}-{payload}kg-best");
@@ -220,12 +242,23 @@ fn finish(
     );
     files.extend(runs.into_iter().map(|d| ResultFile::Optimize(Box::new(d))));
     let mut notes = Vec::new();
-    if plan.is_reduced() {
-        let b = &plan.budget;
+    if !plan.experiment.is_paper() {
         notes.push(format!(
-            "REDUCED RUN: population {}, {} generations, {} seed(s), against the paper's {}, {} and {}. \
+            "The experiment of the task's `experiment` section: {}.",
+            plan.experiment.describe()
+        ));
+    }
+    if plan.is_reduced() {
+        let (b, full) = (&plan.budget, &plan.experiment.budget);
+        let whose = if *full == Budget::PAPER {
+            "the paper's"
+        } else {
+            "the experiment's full budget's"
+        };
+        notes.push(format!(
+            "REDUCED RUN: population {}, {} generations, {} seed(s), against {whose} {}, {} and {}. \
              Run `codesign reproduce` without --quick for the full experiment.",
-            b.population, b.generations, b.seeds, FULL.population, FULL.generations, FULL.seeds
+            b.population, b.generations, b.seeds, full.population, full.generations, full.seeds
         ));
     }
     notes.push(time_note);
@@ -266,13 +299,13 @@ fn best_of(runs: &[OptimizeDocument], payload: f64, space: Space) -> Option<&Tra
 /// (or bar) chart of every case's best ratios.
 fn write_case_plots(
     plan: &Plan,
-    task: &TaskRecord,
+    task: &ExperimentTask,
     runs: &[OptimizeDocument],
 ) -> Result<(), String> {
     let plots = plan.out_dir.join("plots");
     create_folder(&plots).map_err(|e| e.to_string())?;
     let mut radar_cases = Vec::new();
-    for payload in CODESIGNED {
+    for &payload in &plan.experiment.codesign_payloads_kg {
         for space in SPACES {
             let case: Vec<&OptimizeDocument> = runs
                 .iter()

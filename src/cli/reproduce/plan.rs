@@ -1,72 +1,31 @@
-//! The experiment `reproduce` runs, as data: its budget, its output folder and every co-design
-//! run of it as a [`Case`] with the file it writes.
+//! The experiment `reproduce` runs, as data: the task's [`Experiment`] (its payloads), its
+//! budget, its output folder and every co-design run of it as a [`Case`] with the file it
+//! writes.
 
 use super::Args;
 use crate::cli::common::ProblemArgs;
 use crate::design::bounds::BoundHandling;
 use crate::design::capacity::CapacitySettings;
-use crate::design::cmaes::CmaesSettings;
+use crate::design::cmaes::SettingError;
 use crate::design::penalty::{Grading, Penalty, PENALTY};
-use crate::design::run::{shell_quote, Case, Method, ModelChoice, ProblemChoice};
+use crate::design::run::{shell_quote, task_source, Case, Method, ModelChoice, ProblemChoice};
 use crate::design::score::{Objective, PayloadRange};
+use crate::model::experiment::{Budget, Experiment, MAX_SEEDS};
 use crate::problem::Space;
 use crate::report::trajectory::PLOT_FILES;
 use crate::store::log::Start;
 use std::path::{Path, PathBuf};
 
-/// Payloads of the experiment, kg, and those that are co-designed (docs/model.md, section 13).
-pub const PAYLOADS: [f64; 3] = [0.0, 1.0, 3.0];
-/// The co-designed payloads, kg.
-pub const CODESIGNED: [f64; 2] = [1.0, 3.0];
 /// Both spaces, joint first.
 pub const SPACES: [Space; 2] = [Space::Joint, Space::Actuation];
-/// The payload of the runs with the graded penalty, kg: where most designs are infeasible.
-pub const GRADED: f64 = 3.0;
 /// The penalty of the runs beyond the paper at the edge of feasibility.
 const GRADED_PENALTY: Penalty = Penalty {
     base: PENALTY,
     grading: Grading::Graded,
 };
-/// The payload range of the design for the paper's stated goal, fruit from 1 to 3 kg, and its
-/// space: beyond the paper, one design for the whole range.
-pub const RANGE: ([f64; 3], Space) = ([1.0, 2.0, 3.0], Space::Actuation);
-
-/// Most CMA-ES seeds per case: 20 times the paper's 5.
-const MAX_SEEDS: u64 = 100;
-
-/// How much CMA-ES runs: seeds per case, population and generations of the cost runs, and the
-/// population and generations of the capacity co-design (one seed).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Budget {
-    /// Seeds per co-designed case (0..seeds).
-    pub seeds: u64,
-    /// Population of the cost runs.
-    pub population: usize,
-    /// Generations of the cost runs.
-    pub generations: usize,
-    /// Population of the capacity co-design (each evaluation is about 10 solves).
-    pub capacity_population: usize,
-    /// Generations of the capacity co-design.
-    pub capacity_generations: usize,
-}
-
-/// The paper's budget (5 seeds of population 100 over 30 generations).
-pub const FULL: Budget = Budget {
-    seeds: 5,
-    population: CmaesSettings::PAPER.population,
-    generations: CmaesSettings::PAPER.generations,
-    capacity_population: 20,
-    capacity_generations: 10,
-};
-
-/// The reduced budget of `--quick`, which ends in minutes.
-pub const QUICK: Budget = Budget {
-    seeds: 2,
-    population: 16,
-    generations: 8,
-    capacity_population: 6,
-    capacity_generations: 2,
-};
+/// The space of the design for a payload range: beyond the paper, one design for the whole
+/// range (the paper's stated goal is fruit from 1 to 3 kg).
+const RANGE_SPACE: Space = Space::Actuation;
 
 /// One co-design run of the experiment.
 #[derive(Clone, Debug)]
@@ -77,12 +36,15 @@ pub struct PlannedRun {
     pub case: Case,
 }
 
-/// The experiment: where it writes, how much it runs, and the flags every run shares.
+/// The experiment: its payloads, where it writes, how much it runs, and the flags every run
+/// shares.
 #[derive(Clone, Debug)]
 pub struct Plan {
     /// Labelled as a reduced run in the table.
     pub quick: bool,
-    /// The budget.
+    /// The task's experiment: its payloads and budgets.
+    pub experiment: Experiment,
+    /// The budget: the experiment's (its quick one with --quick), with the flags applied.
     pub budget: Budget,
     /// The output folder.
     pub out_dir: PathBuf,
@@ -101,9 +63,15 @@ pub struct Plan {
 }
 
 impl Plan {
-    /// The plan `reproduce`'s flags ask for; fails, naming the flag, on a size out of range.
-    pub fn new(args: &Args) -> Result<Plan, String> {
-        let base = if args.quick { QUICK } else { FULL };
+    /// The plan of the task's `experiment` that `reproduce`'s flags ask for: --seeds,
+    /// --population and --generations replace the budget's values (the quick budget's with
+    /// --quick); fails on a size out of range, naming the flag or the task's field.
+    pub fn new(args: &Args, experiment: Experiment) -> Result<Plan, String> {
+        let base = if args.quick {
+            experiment.quick_budget
+        } else {
+            experiment.budget
+        };
         let budget = Budget {
             seeds: args.seeds.unwrap_or(base.seeds),
             population: args.population.unwrap_or(base.population),
@@ -112,6 +80,7 @@ impl Plan {
         };
         let plan = Plan {
             quick: args.quick,
+            experiment,
             budget,
             out_dir: args
                 .from_runs
@@ -136,29 +105,57 @@ impl Plan {
             bounds: args.bounds,
             start: Start::from_flags(args.resume, args.overwrite),
         };
-        plan.check_sizes()?;
+        plan.check_sizes(args)?;
         Ok(plan)
     }
 
-    /// Whether the budget is below the paper's in any respect.
+    /// Whether the budget is below the experiment's full one in any respect.
     pub fn is_reduced(&self) -> bool {
-        let b = &self.budget;
+        let (b, full) = (&self.budget, &self.experiment.budget);
         self.quick
-            || b.population < FULL.population
-            || b.generations < FULL.generations
-            || b.seeds < FULL.seeds
+            || b.population < full.population
+            || b.generations < full.generations
+            || b.seeds < full.seeds
     }
 
-    /// Checks the sizes before anything is created; errors name the flag, the limit and its
-    /// reason.
-    fn check_sizes(&self) -> Result<(), String> {
+    /// Checks the sizes before anything is created; errors name the flag, or the task's field
+    /// where no flag gave the value, with the limit and its reason.
+    fn check_sizes(&self, args: &Args) -> Result<(), String> {
         let seeds = self.budget.seeds;
         if !(1..=MAX_SEEDS).contains(&seeds) {
             return Err(format!(
                 "--seeds {seeds}: must be 1 to {MAX_SEEDS} (20 times the paper's 5)"
             ));
         }
-        self.cost_case(Space::Actuation, 1.0, 0).validate()
+        let section = if self.quick { "quick_budget" } else { "budget" };
+        let in_task = |e: SettingError, prefix: &str| {
+            format!(
+                "{}: experiment.{section}.{prefix}{} = {}: {}",
+                task_source(self.task.as_ref()),
+                e.field,
+                e.value,
+                e.rule
+            )
+        };
+        let cost = self.cost_case(Space::Actuation, 1.0, 0);
+        if let Err(e) = cost.cmaes.validate() {
+            let flag_given = match e.field {
+                "population" => args.population.is_some(),
+                "generations" => args.generations.is_some(),
+                _ => true,
+            };
+            if !flag_given {
+                return Err(in_task(e, ""));
+            }
+        }
+        cost.validate()?;
+        for run in self.capacity_runs() {
+            run.case
+                .cmaes
+                .validate()
+                .map_err(|e| in_task(e, "capacity_"))?;
+        }
+        Ok(())
     }
 
     /// A run in `space` at `payload` (None: the task's) with `method`, the plan's shared flags
@@ -193,20 +190,24 @@ impl Plan {
         case
     }
 
-    /// Beyond the paper: one design for the payload range [`RANGE`], CMA-ES on the mean cost
-    /// with the graded penalty (at 3 kg most designs are infeasible, and a flat penalty leaves
-    /// CMA-ES nothing to rank; seed 0, the cost runs' budget).
+    /// Beyond the paper: one design for the experiment's payload range (none when it is empty),
+    /// CMA-ES on the mean cost in [`RANGE_SPACE`] with the graded penalty (at the paper's 3 kg
+    /// most designs are infeasible, and a flat penalty leaves CMA-ES nothing to rank; seed 0,
+    /// the cost runs' budget).
     fn range_runs(&self) -> Vec<PlannedRun> {
-        let (payloads, space) = RANGE;
-        let mut case = self.case(space, None, Method::Cmaes);
+        let payloads = &self.experiment.range_payloads_kg;
+        let (Some(first), Some(last)) = (payloads.first(), payloads.last()) else {
+            return Vec::new();
+        };
+        let mut case = self.case(RANGE_SPACE, None, Method::Cmaes);
         case.objective = Objective::Range(PayloadRange {
-            payloads_kg: payloads.to_vec(),
+            payloads_kg: payloads.clone(),
         });
         case.penalty = GRADED_PENALTY;
         case.cmaes.population = self.budget.population;
         case.cmaes.generations = self.budget.generations;
         vec![PlannedRun {
-            name: format!("{space}-range-1-3kg-seed0"),
+            name: format!("{RANGE_SPACE}-range-{first}-{last}kg-seed0"),
             case,
         }]
     }
@@ -241,7 +242,7 @@ impl Plan {
             self.out_dir.join("paper_table.md"),
             self.out_dir.join("paper_table.json"),
         ];
-        for payload in PAYLOADS {
+        for &payload in &self.experiment.original_payloads_kg {
             for space in SPACES {
                 files.push(self.original_file(space, payload));
                 let plots = self.original_plots(space, payload);
@@ -250,7 +251,7 @@ impl Plan {
         }
         for space in SPACES {
             files.push(self.capacity_file(&format!("{space}-original")));
-            for payload in CODESIGNED {
+            for payload in &self.experiment.codesign_payloads_kg {
                 files.push(self.capacity_file(&format!("{space}-{payload}kg-best")));
             }
         }
@@ -277,7 +278,7 @@ impl Plan {
             .map(|flag| format!(" {flag}"))
             .collect::<String>();
         let mut lines = Vec::new();
-        for payload in PAYLOADS {
+        for &payload in &self.experiment.original_payloads_kg {
             for space in SPACES {
                 lines.push(format!(
                     "{program} solve --space {space} --payload {payload}{common} --out {} --plot {}",
@@ -317,7 +318,7 @@ impl Plan {
     /// The paper's co-design runs: CMA-ES on the cost, per co-designed payload, space and seed.
     pub fn cost_runs(&self) -> Vec<PlannedRun> {
         let mut runs = Vec::new();
-        for payload in CODESIGNED {
+        for &payload in &self.experiment.codesign_payloads_kg {
             for space in SPACES {
                 for seed in 0..self.budget.seeds {
                     runs.push(PlannedRun {
@@ -331,11 +332,11 @@ impl Plan {
     }
 
     /// Beyond the paper: the gradient method per co-designed payload and space, and with the
-    /// graded penalty at [`GRADED`] per space. Its results record no CMA-ES budget (population
-    /// and generations 0).
+    /// graded penalty per graded payload and space. Its results record no CMA-ES budget
+    /// (population and generations 0).
     pub fn gradient_runs(&self) -> Vec<PlannedRun> {
         let mut runs = Vec::new();
-        for payload in CODESIGNED {
+        for &payload in &self.experiment.codesign_payloads_kg {
             for space in SPACES {
                 runs.push(PlannedRun {
                     name: format!("{space}-{payload}kg-gradient"),
@@ -343,13 +344,15 @@ impl Plan {
                 });
             }
         }
-        for space in SPACES {
-            let mut case = self.gradient_case(space, GRADED);
-            case.penalty = GRADED_PENALTY;
-            runs.push(PlannedRun {
-                name: format!("{space}-{GRADED}kg-graded-gradient"),
-                case,
-            });
+        for &payload in &self.experiment.graded_payloads_kg {
+            for space in SPACES {
+                let mut case = self.gradient_case(space, payload);
+                case.penalty = GRADED_PENALTY;
+                runs.push(PlannedRun {
+                    name: format!("{space}-{payload}kg-graded-gradient"),
+                    case,
+                });
+            }
         }
         runs
     }
@@ -365,8 +368,8 @@ impl Plan {
         case
     }
 
-    /// The CMA-ES runs beyond the paper: the capacity designs, the payload range, and the 3 kg
-    /// cases with the graded penalty.
+    /// The CMA-ES runs beyond the paper: the capacity designs, the payload range, and the
+    /// graded payloads' cases with the graded penalty.
     pub fn beyond_runs(&self) -> Vec<PlannedRun> {
         let mut runs = self.capacity_runs();
         runs.extend(self.range_runs());
@@ -374,18 +377,20 @@ impl Plan {
         runs
     }
 
-    /// Beyond the paper: the co-designed payloads at the edge of feasibility ([`GRADED`]) with
-    /// the graded penalty, per space and seed, on the cost runs' budget.
+    /// Beyond the paper: the graded payloads (the paper's 3 kg, at the edge of feasibility) with
+    /// the graded penalty, per payload, space and seed, on the cost runs' budget.
     fn graded_runs(&self) -> Vec<PlannedRun> {
         let mut runs = Vec::new();
-        for space in SPACES {
-            for seed in 0..self.budget.seeds {
-                let mut case = self.cost_case(space, GRADED, seed);
-                case.penalty = GRADED_PENALTY;
-                runs.push(PlannedRun {
-                    name: format!("{space}-{GRADED}kg-graded-seed{seed}"),
-                    case,
-                });
+        for &payload in &self.experiment.graded_payloads_kg {
+            for space in SPACES {
+                for seed in 0..self.budget.seeds {
+                    let mut case = self.cost_case(space, payload, seed);
+                    case.penalty = GRADED_PENALTY;
+                    runs.push(PlannedRun {
+                        name: format!("{space}-{payload}kg-graded-seed{seed}"),
+                        case,
+                    });
+                }
             }
         }
         runs
@@ -412,7 +417,8 @@ impl Plan {
 
 #[cfg(test)]
 mod tests {
-    use super::{Args, Plan, FULL};
+    use super::{Args, Plan};
+    use crate::model::experiment::{Budget, Experiment};
     use clap::Parser;
 
     #[derive(Parser)]
@@ -422,12 +428,13 @@ mod tests {
     }
 
     fn plan(flags: &[&str]) -> Result<Plan, String> {
-        Plan::new(&Command::parse_from(["reproduce"].iter().chain(flags)).args)
+        let args = Command::parse_from(["reproduce"].iter().chain(flags)).args;
+        Plan::new(&args, Experiment::paper())
     }
 
     #[test]
     fn sizes_are_checked_with_their_limits() {
-        assert_eq!(plan(&[]).unwrap().budget, FULL);
+        assert_eq!(plan(&[]).unwrap().budget, Budget::PAPER);
         assert!(plan(&["--seeds", "0"])
             .unwrap_err()
             .starts_with("--seeds 0: must be 1 to"));
@@ -460,5 +467,49 @@ mod tests {
         let unique: std::collections::BTreeSet<&String> = names.iter().collect();
         assert_eq!(unique.len(), names.len(), "{names:?}");
         assert!(names.contains(&"joint-capacity-seed0".to_owned()));
+    }
+
+    #[test]
+    fn the_task_s_experiment_names_the_runs() {
+        let experiment = Experiment {
+            codesign_payloads_kg: vec![2.0],
+            graded_payloads_kg: vec![],
+            range_payloads_kg: vec![0.5, 2.5],
+            budget: Budget {
+                seeds: 1,
+                ..Budget::PAPER
+            },
+            ..Experiment::paper()
+        };
+        let args = Command::parse_from(["reproduce"]).args;
+        let plan = Plan::new(&args, experiment).unwrap();
+        let names: Vec<String> = plan
+            .cost_runs()
+            .into_iter()
+            .chain(plan.gradient_runs())
+            .chain(plan.beyond_runs())
+            .map(|run| run.name)
+            .collect();
+        assert_eq!(
+            names,
+            [
+                "joint-2kg-seed0",
+                "actuation-2kg-seed0",
+                "joint-2kg-gradient",
+                "actuation-2kg-gradient",
+                "joint-capacity-seed0",
+                "actuation-capacity-seed0",
+                "actuation-range-0.5-2.5kg-seed0",
+            ]
+        );
+        // A task's budget below the paper's is the experiment's full run, not a reduced one.
+        assert!(!plan.is_reduced());
+        let mut quick = Command::parse_from(["reproduce", "--quick"]).args;
+        assert!(Plan::new(&quick, Experiment::paper()).unwrap().is_reduced());
+        quick.seeds = Some(1);
+        assert_eq!(
+            Plan::new(&quick, Experiment::paper()).unwrap().budget.seeds,
+            1
+        );
     }
 }

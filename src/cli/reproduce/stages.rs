@@ -1,12 +1,12 @@
 //! The stages of the experiment run in this process: the original designs, the co-design runs
 //! and the capacities, each written to its file in the output folder as it finishes.
 
-use super::plan::{Plan, PlannedRun, PAYLOADS, SPACES};
-use super::Outcomes;
+use super::plan::{Plan, PlannedRun, SPACES};
+use super::{ExperimentTask, Outcomes};
 use crate::cli::optimize::progress_bar;
 use crate::cli::store_hints::run_error;
 use crate::design::capacity::{payload_capacity, CapacitySettings};
-use crate::design::run::{run_case, task_source, OptimizeDocument};
+use crate::design::run::{run_case, task_source, OptimizeDocument, RecordedHash};
 use crate::design::score::Objective;
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
@@ -14,11 +14,11 @@ use crate::report::codesign::CapacityDocument;
 use crate::report::table::ResultFile;
 use crate::report::trajectory::{write_plots, SolveDocument};
 use crate::solve::ToolInfo;
-use crate::solve::{solve_design, SolveError, TaskRecord};
+use crate::solve::{solve_design, SolveError};
 use crate::store::files::write_json;
 
 /// Runs every independent stage of `plan`: what its printed commands do elsewhere.
-pub fn run_all(plan: &Plan, task: &TaskRecord) -> Result<Outcomes, String> {
+pub fn run_all(plan: &Plan, task: &ExperimentTask) -> Result<Outcomes, String> {
     Ok(Outcomes {
         originals: solve_originals(plan, task)?,
         runs: cost_runs(plan)?,
@@ -36,7 +36,7 @@ pub fn run_all(plan: &Plan, task: &TaskRecord) -> Result<Outcomes, String> {
 
 /// The formulation of `task` with `payload_kg` in `space`, with the task's limit modes.
 pub fn formulation_at(
-    task: &TaskRecord,
+    task: &ExperimentTask,
     payload_kg: f64,
     space: Space,
 ) -> Result<Formulation, String> {
@@ -49,10 +49,10 @@ pub fn formulation_at(
 
 /// Solves the original design at every payload in both spaces; writes each result and its
 /// plots.
-fn solve_originals(plan: &Plan, task: &TaskRecord) -> Result<Vec<ResultFile>, String> {
+fn solve_originals(plan: &Plan, task: &ExperimentTask) -> Result<Vec<ResultFile>, String> {
     let source = task_source(plan.task.as_ref());
     let mut files = Vec::new();
-    for payload in PAYLOADS {
+    for &payload in &plan.experiment.original_payloads_kg {
         for space in SPACES {
             let formulation = formulation_at(task, payload, space)?;
             let ratios = task.task.transmission.original.clone();
@@ -68,7 +68,13 @@ fn solve_originals(plan: &Plan, task: &TaskRecord) -> Result<Vec<ResultFile>, St
                 result.iterations
             );
             write_plots(&plan.original_plots(space, payload), &formulation, &result)?;
-            let document = SolveDocument::new(&source.label(), &formulation, &task.solver, result);
+            let document = SolveDocument::new(
+                &source.label(),
+                &task.hash,
+                &formulation,
+                &task.solver,
+                result,
+            );
             write_json(&plan.original_file(space, payload), &document)
                 .map_err(|e| e.to_string())?;
             files.push(ResultFile::Solve(Box::new(document)));
@@ -172,7 +178,7 @@ fn beyond_runs(plan: &Plan) -> Result<Vec<OptimizeDocument>, String> {
 /// Searches the payload capacity of `ratios` in `space` and writes it as `capacity/NAME.json`.
 pub fn capacity_document(
     plan: &Plan,
-    task: &TaskRecord,
+    task: &ExperimentTask,
     space: Space,
     ratios: Vec<f64>,
     name: &str,
@@ -188,6 +194,7 @@ pub fn capacity_document(
     let document = CapacityDocument {
         tool: ToolInfo::current(task.solver.linear_solver()),
         task_file: task_source(plan.task.as_ref()).label(),
+        task_hash: RecordedHash(Some(task.hash.clone())),
         space,
         ratios,
         limit_modes: task.task.limit_modes,

@@ -1,5 +1,6 @@
 //! The settings of a CMA-ES run, their defaults and ranges, and why a run stops.
 
+use crate::model::experiment::Budget;
 use std::fmt;
 
 /// Settings of one run. Units of x are those of the bounds, units of f those of the fitness.
@@ -22,8 +23,8 @@ pub struct CmaesSettings {
 impl CmaesSettings {
     /// The paper's run: population 100, 30 generations, sigma0 0.3, seed 0, pagmo's tolerances.
     pub const PAPER: CmaesSettings = CmaesSettings {
-        population: 100,
-        generations: 30,
+        population: Budget::PAPER.population,
+        generations: Budget::PAPER.generations,
         sigma0: 0.3,
         seed: 0,
         ftol: 1e-6,

@@ -11,6 +11,7 @@ use crate::design::penalty::{Grading, Penalty};
 use crate::design::score::{Objective, PayloadRange};
 use crate::design::workers::{Launcher, SOLVE_TIMEOUT_S};
 use crate::ipopt::LinearSolver;
+use crate::model::identity::task_hash;
 use crate::model::task::{check_payload, LimitMode, LimitModes, Task, TaskSource};
 use crate::model::Robot;
 use crate::problem::Space;
@@ -50,13 +51,14 @@ impl ModelChoice {
         task_file.into_iter().chain(robot).collect()
     }
 
-    /// Loads the task (with the overrides applied), the robot carrying the payload, and the
-    /// solve settings of the task file's `solver` section.
-    pub fn load(&self) -> Result<(Task, Robot, SolveSettings), String> {
+    /// Loads the task (with the overrides applied), the robot carrying the payload, the solve
+    /// settings of the task file's `solver` section, and the task hash.
+    pub fn load(&self) -> Result<Loaded, String> {
         let source = self.source();
         let file = source.load().map_err(|e| e.to_string())?;
         let settings = SolveSettings::from_section(file.solver.as_ref())
             .map_err(|e| format!("{source}: {e}"))?;
+        let as_read = file.task.clone();
         let mut task = file.task;
         if let Some(robot) = &self.robot {
             task.robot = Some(robot.clone());
@@ -72,8 +74,26 @@ impl ModelChoice {
             ),
             _ => e.to_string(),
         })?;
-        Ok((task, robot, settings))
+        Ok(Loaded {
+            task_hash: task_hash(&as_read, robot.urdf_hash()),
+            task,
+            robot,
+            settings,
+        })
     }
+}
+
+/// What a run loads ([`ModelChoice::load`]).
+pub struct Loaded {
+    /// The task with the overrides applied (robot, payload).
+    pub task: Task,
+    /// The robot, carrying the payload.
+    pub robot: Robot,
+    /// The solve settings of the task file's `solver` section.
+    pub settings: SolveSettings,
+    /// The task hash of the task as read on this robot (`model::identity::task_hash`): the
+    /// `--payload` override aside, `--robot` included.
+    pub task_hash: String,
 }
 
 /// The space, limit modes and linear solver of a run's trajectory problems (`--space`,
@@ -393,15 +413,11 @@ impl Case {
         found
     }
 
-    /// The settings of the run as its document and log header record them, for `task` (the
-    /// overrides applied) on `robot` solved with `settings`, with limit `modes`.
-    pub fn inputs(
-        &self,
-        task: &Task,
-        robot: &Robot,
-        settings: &SolveSettings,
-        modes: LimitModes,
-    ) -> OptimizeInputs {
+    /// The settings of the run as its document and log header record them, for the task, robot,
+    /// solve settings (the linear solver chosen applied) and task hash `loaded`, with limit
+    /// `modes`.
+    pub fn inputs(&self, loaded: &Loaded, modes: LimitModes) -> OptimizeInputs {
+        let (task, settings) = (&loaded.task, &loaded.settings);
         OptimizeInputs {
             method: self.method,
             objective: self.objective.clone(),
@@ -413,7 +429,8 @@ impl Case {
                 solver: settings.recorded(),
             },
             linear_solver: settings.linear_solver(),
-            robot_hash: RecordedHash(Some(robot.urdf_hash().to_owned())),
+            robot_hash: RecordedHash(Some(loaded.robot.urdf_hash().to_owned())),
+            task_hash: RecordedHash(Some(loaded.task_hash.clone())),
             space: self.problem.space,
             payload_kg: task.payload.mass_kg,
             limit_modes: modes,

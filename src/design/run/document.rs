@@ -43,6 +43,11 @@ pub struct OptimizeInputs {
     /// (logs written before it was recorded leave it unknown).
     #[serde(default, skip_serializing_if = "RecordedHash::is_unknown")]
     pub robot_hash: RecordedHash,
+    /// The task hash of the task as read on its robot (`model::identity::task_hash`), so that
+    /// `table` never merges runs of two tasks (files written before it was recorded leave it
+    /// unknown).
+    #[serde(default, skip_serializing_if = "RecordedHash::is_unknown")]
+    pub task_hash: RecordedHash,
     /// Joint or actuation space.
     pub space: Space,
     /// Payload, kg.

@@ -1,7 +1,7 @@
 //! Running a co-design case: its checks before any work, the evaluation log, the outer method
 //! (CMA-ES in worker processes, or the gradient method), and the document of what it found.
 
-use super::case::Case;
+use super::case::{Case, Loaded};
 use super::document::{Method, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
 use super::error::{Output, RunError};
 use crate::design::gradient::optimize_gradient;
@@ -33,16 +33,22 @@ pub fn run_case(
     display: ProgressDisplay<'_>,
 ) -> Result<OptimizeDocument, RunError> {
     case.validate().map_err(RunError::Case)?;
-    let (task, robot, mut settings) = case.model.load().map_err(RunError::Load)?;
-    case.problem.configure(&mut settings);
-    let read = case.model.inputs(&task);
+    let mut loaded = case.model.load().map_err(RunError::Load)?;
+    case.problem.configure(&mut loaded.settings);
+    let read = case.model.inputs(&loaded.task);
     check_result(out, &read).map_err(RunError::store(Output::Result))?;
     if case.method == Method::Cmaes {
         check_output(&log_beside(out), &read).map_err(RunError::store(Output::Log))?;
     }
-    let modes = case.problem.modes(&task);
-    probe_solver(&task, &settings, &robot, case, modes)?;
-    let inputs = case.inputs(&task, &robot, &settings, modes);
+    let modes = case.problem.modes(&loaded.task);
+    probe_solver(&loaded.task, &loaded.settings, &loaded.robot, case, modes)?;
+    let inputs = case.inputs(&loaded, modes);
+    let Loaded {
+        task,
+        robot,
+        settings,
+        ..
+    } = loaded;
     let formulation = Formulation::new(&task, robot, case.problem.space, modes)
         .map_err(|e| RunError::Load(e.to_string()))?;
     let mut log = match case.method {

@@ -7,7 +7,11 @@ mod document;
 mod error;
 mod execute;
 
-pub use case::{shell_quote, task_source, Case, ModelChoice, ProblemChoice, MAX_SOLVE_TIMEOUT_S};
-pub use document::{Method, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
+pub use case::{
+    shell_quote, task_source, Case, Loaded, ModelChoice, ProblemChoice, MAX_SOLVE_TIMEOUT_S,
+};
+pub use document::{
+    Method, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts, RecordedHash,
+};
 pub use error::{Output, RunError};
 pub use execute::{run_case, ProgressDisplay};

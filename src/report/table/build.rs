@@ -1,6 +1,7 @@
 //! The table's rows from result files: the original design's solves ("before"), the co-design
 //! runs ("after", the gradient method, the largest capacity), the capacities and the totals.
 
+use super::check::motion;
 use super::{
     AfterCell, DesignCell, PaperTable, PaperValues, RangeRow, ResultFile, TableRow, PAPER,
 };
@@ -8,21 +9,25 @@ use crate::design::penalty::Grading;
 use crate::design::run::{Method, OptimizeDocument};
 use crate::design::score::Objective;
 use crate::ipopt::LinearSolver;
-use crate::model::task::{Motors, PerMotor};
+use crate::model::identity::built_in_task_hash;
+use crate::model::task::{Motors, PerMotor, Task};
 use crate::problem::Space;
 use crate::solve::ToolInfo;
 use crate::solve::TrajectoryResult;
 use crate::stats::median;
 
 /// Builds the table from result files: solves of the original design give "before"; co-design
-/// runs give "after" (the best over their seeds) and, if no solve did, "before" too.
+/// runs give "after" (the best over their seeds) and, if no solve did, "before" too. The
+/// paper's values stand beside ours only when every file is of the paper's task.
 pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
+    let task = TableTask::of(files);
+    let paper = task.paper;
     let mut rows: Vec<TableRow> = Vec::new();
     for file in files {
         if let ResultFile::Solve(doc) = file {
             let original = &doc.inputs.task.task.transmission.original;
             if doc.result.ratios == *original {
-                row_mut(&mut rows, doc.inputs.payload_kg, doc.inputs.space).before =
+                row_mut(&mut rows, doc.inputs.payload_kg, doc.inputs.space, paper).before =
                     Some(cell(&doc.result, &doc.inputs.task.task.motors));
             }
         }
@@ -34,7 +39,7 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
                 ranges.extend(range_row(doc));
             }
             ResultFile::Optimize(doc) => add_run(
-                row_mut(&mut rows, doc.inputs.payload_kg, doc.inputs.space),
+                row_mut(&mut rows, doc.inputs.payload_kg, doc.inputs.space, paper),
                 doc,
             ),
             _ => {}
@@ -52,6 +57,9 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
     let (capacity_evaluations, capacity_seconds) = run_totals(files, false);
     let linear_solvers = linear_solvers(files);
     PaperTable {
+        title: task.title(),
+        paper_task: paper,
+        task_hash: task.hash,
         tool: ToolInfo::current(linear_solvers.first().copied().unwrap_or_default()),
         linear_solvers,
         rows,
@@ -107,8 +115,59 @@ fn cell(result: &TrajectoryResult, motors: &Motors) -> DesignCell {
     }
 }
 
-/// The row of `payload_kg` and `space`, added empty (with the paper's values) when missing.
-fn row_mut(rows: &mut Vec<TableRow>, payload_kg: f64, space: Space) -> &mut TableRow {
+/// The task of a table's files.
+struct TableTask {
+    /// The task hash the files record (or imply: see [`ResultFile::task`]); None: unknown.
+    hash: Option<String>,
+    /// The task file the first file records.
+    file: String,
+    /// Whether every file is of the paper's task, the built-in one, with its motion (`solve
+    /// --steps` or `--duration` keep the task hash, as read, but change the problem).
+    paper: bool,
+}
+
+impl TableTask {
+    /// The task of `files`, which [`super::check_results`] has found to be of one task.
+    fn of(files: &[ResultFile]) -> TableTask {
+        // The built-in task always loads (tested); were it not to, no table is the paper's.
+        let built_in = built_in_task_hash().ok();
+        let tasks: Vec<Option<String>> = files
+            .iter()
+            .map(|file| file.task(built_in.as_deref()))
+            .collect();
+        let paper_motion = Task::built_in()
+            .ok()
+            .map(|task| (task.motion.horizon_s, task.motion.steps));
+        let own_motion = files
+            .iter()
+            .all(|file| motion(file).is_none_or(|m| Some(m) == paper_motion));
+        TableTask {
+            hash: tasks.iter().flatten().next().cloned(),
+            file: files
+                .first()
+                .map_or_else(String::new, |f| f.task_file().to_owned()),
+            paper: !files.is_empty()
+                && built_in.is_some()
+                && own_motion
+                && tasks.iter().all(|task| *task == built_in),
+        }
+    }
+
+    /// The table's title: the paper's table for the paper's task, else the task's file and
+    /// hash.
+    fn title(&self) -> String {
+        let what = "gear ratios and cost per payload";
+        if self.paper {
+            return format!("Table II reproduced: {what}");
+        }
+        let hash = self.hash.as_deref().unwrap_or("unknown");
+        format!("Co-design of task {} (task hash {hash}): {what}", self.file)
+    }
+}
+
+/// The row of `payload_kg` and `space`, added empty (with the paper's values when `paper`)
+/// when missing.
+fn row_mut(rows: &mut Vec<TableRow>, payload_kg: f64, space: Space, paper: bool) -> &mut TableRow {
     let index = match rows
         .iter()
         .position(|r| r.payload_kg == payload_kg && r.space == space)
@@ -117,6 +176,7 @@ fn row_mut(rows: &mut Vec<TableRow>, payload_kg: f64, space: Space) -> &mut Tabl
         None => {
             let paper = PAPER
                 .iter()
+                .filter(|_| paper)
                 .find(|(p, s, _, _)| *p == payload_kg && *s == space)
                 .map(|(_, _, before, after)| PaperValues {
                     before: (*before).to_owned(),

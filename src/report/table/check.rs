@@ -3,22 +3,41 @@
 
 use super::ResultFile;
 use crate::design::score::Objective;
+use crate::model::identity::built_in_task_hash;
 use crate::report::ReportError;
 use std::path::PathBuf;
 
-/// Fails, naming the files, when two results describe different motions (horizon or number of
-/// intervals), when one result is given twice (the same file, or the same run under another
-/// name), or when a result holds a cost no run writes (edited or damaged): one table compares
-/// the results of one task, each once.
+/// Fails, naming the files, when two results are of different tasks (their task hashes differ;
+/// a file without one, written before it was recorded, is of the built-in task when it says so,
+/// else of an unknown task that merges with any: see [`ResultFile::task`]), when two describe
+/// different motions (horizon or number of intervals), when one result is given twice (the same
+/// file, or the same run under another name), or when a result holds a cost no run writes
+/// (edited or damaged): one table compares the results of one task, each once.
 pub fn check_results(paths: &[PathBuf], files: &[ResultFile]) -> Result<(), ReportError> {
     for (path, file) in paths.iter().zip(files) {
         if let Some(why) = odd_value(file) {
             return Err(ReportError::Table(format!("{}: {why}", path.display())));
         }
     }
+    let built_in = built_in_task_hash().ok();
+    let tasks: Vec<Option<String>> = files
+        .iter()
+        .map(|file| file.task(built_in.as_deref()))
+        .collect();
     for (i, a) in files.iter().enumerate() {
         for (j, b) in files.iter().enumerate().skip(i + 1) {
             let (first, second) = (paths[i].display(), paths[j].display());
+            if let (Some(ta), Some(tb)) = (&tasks[i], &tasks[j]) {
+                if ta != tb {
+                    return Err(ReportError::Table(format!(
+                        "{first} (task hash {ta}, task file {}) and {second} (task hash {tb}, \
+                         task file {}) are results of different tasks; a table compares the \
+                         results of one task",
+                        a.task_file(),
+                        b.task_file()
+                    )));
+                }
+            }
             if let (Some((ha, na)), Some((hb, nb))) = (motion(a), motion(b)) {
                 if (ha, na) != (hb, nb) {
                     return Err(ReportError::Table(format!("{first} (horizon {ha} s, {na} intervals) and {second} (horizon {hb} s, {nb} intervals) describe different motions; a table compares the results of one task")));
@@ -39,7 +58,7 @@ pub fn check_results(paths: &[PathBuf], files: &[ResultFile]) -> Result<(), Repo
 }
 
 /// The horizon (s) and intervals of a result's motion, where it records them.
-fn motion(file: &ResultFile) -> Option<(f64, usize)> {
+pub(super) fn motion(file: &ResultFile) -> Option<(f64, usize)> {
     let motion = match file {
         ResultFile::Solve(d) => &d.inputs.task.task.motion,
         ResultFile::Optimize(d) => &d.inputs.task.task.motion,

@@ -1,5 +1,6 @@
 //! The table as Markdown (`paper_table.md`): a header with the tool and the solver time, the
-//! paper's Table II with our values, and the section beyond the paper.
+//! paper's Table II with our values (the paper's beside them for the paper's task), and the
+//! section beyond the paper.
 
 use super::{AfterCell, DesignCell, PaperTable, RangeRow, TableRow};
 use crate::ipopt::LinearSolver;
@@ -8,10 +9,20 @@ impl PaperTable {
     /// The table as Markdown.
     pub fn to_markdown(&self) -> String {
         let mut text = self.header();
-        text.push_str("| payload | space | before (ours) | before (paper) | after (ours) | after (paper) | seeds: best J | inner solves of evaluations | median solve |\n");
-        text.push_str("|---|---|---|---|---|---|---|---|---|\n");
-        for row in &self.rows {
-            text.push_str(&paper_row(row));
+        if self.paper_task {
+            text.push_str("| payload | space | before (ours) | before (paper) | after (ours) | after (paper) | seeds: best J | inner solves of evaluations | median solve |\n");
+            text.push_str("|---|---|---|---|---|---|---|---|---|\n");
+        } else {
+            text.push_str("| payload | space | before | after | seeds: best J | inner solves of evaluations | median solve |\n");
+            text.push_str("|---|---|---|---|---|---|---|\n");
+        }
+        // A row with nothing of its own here (a capacity run's row) shows below only.
+        let shown = self
+            .rows
+            .iter()
+            .filter(|r| r.before.is_some() || r.after.is_some() || r.paper.is_some());
+        for row in shown {
+            text.push_str(&main_row(row, self.paper_task));
         }
         let beyond = self.rows.iter().any(|r| {
             r.gradient.is_some()
@@ -86,11 +97,16 @@ impl PaperTable {
 
     /// The title, the tool and linear solvers, the notes and the solver time, each a paragraph.
     fn header(&self) -> String {
-        let mut text = String::from("# Table II reproduced: gear ratios and cost per payload\n\n");
+        let mut text = format!("# {}\n\n", self.title);
+        let comparison = if self.paper_task {
+            "Our arm, task and horizon differ from the paper's (`docs/model.md`, section 1), so our \
+             costs differ from the paper's: compare the trends, not the digits. "
+        } else {
+            ""
+        };
         text.push_str(&format!(
-            "Made by {} {} with IPOPT {} ({}). Our arm, task and horizon differ from the paper's \
-             (`docs/model.md`, section 1), so our costs differ from the paper's: compare the trends, not the digits. \
-             \"after\" is the best design over the seeds of CMA-ES.\n\n",
+            "Made by {} {} with IPOPT {} ({}). {comparison}\"after\" is the best design over the \
+             seeds of CMA-ES.\n\n",
             self.tool.name,
             self.tool.version,
             self.tool.ipopt_version,
@@ -176,8 +192,8 @@ fn range_row(range: &RangeRow) -> String {
     )
 }
 
-/// One line of the paper's table.
-fn paper_row(row: &TableRow) -> String {
+/// One line of the main table, with the paper's values when `paper`.
+fn main_row(row: &TableRow, paper: bool) -> String {
     let before = row
         .before
         .as_ref()
@@ -190,8 +206,16 @@ fn paper_row(row: &TableRow) -> String {
         .paper
         .as_ref()
         .map_or(("-", "-"), |p| (p.before.as_str(), p.after.as_str()));
+    let (before, after) = if paper {
+        (
+            format!("{before} | {paper_before}"),
+            format!("{after} | {paper_after}"),
+        )
+    } else {
+        (before, after)
+    };
     format!(
-        "| {} kg | {} | {before} | {paper_before} | {after} | {paper_after} | {seeds} | {solves} | {median} |\n",
+        "| {} kg | {} | {before} | {after} | {seeds} | {solves} | {median} |\n",
         row.payload_kg, row.space
     )
 }

@@ -1,6 +1,7 @@
-//! The paper's Table II with our numbers beside the paper's, built from result files: the
-//! table's types and the reading of result files here, the rows in `build`, the Markdown in
-//! `markdown`.
+//! The paper's Table II with our numbers beside the paper's, built from result files (for any
+//! other task than the paper's, the same table without the paper's numbers, titled by its task):
+//! the table's types and the reading of result files here, the rows in `build`, the checks of a
+//! set of files in `check`, the Markdown in `markdown`.
 
 mod build;
 mod check;
@@ -15,6 +16,7 @@ use super::{ReadFailure, ReportError};
 use crate::design::run::{OptimizeDocument, PayloadCost};
 use crate::input::{read_text, MAX_RESULT_BYTES};
 use crate::ipopt::LinearSolver;
+use crate::model::task::TaskSource;
 use crate::problem::Space;
 use crate::solve::ToolInfo;
 use serde::{Deserialize, Serialize};
@@ -29,6 +31,36 @@ pub enum ResultFile {
     Optimize(Box<OptimizeDocument>),
     /// One payload-capacity search.
     Capacity(Box<CapacityDocument>),
+}
+
+impl ResultFile {
+    /// The task file as the result records it: a path as given, or `built-in`.
+    pub fn task_file(&self) -> &str {
+        match self {
+            ResultFile::Solve(d) => &d.inputs.task_file,
+            ResultFile::Optimize(d) => &d.inputs.task_file,
+            ResultFile::Capacity(d) => &d.task_file,
+        }
+    }
+
+    /// The task the result belongs to, by task hash (`model::identity::task_hash`): the hash it
+    /// records; for a file written before the hash was recorded, `built_in` (the built-in
+    /// task's hash) when it records the built-in task, which was then the paper's; else None,
+    /// an unknown task.
+    pub fn task(&self, built_in: Option<&str>) -> Option<String> {
+        let recorded = match self {
+            ResultFile::Solve(d) => &d.inputs.task_hash,
+            ResultFile::Optimize(d) => &d.inputs.task_hash,
+            ResultFile::Capacity(d) => &d.task_hash,
+        };
+        match (&recorded.0, built_in) {
+            (Some(hash), _) => Some(hash.clone()),
+            (None, Some(built_in)) if self.task_file() == TaskSource::BuiltIn.label() => {
+                Some(built_in.to_owned())
+            }
+            (None, _) => None,
+        }
+    }
 }
 
 /// Reads a result file, telling its kind by its fields; errors name the file.
@@ -164,13 +196,23 @@ pub struct TableRow {
     /// The gradient method with the graded penalty: its best design and its inner solves.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub graded_gradient: Option<(DesignCell, usize)>,
-    /// The paper's values.
+    /// The paper's values (only in a table of the paper's task).
     pub paper: Option<PaperValues>,
 }
 
 /// The whole table, as written to `paper_table.json`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PaperTable {
+    /// The title: "Table II reproduced" for the paper's task, else naming the task.
+    #[serde(default)]
+    pub title: String,
+    /// Whether the results are of the paper's task (the built-in one, by task hash): only then
+    /// does the table show the paper's values.
+    #[serde(default)]
+    pub paper_task: bool,
+    /// The task hash of the results (None: no result records one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub task_hash: Option<String>,
     /// Program and solver versions.
     pub tool: ToolInfo,
     /// The linear solvers the result files were solved with, each once.

@@ -1,0 +1,284 @@
+//! The experiment of a task (its `experiment` section) drives `reproduce`, its plan and its
+//! table; results record their task's hash, and `table` shows the paper's numbers only beside
+//! the paper's task and never merges two tasks.
+
+mod support;
+
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+use support::{codesign_in, fails_saying, root, scratch, task_with};
+
+/// Runs codesign in `dir`, failing the test on an error; returns its stdout.
+fn succeed(dir: &Path, args: &[&str]) -> String {
+    let output = codesign_in(dir, args);
+    assert!(
+        output.status.success(),
+        "codesign {args:?}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8(output.stdout).unwrap()
+}
+
+fn read(path: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+fn path(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+/// The repository's task on 8 intervals (solved in milliseconds) with `experiment` as its
+/// section, written to `dir/task.json`.
+fn small_task(dir: &Path, experiment: Value) -> PathBuf {
+    task_with(dir, |task| {
+        task["motion"]["steps"] = 8.into();
+        task["experiment"] = experiment.clone();
+    })
+}
+
+/// A tiny experiment: the original design and co-design at 0.5 kg, one seed of 5 designs over
+/// one generation, no graded or range runs.
+fn tiny_experiment() -> Value {
+    json!({
+        "original_payloads_kg": [0.5],
+        "codesign_payloads_kg": [0.5],
+        "graded_payloads_kg": [],
+        "range_payloads_kg": [],
+        "budget": {
+            "seeds": 1, "population": 5, "generations": 1,
+            "capacity_population": 5, "capacity_generations": 1
+        }
+    })
+}
+
+#[test]
+fn the_plan_of_the_built_in_task_is_the_paper_s_experiment_as_before() {
+    let dir = scratch("built-in-plan");
+    let program = format!("'{}'", env!("CARGO_BIN_EXE_codesign"));
+    for (flags, expected) in [(&[][..], "full.txt"), (&["--quick"][..], "quick.txt")] {
+        let args = [&["reproduce", "--plan", "--out-dir", "OUT"], flags].concat();
+        let plan = succeed(&dir, &args).replace(&program, "CODESIGN");
+        // Captured from `reproduce --plan` before tasks had an experiment section.
+        let before =
+            std::fs::read_to_string(root().join("tests/data/plan").join(expected)).unwrap();
+        assert_eq!(plan, before, "{flags:?}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_task_s_experiment_section_makes_the_plan() {
+    let dir = scratch("section-plan");
+    let task = small_task(&dir, tiny_experiment());
+    let base = ["reproduce", "--plan", "--task", path(&task), "--out-dir"];
+    let plan = succeed(&dir, &[&base[..], &["out"]].concat());
+    let lines: Vec<&str> = plan.lines().collect();
+    // Originals 1 x 2 spaces, CMA-ES 1 x 2 x 1 seed, gradient 1 x 2, capacity designs 2,
+    // original capacities 2.
+    assert_eq!(lines.len(), 10, "{plan}");
+    assert!(
+        lines[0].contains("solve --space joint --payload 0.5 --task"),
+        "{plan}"
+    );
+    assert!(
+        plan.contains("--payload 0.5 --space actuation --seed 0 --population 5 --generations 1")
+    );
+    assert!(plan.contains(
+        "--objective capacity --capacity-resolution 0.01 --seed 0 --population 5 --generations 1"
+    ));
+    for absent in ["seed1", "graded", "range", "--payload 1 ", "--payload 3 "] {
+        assert!(!plan.contains(absent), "{absent}: {plan}");
+    }
+    // Flags replace the section's values.
+    let more = succeed(&dir, &[&base[..], &["out", "--seeds", "2"]].concat());
+    assert!(more.contains("actuation-0.5kg-seed1.json"), "{more}");
+    // --quick takes the quick budget, the paper's where the section leaves it out.
+    let quick = succeed(&dir, &[&base[..], &["out", "--quick"]].concat());
+    assert!(quick.contains("--population 16 --generations 8"), "{quick}");
+    assert!(quick.contains("seed1"), "{quick}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn budgets_out_of_range_name_the_task_s_field_or_the_flag() {
+    let dir = scratch("section-errors");
+    // Each task is written to dir/task.json.
+    let with = |edit: &dyn Fn(&mut Value)| {
+        let mut experiment = tiny_experiment();
+        edit(&mut experiment);
+        small_task(&dir, experiment)
+    };
+    let task = with(&|e| e["budget"]["population"] = 2.into());
+    let args = [
+        "reproduce",
+        "--plan",
+        "--task",
+        path(&task),
+        "--out-dir",
+        "out",
+    ];
+    let output = codesign_in(&dir, &args);
+    fails_saying(&output, "experiment.budget.population = 2: must be 5 to");
+    fails_saying(&output, path(&task));
+    let output = codesign_in(&dir, &[&args[..], &["--population", "3"]].concat());
+    fails_saying(&output, "--population 3: must be 5 to");
+    with(&|e| e["codesign_payloads_kg"] = json!([0.5, 0.5]));
+    let output = codesign_in(&dir, &args);
+    fails_saying(
+        &output,
+        "experiment.codesign_payloads_kg[1] = 0.5: given twice",
+    );
+    with(&|e| e["budget"]["capacity_population"] = 1.into());
+    let output = codesign_in(&dir, &args);
+    fails_saying(
+        &output,
+        "experiment.budget.capacity_population = 1: must be 5 to",
+    );
+    assert!(!dir.join("out").exists(), "the plan's folders were made");
+    // A flag that replaces a value out of range mends it.
+    with(&|e| e["budget"]["population"] = 2.into());
+    succeed(&dir, &[&args[..], &["--population", "6"]].concat());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_task_s_experiment_runs_and_its_table_names_the_task_without_the_paper_s_numbers() {
+    let dir = scratch("section-run");
+    let task = small_task(&dir, tiny_experiment());
+    let out = dir.join("out");
+    let args = ["reproduce", "--task", path(&task), "--out-dir", path(&out)];
+    succeed(&dir, &args);
+    let table = std::fs::read_to_string(out.join("paper_table.md")).unwrap();
+    let title = format!("# Co-design of task {} (task hash ", path(&task));
+    assert!(table.starts_with(&title), "{table}");
+    assert!(
+        !table.contains("Table II") && !table.contains("(paper)"),
+        "{table}"
+    );
+    assert!(
+        table.contains(
+            "The experiment of the task's `experiment` section: original design at 0.5 kg; \
+             co-design at 0.5 kg."
+        ),
+        "{table}"
+    );
+    assert!(table.contains("| 0.5 kg | joint | ("), "{table}");
+    assert!(table.contains("| 0.5 kg | actuation | ("), "{table}");
+    // Every result records the task's hash, the table too.
+    let hash = read(&out.join("paper_table.json"))["task_hash"].clone();
+    assert_eq!(hash.as_str().map(str::len), Some(16), "{hash}");
+    assert!(table.contains(hash.as_str().unwrap()));
+    let original = out.join("original/joint-0.5kg.json");
+    for (file, key) in [
+        (original.clone(), "/inputs/task_hash"),
+        (
+            out.join("runs/actuation-0.5kg-seed0.json"),
+            "/inputs/task_hash",
+        ),
+        (
+            out.join("runs/joint-capacity-seed0.json"),
+            "/inputs/task_hash",
+        ),
+        (out.join("capacity/actuation-original.json"), "/task_hash"),
+    ] {
+        assert_eq!(read(&file).pointer(key), Some(&hash), "{}", file.display());
+    }
+
+    // `table` refuses to merge it with a result of the built-in task (written before results
+    // recorded their task's hash, and taken as the built-in task's as it says it is).
+    let paper = root().join("results/quick/original/joint-0kg.json");
+    let output = codesign_in(&dir, &["table", path(&original), path(&paper)]);
+    fails_saying(&output, "are results of different tasks");
+    fails_saying(&output, path(&original));
+    fails_saying(&output, path(&paper));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn the_paper_s_numbers_stand_beside_the_paper_s_task_only() {
+    let dir = scratch("paper-task");
+    let solve = |name: &str, space: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let args = [
+            "solve",
+            "--space",
+            space,
+            "--payload",
+            "0",
+            "--out",
+            path(&out),
+        ];
+        succeed(&dir, &[&args[..], extra].concat());
+        out
+    };
+    // The built-in task, and its file, which the committed logs were written with.
+    let file = root().join("robots/tasks/pick_place.json");
+    let built_in = solve("built-in.json", "joint", &[]);
+    let from_file = solve("file.json", "actuation", &["--task", path(&file)]);
+    let hash = read(&built_in)["inputs"]["task_hash"].clone();
+    assert_eq!(read(&from_file)["inputs"]["task_hash"], hash);
+    let table = succeed(&dir, &["table", path(&built_in), path(&from_file)]);
+    assert!(table.starts_with("# Table II reproduced"), "{table}");
+    assert!(
+        table.contains("| 0 kg | actuation | (6, 3, 1, 1): "),
+        "{table}"
+    );
+    assert!(table.contains("| (6, 3, 1, 1): 50.99 |"), "{table}");
+
+    // Another task (other weights, the same motion): its own hash, no paper, and never merged.
+    let other = task_with(&dir, |task| task["weights"]["control"] = 0.002.into());
+    let edited = solve("edited.json", "actuation", &["--task", path(&other)]);
+    let edited_hash = read(&edited)["inputs"]["task_hash"].clone();
+    assert_ne!(edited_hash, hash);
+    let table = succeed(&dir, &["table", path(&edited)]);
+    let title = format!(
+        "# Co-design of task {} (task hash {}): ",
+        path(&other),
+        edited_hash.as_str().unwrap()
+    );
+    assert!(table.starts_with(&title), "{table}");
+    assert!(
+        !table.contains("50.99") && !table.contains("(paper)"),
+        "{table}"
+    );
+    let output = codesign_in(&dir, &["table", path(&built_in), path(&edited)]);
+    fails_saying(&output, "are results of different tasks");
+    fails_saying(
+        &output,
+        &format!("{} (task hash {}", path(&built_in), hash.as_str().unwrap()),
+    );
+    fails_saying(&output, path(&edited));
+
+    // The built-in task on another motion keeps its hash (the task as read) but is no longer
+    // the paper's problem.
+    let short = solve("short.json", "actuation", &["--steps", "5"]);
+    assert_eq!(read(&short)["inputs"]["task_hash"], hash);
+    let table = succeed(&dir, &["table", path(&short)]);
+    assert!(table.starts_with("# Co-design of task built-in"), "{table}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn from_runs_refuses_a_result_of_another_task() {
+    let dir = scratch("from-runs-task");
+    for folder in ["original", "runs", "capacity"] {
+        std::fs::create_dir_all(dir.join(folder)).unwrap();
+        for entry in std::fs::read_dir(root().join("results/quick").join(folder)).unwrap() {
+            let from = entry.unwrap().path();
+            if from.extension().is_some_and(|e| e == "json") {
+                std::fs::copy(&from, dir.join(folder).join(from.file_name().unwrap())).unwrap();
+            }
+        }
+    }
+    let original = dir.join("original/joint-1kg.json");
+    let mut document = read(&original);
+    document["inputs"]["task_hash"] = "0123456789abcdef".into();
+    std::fs::write(&original, document.to_string()).unwrap();
+    let output = codesign_in(&dir, &["reproduce", "--quick", "--from-runs", path(&dir)]);
+    fails_saying(
+        &output,
+        &format!("{} is a result of another task", path(&original)),
+    );
+    fails_saying(&output, "(task hash 0123456789abcdef, task file built-in)");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
