@@ -90,7 +90,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     };
     let capacity = payload_capacity(&formulation, &solve, &ratios, &settings)
         .map_err(|e| format!("{}: {e}", args.model.source()))?;
-    let seconds: f64 = capacity.probes.iter().map(|p| p.seconds).sum();
+    let seconds = capacity.probes.iter().fold(0.0, |sum, p| sum + p.seconds);
     let design = join(&ratios);
     let space = args.problem.space;
     match (capacity.capacity_kg, capacity.limited_by, capacity.first_infeasible_kg) {

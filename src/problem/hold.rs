@@ -243,7 +243,9 @@ impl Formulation {
         let motion = &self.task().motion;
         let mut largest = f64::INFINITY;
         for q in [&motion.start, &motion.goal] {
-            for ((value, lo, hi), (at_unit, _, _)) in rows_at(&empty, q).into_iter().zip(rows_at(&unit, q)) {
+            for ((value, lo, hi), (at_unit, _, _)) in
+                rows_at(&empty, q).into_iter().zip(rows_at(&unit, q))
+            {
                 if (hi - value).min(value - lo) < -HOLD_TOLERANCE_NM {
                     return Ok(None);
                 }
@@ -306,7 +308,11 @@ mod tests {
             loaded.static_hold(&original).unwrap().start,
         );
         // The motors' torques are G^-T g(q), G^-T by hand.
-        close(&q1.motor_torques_nm, &motors_at_original(&q1.joint_torques_nm), 1e-12);
+        close(
+            &q1.motor_torques_nm,
+            &motors_at_original(&q1.joint_torques_nm),
+            1e-12,
+        );
         // The payload (2 kg at the TCP point) adds m |gravity| dp_z/dq: the gradient of its
         // potential energy, here by central differences of the TCP's height.
         let dynamics = loaded.dynamics();
@@ -321,7 +327,10 @@ mod tests {
                 - dynamics.tcp_position(&mut data, &down)[2])
                 / (2.0 * step);
             let added = q1.joint_torques_nm[i] - q0.joint_torques_nm[i];
-            assert!((added - 2.0 * 9.81 * dz).abs() < 1e-7, "joint {i}: {added} vs {dz}");
+            assert!(
+                (added - 2.0 * 9.81 * dz).abs() < 1e-7,
+                "joint {i}: {added} vs {dz}"
+            );
         }
     }
 
@@ -342,7 +351,9 @@ mod tests {
             (Space::Actuation, LimitMode::Paper),
             (Space::Joint, LimitMode::Exact),
         ] {
-            let hold = formulation(1.0, space, mode).static_hold(&original).unwrap();
+            let hold = formulation(1.0, space, mode)
+                .static_hold(&original)
+                .unwrap();
             assert_eq!(hold.rows, HoldRows::Motors);
             close(&hold.goal.margins_nm, &less([1.7; 4], &motors), 1e-12);
         }
@@ -352,10 +363,15 @@ mod tests {
             (LimitMode::Paper, [18.7, 8.5, 3.4, 0.0]),
             (LimitMode::Interval, [18.7, 8.5, 3.4, 3.4]),
         ] {
-            let hold = formulation(1.0, Space::Joint, mode).static_hold(&original).unwrap();
+            let hold = formulation(1.0, Space::Joint, mode)
+                .static_hold(&original)
+                .unwrap();
             assert_eq!(hold.rows, HoldRows::Joints);
             close(&hold.goal.margins_nm, &less(limits, &tau), 1e-12);
-            assert_eq!(hold.holds(), hold.goal.margins_nm.iter().all(|m| *m >= -1e-9));
+            assert_eq!(
+                hold.holds(),
+                hold.goal.margins_nm.iter().all(|m| *m >= -1e-9)
+            );
         }
     }
 
@@ -366,7 +382,13 @@ mod tests {
             let unloaded = formulation(0.0, space, LimitMode::Exact);
             let bound = unloaded.hold_capacity(&original).unwrap().unwrap();
             assert!(bound.is_finite() && bound > 0.0, "{space}: {bound}");
-            let at = |kg: f64| unloaded.with_payload(kg).unwrap().static_hold(&original).unwrap();
+            let at = |kg: f64| {
+                unloaded
+                    .with_payload(kg)
+                    .unwrap()
+                    .static_hold(&original)
+                    .unwrap()
+            };
             let held = at(bound);
             let least = [&held.start, &held.goal]
                 .iter()
@@ -377,7 +399,10 @@ mod tests {
             assert!(!over.holds(), "{space}");
             assert!(over.deficit_nm() > 0.0);
             let reason = over.reason().unwrap();
-            assert!(reason.starts_with("cannot hold the load at rest at the "), "{reason}");
+            assert!(
+                reason.starts_with("cannot hold the load at rest at the "),
+                "{reason}"
+            );
             assert!(reason.contains("motor "), "{reason}");
             // Deficits grow with the payload.
             assert!(at(bound + 1.0).deficit_nm() > over.deficit_nm());
@@ -395,7 +420,11 @@ mod tests {
         let hold = f.static_hold(&original).unwrap();
         assert!(!hold.start.holds && !hold.goal.holds);
         let reason = hold.reason().unwrap();
-        assert!(reason.contains("at the start: motor ") && reason.contains("; cannot hold the load at rest at the goal: "), "{reason}");
+        assert!(
+            reason.contains("at the start: motor ")
+                && reason.contains("; cannot hold the load at rest at the goal: "),
+            "{reason}"
+        );
         assert!(reason.contains("(limit 0.01)"), "{reason}");
     }
 }

@@ -94,7 +94,10 @@ fn boundary_residual(motion: &Motion, trajectory: &Trajectory) -> f64 {
     let last = trajectory.q.len() - 1;
     let mut largest: f64 = 0.0;
     if motion.rest_at_ends {
-        for a in [trajectory.a.first(), trajectory.a.last()].into_iter().flatten() {
+        for a in [trajectory.a.first(), trajectory.a.last()]
+            .into_iter()
+            .flatten()
+        {
             largest = largest.max(max_abs(a.iter().copied()));
         }
     }

@@ -214,7 +214,10 @@ pub fn judge(formulation: &Formulation, result: &TrajectoryResult) -> Verdict {
 /// (each motor's own limit where they differ; the deficits and the excess are sums over rows,
 /// so no one motor's limit measures them). A hard solve measures only the hold's deficit.
 fn shortfall(formulation: &Formulation, result: &TrajectoryResult) -> f64 {
-    let hold = result.static_hold.as_ref().map_or(0.0, StaticHold::deficit_nm);
+    let hold = result
+        .static_hold
+        .as_ref()
+        .map_or(0.0, StaticHold::deficit_nm);
     let (torque, speed) = result
         .elastic
         .as_ref()

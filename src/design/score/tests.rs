@@ -50,7 +50,8 @@ fn fields(evaluation: &Evaluation) -> String {
 
 #[test]
 fn a_feasible_design_scores_its_cost() {
-    let score = fitness(1.0, Space::Actuation, "flat").score(&original());
+    // Unloaded: the original design's motors hold 0.59 kg at rest, not 1 kg.
+    let score = fitness(0.0, Space::Actuation, "flat").score(&original());
     let Verdict::Feasible { cost, ref status } = score.verdict else {
         panic!("{score:?}");
     };
@@ -69,9 +70,26 @@ fn an_infeasible_design_scores_the_flat_or_the_graded_penalty() {
     let Verdict::Infeasible { shortfall, .. } = flat.verdict else {
         panic!("{flat:?}");
     };
-    assert_eq!(shortfall, 0.0, "a hard solve measures no shortfall");
+    // A hard solve measures only the static hold's part: its deficit over the horizon (0.8 s)
+    // and the motors' limit (1.7 N m).
+    let hold = testing::formulation(3.0, Space::Actuation)
+        .static_hold(&original())
+        .unwrap();
+    assert!(
+        (shortfall - hold.deficit_nm() * 0.8 / 1.7).abs() < 1e-12,
+        "{shortfall}"
+    );
     assert_eq!(flat.verdict.fitness(&Penalty::PAPER), 1e6);
-    assert!(flat.verdict.reason().unwrap().starts_with("IPOPT returned"));
+    let reason = flat.verdict.reason().unwrap();
+    assert!(
+        reason.starts_with("cannot hold the load at rest at the start: motor 2"),
+        "{reason}"
+    );
+    assert!(
+        reason.ends_with("; IPOPT returned Infeasible_Problem_Detected"),
+        "{reason}"
+    );
+    let hold_only = shortfall;
     let penalty: Penalty = "graded".parse().unwrap();
     let graded = fitness(3.0, Space::Actuation, "graded").score(&original());
     let Verdict::Infeasible { shortfall, .. } = graded.verdict else {
@@ -85,7 +103,12 @@ fn an_infeasible_design_scores_the_flat_or_the_graded_penalty() {
     assert!((1e6..2e6).contains(&graded.verdict.fitness(&penalty)));
     let record = Evaluation::new(&original(), &graded, &penalty);
     assert_eq!(record.status.to_string(), "Elastic_Deficit");
-    assert!(record.reason.unwrap().starts_with("torque deficit "));
+    let reason = record.reason.unwrap();
+    assert!(
+        reason.starts_with("cannot hold the load at rest"),
+        "{reason}"
+    );
+    assert!(reason.contains("; torque deficit "), "{reason}");
 }
 
 #[test]
@@ -134,19 +157,61 @@ fn a_solver_error_leaves_the_design_unjudged() {
 }
 
 #[test]
+fn a_logged_design_that_cannot_hold_its_load_scores_worse_with_the_hold() {
+    // The graded 3 kg run logged its elastic deficits before the hold was judged: the same
+    // design now names the hold first, keeps the logged deficit, and scores worse by the hold's.
+    let (record, _) = logged("actuation-3kg-graded-seed0", "Elastic_Deficit");
+    let again = fitness(3.0, Space::Actuation, "graded").evaluate(&record.ratios);
+    assert!(!again.feasible);
+    assert_eq!(again.status.to_string(), "Elastic_Deficit");
+    let (logged_reason, reason) = (record.reason.unwrap(), again.reason.unwrap());
+    assert!(
+        reason.starts_with("cannot hold the load at rest at the start"),
+        "{reason}"
+    );
+    assert!(
+        reason.contains("; torque deficit "),
+        "{reason} / {logged_reason}"
+    );
+    assert!(
+        again.cost > record.cost,
+        "{} against {}",
+        again.cost,
+        record.cost
+    );
+    // Under the flat penalty an infeasible design keeps its verdict and score, the hold named
+    // before IPOPT's reason.
+    let (record, _) = logged("actuation-3kg-seed1", "Infeasible_Problem_Detected");
+    let again = fitness(3.0, Space::Actuation, "flat").evaluate(&record.ratios);
+    assert_eq!((again.feasible, again.cost), (false, record.cost));
+    assert_eq!(again.status.to_string(), "Infeasible_Problem_Detected");
+    let (logged_reason, reason) = (record.reason.unwrap(), again.reason.unwrap());
+    assert!(
+        reason.starts_with("cannot hold the load at rest at the start"),
+        "{reason}"
+    );
+    assert!(reason.ends_with(&format!("; {logged_reason}")), "{reason}");
+}
+
+#[test]
 fn logged_designs_score_again_as_logged() {
+    // The committed logs were written before the static hold was judged: a design that holds
+    // its load scores as logged (a joint-space design in torque mode `paper` never does, its
+    // joint 4 having no torque at all, so the runs are the actuation space's).
     for (run, status, payload_kg, penalty) in [
-        ("joint-3kg-graded-seed0", "Solve_Succeeded", 3.0, "graded"),
-        ("joint-3kg-graded-seed0", "Elastic_Deficit", 3.0, "graded"),
-        (
-            "joint-3kg-seed0",
-            "Infeasible_Problem_Detected",
-            3.0,
-            "flat",
-        ),
+        ("actuation-1kg-seed0", "Solve_Succeeded", 1.0, "flat"),
+        ("actuation-1kg-seed1", "Solve_Succeeded", 1.0, "flat"),
     ] {
-        let (record, _) = logged(run, status);
-        let again = fitness(payload_kg, Space::Joint, penalty).evaluate(&record.ratios);
+        let formulation = testing::formulation(payload_kg, Space::Actuation);
+        let holds = |e: &Evaluation| formulation.static_hold(&e.ratios).unwrap().holds();
+        let tag = format!("\"status\":\"{status}\"");
+        let record = log_lines(run)
+            .into_iter()
+            .filter(|line| line.contains(&tag))
+            .map(|line| serde_json::from_str::<Evaluation>(&line).unwrap())
+            .find(holds)
+            .unwrap_or_else(|| panic!("{run} logs no {status} that holds its load"));
+        let again = fitness(payload_kg, Space::Actuation, penalty).evaluate(&record.ratios);
         let same = |e: &Evaluation| (e.feasible, e.status.to_string(), e.reason.clone());
         assert_eq!(same(&again), same(&record), "{run}");
         assert!(
@@ -248,5 +313,48 @@ fn unsolved_verdicts_write_todays_records() {
             fields(&record),
             format!(r#""ratios":[6.0,3.0,1.0,1.0],{text}"#)
         );
+    }
+}
+
+#[test]
+fn a_design_that_cannot_hold_its_load_is_infeasible_and_graded_by_the_deficit() {
+    // The original design moves 1 and 1.5 kg through the task (its capacity is 1.9 kg without
+    // the hold) but its motors hold at most 0.59 kg at rest: infeasible under either penalty,
+    // and the heavier payload, whose hold deficit is larger, scores worse when graded.
+    let graded: Penalty = "graded".parse().unwrap();
+    let mut previous = 0.0;
+    for payload in [1.0, 1.5] {
+        let flat = fitness(payload, Space::Actuation, "flat").score(&original());
+        let Verdict::Infeasible { ref reason, .. } = flat.verdict else {
+            panic!("{flat:?}");
+        };
+        assert!(reason.starts_with("cannot hold the load at rest at the start: motor 2 needs "));
+        let score = fitness(payload, Space::Actuation, "graded").score(&original());
+        let Verdict::Infeasible {
+            shortfall,
+            ref reason,
+            ..
+        } = score.verdict
+        else {
+            panic!("{score:?}");
+        };
+        assert!(
+            reason.starts_with("cannot hold the load at rest at the start"),
+            "{reason}"
+        );
+        // The hold's deficit (N m) over the horizon (0.8 s) and the motors' limit (1.7 N m).
+        let formulation = testing::formulation(payload, Space::Actuation);
+        let deficit = formulation.static_hold(&original()).unwrap().deficit_nm();
+        assert!(deficit > 0.0);
+        assert!(
+            shortfall >= deficit * 0.8 / 1.7 - 1e-12,
+            "{shortfall} {deficit}"
+        );
+        assert!(
+            shortfall > previous,
+            "{payload} kg: {shortfall} <= {previous}"
+        );
+        assert!(score.verdict.fitness(&graded) > graded.infeasible(previous));
+        previous = shortfall;
     }
 }

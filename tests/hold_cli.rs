@@ -1,0 +1,93 @@
+//! The load held at rest (issue 22, item 1), end to end on the UR5-class example: its payload
+//! capacity is bounded by what its motors hold still at the ends of the motion, and `solve` at a
+//! heavier payload is infeasible, naming the end and the motor.
+
+mod support;
+
+use serde_json::Value;
+use support::{codesign, scratch};
+
+fn ur5_task() -> String {
+    support::root()
+        .join("robots/examples/ur5_6dof/task.json")
+        .to_str()
+        .unwrap()
+        .to_owned()
+}
+
+/// Runs codesign with `args`, `--task` of the UR5 example and `--out dir/file`: its stdout and
+/// the result file's JSON; asserts exit 0.
+fn run(args: &[&str], file: &str) -> (String, Value) {
+    let dir = scratch("hold_cli");
+    let out = dir.join(file);
+    let (task, out_text) = (ur5_task(), out.to_str().unwrap().to_owned());
+    let mut all = args.to_vec();
+    all.extend(["--task", &task, "--out", &out_text]);
+    let output = codesign(&all);
+    assert!(
+        output.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let json = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    (String::from_utf8(output.stdout).unwrap(), json)
+}
+
+#[test]
+fn the_ur5_capacity_is_bounded_by_what_its_motors_hold_at_rest() {
+    for space in ["actuation", "joint"] {
+        let (text, result) = run(
+            &["capacity", "--space", space, "--max", "64"],
+            &format!("capacity-{space}.json"),
+        );
+        let hold = result["hold_kg"].as_f64().unwrap();
+        // `codesign check` shows the motors holding about 6.2 kg still (motor 3 at the goal).
+        assert!((6.0..6.5).contains(&hold), "{space}: {hold}");
+        assert_eq!(
+            result["capacity_kg"].as_f64(),
+            Some(hold),
+            "{space}: {result}"
+        );
+        assert_eq!(result["limited_by"], "hold", "{space}");
+        for probe in result["probes"].as_array().unwrap() {
+            assert!(probe["payload_kg"].as_f64().unwrap() <= hold, "{probe}");
+        }
+        assert!(text.contains("bounded by static hold"), "{text}");
+    }
+}
+
+#[test]
+fn solve_at_a_payload_the_motors_cannot_hold_is_infeasible_naming_the_end_and_the_motor() {
+    let (text, result) = run(
+        &["solve", "--space", "actuation", "--payload", "7"],
+        "solve-7kg.json",
+    );
+    let reason = result["reason"].as_str().unwrap();
+    assert_eq!(result["feasible"], false, "{result}");
+    assert!(
+        reason.starts_with("cannot hold the load at rest at the goal: motor 3 needs "),
+        "{reason}"
+    );
+    assert!(reason.ends_with("N m (limit 0.5)"), "{reason}");
+    assert!(text.contains("INFEASIBLE"), "{text}");
+    assert!(text.contains(&format!("static hold: {reason}")), "{text}");
+    let hold = &result["static_hold"];
+    assert_eq!(hold["rows"], "motors");
+    assert_eq!(hold["start"]["holds"], true);
+    assert_eq!(hold["goal"]["holds"], false);
+    let margins = hold["goal"]["margins_nm"].as_array().unwrap();
+    assert_eq!(margins.len(), 6);
+    assert!(margins[2].as_f64().unwrap() < 0.0, "{margins:?}");
+    assert!(result.get("cost_gradient").is_none());
+    // At a payload it holds, the same solve is feasible and says the load is held.
+    let (text, result) = run(
+        &["solve", "--space", "actuation", "--payload", "5"],
+        "solve-5kg.json",
+    );
+    assert_eq!(result["feasible"], true, "{result}");
+    assert_eq!(result["static_hold"]["goal"]["holds"], true);
+    assert!(
+        text.contains("static hold: the load is held at rest"),
+        "{text}"
+    );
+}
