@@ -9,7 +9,7 @@ use nalgebra::DMatrix;
 
 /// The design-dependent matrices the Jacobian's values come from.
 pub(super) struct JacobianData<'m> {
-    /// d(tau)/d(u): G^T or the identity.
+    /// d(tau)/d(u): G^T or the identity ([`Actuation::control_map`](crate::transmission::Actuation::control_map)).
     pub(super) control_map: &'m DMatrix<f64>,
     /// Structural non-zeros of `control_map`.
     pub(super) control_pattern: &'m DMatrix<f64>,

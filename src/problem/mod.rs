@@ -22,36 +22,10 @@ pub use sensitivity::cost_gradient;
 use crate::dynamics::Dynamics;
 use crate::model::task::{LimitMode, LimitModes, Task};
 use crate::model::Robot;
+pub use crate::transmission::Space;
 use crate::transmission::{DesignError, Transmission};
 use nalgebra::DMatrix;
-use serde::{Deserialize, Serialize};
 use std::fmt;
-
-/// Which torques the controls are.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "lowercase")]
-pub enum Space {
-    /// Joint torques tau are the controls; actuator limits are mapped to joint space (baseline).
-    Joint,
-    /// Motor torques tau_u are the controls, tau = G^T tau_u (the paper's method).
-    Actuation,
-}
-
-impl Space {
-    /// The lower-case name used in files and flags.
-    pub fn name(self) -> &'static str {
-        match self {
-            Space::Joint => "joint",
-            Space::Actuation => "actuation",
-        }
-    }
-}
-
-impl fmt::Display for Space {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
 
 /// A formulation that cannot be built; the message names the field at fault.
 #[derive(Clone, Debug, PartialEq)]

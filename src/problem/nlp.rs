@@ -8,11 +8,11 @@ use super::elastic;
 use super::hessian::NodeHessian;
 use super::jacobian::{self, JacobianData};
 use super::node::{Level, NodeEval};
-use super::{Formulation, ProblemKind, Space};
+use super::{Formulation, ProblemKind};
 use crate::dynamics::Workspace;
 use crate::ipopt::{EvalError, Nlp};
 use crate::model::task::LimitMode;
-use crate::transmission::{Coupling, DesignError, JointLimits};
+use crate::transmission::{Actuation, Coupling, DesignError, JointLimits, Space};
 use nalgebra::DMatrix;
 
 /// The trajectory NLP of one design (see [`Formulation`]).
@@ -20,11 +20,8 @@ use nalgebra::DMatrix;
 pub struct TrajectoryProblem<'a> {
     formulation: &'a Formulation,
     ratios: Vec<f64>,
-    coupling: Coupling,
-    /// G^T in actuation space (tau = G^T u), the identity in joint space.
-    control_map: DMatrix<f64>,
-    /// G^-T, the motor torque of a joint torque.
-    motor_of_joint: DMatrix<f64>,
+    /// G(r), its inverse, and the controls' map to joint and motor torques.
+    actuation: Actuation,
     /// The speed rows' matrix: G (motor speeds, mode `exact`) or the identity (joint speeds, the
     /// elastic kind's rows in modes `paper` and `interval`).
     speed_map: DMatrix<f64>,
@@ -43,11 +40,6 @@ impl<'a> TrajectoryProblem<'a> {
         // The coupling checks the design (bounds, order, G(r) invertible) before building G(r).
         let coupling = formulation.transmission.coupling(ratios)?;
         let n = formulation.layout.dof;
-        let control_map = match formulation.space {
-            Space::Actuation => coupling.matrix().transpose(),
-            Space::Joint => DMatrix::identity(n, n),
-        };
-        let motor_of_joint = coupling.inverse().transpose();
         let speed_map = match formulation.modes.speed {
             LimitMode::Exact => coupling.matrix().clone(),
             LimitMode::Paper | LimitMode::Interval => DMatrix::identity(n, n),
@@ -55,9 +47,7 @@ impl<'a> TrajectoryProblem<'a> {
         Ok(TrajectoryProblem {
             formulation,
             ratios: ratios.to_vec(),
-            coupling,
-            control_map,
-            motor_of_joint,
+            actuation: Actuation::new(coupling, formulation.space),
             speed_map,
             workspaces: (0..formulation.layout.steps)
                 .map(|_| formulation.dynamics.workspace())
@@ -80,32 +70,28 @@ impl<'a> TrajectoryProblem<'a> {
 
     /// G(r) and its inverse at this design.
     pub fn coupling(&self) -> &Coupling {
-        &self.coupling
+        self.actuation.coupling()
+    }
+
+    /// The actuation at this design: the controls' map to joint and motor torques.
+    pub fn actuation(&self) -> &Actuation {
+        &self.actuation
     }
 
     /// Joint torques of control u at a node: G^T u (actuation space) or u (joint space), N m.
     pub fn joint_torques(&self, u: &[f64]) -> Vec<f64> {
-        (&self.control_map * nalgebra::DVector::from_column_slice(u))
-            .iter()
-            .copied()
-            .collect()
+        self.actuation.joint_torques(u)
     }
 
     /// Motor torques of control u at a node: u (actuation space) or G^-T u (joint space), N m.
     pub fn motor_torques(&self, u: &[f64]) -> Vec<f64> {
-        match self.formulation.space {
-            Space::Actuation => u.to_vec(),
-            Space::Joint => (&self.motor_of_joint * nalgebra::DVector::from_column_slice(u))
-                .iter()
-                .copied()
-                .collect(),
-        }
+        self.actuation.motor_torques(u)
     }
 
     /// The box or linear rows that limit the joint speeds v in the formulation's speed mode, rad/s.
     pub fn speed_limits(&self) -> JointLimits {
         let f = self.formulation;
-        self.coupling.speed_limits(f.modes.speed, &f.speed_limits)
+        self.coupling().speed_limits(f.modes.speed, &f.speed_limits)
     }
 
     /// The box or linear rows that limit the controls u: |u_i| <= motor i's torque limit in
@@ -118,7 +104,7 @@ impl<'a> TrajectoryProblem<'a> {
                 lower: limits.iter().map(|limit| -limit).collect(),
                 upper: limits.clone(),
             },
-            Space::Joint => self.coupling.torque_limits(f.modes.torque, limits),
+            Space::Joint => self.coupling().torque_limits(f.modes.torque, limits),
         }
     }
 
@@ -267,8 +253,7 @@ impl Nlp for TrajectoryProblem<'_> {
         for (k, node) in self.nodes.iter().enumerate() {
             let u = &x[layout.u(k, 0)..layout.u(k, 0) + n];
             for i in 0..n {
-                let applied: f64 = (0..n).map(|j| self.control_map[(i, j)] * u[j]).sum();
-                g[layout.dynamics_row(k, i)] = node.tau[i] - applied;
+                g[layout.dynamics_row(k, i)] = self.actuation.residual(i, &node.tau, u);
                 if let Some(s) = slack(layout.deficit_slack(k, i)) {
                     g[layout.dynamics_row(k, i)] += s;
                 }
@@ -285,7 +270,8 @@ impl Nlp for TrajectoryProblem<'_> {
                     }
                 }
                 if let Some(row) = layout.torque_row(k, i) {
-                    g[row] = (0..n).map(|j| self.motor_of_joint[(i, j)] * u[j]).sum();
+                    let motor_of_joint = self.actuation.motor_of_joint();
+                    g[row] = (0..n).map(|j| motor_of_joint[(i, j)] * u[j]).sum();
                 }
             }
         }
@@ -308,12 +294,14 @@ impl Nlp for TrajectoryProblem<'_> {
         let pattern = jacobian::control_pattern(f);
         let mut next = 0;
         let data = JacobianData {
-            control_map: &self.control_map,
+            control_map: self.actuation.control_map(),
             control_pattern: &pattern,
             speed: layout
                 .speed_rows
                 .then_some((&self.speed_map, &f.speed_pattern)),
-            torque: layout.torque_rows.then_some(&self.motor_of_joint),
+            torque: layout
+                .torque_rows
+                .then_some(self.actuation.motor_of_joint()),
             h: f.step_s(),
         };
         jacobian::visit(layout, &data, &self.nodes, |_, _, value| {
