@@ -23,7 +23,7 @@ use crate::dynamics::Dynamics;
 use crate::model::task::{LimitMode, LimitModes, Task};
 use crate::model::Robot;
 pub use crate::transmission::Space;
-use crate::transmission::{DesignError, Transmission};
+use crate::transmission::{DesignError, MotorDynamics, Transmission};
 use nalgebra::DMatrix;
 use std::fmt;
 
@@ -52,6 +52,8 @@ pub struct Formulation {
     torque_limits: Vec<f64>,
     /// Each motor's speed limit (the task's `motors.speed_limit_rad_s`), rad/s, one per row of G.
     speed_limits: Vec<f64>,
+    /// The motors' rotor inertia and friction, None for ideal motors (neither key given).
+    motor_dynamics: Option<MotorDynamics>,
     layout: Layout,
     /// Structural non-zeros of G (row = motor, column = joint) over the whole design space.
     g_pattern: DMatrix<f64>,
@@ -130,6 +132,7 @@ impl Formulation {
             modes,
             torque_limits: task.motors.torque_limit_nm.values(n),
             speed_limits: task.motors.speed_limit_rad_s.values(n),
+            motor_dynamics: MotorDynamics::of(&task.motors, n),
             layout,
             speed_pattern: g_pattern.clone(),
             g_pattern,
@@ -217,6 +220,11 @@ impl Formulation {
     /// Each motor's speed limit |qd_u,i| <= limit_i, rad/s (motor i = row i of G).
     pub fn motor_speed_limits(&self) -> &[f64] {
         &self.speed_limits
+    }
+
+    /// The motors' rotor inertia and viscous friction, None for ideal motors.
+    pub fn motor_dynamics(&self) -> Option<&MotorDynamics> {
+        self.motor_dynamics.as_ref()
     }
 
     /// The index layout.

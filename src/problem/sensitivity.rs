@@ -92,7 +92,11 @@ pub fn cost_gradient(problem: &TrajectoryProblem<'_>, solution: &Solution) -> Ve
             let mut total = 0.0;
             for k in 0..steps {
                 let u = segment(layout.u(k, 0));
-                if let Some(d) = actuation.residual_derivative(&dg, u.as_slice()) {
+                let state = (
+                    &x[layout.v(k, 0)..layout.v(k, 0) + n],
+                    &x[layout.a(k, 0)..layout.a(k, 0) + n],
+                );
+                if let Some(d) = actuation.residual_derivative(&dg, state, u.as_slice()) {
                     total += multipliers(layout.dynamics_row(k, 0)).dot(&d);
                 }
                 if let Some(row) = layout.speed_row(k, 0) {

@@ -17,7 +17,7 @@ mod design_space;
 mod limits;
 mod spec;
 
-pub use actuation::{Actuation, Space};
+pub use actuation::{Actuation, MotorDynamics, Space};
 pub use coupling::Coupling;
 pub use design_space::{DesignError, DesignSpace, HalfSpace, OrderConstraint};
 pub use limits::{limit_weights, JointLimits};
