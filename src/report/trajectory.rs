@@ -410,7 +410,7 @@ mod tests {
             assert!(svg.contains(name.as_str()), "{name} missing");
         }
         assert!(!svg.contains("joint 1"));
-        let svg = motor_torques(formulation.task(), &t, "test")
+        let svg = motor_torques(formulation.motor_torque_limits(), &t, "test")
             .to_svg()
             .unwrap();
         for i in 1..=4 {
