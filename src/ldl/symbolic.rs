@@ -16,7 +16,7 @@ pub struct UpperCsr<'a> {
 }
 
 /// Everything about a structure that does not depend on the values.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Symbolic {
     /// `order[k]`: the original row of pivot `k`.
     pub(super) order: Vec<usize>,
@@ -49,11 +49,22 @@ impl Symbolic {
     /// diagonal: IPOPT orders its KKT matrix as primal variables and slacks first, then the rows
     /// of the equality and inequality constraints.
     pub fn analyse(n: usize, matrix: UpperCsr<'_>, values: &[f64]) -> Result<Symbolic, LdlError> {
+        let (kinds, entries) = Symbolic::assumed_kinds(n, matrix, values)?;
+        Symbolic::analyse_as(n, matrix, kinds, entries)
+    }
+
+    /// What [`Symbolic::analyse`] assumes of each row of a checked structure, with the number of
+    /// its entries: the result depends on the structure and these kinds alone.
+    pub(super) fn assumed_kinds(
+        n: usize,
+        matrix: UpperCsr<'_>,
+        values: &[f64],
+    ) -> Result<(Vec<RowKind>, usize), LdlError> {
         let entries = check_structure(n, matrix)?;
         check_values(entries, values)?;
         let mut kinds = constraint_rows(n, matrix);
         mark_zero_diagonals(matrix, values, &mut kinds);
-        Symbolic::analyse_as(n, matrix, kinds, entries)
+        Ok((kinds, entries))
     }
 
     /// Whether a new matrix of this structure has a zero diagonal where the analysis assumed a
@@ -71,13 +82,25 @@ impl Symbolic {
 
     /// Analyses again with the zero diagonals of `values` added to those assumed before.
     pub fn reanalyse(&self, matrix: UpperCsr<'_>, values: &[f64]) -> Result<Symbolic, LdlError> {
-        check_values(self.entries, values)?;
-        let mut kinds = self.kinds.clone();
-        mark_zero_diagonals(matrix, values, &mut kinds);
+        let kinds = self.kinds_with_zeros_of(matrix, values)?;
         Symbolic::analyse_as(self.n(), matrix, kinds, self.entries)
     }
 
-    fn analyse_as(
+    /// What [`Symbolic::reanalyse`] assumes of each row: this analysis's kinds with the zero
+    /// diagonals of `values` added.
+    pub(super) fn kinds_with_zeros_of(
+        &self,
+        matrix: UpperCsr<'_>,
+        values: &[f64],
+    ) -> Result<Vec<RowKind>, LdlError> {
+        check_values(self.entries, values)?;
+        let mut kinds = self.kinds.clone();
+        mark_zero_diagonals(matrix, values, &mut kinds);
+        Ok(kinds)
+    }
+
+    /// The analysis of a checked structure of `entries` entries under the assumed `kinds`.
+    pub(super) fn analyse_as(
         n: usize,
         matrix: UpperCsr<'_>,
         kinds: Vec<RowKind>,
@@ -117,6 +140,11 @@ impl Symbolic {
         symbolic.permute(matrix, &position);
         symbolic.factor_pattern();
         Ok(symbolic)
+    }
+
+    /// What the analysis assumed of each original row's diagonal.
+    pub(super) fn kinds(&self) -> &[RowKind] {
+        &self.kinds
     }
 
     /// Dimension of the matrix.
