@@ -31,6 +31,9 @@ pub struct Symbolic {
     pub(super) upper_value: Vec<usize>,
     /// Index of each pivot's diagonal value in the caller's array, when the structure has one.
     pub(super) diagonal_value: Vec<Option<usize>>,
+    /// The diagonal value of each row the order took for non-zero, in elimination order (none:
+    /// no diagonal in the structure).
+    regular_diagonals: Vec<Option<usize>>,
     /// Column starts of the strictly lower factor L (length `n + 1`) and the row of each entry.
     pub(super) l_ptr: Vec<usize>,
     pub(super) l_row: Vec<usize>,
@@ -71,13 +74,9 @@ impl Symbolic {
     /// non-zero one, so that its order may hit an exactly zero pivot.
     /// Allocates nothing.
     pub fn needs_reanalysis(&self, values: &[f64]) -> bool {
-        self.order
+        self.regular_diagonals
             .iter()
-            .zip(&self.diagonal_value)
-            .any(|(&row, &index)| {
-                self.kinds[row] == RowKind::Regular
-                    && index.map_or(0.0, |i| values.get(i).copied().unwrap_or(1.0)) == 0.0
-            })
+            .any(|&index| index.map_or(0.0, |i| values.get(i).copied().unwrap_or(1.0)) == 0.0)
     }
 
     /// Analyses again with the zero diagonals of `values` added to those assumed before.
@@ -130,6 +129,7 @@ impl Symbolic {
             upper_row: Vec::new(),
             upper_value: Vec::new(),
             diagonal_value: vec![None; n],
+            regular_diagonals: Vec::new(),
             l_ptr: Vec::new(),
             l_row: Vec::new(),
             row_ptr: Vec::new(),
@@ -138,6 +138,13 @@ impl Symbolic {
             entries,
         };
         symbolic.permute(matrix, &position);
+        symbolic.regular_diagonals = symbolic
+            .order
+            .iter()
+            .zip(&symbolic.diagonal_value)
+            .filter(|&(&row, _)| symbolic.kinds[row] == RowKind::Regular)
+            .map(|(_, &index)| index)
+            .collect();
         symbolic.factor_pattern();
         Ok(symbolic)
     }
