@@ -1,4 +1,5 @@
-//! The LDLᵀ on the default problem's KKT matrix: one analysis, then the median of 200
+//! The LDLᵀ on the default problem's KKT matrix: one analysis, the same analysis found again in
+//! an [`AnalysisCache`] (as every solve after a worker's first finds it), then the median of 200
 //! factorisations and of 200 solves, in microseconds.
 //!
 //! `cargo bench --bench ldl`. The matrix is assembled as IPOPT assembles its augmented system,
@@ -7,7 +8,7 @@
 //! entry point outside IPOPT: `cargo bench --bench solve` compares the two inside whole solves.
 
 use codesign::ipopt::Nlp;
-use codesign::ldl::{Numeric, Symbolic, UpperCsr};
+use codesign::ldl::{AnalysisCache, Numeric, UpperCsr, KEPT_ANALYSES};
 use codesign::model::task::Task;
 use codesign::model::Robot;
 use codesign::problem::{Formulation, Space};
@@ -75,9 +76,14 @@ fn main() {
     for space in [Space::Actuation, Space::Joint] {
         let (n, ia, ja, a) = kkt(space);
         let matrix = UpperCsr { ia: &ia, ja: &ja };
+        let cache = AnalysisCache::new(KEPT_ANALYSES);
         let started = Instant::now();
-        let symbolic = Symbolic::analyse(n, matrix, &a).expect("a valid structure");
+        let symbolic = cache.analyse(n, matrix, &a).expect("a valid structure");
         let analysis = started.elapsed().as_secs_f64() * 1e6;
+        let started = Instant::now();
+        black_box(cache.analyse(n, matrix, black_box(&a))).expect("a valid structure");
+        let reused = started.elapsed().as_secs_f64() * 1e6;
+        assert_eq!(cache.counts().reused, 1);
         let mut numeric = Numeric::new(&symbolic);
         let factorisations: Vec<f64> = (0..200)
             .map(|_| {
@@ -95,7 +101,7 @@ fn main() {
             })
             .collect();
         println!(
-            "ldl {space} space KKT: n = {n}, {} entries, {} in L, inertia {:?}; analysis {analysis:.0} us, median of 200: factorisation {:.1} us, solve {:.1} us",
+            "ldl {space} space KKT: n = {n}, {} entries, {} in L, inertia {:?}; analysis {analysis:.0} us, found again {reused:.0} us, median of 200: factorisation {:.1} us, solve {:.1} us",
             a.len(),
             symbolic.factor_entries(),
             numeric.inertia(),

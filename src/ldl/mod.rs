@@ -8,8 +8,11 @@
 //! Pardiso calling convention; [`install`] hands it to IPOPT (see `loader.rs`).
 //!
 //! Every factorisation lives behind IPOPT's own Pardiso handle, so solves with this linear
-//! solver may run on several threads at once.
+//! solver may run on several threads at once. The analyses are shared: [`AnalysisCache::shared`]
+//! keeps those of the last few structures, so that a process solving many problems of one shape
+//! analyses it once.
 
+mod cache;
 mod loader;
 mod numeric;
 mod ordering;
@@ -18,6 +21,7 @@ mod symbolic;
 #[cfg(test)]
 mod tests;
 
+pub use cache::{AnalysisCache, CacheCounts, KEPT_ANALYSES};
 pub use loader::{install, InstallError};
 pub use numeric::{Inertia, Numeric, CANCELLATION};
 pub use symbolic::{Symbolic, UpperCsr};

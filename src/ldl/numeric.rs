@@ -99,18 +99,26 @@ impl Numeric {
     /// the magnitudes of the terms it was computed from.
     fn eliminate_row(&mut self, symbolic: &Symbolic, values: &[f64], k: usize) -> (f64, f64) {
         let y = &mut self.work;
-        for p in symbolic.upper_ptr[k]..symbolic.upper_ptr[k + 1] {
-            y[symbolic.upper_row[p]] += values[symbolic.upper_value[p]];
+        let entries = symbolic.upper_ptr[k]..symbolic.upper_ptr[k + 1];
+        for (&i, &index) in symbolic.upper_row[entries.clone()]
+            .iter()
+            .zip(&symbolic.upper_value[entries])
+        {
+            y[i] += values[index];
         }
         let mut pivot = symbolic.diagonal_value[k].map_or(0.0, |index| values[index]);
         let mut scale = pivot.abs();
-        for t in symbolic.row_ptr[k]..symbolic.row_ptr[k + 1] {
-            let (j, slot) = (symbolic.row_col[t], symbolic.row_slot[t]);
+        let row = symbolic.row_ptr[k]..symbolic.row_ptr[k + 1];
+        for (&j, &slot) in symbolic.row_col[row.clone()]
+            .iter()
+            .zip(&symbolic.row_slot[row])
+        {
             let yj = y[j];
             y[j] = 0.0;
             // The entries of column j above row k were computed for earlier rows.
-            for p in symbolic.l_ptr[j]..slot {
-                y[symbolic.l_row[p]] -= self.l[p] * yj;
+            let above = symbolic.l_ptr[j]..slot;
+            for (&i, &l_ij) in symbolic.l_row[above.clone()].iter().zip(&self.l[above]) {
+                y[i] -= l_ij * yj;
             }
             let l_kj = yj / self.d[j];
             pivot -= l_kj * yj;
@@ -148,17 +156,19 @@ impl Numeric {
             }
             for j in 0..n {
                 let xj = x[j];
-                for p in symbolic.l_ptr[j]..symbolic.l_ptr[j + 1] {
-                    x[symbolic.l_row[p]] -= self.l[p] * xj;
+                let column = symbolic.l_ptr[j]..symbolic.l_ptr[j + 1];
+                for (&i, &l_ij) in symbolic.l_row[column.clone()].iter().zip(&self.l[column]) {
+                    x[i] -= l_ij * xj;
                 }
             }
             for (xk, dk) in x.iter_mut().zip(&self.d) {
                 *xk /= dk;
             }
             for j in (0..n).rev() {
+                let column = symbolic.l_ptr[j]..symbolic.l_ptr[j + 1];
                 let mut xj = x[j];
-                for p in symbolic.l_ptr[j]..symbolic.l_ptr[j + 1] {
-                    xj -= self.l[p] * x[symbolic.l_row[p]];
+                for (&i, &l_ij) in symbolic.l_row[column.clone()].iter().zip(&self.l[column]) {
+                    xj -= l_ij * x[i];
                 }
                 x[j] = xj;
             }

@@ -8,10 +8,11 @@
 //! is shared between handles. No panic crosses into C: each call runs under `catch_unwind` and a
 //! failure becomes a Pardiso error code.
 
-use super::{LdlError, Numeric, Symbolic, UpperCsr};
+use super::{AnalysisCache, LdlError, Numeric, Symbolic, UpperCsr};
 use std::ffi::c_void;
 use std::os::raw::c_int;
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::Arc;
 
 /// The only matrix type this solver factorises: real symmetric indefinite.
 const REAL_SYMMETRIC_INDEFINITE: c_int = -2;
@@ -26,9 +27,10 @@ const IPARM_FACTOR_ENTRIES: usize = 17;
 const IPARM_POSITIVE: usize = 21;
 const IPARM_NEGATIVE: usize = 22;
 
-/// The state behind one Pardiso handle.
+/// The state behind one Pardiso handle: the analysis, shared through
+/// [`AnalysisCache::shared`], and this handle's own factors.
 struct Handle {
-    symbolic: Symbolic,
+    symbolic: Arc<Symbolic>,
     numeric: Numeric,
 }
 
@@ -156,8 +158,9 @@ unsafe fn run_phase(slot: &mut *mut Handle, phase: c_int, mut call: Call<'_>) ->
     let values =
         (analyse || factorise).then(|| unsafe { std::slice::from_raw_parts(call.a, ja.len()) });
     if analyse {
-        let symbolic =
-            Symbolic::analyse(call.n, matrix, values.unwrap_or_default()).map_err(code)?;
+        let symbolic = AnalysisCache::shared()
+            .analyse(call.n, matrix, values.unwrap_or_default())
+            .map_err(code)?;
         let numeric = Numeric::new(&symbolic);
         if call.verbose {
             note!(
@@ -182,7 +185,9 @@ unsafe fn run_phase(slot: &mut *mut Handle, phase: c_int, mut call: Call<'_>) ->
         if handle.symbolic.needs_reanalysis(values) {
             // A diagonal the order took for non-zero is zero in this matrix: order again with
             // it among the zero rows (this happens a few times per solve at most).
-            handle.symbolic = handle.symbolic.reanalyse(matrix, values).map_err(code)?;
+            handle.symbolic = AnalysisCache::shared()
+                .reanalyse(&handle.symbolic, matrix, values)
+                .map_err(code)?;
             handle.numeric = Numeric::new(&handle.symbolic);
             if call.verbose {
                 note!("codesign LDL: new zero diagonals, order analysed again");

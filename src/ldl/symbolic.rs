@@ -16,7 +16,7 @@ pub struct UpperCsr<'a> {
 }
 
 /// Everything about a structure that does not depend on the values.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Symbolic {
     /// `order[k]`: the original row of pivot `k`.
     pub(super) order: Vec<usize>,
@@ -31,6 +31,9 @@ pub struct Symbolic {
     pub(super) upper_value: Vec<usize>,
     /// Index of each pivot's diagonal value in the caller's array, when the structure has one.
     pub(super) diagonal_value: Vec<Option<usize>>,
+    /// The diagonal value of each row the order took for non-zero, in elimination order (none:
+    /// no diagonal in the structure).
+    regular_diagonals: Vec<Option<usize>>,
     /// Column starts of the strictly lower factor L (length `n + 1`) and the row of each entry.
     pub(super) l_ptr: Vec<usize>,
     pub(super) l_row: Vec<usize>,
@@ -49,35 +52,54 @@ impl Symbolic {
     /// diagonal: IPOPT orders its KKT matrix as primal variables and slacks first, then the rows
     /// of the equality and inequality constraints.
     pub fn analyse(n: usize, matrix: UpperCsr<'_>, values: &[f64]) -> Result<Symbolic, LdlError> {
+        let (kinds, entries) = Symbolic::assumed_kinds(n, matrix, values)?;
+        Symbolic::analyse_as(n, matrix, kinds, entries)
+    }
+
+    /// What [`Symbolic::analyse`] assumes of each row of a checked structure, with the number of
+    /// its entries: the result depends on the structure and these kinds alone.
+    pub(super) fn assumed_kinds(
+        n: usize,
+        matrix: UpperCsr<'_>,
+        values: &[f64],
+    ) -> Result<(Vec<RowKind>, usize), LdlError> {
         let entries = check_structure(n, matrix)?;
         check_values(entries, values)?;
         let mut kinds = constraint_rows(n, matrix);
         mark_zero_diagonals(matrix, values, &mut kinds);
-        Symbolic::analyse_as(n, matrix, kinds, entries)
+        Ok((kinds, entries))
     }
 
     /// Whether a new matrix of this structure has a zero diagonal where the analysis assumed a
     /// non-zero one, so that its order may hit an exactly zero pivot.
     /// Allocates nothing.
     pub fn needs_reanalysis(&self, values: &[f64]) -> bool {
-        self.order
+        self.regular_diagonals
             .iter()
-            .zip(&self.diagonal_value)
-            .any(|(&row, &index)| {
-                self.kinds[row] == RowKind::Regular
-                    && index.map_or(0.0, |i| values.get(i).copied().unwrap_or(1.0)) == 0.0
-            })
+            .any(|&index| index.map_or(0.0, |i| values.get(i).copied().unwrap_or(1.0)) == 0.0)
     }
 
     /// Analyses again with the zero diagonals of `values` added to those assumed before.
     pub fn reanalyse(&self, matrix: UpperCsr<'_>, values: &[f64]) -> Result<Symbolic, LdlError> {
-        check_values(self.entries, values)?;
-        let mut kinds = self.kinds.clone();
-        mark_zero_diagonals(matrix, values, &mut kinds);
+        let kinds = self.kinds_with_zeros_of(matrix, values)?;
         Symbolic::analyse_as(self.n(), matrix, kinds, self.entries)
     }
 
-    fn analyse_as(
+    /// What [`Symbolic::reanalyse`] assumes of each row: this analysis's kinds with the zero
+    /// diagonals of `values` added.
+    pub(super) fn kinds_with_zeros_of(
+        &self,
+        matrix: UpperCsr<'_>,
+        values: &[f64],
+    ) -> Result<Vec<RowKind>, LdlError> {
+        check_values(self.entries, values)?;
+        let mut kinds = self.kinds.clone();
+        mark_zero_diagonals(matrix, values, &mut kinds);
+        Ok(kinds)
+    }
+
+    /// The analysis of a checked structure of `entries` entries under the assumed `kinds`.
+    pub(super) fn analyse_as(
         n: usize,
         matrix: UpperCsr<'_>,
         kinds: Vec<RowKind>,
@@ -107,6 +129,7 @@ impl Symbolic {
             upper_row: Vec::new(),
             upper_value: Vec::new(),
             diagonal_value: vec![None; n],
+            regular_diagonals: Vec::new(),
             l_ptr: Vec::new(),
             l_row: Vec::new(),
             row_ptr: Vec::new(),
@@ -115,8 +138,20 @@ impl Symbolic {
             entries,
         };
         symbolic.permute(matrix, &position);
+        symbolic.regular_diagonals = symbolic
+            .order
+            .iter()
+            .zip(&symbolic.diagonal_value)
+            .filter(|&(&row, _)| symbolic.kinds[row] == RowKind::Regular)
+            .map(|(_, &index)| index)
+            .collect();
         symbolic.factor_pattern();
         Ok(symbolic)
+    }
+
+    /// What the analysis assumed of each original row's diagonal.
+    pub(super) fn kinds(&self) -> &[RowKind] {
+        &self.kinds
     }
 
     /// Dimension of the matrix.

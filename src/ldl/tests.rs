@@ -3,6 +3,7 @@
 use super::*;
 use crate::testing::Random;
 use nalgebra::DMatrix;
+use std::sync::Arc;
 
 /// A symmetric matrix as IPOPT hands it over: upper triangle, 1-based compressed rows, every
 /// diagonal present.
@@ -325,4 +326,161 @@ fn dense_of(n: usize, ia: &[i32], ja: &[i32], a: &[f64]) -> DMatrix<f64> {
         }
     }
     dense
+}
+
+/// The matrix of `upper`'s structure with new random values: the constraint rows' zero
+/// diagonals kept zero, every other entry drawn again (non-zero), with `shift` added to the
+/// primal diagonals (a positive shift makes the primal block dominant).
+fn revalued(upper: &Upper, primal: usize, shift: f64, rng: &mut Random) -> Vec<f64> {
+    let mut a = Vec::with_capacity(upper.a.len());
+    for row in 0..upper.ia.len() - 1 {
+        for index in (upper.ia[row] - 1) as usize..(upper.ia[row + 1] - 1) as usize {
+            let diagonal = upper.ja[index] as usize == row + 1;
+            a.push(match (diagonal, row < primal) {
+                (true, false) => 0.0,
+                (true, true) => shift + rng.real(0.5..2.0) * if shift > 0.0 { 1.0 } else { -1.0 },
+                (false, _) => rng.real(0.1..1.0) * if rng.unit() < 0.5 { 1.0 } else { -1.0 },
+            });
+        }
+    }
+    a
+}
+
+/// Factorises `a` with `symbolic` and solves two right-hand sides: the inertia (or the error),
+/// the bits of the pivots' solution and of the solutions.
+fn factor_bits(symbolic: &Symbolic, a: &[f64], seed: u64) -> (Result<Inertia, LdlError>, Vec<u64>) {
+    let mut numeric = Numeric::new(symbolic);
+    let inertia = numeric.factorise(symbolic, a);
+    let mut rng = Random::new(seed);
+    let mut x: Vec<f64> = (0..2 * symbolic.n()).map(|_| rng.real(-1.0..1.0)).collect();
+    if inertia.is_ok() {
+        numeric.solve_in_place(symbolic, &mut x);
+    }
+    (inertia, x.iter().map(|v| v.to_bits()).collect())
+}
+
+#[test]
+fn a_cached_analysis_is_reused_for_the_same_structure_and_gives_the_same_bits() {
+    let (primal, constraints) = (40, 12);
+    let mut rng = Random::new(17);
+    let first = Upper::from_dense(&kkt(&mut rng, primal, constraints, false, 0.0));
+    let n = primal + constraints;
+    let cache = AnalysisCache::new(2);
+    let analysed = cache.analyse(n, first.csr(), &first.a).unwrap();
+    assert_eq!(
+        cache.counts(),
+        CacheCounts {
+            analysed: 1,
+            reused: 0
+        }
+    );
+    assert_eq!(
+        *analysed,
+        Symbolic::analyse(n, first.csr(), &first.a).unwrap()
+    );
+    // Matrices of the same structure, positive definite primal block or indefinite: the kept
+    // analysis comes back, and its factors and solutions are bit for bit those of a new one.
+    for (case, shift) in [4.0, 0.0, -1.0, 2.0, -3.0, 0.5].into_iter().enumerate() {
+        let a = revalued(&first, primal, shift, &mut rng);
+        let cached = cache.analyse(n, first.csr(), &a).unwrap();
+        assert!(Arc::ptr_eq(&cached, &analysed), "case {case}");
+        let fresh = Symbolic::analyse(n, first.csr(), &a).unwrap();
+        assert_eq!(*cached, fresh, "case {case}");
+        let (inertia, bits) = factor_bits(&cached, &a, case as u64);
+        assert_eq!(
+            (inertia.clone(), bits),
+            factor_bits(&fresh, &a, case as u64)
+        );
+        if shift > 3.0 {
+            assert_eq!(
+                inertia,
+                Ok(Inertia {
+                    positive: primal,
+                    negative: constraints
+                })
+            );
+        }
+    }
+    assert_eq!(
+        cache.counts(),
+        CacheCounts {
+            analysed: 1,
+            reused: 6
+        }
+    );
+}
+
+#[test]
+fn the_cache_tells_structures_and_zero_diagonals_apart_and_keeps_the_last_few() {
+    let (primal, constraints) = (30, 8);
+    let n = primal + constraints;
+    let mut rng = Random::new(23);
+    let dense = kkt(&mut rng, primal, constraints, true, 0.0);
+    let first = Upper::from_dense(&dense);
+    let cache = AnalysisCache::new(2);
+    let analysed = cache.analyse(n, first.csr(), &first.a).unwrap();
+    // A primal diagonal that is zero: another analysis, which reanalysing the kept one with that
+    // matrix then finds (as the second analysis of every solve does).
+    let mut zero = first.a.clone();
+    zero[first.ia[3] as usize - 1] = 0.0;
+    let with_zero = cache.analyse(n, first.csr(), &zero).unwrap();
+    assert_eq!(
+        cache.counts(),
+        CacheCounts {
+            analysed: 2,
+            reused: 0
+        }
+    );
+    assert!(analysed.needs_reanalysis(&zero));
+    let reanalysed = cache.reanalyse(&analysed, first.csr(), &zero).unwrap();
+    assert!(Arc::ptr_eq(&reanalysed, &with_zero));
+    assert_eq!(*reanalysed, analysed.reanalyse(first.csr(), &zero).unwrap());
+    assert_eq!(
+        cache.counts(),
+        CacheCounts {
+            analysed: 2,
+            reused: 1
+        }
+    );
+    // As many entries, one moved to another column: a structure of its own. It pushes the least
+    // recently used analysis (the first) out of a cache that keeps two.
+    let mut moved = dense.clone();
+    let column = (1..n).find(|&j| moved[(0, j)] == 0.0).unwrap();
+    let row = (1..n).find(|&j| moved[(0, j)] != 0.0).unwrap();
+    moved.swap((0, column), (0, row));
+    moved.swap((column, 0), (row, 0));
+    let moved = Upper::from_dense(&moved);
+    assert_eq!(
+        (moved.ia.len(), moved.ja.len()),
+        (first.ia.len(), first.ja.len())
+    );
+    let other = cache.analyse(n, moved.csr(), &moved.a).unwrap();
+    assert!(!Arc::ptr_eq(&other, &analysed));
+    assert_eq!(
+        cache.counts(),
+        CacheCounts {
+            analysed: 3,
+            reused: 1
+        }
+    );
+    let again = cache.analyse(n, first.csr(), &first.a).unwrap();
+    assert!(!Arc::ptr_eq(&again, &analysed));
+    assert_eq!(*again, *analysed);
+    assert_eq!(
+        cache.counts(),
+        CacheCounts {
+            analysed: 4,
+            reused: 1
+        }
+    );
+    // A malformed structure is refused before any look-up.
+    let bad = UpperCsr {
+        ia: &[1, 2, 3],
+        ja: &[2, 1],
+    };
+    assert!(matches!(
+        cache.analyse(2, bad, &[1.0, 1.0]),
+        Err(LdlError::Structure(_))
+    ));
+    assert_eq!(cache.counts().analysed, 4);
 }

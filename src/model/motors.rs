@@ -143,7 +143,9 @@ impl<'de> Visitor<'de> for PerMotorVisitor {
     }
 }
 
-/// The limits of the motors, each for every motor at once or one per motor.
+/// The limits of the motors and, optionally, their own dynamics (docs/model.md, section 3),
+/// each for every motor at once or one per motor. Without the optional keys the motors are
+/// ideal torque sources, as in the paper.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Motors {
@@ -151,17 +153,50 @@ pub struct Motors {
     pub torque_limit_nm: PerMotor,
     /// |qd_u,i| limit of motor i, rad/s.
     pub speed_limit_rad_s: PerMotor,
+    /// Rotor and input-side inertia J_m of motor i, kg m^2, on the motor's side of G.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotor_inertia_kgm2: Option<PerMotor>,
+    /// Viscous friction b_m of motor i, N m s/rad, on the motor speed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub viscous_friction_nm_s_per_rad: Option<PerMotor>,
 }
 
 impl Motors {
-    /// Checks both limits for `motors` motors (the rows of G): one value per motor where a
-    /// list is given, each finite and > 0.
+    /// Ideal motors (no rotor inertia or friction) with these limits, N m and rad/s.
+    pub fn ideal(torque_limit_nm: PerMotor, speed_limit_rad_s: PerMotor) -> Motors {
+        Motors {
+            torque_limit_nm,
+            speed_limit_rad_s,
+            rotor_inertia_kgm2: None,
+            viscous_friction_nm_s_per_rad: None,
+        }
+    }
+
+    /// Checks every quantity for `motors` motors (the rows of G): one value per motor where a
+    /// list is given, each finite; the limits > 0, the rotor inertia and the friction >= 0.
     pub fn validate(&self, motors: usize) -> Result<(), FieldError> {
         let positive = |value: f64| value > 0.0;
+        let non_negative = |value: f64| value >= 0.0;
         self.torque_limit_nm
             .check("motors.torque_limit_nm", motors, positive, "> 0")?;
         self.speed_limit_rad_s
-            .check("motors.speed_limit_rad_s", motors, positive, "> 0")
+            .check("motors.speed_limit_rad_s", motors, positive, "> 0")?;
+        let optional = |quantity: &Option<PerMotor>, field, accept, rule| match quantity {
+            Some(quantity) => quantity.check(field, motors, accept, rule),
+            None => Ok(()),
+        };
+        optional(
+            &self.rotor_inertia_kgm2,
+            "motors.rotor_inertia_kgm2",
+            non_negative,
+            ">= 0",
+        )?;
+        optional(
+            &self.viscous_friction_nm_s_per_rad,
+            "motors.viscous_friction_nm_s_per_rad",
+            non_negative,
+            ">= 0",
+        )
     }
 }
 
@@ -253,10 +288,7 @@ mod tests {
             let error = motors(value).unwrap().validate(4).unwrap_err().to_string();
             assert!(error.starts_with(expected), "{error}");
         }
-        let infinite = Motors {
-            torque_limit_nm: PerMotor::Each(vec![1.0, f64::INFINITY]),
-            speed_limit_rad_s: PerMotor::All(1.0),
-        };
+        let infinite = Motors::ideal(PerMotor::Each(vec![1.0, f64::INFINITY]), PerMotor::All(1.0));
         assert_eq!(
             infinite.validate(2).unwrap_err().to_string(),
             "motors.torque_limit_nm[1] = inf must be > 0"
@@ -277,6 +309,73 @@ mod tests {
             let error = refused(value);
             assert!(error.contains("expected f64"), "{error}");
         }
+    }
+
+    /// The motor model's keys: absent in the built-in task (ideal motors) and not written back
+    /// then; a number or one per motor when given, read and written back as given.
+    #[test]
+    fn motor_model_keys_are_optional_and_read_as_written() {
+        let limits = json!({"torque_limit_nm": 1.7, "speed_limit_rad_s": 100});
+        let ideal = motors(limits.clone()).unwrap();
+        assert_eq!(
+            ideal,
+            Motors::ideal(PerMotor::All(1.7), PerMotor::All(100.0))
+        );
+        assert_eq!(
+            serde_json::to_value(&ideal).unwrap(),
+            json!({"torque_limit_nm": 1.7, "speed_limit_rad_s": 100.0})
+        );
+        let text = r#"{"torque_limit_nm":1.7,"speed_limit_rad_s":100.0,"rotor_inertia_kgm2":[0.00001,0.00002,0.0,0.00003],"viscous_friction_nm_s_per_rad":0.001}"#;
+        let read: Motors = serde_json::from_str(text).unwrap();
+        assert_eq!(
+            read.rotor_inertia_kgm2,
+            Some(PerMotor::Each(vec![1e-5, 2e-5, 0.0, 3e-5]))
+        );
+        assert_eq!(
+            read.viscous_friction_nm_s_per_rad,
+            Some(PerMotor::All(1e-3))
+        );
+        assert!(read.validate(4).is_ok());
+        assert_eq!(serde_json::to_string(&read).unwrap(), text);
+        let mut misspelt = limits;
+        misspelt["rotor_inertia"] = json!(1e-5);
+        assert!(motors(misspelt)
+            .unwrap_err()
+            .contains("unknown field `rotor_inertia`"));
+    }
+
+    /// Rotor inertia and friction may be 0, not negative; each error names the key and the
+    /// motor.
+    #[test]
+    fn motor_model_errors_name_the_key_and_the_motor() {
+        let base = json!({"torque_limit_nm": 1.7, "speed_limit_rad_s": 100});
+        let cases = [
+            (
+                "rotor_inertia_kgm2",
+                json!([1e-5, -1e-5, 0, 0]),
+                "motors.rotor_inertia_kgm2[1] = -1e-5 must be >= 0",
+            ),
+            (
+                "viscous_friction_nm_s_per_rad",
+                json!(-0.5),
+                "motors.viscous_friction_nm_s_per_rad = -0.5 must be >= 0",
+            ),
+            (
+                "viscous_friction_nm_s_per_rad",
+                json!([1e-3, 1e-3, 1e-3]),
+                "motors.viscous_friction_nm_s_per_rad has 3 values",
+            ),
+        ];
+        for (key, value, expected) in cases {
+            let mut given = base.clone();
+            given[key] = value;
+            let error = motors(given).unwrap().validate(4).unwrap_err().to_string();
+            assert!(error.starts_with(expected), "{error}");
+        }
+        let mut zero = base;
+        zero["rotor_inertia_kgm2"] = json!(0);
+        zero["viscous_friction_nm_s_per_rad"] = json!([0, 0, 0, 0]);
+        assert!(motors(zero).unwrap().validate(4).is_ok());
     }
 
     /// A task checks its motors against the rows of its G.

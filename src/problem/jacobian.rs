@@ -9,10 +9,14 @@ use nalgebra::DMatrix;
 
 /// The design-dependent matrices the Jacobian's values come from.
 pub(super) struct JacobianData<'m> {
-    /// d(tau)/d(u): G^T or the identity.
+    /// d(tau)/d(u): G^T or the identity ([`Actuation::control_map`](crate::transmission::Actuation::control_map)).
     pub(super) control_map: &'m DMatrix<f64>,
     /// Structural non-zeros of `control_map`.
     pub(super) control_pattern: &'m DMatrix<f64>,
+    /// The motors' rotor inertia and friction reflected into the joints, G^T J_m G and
+    /// G^T B_m G ([`Actuation::reflected`](crate::transmission::Actuation::reflected)): added
+    /// to the dynamics rows' a and v blocks, which are dense already. None for ideal motors.
+    pub(super) reflected: Option<(&'m DMatrix<f64>, &'m DMatrix<f64>)>,
     /// The speed rows' matrix (G, or the identity in the elastic kind's box modes) and its
     /// pattern, when speeds are limited by linear rows.
     pub(super) speed: Option<(&'m DMatrix<f64>, &'m DMatrix<f64>)>,
@@ -32,6 +36,7 @@ pub(super) fn visit(
     let JacobianData {
         control_map,
         control_pattern,
+        reflected,
         speed,
         torque,
         h,
@@ -43,11 +48,23 @@ pub(super) fn visit(
             for j in 0..n {
                 emit(row, layout.q(k, j), node.dtau_dq[(i, j)]);
             }
+            let (inertia, damping) = match reflected {
+                Some((inertia, damping)) => (Some(inertia), Some(damping)),
+                None => (None, None),
+            };
             for j in 0..n {
-                emit(row, layout.v(k, j), node.dtau_dv[(i, j)]);
+                emit(
+                    row,
+                    layout.v(k, j),
+                    plus(node.dtau_dv[(i, j)], damping, (i, j)),
+                );
             }
             for j in 0..n {
-                emit(row, layout.a(k, j), node.mass[(i, j)]);
+                emit(
+                    row,
+                    layout.a(k, j),
+                    plus(node.mass[(i, j)], inertia, (i, j)),
+                );
             }
             for j in 0..n {
                 if control_pattern[(i, j)] != 0.0 {
@@ -92,6 +109,11 @@ pub(super) fn visit(
     }
 }
 
+/// value + m[(i, j)], or value itself without m (no rounding where there is nothing to add).
+fn plus(value: f64, m: Option<&DMatrix<f64>>, (i, j): (usize, usize)) -> f64 {
+    m.map_or(value, |m| value + m[(i, j)])
+}
+
 /// The entries of a row's slack pair [plus, minus], if it has one: -1 and +1.
 fn emit_slacks(row: usize, slacks: Option<[usize; 2]>, emit: &mut impl FnMut(usize, usize, f64)) {
     if let Some([plus, minus]) = slacks {
@@ -119,6 +141,7 @@ pub(super) fn pattern(formulation: &Formulation) -> Vec<(usize, usize)> {
     let data = JacobianData {
         control_map: &pattern,
         control_pattern: &pattern,
+        reflected: None,
         speed: layout
             .speed_rows
             .then_some((&formulation.speed_pattern, &formulation.speed_pattern)),

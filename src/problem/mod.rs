@@ -24,36 +24,10 @@ pub use sensitivity::cost_gradient;
 use crate::dynamics::Dynamics;
 use crate::model::task::{LimitMode, LimitModes, Task};
 use crate::model::Robot;
-use crate::transmission::{DesignError, Transmission};
+pub use crate::transmission::Space;
+use crate::transmission::{DesignError, MotorDynamics, Transmission};
 use nalgebra::DMatrix;
-use serde::{Deserialize, Serialize};
 use std::fmt;
-
-/// Which torques the controls are.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "lowercase")]
-pub enum Space {
-    /// Joint torques tau are the controls; actuator limits are mapped to joint space (baseline).
-    Joint,
-    /// Motor torques tau_u are the controls, tau = G^T tau_u (the paper's method).
-    Actuation,
-}
-
-impl Space {
-    /// The lower-case name used in files and flags.
-    pub fn name(self) -> &'static str {
-        match self {
-            Space::Joint => "joint",
-            Space::Actuation => "actuation",
-        }
-    }
-}
-
-impl fmt::Display for Space {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
 
 /// A formulation that cannot be built; the message names the field at fault.
 #[derive(Clone, Debug, PartialEq)]
@@ -80,6 +54,8 @@ pub struct Formulation {
     torque_limits: Vec<f64>,
     /// Each motor's speed limit (the task's `motors.speed_limit_rad_s`), rad/s, one per row of G.
     speed_limits: Vec<f64>,
+    /// The motors' rotor inertia and friction, None for ideal motors (neither key given).
+    motor_dynamics: Option<MotorDynamics>,
     layout: Layout,
     /// Structural non-zeros of G (row = motor, column = joint) over the whole design space.
     g_pattern: DMatrix<f64>,
@@ -158,6 +134,7 @@ impl Formulation {
             modes,
             torque_limits: task.motors.torque_limit_nm.values(n),
             speed_limits: task.motors.speed_limit_rad_s.values(n),
+            motor_dynamics: MotorDynamics::of(&task.motors, n),
             layout,
             speed_pattern: g_pattern.clone(),
             g_pattern,
@@ -245,6 +222,11 @@ impl Formulation {
     /// Each motor's speed limit |qd_u,i| <= limit_i, rad/s (motor i = row i of G).
     pub fn motor_speed_limits(&self) -> &[f64] {
         &self.speed_limits
+    }
+
+    /// The motors' rotor inertia and viscous friction, None for ideal motors.
+    pub fn motor_dynamics(&self) -> Option<&MotorDynamics> {
+        self.motor_dynamics.as_ref()
     }
 
     /// The index layout.

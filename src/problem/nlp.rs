@@ -8,11 +8,11 @@ use super::elastic;
 use super::hessian::NodeHessian;
 use super::jacobian::{self, JacobianData};
 use super::node::{Level, NodeEval};
-use super::{Formulation, ProblemKind, Space};
+use super::{Formulation, ProblemKind};
 use crate::dynamics::Workspace;
 use crate::ipopt::{EvalError, Nlp};
 use crate::model::task::LimitMode;
-use crate::transmission::{Coupling, DesignError, JointLimits};
+use crate::transmission::{Actuation, Coupling, DesignError, JointLimits, Space};
 use nalgebra::DMatrix;
 
 /// The trajectory NLP of one design (see [`Formulation`]).
@@ -20,11 +20,8 @@ use nalgebra::DMatrix;
 pub struct TrajectoryProblem<'a> {
     formulation: &'a Formulation,
     ratios: Vec<f64>,
-    coupling: Coupling,
-    /// G^T in actuation space (tau = G^T u), the identity in joint space.
-    control_map: DMatrix<f64>,
-    /// G^-T, the motor torque of a joint torque.
-    motor_of_joint: DMatrix<f64>,
+    /// G(r), its inverse, and the controls' map to joint and motor torques.
+    actuation: Actuation,
     /// The speed rows' matrix: G (motor speeds, mode `exact`) or the identity (joint speeds, the
     /// elastic kind's rows in modes `paper` and `interval`).
     speed_map: DMatrix<f64>,
@@ -43,11 +40,6 @@ impl<'a> TrajectoryProblem<'a> {
         // The coupling checks the design (bounds, order, G(r) invertible) before building G(r).
         let coupling = formulation.transmission.coupling(ratios)?;
         let n = formulation.layout.dof;
-        let control_map = match formulation.space {
-            Space::Actuation => coupling.matrix().transpose(),
-            Space::Joint => DMatrix::identity(n, n),
-        };
-        let motor_of_joint = coupling.inverse().transpose();
         let speed_map = match formulation.modes.speed {
             LimitMode::Exact => coupling.matrix().clone(),
             LimitMode::Paper | LimitMode::Interval => DMatrix::identity(n, n),
@@ -55,9 +47,11 @@ impl<'a> TrajectoryProblem<'a> {
         Ok(TrajectoryProblem {
             formulation,
             ratios: ratios.to_vec(),
-            coupling,
-            control_map,
-            motor_of_joint,
+            actuation: Actuation::new(
+                coupling,
+                formulation.space,
+                formulation.motor_dynamics.as_ref(),
+            ),
             speed_map,
             workspaces: (0..formulation.layout.steps)
                 .map(|_| formulation.dynamics.workspace())
@@ -80,32 +74,30 @@ impl<'a> TrajectoryProblem<'a> {
 
     /// G(r) and its inverse at this design.
     pub fn coupling(&self) -> &Coupling {
-        &self.coupling
+        self.actuation.coupling()
     }
 
-    /// Joint torques of control u at a node: G^T u (actuation space) or u (joint space), N m.
-    pub fn joint_torques(&self, u: &[f64]) -> Vec<f64> {
-        (&self.control_map * nalgebra::DVector::from_column_slice(u))
-            .iter()
-            .copied()
-            .collect()
+    /// The actuation at this design: the controls' map to joint and motor torques.
+    pub fn actuation(&self) -> &Actuation {
+        &self.actuation
+    }
+
+    /// Joint torques the links take at a node of speeds v and accelerations a under control u:
+    /// G^T u (actuation space) or u (joint space), less the motors' rotor inertia and friction
+    /// reflected into the joints, N m.
+    pub fn joint_torques(&self, v: &[f64], a: &[f64], u: &[f64]) -> Vec<f64> {
+        self.actuation.link_torques(v, a, u)
     }
 
     /// Motor torques of control u at a node: u (actuation space) or G^-T u (joint space), N m.
     pub fn motor_torques(&self, u: &[f64]) -> Vec<f64> {
-        match self.formulation.space {
-            Space::Actuation => u.to_vec(),
-            Space::Joint => (&self.motor_of_joint * nalgebra::DVector::from_column_slice(u))
-                .iter()
-                .copied()
-                .collect(),
-        }
+        self.actuation.motor_torques(u)
     }
 
     /// The box or linear rows that limit the joint speeds v in the formulation's speed mode, rad/s.
     pub fn speed_limits(&self) -> JointLimits {
         let f = self.formulation;
-        self.coupling.speed_limits(f.modes.speed, &f.speed_limits)
+        self.coupling().speed_limits(f.modes.speed, &f.speed_limits)
     }
 
     /// The box or linear rows that limit the controls u: |u_i| <= motor i's torque limit in
@@ -118,7 +110,7 @@ impl<'a> TrajectoryProblem<'a> {
                 lower: limits.iter().map(|limit| -limit).collect(),
                 upper: limits.clone(),
             },
-            Space::Joint => self.coupling.torque_limits(f.modes.torque, limits),
+            Space::Joint => self.coupling().torque_limits(f.modes.torque, limits),
         }
     }
 
@@ -274,9 +266,9 @@ impl Nlp for TrajectoryProblem<'_> {
         let slack = |slacks: Option<[usize; 2]>| slacks.map(|[plus, minus]| x[minus] - x[plus]);
         for (k, node) in self.nodes.iter().enumerate() {
             let u = &x[layout.u(k, 0)..layout.u(k, 0) + n];
+            let (_, v, a) = layout.node_state(x, k);
             for i in 0..n {
-                let applied: f64 = (0..n).map(|j| self.control_map[(i, j)] * u[j]).sum();
-                g[layout.dynamics_row(k, i)] = node.tau[i] - applied;
+                g[layout.dynamics_row(k, i)] = self.actuation.residual(i, &node.tau, (v, a), u);
                 if let Some(s) = slack(layout.deficit_slack(k, i)) {
                     g[layout.dynamics_row(k, i)] += s;
                 }
@@ -293,7 +285,8 @@ impl Nlp for TrajectoryProblem<'_> {
                     }
                 }
                 if let Some(row) = layout.torque_row(k, i) {
-                    g[row] = (0..n).map(|j| self.motor_of_joint[(i, j)] * u[j]).sum();
+                    let motor_of_joint = self.actuation.motor_of_joint();
+                    g[row] = (0..n).map(|j| motor_of_joint[(i, j)] * u[j]).sum();
                 }
             }
         }
@@ -316,12 +309,15 @@ impl Nlp for TrajectoryProblem<'_> {
         let pattern = jacobian::control_pattern(f);
         let mut next = 0;
         let data = JacobianData {
-            control_map: &self.control_map,
+            control_map: self.actuation.control_map(),
             control_pattern: &pattern,
+            reflected: self.actuation.reflected(),
             speed: layout
                 .speed_rows
                 .then_some((&self.speed_map, &f.speed_pattern)),
-            torque: layout.torque_rows.then_some(&self.motor_of_joint),
+            torque: layout
+                .torque_rows
+                .then_some(self.actuation.motor_of_joint()),
             h: f.step_s(),
         };
         jacobian::visit(layout, &data, &self.nodes, |_, _, value| {
@@ -415,6 +411,40 @@ mod tests {
 
     /// Every combination of space and modes (torque modes only matter in joint space), and a G
     /// with scaled entries, each in the hard and the elastic kind.
+    /// The rotor inertias (kg m^2) and frictions (N m s/rad) of the motor-term tests, one per
+    /// motor: larger than real ones, so that their reflected terms weigh in the derivatives.
+    pub(crate) fn motor_terms() -> (Vec<f64>, Vec<f64>) {
+        (vec![3e-3, 2e-3, 1e-3, 5e-4], vec![2e-2, 1e-2, 0.0, 5e-3])
+    }
+
+    /// [`formulation`]s with every motor term set: actuation space, and joint space in every
+    /// torque mode, speed mode `exact`.
+    fn motor_formulations() -> Vec<Formulation> {
+        use crate::model::task::PerMotor;
+        let (inertia, friction) = motor_terms();
+        [
+            (Space::Actuation, LimitMode::Paper),
+            (Space::Joint, LimitMode::Paper),
+            (Space::Joint, LimitMode::Interval),
+            (Space::Joint, LimitMode::Exact),
+        ]
+        .into_iter()
+        .map(|(space, torque)| {
+            let mut task = task();
+            task.motion.steps = 5;
+            task.payload.mass_kg = 1.0;
+            task.motors.rotor_inertia_kgm2 = Some(PerMotor::Each(inertia.clone()));
+            task.motors.viscous_friction_nm_s_per_rad = Some(PerMotor::Each(friction.clone()));
+            let robot = Robot::load(&task).unwrap();
+            let modes = LimitModes {
+                torque,
+                speed: LimitMode::Exact,
+            };
+            Formulation::new(&task, robot, space, modes).unwrap()
+        })
+        .collect()
+    }
+
     fn all_formulations() -> Vec<Formulation> {
         let modes = [LimitMode::Paper, LimitMode::Interval, LimitMode::Exact];
         let mut list = Vec::new();
@@ -425,6 +455,7 @@ mod tests {
             }
         }
         list.extend(scaled_formulations());
+        list.extend(motor_formulations());
         let elastic: Vec<_> = list.iter().map(Formulation::elastic).collect();
         list.extend(elastic);
         list
@@ -548,10 +579,11 @@ mod tests {
                 assert_eq!(
                     report.errors,
                     0,
-                    "{:?} {} space, modes {:?}, {point}: {:?}",
+                    "{:?} {} space, modes {:?}, motors {:?}, {point}: {:?}",
                     f.kind(),
                     f.space(),
                     f.modes(),
+                    f.motor_dynamics(),
                     &report.flagged[..report.flagged.len().min(10)]
                 );
             }
@@ -694,10 +726,7 @@ mod tests {
     #[test]
     fn equal_limits_per_motor_bound_as_one_limit() {
         use crate::model::task::{Motors, PerMotor};
-        let listed = Motors {
-            torque_limit_nm: PerMotor::Each(vec![1.7; 4]),
-            speed_limit_rad_s: PerMotor::Each(vec![100.0; 4]),
-        };
+        let listed = Motors::ideal(PerMotor::Each(vec![1.7; 4]), PerMotor::Each(vec![100.0; 4]));
         let one = all_formulations()
             .into_iter()
             .filter(|f| f.kind() == ProblemKind::Hard);
@@ -715,10 +744,10 @@ mod tests {
     fn each_motor_is_bounded_by_its_own_limit() {
         use crate::model::task::{Motors, PerMotor};
         let (torques, speeds) = ([1.7, 1.0, 2.5, 0.5], [100.0, 60.0, 120.0, 40.0]);
-        let motors = Motors {
-            torque_limit_nm: PerMotor::Each(torques.to_vec()),
-            speed_limit_rad_s: PerMotor::Each(speeds.to_vec()),
-        };
+        let motors = Motors::ideal(
+            PerMotor::Each(torques.to_vec()),
+            PerMotor::Each(speeds.to_vec()),
+        );
         let ratios = [7.3, 4.1, 2.2, 1.6];
         for f in with_motors(&motors) {
             assert_eq!(f.motor_torque_limits(), torques);

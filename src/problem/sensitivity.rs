@@ -4,7 +4,9 @@
 //! dJ*/dr = dL/dr, the partial derivative of the Lagrangian
 //! L = J(x) + lambda^T g(x, r) - z_L^T (x - x_L(r)) + z_U^T (x - x_U(r))
 //! with respect to r at fixed (x, lambda, z). The design enters through G(r):
-//! - the dynamics rows of the actuation-space problem, RNEA - G^T u (d/dr_l: -dG_l^T u);
+//! - the dynamics rows, whose r-derivative the actuation gives
+//!   ([`Actuation::residual_derivative`](crate::transmission::Actuation::residual_derivative):
+//!   -dG_l^T u in actuation space, RNEA - G^T u);
 //! - the motor-speed rows G v and the motor-torque rows G^-T u of the `exact` modes
 //!   (d(G^-T)/dr_l = -G^-T dG_l^T G^-T);
 //! - the variable bounds of the `paper` and `interval` modes (d/dr_l of |sum_j A_ij l_j| and
@@ -74,23 +76,28 @@ pub fn cost_gradient(problem: &TrajectoryProblem<'_>, solution: &Solution) -> Ve
     let f = problem.formulation();
     let layout = f.layout();
     let (n, steps) = (layout.dof, layout.steps);
-    let g = problem.coupling().matrix();
-    let g_inv = problem.coupling().inverse();
+    let actuation = problem.actuation();
+    let g = actuation.coupling().matrix();
+    let g_inv = actuation.coupling().inverse();
     let (x, lambda) = (&solution.x, &solution.lambda);
     let segment = |start: usize| DVector::from_column_slice(&x[start..start + n]);
     let multipliers = |row: usize| DVector::from_column_slice(&lambda[row..row + n]);
     (0..f.transmission().num_ratios())
         .map(|l| {
             let dg = f.transmission().matrix_derivative(l);
-            let dg_inv = -(g_inv * &dg * g_inv);
+            let dg_inv = actuation.inverse_derivative(&dg);
             let modes = f.modes();
             let speed_box =
                 box_bound_derivative(modes.speed, g_inv, &dg_inv, f.motor_speed_limits());
             let mut total = 0.0;
             for k in 0..steps {
                 let u = segment(layout.u(k, 0));
-                if f.space() == Space::Actuation {
-                    total -= multipliers(layout.dynamics_row(k, 0)).dot(&dg.tr_mul(&u));
+                let state = (
+                    &x[layout.v(k, 0)..layout.v(k, 0) + n],
+                    &x[layout.a(k, 0)..layout.a(k, 0) + n],
+                );
+                if let Some(d) = actuation.residual_derivative(&dg, state, u.as_slice()) {
+                    total += multipliers(layout.dynamics_row(k, 0)).dot(&d);
                 }
                 if let Some(row) = layout.speed_row(k, 0) {
                     total += match &speed_box {

@@ -318,7 +318,11 @@ impl Inspection {
                 "design r = ({}); bounds {:?}; order {}",
                 list(&self.ratios),
                 self.bounds,
-                self.order.join(", ")
+                if self.order.is_empty() {
+                    "none".to_owned()
+                } else {
+                    self.order.join(", ")
+                }
             );
         }
         for (name, matrix) in [("G", &self.g), ("G^-1", &self.g_inverse)] {

@@ -54,9 +54,11 @@ pub struct Trajectory {
     pub v: Vec<Vec<f64>>,
     /// Joint accelerations per interval, rad/s^2.
     pub a: Vec<Vec<f64>>,
-    /// Joint torques per interval, N m.
+    /// Joint torques the links take per interval, N m: the controls' (G^T u or u) less the
+    /// motors' rotor inertia and friction reflected into the joints, where the task sets them.
     pub joint_torque: Vec<Vec<f64>>,
-    /// Motor torques per interval, N m (G^-T tau for a joint-space solution).
+    /// Motor torques per interval, N m (G^-T u for a joint-space solution), the rotors' and
+    /// the friction's share included.
     pub motor_torque: Vec<Vec<f64>>,
     /// Motor speeds per node, rad/s (G v).
     pub motor_speed: Vec<Vec<f64>>,
@@ -353,9 +355,11 @@ fn read_trajectory(problem: &TrajectoryProblem<'_>, x: &[f64]) -> Trajectory {
             .motor_speed
             .push(problem.coupling().motor_speeds(&v));
         if k < steps {
-            let u = slice(layout.u(k, 0));
-            trajectory.a.push(slice(layout.a(k, 0)));
-            trajectory.joint_torque.push(problem.joint_torques(&u));
+            let (u, a) = (slice(layout.u(k, 0)), slice(layout.a(k, 0)));
+            trajectory
+                .joint_torque
+                .push(problem.joint_torques(&v, &a, &u));
+            trajectory.a.push(a);
             trajectory.motor_torque.push(problem.motor_torques(&u));
         }
         trajectory.q.push(q);

@@ -375,3 +375,95 @@ fn cost_gradient_with_scaled_entries_matches_differences() {
         });
     }
 }
+
+/// The task with rotor inertia (kg m^2) and viscous friction (N m s/rad) set per motor: a
+/// geared servo's order of magnitude, reflected by r^2 and r into the joints.
+fn with_motor_terms(task: &Task) -> Task {
+    let mut task = task.clone();
+    task.motors.rotor_inertia_kgm2 = Some(PerMotor::Each(vec![1e-4, 1e-4, 5e-5, 5e-5]));
+    task.motors.viscous_friction_nm_s_per_rad = Some(PerMotor::Each(vec![2e-3, 2e-3, 1e-3, 1e-3]));
+    task
+}
+
+/// dJ*/dr with rotor inertia and friction, which depend on r through G in both spaces, against
+/// central differences of re-solved problems at three feasible designs.
+#[test]
+fn cost_gradient_with_motor_terms_matches_differences() {
+    let cases = [
+        (
+            Space::Actuation,
+            1.0,
+            LimitMode::Paper,
+            LimitMode::Exact,
+            [7.0, 4.0, 2.0, 2.0],
+        ),
+        (
+            Space::Joint,
+            0.0,
+            LimitMode::Interval,
+            LimitMode::Exact,
+            [6.5, 3.5, 1.5, 1.2],
+        ),
+        (
+            Space::Joint,
+            0.0,
+            LimitMode::Exact,
+            LimitMode::Paper,
+            [8.0, 4.0, 2.0, 2.5],
+        ),
+    ];
+    for (space, payload, torque, speed, ratios) in cases {
+        let mut task = with_motor_terms(&crate::testing::task());
+        task.payload.mass_kg = payload;
+        assert_cost_gradient(&task, space, LimitModes { torque, speed }, ratios);
+    }
+}
+
+/// Rotor inertia and friction given as 0 solve to the bit as no motor keys: the same
+/// iterations, trajectory, cost and dJ*/dr; set, they move the cost and the motor torques
+/// include the rotors' and the friction's share.
+#[test]
+fn zero_motor_terms_solve_as_none() {
+    let settings = testing::settings();
+    for (space, payload) in [(Space::Actuation, 1.0), (Space::Joint, 0.0)] {
+        let mut task = testing::task();
+        task.payload.mass_kg = payload;
+        let mut zero = task.clone();
+        zero.motors.rotor_inertia_kgm2 = Some(PerMotor::All(0.0));
+        zero.motors.viscous_friction_nm_s_per_rad = Some(PerMotor::All(0.0));
+        let [none, zero, set] = [task.clone(), zero, with_motor_terms(&task)].map(|task| {
+            let robot = Robot::load(&task).unwrap();
+            let formulation = Formulation::new(&task, robot, space, task.limit_modes).unwrap();
+            let original = formulation.transmission().original().to_vec();
+            let mut result = solve_design(&formulation, &original, &settings).unwrap();
+            result.solve_seconds = Default::default();
+            result
+        });
+        assert!(none.feasible && none.cost_gradient.is_some(), "{space}");
+        assert_eq!(none, zero, "{space}");
+        assert!(
+            set.feasible && set.cost != none.cost,
+            "{space}: {}",
+            set.cost
+        );
+        let t = &set.trajectory;
+        let g = crate::transmission::Transmission::from_spec(&task.transmission)
+            .unwrap()
+            .coupling(&[6.0, 3.0, 1.0, 1.0])
+            .unwrap();
+        for k in [1, t.a.len() / 2] {
+            let (speed, acceleration) = (g.motor_speeds(&t.v[k]), g.motor_speeds(&t.a[k]));
+            let links = g.motor_torques(&t.joint_torque[k]);
+            for i in 0..4 {
+                let (inertia, friction) =
+                    ([1e-4, 1e-4, 5e-5, 5e-5][i], [2e-3, 2e-3, 1e-3, 1e-3][i]);
+                let expected = links[i] + inertia * acceleration[i] + friction * speed[i];
+                let motor = t.motor_torque[k][i];
+                assert!(
+                    (motor - expected).abs() < 1e-9,
+                    "{space} k {k} motor {i}: {motor} vs {expected}"
+                );
+            }
+        }
+    }
+}

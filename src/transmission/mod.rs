@@ -8,13 +8,16 @@
 //! - `spec`: reading the task's `transmission` section (`r<i>` names, entries, order strings);
 //! - `design_space`: bounds, order constraints, the original design, checks and projection;
 //! - `coupling`: G(r), dG/dr_i, and G with its inverse at one design;
-//! - `limits`: the joint torque and speed limits of each [`LimitMode`](crate::model::task::LimitMode).
+//! - `limits`: the joint torque and speed limits of each [`LimitMode`](crate::model::task::LimitMode);
+//! - `actuation`: the controls' map to joint and motor torques at one design ([`Actuation`]).
 
+mod actuation;
 mod coupling;
 mod design_space;
 mod limits;
 mod spec;
 
+pub use actuation::{Actuation, MotorDynamics, Space};
 pub use coupling::Coupling;
 pub use design_space::{DesignError, DesignSpace, HalfSpace, OrderConstraint};
 pub use limits::{limit_weights, JointLimits};

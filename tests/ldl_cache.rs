@@ -1,0 +1,77 @@
+//! The LDLᵀ's analyses are kept for the process (`codesign::ldl::AnalysisCache::shared`): a second
+//! solve of the same formulation analyses nothing and gives the same result, bit for bit, as the
+//! first, whose analyses were new; MUMPS solves in the same process as before.
+//!
+//! One test in its own binary, so that the process-wide counts start at zero.
+
+mod support;
+
+use codesign::ipopt::LinearSolver;
+use codesign::ldl::{AnalysisCache, CacheCounts};
+use codesign::model::task::Task;
+use codesign::model::Robot;
+use codesign::problem::{Formulation, Space};
+use codesign::solve::{solve_design, TrajectoryResult};
+use serde_json::Value;
+
+/// The result as JSON without its wall times.
+fn without_timing(result: &TrajectoryResult) -> Value {
+    let mut json = serde_json::to_value(result).expect("a result serialises");
+    json.as_object_mut()
+        .expect("a result is an object")
+        .remove("solve_seconds");
+    json
+}
+
+#[test]
+fn a_worker_analyses_each_structure_once_and_solves_as_if_it_had_not_kept_it() {
+    let mut task = Task::built_in().expect("the built-in task loads");
+    task.payload.mass_kg = 1.0;
+    let ldl = support::settings(LinearSolver::Ldl);
+    let formulation = |space| {
+        let robot = Robot::load(&task).expect("the robot loads");
+        Formulation::new(&task, robot, space, task.limit_modes).expect("formulation")
+    };
+    let actuation = formulation(Space::Actuation);
+    let original = task.transmission.original.clone();
+    let cache = AnalysisCache::shared();
+    assert_eq!(cache.counts(), CacheCounts::default());
+
+    // The default solve: the structure is analysed, then analysed again for its zero diagonals.
+    let first = solve_design(&actuation, &original, &ldl).expect("solves");
+    assert!(first.feasible, "{}", first.status);
+    let once = cache.counts();
+    assert!(once.analysed >= 1, "{once:?}");
+    assert_eq!(once.reused, 0, "{once:?}");
+
+    // Again, and another design of the same formulation: both analyses are reused.
+    let second = solve_design(&actuation, &original, &ldl).expect("solves");
+    let twice = cache.counts();
+    assert_eq!(twice.analysed, once.analysed, "{twice:?}");
+    assert_eq!(twice.reused, once.analysed, "{twice:?}");
+    assert_eq!(without_timing(&second), without_timing(&first));
+    let other = solve_design(&actuation, &[9.0, 5.62, 3.0, 1.8], &ldl).expect("solves");
+    assert!(other.feasible, "{}", other.status);
+    assert_eq!(cache.counts().analysed, once.analysed);
+
+    // MUMPS is untouched by the cache and still solves the default problem.
+    let mumps = solve_design(
+        &actuation,
+        &original,
+        &support::settings(LinearSolver::Mumps),
+    )
+    .expect("solves with MUMPS");
+    assert!(mumps.feasible, "{}", mumps.status);
+    assert!(
+        (mumps.cost - first.cost).abs() < 1e-6 * first.cost,
+        "{} {}",
+        mumps.cost,
+        first.cost
+    );
+    assert_eq!(cache.counts().analysed, once.analysed);
+
+    // The joint space's KKT matrix has a structure of its own.
+    let joint = solve_design(&formulation(Space::Joint), &original, &ldl).expect("solves");
+    assert!(joint.feasible, "{}", joint.status);
+    assert!(cache.counts().analysed > once.analysed);
+}
