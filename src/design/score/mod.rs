@@ -39,7 +39,8 @@ pub enum Verdict {
         /// How far it is from feasible, motor-seconds (s): the torque deficit of the elastic
         /// solves plus the static hold's deficit times the horizon, over the torque limit, plus
         /// the speed excess over the speed limit; a hard solve measures only the hold's part
-        /// (0 when the load is held).
+        /// (0 when the load is held), and so does a design not solved because its motors
+        /// cannot hold the load at rest ([`SolveStatus::StaticHoldFailed`]).
         shortfall: f64,
         /// Why, in words.
         reason: String,

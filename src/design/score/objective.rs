@@ -151,6 +151,15 @@ impl Fitness {
                 _ => verdict,
             });
         }
+        let held: Vec<(f64, &Formulation)> = match &self.scored {
+            Scored::Cost(formulation) => vec![(0.0, formulation)],
+            Scored::Range(formulations) => formulations.iter().map(|(kg, f)| (*kg, f)).collect(),
+            // The capacity search solves no payload its motors cannot hold.
+            Scored::Capacity(..) => Vec::new(),
+        };
+        if let Some(verdict) = unheld(&held, ratios) {
+            return Score::unsolved(verdict);
+        }
         let solve = &self.solve;
         match &self.scored {
             Scored::Capacity(formulation, settings) => {
@@ -171,6 +180,31 @@ impl Fitness {
     pub fn evaluate(&self, ratios: &[f64]) -> Evaluation {
         Evaluation::new(ratios, &self.score(ratios), &self.penalty)
     }
+}
+
+/// The verdict of valid `ratios` when its motors cannot hold the load at rest at an end at some
+/// payload of `formulations` (named when there are several): infeasible whatever IPOPT would
+/// say, so nothing is solved. Its shortfall is the hold's deficit alone, summed over the
+/// payloads (docs/model.md, section 10). None when every payload is held.
+fn unheld(formulations: &[(f64, &Formulation)], ratios: &[f64]) -> Option<Verdict> {
+    let (mut short, mut reasons) = (0.0, Vec::new());
+    for (payload_kg, formulation) in formulations {
+        // A design whose problem cannot be built is judged by its solve.
+        let hold = formulation.static_hold(ratios).ok()?;
+        let Some(reason) = hold.reason() else {
+            continue;
+        };
+        short += shortfall_of(formulation, 0.0, hold.deficit_nm(), 0.0);
+        reasons.push(match formulations.len() {
+            1 => reason,
+            _ => format!("at {payload_kg} kg: {reason}"),
+        });
+    }
+    (!reasons.is_empty()).then(|| Verdict::Infeasible {
+        shortfall: short,
+        reason: reasons.join("; "),
+        status: SolveStatus::StaticHoldFailed,
+    })
 }
 
 /// The score of one solve of valid `ratios`: its optimal cost J, or why it is infeasible.
@@ -310,20 +344,27 @@ fn capacity(
 }
 
 /// The verdict of valid `ratios` that cannot move even without payload: infeasible, by the
-/// static hold's deficit at 0 kg when the motors cannot hold the arm at rest.
+/// static hold's deficit at 0 kg when the motors cannot hold the arm at rest (then nothing was
+/// solved, and the status says so).
 fn unloaded(formulation: &Formulation, ratios: &[f64]) -> Verdict {
     let hold = formulation
         .with_payload(0.0)
         .ok()
         .and_then(|unloaded| unloaded.static_hold(ratios).ok());
     let deficit = hold.as_ref().map_or(0.0, StaticHold::deficit_nm);
-    let reason = hold.and_then(|hold| hold.reason());
+    let (reason, status) = match hold.and_then(|hold| hold.reason()) {
+        Some(reason) => (
+            format!("infeasible even without payload: {reason}"),
+            SolveStatus::StaticHoldFailed,
+        ),
+        None => (
+            "infeasible even without payload".to_owned(),
+            SolveStatus::InfeasibleUnloaded,
+        ),
+    };
     Verdict::Infeasible {
         shortfall: shortfall_of(formulation, 0.0, deficit, 0.0),
-        reason: match reason {
-            Some(reason) => format!("infeasible even without payload: {reason}"),
-            None => "infeasible even without payload".to_owned(),
-        },
-        status: SolveStatus::InfeasibleUnloaded,
+        reason,
+        status,
     }
 }

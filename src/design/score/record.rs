@@ -79,6 +79,9 @@ pub enum SolveStatus {
     },
     /// `Infeasible_Unloaded`: the capacity search found the design infeasible at 0 kg.
     InfeasibleUnloaded,
+    /// `Static_Hold_Failed`: the motors cannot hold the load at rest at an end (at some payload),
+    /// so the design is infeasible whatever a solve would say, and nothing was solved.
+    StaticHoldFailed,
 }
 
 const INVALID_DESIGN: &str = "Invalid_Design";
@@ -86,6 +89,7 @@ const SOLVER_ERROR: &str = "Solver_Error";
 const WORKER_FAILED: &str = "Worker_Failed";
 const ELASTIC_DEFICIT: &str = "Elastic_Deficit";
 const INFEASIBLE_UNLOADED: &str = "Infeasible_Unloaded";
+const STATIC_HOLD_FAILED: &str = "Static_Hold_Failed";
 
 impl fmt::Display for Status {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -96,6 +100,7 @@ impl fmt::Display for Status {
                 write!(f, "Capacity_{probes}_Probes")
             }
             Status::Solved(SolveStatus::InfeasibleUnloaded) => f.write_str(INFEASIBLE_UNLOADED),
+            Status::Solved(SolveStatus::StaticHoldFailed) => f.write_str(STATIC_HOLD_FAILED),
             Status::InvalidDesign => f.write_str(INVALID_DESIGN),
             Status::SolverError => f.write_str(SOLVER_ERROR),
             Status::WorkerFailed => f.write_str(WORKER_FAILED),
@@ -123,6 +128,7 @@ impl From<&str> for Status {
             (WORKER_FAILED, _) => Status::WorkerFailed,
             (ELASTIC_DEFICIT, _) => Status::Solved(SolveStatus::ElasticDeficit),
             (INFEASIBLE_UNLOADED, _) => Status::Solved(SolveStatus::InfeasibleUnloaded),
+            (STATIC_HOLD_FAILED, _) => Status::Solved(SolveStatus::StaticHoldFailed),
             (name, None) => Status::Solved(SolveStatus::Ipopt(name.to_owned())),
         }
     }

@@ -65,37 +65,32 @@ fn a_feasible_design_scores_its_cost() {
 
 #[test]
 fn an_infeasible_design_scores_the_flat_or_the_graded_penalty() {
-    // The original design cannot carry 3 kg in actuation space (results/original).
-    let flat = fitness(3.0, Space::Actuation, "flat").score(&original());
+    // Unloaded, the original design holds the arm at rest, but not through the motion in 0.2 s
+    // instead of 0.8 s: IPOPT judges it.
+    let mut task = testing::task();
+    task.payload.mass_kg = 0.0;
+    task.motion.horizon_s = 0.2;
+    let modes = task.limit_modes;
+    let fitness = |penalty: &Penalty| {
+        let solve = testing::settings();
+        Fitness::new(&task, &solve, Space::Actuation, modes, &Objective::Cost, *penalty).unwrap()
+    };
+    let flat = fitness(&Penalty::PAPER).score(&original());
     let Verdict::Infeasible { shortfall, .. } = flat.verdict else {
         panic!("{flat:?}");
     };
-    // A hard solve measures only the static hold's part: its deficit over the horizon (0.8 s)
-    // and the motors' limit (1.7 N m).
-    let hold = testing::formulation(3.0, Space::Actuation)
-        .static_hold(&original())
-        .unwrap();
-    assert!(
-        (shortfall - hold.deficit_nm() * 0.8 / 1.7).abs() < 1e-12,
-        "{shortfall}"
-    );
+    // A hard solve measures only the static hold's part, 0 when the load is held.
+    assert_eq!(shortfall, 0.0);
+    assert!(flat.iterations > 0, "{flat:?}");
     assert_eq!(flat.verdict.fitness(&Penalty::PAPER), 1e6);
     let reason = flat.verdict.reason().unwrap();
-    assert!(
-        reason.starts_with("cannot hold the load at rest at the start: motor 2"),
-        "{reason}"
-    );
-    assert!(
-        reason.ends_with("; IPOPT returned Infeasible_Problem_Detected"),
-        "{reason}"
-    );
-    let hold_only = shortfall;
+    assert!(reason.starts_with("IPOPT returned "), "{reason}");
     let penalty: Penalty = "graded".parse().unwrap();
-    let graded = fitness(3.0, Space::Actuation, "graded").score(&original());
+    let graded = fitness(&penalty).score(&original());
     let Verdict::Infeasible { shortfall, .. } = graded.verdict else {
         panic!("{graded:?}");
     };
-    assert!(shortfall > hold_only, "{graded:?}");
+    assert!(shortfall > 0.0, "{graded:?}");
     assert_eq!(
         graded.verdict.fitness(&penalty),
         penalty.infeasible(shortfall)
@@ -104,11 +99,90 @@ fn an_infeasible_design_scores_the_flat_or_the_graded_penalty() {
     let record = Evaluation::new(&original(), &graded, &penalty);
     assert_eq!(record.status.to_string(), "Elastic_Deficit");
     let reason = record.reason.unwrap();
-    assert!(
-        reason.starts_with("cannot hold the load at rest"),
-        "{reason}"
+    assert!(reason.starts_with("torque deficit "), "{reason}");
+}
+
+#[test]
+fn a_design_that_cannot_hold_its_load_is_not_solved_under_either_penalty() {
+    // The original design cannot hold 3 kg at rest in actuation space (motor 2): infeasible
+    // whatever IPOPT would say, so no solve runs, and the shortfall is the hold's alone: its
+    // deficit over the horizon (0.8 s) and the motors' limit (1.7 N m).
+    let deficit = testing::formulation(3.0, Space::Actuation)
+        .static_hold(&original())
+        .unwrap()
+        .deficit_nm();
+    assert!(deficit > 0.0);
+    for penalty in ["flat", "graded"] {
+        let fitness = fitness(3.0, Space::Actuation, penalty);
+        let score = fitness.score(&original());
+        let Verdict::Infeasible {
+            shortfall,
+            ref reason,
+            ref status,
+        } = score.verdict
+        else {
+            panic!("{score:?}");
+        };
+        assert_eq!((score.iterations, score.seconds), (0, 0.0), "{penalty}");
+        assert_eq!(status, &SolveStatus::StaticHoldFailed);
+        assert!(
+            reason.starts_with("cannot hold the load at rest at the start: motor 2 needs "),
+            "{reason}"
+        );
+        assert!((shortfall - deficit * 0.8 / 1.7).abs() < 1e-12, "{shortfall}");
+        let record = fitness.evaluate(&original());
+        assert_eq!(record.status.to_string(), "Static_Hold_Failed");
+        assert!(!record.feasible && record.iterations == 0);
+        let parsed: Penalty = penalty.parse().unwrap();
+        assert_eq!(record.cost, parsed.infeasible(shortfall));
+    }
+    assert_eq!(
+        fitness(3.0, Space::Actuation, "flat").evaluate(&original()).cost,
+        1e6
     );
-    assert!(reason.contains("; torque deficit "), "{reason}");
+}
+
+#[test]
+fn a_range_or_a_joint_space_design_that_cannot_hold_is_not_solved() {
+    // A range names the payloads not held and sums their deficits; the 0 kg one is held.
+    let mut task = testing::task();
+    task.payload.mass_kg = 0.0;
+    let modes = task.limit_modes;
+    let range = Objective::Range(PayloadRange {
+        payloads_kg: vec![0.0, 1.0, 3.0],
+    });
+    let penalty: Penalty = "graded".parse().unwrap();
+    let solve = testing::settings();
+    let fitness = Fitness::new(&task, &solve, Space::Actuation, modes, &range, penalty).unwrap();
+    let score = fitness.score(&original());
+    let Verdict::Infeasible {
+        shortfall,
+        ref reason,
+        ..
+    } = score.verdict
+    else {
+        panic!("{score:?}");
+    };
+    assert_eq!(score.iterations, 0);
+    assert!(reason.starts_with("at 1 kg: cannot hold"), "{reason}");
+    assert!(reason.contains("; at 3 kg: cannot hold"), "{reason}");
+    let term = |kg: f64| {
+        let f = testing::formulation(kg, Space::Actuation);
+        f.static_hold(&original()).unwrap().deficit_nm() * 0.8 / 1.7
+    };
+    assert!((shortfall - term(1.0) - term(3.0)).abs() < 1e-12, "{shortfall}");
+    // In joint space, torque mode `paper` gives joint 4 no torque at all: nothing is solved,
+    // not even the capacity search's unloaded probe.
+    let capacity = Objective::Capacity(Default::default());
+    let joint = Fitness::new(&task, &solve, Space::Joint, modes, &capacity, penalty).unwrap();
+    for fitness in [fitness_with(1.0, Space::Joint, "flat", &solve), joint] {
+        let record = fitness.evaluate(&original());
+        assert_eq!(record.status.to_string(), "Static_Hold_Failed");
+        assert_eq!(record.iterations, 0);
+        let reason = record.reason.unwrap();
+        assert!(reason.contains("cannot hold the load at rest at the "), "{reason}");
+        assert!(reason.contains("joint 4 needs "), "{reason}");
+    }
 }
 
 #[test]
@@ -141,7 +215,8 @@ fn a_solver_error_leaves_the_design_unjudged() {
         .options
         .insert("no_such_option".to_owned(), 3.into());
     let penalty: Penalty = "graded".parse().unwrap();
-    let graded = fitness_with(1.0, Space::Actuation, "graded", &settings);
+    // Unloaded: the original design holds the arm at rest, so the solve is tried.
+    let graded = fitness_with(0.0, Space::Actuation, "graded", &settings);
     let score = graded.score(&original());
     let Verdict::SolverError { ref message } = score.verdict else {
         panic!("{score:?}");
@@ -157,40 +232,28 @@ fn a_solver_error_leaves_the_design_unjudged() {
 }
 
 #[test]
-fn a_logged_design_that_cannot_hold_its_load_scores_worse_with_the_hold() {
-    // The graded 3 kg run logged its elastic deficits before the hold was judged: the same
-    // design now names the hold first, keeps the logged deficit, and scores worse by the hold's.
+fn a_logged_design_that_cannot_hold_its_load_is_not_solved_again() {
+    // The 3 kg runs were logged before the hold was judged. Graded, a design logged with its
+    // elastic deficits is now judged by the hold alone; flat, an infeasible one keeps its score.
     let (record, _) = logged("actuation-3kg-graded-seed0", "Elastic_Deficit");
     let again = fitness(3.0, Space::Actuation, "graded").evaluate(&record.ratios);
-    assert!(!again.feasible);
-    assert_eq!(again.status.to_string(), "Elastic_Deficit");
-    let (logged_reason, reason) = (record.reason.unwrap(), again.reason.unwrap());
-    assert!(
-        reason.starts_with("cannot hold the load at rest at the start"),
-        "{reason}"
-    );
-    assert!(
-        reason.contains("; torque deficit "),
-        "{reason} / {logged_reason}"
-    );
-    assert!(
-        again.cost > record.cost,
-        "{} against {}",
-        again.cost,
-        record.cost
-    );
-    // Under the flat penalty an infeasible design keeps its verdict and score, the hold named
-    // before IPOPT's reason.
+    let deficit = testing::formulation(3.0, Space::Actuation)
+        .static_hold(&record.ratios)
+        .unwrap()
+        .deficit_nm();
+    let graded: Penalty = "graded".parse().unwrap();
+    assert_eq!(again.cost, graded.infeasible(deficit * 0.8 / 1.7));
+    assert_eq!(again.status.to_string(), "Static_Hold_Failed");
+    assert!(!again.feasible && again.iterations == 0);
     let (record, _) = logged("actuation-3kg-seed1", "Infeasible_Problem_Detected");
     let again = fitness(3.0, Space::Actuation, "flat").evaluate(&record.ratios);
     assert_eq!((again.feasible, again.cost), (false, record.cost));
-    assert_eq!(again.status.to_string(), "Infeasible_Problem_Detected");
-    let (logged_reason, reason) = (record.reason.unwrap(), again.reason.unwrap());
+    assert_eq!(again.status.to_string(), "Static_Hold_Failed");
+    let reason = again.reason.unwrap();
     assert!(
         reason.starts_with("cannot hold the load at rest at the start"),
         "{reason}"
     );
-    assert!(reason.ends_with(&format!("; {logged_reason}")), "{reason}");
 }
 
 #[test]
@@ -266,6 +329,10 @@ fn records_write_the_texts_of_the_committed_logs() {
             "Infeasible_Unloaded",
             Status::Solved(SolveStatus::InfeasibleUnloaded),
         ),
+        (
+            "Static_Hold_Failed",
+            Status::Solved(SolveStatus::StaticHoldFailed),
+        ),
         ("Invalid_Design", Status::InvalidDesign),
         ("Solver_Error", Status::SolverError),
         ("Worker_Failed", Status::WorkerFailed),
@@ -306,6 +373,15 @@ fn unsolved_verdicts_write_todays_records() {
             },
             r#""cost":1000000.0,"feasible":false,"status":"Infeasible_Unloaded","iterations":0,"seconds":0.0,"reason":"infeasible even without payload""#,
         ),
+        (
+            Verdict::Infeasible {
+                shortfall: 0.5,
+                reason: "cannot hold the load at rest at the goal: motor 2 needs 2 N m (limit 1.7)"
+                    .to_owned(),
+                status: SolveStatus::StaticHoldFailed,
+            },
+            r#""cost":1000000.0,"feasible":false,"status":"Static_Hold_Failed","iterations":0,"seconds":0.0,"reason":"cannot hold the load at rest at the goal: motor 2 needs 2 N m (limit 1.7)""#,
+        ),
     ];
     for (verdict, text) in cases {
         let record = Evaluation::new(&ratios, &Score::unsolved(verdict), &Penalty::PAPER);
@@ -319,8 +395,9 @@ fn unsolved_verdicts_write_todays_records() {
 #[test]
 fn a_design_that_cannot_hold_its_load_is_infeasible_and_graded_by_the_deficit() {
     // The original design moves 1 and 1.5 kg through the task (its capacity is 1.9 kg without
-    // the hold) but its motors hold at most 0.59 kg at rest: infeasible under either penalty,
-    // and the heavier payload, whose hold deficit is larger, scores worse when graded.
+    // the hold) but its motors hold at most 0.59 kg at rest: infeasible under either penalty
+    // without a solve, and graded by the hold's deficit alone, so the heavier payload, whose
+    // deficit is larger, scores worse.
     let graded: Penalty = "graded".parse().unwrap();
     let mut previous = 0.0;
     for payload in [1.0, 1.5] {
@@ -347,9 +424,10 @@ fn a_design_that_cannot_hold_its_load_is_infeasible_and_graded_by_the_deficit() 
         let deficit = formulation.static_hold(&original()).unwrap().deficit_nm();
         assert!(deficit > 0.0);
         assert!(
-            shortfall >= deficit * 0.8 / 1.7 - 1e-12,
+            (shortfall - deficit * 0.8 / 1.7).abs() < 1e-12,
             "{shortfall} {deficit}"
         );
+        assert_eq!(score.iterations, 0);
         assert!(
             shortfall > previous,
             "{payload} kg: {shortfall} <= {previous}"
