@@ -284,14 +284,28 @@ mod tests {
             first_step_kg: 1.0,
             max_kg: 16.0,
         };
+        // The original design's motors hold at most 0.585 kg at rest: its capacity is that
+        // bound, reached without a search above it (it moves 1.9 kg without the hold).
         let original = formulation.transmission().original().to_vec();
         let capacity =
             payload_capacity(&formulation, &testing::settings(), &original, &settings).unwrap();
+        let hold = capacity.hold_kg.unwrap();
+        assert!((0.58..0.59).contains(&hold), "{capacity:?}");
+        assert_eq!(capacity.capacity_kg, Some(hold));
+        assert_eq!(capacity.first_infeasible_kg, None);
+        assert_eq!(capacity.limited_by, Some(CapacityLimit::Hold));
+        assert!(capacity.probes.iter().all(|p| p.payload_kg <= hold));
+        // A design that holds 3.19 kg: the trajectory bounds its capacity, bracketed to the
+        // resolution between 1 and 3 kg.
+        let held = [9.0, 8.99, 3.0, 3.0];
+        let capacity =
+            payload_capacity(&formulation, &testing::settings(), &held, &settings).unwrap();
         let (low, high) = (
             capacity.capacity_kg.unwrap(),
             capacity.first_infeasible_kg.unwrap(),
         );
-        // The original design carries 1 kg but not 3 kg in actuation space (results/original).
+        assert!(capacity.hold_kg.is_some_and(|kg| kg > 3.0), "{capacity:?}");
+        assert_eq!(capacity.limited_by, Some(CapacityLimit::Trajectory));
         assert!((1.0..3.0).contains(&low), "{capacity:?}");
         assert!(high > low && high - low <= 0.05, "{capacity:?}");
         for probe in &capacity.probes {

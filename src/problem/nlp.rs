@@ -445,6 +445,28 @@ mod tests {
         .collect()
     }
 
+    /// [`formulation`]s with `motion.rest_at_ends`: the accelerations at nodes 0 and N-1 fixed
+    /// at 0, in both spaces.
+    fn rest_formulations() -> Vec<Formulation> {
+        [
+            (Space::Actuation, LimitMode::Paper),
+            (Space::Joint, LimitMode::Exact),
+        ]
+        .into_iter()
+        .map(|(space, torque)| {
+            let mut task = task();
+            task.motion.steps = 5;
+            task.motion.rest_at_ends = true;
+            let robot = Robot::load(&task).unwrap();
+            let modes = LimitModes {
+                torque,
+                speed: LimitMode::Exact,
+            };
+            Formulation::new(&task, robot, space, modes).unwrap()
+        })
+        .collect()
+    }
+
     fn all_formulations() -> Vec<Formulation> {
         let modes = [LimitMode::Paper, LimitMode::Interval, LimitMode::Exact];
         let mut list = Vec::new();
@@ -456,6 +478,7 @@ mod tests {
         }
         list.extend(scaled_formulations());
         list.extend(motor_formulations());
+        list.extend(rest_formulations());
         let elastic: Vec<_> = list.iter().map(Formulation::elastic).collect();
         list.extend(elastic);
         list

@@ -8,12 +8,12 @@ use crate::model::Robot;
 use crate::problem::{Formulation, Space};
 use crate::testing;
 
-/// The original design carries 1 kg in actuation space (results/original): the result is
-/// feasible, its trajectory has N + 1 nodes and N intervals, and the residuals evaluated again
-/// on the trajectory read back are within IPOPT's tolerance.
+/// The original design carries 0.5 kg in actuation space (its motors hold up to 0.585 kg at
+/// rest): the result is feasible, its trajectory has N + 1 nodes and N intervals, and the
+/// residuals evaluated again on the trajectory read back are within IPOPT's tolerance.
 #[test]
 fn a_feasible_result_satisfies_every_constraint_family() {
-    let formulation = testing::formulation(1.0, Space::Actuation);
+    let formulation = testing::formulation(0.5, Space::Actuation);
     let original = formulation.transmission().original().to_vec();
     let result = solve_design(&formulation, &original, &testing::settings()).unwrap();
     assert!(
@@ -81,7 +81,13 @@ fn infeasible_designs_are_results_and_invalid_ones_errors() {
     let original = formulation.transmission().original().to_vec();
     let result = solve_design(&formulation, &original, &settings).unwrap();
     assert!(!result.feasible, "the original design does not carry 3 kg");
-    assert!(result.reason.unwrap().starts_with("IPOPT returned"));
+    // Its motors cannot even hold 3 kg at rest; the solve still runs and says so too.
+    let reason = result.reason.unwrap();
+    assert!(
+        reason.starts_with("cannot hold the load at rest at the start: motor 2 needs "),
+        "{reason}"
+    );
+    assert!(reason.contains("; IPOPT returned "), "{reason}");
     assert!(result.cost_gradient.is_none());
     let outside = [100.0, 3.0, 1.0, 1.0];
     let error = solve_design(&formulation, &outside, &settings).unwrap_err();
@@ -238,8 +244,10 @@ fn cost_gradient_with_per_motor_limits_matches_differences() {
 #[test]
 fn equal_limits_per_motor_solve_as_one_limit() {
     let settings = testing::settings();
+    // Payloads the original design holds at rest: 0.5 kg in actuation space, the unloaded arm
+    // in joint space with the interval torque mode (mode `paper` gives joint 4 no torque).
     let cases = [
-        (Space::Actuation, 1.0, testing::task().limit_modes),
+        (Space::Actuation, 0.5, testing::task().limit_modes),
         (
             Space::Joint,
             0.0,
@@ -425,9 +433,14 @@ fn cost_gradient_with_motor_terms_matches_differences() {
 #[test]
 fn zero_motor_terms_solve_as_none() {
     let settings = testing::settings();
-    for (space, payload) in [(Space::Actuation, 1.0), (Space::Joint, 0.0)] {
+    // Payloads the original design holds at rest: 0.5 kg in actuation space, the unloaded arm
+    // in joint space with the interval torque mode (mode `paper` gives joint 4 no torque).
+    for (space, payload) in [(Space::Actuation, 0.5), (Space::Joint, 0.0)] {
         let mut task = testing::task();
         task.payload.mass_kg = payload;
+        if space == Space::Joint {
+            task.limit_modes.torque = LimitMode::Interval;
+        }
         let mut zero = task.clone();
         zero.motors.rotor_inertia_kgm2 = Some(PerMotor::All(0.0));
         zero.motors.viscous_friction_nm_s_per_rad = Some(PerMotor::All(0.0));
@@ -466,4 +479,40 @@ fn zero_motor_terms_solve_as_none() {
             }
         }
     }
+}
+
+/// With `motion.rest_at_ends`, a design that holds its load (the original one unloaded, in
+/// actuation space: it holds up to 0.585 kg) starts and ends the motion at rest: the result is
+/// feasible and a_0 and a_{N-1} are 0, which they are not without the option.
+#[test]
+fn rest_at_ends_starts_and_ends_the_motion_at_rest() {
+    let settings = testing::settings();
+    let solve = |rest: bool| {
+        let mut task = testing::task();
+        task.payload.mass_kg = 0.0;
+        task.motion.rest_at_ends = rest;
+        let robot = Robot::load(&task).unwrap();
+        let formulation =
+            Formulation::new(&task, robot, Space::Actuation, task.limit_modes).unwrap();
+        let original = formulation.transmission().original().to_vec();
+        solve_design(&formulation, &original, &settings).unwrap()
+    };
+    let largest = |a: &[f64]| a.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let rested = solve(true);
+    assert!(
+        rested.feasible && rested.reason.is_none(),
+        "{}",
+        rested.status
+    );
+    assert!(rested.static_hold.as_ref().is_some_and(|h| h.holds()));
+    let a = &rested.trajectory.a;
+    for k in [0, a.len() - 1] {
+        assert!(largest(&a[k]) <= 1e-9, "a_{k} = {:?}", a[k]);
+    }
+    assert!(rested.violations.boundary <= 1e-6);
+    let free = solve(false);
+    assert!(free.feasible);
+    let a = &free.trajectory.a;
+    assert!(largest(&a[0]).max(largest(&a[a.len() - 1])) > 1e-3);
+    assert!(rested.cost >= free.cost * (1.0 - 1e-6));
 }
