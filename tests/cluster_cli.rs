@@ -195,9 +195,11 @@ fn the_plan_run_by_gnu_parallel_and_merged_matches_one_reproduction() {
     succeed(&dir, &[&["reproduce"], &merge_flags[..]].concat());
 
     assert_eq!(table_without_times(&split), table_without_times(&whole));
+    // (The flat joint-space gradient run finds no feasible start: in torque mode `paper` no
+    // design holds the arm at rest. The graded one runs.)
     for run in [
         "actuation-1kg-seed0",
-        "joint-3kg-gradient",
+        "joint-3kg-graded-gradient",
         "joint-capacity-seed0",
     ] {
         let file = format!("runs/{run}.json");

@@ -330,6 +330,16 @@ fn table_refuses_duplicates_and_edited_costs() {
     edit_json(&twin, |doc| doc["best_cost"] = (-5.0).into());
     let output = codesign(&["table", path(&twin)]);
     fails_saying(&output, "best_cost = -5 is not a trajectory cost");
+    // A capacity run's best cost is minus a capacity, or the penalty when no design was
+    // feasible (every joint-space design in torque mode `paper` cannot hold the arm at rest);
+    // nothing in between.
+    let capacity = dir.join("runs/joint-capacity-seed0.json");
+    edit_json(&capacity, |doc| doc["best_cost"] = 1e6.into());
+    let output = codesign(&["table", path(&capacity)]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    edit_json(&capacity, |doc| doc["best_cost"] = 5.0.into());
+    let output = codesign(&["table", path(&capacity)]);
+    fails_saying(&output, "best_cost = -5 is not a trajectory cost");
     let seeds = codesign(&[
         "table",
         path(&run),

@@ -170,10 +170,18 @@ fn elastic_solves_reproduce_the_feasible_costs() {
         // hold bound), the verdict is now infeasible by the hold alone: the trajectory, its
         // slacks and its cost, checked below, are the same.
         let hold = hard.static_hold(&ratios).unwrap();
-        assert_eq!(result.feasible, hold.holds(), "{label}: {:?}", result.reason);
+        assert_eq!(
+            result.feasible,
+            hold.holds(),
+            "{label}: {:?}",
+            result.reason
+        );
         if !hold.holds() {
             let reason = result.reason.as_deref().unwrap_or_default();
-            assert!(reason.starts_with("cannot hold the load at rest"), "{label}: {reason}");
+            assert!(
+                reason.starts_with("cannot hold the load at rest"),
+                "{label}: {reason}"
+            );
         }
         assert!(
             elastic.largest_slack <= settings.tol,

@@ -73,7 +73,15 @@ fn an_infeasible_design_scores_the_flat_or_the_graded_penalty() {
     let modes = task.limit_modes;
     let fitness = |penalty: &Penalty| {
         let solve = testing::settings();
-        Fitness::new(&task, &solve, Space::Actuation, modes, &Objective::Cost, *penalty).unwrap()
+        Fitness::new(
+            &task,
+            &solve,
+            Space::Actuation,
+            modes,
+            &Objective::Cost,
+            *penalty,
+        )
+        .unwrap()
     };
     let flat = fitness(&Penalty::PAPER).score(&original());
     let Verdict::Infeasible { shortfall, .. } = flat.verdict else {
@@ -129,7 +137,10 @@ fn a_design_that_cannot_hold_its_load_is_not_solved_under_either_penalty() {
             reason.starts_with("cannot hold the load at rest at the start: motor 2 needs "),
             "{reason}"
         );
-        assert!((shortfall - deficit * 0.8 / 1.7).abs() < 1e-12, "{shortfall}");
+        assert!(
+            (shortfall - deficit * 0.8 / 1.7).abs() < 1e-12,
+            "{shortfall}"
+        );
         let record = fitness.evaluate(&original());
         assert_eq!(record.status.to_string(), "Static_Hold_Failed");
         assert!(!record.feasible && record.iterations == 0);
@@ -137,7 +148,9 @@ fn a_design_that_cannot_hold_its_load_is_not_solved_under_either_penalty() {
         assert_eq!(record.cost, parsed.infeasible(shortfall));
     }
     assert_eq!(
-        fitness(3.0, Space::Actuation, "flat").evaluate(&original()).cost,
+        fitness(3.0, Space::Actuation, "flat")
+            .evaluate(&original())
+            .cost,
         1e6
     );
 }
@@ -170,7 +183,10 @@ fn a_range_or_a_joint_space_design_that_cannot_hold_is_not_solved() {
         let f = testing::formulation(kg, Space::Actuation);
         f.static_hold(&original()).unwrap().deficit_nm() * 0.8 / 1.7
     };
-    assert!((shortfall - term(1.0) - term(3.0)).abs() < 1e-12, "{shortfall}");
+    assert!(
+        (shortfall - term(1.0) - term(3.0)).abs() < 1e-12,
+        "{shortfall}"
+    );
     // In joint space, torque mode `paper` gives joint 4 no torque at all: nothing is solved,
     // not even the capacity search's unloaded probe.
     let capacity = Objective::Capacity(Default::default());
@@ -180,7 +196,10 @@ fn a_range_or_a_joint_space_design_that_cannot_hold_is_not_solved() {
         assert_eq!(record.status.to_string(), "Static_Hold_Failed");
         assert_eq!(record.iterations, 0);
         let reason = record.reason.unwrap();
-        assert!(reason.contains("cannot hold the load at rest at the "), "{reason}");
+        assert!(
+            reason.contains("cannot hold the load at rest at the "),
+            "{reason}"
+        );
         assert!(reason.contains("joint 4 needs "), "{reason}");
     }
 }

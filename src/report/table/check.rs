@@ -94,7 +94,8 @@ fn same_result(a: &ResultFile, b: &ResultFile) -> bool {
 }
 
 /// What is wrong when a result holds a cost or mass no run writes: a trajectory cost J (a sum
-/// of squares) below zero or not a number, a capacity below zero.
+/// of squares) below zero or not a number, a capacity below zero (a capacity run's best cost is
+/// minus a capacity, or the penalty when no design it evaluated was feasible).
 fn odd_value(file: &ResultFile) -> Option<String> {
     let cost = |name: &str, value: f64| {
         (!(value.is_finite() && value >= 0.0)).then(|| {
@@ -106,7 +107,14 @@ fn odd_value(file: &ResultFile) -> Option<String> {
     };
     match file {
         ResultFile::Optimize(d) => match d.inputs.objective {
-            // The capacity objective minimises minus the payload: its best cost is <= 0.
+            // The capacity objective minimises minus the payload: its best cost is <= 0, or
+            // the penalty (at least its base) when every design was infeasible, as every one
+            // is whose motors cannot hold the arm at rest.
+            Objective::Capacity(_)
+                if d.best_cost.is_finite() && d.best_cost >= d.inputs.penalty =>
+            {
+                None
+            }
             Objective::Capacity(_) => cost("best_cost", -d.best_cost),
             Objective::Cost | Objective::Range(_) => {
                 cost("best_cost", d.best_cost).or_else(|| cost("original_cost", d.original_cost))
