@@ -61,8 +61,12 @@ fn solve_originals(plan: &Plan, task: &ExperimentTask) -> Result<Vec<ResultFile>
                     SolveError::Design(_) => format!("{source} transmission.original: {e}"),
                     SolveError::Ipopt(_) => format!("{source} solver: {e}"),
                 })?;
+            let verdict = match (&result.reason, result.feasible) {
+                (Some(reason), false) => format!("; infeasible: {reason}"),
+                _ => String::new(),
+            };
             say!(
-                "original design, {space} space, {payload} kg: {} J = {:.4} ({} iterations)",
+                "original design, {space} space, {payload} kg: {} J = {:.4} ({} iterations){verdict}",
                 result.status,
                 result.cost,
                 result.iterations
