@@ -8,7 +8,7 @@ use serde_json::Value;
 use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use support::{codesign_in, scratch, task_with};
+use support::{codesign_in, read_json, scratch, succeed_in, task_with};
 
 /// The repository's task on 8 intervals instead of 50: the same problem, solved in
 /// milliseconds.
@@ -22,21 +22,6 @@ fn script(dir: &Path, name: &str, body: &str) -> PathBuf {
     std::fs::write(&path, format!("#!/bin/sh\n{body}\n")).unwrap();
     std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
     path
-}
-
-/// Runs codesign in `dir`, failing the test on an error; returns its stdout.
-fn succeed(dir: &Path, args: &[&str]) -> String {
-    let output = codesign_in(dir, args);
-    assert!(
-        output.status.success(),
-        "codesign {args:?}: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    String::from_utf8(output.stdout).unwrap()
-}
-
-fn read(path: &Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
 /// A small co-design on `task`, written to `dir/NAME.json`, with `extra` flags.
@@ -62,8 +47,8 @@ fn optimize(dir: &Path, task: &Path, name: &str, extra: &[&str]) -> Value {
         out.to_str().unwrap(),
     ];
     args.extend_from_slice(extra);
-    succeed(dir, &args);
-    read(&out)
+    succeed_in(dir, &args);
+    read_json(&out)
 }
 
 #[test]
@@ -172,11 +157,11 @@ fn the_plan_run_by_gnu_parallel_and_merged_matches_one_reproduction() {
     ];
     let whole = dir.join("whole");
     let whole_flags = [&sizes[..], &["--out-dir", whole.to_str().unwrap()]].concat();
-    succeed(&dir, &[&["reproduce"], &whole_flags[..]].concat());
+    succeed_in(&dir, &[&["reproduce"], &whole_flags[..]].concat());
 
     let split = dir.join("split");
     let plan_flags = [&sizes[..], &["--out-dir", split.to_str().unwrap()]].concat();
-    let plan = succeed(&dir, &[&["reproduce", "--plan"], &plan_flags[..]].concat());
+    let plan = succeed_in(&dir, &[&["reproduce", "--plan"], &plan_flags[..]].concat());
     assert_eq!(
         plan.lines().count(),
         6 + 4 + (4 + 2) + 2 + 1 + 2 + 2,
@@ -192,7 +177,7 @@ fn the_plan_run_by_gnu_parallel_and_merged_matches_one_reproduction() {
         .status()
         .expect("GNU parallel runs (Debian package `parallel`; .ci/setup installs it)");
     let merge_flags = [&sizes[..], &["--from-runs", split.to_str().unwrap()]].concat();
-    succeed(&dir, &[&["reproduce"], &merge_flags[..]].concat());
+    succeed_in(&dir, &[&["reproduce"], &merge_flags[..]].concat());
 
     assert_eq!(table_without_times(&split), table_without_times(&whole));
     // (The flat joint-space gradient run finds no feasible start: in torque mode `paper` no
@@ -203,7 +188,7 @@ fn the_plan_run_by_gnu_parallel_and_merged_matches_one_reproduction() {
         "joint-capacity-seed0",
     ] {
         let file = format!("runs/{run}.json");
-        let (a, b) = (read(&whole.join(&file)), read(&split.join(&file)));
+        let (a, b) = (read_json(&whole.join(&file)), read_json(&split.join(&file)));
         for key in ["best_ratios", "best_cost", "costs", "inputs"] {
             assert_eq!(a[key], b[key], "{run}: {key}");
         }

@@ -6,22 +6,7 @@ mod support;
 
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
-use support::{codesign_in, fails_saying, root, scratch, task_with};
-
-/// Runs codesign in `dir`, failing the test on an error; returns its stdout.
-fn succeed(dir: &Path, args: &[&str]) -> String {
-    let output = codesign_in(dir, args);
-    assert!(
-        output.status.success(),
-        "codesign {args:?}: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    String::from_utf8(output.stdout).unwrap()
-}
-
-fn read(path: &Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
+use support::{codesign_in, fails_saying, read_json, root, scratch, succeed_in, task_with};
 
 fn path(path: &Path) -> &str {
     path.to_str().unwrap()
@@ -57,7 +42,7 @@ fn the_plan_of_the_built_in_task_is_the_paper_s_experiment_as_before() {
     let program = format!("'{}'", env!("CARGO_BIN_EXE_codesign"));
     for (flags, expected) in [(&[][..], "full.txt"), (&["--quick"][..], "quick.txt")] {
         let args = [&["reproduce", "--plan", "--out-dir", "OUT"], flags].concat();
-        let plan = succeed(&dir, &args).replace(&program, "CODESIGN");
+        let plan = succeed_in(&dir, &args).replace(&program, "CODESIGN");
         // Captured from `reproduce --plan` before tasks had an experiment section.
         let before =
             std::fs::read_to_string(root().join("tests/data/plan").join(expected)).unwrap();
@@ -71,7 +56,7 @@ fn a_task_s_experiment_section_makes_the_plan() {
     let dir = scratch("section-plan");
     let task = small_task(&dir, tiny_experiment());
     let base = ["reproduce", "--plan", "--task", path(&task), "--out-dir"];
-    let plan = succeed(&dir, &[&base[..], &["out"]].concat());
+    let plan = succeed_in(&dir, &[&base[..], &["out"]].concat());
     let lines: Vec<&str> = plan.lines().collect();
     // Originals 1 x 2 spaces, CMA-ES 1 x 2 x 1 seed, gradient 1 x 2, capacity designs 2,
     // original capacities 2.
@@ -90,10 +75,10 @@ fn a_task_s_experiment_section_makes_the_plan() {
         assert!(!plan.contains(absent), "{absent}: {plan}");
     }
     // Flags replace the section's values.
-    let more = succeed(&dir, &[&base[..], &["out", "--seeds", "2"]].concat());
+    let more = succeed_in(&dir, &[&base[..], &["out", "--seeds", "2"]].concat());
     assert!(more.contains("actuation-0.5kg-seed1.json"), "{more}");
     // --quick takes the quick budget, the paper's where the section leaves it out.
-    let quick = succeed(&dir, &[&base[..], &["out", "--quick"]].concat());
+    let quick = succeed_in(&dir, &[&base[..], &["out", "--quick"]].concat());
     assert!(quick.contains("--population 16 --generations 8"), "{quick}");
     assert!(quick.contains("seed1"), "{quick}");
     std::fs::remove_dir_all(&dir).unwrap();
@@ -137,7 +122,7 @@ fn budgets_out_of_range_name_the_task_s_field_or_the_flag() {
     assert!(!dir.join("out").exists(), "the plan's folders were made");
     // A flag that replaces a value out of range mends it.
     with(&|e| e["budget"]["population"] = 2.into());
-    succeed(&dir, &[&args[..], &["--population", "6"]].concat());
+    succeed_in(&dir, &[&args[..], &["--population", "6"]].concat());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -147,7 +132,7 @@ fn a_task_s_experiment_runs_and_its_table_names_the_task_without_the_paper_s_num
     let task = small_task(&dir, tiny_experiment());
     let out = dir.join("out");
     let args = ["reproduce", "--task", path(&task), "--out-dir", path(&out)];
-    succeed(&dir, &args);
+    succeed_in(&dir, &args);
     let table = std::fs::read_to_string(out.join("paper_table.md")).unwrap();
     let title = format!("# Co-design of task {} (task hash ", path(&task));
     assert!(table.starts_with(&title), "{table}");
@@ -165,7 +150,7 @@ fn a_task_s_experiment_runs_and_its_table_names_the_task_without_the_paper_s_num
     assert!(table.contains("| 0.5 kg | joint | ("), "{table}");
     assert!(table.contains("| 0.5 kg | actuation | ("), "{table}");
     // Every result records the task's hash, the table too.
-    let hash = read(&out.join("paper_table.json"))["task_hash"].clone();
+    let hash = read_json(&out.join("paper_table.json"))["task_hash"].clone();
     assert_eq!(hash.as_str().map(str::len), Some(16), "{hash}");
     assert!(table.contains(hash.as_str().unwrap()));
     let original = out.join("original/joint-0.5kg.json");
@@ -181,7 +166,12 @@ fn a_task_s_experiment_runs_and_its_table_names_the_task_without_the_paper_s_num
         ),
         (out.join("capacity/actuation-original.json"), "/task_hash"),
     ] {
-        assert_eq!(read(&file).pointer(key), Some(&hash), "{}", file.display());
+        assert_eq!(
+            read_json(&file).pointer(key),
+            Some(&hash),
+            "{}",
+            file.display()
+        );
     }
 
     // `table` refuses to merge it with a result of the built-in task (written before results
@@ -208,16 +198,16 @@ fn the_paper_s_numbers_stand_beside_the_paper_s_task_only() {
             "--out",
             path(&out),
         ];
-        succeed(&dir, &[&args[..], extra].concat());
+        succeed_in(&dir, &[&args[..], extra].concat());
         out
     };
     // The built-in task, and its file, which the committed logs were written with.
     let file = root().join("robots/tasks/pick_place.json");
     let built_in = solve("built-in.json", "joint", &[]);
     let from_file = solve("file.json", "actuation", &["--task", path(&file)]);
-    let hash = read(&built_in)["inputs"]["task_hash"].clone();
-    assert_eq!(read(&from_file)["inputs"]["task_hash"], hash);
-    let table = succeed(&dir, &["table", path(&built_in), path(&from_file)]);
+    let hash = read_json(&built_in)["inputs"]["task_hash"].clone();
+    assert_eq!(read_json(&from_file)["inputs"]["task_hash"], hash);
+    let table = succeed_in(&dir, &["table", path(&built_in), path(&from_file)]);
     assert!(table.starts_with("# Table II reproduced"), "{table}");
     assert!(
         table.contains("| 0 kg | actuation | (6, 3, 1, 1): "),
@@ -228,9 +218,9 @@ fn the_paper_s_numbers_stand_beside_the_paper_s_task_only() {
     // Another task (other weights, the same motion): its own hash, no paper, and never merged.
     let other = task_with(&dir, |task| task["weights"]["control"] = 0.002.into());
     let edited = solve("edited.json", "actuation", &["--task", path(&other)]);
-    let edited_hash = read(&edited)["inputs"]["task_hash"].clone();
+    let edited_hash = read_json(&edited)["inputs"]["task_hash"].clone();
     assert_ne!(edited_hash, hash);
-    let table = succeed(&dir, &["table", path(&edited)]);
+    let table = succeed_in(&dir, &["table", path(&edited)]);
     let title = format!(
         "# Co-design of task {} (task hash {}): ",
         path(&other),
@@ -252,8 +242,8 @@ fn the_paper_s_numbers_stand_beside_the_paper_s_task_only() {
     // The built-in task on another motion keeps its hash (the task as read) but is no longer
     // the paper's problem.
     let short = solve("short.json", "actuation", &["--steps", "5"]);
-    assert_eq!(read(&short)["inputs"]["task_hash"], hash);
-    let table = succeed(&dir, &["table", path(&short)]);
+    assert_eq!(read_json(&short)["inputs"]["task_hash"], hash);
+    let table = succeed_in(&dir, &["table", path(&short)]);
     assert!(table.starts_with("# Co-design of task built-in"), "{table}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -271,7 +261,7 @@ fn from_runs_refuses_a_result_of_another_task() {
         }
     }
     let original = dir.join("original/joint-1kg.json");
-    let mut document = read(&original);
+    let mut document = read_json(&original);
     document["inputs"]["task_hash"] = "0123456789abcdef".into();
     std::fs::write(&original, document.to_string()).unwrap();
     let output = codesign_in(&dir, &["reproduce", "--quick", "--from-runs", path(&dir)]);

@@ -6,7 +6,7 @@ mod support;
 
 use serde_json::{json, Value};
 use std::path::Path;
-use support::{codesign, fails_saying, scratch, task_with};
+use support::{codesign, fails_saying, read_json, scratch, task_with};
 
 /// Runs codesign and returns its stdout, failing on a non-zero exit.
 fn succeed(args: &[&str]) -> String {
@@ -17,10 +17,6 @@ fn succeed(args: &[&str]) -> String {
         String::from_utf8_lossy(&output.stderr)
     );
     String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn read_json(path: &Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
 /// Each motor's largest |value| over the rows of a trajectory's per-motor table.

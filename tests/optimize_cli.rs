@@ -7,7 +7,7 @@ use serde_json::Value;
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
-use support::{codesign_command, scratch};
+use support::{codesign_command, read_json, scratch};
 
 /// Starts the tiny co-design with `workers` worker processes and an optional `--resume` or
 /// `--overwrite`.
@@ -40,10 +40,6 @@ fn finish(child: Child) {
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
-}
-
-fn read(out: &Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(out).unwrap()).unwrap()
 }
 
 fn log_entries(out: &Path) -> usize {
@@ -99,7 +95,7 @@ fn a_killed_worker_an_interrupted_run_and_the_worker_count_change_nothing() {
     let dir = scratch("runs");
     let plain = dir.join("plain.json");
     finish(start(&plain, None, 2));
-    let reference = read(&plain);
+    let reference = read_json(&plain);
     assert_eq!(reference["evaluations"], 32);
     assert_eq!(log_entries(&plain), 32);
     assert_eq!(reference["earlier_seconds"], 0.0);
@@ -116,7 +112,7 @@ fn a_killed_worker_an_interrupted_run_and_the_worker_count_change_nothing() {
         .status()
         .unwrap();
     finish(child);
-    same_result(&reference, &read(&killed));
+    same_result(&reference, &read_json(&killed));
 
     // Interrupt the whole run, then resume it with one worker: nothing finished is solved again.
     let resumed = dir.join("resumed.json");
@@ -128,7 +124,7 @@ fn a_killed_worker_an_interrupted_run_and_the_worker_count_change_nothing() {
     assert!((12..32).contains(&before), "{before}");
     assert!(!resumed.exists());
     finish(start(&resumed, Some("--resume"), 1));
-    let result = read(&resumed);
+    let result = read_json(&resumed);
     same_result(&reference, &result);
     assert_eq!(result["replayed"].as_u64().unwrap() as usize, before);
     // The interrupted invocation's working time is carried over from the log.
@@ -140,7 +136,7 @@ fn a_killed_worker_an_interrupted_run_and_the_worker_count_change_nothing() {
     assert!(!again.status.success());
     assert!(String::from_utf8_lossy(&again.stderr).contains("--resume"));
     finish(start(&plain, Some("--overwrite"), 2));
-    let fresh = read(&plain);
+    let fresh = read_json(&plain);
     same_result(&reference, &fresh);
     assert_eq!(fresh["replayed"], 0);
     std::fs::remove_dir_all(&dir).unwrap();
@@ -157,7 +153,7 @@ fn run_to_completion(args: &[&str], out: &Path) -> Value {
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    read(out)
+    read_json(out)
 }
 
 #[test]

@@ -233,15 +233,13 @@ pub(super) fn read_result(
             ipopt: solution.timing.ipopt.as_secs_f64(),
         },
         max_motor_torque: trajectory
-            .motor_torque
-            .iter()
-            .flatten()
-            .fold(0.0, |m, t| m.max(t.abs())),
+            .motor_torque_peaks()
+            .into_iter()
+            .fold(0.0, f64::max),
         max_motor_speed: trajectory
-            .motor_speed
-            .iter()
-            .flatten()
-            .fold(0.0, |m, w| m.max(w.abs())),
+            .motor_speed_peaks()
+            .into_iter()
+            .fold(0.0, f64::max),
         violations,
         cost_gradient: (feasible && f.kind() == ProblemKind::Hard)
             .then(|| cost_gradient(problem, solution)),

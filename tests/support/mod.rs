@@ -93,3 +93,19 @@ pub fn task_with(dir: &Path, edit: impl Fn(&mut serde_json::Value)) -> PathBuf {
     std::fs::write(&file, task.to_string()).unwrap();
     file
 }
+
+/// Runs codesign in `dir`, failing the test on an error; returns its stdout.
+pub fn succeed_in(dir: &Path, args: &[&str]) -> String {
+    let output = codesign_in(dir, args);
+    assert!(
+        output.status.success(),
+        "codesign {args:?}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8(output.stdout).unwrap()
+}
+
+/// The JSON document in the file at `path`.
+pub fn read_json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
