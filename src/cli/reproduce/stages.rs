@@ -98,17 +98,29 @@ fn cost_runs(plan: &Plan) -> Result<Vec<OptimizeDocument>, String> {
     for planned in plan.cost_runs() {
         let document = run(plan, &planned)?;
         say!(
-            "co-design, {} space, {} kg, seed {}: best r = {:?}, J = {:.4} ({} evaluations)",
+            "co-design, {} space, {} kg, seed {}: {} ({} evaluations)",
             planned.case.problem.space,
             document.inputs.payload_kg,
             planned.case.cmaes.seed,
-            document.best_ratios,
-            document.best_cost,
+            best_text(&document),
             document.evaluations
         );
         documents.push(document);
     }
     Ok(documents)
+}
+
+/// A CMA-ES run's best design and cost, or that it found no feasible design (and the best
+/// penalised fitness, which grades the designs it tried under the graded penalty).
+fn best_text(document: &OptimizeDocument) -> String {
+    if document.best_ratios.is_empty() {
+        format!("no feasible design, best fitness {:.4}", document.best_cost)
+    } else {
+        format!(
+            "best r = {:?}, J = {:.4}",
+            document.best_ratios, document.best_cost
+        )
+    }
 }
 
 /// Co-design by the gradient method for every co-designed case, and with the graded penalty at
@@ -165,12 +177,11 @@ fn beyond_runs(plan: &Plan) -> Result<Vec<OptimizeDocument>, String> {
                 document.evaluations
             ),
             Objective::Cost => say!(
-                "co-design, {space} space, {} kg, seed {}, penalty {}: best r = {:?}, J = {:.4} ({} evaluations)",
+                "co-design, {space} space, {} kg, seed {}, penalty {}: {} ({} evaluations)",
                 document.inputs.payload_kg,
                 planned.case.cmaes.seed,
                 planned.case.penalty,
-                document.best_ratios,
-                document.best_cost,
+                best_text(&document),
                 document.evaluations
             ),
         }

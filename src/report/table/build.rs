@@ -110,6 +110,7 @@ fn cell(result: &TrajectoryResult, motors: &Motors) -> DesignCell {
         feasible: result.feasible,
         cost: result.cost,
         status: result.status.clone(),
+        reason: result.reason.clone(),
         max_motor_torque: result.max_motor_torque,
         max_motor_speed: result.max_motor_speed,
     }

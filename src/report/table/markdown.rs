@@ -5,6 +5,14 @@
 use super::{AfterCell, DesignCell, PaperTable, RangeRow, TableRow};
 use crate::ipopt::LinearSolver;
 
+/// Why rows differ from the paper's formulation: the static hold it lacks.
+const HOLD_NOTE: &str = "> Unlike the paper's formulation, a design must hold its payload at rest at the \
+     start and the goal within the problem's own control limits (`docs/model.md`, section 6); one that \
+     cannot is infeasible whatever IPOPT finds, and its cell names the end and the motor or joint. In \
+     the joint space, the paper's torque limits G^T tau_max give a joint whose column of G sums to 0 \
+     a limit of 0 N m, so no design holds that joint against gravity (`--torque-mode interval` or \
+     `exact` bound the real motors instead).\n\n";
+
 impl PaperTable {
     /// The table as Markdown.
     pub fn to_markdown(&self) -> String {
@@ -112,6 +120,9 @@ impl PaperTable {
             self.tool.ipopt_version,
             linear_solvers_text(&self.linear_solvers)
         ));
+        if self.paper_task {
+            text.push_str(HOLD_NOTE);
+        }
         for note in &self.notes {
             text.push_str(&format!("> {note}\n\n"));
         }
@@ -244,8 +255,17 @@ fn after_columns(after: &AfterCell) -> [String; 4] {
         best,
         seeds,
         format!("{} of {}", after.solves, after.evaluations),
-        format!("{:.1} ms", after.median_solve_seconds * 1e3),
+        solve_time_text(after.median_solve_seconds),
     ]
+}
+
+/// A median solve time in ms, or a dash when no design was solved (NaN).
+fn solve_time_text(seconds: f64) -> String {
+    if seconds.is_nan() {
+        "-".to_owned()
+    } else {
+        format!("{:.1} ms", seconds * 1e3)
+    }
 }
 
 /// One line of the section beyond the paper.
@@ -301,7 +321,7 @@ fn design_text(cell: &DesignCell) -> String {
         format!(
             "{}: infeasible ({})",
             ratios_text(&cell.ratios),
-            cell.status
+            cell.reason.as_deref().unwrap_or(&cell.status)
         )
     }
 }

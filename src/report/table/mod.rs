@@ -134,6 +134,9 @@ pub struct DesignCell {
     pub cost: f64,
     /// IPOPT status.
     pub status: String,
+    /// Why it is infeasible (the load not held at rest, or IPOPT's reason), when it is.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
     /// Largest motor torque its trajectory needs, N m.
     pub max_motor_torque: f64,
     /// Largest motor speed, rad/s.
