@@ -131,7 +131,7 @@ fn check_holds_each_motor_to_its_own_limit() {
     let output = codesign(&["check", "--task", task.to_str().unwrap()]);
     fails_saying(
         &output,
-        "hold at start: motor 2 needs 0.892 N m (limit 0.5)",
+        "hold at start: motor 2 needs 0.8921 N m (limit 0.5)",
     );
     let json = codesign(&["check", "--task", task.to_str().unwrap(), "--json"]);
     let value: Value = serde_json::from_slice(&json.stdout).unwrap();

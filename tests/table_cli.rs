@@ -56,11 +56,16 @@ fn rebuilds_the_table_from_result_files() {
             "{row}"
         );
     }
-    // The paper's values stand beside ours, and joint-space solutions the motors cannot make
-    // are marked.
+    // The paper's values stand beside ours, and a design that cannot hold its load at rest
+    // says where and why (in joint space, mode paper leaves joint 4 no torque).
     assert!(rows[1].contains("(6, 3, 1, 1): 50.99"), "{}", rows[1]);
-    assert!(rows[0].contains("motors cannot execute it"), "{}", rows[0]);
-    assert!(!rows[1].contains("motors cannot execute it"), "{}", rows[1]);
+    assert!(
+        rows[0].contains("infeasible (cannot hold the load at rest at the start: joint 4 needs"),
+        "{}",
+        rows[0]
+    );
+    assert!(rows[1].contains("(6, 3, 1, 1): 43.67 |"), "{}", rows[1]);
+    assert!(table.contains("Unlike the paper's formulation"), "{table}");
 
     // Beyond the paper: capacities, the design of largest capacity, the gradient method.
     let beyond = table
@@ -82,8 +87,9 @@ fn rebuilds_the_table_from_result_files() {
         "{beyond}"
     );
     assert_eq!(tables[2].len(), 2, "{beyond}");
+    // No design holds 3 kg at rest and moves it: the graded runs name none.
     assert!(
-        tables[2][1].starts_with("| 3 kg | actuation | ("),
+        tables[2][1].starts_with("| 3 kg | actuation | none feasible |"),
         "{beyond}"
     );
     assert!(extra.iter().all(|row| row.contains(" kg | ")), "{beyond}");

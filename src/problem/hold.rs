@@ -152,26 +152,26 @@ impl EndHold {
             .map(|(i, (margin, torque))| {
                 let limit = torque.abs() + margin;
                 format!(
-                    "{} {} needs {:.3} N m (limit {})",
+                    "{} {} needs {} N m (limit {})",
                     rows.name(),
                     i + 1,
-                    torque.abs(),
-                    crate::text::number(round_limit(limit))
+                    crate::text::number(significant(torque.abs(), 4)),
+                    crate::text::number(significant(limit, 12))
                 )
             })
             .collect()
     }
 }
 
-/// A limit recovered as |torque| + margin, rounded to 12 significant digits so that 1.7 prints
-/// as 1.7 and not as its neighbour of rounding.
-fn round_limit(limit: f64) -> f64 {
-    if limit == 0.0 || !limit.is_finite() {
-        return limit;
+/// `x` rounded to `digits` significant digits: a torque to 4 (0.0025 does not print as 0.000),
+/// a limit recovered as |torque| + margin to 12, so that 1.7 prints as 1.7 and not as its
+/// neighbour of rounding.
+fn significant(x: f64, digits: i32) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return x;
     }
-    let digits = 11 - limit.abs().log10().floor() as i32;
-    let scale = 10f64.powi(digits);
-    (limit * scale).round() / scale
+    let scale = 10f64.powi(digits - 1 - x.abs().log10().floor() as i32);
+    (x * scale).round() / scale
 }
 
 impl StaticHold {

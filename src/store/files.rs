@@ -227,6 +227,20 @@ pub fn create_folder(folder: &Path) -> Result<(), StoreError> {
         .map_err(|error| StoreError::io(Action::CreateFolder, folder, &error))
 }
 
+/// Removes `path`, a file or a folder with what it holds, when it exists: an output of an
+/// earlier run that this run no longer makes. Returns whether there was one.
+pub fn remove_stale(path: &Path) -> Result<bool, StoreError> {
+    let removed = match std::fs::symlink_metadata(path) {
+        Err(error) if error.kind() == std::io::ErrorKind::NotFound => return Ok(false),
+        Err(error) => Err(error),
+        Ok(meta) if meta.is_dir() => std::fs::remove_dir_all(path),
+        Ok(_) => std::fs::remove_file(path),
+    };
+    removed
+        .map(|()| true)
+        .map_err(|error| StoreError::io(Action::Remove, path, &error))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -375,6 +389,21 @@ mod tests {
             4,
             "temporary left behind"
         );
+        std::fs::remove_dir_all(&folder).unwrap();
+    }
+
+    #[test]
+    fn a_stale_output_is_removed_file_or_folder_and_a_missing_one_is_no_error() {
+        let folder = scratch("stale");
+        let file = folder.join("capacity.json");
+        std::fs::write(&file, "{}").unwrap();
+        let plots = folder.join("best-joint-3kg");
+        create_folder(&plots).unwrap();
+        std::fs::write(plots.join("tcp_path.svg"), "<svg/>").unwrap();
+        assert!(remove_stale(&file).unwrap());
+        assert!(remove_stale(&plots).unwrap());
+        assert!(!file.exists() && !plots.exists());
+        assert!(!remove_stale(&file).unwrap());
         std::fs::remove_dir_all(&folder).unwrap();
     }
 }

@@ -19,7 +19,7 @@ use crate::report::plots::Figure;
 use crate::report::table::{build_table, ResultFile};
 use crate::report::trajectory::write_plots;
 use crate::solve::{SolveSettings, TrajectoryResult};
-use crate::store::files::{create_folder, write_atomic, write_json};
+use crate::store::files::{create_folder, remove_stale, write_atomic, write_json};
 use crate::store::lock::lock_folder;
 use crate::store::log::{Start, LOG_EXTENSION};
 use plan::{Plan, SPACES};
@@ -204,10 +204,12 @@ fn finish(
     let mut capacities = outcomes.original_capacities;
     for &payload in &plan.experiment.codesign_payloads_kg {
         for space in SPACES {
+            let name = format!("{space}-{payload}kg-best");
             if let Some(best) = best_of(&outcomes.runs, payload, space) {
-                let name = format!("{space}-{payload}kg-best");
                 let ratios = best.ratios.clone();
                 capacities.push(stages::capacity_document(plan, task, space, ratios, &name)?);
+            } else {
+                remove_stale_output(&plan.capacity_file(&name))?;
             }
         }
     }
@@ -295,6 +297,19 @@ fn best_of(runs: &[OptimizeDocument], payload: f64, space: Space) -> Option<&Tra
         .min_by(|a, b| a.cost.total_cmp(&b.cost))
 }
 
+/// Removes an output an earlier reproduction wrote for a case that has no feasible design now
+/// (its best design's plots or capacity), so that no file describes a design the table does not
+/// name; says so.
+fn remove_stale_output(path: &Path) -> Result<(), String> {
+    if remove_stale(path).map_err(|e| e.to_string())? {
+        say!(
+            "removed {}: its case has no feasible design in this reproduction",
+            path.display()
+        );
+    }
+    Ok(())
+}
+
 /// Per case: the cost evolution of its seeds and the plots of its best design; and the radar
 /// (or bar) chart of every case's best ratios.
 fn write_case_plots(
@@ -315,10 +330,13 @@ fn write_case_plots(
             let title = format!("CMA-ES cost per evaluation: {space} space, {payload} kg");
             cost_evolution_chart(&title, &case)
                 .write(&plots.join(format!("cost_evolution-{name}.svg")))?;
+            let folder = plots.join(format!("best-{name}"));
             if let Some(best) = best_of(runs, payload, space) {
                 let formulation = stages::formulation_at(task, payload, space)?;
-                write_plots(&plots.join(format!("best-{name}")), &formulation, best)?;
+                write_plots(&folder, &formulation, best)?;
                 radar_cases.push((format!("{space}, {payload} kg"), best.ratios.clone()));
+            } else {
+                remove_stale_output(&folder)?;
             }
         }
     }

@@ -164,10 +164,13 @@ fn beyond_runs(plan: &Plan) -> Result<Vec<OptimizeDocument>, String> {
         let space = planned.case.problem.space;
         match &planned.case.objective {
             Objective::Range(range) => say!(
-                "range co-design, {space} space, {:?} kg: r = {:?}, mean J = {:.4} ({} evaluations)",
+                "range co-design, {space} space, {:?} kg: {} ({} evaluations)",
                 range.payloads_kg,
-                document.best_ratios,
-                document.best_cost,
+                best_text(&document),
+                document.evaluations
+            ),
+            Objective::Capacity(_) if document.best_ratios.is_empty() => say!(
+                "capacity co-design, {space} space: no design lifts any payload ({} evaluations)",
                 document.evaluations
             ),
             Objective::Capacity(_) => say!(

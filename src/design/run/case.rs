@@ -2,7 +2,7 @@
 //! plans, with every check of the settings in one place. Its errors name the flag of
 //! `codesign optimize` that sets each value, since a case is what those flags pose.
 
-use super::document::{Method, OptimizeInputs, RecordedHash};
+use super::document::{Method, OptimizeInputs, RecordedHash, VerdictRule};
 use crate::design::bounds::BoundHandling;
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
@@ -443,6 +443,7 @@ impl Case {
             bounds: self.bounds,
             ftol: self.cmaes.ftol,
             xtol: self.cmaes.xtol,
+            verdict_rule: VerdictRule::default(),
         }
     }
 }

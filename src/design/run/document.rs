@@ -76,6 +76,29 @@ pub struct OptimizeInputs {
     pub ftol: f64,
     /// Stop when the step falls below this.
     pub xtol: f64,
+    /// The rule that judged each design feasible; a log is resumed only under its own rule, so
+    /// that no verdict of an older rule is replayed as today's.
+    #[serde(default = "VerdictRule::before_hold")]
+    pub verdict_rule: VerdictRule,
+}
+
+/// What makes a design feasible in a run's evaluations.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VerdictRule {
+    /// An optimum found by IPOPT (or an elastic optimum without slack), the only rule before the
+    /// static hold: the rule of every log that does not record one.
+    Ipopt,
+    /// That, and the motors hold the load at rest at both ends (`problem::hold`).
+    #[default]
+    StaticHold,
+}
+
+impl VerdictRule {
+    /// The rule of the runs logged before the rule was recorded.
+    pub fn before_hold() -> VerdictRule {
+        VerdictRule::Ipopt
+    }
 }
 
 /// A hash a run recorded, or unknown in records written before it was kept. Unknown matches
@@ -185,7 +208,25 @@ fn number_or_nan<'de, D: serde::Deserializer<'de>>(reader: D) -> Result<f64, D::
 
 #[cfg(test)]
 mod tests {
-    use super::OptimizeDocument;
+    use super::{OptimizeDocument, OptimizeInputs, VerdictRule};
+
+    #[test]
+    fn a_run_logged_before_the_static_hold_is_another_run() {
+        // The inputs of a log written before the rule was recorded read as the older rule, so
+        // resuming such a log under today's rule fails (the store names `verdict_rule`) instead
+        // of replaying verdicts that did not ask the motors to hold the load.
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("results/quick/runs/actuation-1kg-seed0.json");
+        let text = std::fs::read_to_string(path).unwrap();
+        let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let today: OptimizeInputs = serde_json::from_value(value["inputs"].clone()).unwrap();
+        assert_eq!(today.verdict_rule, VerdictRule::StaticHold);
+        let mut older = value["inputs"].clone();
+        older.as_object_mut().unwrap().remove("verdict_rule");
+        let older: OptimizeInputs = serde_json::from_value(older).unwrap();
+        assert_eq!(older.verdict_rule, VerdictRule::Ipopt);
+        assert_ne!(older, today);
+    }
 
     #[test]
     fn a_run_without_timed_solves_reads_back() {

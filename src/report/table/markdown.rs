@@ -340,3 +340,47 @@ fn linear_solvers_text(solvers: &[LinearSolver]) -> String {
         _ => format!("linear solvers {}, mixed", names.join(", ")),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{design_text, solve_time_text, DesignCell};
+
+    fn cell(feasible: bool, motors_can_execute: bool, reason: Option<&str>) -> DesignCell {
+        DesignCell {
+            ratios: vec![6.0, 3.0, 1.0, 1.0],
+            feasible,
+            cost: 68.7377,
+            status: "Solve_Succeeded".to_owned(),
+            reason: reason.map(str::to_owned),
+            max_motor_torque: 2.5,
+            max_motor_speed: 80.0,
+            motors_can_execute,
+        }
+    }
+
+    #[test]
+    fn a_cell_says_why_a_design_is_infeasible_or_unexecutable() {
+        assert_eq!(design_text(&cell(true, true, None)), "(6, 3, 1, 1): 68.74");
+        assert_eq!(
+            design_text(&cell(true, false, None)),
+            "(6, 3, 1, 1): 68.74, motors cannot execute it (max torque 2.50 N m, max speed 80 rad/s)"
+        );
+        // The reason (the load not held) before IPOPT's status, which succeeded.
+        let hold =
+            "cannot hold the load at rest at the start: joint 4 needs 0.002541 N m (limit 0)";
+        assert_eq!(
+            design_text(&cell(false, true, Some(hold))),
+            format!("(6, 3, 1, 1): infeasible ({hold})")
+        );
+        assert_eq!(
+            design_text(&cell(false, true, None)),
+            "(6, 3, 1, 1): infeasible (Solve_Succeeded)"
+        );
+    }
+
+    #[test]
+    fn no_solve_has_no_median_time() {
+        assert_eq!(solve_time_text(f64::NAN), "-");
+        assert_eq!(solve_time_text(0.0656), "65.6 ms");
+    }
+}
