@@ -184,18 +184,24 @@ fn peak_text(name: &str, unit: &str, peaks: (f64, &[f64], usize), limits: &PerMo
     }
 }
 
+/// A margin within this of 0, N m, is the envelope reached: IPOPT holds rows to about its `tol`.
+const REACHED_NM: f64 = 1e-6;
+
 /// The torque-speed envelope, for the summary (None without one): where the trajectory comes
-/// closest to it, or exceeds it most.
+/// closest to it, reaches it or exceeds it most.
 fn envelope_text(formulation: &Formulation, result: &TrajectoryResult) -> Option<String> {
     let no_load = formulation.task().motors.no_load_speed_rad_s.as_ref()?;
     let least = least_envelope_margin(formulation, &result.trajectory)?;
-    let (what, by) = if least.margin_nm >= 0.0 {
-        ("least margin", least.margin_nm)
+    let margin = least.margin_nm;
+    let state = if margin >= REACHED_NM {
+        format!("least margin {margin:.3} N m")
+    } else if margin > -REACHED_NM {
+        format!("reached (margin {margin:.1e} N m)")
     } else {
-        ("exceeded by", -least.margin_nm)
+        format!("EXCEEDED by {:.3e} N m", -margin)
     };
     Some(format!(
-        "torque-speed envelope (no-load speed {no_load} rad/s): {what} {by:.3} N m (motor {} at t = {:.3} s)",
+        "torque-speed envelope (no-load speed {no_load} rad/s): {state}, motor {} at t = {:.3} s",
         least.motor + 1,
         result.trajectory.time[least.node]
     ))

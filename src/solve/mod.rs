@@ -26,4 +26,6 @@ pub use settings::{SettingsError, SolveSettings, TaskRecord, DEFAULT_MAX_ITER, D
 pub use verify::{least_envelope_margin, EnvelopeMargin};
 
 #[cfg(test)]
+mod envelope_tests;
+#[cfg(test)]
 mod tests;
