@@ -7,8 +7,9 @@ use super::{least_envelope_margin, solve_design, solve_design_from, SolveSetting
 use crate::ipopt::Solution;
 use crate::model::task::{LimitMode, LimitModes, PerMotor, Task};
 use crate::model::Robot;
-use crate::problem::{Formulation, Space};
+use crate::problem::{penalty_weights, Formulation, Space};
 use crate::testing;
+use crate::transmission::Side;
 
 /// The repository's task carrying `payload` kg, with motors of no-load speed `no_load` rad/s.
 fn with_envelope(task: &Task, payload: f64, no_load: f64) -> Task {
@@ -150,5 +151,80 @@ fn elastic_objective_gradient_with_the_envelope_matches_differences() {
         assert_matches_differences(&label, &gradient, ratios, |r| {
             solve(r, Some(&solution)).0.elastic.unwrap().objective
         });
+    }
+}
+
+/// The penalty rule of the elastic kind (docs/model.md, section 14) where the speed slacks
+/// relax the envelope too: at hard solutions where the envelope binds, a speed slack's reduced
+/// cost at zero, rho_w less |lambda_speed + c (lambda_P - lambda_M)|, stays positive, and so
+/// does a torque deficit's, rho_tau less |lambda_dynamics|.
+#[test]
+fn the_penalty_rule_holds_where_the_envelope_binds() {
+    let settings = testing::settings();
+    let cases = [
+        (
+            Space::Actuation,
+            0.5,
+            200.0,
+            LimitMode::Paper,
+            [6.0, 3.0, 1.0, 1.0],
+        ),
+        (
+            Space::Actuation,
+            0.5,
+            120.0,
+            LimitMode::Paper,
+            [6.0, 3.0, 1.0, 1.0],
+        ),
+        (
+            Space::Actuation,
+            1.0,
+            250.0,
+            LimitMode::Paper,
+            [7.0, 4.0, 2.0, 2.0],
+        ),
+        (
+            Space::Joint,
+            0.0,
+            250.0,
+            LimitMode::Interval,
+            [6.5, 3.5, 1.5, 1.2],
+        ),
+        (
+            Space::Joint,
+            0.0,
+            150.0,
+            LimitMode::Exact,
+            [8.0, 4.0, 2.0, 2.5],
+        ),
+    ];
+    for (space, payload, no_load, torque, ratios) in cases {
+        let task = with_envelope(&testing::task(), payload, no_load);
+        let robot = Robot::load(&task).unwrap();
+        let modes = LimitModes {
+            torque,
+            speed: LimitMode::Exact,
+        };
+        let f = Formulation::new(&task, robot, space, modes).unwrap();
+        let (result, solution) = solve_design_from(&f, &ratios, &settings, None).unwrap();
+        assert!(result.feasible, "{space} {ratios:?}: {}", result.status);
+        let (layout, envelope, lambda) = (f.layout(), f.envelope().unwrap(), &solution.lambda);
+        let (mut speed, mut dynamics, mut binds) = (0.0_f64, 0.0_f64, 0.0_f64);
+        for (k, i) in (1..layout.steps).flat_map(|k| (0..4).map(move |i| (k, i))) {
+            let [plus, minus] =
+                Side::BOTH.map(|side| lambda[layout.envelope_row(k, i, side).unwrap()]);
+            let row = lambda[layout.speed_row(k, i).unwrap()];
+            speed = speed.max((row + envelope.slope(i) * (plus - minus)).abs());
+            dynamics = dynamics.max(lambda[layout.dynamics_row(k, i)].abs());
+            binds = binds.max(plus.abs()).max(minus.abs());
+        }
+        let weights = penalty_weights(space);
+        let label = format!("{space} {payload} kg, w_0 {no_load}, {ratios:?}");
+        assert!(binds > 0.1, "{label}: the envelope does not bind");
+        assert!(speed < weights.speed, "{label}: speed slack term {speed}");
+        assert!(
+            dynamics < weights.torque,
+            "{label}: dynamics multiplier {dynamics}"
+        );
     }
 }
