@@ -94,10 +94,7 @@ pub(super) fn visit(
             for j in 0..n {
                 emit(row, layout.q(k, j), node.dtau_dq[(i, j)]);
             }
-            let (inertia, damping) = match reflected {
-                Some((inertia, damping)) => (Some(inertia), Some(damping)),
-                None => (None, None),
-            };
+            let (inertia, damping) = (reflected.map(|r| r.0), reflected.map(|r| r.1));
             for j in 0..n {
                 emit(
                     row,
