@@ -1,6 +1,7 @@
 //! Motors one by one, end to end: a task whose `motors.torque_limit_nm` and
 //! `motors.speed_limit_rad_s` give one number per motor is solved, tabled and checked against
-//! each motor's own limit, and lists that do not fit are named.
+//! each motor's own limit; a task with a torque-speed envelope (`motors.no_load_speed_rad_s`)
+//! keeps its motors inside it; lists and values that do not fit are named.
 
 mod support;
 
@@ -159,6 +160,14 @@ fn lists_that_do_not_fit_are_named() {
             json!({"torque_limit_nm": "1.7", "speed_limit_rad_s": 100}),
             "expected a number (every motor) or an array with one number per motor",
         ),
+        (
+            json!({"torque_limit_nm": 1.7, "speed_limit_rad_s": 100, "no_load_speed_rad_s": 0}),
+            "motors.no_load_speed_rad_s = 0 must be > 0",
+        ),
+        (
+            json!({"torque_limit_nm": 1.7, "speed_limit_rad_s": 100, "no_load_speed_rad_s": [150, 150]}),
+            "motors.no_load_speed_rad_s has 2 values but transmission.matrix has 4 rows",
+        ),
     ];
     for (motors, expected) in cases {
         let task = task_with(&dir, |task| task["motors"] = motors.clone());
@@ -167,5 +176,91 @@ fn lists_that_do_not_fit_are_named() {
             fails_saying(&codesign(&[command, "--task", task]), expected);
         }
     }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Motor i's margin inside its envelope, tau_max (1 - |w|/w_0) - |tau|, N m.
+fn envelope_margin(torque: f64, speed: f64, no_load: f64) -> f64 {
+    1.7 * (1.0 - speed.abs() / no_load) - torque.abs()
+}
+
+/// A task with `motors.no_load_speed_rad_s`: the solve keeps every motor inside its envelope
+/// at the inner nodes and reaches it at speed, costs more than without it, records the key
+/// (so its task hash differs from the built-in task's) and reports the envelope's violation;
+/// the summary says where it is reached. At a no-load speed the motion cannot keep, the
+/// elastic solve names the envelope and reports its violation.
+#[test]
+fn the_torque_speed_envelope_bounds_the_motors_at_speed() {
+    let dir = scratch("envelope");
+    let no_load = 120.0;
+    let task = task_with(&dir, |task| {
+        task["motors"]["no_load_speed_rad_s"] = json!(no_load);
+    });
+    let (out, plain) = (dir.join("envelope.json"), dir.join("plain.json"));
+    let solve = |task: &str, out: &Path, extra: &[&str]| {
+        let mut args = vec![
+            "solve",
+            "--task",
+            task,
+            "--space",
+            "actuation",
+            "--payload",
+            "0.5",
+            "--out",
+        ];
+        args.push(out.to_str().unwrap());
+        args.extend_from_slice(extra);
+        succeed(&args)
+    };
+    let stdout = solve(task.to_str().unwrap(), &out, &[]);
+    assert!(
+        stdout.contains("torque-speed envelope (no-load speed 120 rad/s): reached"),
+        "{stdout}"
+    );
+    solve(support::task_path().to_str().unwrap(), &plain, &[]);
+    let (result, ideal) = (read_json(&out), read_json(&plain));
+    assert_eq!(result["feasible"], true);
+    assert_eq!(
+        result["inputs"]["task"]["motors"]["no_load_speed_rad_s"],
+        120.0
+    );
+    assert!(ideal["inputs"]["task"]["motors"]
+        .get("no_load_speed_rad_s")
+        .is_none());
+    assert_ne!(result["inputs"]["task_hash"], ideal["inputs"]["task_hash"]);
+    assert!(ideal["violations"].get("motor_envelope").is_none());
+    assert!(result["violations"]["motor_envelope"].as_f64().unwrap() <= 1e-6);
+    assert!(result["cost"].as_f64().unwrap() > ideal["cost"].as_f64().unwrap());
+    let t = &result["trajectory"];
+    let (torques, speeds) = (
+        t["motor_torque"].as_array().unwrap(),
+        t["motor_speed"].as_array().unwrap(),
+    );
+    let mut reached_at_speed = false;
+    for k in 1..torques.len() {
+        for motor in 0..4 {
+            let (torque, speed) = (
+                torques[k][motor].as_f64().unwrap(),
+                speeds[k][motor].as_f64().unwrap(),
+            );
+            let margin = envelope_margin(torque, speed, no_load);
+            assert!(margin >= -1e-6, "node {k} motor {motor}: {margin}");
+            reached_at_speed |= margin < 1e-6 && speed.abs() > 10.0;
+        }
+    }
+    assert!(reached_at_speed, "the envelope is never reached at speed");
+    let slow = task_with(&dir, |task| {
+        task["motors"]["no_load_speed_rad_s"] = json!([40, 100, 100, 100]);
+    });
+    let elastic = dir.join("elastic.json");
+    let stdout = solve(slow.to_str().unwrap(), &elastic, &["--elastic"]);
+    assert!(stdout.contains("EXCEEDED by"), "{stdout}");
+    let result = read_json(&elastic);
+    assert_eq!(result["feasible"], false);
+    assert!(result["reason"]
+        .as_str()
+        .unwrap()
+        .contains("the speed limit or the torque-speed envelope"));
+    assert!(result["violations"]["motor_envelope"].as_f64().unwrap() > 0.01);
     std::fs::remove_dir_all(&dir).unwrap();
 }

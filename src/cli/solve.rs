@@ -7,7 +7,9 @@ use crate::ipopt::{check_derivatives, DerivativeOrder};
 use crate::model::task::{check_horizon, check_steps, PerMotor};
 use crate::problem::{EndHold, Formulation, StaticHold};
 use crate::report::trajectory::{write_plots, SolveDocument, PLOT_FILES};
-use crate::solve::{solve_design, SolveError, SolveSettings, TrajectoryResult};
+use crate::solve::{
+    least_envelope_margin, solve_design, SolveError, SolveSettings, TrajectoryResult,
+};
 use crate::store::files::write_json;
 use crate::text::number;
 use std::path::PathBuf;
@@ -182,6 +184,29 @@ fn peak_text(name: &str, unit: &str, peaks: (f64, &[f64], usize), limits: &PerMo
     }
 }
 
+/// A margin within this of 0, N m, is the envelope reached: IPOPT holds rows to about its `tol`.
+const REACHED_NM: f64 = 1e-6;
+
+/// The torque-speed envelope, for the summary (None without one): where the trajectory comes
+/// closest to it, reaches it or exceeds it most.
+fn envelope_text(formulation: &Formulation, result: &TrajectoryResult) -> Option<String> {
+    let no_load = formulation.task().motors.no_load_speed_rad_s.as_ref()?;
+    let least = least_envelope_margin(formulation, &result.trajectory)?;
+    let margin = least.margin_nm;
+    let state = if margin >= REACHED_NM {
+        format!("least margin {margin:.3} N m")
+    } else if margin > -REACHED_NM {
+        format!("reached (margin {margin:.1e} N m)")
+    } else {
+        format!("EXCEEDED by {:.3e} N m", -margin)
+    };
+    Some(format!(
+        "torque-speed envelope (no-load speed {no_load} rad/s): {state}, motor {} at t = {:.3} s",
+        least.motor + 1,
+        result.trajectory.time[least.node]
+    ))
+}
+
 /// The load held at rest, for the summary: each end's least margin, or what it lacks.
 fn hold_text(hold: &StaticHold) -> String {
     if let Some(reason) = hold.reason() {
@@ -233,6 +258,9 @@ fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
             &task.motors.speed_limit_rad_s
         )
     );
+    if let Some(text) = envelope_text(formulation, result) {
+        say!("  {text}");
+    }
     if let Some(hold) = &result.static_hold {
         say!("  {}", hold_text(hold));
     }

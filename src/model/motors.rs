@@ -159,21 +159,29 @@ pub struct Motors {
     /// Viscous friction b_m of motor i, N m s/rad, on the motor speed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub viscous_friction_nm_s_per_rad: Option<PerMotor>,
+    /// No-load speed omega_0 of motor i, rad/s: the speed at which its linear torque-speed
+    /// envelope |tau_u| <= tau_max (1 - |qd_u|/omega_0) leaves it no torque. Absent: no
+    /// envelope, only the torque and speed limits.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub no_load_speed_rad_s: Option<PerMotor>,
 }
 
 impl Motors {
-    /// Ideal motors (no rotor inertia or friction) with these limits, N m and rad/s.
+    /// Ideal motors (no rotor inertia, friction or torque-speed envelope) with these limits, N m
+    /// and rad/s.
     pub fn ideal(torque_limit_nm: PerMotor, speed_limit_rad_s: PerMotor) -> Motors {
         Motors {
             torque_limit_nm,
             speed_limit_rad_s,
             rotor_inertia_kgm2: None,
             viscous_friction_nm_s_per_rad: None,
+            no_load_speed_rad_s: None,
         }
     }
 
     /// Checks every quantity for `motors` motors (the rows of G): one value per motor where a
-    /// list is given, each finite; the limits > 0, the rotor inertia and the friction >= 0.
+    /// list is given, each finite; the limits and the no-load speed > 0, the rotor inertia and
+    /// the friction >= 0.
     pub fn validate(&self, motors: usize) -> Result<(), FieldError> {
         let positive = |value: f64| value > 0.0;
         let non_negative = |value: f64| value >= 0.0;
@@ -196,6 +204,12 @@ impl Motors {
             "motors.viscous_friction_nm_s_per_rad",
             non_negative,
             ">= 0",
+        )?;
+        optional(
+            &self.no_load_speed_rad_s,
+            "motors.no_load_speed_rad_s",
+            positive,
+            "> 0",
         )
     }
 }
@@ -325,7 +339,7 @@ mod tests {
             serde_json::to_value(&ideal).unwrap(),
             json!({"torque_limit_nm": 1.7, "speed_limit_rad_s": 100.0})
         );
-        let text = r#"{"torque_limit_nm":1.7,"speed_limit_rad_s":100.0,"rotor_inertia_kgm2":[0.00001,0.00002,0.0,0.00003],"viscous_friction_nm_s_per_rad":0.001}"#;
+        let text = r#"{"torque_limit_nm":1.7,"speed_limit_rad_s":100.0,"rotor_inertia_kgm2":[0.00001,0.00002,0.0,0.00003],"viscous_friction_nm_s_per_rad":0.001,"no_load_speed_rad_s":[150.0,150.0,200.0,200.0]}"#;
         let read: Motors = serde_json::from_str(text).unwrap();
         assert_eq!(
             read.rotor_inertia_kgm2,
@@ -335,17 +349,26 @@ mod tests {
             read.viscous_friction_nm_s_per_rad,
             Some(PerMotor::All(1e-3))
         );
+        assert_eq!(
+            read.no_load_speed_rad_s,
+            Some(PerMotor::Each(vec![150.0, 150.0, 200.0, 200.0]))
+        );
         assert!(read.validate(4).is_ok());
         assert_eq!(serde_json::to_string(&read).unwrap(), text);
         let mut misspelt = limits;
         misspelt["rotor_inertia"] = json!(1e-5);
-        assert!(motors(misspelt)
+        assert!(motors(misspelt.clone())
             .unwrap_err()
             .contains("unknown field `rotor_inertia`"));
+        misspelt.as_object_mut().unwrap().remove("rotor_inertia");
+        misspelt["no_load_speed"] = json!(150);
+        assert!(motors(misspelt)
+            .unwrap_err()
+            .contains("unknown field `no_load_speed`"));
     }
 
-    /// Rotor inertia and friction may be 0, not negative; each error names the key and the
-    /// motor.
+    /// Rotor inertia and friction may be 0, not negative, and the no-load speed must be
+    /// positive; each error names the key and the motor.
     #[test]
     fn motor_model_errors_name_the_key_and_the_motor() {
         let base = json!({"torque_limit_nm": 1.7, "speed_limit_rad_s": 100});
@@ -365,6 +388,21 @@ mod tests {
                 json!([1e-3, 1e-3, 1e-3]),
                 "motors.viscous_friction_nm_s_per_rad has 3 values",
             ),
+            (
+                "no_load_speed_rad_s",
+                json!(0),
+                "motors.no_load_speed_rad_s = 0 must be > 0",
+            ),
+            (
+                "no_load_speed_rad_s",
+                json!([150, 150, -1, 150]),
+                "motors.no_load_speed_rad_s[2] = -1 must be > 0",
+            ),
+            (
+                "no_load_speed_rad_s",
+                json!([150, 150]),
+                "motors.no_load_speed_rad_s has 2 values but transmission.matrix has 4 rows",
+            ),
         ];
         for (key, value, expected) in cases {
             let mut given = base.clone();
@@ -376,6 +414,12 @@ mod tests {
         zero["rotor_inertia_kgm2"] = json!(0);
         zero["viscous_friction_nm_s_per_rad"] = json!([0, 0, 0, 0]);
         assert!(motors(zero).unwrap().validate(4).is_ok());
+        let mut infinite = Motors::ideal(PerMotor::All(1.7), PerMotor::All(100.0));
+        infinite.no_load_speed_rad_s = Some(PerMotor::Each(vec![150.0, f64::INFINITY]));
+        assert_eq!(
+            infinite.validate(2).unwrap_err().to_string(),
+            "motors.no_load_speed_rad_s[1] = inf must be > 0"
+        );
     }
 
     /// A task checks its motors against the rows of its G.

@@ -181,7 +181,12 @@ mod tests {
     #[test]
     fn node_entries_run_row_by_row_through_the_lower_triangle() {
         let n = 4;
-        let layout = Layout::new(n, 3, true, true, ProblemKind::Hard);
+        let rows = crate::problem::LinearRows {
+            speed: true,
+            torque: true,
+            envelope: true,
+        };
+        let layout = Layout::new(n, 3, rows, ProblemKind::Hard);
         let base = layout.q(1, 0);
         let mut expected = Vec::new();
         for i in 0..2 * n {

@@ -2,9 +2,14 @@
 //! non-zero in a fixed order: run on zero data it yields the pattern (once per [`Formulation`]),
 //! run on the evaluated nodes it yields the values, so the two can never disagree. The elastic
 //! kind's slacks enter their rows linearly, with constant entries -1 (s+, e+) and +1 (s-, e-).
+//! The torque-speed envelope's rows are linear too: tau_u(u) +- c (G v + B d), with entries
+//! d(tau_u)/du in u, +-c_i G_ij in v and, in the elastic kind, -+c_i B_ij and +-c_i B_ij in the
+//! node's speed slacks e+ and e- (d = e- - e+).
 
 use super::node::NodeEval;
 use super::{Formulation, Layout, Space};
+use crate::model::task::LimitMode;
+use crate::transmission::{Envelope, Side};
 use nalgebra::DMatrix;
 
 /// The design-dependent matrices the Jacobian's values come from.
@@ -22,8 +27,48 @@ pub(super) struct JacobianData<'m> {
     pub(super) speed: Option<(&'m DMatrix<f64>, &'m DMatrix<f64>)>,
     /// G^-T, when motor torques are linear rows.
     pub(super) torque: Option<&'m DMatrix<f64>>,
+    /// The torque-speed envelope's matrices, when the motors have one.
+    pub(super) envelope: Option<EnvelopeData<'m>>,
     /// Time step h, s.
     pub(super) h: f64,
+}
+
+/// The design-dependent matrices of the envelope rows, each with its structural non-zeros.
+#[derive(Clone, Copy)]
+pub(super) struct EnvelopeData<'m> {
+    /// The slopes c_i.
+    pub(super) envelope: &'m Envelope,
+    /// d(tau_u)/du ([`Actuation::motor_of_control`](crate::transmission::Actuation::motor_of_control)).
+    pub(super) torque: (&'m DMatrix<f64>, &'m DMatrix<f64>),
+    /// G, the motor speeds of v.
+    pub(super) speed: (&'m DMatrix<f64>, &'m DMatrix<f64>),
+    /// B, the motor speeds of the speed rows' relaxations (elastic kind).
+    pub(super) slack: (&'m DMatrix<f64>, &'m DMatrix<f64>),
+}
+
+/// The structural non-zeros of the envelope rows' design-dependent blocks that are not G's.
+pub(super) struct EnvelopePattern {
+    /// d(tau_u)/du: diagonal in actuation space, dense (G^-T) in joint space.
+    pub(super) torque: DMatrix<f64>,
+    /// B: the identity in speed mode `exact`, G's pattern in the box modes.
+    pub(super) slack: DMatrix<f64>,
+}
+
+impl EnvelopePattern {
+    /// The pattern of `formulation`'s envelope rows.
+    pub(super) fn of(formulation: &Formulation) -> EnvelopePattern {
+        let n = formulation.layout.dof;
+        EnvelopePattern {
+            torque: match formulation.space {
+                Space::Actuation => DMatrix::identity(n, n),
+                Space::Joint => DMatrix::from_element(n, n, 1.0),
+            },
+            slack: match formulation.modes.speed {
+                LimitMode::Exact => DMatrix::identity(n, n),
+                LimitMode::Paper | LimitMode::Interval => formulation.g_pattern.clone(),
+            },
+        }
+    }
 }
 
 /// Visits the Jacobian's structural non-zeros in their fixed order.
@@ -39,6 +84,7 @@ pub(super) fn visit(
         reflected,
         speed,
         torque,
+        envelope,
         h,
     } = *data;
     let n = layout.dof;
@@ -48,10 +94,7 @@ pub(super) fn visit(
             for j in 0..n {
                 emit(row, layout.q(k, j), node.dtau_dq[(i, j)]);
             }
-            let (inertia, damping) = match reflected {
-                Some((inertia, damping)) => (Some(inertia), Some(damping)),
-                None => (None, None),
-            };
+            let (inertia, damping) = (reflected.map(|r| r.0), reflected.map(|r| r.1));
             for j in 0..n {
                 emit(
                     row,
@@ -106,6 +149,43 @@ pub(super) fn visit(
                 }
             }
         }
+        if let Some(envelope) = &envelope {
+            visit_envelope(layout, k, envelope, &mut emit);
+        }
+    }
+}
+
+/// Visits node k's envelope rows: P_i = tau_u,i + c_i (G v + B d)_i, then M_i, the same with
+/// -c_i; their u entries, v entries and, in the elastic kind, speed slack entries.
+fn visit_envelope(
+    layout: &Layout,
+    k: usize,
+    data: &EnvelopeData<'_>,
+    emit: &mut impl FnMut(usize, usize, f64),
+) {
+    let n = layout.dof;
+    let ((torque, torque_pattern), (g, g_pattern), (slack, slack_pattern)) =
+        (data.torque, data.speed, data.slack);
+    for side in Side::BOTH {
+        for i in 0..n {
+            let Some(row) = layout.envelope_row(k, i, side) else {
+                continue;
+            };
+            let slope = side.sign() * data.envelope.slope(i);
+            for j in (0..n).filter(|&j| torque_pattern[(i, j)] != 0.0) {
+                emit(row, layout.u(k, j), torque[(i, j)]);
+            }
+            for j in (0..n).filter(|&j| g_pattern[(i, j)] != 0.0) {
+                emit(row, layout.v(k, j), slope * g[(i, j)]);
+            }
+            for j in (0..n).filter(|&j| slack_pattern[(i, j)] != 0.0) {
+                if let Some([plus, minus]) = layout.excess_slack(k, j) {
+                    let entry = slope * slack[(i, j)];
+                    emit(row, plus, -entry);
+                    emit(row, minus, entry);
+                }
+            }
+        }
     }
 }
 
@@ -137,6 +217,7 @@ pub(super) fn pattern(formulation: &Formulation) -> Vec<(usize, usize)> {
     let nodes = vec![NodeEval::zeros(n); layout.steps];
     let pattern = control_pattern(formulation);
     let dense = DMatrix::from_element(n, n, 1.0);
+    let envelope_pattern = EnvelopePattern::of(formulation);
     let mut entries = Vec::new();
     let data = JacobianData {
         control_map: &pattern,
@@ -146,6 +227,12 @@ pub(super) fn pattern(formulation: &Formulation) -> Vec<(usize, usize)> {
             .speed_rows
             .then_some((&formulation.speed_pattern, &formulation.speed_pattern)),
         torque: layout.torque_rows.then_some(&dense),
+        envelope: formulation.envelope.as_ref().map(|envelope| EnvelopeData {
+            envelope,
+            torque: (&envelope_pattern.torque, &envelope_pattern.torque),
+            speed: (&formulation.g_pattern, &formulation.g_pattern),
+            slack: (&envelope_pattern.slack, &envelope_pattern.slack),
+        }),
         h: 0.0,
     };
     visit(layout, &data, &nodes, |row, col, _| {

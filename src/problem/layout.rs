@@ -3,8 +3,10 @@
 //! Variables are grouped by node for a banded structure: node k < N holds
 //! `[q_k, v_k, a_k, u_k]` (4n numbers), the last node N holds `[q_N, v_N]`. Constraint rows are
 //! grouped the same way: node k < N holds the inverse dynamics (n rows), the velocity and position
-//! integration (n rows each), then, when the limit mode asks for linear limits, the motor speed
-//! rows (nodes 1..N-1, where v is free) and the motor torque rows (joint space).
+//! integration (n rows each), then, when the problem has them, the linear limit rows: the motor
+//! speed rows (nodes 1..N-1, where v is free), the motor torque rows (joint space, nodes 0..N-1)
+//! and the torque-speed envelope's rows P then M, n each (nodes 1..N-1: at node 0, where v_0 = 0,
+//! they are the torque limit).
 //!
 //! The elastic kind (docs/model.md, section 14) appends its slack columns after all of these:
 //! the torque deficits `[s+_k, s-_k]` of every node k < N (2n each), then the speed excesses
@@ -13,6 +15,19 @@
 //! bounds on v, so that the slacks can relax them).
 
 use super::ProblemKind;
+use crate::transmission::Side;
+
+/// Which linear limit rows a problem has beside its dynamics and integration rows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LinearRows {
+    /// Motor speeds (or, in the elastic kind's box modes, joint speeds) as rows, nodes 0 < k < N.
+    pub speed: bool,
+    /// Motor torques G^-T u_k as rows (joint space, torque mode `exact`), nodes k < N.
+    pub torque: bool,
+    /// The torque-speed envelope's rows P and M (the task's `motors.no_load_speed_rad_s`), nodes
+    /// 0 < k < N.
+    pub envelope: bool,
+}
 
 /// Index arithmetic of one problem shape (dof n, steps N, which linear limits exist).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -25,40 +40,50 @@ pub struct Layout {
     pub speed_rows: bool,
     /// Whether motor torques are limited by linear rows |G^-T u_k| <= tau (joint space, `exact`).
     pub torque_rows: bool,
+    /// Whether the motors' torque-speed envelope is held by linear rows.
+    pub envelope_rows: bool,
     /// Hard or elastic: whether the slack columns exist.
     pub kind: ProblemKind,
     row_base: Vec<usize>,
 }
 
 impl Layout {
-    /// The layout of a problem of `kind` with `dof` joints and `steps` intervals.
-    pub fn new(
-        dof: usize,
-        steps: usize,
-        speed_rows: bool,
-        torque_rows: bool,
-        kind: ProblemKind,
-    ) -> Layout {
+    /// The layout of a problem of `kind` with `dof` joints, `steps` intervals and the linear
+    /// limit rows `rows`.
+    pub fn new(dof: usize, steps: usize, rows: LinearRows, kind: ProblemKind) -> Layout {
         let mut row_base = Vec::with_capacity(steps + 1);
         let mut row = 0;
         for k in 0..steps {
             row_base.push(row);
             row += 3 * dof;
-            if speed_rows && k > 0 {
+            if rows.speed && k > 0 {
                 row += dof;
             }
-            if torque_rows {
+            if rows.torque {
                 row += dof;
+            }
+            if rows.envelope && k > 0 {
+                row += 2 * dof;
             }
         }
         row_base.push(row);
         Layout {
             dof,
             steps,
-            speed_rows,
-            torque_rows,
+            speed_rows: rows.speed,
+            torque_rows: rows.torque,
+            envelope_rows: rows.envelope,
             kind,
             row_base,
+        }
+    }
+
+    /// Which linear limit rows the layout has.
+    pub fn rows(&self) -> LinearRows {
+        LinearRows {
+            speed: self.speed_rows,
+            torque: self.torque_rows,
+            envelope: self.envelope_rows,
         }
     }
 
@@ -179,6 +204,19 @@ impl Layout {
         };
         (self.torque_rows && k < self.steps).then(|| self.row_base[k] + 3 * self.dof + speed + i)
     }
+
+    /// Row `side` of motor i's torque-speed envelope at node k, when it exists (envelope rows,
+    /// 0 < k < N): the node's P rows, then its M rows, after its other limit rows.
+    pub fn envelope_row(&self, k: usize, i: usize, side: Side) -> Option<usize> {
+        (self.envelope_rows && k > 0 && k < self.steps).then(|| {
+            let before = usize::from(self.speed_rows) + usize::from(self.torque_rows);
+            let offset = match side {
+                Side::Plus => 0,
+                Side::Minus => self.dof,
+            };
+            self.row_base[k] + (3 + before) * self.dof + offset + i
+        })
+    }
 }
 
 #[cfg(test)]
@@ -188,12 +226,21 @@ mod tests {
     /// Every variable and row index is used exactly once.
     #[test]
     fn indices_cover_without_overlap() {
-        let shapes = [(false, false), (true, false), (false, true), (true, true)];
-        for ((speed_rows, torque_rows), kind) in shapes
-            .into_iter()
+        let flags = [false, true];
+        let shapes = flags.into_iter().flat_map(|speed| {
+            flags.into_iter().flat_map(move |torque| {
+                flags.map(|envelope| LinearRows {
+                    speed,
+                    torque,
+                    envelope,
+                })
+            })
+        });
+        for (shape, kind) in shapes
             .flat_map(|shape| [ProblemKind::Hard, ProblemKind::Elastic].map(|kind| (shape, kind)))
         {
-            let layout = Layout::new(3, 5, speed_rows, torque_rows, kind);
+            let layout = Layout::new(3, 5, shape, kind);
+            assert_eq!(layout.rows(), shape);
             let mut columns = vec![0; layout.num_variables()];
             let mut rows = vec![0; layout.num_constraints()];
             for k in 0..=layout.steps {
@@ -218,14 +265,19 @@ mod tests {
                         .torque_row(k, i)
                         .into_iter()
                         .for_each(|r| rows[r] += 1);
+                    Side::BOTH
+                        .into_iter()
+                        .filter_map(|side| layout.envelope_row(k, i, side))
+                        .for_each(|r| rows[r] += 1);
                 }
             }
             assert!(columns.iter().all(|&c| c == 1), "{kind:?} {columns:?}");
             assert_eq!(layout.slacks().is_empty(), kind == ProblemKind::Hard);
-            assert!(
-                rows.iter().all(|&c| c == 1),
-                "{speed_rows} {torque_rows}: {rows:?}"
-            );
+            assert!(rows.iter().all(|&c| c == 1), "{shape:?}: {rows:?}");
+            let envelope_rows = (1..layout.steps)
+                .filter(|&k| layout.envelope_row(k, 0, Side::Plus).is_some())
+                .count();
+            assert_eq!(envelope_rows, if shape.envelope { 4 } else { 0 });
         }
     }
 }

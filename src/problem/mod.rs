@@ -17,7 +17,7 @@ mod sensitivity;
 
 pub use elastic::{penalty_weights, relaxation, PenaltyWeights, ProblemKind, Relaxation};
 pub use hold::{margins, EndHold, HoldRows, StaticHold, HOLD_TOLERANCE_NM};
-pub use layout::Layout;
+pub use layout::{Layout, LinearRows};
 pub use nlp::TrajectoryProblem;
 pub use sensitivity::cost_gradient;
 
@@ -25,7 +25,7 @@ use crate::dynamics::Dynamics;
 use crate::model::task::{LimitMode, LimitModes, Task};
 use crate::model::Robot;
 pub use crate::transmission::Space;
-use crate::transmission::{DesignError, MotorDynamics, Transmission};
+use crate::transmission::{DesignError, Envelope, MotorDynamics, Transmission};
 use nalgebra::DMatrix;
 use std::fmt;
 
@@ -56,6 +56,8 @@ pub struct Formulation {
     speed_limits: Vec<f64>,
     /// The motors' rotor inertia and friction, None for ideal motors (neither key given).
     motor_dynamics: Option<MotorDynamics>,
+    /// The motors' torque-speed envelope, None without `motors.no_load_speed_rad_s`.
+    envelope: Option<Envelope>,
     layout: Layout,
     /// Structural non-zeros of G (row = motor, column = joint) over the whole design space.
     g_pattern: DMatrix<f64>,
@@ -118,14 +120,13 @@ impl Formulation {
                 }
             });
         }
-        let torque_rows = space == Space::Joint && modes.torque == LimitMode::Exact;
-        let layout = Layout::new(
-            n,
-            task.motion.steps,
-            modes.speed == LimitMode::Exact,
-            torque_rows,
-            ProblemKind::Hard,
-        );
+        let envelope = Envelope::of(&task.motors, n);
+        let rows = LinearRows {
+            speed: modes.speed == LimitMode::Exact,
+            torque: space == Space::Joint && modes.torque == LimitMode::Exact,
+            envelope: envelope.is_some(),
+        };
+        let layout = Layout::new(n, task.motion.steps, rows, ProblemKind::Hard);
         let mut formulation = Formulation {
             task: task.clone(),
             transmission,
@@ -135,6 +136,7 @@ impl Formulation {
             torque_limits: task.motors.torque_limit_nm.values(n),
             speed_limits: task.motors.speed_limit_rad_s.values(n),
             motor_dynamics: MotorDynamics::of(&task.motors, n),
+            envelope,
             layout,
             speed_pattern: g_pattern.clone(),
             g_pattern,
@@ -152,13 +154,11 @@ impl Formulation {
     pub fn elastic(&self) -> Formulation {
         let layout = &self.layout;
         let mut elastic = self.clone();
-        elastic.layout = Layout::new(
-            layout.dof,
-            layout.steps,
-            true,
-            layout.torque_rows,
-            ProblemKind::Elastic,
-        );
+        let rows = LinearRows {
+            speed: true,
+            ..layout.rows()
+        };
+        elastic.layout = Layout::new(layout.dof, layout.steps, rows, ProblemKind::Elastic);
         if self.modes.speed != LimitMode::Exact {
             elastic.speed_pattern = DMatrix::identity(layout.dof, layout.dof);
         }
@@ -227,6 +227,11 @@ impl Formulation {
     /// The motors' rotor inertia and viscous friction, None for ideal motors.
     pub fn motor_dynamics(&self) -> Option<&MotorDynamics> {
         self.motor_dynamics.as_ref()
+    }
+
+    /// The motors' torque-speed envelope, None without `motors.no_load_speed_rad_s`.
+    pub fn envelope(&self) -> Option<&Envelope> {
+        self.envelope.as_ref()
     }
 
     /// The index layout.

@@ -6,14 +6,14 @@
 use super::cost::Cost;
 use super::elastic;
 use super::hessian::NodeHessian;
-use super::jacobian::{self, JacobianData};
+use super::jacobian::{self, EnvelopeData, JacobianData};
 use super::node::{Level, NodeEval};
 use super::{Formulation, ProblemKind};
 use crate::dynamics::Workspace;
 use crate::ipopt::{EvalError, Nlp};
 use crate::model::task::LimitMode;
-use crate::transmission::{Actuation, Coupling, DesignError, JointLimits, Space};
-use nalgebra::DMatrix;
+use crate::transmission::{Actuation, Coupling, DesignError, JointLimits, Side, Space};
+use nalgebra::{DMatrix, DVector};
 
 /// The trajectory NLP of one design (see [`Formulation`]).
 #[derive(Clone, Debug)]
@@ -25,6 +25,10 @@ pub struct TrajectoryProblem<'a> {
     /// The speed rows' matrix: G (motor speeds, mode `exact`) or the identity (joint speeds, the
     /// elastic kind's rows in modes `paper` and `interval`).
     speed_map: DMatrix<f64>,
+    /// B = G A^-1, with A the speed rows' matrix: the map from the elastic kind's speed
+    /// relaxations d = e- - e+ of a node to the motor speeds its envelope rows see, G v + B d
+    /// (the identity in mode `exact`, G in the box modes).
+    envelope_slack_map: DMatrix<f64>,
     /// One dynamics workspace per node k < N (all of the formulation's one model), so that each
     /// keeps its node's kinematics cached from one callback to the next (the Hessian reuses what
     /// the Jacobian computed at the same point).
@@ -40,9 +44,11 @@ impl<'a> TrajectoryProblem<'a> {
         // The coupling checks the design (bounds, order, G(r) invertible) before building G(r).
         let coupling = formulation.transmission.coupling(ratios)?;
         let n = formulation.layout.dof;
-        let speed_map = match formulation.modes.speed {
-            LimitMode::Exact => coupling.matrix().clone(),
-            LimitMode::Paper | LimitMode::Interval => DMatrix::identity(n, n),
+        let (speed_map, envelope_slack_map) = match formulation.modes.speed {
+            LimitMode::Exact => (coupling.matrix().clone(), DMatrix::identity(n, n)),
+            LimitMode::Paper | LimitMode::Interval => {
+                (DMatrix::identity(n, n), coupling.matrix().clone())
+            }
         };
         Ok(TrajectoryProblem {
             formulation,
@@ -53,6 +59,7 @@ impl<'a> TrajectoryProblem<'a> {
                 formulation.motor_dynamics.as_ref(),
             ),
             speed_map,
+            envelope_slack_map,
             workspaces: (0..formulation.layout.steps)
                 .map(|_| formulation.dynamics.workspace())
                 .collect(),
@@ -111,6 +118,53 @@ impl<'a> TrajectoryProblem<'a> {
                 upper: limits.clone(),
             },
             Space::Joint => self.coupling().torque_limits(f.modes.torque, limits),
+        }
+    }
+
+    /// The elastic kind's relaxation d = e- - e+ of node k's speed rows at x (0 < k < N), the
+    /// amount by which each row's value is shifted; None in the hard kind.
+    pub(super) fn speed_relaxation(&self, x: &[f64], k: usize) -> Option<DVector<f64>> {
+        let layout = &self.formulation.layout;
+        let columns: Option<Vec<[usize; 2]>> =
+            (0..layout.dof).map(|i| layout.excess_slack(k, i)).collect();
+        columns.map(|columns| {
+            DVector::from_iterator(
+                columns.len(),
+                columns.iter().map(|&[plus, minus]| x[minus] - x[plus]),
+            )
+        })
+    }
+
+    /// The motor speeds node k's envelope rows see at x (0 < k < N), rad/s: G v_k, and in the
+    /// elastic kind G v_k + B d_k, the motor speeds of the relaxed speed rows (docs/model.md,
+    /// section 14).
+    fn envelope_speeds(&self, x: &[f64], k: usize) -> DVector<f64> {
+        let layout = &self.formulation.layout;
+        let v = DVector::from_column_slice(&x[layout.v(k, 0)..layout.v(k, 0) + layout.dof]);
+        let speeds = self.coupling().matrix() * v;
+        match self.speed_relaxation(x, k) {
+            Some(d) => speeds + &self.envelope_slack_map * d,
+            None => speeds,
+        }
+    }
+
+    /// Writes node k's envelope rows at x into g (a no-op where the node has none).
+    fn envelope_constraints(&self, x: &[f64], k: usize, g: &mut [f64]) {
+        let f = self.formulation;
+        let (layout, Some(envelope)) = (&f.layout, &f.envelope) else {
+            return;
+        };
+        if layout.envelope_row(k, 0, Side::Plus).is_none() {
+            return;
+        }
+        let torques = self.motor_torques(&x[layout.u(k, 0)..layout.u(k, 0) + layout.dof]);
+        let speeds = self.envelope_speeds(x, k);
+        for i in 0..layout.dof {
+            for side in Side::BOTH {
+                if let Some(row) = layout.envelope_row(k, i, side) {
+                    g[row] = envelope.row(i, side, torques[i], speeds[i]);
+                }
+            }
         }
     }
 
@@ -218,6 +272,11 @@ impl Nlp for TrajectoryProblem<'_> {
                 if let Some(row) = layout.torque_row(k, i) {
                     (lower[row], upper[row]) = (-torque[i], torque[i]);
                 }
+                for side in Side::BOTH {
+                    if let Some(row) = layout.envelope_row(k, i, side) {
+                        (lower[row], upper[row]) = (-torque[i], torque[i]);
+                    }
+                }
             }
         }
     }
@@ -289,6 +348,7 @@ impl Nlp for TrajectoryProblem<'_> {
                     g[row] = (0..n).map(|j| motor_of_joint[(i, j)] * u[j]).sum();
                 }
             }
+            self.envelope_constraints(x, k, g);
         }
         Ok(())
     }
@@ -307,6 +367,7 @@ impl Nlp for TrajectoryProblem<'_> {
         let f = self.formulation;
         let layout = &f.layout;
         let pattern = jacobian::control_pattern(f);
+        let envelope_pattern = jacobian::EnvelopePattern::of(f);
         let mut next = 0;
         let data = JacobianData {
             control_map: self.actuation.control_map(),
@@ -318,6 +379,12 @@ impl Nlp for TrajectoryProblem<'_> {
             torque: layout
                 .torque_rows
                 .then_some(self.actuation.motor_of_joint()),
+            envelope: f.envelope.as_ref().map(|envelope| EnvelopeData {
+                envelope,
+                torque: (self.actuation.motor_of_control(), &envelope_pattern.torque),
+                speed: (self.coupling().matrix(), &f.g_pattern),
+                slack: (&self.envelope_slack_map, &envelope_pattern.slack),
+            }),
             h: f.step_s(),
         };
         jacobian::visit(layout, &data, &self.nodes, |_, _, value| {
@@ -417,8 +484,14 @@ mod tests {
         (vec![3e-3, 2e-3, 1e-3, 5e-4], vec![2e-2, 1e-2, 0.0, 5e-3])
     }
 
-    /// [`formulation`]s with every motor term set: actuation space, and joint space in every
-    /// torque mode, speed mode `exact`.
+    /// The motors' no-load speeds (rad/s) of the envelope tests, one per motor: low enough for
+    /// the envelope to bind in the 5-step problems' solutions.
+    pub(crate) fn no_load_speeds() -> Vec<f64> {
+        vec![60.0, 50.0, 40.0, 45.0]
+    }
+
+    /// [`formulation`]s with every motor term set (rotor inertia, friction, torque-speed
+    /// envelope): actuation space, and joint space in every torque mode, speed mode `exact`.
     fn motor_formulations() -> Vec<Formulation> {
         use crate::model::task::PerMotor;
         let (inertia, friction) = motor_terms();
@@ -435,12 +508,33 @@ mod tests {
             task.payload.mass_kg = 1.0;
             task.motors.rotor_inertia_kgm2 = Some(PerMotor::Each(inertia.clone()));
             task.motors.viscous_friction_nm_s_per_rad = Some(PerMotor::Each(friction.clone()));
+            task.motors.no_load_speed_rad_s = Some(PerMotor::Each(no_load_speeds()));
             let robot = Robot::load(&task).unwrap();
             let modes = LimitModes {
                 torque,
                 speed: LimitMode::Exact,
             };
             Formulation::new(&task, robot, space, modes).unwrap()
+        })
+        .collect()
+    }
+
+    /// [`formulation`]s with the torque-speed envelope alone, under the box speed modes (whose
+    /// elastic kind relaxes joint speeds, which reach the envelope rows through G), both spaces,
+    /// and with one no-load speed for every motor.
+    fn envelope_formulations() -> Vec<Formulation> {
+        use crate::model::task::PerMotor;
+        [
+            (Space::Actuation, LimitMode::Paper, LimitMode::Interval),
+            (Space::Joint, LimitMode::Exact, LimitMode::Paper),
+            (Space::Joint, LimitMode::Interval, LimitMode::Interval),
+        ]
+        .into_iter()
+        .map(|(space, torque, speed)| {
+            let f = formulation(space, torque, speed, 1.0);
+            let mut task = f.task().clone();
+            task.motors.no_load_speed_rad_s = Some(PerMotor::All(45.0));
+            Formulation::new(&task, f.dynamics().robot().clone(), space, *f.modes()).unwrap()
         })
         .collect()
     }
@@ -478,6 +572,7 @@ mod tests {
         }
         list.extend(scaled_formulations());
         list.extend(motor_formulations());
+        list.extend(envelope_formulations());
         list.extend(rest_formulations());
         let elastic: Vec<_> = list.iter().map(Formulation::elastic).collect();
         list.extend(elastic);
@@ -602,11 +697,12 @@ mod tests {
                 assert_eq!(
                     report.errors,
                     0,
-                    "{:?} {} space, modes {:?}, motors {:?}, {point}: {:?}",
+                    "{:?} {} space, modes {:?}, motors {:?} {:?}, {point}: {:?}",
                     f.kind(),
                     f.space(),
                     f.modes(),
                     f.motor_dynamics(),
+                    f.envelope(),
                     &report.flagged[..report.flagged.len().min(10)]
                 );
             }
@@ -696,6 +792,68 @@ mod tests {
         }
     }
 
+    /// The envelope rows: the hard kind's rows hold tau_u +- c G v within the torque limit at
+    /// the nodes 0 < k < N; the elastic kind's are the same at zero slack, and a speed slack
+    /// moves them as it moves the motor speeds, by c B d (B = G A^-1: the identity in mode
+    /// `exact`, G in the box modes).
+    #[test]
+    fn envelope_rows_hold_motor_torque_and_relaxed_motor_speed() {
+        let formulations = all_formulations();
+        let hard = formulations
+            .iter()
+            .filter(|f| f.kind() == ProblemKind::Hard && f.envelope().is_some());
+        for hard in hard {
+            let elastic = hard.elastic();
+            let ratios = [7.0, 4.0, 2.0, 1.5];
+            let (mut p, mut q) = (
+                hard.problem(&ratios).unwrap(),
+                elastic.problem(&ratios).unwrap(),
+            );
+            let envelope = hard.envelope().unwrap();
+            let (layout, n) = (elastic.layout(), p.num_variables());
+            let mut x = random_point(&q, 5);
+            let constraints = |problem: &mut TrajectoryProblem<'_>, x: &[f64]| {
+                let mut g = vec![0.0; problem.num_constraints()];
+                problem.constraints(x, true, &mut g).unwrap();
+                g
+            };
+            let (g_hard, g) = (constraints(&mut p, &x[..n]), constraints(&mut q, &x));
+            let [_, _, row_lower, row_upper] = all_bounds(hard, &ratios);
+            let g_matrix = p.coupling().matrix().clone();
+            for k in 0..hard.layout().steps {
+                let (_, v, _) = hard.layout().node_state(&x, k);
+                let u = &x[hard.layout().u(k, 0)..hard.layout().u(k, 0) + 4];
+                let (torques, speeds) = (p.motor_torques(u), p.coupling().motor_speeds(v));
+                for (i, side) in (0..4).flat_map(|i| Side::BOTH.map(|side| (i, side))) {
+                    let Some(row) = hard.layout().envelope_row(k, i, side) else {
+                        assert_eq!(k, 0);
+                        continue;
+                    };
+                    let expected = torques[i] + side.sign() * envelope.slope(i) * speeds[i];
+                    assert!((g_hard[row] - expected).abs() < 1e-12);
+                    let limit = hard.motor_torque_limits()[i];
+                    assert_eq!((row_lower[row], row_upper[row]), (-limit, limit));
+                    assert_eq!(g[layout.envelope_row(k, i, side).unwrap()], g_hard[row]);
+                }
+            }
+            let [plus, _] = layout.excess_slack(2, 1).unwrap();
+            x[plus] = 0.25;
+            let shifted = constraints(&mut q, &x);
+            for (i, side) in (0..4).flat_map(|i| Side::BOTH.map(|side| (i, side))) {
+                let row = layout.envelope_row(2, i, side).unwrap();
+                let b = match hard.modes().speed {
+                    LimitMode::Exact => f64::from(u8::from(i == 1)),
+                    LimitMode::Paper | LimitMode::Interval => g_matrix[(i, 1)],
+                };
+                let expected = -0.25 * side.sign() * envelope.slope(i) * b;
+                assert!(
+                    (shifted[row] - g[row] - expected).abs() < 1e-12,
+                    "{i} {side:?}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn original_design_has_the_papers_joint_torque_bounds() {
         let f = formulation(Space::Joint, LimitMode::Paper, LimitMode::Exact, 0.0);
@@ -730,14 +888,16 @@ mod tests {
         [lower, upper, row_lower, row_upper]
     }
 
-    /// [`all_formulations`]' hard kinds with the task's motors replaced by `motors`.
+    /// [`all_formulations`]' hard kinds with the task's motor limits replaced by those of
+    /// `motors` (ideal motors), the motor model's keys kept.
     fn with_motors(motors: &crate::model::task::Motors) -> Vec<Formulation> {
         all_formulations()
             .into_iter()
             .filter(|f| f.kind() == ProblemKind::Hard)
             .map(|f| {
                 let mut task = f.task().clone();
-                task.motors = motors.clone();
+                task.motors.torque_limit_nm = motors.torque_limit_nm.clone();
+                task.motors.speed_limit_rad_s = motors.speed_limit_rad_s.clone();
                 Formulation::new(&task, f.dynamics().robot().clone(), f.space(), *f.modes())
                     .unwrap()
             })
@@ -810,6 +970,12 @@ mod tests {
                     JointLimits::Linear { .. } => {
                         let row = layout.speed_row(k, i).unwrap();
                         assert_eq!((row_lower[row], row_upper[row]), (-speeds[i], speeds[i]));
+                    }
+                }
+                for row in Side::BOTH.map(|side| layout.envelope_row(k, i, side)) {
+                    assert_eq!(row.is_some(), f.envelope().is_some());
+                    if let Some(row) = row {
+                        assert_eq!((row_lower[row], row_upper[row]), (-torques[i], torques[i]));
                     }
                 }
             }

@@ -9,6 +9,9 @@
 //!   -dG_l^T u in actuation space, RNEA - G^T u);
 //! - the motor-speed rows G v and the motor-torque rows G^-T u of the `exact` modes
 //!   (d(G^-T)/dr_l = -G^-T dG_l^T G^-T);
+//! - the torque-speed envelope's rows tau_u(u) +- c (G v + B d): d(tau_u)/dr_l (0 in actuation
+//!   space, d(G^-T)/dr_l u in joint space) +- c (dG_l v + dB_l d), with d the elastic kind's
+//!   speed relaxation and dB_l = dG_l in its box speed modes, 0 otherwise;
 //! - the variable bounds of the `paper` and `interval` modes (d/dr_l of |sum_j A_ij l_j| and
 //!   sum_j |A_ij| l_j, with A = G^T for torques and G^-1 for speeds and l_j motor j's own
 //!   limit), and the same bounds on the speed rows v_k of the elastic kind, where the active
@@ -21,7 +24,7 @@
 use super::{Space, TrajectoryProblem};
 use crate::ipopt::Solution;
 use crate::model::task::LimitMode;
-use crate::transmission::limit_weights;
+use crate::transmission::{limit_weights, Side};
 use nalgebra::{DMatrix, DVector, RowDVector};
 
 /// d(upper bound)/dr of the box limits |x_i| <= b_i(r) of a mode, for A(r), dA/dr and the
@@ -68,6 +71,47 @@ fn box_bound_derivative(
     }
 }
 
+/// lambda . d/dr_l of node k's envelope rows at `solution`, for `dg` = dG/dr_l (0 where the node
+/// has none): with lambda_P and lambda_M the multipliers of the rows P = tau_u + c w and
+/// M = tau_u - c w, w = G v + B d the motor speeds they see,
+/// (lambda_P + lambda_M) . d(tau_u)/dr_l + (lambda_P - lambda_M) . c (dG_l v + dB_l d).
+fn envelope_term(
+    problem: &TrajectoryProblem<'_>,
+    solution: &Solution,
+    k: usize,
+    dg: &DMatrix<f64>,
+) -> f64 {
+    let f = problem.formulation();
+    let layout = f.layout();
+    let (Some(envelope), Some(plus), Some(minus)) = (
+        f.envelope(),
+        layout.envelope_row(k, 0, Side::Plus),
+        layout.envelope_row(k, 0, Side::Minus),
+    ) else {
+        return 0.0;
+    };
+    let n = layout.dof;
+    let (x, lambda) = (&solution.x, &solution.lambda);
+    let (lambda_plus, lambda_minus) = (&lambda[plus..plus + n], &lambda[minus..minus + n]);
+    let v = DVector::from_column_slice(&x[layout.v(k, 0)..layout.v(k, 0) + n]);
+    let mut speed_derivative = dg * v;
+    // B = G in the elastic kind's box speed modes (dB = dG), the identity in mode `exact`.
+    if let (Some(d), LimitMode::Paper | LimitMode::Interval) =
+        (problem.speed_relaxation(x, k), f.modes().speed)
+    {
+        speed_derivative += dg * d;
+    }
+    let u = &x[layout.u(k, 0)..layout.u(k, 0) + n];
+    let torque_derivative = problem.actuation().motor_torque_derivative(dg, u);
+    (0..n)
+        .map(|i| {
+            let torque = torque_derivative.as_ref().map_or(0.0, |d| d[i]);
+            (lambda_plus[i] + lambda_minus[i]) * torque
+                + (lambda_plus[i] - lambda_minus[i]) * envelope.slope(i) * speed_derivative[i]
+        })
+        .sum()
+}
+
 /// dJ*/dr at `solution`, a solution of `problem` (one entry per ratio). For the elastic kind
 /// (docs/model.md, section 14) the derivative of its optimal penalised objective: its slacks
 /// and their penalty do not depend on r, and the box speed limits it holds as rows enter
@@ -112,6 +156,7 @@ pub fn cost_gradient(problem: &TrajectoryProblem<'_>, solution: &Solution) -> Ve
                     // G^-T u differentiates to -G^-T dG^T G^-T u = dG_inv^T u.
                     total += multipliers(row).dot(&dg_inv.tr_mul(&u));
                 }
+                total += envelope_term(problem, solution, k, &dg);
             }
             // Bounds x_L = -b(r), x_U = b(r): dL/dr = z_L . dx_L/dr - z_U . dx_U/dr
             // = -(z_L + z_U) . db/dr.

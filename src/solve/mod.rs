@@ -23,6 +23,9 @@ pub use result::{
 };
 pub use run::{solve_design, solve_design_from, solve_elastic};
 pub use settings::{SettingsError, SolveSettings, TaskRecord, DEFAULT_MAX_ITER, DEFAULT_TOL};
+pub use verify::{least_envelope_margin, EnvelopeMargin};
 
+#[cfg(test)]
+mod envelope_tests;
 #[cfg(test)]
 mod tests;

@@ -2,7 +2,9 @@
 //! read from IPOPT's solution.
 
 use crate::ipopt::{LinearSolver, Nlp, Solution};
-use crate::problem::{cost_gradient, relaxation, ProblemKind, StaticHold, TrajectoryProblem};
+use crate::problem::{
+    cost_gradient, relaxation, Formulation, ProblemKind, StaticHold, TrajectoryProblem,
+};
 use serde::{Deserialize, Serialize};
 
 /// Which program and solver produced a result file.
@@ -117,7 +119,8 @@ pub struct ElasticMeasures {
     /// the horizon (times the step h), N m s.
     pub torque_deficit: f64,
     /// The speed above the limit (motor speeds in mode `exact`, joint speeds else), summed over
-    /// rows and integrated over the horizon, rad.
+    /// rows and integrated over the horizon, rad; where the motors have a torque-speed envelope,
+    /// the speed its rows are relieved of as well (docs/model.md, section 14).
     pub speed_excess: f64,
     /// The largest single slack, N m or rad/s; the design is feasible when it is at most the
     /// solve settings' `tol`.
@@ -147,6 +150,10 @@ pub struct Violations {
     pub control_limits: f64,
     /// The soft Cartesian box (penalised, not enforced), m.
     pub cartesian_box: f64,
+    /// The motors' torque-speed envelope at the nodes 0 < k < N, N m: |tau_u,i| + c_i |w_i|
+    /// above tau_max,i (docs/model.md, section 5). Absent without `motors.no_load_speed_rad_s`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motor_envelope: Option<f64>,
 }
 
 /// The result of one trajectory solve.
@@ -213,7 +220,7 @@ pub(super) fn read_result(
     let static_hold = problem.static_hold();
     let reasons: Vec<String> = [
         static_hold.reason(),
-        infeasibility(solution, elastic.as_ref(), tol),
+        infeasibility(f, solution, elastic.as_ref(), tol),
     ]
     .into_iter()
     .flatten()
@@ -277,9 +284,11 @@ fn cost_and_measures(
     (objective - relaxed.penalty, Some(measures))
 }
 
-/// Why `solution` is infeasible, if it is: IPOPT found no optimum, or (elastic) a slack exceeds
-/// `tol` (the solve settings' `tol`, N m or rad/s).
+/// Why `solution`, a solution of a problem of `formulation`, is infeasible, if it is: IPOPT
+/// found no optimum, or (elastic) a slack exceeds `tol` (the solve settings' `tol`, N m or
+/// rad/s). The speed excess relaxes the torque-speed envelope too, where the motors have one.
 fn infeasibility(
+    formulation: &Formulation,
     solution: &Solution,
     elastic: Option<&ElasticMeasures>,
     tol: f64,
@@ -287,9 +296,13 @@ fn infeasibility(
     if !solution.status.is_success() {
         return Some(format!("IPOPT returned {}", solution.status.name()));
     }
+    let limits = match formulation.envelope() {
+        Some(_) => "the speed limit or the torque-speed envelope",
+        None => "the speed limit",
+    };
     elastic.filter(|e| e.largest_slack > tol).map(|e| {
         format!(
-            "the design lacks {:.3e} N m s of torque and exceeds the speed limit by {:.3e} rad",
+            "the design lacks {:.3e} N m s of torque and exceeds {limits} by {:.3e} rad",
             e.torque_deficit, e.speed_excess
         )
     })

@@ -119,7 +119,7 @@ fn the_settings_reach_ipopt() {
 
 /// Checks `gradient` at `ratios` against central differences (step 1e-4) of `value`, to 1e-4
 /// relative to its largest entry; `label` names the case.
-fn assert_matches_differences(
+pub(super) fn assert_matches_differences(
     label: &str,
     gradient: &[f64],
     ratios: [f64; 4],
@@ -186,7 +186,7 @@ fn cost_gradient_matches_differences_of_resolved_problems() {
 
 /// Checks dJ*/dr of `task` in `space` with `modes` at `ratios` (a feasible design) against
 /// central differences of re-solved problems.
-fn assert_cost_gradient(task: &Task, space: Space, modes: LimitModes, ratios: [f64; 4]) {
+pub(super) fn assert_cost_gradient(task: &Task, space: Space, modes: LimitModes, ratios: [f64; 4]) {
     let settings = SolveSettings {
         tol: 1e-11,
         ..crate::testing::settings()
@@ -386,7 +386,7 @@ fn cost_gradient_with_scaled_entries_matches_differences() {
 
 /// The task with rotor inertia (kg m^2) and viscous friction (N m s/rad) set per motor: a
 /// geared servo's order of magnitude, reflected by r^2 and r into the joints.
-fn with_motor_terms(task: &Task) -> Task {
+pub(super) fn with_motor_terms(task: &Task) -> Task {
     let mut task = task.clone();
     task.motors.rotor_inertia_kgm2 = Some(PerMotor::Each(vec![1e-4, 1e-4, 5e-5, 5e-5]));
     task.motors.viscous_friction_nm_s_per_rad = Some(PerMotor::Each(vec![2e-3, 2e-3, 1e-3, 1e-3]));

@@ -4,7 +4,7 @@
 
 use super::result::{Trajectory, Violations};
 use crate::model::task::Motion;
-use crate::problem::TrajectoryProblem;
+use crate::problem::{Formulation, TrajectoryProblem};
 use crate::transmission::JointLimits;
 
 /// The largest |value|, 0 for none.
@@ -52,8 +52,50 @@ impl Violations {
                 .map(|k| limit_violation(&control, &x[layout.u(k, 0)..layout.u(k, 0) + n]))
                 .fold(0.0, f64::max),
             cartesian_box: box_violation(problem, trajectory),
+            motor_envelope: least_envelope_margin(f, trajectory)
+                .map(|least| (-least.margin_nm).max(0.0)),
         }
     }
+}
+
+/// Where a trajectory comes closest to its motors' torque-speed envelope.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnvelopeMargin {
+    /// tau_max,i (1 - |w_i|/w_0,i) - |tau_u,i| there, N m: negative by what the motor lacks.
+    pub margin_nm: f64,
+    /// The motor (0-based, row of G).
+    pub motor: usize,
+    /// The node k.
+    pub node: usize,
+}
+
+/// The least envelope margin of `trajectory` over the motors and the nodes 0 < k < N (those
+/// with envelope rows; at node 0, v_0 = 0 and the envelope is the torque limit), with motor
+/// torques u (actuation space) or G^-T u (joint space) and motor speeds G v as the trajectory
+/// records them; None without an envelope or without such nodes.
+pub fn least_envelope_margin(
+    formulation: &Formulation,
+    trajectory: &Trajectory,
+) -> Option<EnvelopeMargin> {
+    let envelope = formulation.envelope()?;
+    let nodes = trajectory.motor_torque.iter().zip(&trajectory.motor_speed);
+    nodes
+        .enumerate()
+        .skip(1)
+        .flat_map(|(node, (torques, speeds))| {
+            (0..envelope.motors()).map(move |motor| EnvelopeMargin {
+                margin_nm: envelope.margin(motor, torques[motor], speeds[motor]),
+                motor,
+                node,
+            })
+        })
+        .reduce(|least, next| {
+            if next.margin_nm < least.margin_nm {
+                next
+            } else {
+                least
+            }
+        })
 }
 
 /// The largest |RNEA(q, v, a) - tau| over the intervals, N m.

@@ -105,6 +105,8 @@ pub struct Actuation {
     control_map: DMatrix<f64>,
     /// G^-T, the motor torques of joint torques.
     motor_of_joint: DMatrix<f64>,
+    /// d(tau_u)/du: the identity in actuation space, G^-T in joint space.
+    motor_of_control: DMatrix<f64>,
     /// None for ideal motors.
     reflected: Option<Reflected>,
 }
@@ -119,6 +121,10 @@ impl Actuation {
             Space::Joint => DMatrix::identity(n, n),
         };
         let motor_of_joint = coupling.inverse().transpose();
+        let motor_of_control = match space {
+            Space::Actuation => DMatrix::identity(n, n),
+            Space::Joint => motor_of_joint.clone(),
+        };
         let reflected = motors.map(|motors| {
             let diagonal =
                 |values: &[f64]| DMatrix::from_diagonal(&DVector::from_column_slice(values));
@@ -139,6 +145,7 @@ impl Actuation {
             coupling,
             control_map,
             motor_of_joint,
+            motor_of_control,
             reflected,
         }
     }
@@ -161,6 +168,24 @@ impl Actuation {
     /// G^-T = d(tau_u)/d(tau) (row = motor, column = joint).
     pub fn motor_of_joint(&self) -> &DMatrix<f64> {
         &self.motor_of_joint
+    }
+
+    /// d(tau_u)/du = d(motor torque)/d(control) (row = motor, column = control): the identity
+    /// in actuation space, G^-T in joint space.
+    pub fn motor_of_control(&self) -> &DMatrix<f64> {
+        &self.motor_of_control
+    }
+
+    /// d/dr_l of the motor torques tau_u(u) of control u at fixed u, for `dg` = dG/dr_l: 0 in
+    /// actuation space (None), d(G^-T)/dr_l u = -G^-T dG_l^T G^-T u in joint space.
+    pub fn motor_torque_derivative(&self, dg: &DMatrix<f64>, u: &[f64]) -> Option<DVector<f64>> {
+        match self.space {
+            Space::Actuation => None,
+            Space::Joint => {
+                let dg_inv = self.inverse_derivative(dg);
+                Some(dg_inv.tr_mul(&DVector::from_column_slice(u)))
+            }
+        }
     }
 
     /// Joint torques C u of control u at a node, N m.
@@ -271,7 +296,8 @@ mod tests {
     use super::*;
     use crate::transmission::fixtures::belt_arm;
 
-    /// The residual's r-derivative against central differences of the residual, both spaces.
+    /// The residual's and the motor torques' r-derivatives against central differences, both
+    /// spaces.
     #[test]
     fn residual_derivative_matches_finite_differences() {
         let t = belt_arm();
@@ -287,7 +313,15 @@ mod tests {
                 minus[l] -= h;
                 let at = |r: &[f64]| Actuation::new(t.coupling(r).unwrap(), space, motors.as_ref());
                 let (p, m) = (at(&plus), at(&minus));
-                let exact = at(&r).residual_derivative(&t.matrix_derivative(l), state, &u);
+                let dg = t.matrix_derivative(l);
+                let exact = at(&r).residual_derivative(&dg, state, &u);
+                let torque = at(&r).motor_torque_derivative(&dg, &u);
+                let (tp, tm) = (p.motor_torques(&u), m.motor_torques(&u));
+                for i in 0..4 {
+                    let fd = (tp[i] - tm[i]) / (2.0 * h);
+                    let value = torque.as_ref().map_or(0.0, |d| d[i]);
+                    assert!((fd - value).abs() < 1e-7, "{space} r{l} motor torque {i}");
+                }
                 for i in 0..4 {
                     let fd = (p.residual(i, &tau, state, &u) - m.residual(i, &tau, state, &u))
                         / (2.0 * h);
@@ -320,8 +354,13 @@ mod tests {
         let actuation = Actuation::new(coupling.clone(), Space::Actuation, None);
         assert_eq!(actuation.joint_torques(&u), coupling.joint_torques(&u));
         assert_eq!(actuation.motor_torques(&u), u);
+        assert_eq!(
+            actuation.motor_of_control(),
+            &DMatrix::<f64>::identity(4, 4)
+        );
         let joint = Actuation::new(coupling.clone(), Space::Joint, None);
         assert_eq!(joint.joint_torques(&u), u);
+        assert_eq!(joint.motor_of_control(), joint.motor_of_joint());
         let back = joint.motor_torques(&u);
         let expected = coupling.motor_torques(&u);
         assert!(back

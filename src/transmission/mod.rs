@@ -9,17 +9,20 @@
 //! - `design_space`: bounds, order constraints, the original design, checks and projection;
 //! - `coupling`: G(r), dG/dr_i, and G with its inverse at one design;
 //! - `limits`: the joint torque and speed limits of each [`LimitMode`](crate::model::task::LimitMode);
-//! - `actuation`: the controls' map to joint and motor torques at one design ([`Actuation`]).
+//! - `actuation`: the controls' map to joint and motor torques at one design ([`Actuation`]);
+//! - `envelope`: the motors' linear torque-speed envelope ([`Envelope`]).
 
 mod actuation;
 mod coupling;
 mod design_space;
+mod envelope;
 mod limits;
 mod spec;
 
 pub use actuation::{Actuation, MotorDynamics, Space};
 pub use coupling::Coupling;
 pub use design_space::{DesignError, DesignSpace, HalfSpace, OrderConstraint};
+pub use envelope::{Envelope, Side};
 pub use limits::{limit_weights, JointLimits};
 pub use spec::SpecError;
 
