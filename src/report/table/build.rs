@@ -15,6 +15,7 @@ use crate::problem::Space;
 use crate::solve::ToolInfo;
 use crate::solve::TrajectoryResult;
 use crate::stats::median;
+use crate::transmission::Envelope;
 
 /// Builds the table from result files: solves of the original design give "before"; co-design
 /// runs give "after" (the best over their seeds) and, if no solve did, "before" too. The
@@ -92,8 +93,28 @@ fn range_row(doc: &OptimizeDocument) -> Option<RangeRow> {
     })
 }
 
+/// Whether every motor stays inside its torque-speed envelope (when `motors` has one) at the
+/// nodes after the first (where the problem holds it), to 1e-6 of its torque limit.
+fn within_envelope(result: &TrajectoryResult, motors: &Motors) -> bool {
+    let t = &result.trajectory;
+    let count = t.motor_torque.first().map_or(0, Vec::len);
+    Envelope::of(motors, count).is_none_or(|envelope| {
+        t.motor_torque
+            .iter()
+            .zip(&t.motor_speed)
+            .skip(1)
+            .all(|(torques, speeds)| {
+                (0..count).all(|motor| {
+                    let margin = envelope.margin(motor, torques[motor], speeds[motor]);
+                    margin >= -1e-6 * envelope.torque_limit(motor)
+                })
+            })
+    })
+}
+
 /// One design's cell; the motors can execute it when each motor's largest torque and speed
-/// on its trajectory are within that motor's own limits in `motors` to 1e-6 relative.
+/// on its trajectory are within that motor's own limits in `motors` to 1e-6 relative, and
+/// within its torque-speed envelope when the task gives one.
 fn cell(result: &TrajectoryResult, motors: &Motors) -> DesignCell {
     let within = |peaks: Vec<f64>, limits: &PerMotor| {
         peaks.iter().enumerate().all(|(motor, &peak)| {
@@ -105,7 +126,8 @@ fn cell(result: &TrajectoryResult, motors: &Motors) -> DesignCell {
     let t = &result.trajectory;
     DesignCell {
         motors_can_execute: within(t.motor_torque_peaks(), &motors.torque_limit_nm)
-            && within(t.motor_speed_peaks(), &motors.speed_limit_rad_s),
+            && within(t.motor_speed_peaks(), &motors.speed_limit_rad_s)
+            && within_envelope(result, motors),
         ratios: result.ratios.clone(),
         feasible: result.feasible,
         cost: result.cost,
@@ -367,4 +389,28 @@ fn linear_solvers(files: &[ResultFile]) -> Vec<LinearSolver> {
     solvers.sort_by_key(|solver| solver.name());
     solvers.dedup();
     solvers
+}
+
+#[cfg(test)]
+mod tests {
+    use super::cell;
+    use crate::design::run::OptimizeDocument;
+    use crate::model::task::PerMotor;
+
+    #[test]
+    fn motors_execute_a_design_only_inside_their_torque_speed_envelope() {
+        // The best 1 kg design co-designed with a no-load speed of 149 rad/s: inside its
+        // envelope; the same trajectory under a slower motor (60 rad/s) leaves it.
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("results/motors/envelope/runs/actuation-1kg-seed0.json");
+        let text = std::fs::read_to_string(path).unwrap();
+        let document: OptimizeDocument = serde_json::from_str(&text).unwrap();
+        let result = document.best_result.as_ref().expect("a feasible best design");
+        let mut motors = document.inputs.task.task.motors.clone();
+        assert!(result.feasible && cell(result, &motors).motors_can_execute);
+        motors.no_load_speed_rad_s = Some(PerMotor::All(60.0));
+        assert!(!cell(result, &motors).motors_can_execute);
+        motors.no_load_speed_rad_s = None;
+        assert!(cell(result, &motors).motors_can_execute);
+    }
 }
