@@ -405,7 +405,10 @@ mod tests {
             .join("results/motors/envelope/runs/actuation-1kg-seed0.json");
         let text = std::fs::read_to_string(path).unwrap();
         let document: OptimizeDocument = serde_json::from_str(&text).unwrap();
-        let result = document.best_result.as_ref().expect("a feasible best design");
+        let result = document
+            .best_result
+            .as_ref()
+            .expect("a feasible best design");
         let mut motors = document.inputs.task.task.motors.clone();
         assert!(result.feasible && cell(result, &motors).motors_can_execute);
         motors.no_load_speed_rad_s = Some(PerMotor::All(60.0));
