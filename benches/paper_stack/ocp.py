@@ -39,6 +39,9 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 DEFAULT_TASK = os.path.join(ROOT, "robots", "tasks", "pick_place.json")
+# A static hold margin down to minus this counts as held, N m (the crate's HOLD_TOLERANCE_NM:
+# rounding of g(q), never a real shortfall).
+HOLD_TOLERANCE_NM = 1e-9
 
 
 # ----------------------------------------------------------------------------------------------
@@ -274,6 +277,22 @@ def transmission_matrix(task, r):
     return np.array(rows)
 
 
+def transmission_matrix_sx(task, r):
+    """G(r) as a CasADi SX matrix of the symbols r (the ratios as NLP parameters), with the
+    task's zeros structural, entry for entry the numbers of `transmission_matrix`."""
+    rows = task["transmission"]["matrix"]
+    G = ca.SX(len(rows), len(rows[0]))
+    for i, row in enumerate(rows):
+        for j, e in enumerate(row):
+            if isinstance(e, str):
+                name = e.lstrip("+-")
+                ratio = r[int(name[1:]) - 1]
+                G[i, j] = -ratio if e.startswith("-") else ratio
+            elif float(e) != 0.0:
+                G[i, j] = float(e)
+    return G
+
+
 def _box(lo, hi):
     """Elementwise box; where the two values come out reversed, from the smaller to the larger."""
     return np.minimum(lo, hi), np.maximum(lo, hi)
@@ -316,11 +335,17 @@ class TrajectoryOCP:
     """One trajectory problem (space, payload, ratios, modes), built once; `solve()` runs IPOPT.
 
     Attributes after construction: `solver` (the casadi nlpsol Function) and `args` (x0, lbx,
-    ubx, lbg, ubg), so that `solver(**args)` is exactly one solve from the standard guess."""
+    ubx, lbg, ubg, and p when parametric), so that `solver(**args)` is exactly one solve from
+    the standard guess.
+
+    `parametric=True` makes the ratios a parameter p of the NLP instead of numbers: the problem
+    is built once and `solve_design(r)` solves any design with it (as a co-design loop would).
+    Only where no variable bound depends on r: the actuation space with speed mode `exact` (the
+    task's defaults), whose r enters only the dynamics rows (G^T u) and the speed rows (G v)."""
 
     def __init__(self, task=None, space="actuation", payload_kg=None, ratios=None,
                  torque_mode=None, speed_mode=None, linear_solver="mumps", print_level=0,
-                 extra_options=None, jit=False):
+                 extra_options=None, jit=False, parametric=False):
         task = task if task is not None else load_task()
         self.task = task
         self.space = space
@@ -346,13 +371,30 @@ class TrajectoryOCP:
         w_max = float(task["motors"]["speed_limit_rad_s"])
         G = transmission_matrix(task, self.ratios)
         self.G = G
+        self.parametric = bool(parametric)
+        if self.parametric and (space != "actuation" or self.speed_mode != "exact"):
+            raise ValueError(f"parametric ratios need the actuation space and speed mode exact "
+                             f"(no bound depends on r); got {space} space, speed mode "
+                             f"{self.speed_mode}")
+        # r as the NLP's parameter, or G's numbers
+        self.r = ca.SX.sym("r", len(self.ratios)) if self.parametric else None
+        G_nlp = transmission_matrix_sx(task, self.r) if self.parametric else ca.DM(G)
+        self._q_ends = (q_start, q_goal)
+        self._tau_max = tau_max
         qlo = np.array([j.lower for j in chain])
         qhi = np.array([j.upper for j in chain])
 
         # One node's dynamics residual as a CasADi Function, called N times (inlined into SX).
         qs, vs, as_, us = (ca.SX.sym(s, n) for s in ("q", "v", "a", "u"))
-        tau = ca.mtimes(ca.DM(G).T, us) if space == "actuation" else us
-        dyn = ca.Function("dyn", [qs, vs, as_, us], [self.model.rnea(qs, vs, as_) - tau])
+        tau = ca.mtimes(G_nlp.T, us) if space == "actuation" else us
+        if self.parametric:
+            dyn = ca.Function("dyn", [qs, vs, as_, us, self.r],
+                              [self.model.rnea(qs, vs, as_) - tau])
+        else:
+            dyn = ca.Function("dyn", [qs, vs, as_, us], [self.model.rnea(qs, vs, as_) - tau])
+        # The static torques g(q) (gravity with the payload, v = a = 0) of the hold check.
+        zero = ca.SX.zeros(n)
+        self.gravity = ca.Function("gravity", [qs], [self.model.rnea(qs, zero, zero)])
         # Cost of one node's position: the soft Cartesian box on the TCP's world y and z.
         p = self.model.tcp_position(qs)
         box_cost = 0
@@ -367,6 +409,8 @@ class TrajectoryOCP:
 
         # Limits of the chosen modes.
         speed = speed_limits(G, self.speed_mode, w_max)
+        if self.parametric:
+            speed = ("rows", G_nlp) + speed[2:]
         if space == "actuation":
             control = ("box", -tau_max * np.ones(n), tau_max * np.ones(n))
         else:
@@ -413,12 +457,14 @@ class TrajectoryOCP:
         J = 0
         for k in range(N):
             # node k's rows: dynamics, velocity, position, then the linear limit rows
-            g += [dyn(Q[k], V[k], A[k], U[k]),
+            params = [self.r] if self.parametric else []
+            g += [dyn(Q[k], V[k], A[k], U[k], *params),
                   V[k + 1] - V[k] - h * A[k],
                   Q[k + 1] - Q[k] - h * V[k + 1]]
             lbg += [0.0] * (3 * n); ubg += [0.0] * (3 * n)
             if speed[0] == "rows" and k > 0:
-                g.append(ca.mtimes(ca.DM(speed[1]), V[k]))
+                rows = speed[1] if self.parametric else ca.DM(speed[1])
+                g.append(ca.mtimes(rows, V[k]))
                 lbg += list(speed[2]); ubg += list(speed[3])
             if control[0] == "rows":
                 g.append(ca.mtimes(ca.DM(control[1]), U[k]))
@@ -429,6 +475,8 @@ class TrajectoryOCP:
         self.g = ca.vertcat(*g)
         self.J = J
         self.nlp = {"x": self.x, "f": J, "g": self.g}
+        if self.parametric:
+            self.nlp["p"] = self.r
         solver_cfg = task.get("solver", {})
         ipopt = {
             "tol": float(solver_cfg.get("tol", 1e-8)),
@@ -449,6 +497,8 @@ class TrajectoryOCP:
         self.solver = ca.nlpsol("trajectory", "ipopt", self.nlp, opts)
         self.args = {"x0": np.array(x0), "lbx": np.array(lbx), "ubx": np.array(ubx),
                      "lbg": np.array(lbg), "ubg": np.array(ubg)}
+        if self.parametric:
+            self.args["p"] = np.array(self.ratios, dtype=float)
         self._layout = (n, N)
 
     def solve(self):
@@ -456,6 +506,34 @@ class TrajectoryOCP:
         success, the raw solution)."""
         sol = self.solver(**self.args)
         return self.result(sol)
+
+    def solve_design(self, ratios):
+        """One solve of design `ratios` from the standard initial guess, with the problem built
+        once (`parametric=True`); returns what `solve()` does."""
+        if not self.parametric:
+            raise ValueError("solve_design needs a problem built with parametric=True")
+        sol = self.solver(**dict(self.args, p=np.asarray(ratios, dtype=float)))
+        return self.result(sol)
+
+    def static_hold(self, ratios=None):
+        """The load held at rest (docs/model.md, section 6) of design `ratios` (the problem's own
+        by default), without IPOPT: at the start and the goal the static torques g(q), with the
+        payload, mapped to the problem's control (G^-T g in actuation space, g in joint space),
+        against its control limits. Returns (holds, margins): margins per end, N m, the limit
+        minus |the row's static torque| per row; a row holds down to -HOLD_TOLERANCE_NM."""
+        G = transmission_matrix(self.task, self.ratios if ratios is None else ratios)
+        n, tau_max = self.n, self._tau_max
+        if self.space == "actuation":
+            rows, lo, hi = np.linalg.inv(G).T, -tau_max * np.ones(n), tau_max * np.ones(n)
+        else:
+            limits = torque_limits(G, self.torque_mode, tau_max)
+            rows, lo, hi = (np.eye(n),) + limits[1:] if limits[0] == "box" else limits[1:]
+        margins = {}
+        for end, q in zip(("start", "goal"), self._q_ends):
+            value = rows @ np.array(self.gravity(q)).ravel()
+            margins[end] = np.minimum(hi - value, value - lo)
+        holds = all(np.all(m >= -HOLD_TOLERANCE_NM) for m in margins.values())
+        return holds, margins
 
     def result(self, sol):
         stats = self.solver.stats()
