@@ -23,7 +23,7 @@ pub use result::{
 };
 pub use run::{solve_design, solve_design_from, solve_elastic};
 pub use settings::{SettingsError, SolveSettings, TaskRecord, DEFAULT_MAX_ITER, DEFAULT_TOL};
-pub use verify::{least_envelope_margin, EnvelopeMargin};
+pub use verify::{envelope_margins, least_envelope_margin, EnvelopeMargin};
 
 #[cfg(test)]
 mod envelope_tests;

@@ -5,7 +5,7 @@
 use super::result::{Trajectory, Violations};
 use crate::model::task::Motion;
 use crate::problem::{Formulation, TrajectoryProblem};
-use crate::transmission::JointLimits;
+use crate::transmission::{Envelope, JointLimits};
 
 /// The largest |value|, 0 for none.
 pub(super) fn max_abs(values: impl IntoIterator<Item = f64>) -> f64 {
@@ -69,33 +69,39 @@ pub struct EnvelopeMargin {
     pub node: usize,
 }
 
-/// The least envelope margin of `trajectory` over the motors and the nodes 0 < k < N (those
-/// with envelope rows; at node 0, v_0 = 0 and the envelope is the torque limit), with motor
-/// torques u (actuation space) or G^-T u (joint space) and motor speeds G v as the trajectory
-/// records them; None without an envelope or without such nodes.
-pub fn least_envelope_margin(
-    formulation: &Formulation,
-    trajectory: &Trajectory,
-) -> Option<EnvelopeMargin> {
-    let envelope = formulation.envelope()?;
+/// The envelope margin of every motor at the nodes 0 < k < N of `trajectory` (those with
+/// envelope rows; at node 0, v_0 = 0 and the envelope is the torque limit), with motor torques u
+/// (actuation space) or G^-T u (joint space) and motor speeds G v as the trajectory records them.
+pub fn envelope_margins<'a>(
+    envelope: &'a Envelope,
+    trajectory: &'a Trajectory,
+) -> impl Iterator<Item = EnvelopeMargin> + 'a {
     let nodes = trajectory.motor_torque.iter().zip(&trajectory.motor_speed);
     nodes
         .enumerate()
         .skip(1)
-        .flat_map(|(node, (torques, speeds))| {
+        .flat_map(move |(node, (torques, speeds))| {
             (0..envelope.motors()).map(move |motor| EnvelopeMargin {
                 margin_nm: envelope.margin(motor, torques[motor], speeds[motor]),
                 motor,
                 node,
             })
         })
-        .reduce(|least, next| {
-            if next.margin_nm < least.margin_nm {
-                next
-            } else {
-                least
-            }
-        })
+}
+
+/// The least of [`envelope_margins`] under the formulation's envelope; None without an
+/// envelope or without such nodes.
+pub fn least_envelope_margin(
+    formulation: &Formulation,
+    trajectory: &Trajectory,
+) -> Option<EnvelopeMargin> {
+    envelope_margins(formulation.envelope()?, trajectory).reduce(|least, next| {
+        if next.margin_nm < least.margin_nm {
+            next
+        } else {
+            least
+        }
+    })
 }
 
 /// The largest |RNEA(q, v, a) - tau| over the intervals, N m.

@@ -202,17 +202,7 @@ fn finish(
     create_folder(&plan.out_dir.join("capacity")).map_err(|e| e.to_string())?;
     write_case_plots(plan, task, &outcomes.runs)?;
     let mut capacities = outcomes.original_capacities;
-    for &payload in &plan.experiment.codesign_payloads_kg {
-        for space in SPACES {
-            let name = format!("{space}-{payload}kg-best");
-            if let Some(best) = best_of(&outcomes.runs, payload, space) {
-                let ratios = best.ratios.clone();
-                capacities.push(stages::capacity_document(plan, task, space, ratios, &name)?);
-            } else {
-                remove_stale_output(&plan.capacity_file(&name))?;
-            }
-        }
-    }
+    capacities.extend(best_capacities(plan, task, &outcomes.runs)?);
     let runs = outcomes.runs;
     let beyond: Vec<&OptimizeDocument> = outcomes
         .gradient_runs
@@ -295,6 +285,28 @@ fn best_of(runs: &[OptimizeDocument], payload: f64, space: Space) -> Option<&Tra
         .filter(|d| d.inputs.payload_kg == payload && d.inputs.space == space)
         .filter_map(|d| d.best_result.as_ref().filter(|r| r.feasible))
         .min_by(|a, b| a.cost.total_cmp(&b.cost))
+}
+
+/// The payload capacity of each co-designed case's best design; a case without a feasible
+/// design has none, and an earlier reproduction's file for it is removed.
+fn best_capacities(
+    plan: &Plan,
+    task: &ExperimentTask,
+    runs: &[OptimizeDocument],
+) -> Result<Vec<CapacityDocument>, String> {
+    let mut capacities = Vec::new();
+    for &payload in &plan.experiment.codesign_payloads_kg {
+        for space in SPACES {
+            let name = format!("{space}-{payload}kg-best");
+            if let Some(best) = best_of(runs, payload, space) {
+                let ratios = best.ratios.clone();
+                capacities.push(stages::capacity_document(plan, task, space, ratios, &name)?);
+            } else {
+                remove_stale_output(&plan.capacity_file(&name))?;
+            }
+        }
+    }
+    Ok(capacities)
 }
 
 /// Removes an output an earlier reproduction wrote for a case that has no feasible design now

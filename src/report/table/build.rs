@@ -13,7 +13,7 @@ use crate::model::identity::built_in_task_hash;
 use crate::model::task::{Motors, PerMotor, Task};
 use crate::problem::Space;
 use crate::solve::ToolInfo;
-use crate::solve::TrajectoryResult;
+use crate::solve::{envelope_margins, TrajectoryResult};
 use crate::stats::median;
 use crate::transmission::Envelope;
 
@@ -99,16 +99,8 @@ fn within_envelope(result: &TrajectoryResult, motors: &Motors) -> bool {
     let t = &result.trajectory;
     let count = t.motor_torque.first().map_or(0, Vec::len);
     Envelope::of(motors, count).is_none_or(|envelope| {
-        t.motor_torque
-            .iter()
-            .zip(&t.motor_speed)
-            .skip(1)
-            .all(|(torques, speeds)| {
-                (0..count).all(|motor| {
-                    let margin = envelope.margin(motor, torques[motor], speeds[motor]);
-                    margin >= -1e-6 * envelope.torque_limit(motor)
-                })
-            })
+        envelope_margins(&envelope, t)
+            .all(|m| m.margin_nm >= -1e-6 * envelope.torque_limit(m.motor))
     })
 }
 
