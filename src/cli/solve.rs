@@ -221,6 +221,20 @@ fn hold_text(hold: &StaticHold) -> String {
     )
 }
 
+/// `feasible (verdict by hard_from_elastic)`: the verdict and the solve that gave it
+/// (docs/model.md, section 8).
+fn verdict_text(result: &TrajectoryResult) -> String {
+    let verdict = if result.feasible {
+        "feasible"
+    } else {
+        "INFEASIBLE"
+    };
+    match result.verdict_by {
+        Some(by) => format!("{verdict} (verdict by {})", by.name()),
+        None => verdict.to_owned(),
+    }
+}
+
 fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
     let task = formulation.task();
     say!(
@@ -240,11 +254,7 @@ fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
     let t = &result.trajectory;
     say!(
         "  {}; {}, {}",
-        if result.feasible {
-            "feasible"
-        } else {
-            "INFEASIBLE"
-        },
+        verdict_text(result),
         peak_text(
             "torque",
             "N m",

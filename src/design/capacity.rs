@@ -10,7 +10,7 @@
 
 use crate::ipopt::Solution;
 use crate::problem::{Formulation, FormulationError};
-use crate::solve::{solve_design_from, SolveError, SolveSettings};
+use crate::solve::{solve_design_from, SolveError, SolveSettings, VerdictBy};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -43,17 +43,20 @@ pub struct CapacityProbe {
     pub payload_kg: f64,
     /// Whether its trajectory problem was solved.
     pub feasible: bool,
-    /// IPOPT's status.
+    /// IPOPT's status of the result that gave the verdict.
     pub status: String,
     /// The optimal cost (meaningful when feasible).
     pub cost: f64,
-    /// IPOPT iterations.
+    /// IPOPT iterations, over every solve the rule tried.
     pub iterations: usize,
-    /// Wall time of the solve, s.
+    /// Wall time of those solves, s.
     pub seconds: f64,
-    /// Whether the solve started from the last feasible payload's solution (else from the
-    /// standard initial guess of docs/model.md, section 6).
+    /// Whether the first solve started from the last feasible payload's solution (else from
+    /// the standard initial guess of docs/model.md, section 6).
     pub warm_start: bool,
+    /// Which solve gave the verdict (absent in files written before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub verdict_by: Option<VerdictBy>,
 }
 
 /// What ends a capacity search.
@@ -158,38 +161,28 @@ struct Search<'a> {
 }
 
 impl Search<'_> {
-    /// Solves the design at `payload`, from `warm` and then from the standard initial guess:
-    /// IPOPT's verdict of infeasibility is local (the problem is not convex), so a payload counts
-    /// as infeasible only when neither start leads to a feasible trajectory. The solution when
-    /// feasible.
+    /// Solves the design at `payload` under the one rule of feasibility
+    /// (`solve::solve_design_from`), first from `warm`: IPOPT's verdict of infeasibility is
+    /// local (the problem is not convex), so a payload counts as infeasible only when no start
+    /// leads to a feasible trajectory. The solution when feasible.
     fn probe(
         &mut self,
         payload: f64,
         warm: Option<&Solution>,
     ) -> Result<Option<Solution>, CapacityError> {
         let formulation = self.formulation.with_payload(payload)?;
-        let starts: &[Option<&Solution>] = if warm.is_some() {
-            &[warm, None]
-        } else {
-            &[None]
-        };
-        for &start in starts {
-            let (result, solution) =
-                solve_design_from(&formulation, self.ratios, self.solve, start)?;
-            self.probes.push(CapacityProbe {
-                payload_kg: payload,
-                feasible: result.feasible,
-                status: result.status,
-                cost: result.cost,
-                iterations: result.iterations,
-                seconds: result.solve_seconds.total,
-                warm_start: start.is_some(),
-            });
-            if result.feasible {
-                return Ok(Some(solution));
-            }
-        }
-        Ok(None)
+        let (result, solution) = solve_design_from(&formulation, self.ratios, self.solve, warm)?;
+        self.probes.push(CapacityProbe {
+            payload_kg: payload,
+            feasible: result.feasible,
+            status: result.status,
+            cost: result.cost,
+            iterations: result.iterations,
+            seconds: result.solve_seconds.total,
+            warm_start: warm.is_some(),
+            verdict_by: result.verdict_by,
+        });
+        Ok(result.feasible.then_some(solution))
     }
 }
 

@@ -17,7 +17,7 @@ use super::outcome::GradientIterate;
 use super::penalty::{Grading, Penalty};
 use super::score;
 use crate::ipopt::Solution;
-use crate::problem::Formulation;
+use crate::problem::{Formulation, ProblemKind};
 use crate::solve::SolveSettings;
 use crate::transmission::{DesignSpace, Transmission};
 use std::fmt;
@@ -110,6 +110,12 @@ impl Evaluator<'_> {
         self.seconds.push(result.solve_seconds.total);
         let verdict = score::judge(self.formulation, &result);
         self.costs.push(verdict.fitness(&self.penalty));
+        // The flat penalty descends on feasible designs only: the elastic result the rule
+        // reports for an infeasible design of the hard problem is not its objective.
+        let flat = self.formulation.kind() == ProblemKind::Hard;
+        if flat && !result.feasible {
+            return None;
+        }
         let (cost, gradient) = match result.elastic {
             Some(measures) => (measures.objective, measures.objective_gradient?),
             None => (result.cost, result.cost_gradient?),

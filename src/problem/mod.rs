@@ -166,6 +166,24 @@ impl Formulation {
         elastic
     }
 
+    /// The same formulation in the hard kind: itself when it is hard, else the formulation
+    /// [`Formulation::elastic`] was made from.
+    pub fn hard(&self) -> Formulation {
+        let layout = &self.layout;
+        let mut hard = self.clone();
+        if self.kind() == ProblemKind::Hard {
+            return hard;
+        }
+        let rows = LinearRows {
+            speed: self.modes.speed == LimitMode::Exact,
+            ..layout.rows()
+        };
+        hard.layout = Layout::new(layout.dof, layout.steps, rows, ProblemKind::Hard);
+        hard.speed_pattern = self.g_pattern.clone();
+        hard.jacobian = jacobian::pattern(&hard);
+        hard
+    }
+
     /// The same formulation (space, modes, kind) for the robot carrying `payload_kg` kg at the
     /// task's payload point instead.
     pub fn with_payload(&self, payload_kg: f64) -> Result<Formulation, FormulationError> {

@@ -37,6 +37,9 @@ pub struct TrajectoryProblem<'a> {
     level: Level,
     /// The Hessian's blocks at the node being assembled.
     node_hessian: NodeHessian,
+    /// The trajectory IPOPT starts from instead of the standard guess (see
+    /// [`TrajectoryProblem::start_at`]).
+    start: Option<Vec<f64>>,
 }
 
 impl<'a> TrajectoryProblem<'a> {
@@ -66,7 +69,30 @@ impl<'a> TrajectoryProblem<'a> {
             nodes: vec![NodeEval::zeros(n); formulation.layout.steps],
             level: Level::Nothing,
             node_hessian: NodeHessian::zeros(n),
+            start: None,
         })
+    }
+
+    /// Starts IPOPT from the trajectory of `x`, a primal point of this design's problem in
+    /// either kind (an elastic point's slacks are dropped, this problem's own start at 0),
+    /// instead of the standard initial guess; the multipliers start as in a cold start. An
+    /// error when `x` is shorter than the trajectory or not finite.
+    pub fn start_at(&mut self, x: &[f64]) -> Result<(), crate::ipopt::Error> {
+        let trajectory = self.formulation.layout.slacks().start;
+        let Some(own) = x.get(..trajectory) else {
+            return Err(crate::ipopt::Error::InvalidProblem(format!(
+                "a start of {} values is shorter than the trajectory's {trajectory}",
+                x.len()
+            )));
+        };
+        if let Some(i) = own.iter().position(|value| !value.is_finite()) {
+            return Err(crate::ipopt::Error::InvalidProblem(format!(
+                "start x[{i}] = {} is not finite",
+                own[i]
+            )));
+        }
+        self.start = Some(own.to_vec());
+        Ok(())
     }
 
     /// The formulation this problem belongs to.
@@ -282,11 +308,16 @@ impl Nlp for TrajectoryProblem<'_> {
     }
 
     /// The standard initial guess (docs/model.md, section 6): q linear from start to goal; v the
-    /// mean speed at inner nodes, 0 at the ends; u = 0; a = 0.
+    /// mean speed at inner nodes, 0 at the ends; u = 0; a = 0. Or the trajectory given to
+    /// [`TrajectoryProblem::start_at`], slacks at 0.
     fn initial_point(&self, x: &mut [f64]) {
         let f = self.formulation;
         let (layout, motion) = (&f.layout, &f.task.motion);
         x.fill(0.0);
+        if let Some(start) = &self.start {
+            x[..start.len()].copy_from_slice(start);
+            return;
+        }
         for k in 0..=layout.steps {
             let s = k as f64 / layout.steps as f64;
             for i in 0..layout.dof {

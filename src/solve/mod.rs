@@ -1,30 +1,36 @@
 //! Solving the trajectory problem of one design and reading the result.
 //!
 //! [`solve_design`] runs IPOPT on a [`TrajectoryProblem`](crate::problem::TrajectoryProblem)
-//! with the [`SolveSettings`] the command or worker was given, and returns a
+//! with the [`SolveSettings`] the command or worker was given, under the one rule of
+//! feasibility (`certify`: no design is infeasible while some start finds a feasible
+//! trajectory), and returns a
 //! [`TrajectoryResult`]: status, feasibility, cost, timing, the trajectory with joint and motor
 //! torques and the TCP path, and the largest violation of each constraint family. [`solve_elastic`]
 //! solves the elastic kind of the same problem (docs/model.md, section 14), which always has a
 //! solution, and reports how much torque and speed the design lacks.
 //!
 //! The rooms: `settings` (IPOPT's settings, read from a task file's `solver` section), `run`
-//! (the solve), `result` (the result and its file schema), `verify` (the constraint residuals
+//! (one IPOPT solve), `certify` (the rule, over several solves), `result` (the result and its file schema), `verify` (the constraint residuals
 //! evaluated again on the trajectory), `error`.
 
+mod certify;
 mod error;
 mod result;
 mod run;
 mod settings;
 mod verify;
 
+pub use certify::{solve_design, solve_design_from, solve_elastic};
 pub use error::SolveError;
 pub use result::{
-    CostTerms, ElasticMeasures, SolveSeconds, ToolInfo, Trajectory, TrajectoryResult, Violations,
+    CostTerms, ElasticMeasures, SolveSeconds, ToolInfo, Trajectory, TrajectoryResult, VerdictBy,
+    Violations,
 };
-pub use run::{solve_design, solve_design_from, solve_elastic};
 pub use settings::{SettingsError, SolveSettings, TaskRecord, DEFAULT_MAX_ITER, DEFAULT_TOL};
 pub use verify::{envelope_margins, least_envelope_margin, EnvelopeMargin};
 
+#[cfg(test)]
+mod certify_tests;
 #[cfg(test)]
 mod envelope_tests;
 #[cfg(test)]

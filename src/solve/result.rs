@@ -34,6 +34,31 @@ impl ToolInfo {
     }
 }
 
+/// Which solve of the one rule of feasibility (docs/model.md, section 8) gave a result's
+/// verdict. A feasible result is that solve's optimum; an infeasible one is the elastic solve,
+/// which measures the shortfall, or the hard solve when the motors cannot hold the load at rest.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VerdictBy {
+    /// The hard problem, from the standard initial guess or a warm start.
+    Hard,
+    /// The elastic problem, from the standard initial guess or a warm start.
+    Elastic,
+    /// The hard problem started from the elastic problem's trajectory.
+    HardFromElastic,
+}
+
+impl VerdictBy {
+    /// The name result files give it.
+    pub fn name(self) -> &'static str {
+        match self {
+            VerdictBy::Hard => "hard",
+            VerdictBy::Elastic => "elastic",
+            VerdictBy::HardFromElastic => "hard_from_elastic",
+        }
+    }
+}
+
 /// Wall time of a solve, s.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct SolveSeconds {
@@ -171,6 +196,11 @@ pub struct TrajectoryResult {
     /// load at rest first, then IPOPT's or the elastic solve's reason.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reason: Option<String>,
+    /// Which solve gave the verdict (docs/model.md, section 8): the hard problem, the elastic
+    /// one, or the hard one started from the elastic trajectory. Absent in files written before
+    /// the rule was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub verdict_by: Option<VerdictBy>,
     /// The optimal cost J (of an elastic solve: without the slacks' penalty).
     pub cost: f64,
     /// IPOPT iterations.
@@ -232,6 +262,10 @@ pub(super) fn read_result(
         status: solution.status.name(),
         feasible,
         reason,
+        verdict_by: Some(match f.kind() {
+            ProblemKind::Hard => VerdictBy::Hard,
+            ProblemKind::Elastic => VerdictBy::Elastic,
+        }),
         cost,
         iterations: solution.iterations,
         solve_seconds: SolveSeconds {

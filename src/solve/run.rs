@@ -1,4 +1,4 @@
-//! Running IPOPT on the trajectory problem of one design.
+//! Running IPOPT once on the trajectory problem of one design.
 
 use super::result::{read_result, TrajectoryResult};
 use super::settings::SolveSettings;
@@ -6,46 +6,44 @@ use super::SolveError;
 use crate::ipopt::{self, Nlp, Solution};
 use crate::problem::{Formulation, ProblemKind, TrajectoryProblem};
 
-/// Solves the elastic trajectory problem (docs/model.md, section 14) of design `ratios` in
-/// `formulation` (of either kind) from the standard initial guess: always feasible as a problem,
-/// the result reports the torque deficit and the speed excess the design needs.
-pub fn solve_elastic(
-    formulation: &Formulation,
-    ratios: &[f64],
-    settings: &SolveSettings,
-) -> Result<TrajectoryResult, SolveError> {
-    solve_design(&formulation.elastic(), ratios, settings)
+/// Where one IPOPT solve starts.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Start<'a> {
+    /// The standard initial guess.
+    Guess,
+    /// The raw solution (point and multipliers) of a nearby design of the same formulation.
+    Warm(&'a Solution),
+    /// The primal point of the same design in the other kind (its trajectory only).
+    Trajectory(&'a [f64]),
 }
 
-/// Solves the trajectory problem of design `ratios`, of the formulation's kind, from the standard
-/// initial guess.
-pub fn solve_design(
+/// Solves the trajectory problem of design `ratios`, of the formulation's kind, once from
+/// `start`: the result and the raw solution, to warm-start another design from.
+pub(super) fn solve_once(
     formulation: &Formulation,
     ratios: &[f64],
     settings: &SolveSettings,
-) -> Result<TrajectoryResult, SolveError> {
-    solve_design_from(formulation, ratios, settings, None).map(|(result, _)| result)
-}
-
-/// Solves the trajectory problem of design `ratios`, warm-started from `warm` (the raw solution
-/// of a nearby design of the same formulation) when given, else from the standard initial guess.
-/// Returns the result and the raw solution, to warm-start the next design from.
-pub fn solve_design_from(
-    formulation: &Formulation,
-    ratios: &[f64],
-    settings: &SolveSettings,
-    warm: Option<&Solution>,
+    start: Start<'_>,
 ) -> Result<(TrajectoryResult, Solution), SolveError> {
     let mut problem = formulation.problem(ratios)?;
     let mut options = settings.ipopt_options();
-    if warm.is_some() {
-        // Keep the warm point and multipliers close to where they were; the barrier parameter
-        // starts at IPOPT's default, which measured best for steps of any size (a smaller
-        // mu_init halves the iterations after a tiny step but doubles them after a large one).
-        options = options
-            .num("warm_start_bound_push", 1e-6)
-            .num("warm_start_mult_bound_push", 1e-6);
-    }
+    let warm = match start {
+        Start::Guess => None,
+        Start::Trajectory(x) => {
+            problem.start_at(x)?;
+            None
+        }
+        Start::Warm(solution) => {
+            // Keep the warm point and multipliers close to where they were; the barrier
+            // parameter starts at IPOPT's default, which measured best for steps of any size (a
+            // smaller mu_init halves the iterations after a tiny step but doubles them after a
+            // large one).
+            options = options
+                .num("warm_start_bound_push", 1e-6)
+                .num("warm_start_mult_bound_push", 1e-6);
+            Some(solution)
+        }
+    };
     if formulation.kind() == ProblemKind::Elastic {
         options = options.num(
             "obj_scaling_factor",

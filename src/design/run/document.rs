@@ -90,8 +90,12 @@ pub enum VerdictRule {
     /// static hold: the rule of every log that does not record one.
     Ipopt,
     /// That, and the motors hold the load at rest at both ends (`problem::hold`).
-    #[default]
     StaticHold,
+    /// That, judged over several starts: a design is infeasible only when no start (the hard
+    /// problem from the standard guess, the elastic problem, the hard problem from the elastic
+    /// trajectory) finds a feasible trajectory (`solve::solve_design_from`).
+    #[default]
+    AnyStart,
 }
 
 impl VerdictRule {
@@ -220,7 +224,7 @@ mod tests {
         let text = std::fs::read_to_string(path).unwrap();
         let value: serde_json::Value = serde_json::from_str(&text).unwrap();
         let today: OptimizeInputs = serde_json::from_value(value["inputs"].clone()).unwrap();
-        assert_eq!(today.verdict_rule, VerdictRule::StaticHold);
+        assert_eq!(today.verdict_rule, VerdictRule::default());
         let mut older = value["inputs"].clone();
         older.as_object_mut().unwrap().remove("verdict_rule");
         let older: OptimizeInputs = serde_json::from_value(older).unwrap();

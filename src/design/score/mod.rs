@@ -38,9 +38,9 @@ pub enum Verdict {
     Infeasible {
         /// How far it is from feasible, motor-seconds (s): the torque deficit of the elastic
         /// solves plus the static hold's deficit times the horizon, over the torque limit, plus
-        /// the speed excess over the speed limit; a hard solve measures only the hold's part
-        /// (0 when the load is held), and so does a design not solved because its motors
-        /// cannot hold the load at rest ([`SolveStatus::StaticHoldFailed`]).
+        /// the speed excess over the speed limit; a design not solved because its motors
+        /// cannot hold the load at rest ([`SolveStatus::StaticHoldFailed`]) measures only the
+        /// hold's part.
         shortfall: f64,
         /// Why, in words.
         reason: String,
@@ -189,22 +189,41 @@ pub fn solve(
     })
 }
 
-/// The verdict of one solve of `formulation`: feasible with the optimal cost J, or infeasible
-/// with IPOPT's reason and, for an elastic solve, its shortfall.
+/// The verdict of one result of `formulation` (under the one rule of feasibility, the result
+/// of an infeasible design is its elastic solve, unless its motors cannot hold the load at
+/// rest): feasible with the optimal cost J, or infeasible with the elastic solve's deficit (or
+/// IPOPT's reason) and its shortfall.
 pub fn judge(formulation: &Formulation, result: &TrajectoryResult) -> Verdict {
-    let status = SolveStatus::Ipopt(result.status.clone());
     if result.feasible {
         return Verdict::Feasible {
             cost: result.cost,
-            status,
+            status: SolveStatus::Ipopt(result.status.clone()),
         };
     }
+    let hold = result.static_hold.as_ref().and_then(StaticHold::reason);
+    let (status, reason) = match (&result.elastic, hold) {
+        (Some(measures), hold) => {
+            let deficit = format!(
+                "torque deficit {:.4} N m s, speed excess {:.4} rad",
+                measures.torque_deficit, measures.speed_excess
+            );
+            let reason = match hold {
+                Some(hold) => format!("{hold}; {deficit}"),
+                None => deficit,
+            };
+            (SolveStatus::ElasticDeficit, reason)
+        }
+        (None, _) => (
+            SolveStatus::Ipopt(result.status.clone()),
+            result
+                .reason
+                .clone()
+                .unwrap_or_else(|| result.status.clone()),
+        ),
+    };
     Verdict::Infeasible {
         shortfall: shortfall(formulation, result),
-        reason: result
-            .reason
-            .clone()
-            .unwrap_or_else(|| result.status.clone()),
+        reason,
         status,
     }
 }

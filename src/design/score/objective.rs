@@ -272,24 +272,17 @@ fn elastic(
         };
         iterations += result.iterations;
         seconds += result.solve_seconds.total;
-        let Verdict::Infeasible { shortfall, .. } = judge(formulation, &result) else {
+        let Verdict::Infeasible {
+            shortfall, reason, ..
+        } = judge(formulation, &result)
+        else {
             sum += result.cost;
             continue;
         };
         short += shortfall;
-        let at = match formulations.len() {
-            1 => String::new(),
-            _ => format!("at {payload_kg} kg: "),
-        };
-        let hold = result.static_hold.as_ref().and_then(|hold| hold.reason());
-        let measures = result.elastic.unwrap_or_default();
-        let deficit = format!(
-            "torque deficit {:.4} N m s, speed excess {:.4} rad",
-            measures.torque_deficit, measures.speed_excess
-        );
-        reasons.push(match hold {
-            Some(hold) => format!("{at}{hold}; {deficit}"),
-            None => format!("{at}{deficit}"),
+        reasons.push(match formulations.len() {
+            1 => reason,
+            _ => format!("at {payload_kg} kg: {reason}"),
         });
     }
     let verdict = if reasons.is_empty() {

@@ -1,0 +1,163 @@
+//! The one rule that says whether a design is feasible (docs/model.md, section 8): a design is
+//! feasible when some start finds a feasible trajectory, and infeasible only when none does.
+//!
+//! IPOPT's verdict of infeasibility is local (the problem is not convex), and the hard and the
+//! elastic problem, started from the same guess, can end in different local optima. So every
+//! command (`solve`, `capacity`, each co-design objective and penalty, the tables) solves a
+//! design through [`solve_design_from`], which tries the same starts in an order set by the
+//! formulation's kind:
+//! - hard: the warm start if given, the standard guess, then the elastic problem from the
+//!   standard guess, then the hard problem from the elastic trajectory;
+//! - elastic: the warm start or else the standard guess, then the hard problem from the elastic
+//!   trajectory, then the hard problem from the standard guess.
+//!
+//! It stops at the first feasible trajectory, and skips the rest when the motors cannot hold the
+//! load at rest at an end (no trajectory is then feasible).
+
+use super::result::{SolveSeconds, TrajectoryResult, VerdictBy};
+use super::run::{solve_once, Start};
+use super::settings::SolveSettings;
+use super::SolveError;
+use crate::ipopt::Solution;
+use crate::problem::{Formulation, ProblemKind};
+
+/// Solves the elastic trajectory problem (docs/model.md, section 14) of design `ratios` in
+/// `formulation` (of either kind) under the one rule: the result reports the torque deficit and
+/// the speed excess the design needs when no start finds a feasible trajectory.
+pub fn solve_elastic(
+    formulation: &Formulation,
+    ratios: &[f64],
+    settings: &SolveSettings,
+) -> Result<TrajectoryResult, SolveError> {
+    solve_design(&formulation.elastic(), ratios, settings)
+}
+
+/// Solves the trajectory problem of design `ratios`, of the formulation's kind, under the one
+/// rule from the standard initial guess.
+pub fn solve_design(
+    formulation: &Formulation,
+    ratios: &[f64],
+    settings: &SolveSettings,
+) -> Result<TrajectoryResult, SolveError> {
+    solve_design_from(formulation, ratios, settings, None).map(|(result, _)| result)
+}
+
+/// Solves the trajectory problem of design `ratios` under the one rule, first from `warm` (the
+/// raw solution of a nearby design of the same formulation) when given. Returns the result
+/// that gives the verdict, its iterations and times summed over every solve tried, and the raw
+/// solution of the formulation's kind nearest the verdict, to warm-start the next design from.
+pub fn solve_design_from(
+    formulation: &Formulation,
+    ratios: &[f64],
+    settings: &SolveSettings,
+    warm: Option<&Solution>,
+) -> Result<(TrajectoryResult, Solution), SolveError> {
+    let mut tries = Tries::default();
+    let (mut result, solution) = match formulation.kind() {
+        ProblemKind::Hard => hard_first(formulation, ratios, settings, warm, &mut tries)?,
+        ProblemKind::Elastic => elastic_first(formulation, ratios, settings, warm, &mut tries)?,
+    };
+    result.iterations = tries.iterations;
+    result.solve_seconds = tries.seconds;
+    Ok((result, solution))
+}
+
+/// The work of the solves tried for one design.
+#[derive(Default)]
+struct Tries {
+    iterations: usize,
+    seconds: SolveSeconds,
+}
+
+impl Tries {
+    /// Solves once and counts the work.
+    fn solve(
+        &mut self,
+        formulation: &Formulation,
+        ratios: &[f64],
+        settings: &SolveSettings,
+        start: Start<'_>,
+    ) -> Result<(TrajectoryResult, Solution), SolveError> {
+        let (result, solution) = solve_once(formulation, ratios, settings, start)?;
+        self.iterations += result.iterations;
+        let (sum, one) = (&mut self.seconds, &result.solve_seconds);
+        sum.total += one.total;
+        sum.callbacks += one.callbacks;
+        sum.ipopt += one.ipopt;
+        Ok((result, solution))
+    }
+}
+
+/// Whether no start can help: the result is feasible, or its motors cannot hold the load at
+/// rest at an end.
+fn settled(result: &TrajectoryResult) -> bool {
+    result.feasible
+        || result
+            .static_hold
+            .as_ref()
+            .is_some_and(|hold| hold.reason().is_some())
+}
+
+/// The rule for a hard formulation: warm start, standard guess, elastic problem, hard problem
+/// from the elastic trajectory. An infeasible design's result is the elastic one (with its
+/// shortfall), and its solution the last hard one.
+fn hard_first(
+    hard: &Formulation,
+    ratios: &[f64],
+    settings: &SolveSettings,
+    warm: Option<&Solution>,
+    tries: &mut Tries,
+) -> Result<(TrajectoryResult, Solution), SolveError> {
+    if let Some(warm) = warm {
+        let warmed = tries.solve(hard, ratios, settings, Start::Warm(warm))?;
+        if warmed.0.feasible {
+            return Ok(warmed);
+        }
+    }
+    let cold = tries.solve(hard, ratios, settings, Start::Guess)?;
+    if settled(&cold.0) {
+        return Ok(cold);
+    }
+    let elastic = hard.elastic();
+    let (relaxed, relaxed_solution) = tries.solve(&elastic, ratios, settings, Start::Guess)?;
+    let (mut again, solution) = tries.solve(
+        hard,
+        ratios,
+        settings,
+        Start::Trajectory(&relaxed_solution.x),
+    )?;
+    if again.feasible {
+        again.verdict_by = Some(VerdictBy::HardFromElastic);
+        return Ok((again, solution));
+    }
+    Ok((relaxed, solution))
+}
+
+/// The rule for an elastic formulation (the graded penalty): warm start or standard guess, then,
+/// when a deficit is left, the hard problem from the elastic trajectory and from the standard
+/// guess. The solution is always the elastic one; an infeasible design's result is too, so that
+/// a warm-started descent on the elastic objective (the gradient method) sees it continue.
+fn elastic_first(
+    elastic: &Formulation,
+    ratios: &[f64],
+    settings: &SolveSettings,
+    warm: Option<&Solution>,
+    tries: &mut Tries,
+) -> Result<(TrajectoryResult, Solution), SolveError> {
+    let start = warm.map_or(Start::Guess, Start::Warm);
+    let (relaxed, solution) = tries.solve(elastic, ratios, settings, start)?;
+    if settled(&relaxed) {
+        return Ok((relaxed, solution));
+    }
+    let hard = elastic.hard();
+    let (mut again, _) = tries.solve(&hard, ratios, settings, Start::Trajectory(&solution.x))?;
+    if again.feasible {
+        again.verdict_by = Some(VerdictBy::HardFromElastic);
+        return Ok((again, solution));
+    }
+    let (cold, _) = tries.solve(&hard, ratios, settings, Start::Guess)?;
+    if cold.feasible {
+        return Ok((cold, solution));
+    }
+    Ok((relaxed, solution))
+}
