@@ -6,6 +6,7 @@ use super::cmaes::{Cmaes, CmaesError, CmaesSettings};
 use super::outcome::DesignOutcome;
 use super::outcome::GenerationSummary;
 use super::score::{Evaluation, Status};
+use super::warm::WarmStart;
 use super::workers::{Pool, WorkerError};
 use crate::stats::median;
 use crate::store::{self, StoreError};
@@ -95,19 +96,39 @@ impl Progress for () {
     fn evaluated(&mut self, _best: f64) {}
 }
 
-/// Runs CMA-ES with `settings` in the box of `space`, evaluating with `pool` the design `bounds`
-/// makes of each sample (the sample, or its projection onto `space`), logging to `log`, and
-/// replaying `finished` evaluations (from a resumed log) whose design matches exactly. Fails when
-/// no evaluation judged a design (see [`check_evaluations`]).
+/// How a run's samples become the designs its workers evaluate.
+#[derive(Clone, Copy, Debug)]
+pub struct Sampling<'a> {
+    /// The design space, whose box CMA-ES samples.
+    pub space: &'a DesignSpace,
+    /// The design made of each sample: the sample, or its projection onto the space.
+    pub bounds: BoundHandling,
+    /// Whether the designs of a generation start from a solution of its mean.
+    pub warm_start: WarmStart,
+}
+
+impl Sampling<'_> {
+    /// The design whose solution the designs of a generation sampled around `mean` start from:
+    /// the mean projected onto the design space, from generation 1 on (the initial population
+    /// is drawn uniformly, around no mean); None when warm starts are off.
+    fn anchor(&self, generation: usize, mean: &[f64]) -> Option<Vec<f64>> {
+        (self.warm_start.is_on() && generation > 0).then(|| self.space.project(mean))
+    }
+}
+
+/// Runs CMA-ES with `settings` in the box of `sampling.space`, evaluating with `pool` the design
+/// `sampling` makes of each sample, logging to `log`, and replaying `finished` evaluations (from
+/// a resumed log) whose design matches exactly. Fails when no evaluation judged a design (see
+/// [`check_evaluations`]).
 pub fn optimize(
     settings: CmaesSettings,
-    space: &DesignSpace,
-    bounds: BoundHandling,
+    sampling: Sampling<'_>,
     pool: &mut Pool,
     log: &mut EvaluationLog,
     finished: &Finished,
     progress: &mut dyn Progress,
 ) -> Result<DesignOutcome, OptimizeError> {
+    let (space, bounds) = (sampling.space, sampling.bounds);
     let lower = space.bounds().iter().map(|b| b[0]).collect();
     let upper = space.bounds().iter().map(|b| b[1]).collect();
     let mut cmaes = Cmaes::new(settings, lower, upper).map_err(OptimizeError::Cmaes)?;
@@ -127,6 +148,7 @@ pub fn optimize(
     while let Some(samples) = cmaes.ask() {
         let generation = cmaes.generation() + 1;
         let designs = bounds.designs(space, &samples);
+        pool.set_anchor(sampling.anchor(generation, cmaes.mean()));
         evaluations = evaluate_generation(
             generation,
             &designs,

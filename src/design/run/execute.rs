@@ -5,7 +5,7 @@ use super::case::{Case, Loaded};
 use super::document::{Method, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
 use super::error::{Output, RunError};
 use crate::design::gradient::optimize_gradient;
-use crate::design::optimize::{optimize, EvaluationLog, Finished, Progress};
+use crate::design::optimize::{optimize, EvaluationLog, Finished, Progress, Sampling};
 use crate::design::outcome::DesignOutcome;
 use crate::design::penalty::Grading;
 use crate::design::score::Fitness;
@@ -308,10 +308,14 @@ fn run_cmaes(
         case.problem.space, inputs.payload_kg, settings.seed
     );
     let mut progress = display(total, label);
+    let sampling = Sampling {
+        space: formulation.transmission().design_space(),
+        bounds: case.bounds,
+        warm_start: case.warm_start,
+    };
     Ok(optimize(
         settings.clone(),
-        formulation.transmission().design_space(),
-        case.bounds,
+        sampling,
         &mut pool,
         log,
         finished,
