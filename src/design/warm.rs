@@ -21,14 +21,19 @@ pub enum WarmStart {
 }
 
 impl WarmStart {
-    /// The setting of the runs logged before it was recorded: all started cold.
-    pub fn before_warm_starts() -> WarmStart {
+    /// Off: the setting of the runs logged before it was recorded (all started cold).
+    pub fn off() -> WarmStart {
         WarmStart::Off
     }
 
     /// Whether warm starts are on.
     pub fn is_on(self) -> bool {
         self == WarmStart::On
+    }
+
+    /// Whether warm starts are off (which result files and log headers leave out).
+    pub fn is_off(&self) -> bool {
+        *self == WarmStart::Off
     }
 }
 

@@ -81,9 +81,9 @@ pub struct OptimizeInputs {
     /// that no verdict of an older rule is replayed as today's.
     #[serde(default = "VerdictRule::before_hold")]
     pub verdict_rule: VerdictRule,
-    /// Whether each generation's designs started from a solution of its mean (off in logs
-    /// written before it was recorded).
-    #[serde(default = "WarmStart::before_warm_starts")]
+    /// Whether each generation's designs started from a solution of its mean; left out when
+    /// off, so that the logs written before warm starts existed (all cold) read as off.
+    #[serde(default = "WarmStart::off", skip_serializing_if = "WarmStart::is_off")]
     pub warm_start: WarmStart,
 }
 
