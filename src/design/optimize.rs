@@ -138,6 +138,8 @@ pub fn optimize(
         evaluations: Vec::new(),
         replayed: 0,
     };
+    // The anchor of each generation (none for the initial population).
+    let mut anchors = vec![None];
     let initial = bounds.designs(space, &cmaes.initial_population());
     let mut evaluations =
         evaluate_generation(0, &initial, pool, log, finished, &mut outcome, progress)?;
@@ -148,7 +150,9 @@ pub fn optimize(
     while let Some(samples) = cmaes.ask() {
         let generation = cmaes.generation() + 1;
         let designs = bounds.designs(space, &samples);
-        pool.set_anchor(sampling.anchor(generation, cmaes.mean()));
+        let anchor = sampling.anchor(generation, cmaes.mean());
+        pool.set_anchor(anchor.clone());
+        anchors.push(anchor);
         evaluations = evaluate_generation(
             generation,
             &designs,
@@ -167,13 +171,18 @@ pub fn optimize(
     let (best, cost) = cmaes.best().ok_or(OptimizeError::NoBest)?;
     // A design no evaluation found feasible is no result: the run reports none.
     let any_feasible = outcome.evaluations.iter().any(|e| e.feasible);
+    // CMA-ES's best is a sample: the design evaluated for it is its projection when clipped.
+    let best_ratios = if any_feasible {
+        bounds.design(space, best)
+    } else {
+        Vec::new()
+    };
+    let found = (outcome.evaluations.iter())
+        .position(|e| e.ratios == best_ratios && e.cost.to_bits() == cost.to_bits());
+    let population = cmaes.settings().population;
     Ok(DesignOutcome {
-        // CMA-ES's best is a sample: the design evaluated for it is its projection when clipped.
-        best_ratios: if any_feasible {
-            bounds.design(space, best)
-        } else {
-            Vec::new()
-        },
+        best_anchor: found.and_then(|i| anchors.get(i / population).cloned().flatten()),
+        best_ratios,
         best_cost: cost,
         best_solution: None,
         costs: outcome.evaluations.iter().map(|e| e.cost).collect(),

@@ -149,9 +149,7 @@ impl Fitness {
         let Scored::Cost(formulation) = &self.scored else {
             return None;
         };
-        validate(&self.transmission, anchor).ok()?;
-        let (result, solution) = solve(formulation, &self.solve, anchor, None).ok()?;
-        result.feasible.then_some(solution)
+        anchor_solution(formulation, &self.solve, anchor)
     }
 
     /// Scores `ratios`: validated once, then solved as the objective and the penalty ask, from
@@ -207,6 +205,18 @@ impl Fitness {
     pub fn evaluate_from(&self, ratios: &[f64], warm: Option<&Solution>) -> Evaluation {
         Evaluation::new(ratios, &self.score_from(ratios, warm), &self.penalty)
     }
+}
+
+/// The solution of `anchor` in `formulation` (solved under the one rule from the standard
+/// guess) that a generation's designs start from, when the anchor is valid and feasible.
+pub fn anchor_solution(
+    formulation: &Formulation,
+    settings: &SolveSettings,
+    anchor: &[f64],
+) -> Option<Solution> {
+    validate(formulation.transmission(), anchor).ok()?;
+    let (result, solution) = solve(formulation, settings, anchor, None).ok()?;
+    result.feasible.then_some(solution)
 }
 
 /// The verdict of valid `ratios` when its motors cannot hold the load at rest at an end at some
