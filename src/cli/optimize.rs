@@ -11,6 +11,7 @@ use crate::design::optimize::Progress;
 use crate::design::penalty::Penalty;
 use crate::design::run::{run_case, Case, Method, OptimizeDocument};
 use crate::design::score::{Objective, PayloadRange};
+use crate::design::warm::WarmStart;
 use crate::design::workers::SOLVE_TIMEOUT_S;
 use crate::store::log::{log_beside, Start};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -64,6 +65,11 @@ pub struct Args {
     /// evaluates and logs its Euclidean projection onto the space instead (pagmo's force_bounds).
     #[arg(long, value_enum, default_value_t = BoundHandling::Penalty)]
     pub bounds: BoundHandling,
+    /// Whether CMA-ES starts the designs of each generation from a solution of the generation's
+    /// mean (cost objective only), falling back to the standard guess where that fails; `off`
+    /// starts every design from the standard guess (the paper's).
+    #[arg(long, value_enum, default_value_t = WarmStart::default())]
+    pub warm_start: WarmStart,
     /// Worker processes (default: one per core).
     #[arg(long, value_name = "N")]
     pub workers: Option<usize>,
@@ -113,6 +119,7 @@ impl Args {
         case.gradient.max_iterations = self.gradient_iterations;
         case.penalty = self.penalty;
         case.bounds = self.bounds;
+        case.warm_start = self.warm_start;
         case.workers = self.workers;
         case.solve_timeout_s = self.solve_timeout;
         case.worker_command = self.worker_command.clone();

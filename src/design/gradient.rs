@@ -221,6 +221,7 @@ pub fn optimize_gradient(
         best_ratios,
         best_cost,
         best_solution,
+        best_anchor: None,
         costs: evaluator.costs,
         seconds: evaluator.seconds,
         generations: Vec::new(),

@@ -11,6 +11,7 @@ pub mod penalty;
 pub mod rng;
 pub mod run;
 pub mod score;
+pub mod warm;
 pub mod workers;
 
 pub use penalty::PENALTY;

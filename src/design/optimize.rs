@@ -6,6 +6,7 @@ use super::cmaes::{Cmaes, CmaesError, CmaesSettings};
 use super::outcome::DesignOutcome;
 use super::outcome::GenerationSummary;
 use super::score::{Evaluation, Status};
+use super::warm::WarmStart;
 use super::workers::{Pool, WorkerError};
 use crate::stats::median;
 use crate::store::{self, StoreError};
@@ -95,19 +96,39 @@ impl Progress for () {
     fn evaluated(&mut self, _best: f64) {}
 }
 
-/// Runs CMA-ES with `settings` in the box of `space`, evaluating with `pool` the design `bounds`
-/// makes of each sample (the sample, or its projection onto `space`), logging to `log`, and
-/// replaying `finished` evaluations (from a resumed log) whose design matches exactly. Fails when
-/// no evaluation judged a design (see [`check_evaluations`]).
+/// How a run's samples become the designs its workers evaluate.
+#[derive(Clone, Copy, Debug)]
+pub struct Sampling<'a> {
+    /// The design space, whose box CMA-ES samples.
+    pub space: &'a DesignSpace,
+    /// The design made of each sample: the sample, or its projection onto the space.
+    pub bounds: BoundHandling,
+    /// Whether the designs of a generation start from a solution of its mean.
+    pub warm_start: WarmStart,
+}
+
+impl Sampling<'_> {
+    /// The design whose solution the designs of a generation sampled around `mean` start from:
+    /// the mean projected onto the design space, from generation 1 on (the initial population
+    /// is drawn uniformly, around no mean); None when warm starts are off.
+    fn anchor(&self, generation: usize, mean: &[f64]) -> Option<Vec<f64>> {
+        (self.warm_start.is_on() && generation > 0).then(|| self.space.project(mean))
+    }
+}
+
+/// Runs CMA-ES with `settings` in the box of `sampling.space`, evaluating with `pool` the design
+/// `sampling` makes of each sample, logging to `log`, and replaying `finished` evaluations (from
+/// a resumed log) whose design matches exactly. Fails when no evaluation judged a design (see
+/// [`check_evaluations`]).
 pub fn optimize(
     settings: CmaesSettings,
-    space: &DesignSpace,
-    bounds: BoundHandling,
+    sampling: Sampling<'_>,
     pool: &mut Pool,
     log: &mut EvaluationLog,
     finished: &Finished,
     progress: &mut dyn Progress,
 ) -> Result<DesignOutcome, OptimizeError> {
+    let (space, bounds) = (sampling.space, sampling.bounds);
     let lower = space.bounds().iter().map(|b| b[0]).collect();
     let upper = space.bounds().iter().map(|b| b[1]).collect();
     let mut cmaes = Cmaes::new(settings, lower, upper).map_err(OptimizeError::Cmaes)?;
@@ -117,6 +138,8 @@ pub fn optimize(
         evaluations: Vec::new(),
         replayed: 0,
     };
+    // The anchor of each generation (none for the initial population).
+    let mut anchors = vec![None];
     let initial = bounds.designs(space, &cmaes.initial_population());
     let mut evaluations =
         evaluate_generation(0, &initial, pool, log, finished, &mut outcome, progress)?;
@@ -127,6 +150,9 @@ pub fn optimize(
     while let Some(samples) = cmaes.ask() {
         let generation = cmaes.generation() + 1;
         let designs = bounds.designs(space, &samples);
+        let anchor = sampling.anchor(generation, cmaes.mean());
+        pool.set_anchor(anchor.clone());
+        anchors.push(anchor);
         evaluations = evaluate_generation(
             generation,
             &designs,
@@ -145,13 +171,18 @@ pub fn optimize(
     let (best, cost) = cmaes.best().ok_or(OptimizeError::NoBest)?;
     // A design no evaluation found feasible is no result: the run reports none.
     let any_feasible = outcome.evaluations.iter().any(|e| e.feasible);
+    // CMA-ES's best is a sample: the design evaluated for it is its projection when clipped.
+    let best_ratios = if any_feasible {
+        bounds.design(space, best)
+    } else {
+        Vec::new()
+    };
+    let found = (outcome.evaluations.iter())
+        .position(|e| e.ratios == best_ratios && e.cost.to_bits() == cost.to_bits());
+    let population = cmaes.settings().population;
     Ok(DesignOutcome {
-        // CMA-ES's best is a sample: the design evaluated for it is its projection when clipped.
-        best_ratios: if any_feasible {
-            bounds.design(space, best)
-        } else {
-            Vec::new()
-        },
+        best_anchor: found.and_then(|i| anchors.get(i / population).cloned().flatten()),
+        best_ratios,
         best_cost: cost,
         best_solution: None,
         costs: outcome.evaluations.iter().map(|e| e.cost).collect(),

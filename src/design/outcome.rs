@@ -16,6 +16,9 @@ pub struct DesignOutcome {
     /// The inner solution behind `best_cost`, where the method keeps one (the gradient method's
     /// warm-started solves can reach a lower local optimum than a cold solve of the same design).
     pub best_solution: Option<Solution>,
+    /// The design whose solution the best design's solve started from (CMA-ES with warm
+    /// starts: the anchor of the generation that found it; see `WarmStart`).
+    pub best_anchor: Option<Vec<f64>>,
     /// The fitness of every evaluation, in order.
     pub costs: Vec<f64>,
     /// The wall time of every inner solve that ran, s, in order (replayed ones included).

@@ -6,9 +6,9 @@
 //! command (`solve`, `capacity`, each co-design objective and penalty, the tables) solves a
 //! design through [`solve_design_from`], which tries the same starts in an order set by the
 //! formulation's kind:
-//! - hard: the warm start if given, the standard guess, then the elastic problem from the
+//! - hard: the warm start if given (at most [`WARM_MAX_ITER`] iterations), the standard guess, then the elastic problem from the
 //!   standard guess, then the hard problem from the elastic trajectory;
-//! - elastic: the warm start or else the standard guess, then the hard problem from the elastic
+//! - elastic: the warm start (kept when it converges) or else the standard guess, then the hard problem from the elastic
 //!   trajectory, then the hard problem from the standard guess.
 //!
 //! It stops at the first feasible trajectory, and skips the rest when the motors cannot hold the
@@ -43,7 +43,9 @@ pub fn solve_design(
 }
 
 /// Solves the trajectory problem of design `ratios` under the one rule, first from `warm` (the
-/// raw solution of a nearby design of the same formulation) when given. Returns the result
+/// raw solution of a nearby design of the same formulation) when given: a warm start that finds
+/// no feasible trajectory within [`WARM_MAX_ITER`] iterations is followed by the cold rule (an
+/// elastic warm start that converges with a deficit stands in for the elastic cold start). Returns the result
 /// that gives the verdict, its iterations and times summed over every solve tried, and the raw
 /// solution of the formulation's kind nearest the verdict, to warm-start the next design from.
 pub fn solve_design_from(
@@ -88,6 +90,19 @@ impl Tries {
     }
 }
 
+/// The most IPOPT iterations a warm start may take, the cold limit of [`solve_design_from`]:
+/// a warm start that needs more (measured: neighbouring optima take 10 to 30 iterations from
+/// each other) has started in the wrong place, and the cold rule takes over.
+pub const WARM_MAX_ITER: u32 = 150;
+
+/// `settings` with `max_iter` at most [`WARM_MAX_ITER`].
+fn capped(settings: &SolveSettings) -> SolveSettings {
+    SolveSettings {
+        max_iter: settings.max_iter.min(WARM_MAX_ITER),
+        ..settings.clone()
+    }
+}
+
 /// Whether no start can help: the result is feasible, or its motors cannot hold the load at
 /// rest at an end.
 fn settled(result: &TrajectoryResult) -> bool {
@@ -109,7 +124,7 @@ fn hard_first(
     tries: &mut Tries,
 ) -> Result<(TrajectoryResult, Solution), SolveError> {
     if let Some(warm) = warm {
-        let warmed = tries.solve(hard, ratios, settings, Start::Warm(warm))?;
+        let warmed = tries.solve(hard, ratios, &capped(settings), Start::Warm(warm))?;
         if warmed.0.feasible {
             return Ok(warmed);
         }
@@ -144,8 +159,18 @@ fn elastic_first(
     warm: Option<&Solution>,
     tries: &mut Tries,
 ) -> Result<(TrajectoryResult, Solution), SolveError> {
-    let start = warm.map_or(Start::Guess, Start::Warm);
-    let (relaxed, solution) = tries.solve(elastic, ratios, settings, start)?;
+    let mut first = None;
+    if let Some(warm) = warm {
+        let warmed = tries.solve(elastic, ratios, &capped(settings), Start::Warm(warm))?;
+        // An elastic optimum with a deficit is kept; one not reached within the cap is not.
+        if settled(&warmed.0) || warmed.1.status.is_success() {
+            first = Some(warmed);
+        }
+    }
+    let (relaxed, solution) = match first {
+        Some(warmed) => warmed,
+        None => tries.solve(elastic, ratios, settings, Start::Guess)?,
+    };
     if settled(&relaxed) {
         return Ok((relaxed, solution));
     }

@@ -20,7 +20,7 @@ mod run;
 mod settings;
 mod verify;
 
-pub use certify::{solve_design, solve_design_from, solve_elastic};
+pub use certify::{solve_design, solve_design_from, solve_elastic, WARM_MAX_ITER};
 pub use error::SolveError;
 pub use result::{
     CostTerms, ElasticMeasures, SolveSeconds, ToolInfo, Trajectory, TrajectoryResult, VerdictBy,

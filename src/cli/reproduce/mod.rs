@@ -8,6 +8,7 @@ mod stages;
 use super::store_hints::{check_output, hint};
 use crate::design::bounds::BoundHandling;
 use crate::design::run::{task_source, OptimizeDocument};
+use crate::design::warm::WarmStart;
 use crate::ipopt::LinearSolver;
 use crate::model::experiment::Budget;
 use crate::model::identity::task_hash;
@@ -63,6 +64,10 @@ pub struct Args {
     /// --bounds`): penalised as drawn (the paper's rule) or projected onto the space.
     #[arg(long, value_enum, default_value_t = BoundHandling::Penalty)]
     bounds: BoundHandling,
+    /// Whether every CMA-ES run starts each generation's designs from a solution of its mean
+    /// (see `optimize --warm-start`).
+    #[arg(long, value_enum, default_value_t = WarmStart::default())]
+    warm_start: WarmStart,
     /// Continue an interrupted reproduction from its evaluation logs.
     #[arg(long)]
     resume: bool,

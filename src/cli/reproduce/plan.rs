@@ -10,6 +10,7 @@ use crate::design::cmaes::SettingError;
 use crate::design::penalty::{Grading, Penalty, PENALTY};
 use crate::design::run::{shell_quote, task_source, Case, Method, ModelChoice, ProblemChoice};
 use crate::design::score::{Objective, PayloadRange};
+use crate::design::warm::WarmStart;
 use crate::model::experiment::{Budget, Experiment, MAX_SEEDS};
 use crate::problem::Space;
 use crate::report::trajectory::PLOT_FILES;
@@ -58,6 +59,8 @@ pub struct Plan {
     pub worker_command: Option<String>,
     /// What the CMA-ES runs do with a sample outside the design space.
     pub bounds: BoundHandling,
+    /// Whether the CMA-ES runs warm-start each generation's designs.
+    pub warm_start: WarmStart,
     /// How the CMA-ES runs treat the logs of an earlier reproduction.
     pub start: Start,
 }
@@ -103,6 +106,7 @@ impl Plan {
             workers: args.workers,
             worker_command: args.worker_command.clone(),
             bounds: args.bounds,
+            warm_start: args.warm_start,
             start: Start::from_flags(args.resume, args.overwrite),
         };
         plan.check_sizes(args)?;
@@ -159,7 +163,7 @@ impl Plan {
     }
 
     /// A run in `space` at `payload` (None: the task's) with `method`, the plan's shared flags
-    /// (`bounds` for CMA-ES only) and every other setting at its default.
+    /// (`bounds` and `warm_start` for CMA-ES only) and every other setting at its default.
     fn case(&self, space: Space, payload: Option<f64>, method: Method) -> Case {
         let model = ModelChoice {
             task: self.task.clone(),
@@ -174,6 +178,7 @@ impl Plan {
         if method == Method::Cmaes {
             // The gradient method keeps its iterates in the design space itself.
             case.bounds = self.bounds;
+            case.warm_start = self.warm_start;
         }
         case.workers = self.workers;
         case.worker_command = self.worker_command.clone();

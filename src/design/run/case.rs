@@ -9,6 +9,7 @@ use crate::design::cmaes::CmaesSettings;
 use crate::design::gradient::GradientSettings;
 use crate::design::penalty::{Grading, Penalty};
 use crate::design::score::{Objective, PayloadRange};
+use crate::design::warm::WarmStart;
 use crate::design::workers::{Launcher, SOLVE_TIMEOUT_S};
 use crate::ipopt::LinearSolver;
 use crate::model::identity::task_hash;
@@ -155,6 +156,8 @@ pub struct Case {
     pub penalty: Penalty,
     /// Whether CMA-ES's samples are evaluated as drawn or projected onto the design space.
     pub bounds: BoundHandling,
+    /// Whether CMA-ES's designs start from a solution of their generation's mean.
+    pub warm_start: WarmStart,
     /// Worker processes (default: one per core).
     pub workers: Option<usize>,
     /// A solve taking longer than this counts as a hung worker, s.
@@ -179,6 +182,7 @@ impl Case {
             gradient: GradientSettings::default(),
             penalty: Penalty::PAPER,
             bounds: BoundHandling::Penalty,
+            warm_start: WarmStart::default(),
             workers: None,
             solve_timeout_s: SOLVE_TIMEOUT_S,
             worker_command: None,
@@ -342,6 +346,9 @@ impl Case {
         if !self.bounds.is_penalty() {
             push("--bounds", self.bounds.to_string());
         }
+        if self.method == Method::Cmaes && !self.warm_start.is_on() {
+            push("--warm-start", self.warm_start.to_string());
+        }
         if let Some(workers) = self.workers {
             push("--workers", workers.to_string());
         }
@@ -409,6 +416,11 @@ impl Case {
             );
             compare("sigma0", inputs.sigma0.to_string(), c.sigma0.to_string());
             compare("bounds", inputs.bounds.to_string(), self.bounds.to_string());
+            compare(
+                "warm_start",
+                inputs.warm_start.to_string(),
+                self.warm_start.to_string(),
+            );
         }
         found
     }
@@ -444,6 +456,10 @@ impl Case {
             ftol: self.cmaes.ftol,
             xtol: self.cmaes.xtol,
             verdict_rule: VerdictRule::default(),
+            warm_start: match self.method {
+                Method::Cmaes => self.warm_start,
+                Method::Gradient => WarmStart::Off,
+            },
         }
     }
 }

@@ -6,6 +6,7 @@ use crate::design::outcome::GenerationSummary;
 use crate::design::outcome::GradientIterate;
 use crate::design::penalty::Grading;
 use crate::design::score::Objective;
+use crate::design::warm::WarmStart;
 use crate::ipopt::LinearSolver;
 use crate::model::task::LimitModes;
 use crate::problem::Space;
@@ -80,6 +81,10 @@ pub struct OptimizeInputs {
     /// that no verdict of an older rule is replayed as today's.
     #[serde(default = "VerdictRule::before_hold")]
     pub verdict_rule: VerdictRule,
+    /// Whether each generation's designs started from a solution of its mean; left out when
+    /// off, so that the logs written before warm starts existed (all cold) read as off.
+    #[serde(default = "WarmStart::off", skip_serializing_if = "WarmStart::is_off")]
+    pub warm_start: WarmStart,
 }
 
 /// What makes a design feasible in a run's evaluations.

@@ -5,10 +5,10 @@ use super::case::{Case, Loaded};
 use super::document::{Method, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
 use super::error::{Output, RunError};
 use crate::design::gradient::optimize_gradient;
-use crate::design::optimize::{optimize, EvaluationLog, Finished, Progress};
+use crate::design::optimize::{optimize, EvaluationLog, Finished, Progress, Sampling};
 use crate::design::outcome::DesignOutcome;
 use crate::design::penalty::Grading;
-use crate::design::score::Fitness;
+use crate::design::score::{anchor_solution, Fitness};
 use crate::design::score::Objective;
 use crate::design::workers::{Pool, WorkerSetup, MAX_GROUPS};
 use crate::model::task::{LimitModes, Task};
@@ -124,6 +124,8 @@ fn document(
             &elastic
         }
     };
+    let anchored = (outcome.best_anchor.as_ref())
+        .and_then(|anchor| anchor_solution(scored, settings, anchor));
     let (best_result, original_result, payload_costs) = match &case.objective {
         Objective::Range(_) => {
             let fitness = Fitness::new(
@@ -138,14 +140,14 @@ fn document(
             let original = payload_costs(&fitness, settings, &original_ratios);
             (None, None, Some(RangeCosts { best, original }))
         }
-        // Warm-started from the method's own inner solution where it has one, so that the
-        // reported trajectory is the one behind `best_cost`.
+        // Started as its evaluation was: from the method's own inner solution or its
+        // generation's anchor, so that the reported trajectory is the one behind `best_cost`.
         _ => (
             solve_design_from(
                 scored,
                 &outcome.best_ratios,
                 settings,
-                outcome.best_solution.as_ref(),
+                outcome.best_solution.as_ref().or(anchored.as_ref()),
             )
             .ok()
             .map(|(result, _)| result),
@@ -308,10 +310,14 @@ fn run_cmaes(
         case.problem.space, inputs.payload_kg, settings.seed
     );
     let mut progress = display(total, label);
+    let sampling = Sampling {
+        space: formulation.transmission().design_space(),
+        bounds: case.bounds,
+        warm_start: case.warm_start,
+    };
     Ok(optimize(
         settings.clone(),
-        formulation.transmission().design_space(),
-        case.bounds,
+        sampling,
         &mut pool,
         log,
         finished,

@@ -14,7 +14,7 @@ mod record;
 #[cfg(test)]
 mod tests;
 
-pub use objective::{Fitness, Objective, PayloadRange, ScoreError};
+pub use objective::{anchor_solution, Fitness, Objective, PayloadRange, ScoreError};
 pub use record::{Evaluation, SolveStatus, Status};
 
 use super::penalty::Penalty;

@@ -5,7 +5,7 @@
 use super::{judge, shortfall_of, solve, validate, Evaluation, Score, SolveStatus, Verdict};
 use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::design::penalty::{Grading, Penalty};
-use crate::ipopt;
+use crate::ipopt::{self, Solution};
 use crate::model::task::{LimitModes, Task};
 use crate::model::{ModelError, Robot};
 use crate::problem::{Formulation, FormulationError, Space, StaticHold};
@@ -141,8 +141,26 @@ impl Fitness {
         }
     }
 
-    /// Scores `ratios`: validated once, then solved as the objective and the penalty ask.
+    /// The solution the designs of a generation start from (a warm start): the cost objective's
+    /// problem of `anchor` (the CMA-ES mean, in the design space) solved under the one rule,
+    /// when it is feasible. None for the other objectives (a range has one problem per payload,
+    /// a capacity search its own warm starts) and for an anchor that is invalid or infeasible.
+    pub fn anchor(&self, anchor: &[f64]) -> Option<Solution> {
+        let Scored::Cost(formulation) = &self.scored else {
+            return None;
+        };
+        anchor_solution(formulation, &self.solve, anchor)
+    }
+
+    /// Scores `ratios`: validated once, then solved as the objective and the penalty ask, from
+    /// the standard guess.
     pub fn score(&self, ratios: &[f64]) -> Score {
+        self.score_from(ratios, None)
+    }
+
+    /// Scores `ratios` as [`Fitness::score`] does, the cost objective's solve first started
+    /// from `warm` (see [`Fitness::anchor`]; ignored by the other objectives).
+    pub fn score_from(&self, ratios: &[f64], warm: Option<&Solution>) -> Score {
         let graded = self.penalty.grading == Grading::Graded;
         if let Err(verdict) = validate(&self.transmission, ratios) {
             // A flat range names the payload an evaluation stops at: the first.
@@ -165,12 +183,14 @@ impl Fitness {
             Scored::Capacity(formulation, settings) => {
                 capacity(formulation, solve, ratios, settings)
             }
-            Scored::Cost(formulation) if graded => elastic(&[(0.0, formulation)], solve, ratios),
-            Scored::Cost(formulation) => cost(formulation, solve, ratios),
+            Scored::Cost(formulation) if graded => {
+                elastic(&[(0.0, formulation)], solve, ratios, warm)
+            }
+            Scored::Cost(formulation) => cost(formulation, solve, ratios, warm),
             Scored::Range(formulations) if graded => {
                 let each: Vec<(f64, &Formulation)> =
                     formulations.iter().map(|(kg, f)| (*kg, f)).collect();
-                elastic(&each, solve, ratios)
+                elastic(&each, solve, ratios, None)
             }
             Scored::Range(formulations) => range(formulations, solve, ratios),
         }
@@ -178,8 +198,25 @@ impl Fitness {
 
     /// Scores `ratios` and records the evaluation, its fitness under the run's penalty.
     pub fn evaluate(&self, ratios: &[f64]) -> Evaluation {
-        Evaluation::new(ratios, &self.score(ratios), &self.penalty)
+        self.evaluate_from(ratios, None)
     }
+
+    /// Scores `ratios` from `warm` (see [`Fitness::score_from`]) and records the evaluation.
+    pub fn evaluate_from(&self, ratios: &[f64], warm: Option<&Solution>) -> Evaluation {
+        Evaluation::new(ratios, &self.score_from(ratios, warm), &self.penalty)
+    }
+}
+
+/// The solution of `anchor` in `formulation` (solved under the one rule from the standard
+/// guess) that a generation's designs start from, when the anchor is valid and feasible.
+pub fn anchor_solution(
+    formulation: &Formulation,
+    settings: &SolveSettings,
+    anchor: &[f64],
+) -> Option<Solution> {
+    validate(formulation.transmission(), anchor).ok()?;
+    let (result, solution) = solve(formulation, settings, anchor, None).ok()?;
+    result.feasible.then_some(solution)
 }
 
 /// The verdict of valid `ratios` when its motors cannot hold the load at rest at an end at some
@@ -207,9 +244,15 @@ fn unheld(formulations: &[(f64, &Formulation)], ratios: &[f64]) -> Option<Verdic
     })
 }
 
-/// The score of one solve of valid `ratios`: its optimal cost J, or why it is infeasible.
-fn cost(formulation: &Formulation, settings: &SolveSettings, ratios: &[f64]) -> Score {
-    match solve(formulation, settings, ratios, None) {
+/// The score of one solve of valid `ratios` (first from `warm`): its optimal cost J, or why it
+/// is infeasible.
+fn cost(
+    formulation: &Formulation,
+    settings: &SolveSettings,
+    ratios: &[f64],
+    warm: Option<&Solution>,
+) -> Score {
+    match solve(formulation, settings, ratios, warm) {
         Ok((result, _)) => Score {
             verdict: judge(formulation, &result),
             iterations: result.iterations,
@@ -225,7 +268,7 @@ fn cost(formulation: &Formulation, settings: &SolveSettings, ratios: &[f64]) -> 
 fn range(formulations: &[(f64, Formulation)], settings: &SolveSettings, ratios: &[f64]) -> Score {
     let (mut iterations, mut seconds, mut sum) = (0, 0.0, 0.0);
     for (payload_kg, formulation) in formulations {
-        let one = cost(formulation, settings, ratios);
+        let one = cost(formulation, settings, ratios, None);
         iterations += one.iterations;
         seconds += one.seconds;
         match one.verdict {
@@ -250,17 +293,18 @@ fn range(formulations: &[(f64, Formulation)], settings: &SolveSettings, ratios: 
 }
 
 /// The score of valid `ratios` by the elastic problems of `formulations` (one per payload, the
-/// payload named in reasons when there are several): the mean cost when every one is feasible,
-/// else infeasible by the summed shortfall.
+/// payload named in reasons when there are several; a single one first solved from `warm`): the
+/// mean cost when every one is feasible, else infeasible by the summed shortfall.
 fn elastic(
     formulations: &[(f64, &Formulation)],
     settings: &SolveSettings,
     ratios: &[f64],
+    warm: Option<&Solution>,
 ) -> Score {
     let (mut iterations, mut seconds, mut sum, mut short) = (0, 0.0, 0.0, 0.0);
     let mut reasons = Vec::new();
     for (payload_kg, formulation) in formulations {
-        let result = match solve(formulation, settings, ratios, None) {
+        let result = match solve(formulation, settings, ratios, warm) {
             Ok((result, _)) => result,
             Err(verdict) => {
                 return Score {

@@ -5,7 +5,7 @@ use super::WorkerError;
 use crate::design::penalty::Penalty;
 use crate::design::score::{Evaluation, Fitness, Objective, ScoreError};
 use crate::hash::fnv1a;
-use crate::ipopt::{LinearSolver, IPOPT_VERSION};
+use crate::ipopt::{LinearSolver, Solution, IPOPT_VERSION};
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;
 use crate::problem::Space;
@@ -135,6 +135,38 @@ pub struct Request {
     pub id: usize,
     /// The design r.
     pub ratios: Vec<f64>,
+    /// The design whose solution the solve starts from (the generation's CMA-ES mean in the
+    /// design space): the worker solves it once, from the standard guess, and keeps its solution
+    /// for every request with the same anchor. None: the standard guess.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub anchor: Option<Vec<f64>>,
+}
+
+/// A worker's solution of the last anchor it was sent (see [`Request::anchor`]).
+struct Anchored {
+    anchor: Vec<f64>,
+    /// None when the anchor is invalid or infeasible: its designs start from the standard guess.
+    solution: Option<Solution>,
+}
+
+impl Anchored {
+    /// The warm start of `request`: the solution of its anchor, solved by `fitness` when the
+    /// anchor changed (each worker solves the same anchor to the same bits, so the evaluations do
+    /// not depend on which worker took a design).
+    fn warm_start<'a>(
+        cached: &'a mut Option<Anchored>,
+        fitness: &Fitness,
+        request: &Request,
+    ) -> Option<&'a Solution> {
+        let anchor = request.anchor.as_ref()?;
+        if cached.as_ref().is_none_or(|c| c.anchor != *anchor) {
+            *cached = Some(Anchored {
+                anchor: anchor.clone(),
+                solution: fitness.anchor(anchor),
+            });
+        }
+        cached.as_ref()?.solution.as_ref()
+    }
 }
 
 /// The evaluation of one request.
@@ -162,12 +194,14 @@ pub fn serve(mut input: impl BufRead, mut output: impl Write) -> Result<(), Work
     if !answer(&mut output, &hello)? {
         return Ok(());
     }
+    let mut anchored = None;
     while let Some(line) = read_line(&mut input).map_err(WorkerError::ReadRequest)? {
         let request: Request =
             serde_json::from_str(&line).map_err(WorkerError::MalformedRequest)?;
+        let warm = Anchored::warm_start(&mut anchored, &fitness, &request);
         let response = Response {
             id: request.id,
-            evaluation: fitness.evaluate(&request.ratios),
+            evaluation: fitness.evaluate_from(&request.ratios, warm),
         };
         let text = serde_json::to_string(&response).map_err(WorkerError::EncodeAnswer)?;
         if !answer(&mut output, &text)? {

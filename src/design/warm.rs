@@ -1,0 +1,48 @@
+//! Whether the designs of a CMA-ES generation start from a solution of that generation's mean
+//! (docs/model.md, section 10) or from the standard initial guess.
+
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// How the inner solves of a CMA-ES run start.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum WarmStart {
+    /// Each generation's mean, projected onto the design space, is solved once (per worker);
+    /// while it is feasible, every design of the generation starts from its solution, primal
+    /// and multipliers, and falls back to the cold rule when that start finds no feasible
+    /// trajectory within `solve::WARM_MAX_ITER` iterations. Only the cost objective: a payload
+    /// range and a capacity search start cold (the latter warm-starts its own probes).
+    #[default]
+    On,
+    /// Every design from the standard initial guess (the paper's; every run logged before warm
+    /// starts existed).
+    Off,
+}
+
+impl WarmStart {
+    /// Off: the setting of the runs logged before it was recorded (all started cold).
+    pub fn off() -> WarmStart {
+        WarmStart::Off
+    }
+
+    /// Whether warm starts are on.
+    pub fn is_on(self) -> bool {
+        self == WarmStart::On
+    }
+
+    /// Whether warm starts are off (which result files and log headers leave out).
+    pub fn is_off(&self) -> bool {
+        *self == WarmStart::Off
+    }
+}
+
+impl fmt::Display for WarmStart {
+    /// The flag's value: `on` or `off`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            WarmStart::On => "on",
+            WarmStart::Off => "off",
+        })
+    }
+}
