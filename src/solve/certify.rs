@@ -91,8 +91,8 @@ impl Tries {
 }
 
 /// The most IPOPT iterations a warm start may take, the cold limit of [`solve_design_from`]:
-/// a warm start that needs more (measured: neighbouring optima take 10 to 30 iterations from
-/// each other) has started in the wrong place, and the cold rule takes over.
+/// a warm start that needs more has started in the wrong place, and the cold rule takes over
+/// (measured in CMA-ES at 1 kg: a median of 25 iterations from the generation's mean, 57 cold).
 pub const WARM_MAX_ITER: u32 = 150;
 
 /// `settings` with `max_iter` at most [`WARM_MAX_ITER`].

@@ -8,8 +8,8 @@ use crate::design::gradient::optimize_gradient;
 use crate::design::optimize::{optimize, EvaluationLog, Finished, Progress, Sampling};
 use crate::design::outcome::DesignOutcome;
 use crate::design::penalty::Grading;
-use crate::design::score::{anchor_solution, Fitness};
 use crate::design::score::Objective;
+use crate::design::score::{anchor_solution, Fitness};
 use crate::design::workers::{Pool, WorkerSetup, MAX_GROUPS};
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;
@@ -124,8 +124,8 @@ fn document(
             &elastic
         }
     };
-    let anchored = (outcome.best_anchor.as_ref())
-        .and_then(|anchor| anchor_solution(scored, settings, anchor));
+    let anchored =
+        (outcome.best_anchor.as_ref()).and_then(|anchor| anchor_solution(scored, settings, anchor));
     let (best_result, original_result, payload_costs) = match &case.objective {
         Objective::Range(_) => {
             let fitness = Fitness::new(
