@@ -11,7 +11,8 @@ pub enum WarmStart {
     /// Each generation's mean, projected onto the design space, is solved once (per worker);
     /// while it is feasible, every design of the generation starts from its solution, primal
     /// and multipliers, and falls back to the cold rule when that start finds no feasible
-    /// trajectory within `solve::WARM_MAX_ITER` iterations. Only the cost objective: a payload
+    /// trajectory within `solve::WARM_MAX_ITER` iterations (with the graded penalty, an elastic
+    /// warm start that converges stands in for the elastic cold start: docs/model.md, section 10). Only the cost objective: a payload
     /// range and a capacity search start cold (the latter warm-starts its own probes).
     #[default]
     On,
