@@ -384,8 +384,8 @@ fn clipped_samples_are_evaluated_inside_the_design_space() {
 #[test]
 fn warm_starts_are_recorded_and_save_iterations() {
     let dir = scratch("warm");
-    let args = |warm: &str| {
-        [
+    let args = |warm: &'static str| {
+        vec![
             "optimize",
             "--space",
             "actuation",
@@ -400,17 +400,11 @@ fn warm_starts_are_recorded_and_save_iterations() {
             "--workers",
             "2",
             "--warm-start",
+            warm,
         ]
-        .into_iter()
-        .map(str::to_owned)
-        .chain([warm.to_owned()])
-        .collect::<Vec<String>>()
     };
-    let run = |warm: &str| {
-        let args = args(warm);
-        let args: Vec<&str> = args.iter().map(String::as_str).collect();
-        run_to_completion(&args, &dir.join(format!("{warm}.json")))
-    };
+    let run =
+        |warm: &'static str| run_to_completion(&args(warm), &dir.join(format!("{warm}.json")));
     let (on, off) = (run("on"), run("off"));
     assert_eq!(on["inputs"]["warm_start"], "on");
     assert_eq!(off["inputs"].get("warm_start"), None, "left out when off");
@@ -425,15 +419,12 @@ fn warm_starts_are_recorded_and_save_iterations() {
     };
     assert!(iterations("on") < iterations("off"));
     let mut resume = args("off");
-    resume.push("--resume".to_owned());
-    let output = codesign_command(
-        support::root(),
-        &resume.iter().map(String::as_str).collect::<Vec<_>>(),
-    )
-    .arg("--out")
-    .arg(dir.join("on.json"))
-    .output()
-    .unwrap();
+    resume.push("--resume");
+    let output = codesign_command(support::root(), &resume)
+        .arg("--out")
+        .arg(dir.join("on.json"))
+        .output()
+        .unwrap();
     assert!(!output.status.success());
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(stderr.contains("warm_start"), "{stderr}");

@@ -28,8 +28,8 @@ impl WarmStart {
     }
 
     /// Whether warm starts are on.
-    pub fn is_on(self) -> bool {
-        self == WarmStart::On
+    pub fn is_on(&self) -> bool {
+        *self == WarmStart::On
     }
 
     /// Whether warm starts are off (which result files and log headers leave out).

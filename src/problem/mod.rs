@@ -152,36 +152,34 @@ impl Formulation {
     /// The same formulation in the elastic kind (docs/model.md, section 14): always feasible,
     /// with the torque deficit and the speed excess as penalised slacks.
     pub fn elastic(&self) -> Formulation {
-        let layout = &self.layout;
-        let mut elastic = self.clone();
-        let rows = LinearRows {
-            speed: true,
-            ..layout.rows()
-        };
-        elastic.layout = Layout::new(layout.dof, layout.steps, rows, ProblemKind::Elastic);
-        if self.modes.speed != LimitMode::Exact {
-            elastic.speed_pattern = DMatrix::identity(layout.dof, layout.dof);
-        }
-        elastic.jacobian = jacobian::pattern(&elastic);
-        elastic
+        self.of_kind(ProblemKind::Elastic)
     }
 
-    /// The same formulation in the hard kind: itself when it is hard, else the formulation
-    /// [`Formulation::elastic`] was made from.
+    /// The same formulation in the hard kind: the formulation [`Formulation::elastic`] was made
+    /// from.
     pub fn hard(&self) -> Formulation {
+        self.of_kind(ProblemKind::Hard)
+    }
+
+    /// The same formulation in `kind`. The elastic kind has speed rows in every mode (the box
+    /// modes' rows on the joint speeds, so that a slack can relax them); the hard kind only in
+    /// mode `exact`, on the motor speeds G v.
+    fn of_kind(&self, kind: ProblemKind) -> Formulation {
         let layout = &self.layout;
-        let mut hard = self.clone();
-        if self.kind() == ProblemKind::Hard {
-            return hard;
-        }
+        let boxed = self.modes.speed != LimitMode::Exact;
+        let mut other = self.clone();
         let rows = LinearRows {
-            speed: self.modes.speed == LimitMode::Exact,
+            speed: kind == ProblemKind::Elastic || !boxed,
             ..layout.rows()
         };
-        hard.layout = Layout::new(layout.dof, layout.steps, rows, ProblemKind::Hard);
-        hard.speed_pattern = self.g_pattern.clone();
-        hard.jacobian = jacobian::pattern(&hard);
-        hard
+        other.layout = Layout::new(layout.dof, layout.steps, rows, kind);
+        other.speed_pattern = if kind == ProblemKind::Elastic && boxed {
+            DMatrix::identity(layout.dof, layout.dof)
+        } else {
+            self.g_pattern.clone()
+        };
+        other.jacobian = jacobian::pattern(&other);
+        other
     }
 
     /// The same formulation (space, modes, kind) for the robot carrying `payload_kg` kg at the

@@ -200,20 +200,19 @@ pub fn judge(formulation: &Formulation, result: &TrajectoryResult) -> Verdict {
             status: SolveStatus::Ipopt(result.status.clone()),
         };
     }
-    let hold = result.static_hold.as_ref().and_then(StaticHold::reason);
-    let (status, reason) = match (&result.elastic, hold) {
-        (Some(measures), hold) => {
+    let (status, reason) = match &result.elastic {
+        Some(measures) => {
             let deficit = format!(
                 "torque deficit {:.4} N m s, speed excess {:.4} rad",
                 measures.torque_deficit, measures.speed_excess
             );
-            let reason = match hold {
+            let reason = match result.static_hold.as_ref().and_then(StaticHold::reason) {
                 Some(hold) => format!("{hold}; {deficit}"),
                 None => deficit,
             };
             (SolveStatus::ElasticDeficit, reason)
         }
-        (None, _) => (
+        None => (
             SolveStatus::Ipopt(result.status.clone()),
             result
                 .reason
