@@ -103,6 +103,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     let result = solve_design(&formulation, &ratios, &settings).map_err(|e| match e {
         SolveError::Design(_) => format!("{source}: {e}"),
         SolveError::Ipopt(_) => format!("{} solver: {e}", args.model.source()),
+        SolveError::Formulation(_) => format!("{}: {e}", args.model.source()),
     })?;
     print_summary(&formulation, &result);
     if let Some(folder) = &args.plot {

@@ -1,16 +1,19 @@
 //! Payload capacity: the largest payload for which a design's trajectory problem is feasible.
 //!
 //! The payload is bracketed by doubling from a first step, then bisected to the requested
-//! resolution; every solve after the first is warm-started from the solution of the largest
-//! feasible payload so far, and retried from the standard initial guess when that fails (IPOPT's
-//! infeasibility verdicts are local). Feasibility is assumed to fall monotonically with the
-//! payload; the probes are all reported, so a user can see when it does not. The search never
+//! resolution. Every probe is solved under the one rule of feasibility, so its verdict is the
+//! one `codesign solve` gives at that payload: the search keeps the rule's payload continuation
+//! ([`PayloadChain`]: the design at 0, 1, 2, 4, ... kg, each step warm-started from the one
+//! before) between its probes and tries it first, which makes it the search's warm start.
+//! Feasibility is assumed to fall monotonically with the payload; the probes are all reported,
+//! so a user can see when it does not. The search never
 //! goes beyond the largest payload the motors hold at rest at both ends, which is known in
 //! closed form ([`Formulation::hold_capacity`]), so no capacity exceeds it.
 
-use crate::ipopt::Solution;
 use crate::problem::{Formulation, FormulationError};
-use crate::solve::{solve_design_from, SolveError, SolveSettings, VerdictBy};
+use crate::solve::{
+    solve_design_along, PayloadChain, SolveError, SolveSettings, VerdictBy, CONTINUATION_STEP_KG,
+};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -19,18 +22,19 @@ use std::fmt;
 pub struct CapacitySettings {
     /// Stop bisecting when the bracket is this narrow, kg.
     pub resolution_kg: f64,
-    /// The first payload tried after 0 kg; doubled until infeasible, kg.
+    /// The first payload tried after 0 kg; doubled until infeasible, kg (by default the payload
+    /// continuation's first step, so that the bracketing climbs its steps).
     pub first_step_kg: f64,
     /// Give up bracketing beyond this payload, kg.
     pub max_kg: f64,
 }
 
 impl Default for CapacitySettings {
-    /// 10 g resolution, a first step of 1 kg, at most 64 kg.
+    /// 10 g resolution, a first step of [`CONTINUATION_STEP_KG`] (1 kg), at most 64 kg.
     fn default() -> CapacitySettings {
         CapacitySettings {
             resolution_kg: 0.01,
-            first_step_kg: 1.0,
+            first_step_kg: CONTINUATION_STEP_KG,
             max_kg: 64.0,
         }
     }
@@ -51,8 +55,9 @@ pub struct CapacityProbe {
     pub iterations: usize,
     /// Wall time of those solves, s.
     pub seconds: f64,
-    /// Whether the first solve started from the last feasible payload's solution (else from
-    /// the standard initial guess of docs/model.md, section 6).
+    /// Whether the first solve was warm-started: from the payload continuation's step below
+    /// (from the last feasible payload's solution in files written before the continuation),
+    /// else from the standard initial guess of docs/model.md, section 6.
     pub warm_start: bool,
     /// Which solve gave the verdict (absent in files written before it was recorded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -157,21 +162,20 @@ struct Search<'a> {
     formulation: &'a Formulation,
     solve: &'a SolveSettings,
     ratios: &'a [f64],
+    chain: PayloadChain,
     probes: Vec<CapacityProbe>,
 }
 
 impl Search<'_> {
-    /// Solves the design at `payload` under the one rule of feasibility
-    /// (`solve::solve_design_from`), first from `warm`: IPOPT's verdict of infeasibility is
-    /// local (the problem is not convex), so a payload counts as infeasible only when no start
-    /// leads to a feasible trajectory. The solution when feasible.
-    fn probe(
-        &mut self,
-        payload: f64,
-        warm: Option<&Solution>,
-    ) -> Result<Option<Solution>, CapacityError> {
+    /// Whether the design is feasible at `payload` under the one rule of feasibility
+    /// (`solve::solve_design_along`): IPOPT's verdict of infeasibility is local (the problem is
+    /// not convex), so a payload counts as infeasible only when no start leads to a feasible
+    /// trajectory.
+    fn probe(&mut self, payload: f64) -> Result<bool, CapacityError> {
         let formulation = self.formulation.with_payload(payload)?;
-        let (result, solution) = solve_design_from(&formulation, self.ratios, self.solve, warm)?;
+        let warm = self.chain.ready_below(&formulation, self.ratios);
+        let (result, _) =
+            solve_design_along(&formulation, self.ratios, self.solve, &mut self.chain)?;
         self.probes.push(CapacityProbe {
             payload_kg: payload,
             feasible: result.feasible,
@@ -179,10 +183,10 @@ impl Search<'_> {
             cost: result.cost,
             iterations: result.iterations,
             seconds: result.solve_seconds.total,
-            warm_start: warm.is_some(),
+            warm_start: warm,
             verdict_by: result.verdict_by,
         });
-        Ok(result.feasible.then_some(solution))
+        Ok(result.feasible)
     }
 }
 
@@ -213,6 +217,7 @@ pub fn payload_capacity(
         formulation,
         solve,
         ratios,
+        chain: PayloadChain::new(),
         probes: Vec::new(),
     };
     let (low, high) = bracket(&mut search, settings.max_kg.min(hold), settings)?;
@@ -234,28 +239,28 @@ fn bracket(
     top: f64,
     settings: &CapacitySettings,
 ) -> Result<(Option<f64>, Option<f64>), CapacityError> {
-    let Some(mut best) = search.probe(0.0, None)? else {
+    if !search.probe(0.0)? {
         return Ok((None, Some(0.0)));
-    };
+    }
     // Bracketing: double the payload until it is infeasible or the largest allowed.
     let (mut low, mut high) = (0.0, None);
     let mut payload = settings.first_step_kg.min(top);
     while high.is_none() && low < top {
-        match search.probe(payload, Some(&best))? {
-            Some(solution) => {
-                (low, best) = (payload, solution);
-                payload = (2.0 * payload).min(top);
-            }
-            None => high = Some(payload),
+        if search.probe(payload)? {
+            low = payload;
+            payload = (2.0 * payload).min(top);
+        } else {
+            high = Some(payload);
         }
     }
     // Bisection of the bracket down to the resolution.
     if let Some(mut upper) = high {
         while upper - low > settings.resolution_kg {
             let middle = 0.5 * (low + upper);
-            match search.probe(middle, Some(&best))? {
-                Some(solution) => (low, best) = (middle, solution),
-                None => upper = middle,
+            if search.probe(middle)? {
+                low = middle;
+            } else {
+                upper = middle;
             }
         }
         high = Some(upper);
@@ -310,6 +315,12 @@ mod tests {
                     .iter()
                     .any(|p| p.payload_kg == probe.payload_kg && p.feasible));
             }
+        }
+        // `solve` gives the probes' verdicts at the capacity and just above it.
+        for (payload, feasible) in [(low, true), (high, false)] {
+            let at = formulation.with_payload(payload).unwrap();
+            let result = crate::solve::solve_design(&at, &held, &testing::settings()).unwrap();
+            assert_eq!(result.feasible, feasible, "{payload} kg: {result:?}");
         }
         let bad = CapacitySettings {
             resolution_kg: 0.0,

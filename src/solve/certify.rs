@@ -6,10 +6,15 @@
 //! command (`solve`, `capacity`, each co-design objective and penalty, the tables) solves a
 //! design through [`solve_design_from`], which tries the same starts in an order set by the
 //! formulation's kind:
-//! - hard: the warm start if given (at most [`WARM_MAX_ITER`] iterations), the standard guess, then the elastic problem from the
-//!   standard guess, then the hard problem from the elastic trajectory;
-//! - elastic: the warm start (kept when it converges) or else the standard guess, then the hard problem from the elastic
-//!   trajectory, then the hard problem from the standard guess.
+//! - hard: the warm start if given (at most [`WARM_MAX_ITER`] iterations), the standard guess,
+//!   then the elastic problem from the standard guess, then the hard problem from the elastic
+//!   trajectory, then the payload continuation (`continuation`);
+//! - elastic: the warm start (kept when it converges) or else the standard guess, then the hard
+//!   problem from the elastic trajectory, from the standard guess, and by payload continuation.
+//!
+//! The verdict is whether any of these starts succeeds, so it does not depend on their order: a
+//! capacity search, which keeps the continuation's steps between its probes, tries the
+//! continuation first ([`solve_design_along`]).
 //!
 //! It stops at the first feasible trajectory, and skips the rest when the motors cannot hold the
 //! load at rest at an end (no trajectory is then feasible).
@@ -17,6 +22,7 @@
 use super::result::{SolveSeconds, TrajectoryResult, VerdictBy};
 use super::run::{solve_once, Start};
 use super::settings::SolveSettings;
+use super::continuation::PayloadChain;
 use super::SolveError;
 use crate::ipopt::Solution;
 use crate::problem::{Formulation, ProblemKind};
@@ -55,25 +61,67 @@ pub fn solve_design_from(
     warm: Option<&Solution>,
 ) -> Result<(TrajectoryResult, Solution), SolveError> {
     let mut tries = Tries::default();
-    let (mut result, solution) = match formulation.kind() {
-        ProblemKind::Hard => hard_first(formulation, ratios, settings, warm, &mut tries)?,
-        ProblemKind::Elastic => elastic_first(formulation, ratios, settings, warm, &mut tries)?,
-    };
+    let (mut result, solution) = rule(formulation, ratios, settings, warm, None, &mut tries)?;
     result.iterations = tries.iterations;
     result.solve_seconds = tries.seconds;
     Ok((result, solution))
 }
 
+/// Solves design `ratios` under the one rule with `chain`, the payload continuation of the same
+/// design kept from solves at other payloads (a capacity search): the verdict is the one
+/// [`solve_design`] reaches, and the continuation, which then costs one solve, is tried first.
+pub fn solve_design_along(
+    formulation: &Formulation,
+    ratios: &[f64],
+    settings: &SolveSettings,
+    chain: &mut PayloadChain,
+) -> Result<(TrajectoryResult, Solution), SolveError> {
+    let mut tries = Tries::default();
+    let (mut result, solution) =
+        rule(formulation, ratios, settings, None, Some(chain), &mut tries)?;
+    if formulation.kind() == ProblemKind::Hard && formulation.task().payload.mass_kg == 0.0 {
+        chain.record(formulation, ratios, result.feasible.then_some(&solution));
+    }
+    result.iterations = tries.iterations;
+    result.solve_seconds = tries.seconds;
+    Ok((result, solution))
+}
+
+/// The rule's starts for `formulation`'s kind, their work counted in `tries`; `chain` holds
+/// the continuation's steps when they are kept between solves.
+pub(super) fn rule(
+    formulation: &Formulation,
+    ratios: &[f64],
+    settings: &SolveSettings,
+    warm: Option<&Solution>,
+    chain: Option<&mut PayloadChain>,
+    tries: &mut Tries,
+) -> Result<(TrajectoryResult, Solution), SolveError> {
+    let mut own = PayloadChain::new();
+    let kept = chain.is_some();
+    let mut continuation = Continuation {
+        chain: chain.unwrap_or(&mut own),
+        kept,
+        tried: false,
+    };
+    match formulation.kind() {
+        ProblemKind::Hard => hard_first(formulation, ratios, settings, warm, &mut continuation, tries),
+        ProblemKind::Elastic => {
+            elastic_first(formulation, ratios, settings, warm, &mut continuation, tries)
+        }
+    }
+}
+
 /// The work of the solves tried for one design.
 #[derive(Default)]
-struct Tries {
+pub(super) struct Tries {
     iterations: usize,
     seconds: SolveSeconds,
 }
 
 impl Tries {
     /// Solves once and counts the work.
-    fn solve(
+    pub(super) fn solve(
         &mut self,
         formulation: &Formulation,
         ratios: &[f64],
@@ -96,7 +144,7 @@ impl Tries {
 pub const WARM_MAX_ITER: u32 = 150;
 
 /// `settings` with `max_iter` at most [`WARM_MAX_ITER`].
-fn capped(settings: &SolveSettings) -> SolveSettings {
+pub(super) fn capped(settings: &SolveSettings) -> SolveSettings {
     SolveSettings {
         max_iter: settings.max_iter.min(WARM_MAX_ITER),
         ..settings.clone()
@@ -113,20 +161,69 @@ fn settled(result: &TrajectoryResult) -> bool {
             .is_some_and(|hold| hold.reason().is_some())
 }
 
+/// The payload continuation of one rule's solve: its chain, whether the chain is kept between
+/// solves (the continuation is then tried early, else last), and whether it was tried.
+struct Continuation<'a> {
+    chain: &'a mut PayloadChain,
+    kept: bool,
+    tried: bool,
+}
+
+impl Continuation<'_> {
+    /// Whether to try the continuation before the cold starts: its chain is kept and already
+    /// reaches the payload, so it costs one warm-started solve.
+    fn early(&self, hard: &Formulation, ratios: &[f64]) -> bool {
+        self.kept && self.chain.ready_below(hard, ratios)
+    }
+
+    /// The hard problem at `hard`'s payload warm-started from the chain's last step below it
+    /// (at most [`WARM_MAX_ITER`] iterations), once per rule: the result when feasible.
+    fn try_once(
+        &mut self,
+        hard: &Formulation,
+        ratios: &[f64],
+        settings: &SolveSettings,
+        tries: &mut Tries,
+    ) -> Result<Option<(TrajectoryResult, Solution)>, SolveError> {
+        if std::mem::replace(&mut self.tried, true) {
+            return Ok(None);
+        }
+        let Some(before) = self.chain.last_below(hard, ratios, settings, tries)? else {
+            return Ok(None);
+        };
+        let (mut result, solution) =
+            tries.solve(hard, ratios, &capped(settings), Start::Warm(before))?;
+        self.chain
+            .record(hard, ratios, result.feasible.then_some(&solution));
+        if !result.feasible {
+            return Ok(None);
+        }
+        result.verdict_by = Some(VerdictBy::PayloadContinuation);
+        Ok(Some((result, solution)))
+    }
+}
+
 /// The rule for a hard formulation: warm start, standard guess, elastic problem, hard problem
-/// from the elastic trajectory. An infeasible design's result is the elastic one (with its
+/// from the elastic trajectory, payload continuation (first, after the warm start, when its
+/// chain is kept and ready). An infeasible design's result is the elastic one (with its
 /// shortfall), and its solution the last hard one.
 fn hard_first(
     hard: &Formulation,
     ratios: &[f64],
     settings: &SolveSettings,
     warm: Option<&Solution>,
+    continuation: &mut Continuation<'_>,
     tries: &mut Tries,
 ) -> Result<(TrajectoryResult, Solution), SolveError> {
     if let Some(warm) = warm {
         let warmed = tries.solve(hard, ratios, &capped(settings), Start::Warm(warm))?;
         if warmed.0.feasible {
             return Ok(warmed);
+        }
+    }
+    if continuation.early(hard, ratios) {
+        if let Some(found) = continuation.try_once(hard, ratios, settings, tries)? {
+            return Ok(found);
         }
     }
     let cold = tries.solve(hard, ratios, settings, Start::Guess)?;
@@ -145,18 +242,23 @@ fn hard_first(
         again.verdict_by = Some(VerdictBy::HardFromElastic);
         return Ok((again, solution));
     }
+    if let Some(found) = continuation.try_once(hard, ratios, settings, tries)? {
+        return Ok(found);
+    }
     Ok((relaxed, solution))
 }
 
 /// The rule for an elastic formulation (the graded penalty): warm start or standard guess, then,
-/// when a deficit is left, the hard problem from the elastic trajectory and from the standard
-/// guess. The solution is always the elastic one; an infeasible design's result is too, so that
-/// a warm-started descent on the elastic objective (the gradient method) sees it continue.
+/// when a deficit is left, the hard problem from the elastic trajectory, from the standard
+/// guess and by payload continuation. The solution is always the elastic one; an infeasible
+/// design's result is too, so that a warm-started descent on the elastic objective (the
+/// gradient method) sees it continue.
 fn elastic_first(
     elastic: &Formulation,
     ratios: &[f64],
     settings: &SolveSettings,
     warm: Option<&Solution>,
+    continuation: &mut Continuation<'_>,
     tries: &mut Tries,
 ) -> Result<(TrajectoryResult, Solution), SolveError> {
     let mut first = None;
@@ -183,6 +285,9 @@ fn elastic_first(
     let (cold, _) = tries.solve(&hard, ratios, settings, Start::Guess)?;
     if cold.feasible {
         return Ok((cold, solution));
+    }
+    if let Some((found, _)) = continuation.try_once(&hard, ratios, settings, tries)? {
+        return Ok((found, solution));
     }
     Ok((relaxed, solution))
 }

@@ -2,7 +2,10 @@
 //! one, on designs near the edge of feasibility where single solves disagree (a graded co-design
 //! evaluation of the same designs: `design::score` tests).
 
-use super::{solve_design, solve_design_from, SolveError, TrajectoryResult, VerdictBy};
+use super::{
+    solve_design, solve_design_along, solve_design_from, PayloadChain, SolveError,
+    TrajectoryResult, VerdictBy,
+};
 use crate::ipopt::{self, Solution};
 use crate::problem::{Formulation, Space};
 use crate::testing;
@@ -72,6 +75,49 @@ fn the_hard_problem_from_the_elastic_trajectory_certifies_a_design_both_guesses_
         assert!((result.cost - 216.6044).abs() < 1e-3, "J = {}", result.cost);
         assert!(result.elastic.is_none() && result.cost_gradient.is_some());
     }
+}
+
+/// At 2 kg, every cold start misses this design (the elastic problem keeps a deficit, and the
+/// hard problem fails from the guess and from the elastic trajectory), but carried up from the
+/// unloaded arm through 1 kg it has a feasible trajectory, J = 169.8548, whichever kind asks.
+/// A capacity search certified it for 2.03 kg that way (issue 23).
+#[test]
+fn payload_continuation_certifies_a_design_every_cold_start_misses() {
+    let ratios = [7.8399, 6.8107, 1.1898, 2.0817];
+    let (hard, elastic) = both_kinds(2.0, &ratios);
+    for result in [&hard, &elastic] {
+        assert!(result.feasible, "{:?}", result.reason);
+        assert_eq!(result.verdict_by, Some(VerdictBy::PayloadContinuation));
+    }
+    assert_eq!(hard.cost.to_bits(), elastic.cost.to_bits());
+    assert!((hard.cost - 169.8548).abs() < 1e-3, "J = {}", hard.cost);
+    // A chain kept from the solves at 0 and 1 kg gives the same verdict and optimum from its
+    // one warm-started solve, which it tries first.
+    let settings = testing::settings();
+    let mut chain = PayloadChain::new();
+    for payload_kg in [0.0, 1.0] {
+        let at = testing::formulation(payload_kg, Space::Actuation);
+        assert!(solve_design_along(&at, &ratios, &settings, &mut chain).unwrap().0.feasible);
+    }
+    let at = testing::formulation(2.0, Space::Actuation);
+    assert!(chain.ready_below(&at, &ratios));
+    let (along, _) = solve_design_along(&at, &ratios, &settings, &mut chain).unwrap();
+    assert_eq!(along.verdict_by, Some(VerdictBy::PayloadContinuation));
+    assert_eq!(along.cost.to_bits(), hard.cost.to_bits());
+    assert!(along.iterations <= super::WARM_MAX_ITER as usize);
+    // Another design starts the chain afresh.
+    assert!(!chain.ready_below(&at, &[7.84, 6.8107, 1.1898, 2.0817]));
+}
+
+/// The continuation's payloads below a payload: 0 kg, then its first step doubled.
+#[test]
+fn the_continuation_climbs_from_the_unloaded_arm_by_doubling() {
+    assert!(PayloadChain::payloads_below(0.0).is_empty());
+    assert_eq!(PayloadChain::payloads_below(0.5), [0.0]);
+    assert_eq!(PayloadChain::payloads_below(1.0), [0.0]);
+    assert_eq!(PayloadChain::payloads_below(3.0), [0.0, 1.0, 2.0]);
+    assert_eq!(PayloadChain::payloads_below(4.5), [0.0, 1.0, 2.0, 4.0]);
+    assert!(PayloadChain::payloads_below(f64::NAN).is_empty());
 }
 
 /// A feasible design costs one solve, and its solution warm-starts a neighbour of the same

@@ -1,6 +1,7 @@
 //! Why a design could not be solved at all.
 
 use crate::ipopt;
+use crate::problem::FormulationError;
 use crate::transmission::DesignError;
 use std::fmt;
 
@@ -12,6 +13,8 @@ pub enum SolveError {
     Design(DesignError),
     /// IPOPT could not run (a callback failed, an option was rejected).
     Ipopt(ipopt::Error),
+    /// The problem could not be formulated at a payload of the payload continuation.
+    Formulation(FormulationError),
 }
 
 impl fmt::Display for SolveError {
@@ -19,6 +22,7 @@ impl fmt::Display for SolveError {
         match self {
             SolveError::Design(error) => write!(f, "invalid design: {error}"),
             SolveError::Ipopt(error) => write!(f, "{error}"),
+            SolveError::Formulation(error) => write!(f, "payload continuation: {error}"),
         }
     }
 }
@@ -34,5 +38,11 @@ impl From<DesignError> for SolveError {
 impl From<ipopt::Error> for SolveError {
     fn from(error: ipopt::Error) -> SolveError {
         SolveError::Ipopt(error)
+    }
+}
+
+impl From<FormulationError> for SolveError {
+    fn from(error: FormulationError) -> SolveError {
+        SolveError::Formulation(error)
     }
 }

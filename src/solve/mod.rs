@@ -10,17 +10,21 @@
 //! solution, and reports how much torque and speed the design lacks.
 //!
 //! The rooms: `settings` (IPOPT's settings, read from a task file's `solver` section), `run`
-//! (one IPOPT solve), `certify` (the rule, over several solves), `result` (the result and its file schema), `verify` (the constraint residuals
+//! (one IPOPT solve), `certify` (the rule, over several solves), `continuation` (its payload continuation), `result` (the result and its file schema), `verify` (the constraint residuals
 //! evaluated again on the trajectory), `error`.
 
 mod certify;
+mod continuation;
 mod error;
 mod result;
 mod run;
 mod settings;
 mod verify;
 
-pub use certify::{solve_design, solve_design_from, solve_elastic, WARM_MAX_ITER};
+pub use certify::{
+    solve_design, solve_design_along, solve_design_from, solve_elastic, WARM_MAX_ITER,
+};
+pub use continuation::{PayloadChain, CONTINUATION_STEP_KG};
 pub use error::SolveError;
 pub use result::{
     CostTerms, ElasticMeasures, SolveSeconds, ToolInfo, Trajectory, TrajectoryResult, VerdictBy,

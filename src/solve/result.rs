@@ -46,6 +46,8 @@ pub enum VerdictBy {
     Elastic,
     /// The hard problem started from the elastic problem's trajectory.
     HardFromElastic,
+    /// The hard problem carried up from the unloaded arm by payload continuation.
+    PayloadContinuation,
 }
 
 impl VerdictBy {
@@ -55,6 +57,7 @@ impl VerdictBy {
             VerdictBy::Hard => "hard",
             VerdictBy::Elastic => "elastic",
             VerdictBy::HardFromElastic => "hard_from_elastic",
+            VerdictBy::PayloadContinuation => "payload_continuation",
         }
     }
 }

@@ -60,6 +60,7 @@ fn solve_originals(plan: &Plan, task: &ExperimentTask) -> Result<Vec<ResultFile>
                 solve_design(&formulation, &ratios, &task.solver).map_err(|e| match e {
                     SolveError::Design(_) => format!("{source} transmission.original: {e}"),
                     SolveError::Ipopt(_) => format!("{source} solver: {e}"),
+                    SolveError::Formulation(_) => format!("{source}: {e}"),
                 })?;
             let verdict = match (&result.reason, result.feasible) {
                 (Some(reason), false) => format!("; infeasible: {reason}"),

@@ -98,9 +98,12 @@ pub enum VerdictRule {
     StaticHold,
     /// That, judged over several starts: a design is infeasible only when no start (the hard
     /// problem from the standard guess, the elastic problem, the hard problem from the elastic
-    /// trajectory) finds a feasible trajectory (`solve::solve_design_from`).
-    #[default]
+    /// trajectory) finds a feasible trajectory.
     AnyStart,
+    /// Any start, the payload continuation from the unloaded arm among them
+    /// (`solve::solve_design_from`, docs/model.md section 8).
+    #[default]
+    AnyStartOrContinuation,
 }
 
 impl VerdictRule {
