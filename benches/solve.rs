@@ -5,7 +5,10 @@
 //! 30 solves after 3 warm-up solves; and an infeasible design (3 kg, actuation space, original
 //! ratios), 5 solves; then, in one run with the default linear solver, the time to classify that
 //! design: IPOPT's infeasibility detection on the hard problem against the elastic problem
-//! (docs/model.md, section 14), 7 solves each.
+//! (docs/model.md, section 14), 7 solves each. Side by side in the same run, when CasADi is
+//! importable (from `$PAPER_STACK_PYTHON`, else `python3`; see benches/paper_stack/README.md),
+//! the paper's stack solves the default problem in actuation space 30 times after 3 warm-up
+//! solves (`benches/paper_stack/bench.py --quick`), and the ratio of the medians is printed.
 
 use codesign::ipopt::LinearSolver;
 use codesign::model::task::{Task, TaskFile};
@@ -13,6 +16,8 @@ use codesign::model::Robot;
 use codesign::problem::{Formulation, ProblemKind, Space};
 use codesign::solve::{solve_design, SolveSeconds, SolveSettings};
 use codesign::stats::median;
+use std::path::Path;
+use std::process::Command;
 
 /// Solves the problem of `kind` `runs` times (after `warm_up` unmeasured solves), prints the
 /// medians and returns the median total, s.
@@ -68,11 +73,58 @@ fn measure(
     total
 }
 
+/// The paper stack's median time of the default solve, s, or None without CasADi.
+fn paper_stack_default() -> Option<f64> {
+    let python = std::env::var("PAPER_STACK_PYTHON").unwrap_or_else(|_| "python3".into());
+    let has_casadi = Command::new(&python)
+        .args(["-c", "import casadi"])
+        .output()
+        .is_ok_and(|output| output.status.success());
+    if !has_casadi {
+        println!(
+            "the paper's stack is not importable with {python}: `pip install casadi` (or set \
+             PAPER_STACK_PYTHON, see benches/paper_stack/README.md); the crate's side only"
+        );
+        return None;
+    }
+    let rows = std::env::temp_dir().join(format!("codesign-solve-{}.json", std::process::id()));
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/paper_stack/bench.py");
+    let output = Command::new(&python)
+        .arg(script)
+        .args(["--quick", "--runs", "30", "--warm-up", "3", "--json"])
+        .arg(&rows)
+        .output()
+        .expect("the paper stack's bench starts");
+    print!("paper stack: {}", String::from_utf8_lossy(&output.stdout));
+    let text = std::fs::read_to_string(&rows).ok()?;
+    std::fs::remove_file(&rows).ok();
+    let rows: serde_json::Value = serde_json::from_str(&text).ok()?;
+    Some(rows[0]["median_solve_ms"].as_f64()? / 1e3)
+}
+
 fn main() {
     let task = Task::built_in().expect("the built-in task loads");
+    let ours = measure(
+        &task,
+        (Space::Actuation, ProblemKind::Hard),
+        LinearSolver::Ldl,
+        3,
+        30,
+    );
+    if let Some(paper) = paper_stack_default() {
+        println!(
+            "default solve (actuation space, 0 kg, original design): codesign {:.2} ms, the \
+             paper's stack {:.2} ms: {:.1}x faster",
+            1e3 * ours,
+            1e3 * paper,
+            paper / ours
+        );
+    }
     for solver in [LinearSolver::Ldl, LinearSolver::Mumps] {
         for space in [Space::Actuation, Space::Joint] {
-            measure(&task, (space, ProblemKind::Hard), solver, 3, 30);
+            if (solver, space) != (LinearSolver::Ldl, Space::Actuation) {
+                measure(&task, (space, ProblemKind::Hard), solver, 3, 30);
+            }
         }
     }
     let mut heavy = task.clone();

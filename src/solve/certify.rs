@@ -19,10 +19,10 @@
 //! It stops at the first feasible trajectory, and skips the rest when the motors cannot hold the
 //! load at rest at an end (no trajectory is then feasible).
 
+use super::continuation::PayloadChain;
 use super::result::{SolveSeconds, TrajectoryResult, VerdictBy};
 use super::run::{solve_once, Start};
 use super::settings::SolveSettings;
-use super::continuation::PayloadChain;
 use super::SolveError;
 use crate::ipopt::Solution;
 use crate::problem::{Formulation, ProblemKind};
@@ -105,10 +105,22 @@ pub(super) fn rule(
         tried: false,
     };
     match formulation.kind() {
-        ProblemKind::Hard => hard_first(formulation, ratios, settings, warm, &mut continuation, tries),
-        ProblemKind::Elastic => {
-            elastic_first(formulation, ratios, settings, warm, &mut continuation, tries)
-        }
+        ProblemKind::Hard => hard_first(
+            formulation,
+            ratios,
+            settings,
+            warm,
+            &mut continuation,
+            tries,
+        ),
+        ProblemKind::Elastic => elastic_first(
+            formulation,
+            ratios,
+            settings,
+            warm,
+            &mut continuation,
+            tries,
+        ),
     }
 }
 

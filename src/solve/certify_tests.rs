@@ -97,7 +97,12 @@ fn payload_continuation_certifies_a_design_every_cold_start_misses() {
     let mut chain = PayloadChain::new();
     for payload_kg in [0.0, 1.0] {
         let at = testing::formulation(payload_kg, Space::Actuation);
-        assert!(solve_design_along(&at, &ratios, &settings, &mut chain).unwrap().0.feasible);
+        assert!(
+            solve_design_along(&at, &ratios, &settings, &mut chain)
+                .unwrap()
+                .0
+                .feasible
+        );
     }
     let at = testing::formulation(2.0, Space::Actuation);
     assert!(chain.ready_below(&at, &ratios));

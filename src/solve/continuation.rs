@@ -112,7 +112,9 @@ impl PayloadChain {
         below > 0
             && self.ratios == ratios
             && self.steps.len() >= below
-            && self.steps[..below].iter().all(|step| step.solution.is_some())
+            && self.steps[..below]
+                .iter()
+                .all(|step| step.solution.is_some())
     }
 
     /// Keeps the hard solution `found` at the formulation's payload (none: no feasible
@@ -124,7 +126,7 @@ impl PayloadChain {
             (self.ratios, self.steps) = (ratios.to_vec(), Vec::new());
         }
         let payload_kg = hard.task().payload.mass_kg;
-        let continues = self.steps.last().map_or(true, |step| step.solution.is_some());
+        let continues = self.steps.last().is_none_or(|step| step.solution.is_some());
         if continues && step_payload(self.steps.len()) == payload_kg {
             self.steps.push(Step {
                 payload_kg,
