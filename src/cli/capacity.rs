@@ -2,7 +2,7 @@
 
 use super::common::{ModelArgs, ProblemArgs};
 use super::store_hints::check_output;
-use crate::design::capacity::{payload_capacity, CapacityLimit, CapacitySettings};
+use crate::design::capacity::{payload_capacity, Capacity, CapacityLimit, CapacitySettings};
 use crate::design::run::{Loaded, RecordedHash};
 use crate::model::task::MAX_PAYLOAD_KG;
 use crate::problem::Formulation;
@@ -23,13 +23,14 @@ pub struct Args {
     #[arg(long, value_name = "R1,R2,..", value_delimiter = ',', num_args = 1..)]
     ratios: Option<Vec<f64>>,
     /// Width of the final bracket, kg.
-    #[arg(long, value_name = "KG", default_value_t = 0.01)]
+    #[arg(long, value_name = "KG", default_value_t = CapacitySettings::default().resolution_kg)]
     resolution: f64,
-    /// First payload tried after 0 kg, doubled until infeasible, kg.
-    #[arg(long, value_name = "KG", default_value_t = 1.0)]
+    /// First payload tried after 0 kg, doubled until infeasible, kg (by default the first step
+    /// of the rule's payload continuation, whose steps the bracketing then climbs).
+    #[arg(long, value_name = "KG", default_value_t = CapacitySettings::default().first_step_kg)]
     first_step: f64,
     /// Largest payload tried, kg.
-    #[arg(long, value_name = "KG", default_value_t = 64.0)]
+    #[arg(long, value_name = "KG", default_value_t = CapacitySettings::default().max_kg)]
     max: f64,
     /// Write the search as JSON to this file (checked before the search; a symbolic link is
     /// followed, an input file, a folder, a special file or a file the user may not write
@@ -40,21 +41,7 @@ pub struct Args {
 
 /// Searches the capacity, prints it, writes the file.
 pub fn run(args: &Args) -> Result<(), String> {
-    if args.model.payload.is_some() {
-        return Err("--payload: capacity searches the payload itself; leave it out".to_owned());
-    }
-    for (flag, kg) in [
-        ("--resolution", args.resolution),
-        ("--first-step", args.first_step),
-        ("--max", args.max),
-    ] {
-        if !(kg.is_finite() && kg > 0.0 && kg <= MAX_PAYLOAD_KG) {
-            return Err(format!(
-                "{flag} {kg}: must be a mass > 0 and <= {MAX_PAYLOAD_KG} kg (the heaviest payload \
-                 a task may carry)"
-            ));
-        }
-    }
+    let settings = search_settings(args)?;
     let Loaded {
         task,
         robot,
@@ -83,21 +70,64 @@ pub fn run(args: &Args) -> Result<(), String> {
                 join(&ratios)
             ),
         })?;
-    let settings = CapacitySettings {
+    let capacity = payload_capacity(&formulation, &solve, &ratios, &settings)
+        .map_err(|e| format!("{}: {e}", args.model.source()))?;
+    print_capacity(&formulation, &ratios, &capacity)?;
+    if let Some(path) = &args.out {
+        let document = CapacityDocument {
+            tool: ToolInfo::current(solve.linear_solver()),
+            task_file: args.model.source().label(),
+            task_hash: RecordedHash(Some(task_hash)),
+            space: args.problem.space,
+            ratios: ratios.clone(),
+            limit_modes: modes,
+            settings,
+            capacity,
+        };
+        write_json(path, &document).map_err(|e| e.to_string())?;
+        say!("result written to {}", path.display());
+    }
+    Ok(())
+}
+
+/// The search's settings from the flags, each checked to be a mass a task may carry.
+fn search_settings(args: &Args) -> Result<CapacitySettings, String> {
+    if args.model.payload.is_some() {
+        return Err("--payload: capacity searches the payload itself; leave it out".to_owned());
+    }
+    for (flag, kg) in [
+        ("--resolution", args.resolution),
+        ("--first-step", args.first_step),
+        ("--max", args.max),
+    ] {
+        if !(kg.is_finite() && kg > 0.0 && kg <= MAX_PAYLOAD_KG) {
+            return Err(format!(
+                "{flag} {kg}: must be a mass > 0 and <= {MAX_PAYLOAD_KG} kg (the heaviest payload \
+                 a task may carry)"
+            ));
+        }
+    }
+    Ok(CapacitySettings {
         resolution_kg: args.resolution,
         first_step_kg: args.first_step,
         max_kg: args.max,
-    };
-    let capacity = payload_capacity(&formulation, &solve, &ratios, &settings)
-        .map_err(|e| format!("{}: {e}", args.model.source()))?;
+    })
+}
+
+/// Prints the capacity of design `ratios`, what bounds it, and the search's work.
+fn print_capacity(
+    formulation: &Formulation,
+    ratios: &[f64],
+    capacity: &Capacity,
+) -> Result<(), String> {
     let seconds = capacity.probes.iter().fold(0.0, |sum, p| sum + p.seconds);
-    let design = join(&ratios);
-    let space = args.problem.space;
+    let design = join(ratios);
+    let space = formulation.space();
     match (capacity.capacity_kg, capacity.limited_by, capacity.first_infeasible_kg) {
         (None, Some(CapacityLimit::Hold), _) => {
             let unloaded = formulation.with_payload(0.0).map_err(|e| e.to_string())?;
             let reason = unloaded
-                .static_hold(&ratios)
+                .static_hold(ratios)
                 .map_err(|e| format!("invalid design: {e}"))?
                 .reason()
                 .unwrap_or_default();
@@ -117,20 +147,6 @@ pub fn run(args: &Args) -> Result<(), String> {
         say!("  the motors hold at most {kg:.3} kg at rest at both ends");
     }
     say!("  {} solves in {seconds:.1} s", capacity.probes.len());
-    if let Some(path) = &args.out {
-        let document = CapacityDocument {
-            tool: ToolInfo::current(solve.linear_solver()),
-            task_file: args.model.source().label(),
-            task_hash: RecordedHash(Some(task_hash)),
-            space: args.problem.space,
-            ratios: ratios.clone(),
-            limit_modes: modes,
-            settings,
-            capacity,
-        };
-        write_json(path, &document).map_err(|e| e.to_string())?;
-        say!("result written to {}", path.display());
-    }
     Ok(())
 }
 

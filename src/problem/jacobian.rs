@@ -78,44 +78,10 @@ pub(super) fn visit(
     nodes: &[NodeEval],
     mut emit: impl FnMut(usize, usize, f64),
 ) {
-    let JacobianData {
-        control_map,
-        control_pattern,
-        reflected,
-        speed,
-        torque,
-        envelope,
-        h,
-    } = *data;
     let n = layout.dof;
+    let h = data.h;
     for (k, node) in nodes.iter().enumerate() {
-        for i in 0..n {
-            let row = layout.dynamics_row(k, i);
-            for j in 0..n {
-                emit(row, layout.q(k, j), node.dtau_dq[(i, j)]);
-            }
-            let (inertia, damping) = (reflected.map(|r| r.0), reflected.map(|r| r.1));
-            for j in 0..n {
-                emit(
-                    row,
-                    layout.v(k, j),
-                    plus(node.dtau_dv[(i, j)], damping, (i, j)),
-                );
-            }
-            for j in 0..n {
-                emit(
-                    row,
-                    layout.a(k, j),
-                    plus(node.mass[(i, j)], inertia, (i, j)),
-                );
-            }
-            for j in 0..n {
-                if control_pattern[(i, j)] != 0.0 {
-                    emit(row, layout.u(k, j), -control_map[(i, j)]);
-                }
-            }
-            emit_slacks(row, layout.deficit_slack(k, i), &mut emit);
-        }
+        visit_dynamics(layout, data, k, node, &mut emit);
         for i in 0..n {
             let row = layout.velocity_row(k, i);
             emit(row, layout.v(k, i), -1.0);
@@ -128,7 +94,7 @@ pub(super) fn visit(
             emit(row, layout.q(k + 1, i), 1.0);
             emit(row, layout.v(k + 1, i), -h);
         }
-        if let Some((g, g_pattern)) = speed {
+        if let Some((g, g_pattern)) = data.speed {
             for i in 0..n {
                 if let Some(row) = layout.speed_row(k, i) {
                     for j in 0..n {
@@ -140,7 +106,7 @@ pub(super) fn visit(
                 }
             }
         }
-        if let Some(motor_of_joint) = torque {
+        if let Some(motor_of_joint) = data.torque {
             for i in 0..n {
                 if let Some(row) = layout.torque_row(k, i) {
                     for j in 0..n {
@@ -149,9 +115,49 @@ pub(super) fn visit(
                 }
             }
         }
-        if let Some(envelope) = &envelope {
+        if let Some(envelope) = &data.envelope {
             visit_envelope(layout, k, envelope, &mut emit);
         }
+    }
+}
+
+/// Visits node k's dynamics rows: d tau / d(q, v, a) (with the reflected rotor inertia and
+/// damping), minus the control map on u, and in the elastic kind the deficit slacks.
+fn visit_dynamics(
+    layout: &Layout,
+    data: &JacobianData<'_>,
+    k: usize,
+    node: &NodeEval,
+    emit: &mut impl FnMut(usize, usize, f64),
+) {
+    let (control_map, control_pattern) = (data.control_map, data.control_pattern);
+    let (inertia, damping) = (data.reflected.map(|r| r.0), data.reflected.map(|r| r.1));
+    let n = layout.dof;
+    for i in 0..n {
+        let row = layout.dynamics_row(k, i);
+        for j in 0..n {
+            emit(row, layout.q(k, j), node.dtau_dq[(i, j)]);
+        }
+        for j in 0..n {
+            emit(
+                row,
+                layout.v(k, j),
+                plus(node.dtau_dv[(i, j)], damping, (i, j)),
+            );
+        }
+        for j in 0..n {
+            emit(
+                row,
+                layout.a(k, j),
+                plus(node.mass[(i, j)], inertia, (i, j)),
+            );
+        }
+        for j in 0..n {
+            if control_pattern[(i, j)] != 0.0 {
+                emit(row, layout.u(k, j), -control_map[(i, j)]);
+            }
+        }
+        emit_slacks(row, layout.deficit_slack(k, i), emit);
     }
 }
 
