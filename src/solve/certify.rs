@@ -6,7 +6,7 @@
 //! command (`solve`, `capacity`, each co-design objective and penalty, the tables) solves a
 //! design through [`solve_design_from`], which tries the same starts in an order set by the
 //! formulation's kind:
-//! - hard: the warm start if given (at most [`WARM_MAX_ITER`] iterations), the standard guess,
+//! - hard: the warm start if given (at most [`WARM_MAX_ITER`](super::WARM_MAX_ITER) iterations), the standard guess,
 //!   then the elastic problem from the standard guess, then the hard problem from the elastic
 //!   trajectory, then the payload continuation (`continuation`);
 //! - elastic: the warm start (kept when it converges) or else the standard guess, then the hard
@@ -20,8 +20,8 @@
 //! load at rest at an end (no trajectory is then feasible).
 
 use super::continuation::PayloadChain;
-use super::result::{SolveSeconds, TrajectoryResult, VerdictBy};
-use super::run::{solve_once, Start};
+use super::result::{TrajectoryResult, VerdictBy};
+use super::run::{capped, Start, Tries};
 use super::settings::SolveSettings;
 use super::SolveError;
 use crate::ipopt::Solution;
@@ -50,7 +50,7 @@ pub fn solve_design(
 
 /// Solves the trajectory problem of design `ratios` under the one rule, first from `warm` (the
 /// raw solution of a nearby design of the same formulation) when given: a warm start that finds
-/// no feasible trajectory within [`WARM_MAX_ITER`] iterations is followed by the cold rule (an
+/// no feasible trajectory within [`WARM_MAX_ITER`](super::WARM_MAX_ITER) iterations is followed by the cold rule (an
 /// elastic warm start that converges with a deficit stands in for the elastic cold start). Returns the result
 /// that gives the verdict, its iterations and times summed over every solve tried, and the raw
 /// solution of the formulation's kind nearest the verdict, to warm-start the next design from.
@@ -89,7 +89,7 @@ pub fn solve_design_along(
 
 /// The rule's starts for `formulation`'s kind, their work counted in `tries`; `chain` holds
 /// the continuation's steps when they are kept between solves.
-pub(super) fn rule(
+fn rule(
     formulation: &Formulation,
     ratios: &[f64],
     settings: &SolveSettings,
@@ -124,45 +124,6 @@ pub(super) fn rule(
     }
 }
 
-/// The work of the solves tried for one design.
-#[derive(Default)]
-pub(super) struct Tries {
-    iterations: usize,
-    seconds: SolveSeconds,
-}
-
-impl Tries {
-    /// Solves once and counts the work.
-    pub(super) fn solve(
-        &mut self,
-        formulation: &Formulation,
-        ratios: &[f64],
-        settings: &SolveSettings,
-        start: Start<'_>,
-    ) -> Result<(TrajectoryResult, Solution), SolveError> {
-        let (result, solution) = solve_once(formulation, ratios, settings, start)?;
-        self.iterations += result.iterations;
-        let (sum, one) = (&mut self.seconds, &result.solve_seconds);
-        sum.total += one.total;
-        sum.callbacks += one.callbacks;
-        sum.ipopt += one.ipopt;
-        Ok((result, solution))
-    }
-}
-
-/// The most IPOPT iterations a warm start may take, the cold limit of [`solve_design_from`]:
-/// a warm start that needs more has started in the wrong place, and the cold rule takes over
-/// (measured in CMA-ES at 1 kg: a median of 25 iterations from the generation's mean, 57 cold).
-pub const WARM_MAX_ITER: u32 = 150;
-
-/// `settings` with `max_iter` at most [`WARM_MAX_ITER`].
-pub(super) fn capped(settings: &SolveSettings) -> SolveSettings {
-    SolveSettings {
-        max_iter: settings.max_iter.min(WARM_MAX_ITER),
-        ..settings.clone()
-    }
-}
-
 /// Whether no start can help: the result is feasible, or its motors cannot hold the load at
 /// rest at an end.
 fn settled(result: &TrajectoryResult) -> bool {
@@ -189,7 +150,7 @@ impl Continuation<'_> {
     }
 
     /// The hard problem at `hard`'s payload warm-started from the chain's last step below it
-    /// (at most [`WARM_MAX_ITER`] iterations), once per rule: the result when feasible.
+    /// (at most [`WARM_MAX_ITER`](super::WARM_MAX_ITER) iterations), once per rule: the result when feasible.
     fn try_once(
         &mut self,
         hard: &Formulation,
@@ -200,7 +161,14 @@ impl Continuation<'_> {
         if std::mem::replace(&mut self.tried, true) {
             return Ok(None);
         }
-        let Some(before) = self.chain.last_below(hard, ratios, settings, tries)? else {
+        let unloaded = |at: &Formulation, tries: &mut Tries| {
+            let (result, solution) = rule(at, ratios, settings, None, None, tries)?;
+            Ok(result.feasible.then_some(solution))
+        };
+        let Some(before) = self
+            .chain
+            .last_below(hard, ratios, settings, tries, unloaded)?
+        else {
             return Ok(None);
         };
         let (mut result, solution) =

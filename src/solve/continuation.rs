@@ -7,8 +7,7 @@
 //! search climbs the same steps, so it keeps its [`PayloadChain`] between probes and every probe
 //! reaches the verdict `solve` reaches at that payload, from the same solves.
 
-use super::certify::{capped, rule, Tries};
-use super::run::Start;
+use super::run::{capped, Start, Tries};
 use super::settings::SolveSettings;
 use super::SolveError;
 use crate::ipopt::Solution;
@@ -53,56 +52,52 @@ impl PayloadChain {
     }
 
     /// The solution of the last step below the hard formulation's payload, computing the steps
-    /// this chain lacks (their work counted in `tries`), or none when a step found no feasible
-    /// trajectory or the payload is 0 kg.
+    /// this chain lacks (their work counted in `tries`; the step at 0 kg by `unloaded`, the
+    /// rule's solve of the formulation it is given, feasible or none), or none when a step found
+    /// no feasible trajectory or the payload is 0 kg.
     pub(super) fn last_below(
         &mut self,
         hard: &Formulation,
         ratios: &[f64],
         settings: &SolveSettings,
         tries: &mut Tries,
+        unloaded: impl FnOnce(&Formulation, &mut Tries) -> Result<Option<Solution>, SolveError>,
     ) -> Result<Option<&Solution>, SolveError> {
         if self.ratios != ratios {
             (self.ratios, self.steps) = (ratios.to_vec(), Vec::new());
         }
         let payloads = PayloadChain::payloads_below(hard.task().payload.mass_kg);
-        for (index, &payload_kg) in payloads.iter().enumerate() {
-            if let Some(step) = self.steps.get(index) {
-                debug_assert_eq!(step.payload_kg, payload_kg);
-                if step.solution.is_none() {
-                    return Ok(None);
-                }
-                continue;
-            }
-            let at = hard.with_payload(payload_kg)?;
-            let solution = match self.steps.last() {
-                None => {
-                    let (result, solution) = rule(&at, ratios, settings, None, None, tries)?;
-                    result.feasible.then_some(solution)
-                }
-                Some(Step { solution: None, .. }) => return Ok(None),
-                Some(Step {
-                    solution: Some(before),
-                    ..
-                }) => {
-                    let (result, solution) =
-                        tries.solve(&at, ratios, &capped(settings), Start::Warm(before))?;
-                    result.feasible.then_some(solution)
-                }
-            };
-            let found = solution.is_some();
+        if payloads.is_empty() {
+            return Ok(None);
+        }
+        if self.steps.is_empty() {
+            let solution = unloaded(&hard.with_payload(0.0)?, tries)?;
             self.steps.push(Step {
-                payload_kg,
+                payload_kg: 0.0,
                 solution,
             });
-            if !found {
-                return Ok(None);
-            }
         }
-        Ok(payloads
-            .len()
-            .checked_sub(1)
-            .and_then(|last| self.steps[last].solution.as_ref()))
+        for (index, &payload_kg) in payloads.iter().enumerate().skip(1) {
+            if index < self.steps.len() {
+                debug_assert_eq!(self.steps[index].payload_kg, payload_kg);
+                continue;
+            }
+            let Some(before) = &self.steps[index - 1].solution else {
+                return Ok(None);
+            };
+            let at = hard.with_payload(payload_kg)?;
+            let (result, solution) =
+                tries.solve(&at, ratios, &capped(settings), Start::Warm(before))?;
+            self.steps.push(Step {
+                payload_kg,
+                solution: result.feasible.then_some(solution),
+            });
+        }
+        Ok(self.steps[..payloads.len()]
+            .iter()
+            .all(|step| step.solution.is_some())
+            .then(|| self.steps[payloads.len() - 1].solution.as_ref())
+            .flatten())
     }
 
     /// Whether the chain of design `ratios` holds a solution at every step below the

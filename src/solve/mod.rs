@@ -21,15 +21,14 @@ mod run;
 mod settings;
 mod verify;
 
-pub use certify::{
-    solve_design, solve_design_along, solve_design_from, solve_elastic, WARM_MAX_ITER,
-};
+pub use certify::{solve_design, solve_design_along, solve_design_from, solve_elastic};
 pub use continuation::{PayloadChain, CONTINUATION_STEP_KG};
 pub use error::SolveError;
 pub use result::{
     CostTerms, ElasticMeasures, SolveSeconds, ToolInfo, Trajectory, TrajectoryResult, VerdictBy,
     Violations,
 };
+pub use run::WARM_MAX_ITER;
 pub use settings::{SettingsError, SolveSettings, TaskRecord, DEFAULT_MAX_ITER, DEFAULT_TOL};
 pub use verify::{envelope_margins, least_envelope_margin, EnvelopeMargin};
 
