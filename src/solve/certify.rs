@@ -62,8 +62,7 @@ pub fn solve_design_from(
 ) -> Result<(TrajectoryResult, Solution), SolveError> {
     let mut tries = Tries::default();
     let (mut result, solution) = rule(formulation, ratios, settings, warm, None, &mut tries)?;
-    result.iterations = tries.iterations;
-    result.solve_seconds = tries.seconds;
+    tries.total_into(&mut result);
     Ok((result, solution))
 }
 
@@ -82,8 +81,7 @@ pub fn solve_design_along(
     if formulation.kind() == ProblemKind::Hard && formulation.task().payload.mass_kg == 0.0 {
         chain.record(formulation, ratios, result.feasible.then_some(&solution));
     }
-    result.iterations = tries.iterations;
-    result.solve_seconds = tries.seconds;
+    tries.total_into(&mut result);
     Ok((result, solution))
 }
 

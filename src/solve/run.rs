@@ -87,6 +87,12 @@ pub(super) struct Tries {
 }
 
 impl Tries {
+    /// Gives `result` the iterations and times of every solve tried.
+    pub(super) fn total_into(&self, result: &mut TrajectoryResult) {
+        result.iterations = self.iterations;
+        result.solve_seconds = self.seconds;
+    }
+
     /// Solves once and counts the work.
     pub(super) fn solve(
         &mut self,
