@@ -187,8 +187,9 @@ fn envelope_margin(torque: f64, speed: f64, no_load: f64) -> f64 {
 /// A task with `motors.no_load_speed_rad_s`: the solve keeps every motor inside its envelope
 /// at the inner nodes and reaches it at speed, costs more than without it, records the key
 /// (so its task hash differs from the built-in task's) and reports the envelope's violation;
-/// the summary says where it is reached. At a no-load speed the motion cannot keep, the
-/// elastic solve names the envelope and reports its violation.
+/// the summary says where it is reached, and `--plot` draws the torque-speed plane only where
+/// there is an envelope. At a no-load speed the motion cannot keep, the elastic solve names the
+/// envelope and reports its violation.
 #[test]
 fn the_torque_speed_envelope_bounds_the_motors_at_speed() {
     let dir = scratch("envelope");
@@ -212,12 +213,16 @@ fn the_torque_speed_envelope_bounds_the_motors_at_speed() {
         args.extend_from_slice(extra);
         succeed(&args)
     };
-    let stdout = solve(task.to_str().unwrap(), &out, &[]);
+    let plots = [dir.join("envelope-plots"), dir.join("plain-plots")];
+    let plot = |i: usize| ["--plot", plots[i].to_str().unwrap()];
+    let stdout = solve(task.to_str().unwrap(), &out, &plot(0));
     assert!(
         stdout.contains("torque-speed envelope (no-load speed 120 rad/s): reached"),
         "{stdout}"
     );
-    solve(support::task_path().to_str().unwrap(), &plain, &[]);
+    solve(support::task_path().to_str().unwrap(), &plain, &plot(1));
+    let torque_speed = plots.map(|folder| folder.join("motor_torque_speed.svg").is_file());
+    assert_eq!(torque_speed, [true, false]);
     let (result, ideal) = (read_json(&out), read_json(&plain));
     assert_eq!(result["feasible"], true);
     assert_eq!(

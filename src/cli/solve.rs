@@ -6,7 +6,7 @@ use crate::design::run::Loaded;
 use crate::ipopt::{check_derivatives, DerivativeOrder};
 use crate::model::task::{check_horizon, check_steps, PerMotor};
 use crate::problem::{EndHold, Formulation, StaticHold};
-use crate::report::trajectory::{write_plots, SolveDocument, PLOT_FILES};
+use crate::report::trajectory::{every_plot_file, write_plots, SolveDocument};
 use crate::solve::{
     least_envelope_margin, solve_design, SolveError, SolveSettings, TrajectoryResult,
 };
@@ -78,7 +78,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     }
     // A folder not made yet holds nothing to protect.
     if let Some(folder) = args.plot.as_ref().filter(|folder| folder.is_dir()) {
-        for name in PLOT_FILES {
+        for name in every_plot_file() {
             check_output("--plot", &folder.join(name), &inputs)?;
         }
     }

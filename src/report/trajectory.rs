@@ -6,7 +6,7 @@ use crate::design::run::RecordedHash;
 use crate::model::task::{LimitModes, SoftInterval, Task};
 use crate::problem::{Formulation, Space};
 use crate::solve::{SolveSettings, TaskRecord, ToolInfo, Trajectory, TrajectoryResult};
-use crate::transmission::JointLimits;
+use crate::transmission::{Envelope, JointLimits};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -111,9 +111,20 @@ pub const PLOT_FILES: [&str; 4] = [
     "tcp_path.svg",
 ];
 
+/// The file of the motors' torque-speed plot, which [`write_plots`] adds to [`PLOT_FILES`] where
+/// the motors have a torque-speed envelope.
+pub const ENVELOPE_PLOT_FILE: &str = "motor_torque_speed.svg";
+
+/// Every file [`write_plots`] may write: [`PLOT_FILES`] and [`ENVELOPE_PLOT_FILE`].
+pub fn every_plot_file() -> impl Iterator<Item = &'static str> {
+    PLOT_FILES.into_iter().chain([ENVELOPE_PLOT_FILE])
+}
+
 /// Writes the plots of a solve into `folder` ([`PLOT_FILES`]): joint positions and joint
 /// torques (named as in the URDF) and motor torques with their limits, and the TCP path in the
-/// world plane it moves most in ([`path_plane`]) with the Cartesian box.
+/// world plane it moves most in ([`path_plane`]) with the Cartesian box; where the motors have a
+/// torque-speed envelope, also each motor's operating points in the torque-speed plane inside
+/// it ([`ENVELOPE_PLOT_FILE`]).
 pub fn write_plots(
     folder: &Path,
     formulation: &Formulation,
@@ -132,6 +143,9 @@ pub fn write_plots(
     ];
     for (name, chart) in PLOT_FILES.into_iter().zip(charts) {
         chart.write(&folder.join(name))?;
+    }
+    if let Some(envelope) = formulation.envelope() {
+        motor_torque_speed(envelope, t, &title).write(&folder.join(ENVELOPE_PLOT_FILE))?;
     }
     Ok(())
 }
@@ -230,6 +244,41 @@ fn motor_torques(limits: &[f64], t: &Trajectory, title: &str) -> Chart {
             .into_iter()
             .flat_map(|limit| [Guide::Horizontal(-limit), Guide::Horizontal(limit)])
             .collect(),
+        log_y: false,
+    }
+}
+
+/// Each motor's operating points (motor speed w_k, motor torque tau_u,k) at the nodes k < N,
+/// the pairs the envelope rows bound (docs/model.md, section 5), inside the envelope
+/// |tau_u| + c |w| <= tau_max drawn as a diamond, once for motors that share it.
+fn motor_torque_speed(envelope: &Envelope, t: &Trajectory, title: &str) -> Chart {
+    let motors = t.motor_torque.first().map_or(0, Vec::len);
+    let series = motor_labels(motors)
+        .into_iter()
+        .enumerate()
+        .map(|(motor, label)| {
+            let points = t.motor_torque.iter().zip(&t.motor_speed);
+            let points = points.map(|(torque, speed)| (speed[motor], torque[motor]));
+            Series::line(label, points.collect())
+        })
+        .collect();
+    let mut diamonds: Vec<(f64, f64)> = Vec::new();
+    for motor in 0..envelope.motors() {
+        let corner = (envelope.no_load_speed(motor), envelope.torque_limit(motor));
+        if !diamonds.contains(&corner) {
+            diamonds.push(corner);
+        }
+    }
+    let guides = diamonds.into_iter().flat_map(|(w0, tau)| {
+        let corners = [(w0, 0.0), (0.0, tau), (-w0, 0.0), (0.0, -tau)];
+        (0..4).map(move |i| Guide::Segment(corners[i], corners[(i + 1) % 4]))
+    });
+    Chart {
+        title: format!("Motor torque against motor speed: {title}"),
+        x_label: "w [rad/s]".into(),
+        y_label: "tau_u [N m]".into(),
+        series,
+        guides: guides.collect(),
         log_y: false,
     }
 }
@@ -423,5 +472,30 @@ mod tests {
         for i in 1..=4 {
             assert!(svg.contains(&format!("motor {i}")), "motor {i} missing");
         }
+    }
+
+    #[test]
+    fn the_torque_speed_plot_draws_each_motor_inside_its_envelope() {
+        use crate::model::task::{Motors, PerMotor};
+        let mut motors = Motors::ideal(PerMotor::Each(vec![1.7, 1.0]), PerMotor::All(100.0));
+        motors.no_load_speed_rad_s = Some(PerMotor::All(50.0));
+        let envelope = Envelope::of(&motors, 2).unwrap();
+        let mut t = trajectory(5, 2, |s| [0.0, s, s]);
+        t.motor_speed[2][1] = -30.0;
+        let chart = motor_torque_speed(&envelope, &t, "test");
+        // A diamond of four edges per distinct motor, through (+-w_0, 0) and (0, +-tau_max).
+        assert_eq!(chart.guides.len(), 8);
+        assert_eq!(chart.guides[0], Guide::Segment((50.0, 0.0), (0.0, 1.7)));
+        assert_eq!(chart.guides[6], Guide::Segment((-50.0, 0.0), (0.0, -1.0)));
+        // Motor torque over interval k against motor speed at node k, k < N.
+        assert_eq!(chart.series.len(), 2);
+        assert_eq!(chart.series[1].points.len(), 4);
+        assert_eq!(chart.series[1].points[2], (-30.0, t.motor_torque[2][1]));
+        let svg = chart.to_svg().unwrap();
+        assert!(svg.contains("motor 2") && svg.contains("w [rad/s]"));
+        // Motors that share their limits share one diamond.
+        motors.torque_limit_nm = PerMotor::All(1.7);
+        let shared = motor_torque_speed(&Envelope::of(&motors, 2).unwrap(), &t, "test");
+        assert_eq!(shared.guides.len(), 4);
     }
 }

@@ -42,6 +42,8 @@ pub struct Envelope {
     torque_limits: Vec<f64>,
     /// c_i = tau_max,i / w_0,i, N m s/rad.
     slopes: Vec<f64>,
+    /// w_0,i, rad/s.
+    no_load_speeds: Vec<f64>,
 }
 
 impl Envelope {
@@ -58,6 +60,7 @@ impl Envelope {
         Some(Envelope {
             torque_limits,
             slopes,
+            no_load_speeds: no_load,
         })
     }
 
@@ -74,6 +77,11 @@ impl Envelope {
     /// Motor i's torque limit tau_max,i, N m: both rows lie in [-tau_max,i, tau_max,i].
     pub fn torque_limit(&self, motor: usize) -> f64 {
         self.torque_limits[motor]
+    }
+
+    /// Motor i's no-load speed w_0,i, rad/s: the speed at which it has no torque left.
+    pub fn no_load_speed(&self, motor: usize) -> f64 {
+        self.no_load_speeds[motor]
     }
 
     /// Row `side` of motor i at motor torque `torque` (N m) and motor speed `speed` (rad/s):
@@ -103,6 +111,7 @@ mod tests {
         assert_eq!(envelope.motors(), 2);
         assert_eq!((envelope.slope(0), envelope.slope(1)), (1.7 / 50.0, 0.02));
         assert_eq!(envelope.torque_limit(1), 1.0);
+        assert_eq!(envelope.no_load_speed(0), 50.0);
     }
 
     /// The rows' larger magnitude is |tau| + c |w| in every quadrant, so both rows in

@@ -13,7 +13,7 @@ use crate::design::score::{Objective, PayloadRange};
 use crate::design::warm::WarmStart;
 use crate::model::experiment::{Budget, Experiment, MAX_SEEDS};
 use crate::problem::Space;
-use crate::report::trajectory::PLOT_FILES;
+use crate::report::trajectory::every_plot_file;
 use crate::store::log::Start;
 use std::path::{Path, PathBuf};
 
@@ -251,7 +251,7 @@ impl Plan {
             for space in SPACES {
                 files.push(self.original_file(space, payload));
                 let plots = self.original_plots(space, payload);
-                files.extend(PLOT_FILES.iter().map(|name| plots.join(name)));
+                files.extend(every_plot_file().map(|name| plots.join(name)));
             }
         }
         for space in SPACES {

@@ -42,13 +42,35 @@ impl Series {
     }
 }
 
-/// A dashed reference line: a limit or a box edge.
+/// A dashed reference line: a limit, a box edge or an edge of a motor's torque-speed envelope.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Guide {
     /// y = value across the chart.
     Horizontal(f64),
     /// x = value across the chart.
     Vertical(f64),
+    /// The segment between two points (x, y); the chart's range takes in both.
+    Segment((f64, f64), (f64, f64)),
+}
+
+impl Guide {
+    /// The x values the chart's range must take in.
+    fn xs(&self) -> Vec<f64> {
+        match *self {
+            Guide::Horizontal(_) => Vec::new(),
+            Guide::Vertical(x) => vec![x],
+            Guide::Segment(from, to) => vec![from.0, to.0],
+        }
+    }
+
+    /// The y values the chart's range must take in.
+    fn ys(&self) -> Vec<f64> {
+        match *self {
+            Guide::Horizontal(y) => vec![y],
+            Guide::Vertical(_) => Vec::new(),
+            Guide::Segment(from, to) => vec![from.1, to.1],
+        }
+    }
 }
 
 /// A chart to draw.
@@ -173,18 +195,16 @@ impl Figure for Chart {
 
     fn draw(&self, svg: &mut String) -> DrawResult {
         let points = || self.series.iter().flat_map(|s| s.points.iter());
-        let (x0, x1) = span(points().map(|p| p.0).chain(self.guides.iter().filter_map(
-            |g| match g {
-                Guide::Vertical(x) => Some(*x),
-                Guide::Horizontal(_) => None,
-            },
-        )));
-        let (y0, y1) = span(points().map(|p| p.1).chain(self.guides.iter().filter_map(
-            |g| match g {
-                Guide::Horizontal(y) => Some(*y),
-                Guide::Vertical(_) => None,
-            },
-        )));
+        let (x0, x1) = span(
+            points()
+                .map(|p| p.0)
+                .chain(self.guides.iter().flat_map(Guide::xs)),
+        );
+        let (y0, y1) = span(
+            points()
+                .map(|p| p.1)
+                .chain(self.guides.iter().flat_map(Guide::ys)),
+        );
         let root = SVGBackend::with_string(svg, (900, 540)).into_drawing_area();
         root.fill(&WHITE)?;
         let mut builder = ChartBuilder::on(&root);
@@ -234,6 +254,7 @@ impl Chart {
             let line = match *guide {
                 Guide::Horizontal(y) => vec![(x0, y), (x1, y)],
                 Guide::Vertical(x) => vec![(x, y0), (x, y1)],
+                Guide::Segment(from, to) => vec![from, to],
             };
             chart.draw_series(DashedLineSeries::new(
                 line,
