@@ -15,11 +15,13 @@
 //! else `python3`); without them only the crate's side runs, and the bench says how to install
 //! them.
 
+mod common;
+
 use codesign::stats::median;
+use common::{load, timed};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::time::Instant;
 
 /// The run's size and settings, as both stacks take them.
 const RUN_ARGS: [&str; 10] = [
@@ -106,19 +108,6 @@ fn options() -> Options {
 /// The number at `key` of a JSON object (0 when absent or not a number).
 fn number(value: &Value, key: &str) -> f64 {
     value[key].as_f64().unwrap_or(0.0)
-}
-
-/// Runs `command`, which must succeed, and returns its standard output and wall time, s.
-fn timed(command: &mut Command) -> (String, f64) {
-    let start = Instant::now();
-    let output = command.output().expect("the command starts");
-    let wall = start.elapsed().as_secs_f64();
-    assert!(
-        output.status.success(),
-        "{command:?} failed: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    (String::from_utf8_lossy(&output.stdout).into_owned(), wall)
 }
 
 /// The crate's `optimize` run of `seed` written to `out` (extra flags in `extra`), timed.
@@ -227,12 +216,6 @@ fn medians(rows: &[Row]) -> Row {
         ms_per_iteration: of(|r| r.ms_per_iteration),
         best_cost: of(|r| r.best_cost),
     }
-}
-
-fn load() -> String {
-    std::fs::read_to_string("/proc/loadavg")
-        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
-        .unwrap_or_else(|_| "unknown".into())
 }
 
 fn main() {
