@@ -120,7 +120,7 @@ fn check_holds_each_motor_to_its_own_limit() {
     });
     let text = succeed(&["check", "--task", task.to_str().unwrap()]);
     for line in [
-        "motor torque limits (1.7, 1.2, 1.7, 1.7) N m",
+        "motor torque limits (1.7, 1.2, 1.7, 1.7) N m, speed limits (100, 100, 100, 100) rad/s\n",
         "ok   hold at start: motor torques (",
         ") N m within the motors' limits (1.7, 1.2, 1.7, 1.7) N m",
     ] {
@@ -139,6 +139,42 @@ fn check_holds_each_motor_to_its_own_limit() {
     assert_eq!(value["torque_limits_nm"], json!([1.7, 0.5, 1.7, 1.7]));
     let built_in: Value = serde_json::from_slice(&codesign(&["check", "--json"]).stdout).unwrap();
     assert_eq!(built_in["torque_limits_nm"], json!([1.7, 1.7, 1.7, 1.7]));
+    assert!(built_in.get("no_load_speeds_rad_s").is_none());
+    assert!(!text.contains("torque-speed envelope"), "{text}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `check` shows a torque-speed envelope's no-load speeds and the share of its torque each motor
+/// keeps at its speed limit, and fails on a motor with no torque left before that limit.
+#[test]
+fn check_shows_what_the_envelope_leaves_at_the_speed_limit() {
+    let dir = scratch("check-envelope");
+    let task = task_with(&dir, |task| {
+        task["motors"]["no_load_speed_rad_s"] = json!([149, 149, 200, 400]);
+    });
+    let text = succeed(&["check", "--task", task.to_str().unwrap()]);
+    for line in [
+        "speed limits (100, 100, 100, 100) rad/s, no-load speeds (149, 149, 200, 400) rad/s\n",
+        "ok   torque-speed envelope: at its speed limit each motor keeps (33%, 33%, 50%, 75%) \
+         of its torque limit",
+    ] {
+        assert!(text.contains(line), "{line}: {text}");
+    }
+    let json = codesign(&["check", "--task", task.to_str().unwrap(), "--json"]);
+    let value: Value = serde_json::from_slice(&json.stdout).unwrap();
+    assert_eq!(
+        value["no_load_speeds_rad_s"],
+        json!([149.0, 149.0, 200.0, 400.0])
+    );
+    let task = task_with(&dir, |task| {
+        task["motors"]["no_load_speed_rad_s"] = json!([149, 100, 149, 149]);
+    });
+    let output = codesign(&["check", "--task", task.to_str().unwrap()]);
+    fails_saying(
+        &output,
+        "torque-speed envelope: motor 2's no-load speed 100 rad/s is not above its speed limit \
+         100 rad/s: it has no torque left before that limit",
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -6,6 +6,7 @@ use crate::dynamics::Dynamics;
 use crate::model::task::Task;
 use crate::model::Robot;
 use crate::problem::{EndHold, HoldRows, Space};
+use crate::text::number;
 use crate::transmission::{JointLimits, Transmission};
 use nalgebra::DMatrix;
 use serde::Serialize;
@@ -73,8 +74,19 @@ pub struct Inspection {
     pub holds: Vec<HoldReport>,
     /// Each motor's torque limit, N m (motor i = row i of G; empty without a task).
     pub torque_limits_nm: Vec<f64>,
+    /// Each motor's speed limit, rad/s (empty without a task).
+    pub speed_limits_rad_s: Vec<f64>,
+    /// Each motor's no-load speed, rad/s, where the task gives a torque-speed envelope.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub no_load_speeds_rad_s: Vec<f64>,
     /// Every check, in order.
     pub verdicts: Vec<Verdict>,
+}
+
+/// `values` as written in messages ([`number`]), separated by commas.
+fn plain(values: &[f64]) -> String {
+    let texts: Vec<String> = values.iter().map(|&v| number(v).to_string()).collect();
+    texts.join(", ")
 }
 
 fn rows(matrix: &DMatrix<f64>) -> Vec<Vec<f64>> {
@@ -128,11 +140,10 @@ fn hold_verdict(end: &EndHold, limits: &[f64]) -> (Option<String>, String) {
         .iter()
         .map(|m| format!("{:.3}", m.abs()))
         .collect();
-    let allowed: Vec<String> = limits.iter().map(f64::to_string).collect();
     let fine = format!(
         "motor torques ({}) N m within the motors' limits ({}) N m",
         torques.join(", "),
-        allowed.join(", ")
+        plain(limits)
     );
     (problem, fine)
 }
@@ -163,10 +174,17 @@ impl Inspection {
             g_inverse: None,
             holds: Vec::new(),
             torque_limits_nm: task.motors.torque_limit_nm.values(transmission.dof()),
+            speed_limits_rad_s: task.motors.speed_limit_rad_s.values(transmission.dof()),
+            no_load_speeds_rad_s: task
+                .motors
+                .no_load_speed_rad_s
+                .as_ref()
+                .map_or_else(Vec::new, |speeds| speeds.values(transmission.dof())),
             verdicts: Vec::new(),
         };
         inspection.check_motion(task, robot);
         inspection.check_design(task, robot, transmission, ratios);
+        inspection.check_envelope();
         inspection
     }
 
@@ -191,8 +209,45 @@ impl Inspection {
             g_inverse: None,
             holds: Vec::new(),
             torque_limits_nm: Vec::new(),
+            speed_limits_rad_s: Vec::new(),
+            no_load_speeds_rad_s: Vec::new(),
             verdicts: Vec::new(),
         }
+    }
+
+    /// Where the motors have a torque-speed envelope: the share of its torque limit each motor
+    /// keeps at its speed limit, 1 - w_max / w_0, which must be positive (a motor with no torque
+    /// left below its speed limit has data at odds with itself, e.g. a no-load speed in rpm
+    /// where rad/s was meant would show as a share near 1, one too low as none).
+    fn check_envelope(&mut self) {
+        if self.no_load_speeds_rad_s.is_empty() {
+            return;
+        }
+        let speeds = self
+            .speed_limits_rad_s
+            .iter()
+            .zip(&self.no_load_speeds_rad_s);
+        let kept: Vec<f64> = speeds.clone().map(|(w_max, w0)| 1.0 - w_max / w0).collect();
+        let problems: Vec<String> = speeds
+            .enumerate()
+            .filter(|(_, (w_max, w0))| w0 <= w_max)
+            .map(|(i, (w_max, w0))| {
+                format!(
+                    "motor {}'s no-load speed {} rad/s is not above its speed limit {} rad/s: \
+                     it has no torque left before that limit",
+                    i + 1,
+                    number(*w0),
+                    number(*w_max)
+                )
+            })
+            .collect();
+        let shares: Vec<String> = kept.iter().map(|k| format!("{:.0}%", 100.0 * k)).collect();
+        let fine = format!(
+            "at its speed limit each motor keeps ({}) of its torque limit",
+            shares.join(", ")
+        );
+        let problem = (!problems.is_empty()).then(|| problems.join("; "));
+        self.verdict("torque-speed envelope", problem, fine);
     }
 
     fn verdict(&mut self, check: &str, problem: Option<String>, fine: String) {
@@ -334,8 +389,17 @@ impl Inspection {
             }
         }
         if !self.torque_limits_nm.is_empty() {
-            let allowed: Vec<String> = self.torque_limits_nm.iter().map(f64::to_string).collect();
-            let _ = writeln!(text, "motor torque limits ({}) N m", allowed.join(", "));
+            let _ = write!(
+                text,
+                "motor torque limits ({}) N m, speed limits ({}) rad/s",
+                plain(&self.torque_limits_nm),
+                plain(&self.speed_limits_rad_s)
+            );
+            if !self.no_load_speeds_rad_s.is_empty() {
+                let speeds = plain(&self.no_load_speeds_rad_s);
+                let _ = write!(text, ", no-load speeds ({speeds}) rad/s");
+            }
+            text.push('\n');
         }
         for hold in &self.holds {
             let _ = writeln!(
