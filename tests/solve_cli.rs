@@ -107,6 +107,40 @@ fn elastic_solve_reports_the_torque_deficit() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// `--check-derivatives` runs IPOPT's checker on the problem as the command line builds it (here
+/// 5 steps: the same formulas at every node, in a fraction of a second) and finds nothing, in
+/// both spaces and with a torque-speed envelope.
+#[test]
+fn the_derivative_checker_finds_nothing() {
+    let envelope = support::root().join("robots/tasks/pick_place_envelope.json");
+    for (task, space) in [
+        (support::task_path(), "actuation"),
+        (support::task_path(), "joint"),
+        (envelope, "actuation"),
+    ] {
+        let output = codesign(&[
+            "solve",
+            "--task",
+            task.to_str().unwrap(),
+            "--space",
+            space,
+            "--payload",
+            "1",
+            "--ratios",
+            "9,7.7,3,3",
+            "--steps",
+            "5",
+            "--check-derivatives",
+        ]);
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        assert!(output.status.success(), "{space}: {stdout}");
+        assert!(
+            stdout.contains("first and second order, at the initial guess): 0 error(s)"),
+            "{space}: {stdout}"
+        );
+    }
+}
+
 fn fails_with(args: &[&str], expected: &[&str]) {
     let output = codesign(args);
     let stderr = String::from_utf8_lossy(&output.stderr);
