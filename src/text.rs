@@ -8,6 +8,12 @@ pub fn number(x: f64) -> impl fmt::Display {
     Number(x)
 }
 
+/// `values` as written in messages ([`number`]), separated by commas: `1.7, 0.5, 100`.
+pub fn numbers(values: &[f64]) -> String {
+    let texts: Vec<String> = values.iter().map(|&v| number(v).to_string()).collect();
+    texts.join(", ")
+}
+
 struct Number(f64);
 
 impl fmt::Display for Number {
@@ -23,7 +29,7 @@ impl fmt::Display for Number {
 
 #[cfg(test)]
 mod tests {
-    use super::number;
+    use super::{number, numbers};
 
     #[test]
     fn plain_in_the_usual_range_and_exponents_outside() {
@@ -34,5 +40,7 @@ mod tests {
         assert_eq!(shown(1e300), "1e300");
         assert_eq!(shown(-1e-300), "-1e-300");
         assert_eq!(shown(f64::NAN), "NaN");
+        assert_eq!(numbers(&[1.7, 1e-300, 100.0]), "1.7, 1e-300, 100");
+        assert_eq!(numbers(&[]), "");
     }
 }

@@ -8,7 +8,7 @@
 //! which runs to make, so it stays out of the task hash and of the task that result files record.
 //! The section is read and checked by `Experiment::from_section` in `read_experiment.rs`.
 
-use crate::text::number;
+use crate::text::numbers;
 
 /// Most CMA-ES seeds per case: 20 times the paper's 5.
 pub const MAX_SEEDS: u64 = 100;
@@ -101,10 +101,7 @@ impl Experiment {
     /// The payloads of the experiment in words, for the table's notes, e.g. `original design at
     /// 0, 1, 3 kg; co-design at 1, 3 kg; ...`.
     pub fn describe(&self) -> String {
-        let kg = |payloads: &[f64]| {
-            let names: Vec<String> = payloads.iter().map(|p| number(*p).to_string()).collect();
-            format!("{} kg", names.join(", "))
-        };
+        let kg = |payloads: &[f64]| format!("{} kg", numbers(payloads));
         let mut parts = vec![
             format!("original design at {}", kg(&self.original_payloads_kg)),
             format!("co-design at {}", kg(&self.codesign_payloads_kg)),

@@ -4,7 +4,7 @@
 //! list has one value per row of G, in that order.
 
 use super::validate::FieldError;
-use crate::text::number;
+use crate::text::{number, numbers};
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -98,10 +98,7 @@ impl fmt::Display for PerMotor {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             PerMotor::All(value) => write!(f, "{}", number(*value)),
-            PerMotor::Each(values) => {
-                let texts: Vec<String> = values.iter().map(|v| number(*v).to_string()).collect();
-                write!(f, "[{}]", texts.join(", "))
-            }
+            PerMotor::Each(values) => write!(f, "[{}]", numbers(values)),
         }
     }
 }

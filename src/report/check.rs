@@ -6,7 +6,7 @@ use crate::dynamics::Dynamics;
 use crate::model::task::Task;
 use crate::model::Robot;
 use crate::problem::{EndHold, HoldRows, Space};
-use crate::text::number;
+use crate::text::{number, numbers};
 use crate::transmission::{JointLimits, Transmission};
 use nalgebra::DMatrix;
 use serde::Serialize;
@@ -83,12 +83,6 @@ pub struct Inspection {
     pub verdicts: Vec<Verdict>,
 }
 
-/// `values` as written in messages ([`number`]), separated by commas.
-fn plain(values: &[f64]) -> String {
-    let texts: Vec<String> = values.iter().map(|&v| number(v).to_string()).collect();
-    texts.join(", ")
-}
-
 fn rows(matrix: &DMatrix<f64>) -> Vec<Vec<f64>> {
     matrix
         .row_iter()
@@ -143,7 +137,7 @@ fn hold_verdict(end: &EndHold, limits: &[f64]) -> (Option<String>, String) {
     let fine = format!(
         "motor torques ({}) N m within the motors' limits ({}) N m",
         torques.join(", "),
-        plain(limits)
+        numbers(limits)
     );
     (problem, fine)
 }
@@ -392,11 +386,11 @@ impl Inspection {
             let _ = write!(
                 text,
                 "motor torque limits ({}) N m, speed limits ({}) rad/s",
-                plain(&self.torque_limits_nm),
-                plain(&self.speed_limits_rad_s)
+                numbers(&self.torque_limits_nm),
+                numbers(&self.speed_limits_rad_s)
             );
             if !self.no_load_speeds_rad_s.is_empty() {
-                let speeds = plain(&self.no_load_speeds_rad_s);
+                let speeds = numbers(&self.no_load_speeds_rad_s);
                 let _ = write!(text, ", no-load speeds ({speeds}) rad/s");
             }
             text.push('\n');
