@@ -27,6 +27,7 @@ pub mod dynamics;
 pub mod hash;
 pub mod input;
 pub mod ipopt;
+pub mod json_keys;
 pub mod ldl;
 pub mod model;
 pub mod problem;

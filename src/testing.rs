@@ -18,6 +18,22 @@ pub fn task() -> Task {
     Task::load(&task_path()).expect("the repository's task loads")
 }
 
+/// The repository's task with the load held at rest at its ends (`motion.ends` `hold`), where
+/// its own ends are the paper's: the fixture of the tests of the hold as a condition.
+pub fn held_task() -> Task {
+    let mut task = task();
+    task.motion.ends = crate::model::task::Ends::Hold;
+    task
+}
+
+/// [`formulation`] of [`held_task`].
+pub fn held_formulation(payload_kg: f64, space: Space) -> Formulation {
+    let mut task = held_task();
+    task.payload.mass_kg = payload_kg;
+    let robot = Robot::load(&task).expect("the repository's robot loads");
+    Formulation::new(&task, robot, space, task.limit_modes).expect("the task formulates")
+}
+
 /// The solve settings of the repository's task file (its `solver` section).
 pub fn settings() -> SolveSettings {
     let file = TaskFile::load(&task_path()).expect("the repository's task loads");

@@ -35,10 +35,26 @@ fn the_built_in_task_passes_every_check() {
 
 #[test]
 fn every_problem_is_listed() {
-    // 3 kg on the best 3 kg design of the reproduction's rows: the motors cannot hold it still.
-    let output = codesign(&["check", "--payload", "3", "--ratios", "9,5,3,3"]);
+    // 3 kg on the best 3 kg design of the reproduction's rows: the motors cannot hold it still,
+    // a problem where the ends ask for the hold, and a line of information under the paper's.
+    let output = codesign(&[
+        "check",
+        "--payload",
+        "3",
+        "--ratios",
+        "9,5,3,3",
+        "--ends",
+        "hold",
+    ]);
     fails_saying(&output, "2 problem(s) found: hold at start: motor 2 needs");
     fails_saying(&output, "hold at goal: motor 2 needs");
+    let paper = codesign(&["check", "--payload", "3", "--ratios", "9,5,3,3"]);
+    let text = String::from_utf8_lossy(&paper.stdout);
+    assert_eq!(paper.status.code(), Some(0), "{text}");
+    assert!(
+        text.contains("the motors cannot hold the load still (not required: motion.ends is paper)"),
+        "{text}"
+    );
     let dir = scratch("check");
     let task = task_with(&dir, |task| task["motion"]["start"][1] = 9.0.into());
     let output = codesign(&[

@@ -164,7 +164,8 @@ fn the_plan_run_by_gnu_parallel_and_merged_matches_one_reproduction() {
     let plan = succeed_in(&dir, &[&["reproduce", "--plan"], &plan_flags[..]].concat());
     assert_eq!(
         plan.lines().count(),
-        6 + 4 + (4 + 2) + 2 + 1 + 2 + 2,
+        // The paper's table and beyond; then, under `hold`, its originals, runs and capacities.
+        6 + 4 + (4 + 2) + 2 + 1 + 2 + 2 + (6 + 4 + 2),
         "{plan}"
     );
     std::fs::write(dir.join("plan.txt"), &plan).unwrap();
@@ -180,14 +181,13 @@ fn the_plan_run_by_gnu_parallel_and_merged_matches_one_reproduction() {
     succeed_in(&dir, &[&["reproduce"], &merge_flags[..]].concat());
 
     assert_eq!(table_without_times(&split), table_without_times(&whole));
-    // (The flat joint-space gradient run finds no feasible start: in torque mode `paper` no
-    // design holds the arm at rest. The graded one runs.)
     for run in [
-        "actuation-1kg-seed0",
-        "joint-3kg-graded-gradient",
-        "joint-capacity-seed0",
+        "runs/actuation-1kg-seed0",
+        "runs/joint-3kg-graded-gradient",
+        "runs/joint-capacity-seed0",
+        "hold/runs/actuation-1kg-seed0",
     ] {
-        let file = format!("runs/{run}.json");
+        let file = format!("{run}.json");
         let (a, b) = (read_json(&whole.join(&file)), read_json(&split.join(&file)));
         for key in ["best_ratios", "best_cost", "costs", "inputs"] {
             assert_eq!(a[key], b[key], "{run}: {key}");

@@ -1,4 +1,4 @@
-//! The committed evaluation logs (results/quick/runs, results/runs) still resume, and the store
+//! The committed evaluation logs (results/quick/runs, results/hold/runs and their kin) still resume, and the store
 //! writes their header and entry lines byte for byte as they are on disk.
 
 mod support;
@@ -12,9 +12,17 @@ use support::{root, scratch};
 
 /// The committed evaluation logs, sorted.
 fn committed_logs() -> Vec<PathBuf> {
-    let mut logs: Vec<PathBuf> = ["results/quick/runs", "results/runs"]
+    // results/runs holds the full reproduction's logs while it runs (it may not exist yet).
+    let folders = [
+        "results/quick/runs",
+        "results/quick/hold/runs",
+        "results/hold/runs",
+        "results/runs",
+    ];
+    let mut logs: Vec<PathBuf> = folders
         .iter()
-        .flat_map(|folder| std::fs::read_dir(root().join(folder)).unwrap())
+        .filter_map(|folder| std::fs::read_dir(root().join(folder)).ok())
+        .flatten()
         .map(|entry| entry.unwrap().path())
         .filter(|path| path.to_string_lossy().ends_with(".log.jsonl"))
         .collect();

@@ -46,7 +46,23 @@ fn the_plan_of_the_built_in_task_is_the_paper_s_experiment_as_before() {
         // Captured from `reproduce --plan` before tasks had an experiment section.
         let before =
             std::fs::read_to_string(root().join("tests/data/plan").join(expected)).unwrap();
-        assert_eq!(plan, before, "{flags:?}");
+        // The same commands, each naming the task's ends (the paper's), then the section
+        // that solves Table II's cases under `hold` in OUT/hold.
+        let lines: Vec<&str> = plan.lines().collect();
+        let (table, hold) = lines.split_at(before.lines().count());
+        let table = table.join("\n") + "\n";
+        assert_eq!(table.replace(" --ends paper", ""), before, "{flags:?}");
+        assert_eq!(
+            table.matches(" --ends paper").count(),
+            before.lines().count()
+        );
+        assert!(!hold.is_empty());
+        for line in hold {
+            assert!(
+                line.contains(" --ends hold") && line.contains("'OUT/hold/"),
+                "{line}"
+            );
+        }
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -59,15 +75,20 @@ fn a_task_s_experiment_section_makes_the_plan() {
     let plan = succeed_in(&dir, &[&base[..], &["out"]].concat());
     let lines: Vec<&str> = plan.lines().collect();
     // Originals 1 x 2 spaces, CMA-ES 1 x 2 x 1 seed, gradient 1 x 2, capacity designs 2,
-    // original capacities 2.
-    assert_eq!(lines.len(), 10, "{plan}");
+    // original capacities 2; then under `hold` (the task's ends are the paper's) the originals,
+    // the CMA-ES runs and the original capacities again.
+    assert_eq!(lines.len(), 10 + 6, "{plan}");
+    assert!(
+        lines[10..].iter().all(|line| line.contains("--ends hold")),
+        "{plan}"
+    );
     assert!(
         lines[0].contains("solve --space joint --payload 0.5 --task"),
         "{plan}"
     );
-    assert!(
-        plan.contains("--payload 0.5 --space actuation --seed 0 --population 5 --generations 1")
-    );
+    assert!(plan.contains(
+        "--payload 0.5 --ends paper --space actuation --seed 0 --population 5 --generations 1"
+    ));
     assert!(plan.contains(
         "--objective capacity --capacity-resolution 0.01 --seed 0 --population 5 --generations 1"
     ));

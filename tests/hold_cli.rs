@@ -5,7 +5,7 @@
 mod support;
 
 use serde_json::Value;
-use support::{codesign, scratch};
+use support::scratch;
 
 fn ur5_task() -> String {
     support::root()
@@ -18,19 +18,10 @@ fn ur5_task() -> String {
 /// Runs codesign with `args`, `--task` of the UR5 example and `--out dir/file`: its stdout and
 /// the result file's JSON; asserts exit 0.
 fn run(args: &[&str], file: &str) -> (String, Value) {
-    let dir = scratch("hold_cli");
-    let out = dir.join(file);
-    let (task, out_text) = (ur5_task(), out.to_str().unwrap().to_owned());
+    let task = ur5_task();
     let mut all = args.to_vec();
-    all.extend(["--task", &task, "--out", &out_text]);
-    let output = codesign(&all);
-    assert!(
-        output.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let json = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
-    (String::from_utf8(output.stdout).unwrap(), json)
+    all.extend(["--task", &task]);
+    support::succeed_with_out(&all, &scratch("hold_cli").join(file))
 }
 
 #[test]

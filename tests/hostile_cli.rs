@@ -99,7 +99,34 @@ fn absurd_numbers_are_refused_before_any_solve() {
     let output = codesign(&["optimize", "--solve-timeout", "1e300", "--out", path(&out)]);
     fails_saying(
         &output,
-        "--solve-timeout 1e300: must be a positive number of seconds, at most",
+        "--solve-timeout 1e300: must be 1 to 604800 seconds",
+    );
+    // A resolution below adjacent floats would bisect forever.
+    for (command, flag) in [
+        (
+            &["capacity", "--resolution", "1e-300"][..],
+            "--resolution 1e-300: must be at least",
+        ),
+        (
+            &[
+                "optimize",
+                "--objective",
+                "capacity",
+                "--capacity-resolution",
+                "1e-300",
+            ][..],
+            "--capacity-resolution 1e-300: must be a mass of at least",
+        ),
+    ] {
+        let mut args = command.to_vec();
+        args.extend(["--out", path(&out)]);
+        fails_saying(&codesign(&args), flag);
+    }
+    // Below a second no worker can say hello in time, and the worker would be blamed.
+    let output = codesign(&["optimize", "--solve-timeout", "1e-300", "--out", path(&out)]);
+    fails_saying(
+        &output,
+        "--solve-timeout 1e-300: must be 1 to 604800 seconds",
     );
     fails_saying(
         &codesign(&["solve", "--duration", "1e-300"]),
@@ -444,18 +471,22 @@ fn outputs_that_would_replace_what_they_should_not_are_refused_first() {
     std::fs::remove_file(&foreign).unwrap();
     fails_saying(
         &optimize(&dir.join("x.log.jsonl")),
-        "is named like an evaluation log",
+        "is an evaluation log (named .log.jsonl",
     );
     fails_saying(
         &codesign(&["solve", "--out", path(&dir.join("y.log.jsonl"))]),
-        "named like",
+        "is an evaluation log",
     );
     let folder = format!("{}/", dir.join("newdir2").display());
     fails_saying(
         &optimize(Path::new(&folder)),
-        "ends in /: it names a folder",
+        "ends in /, /. or /..: it names a folder",
     );
     fails_saying(&codesign(&["solve", "--out", &folder]), "ends in /");
+    // `a.json/.` names the folder a.json, refused before the run, not at its end (issue 38).
+    let dotted = format!("{}/.", dir.join("a.json").display());
+    fails_saying(&optimize(Path::new(&dotted)), "it names a folder");
+    fails_saying(&codesign(&["solve", "--out", &dotted]), "it names a folder");
     fails_saying(&codesign(&["capacity", "--out", &folder]), "ends in /");
     let long = dir.join("a".repeat(255));
     fails_saying(

@@ -129,7 +129,7 @@ fn check_holds_each_motor_to_its_own_limit() {
     let task = task_with(&dir, |task| {
         task["motors"]["torque_limit_nm"] = json!([1.7, 0.5, 1.7, 1.7]);
     });
-    let output = codesign(&["check", "--task", task.to_str().unwrap()]);
+    let output = codesign(&["check", "--task", task.to_str().unwrap(), "--ends", "hold"]);
     fails_saying(
         &output,
         "hold at start: motor 2 needs 0.8921 N m (limit 0.5)",

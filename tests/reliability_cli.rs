@@ -270,3 +270,91 @@ fn a_second_reproduction_on_one_folder_fails_at_once() {
     fails_saying(&output, &expected);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// IPOPT's options file in the working folder is never read (issue 38, item 2): with
+/// `max_iter 2` and an `output_file` in `ipopt.opt`, a solve there converges as anywhere else
+/// and the file it names is not written; a task naming an options file is refused.
+#[test]
+fn an_ipopt_options_file_in_the_working_folder_is_ignored() {
+    let dir = scratch("ipopt-opt");
+    let victim = dir.join("victim.txt");
+    std::fs::write(&victim, "keep me\n").unwrap();
+    std::fs::write(
+        dir.join("ipopt.opt"),
+        format!("max_iter 2\nmu_init 10\noutput_file {}\n", path(&victim)),
+    )
+    .unwrap();
+    let args = [
+        "solve",
+        "--space",
+        "actuation",
+        "--payload",
+        "0",
+        "--steps",
+        "10",
+    ];
+    let here = support::codesign_in(&dir, &args);
+    let elsewhere = codesign(&args);
+    for output in [&here, &elsewhere] {
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+    }
+    let first = |output: &std::process::Output| {
+        let text = String::from_utf8_lossy(&output.stdout).into_owned();
+        text.lines().next().unwrap_or_default().to_owned()
+    };
+    assert_eq!(first(&here), first(&elsewhere));
+    assert!(first(&here).contains("Solve_Succeeded"), "{}", first(&here));
+    assert_eq!(std::fs::read_to_string(&victim).unwrap(), "keep me\n");
+    let task = support::task_with(&dir, |task| {
+        task["solver"]["options"]["option_file_name"] = "ipopt.opt".into();
+    });
+    let refused = codesign(&["solve", "--task", path(&task), "--payload", "0"]);
+    support::fails_saying(
+        &refused,
+        "solver.options.option_file_name: codesign reads no",
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// An output that is a symbolic link to an evaluation log, or a file that is a log by its first
+/// line under another name, is refused and left as it is (issue 38, item 1).
+#[test]
+fn an_output_that_is_a_log_through_a_link_or_its_content_is_refused() {
+    let dir = scratch("log-link");
+    let log = dir.join("a.log.jsonl");
+    let committed = support::root().join("results/quick/hold/runs/joint-1kg-seed0.log.jsonl");
+    std::fs::copy(&committed, &log).unwrap();
+    let renamed = dir.join("renamed.json");
+    std::fs::copy(&committed, &renamed).unwrap();
+    let link = dir.join("b.json");
+    std::os::unix::fs::symlink(&log, &link).unwrap();
+    let before = std::fs::read(&log).unwrap();
+    for out in [&link, &renamed] {
+        let output = codesign(&[
+            "solve",
+            "--space",
+            "actuation",
+            "--payload",
+            "0",
+            "--steps",
+            "4",
+            "--out",
+            path(out),
+        ]);
+        fails_saying(&output, "is an evaluation log");
+        let table = codesign(&[
+            "table",
+            path(&support::root().join("results/quick/original/actuation-0kg.json")),
+            "--out",
+            path(out),
+        ]);
+        assert_eq!(table.status.code(), Some(1), "{}", path(out));
+    }
+    assert_eq!(std::fs::read(&log).unwrap(), before);
+    assert_eq!(std::fs::read(&renamed).unwrap(), before);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -56,16 +56,24 @@ fn rebuilds_the_table_from_result_files() {
             "{row}"
         );
     }
-    // The paper's values stand beside ours, and a design that cannot hold its load at rest
-    // says where and why (in joint space, mode paper leaves joint 4 no torque).
+    // The paper's values stand beside ours; under the paper's formulation the joint-space
+    // original is feasible, its motors unable to execute it, and the table says where a cell
+    // differs in kind from the paper's, and why.
     assert!(rows[1].contains("(6, 3, 1, 1): 50.99"), "{}", rows[1]);
     assert!(
-        rows[0].contains("infeasible (cannot hold the load at rest at the start: joint 4 needs"),
+        rows[0].contains("(6, 3, 1, 1): 68.74, motors cannot execute it"),
         "{}",
         rows[0]
     );
     assert!(rows[1].contains("(6, 3, 1, 1): 43.67 |"), "{}", rows[1]);
-    assert!(table.contains("Unlike the paper's formulation"), "{table}");
+    assert!(
+        table.contains("The paper's formulation (`--ends paper`)"),
+        "{table}"
+    );
+    assert!(
+        table.contains("- 1 kg, joint space, before: feasible here and not in the paper."),
+        "{table}"
+    );
 
     // Beyond the paper: capacities, the design of largest capacity, the gradient method.
     let beyond = table
@@ -87,9 +95,9 @@ fn rebuilds_the_table_from_result_files() {
         "{beyond}"
     );
     assert_eq!(tables[2].len(), 2, "{beyond}");
-    // No design holds 3 kg at rest and moves it: the graded runs name none.
+    // The graded runs at 3 kg find a design in each space.
     assert!(
-        tables[2][1].starts_with("| 3 kg | actuation | none feasible |"),
+        tables[2][1].starts_with("| 3 kg | actuation | (4.84, 3.02, 1.06, 2.98): 207.16 |"),
         "{beyond}"
     );
     assert!(extra.iter().all(|row| row.contains(" kg | ")), "{beyond}");

@@ -2,13 +2,16 @@
 
 use super::common::{ModelArgs, ProblemArgs};
 use super::store_hints::check_output;
-use crate::design::capacity::{payload_capacity, Capacity, CapacityLimit, CapacitySettings};
+use crate::design::capacity::{
+    payload_capacity, Capacity, CapacityLimit, CapacitySettings, MIN_RESOLUTION_KG,
+};
 use crate::design::run::{Loaded, RecordedHash};
 use crate::model::task::MAX_PAYLOAD_KG;
 use crate::problem::Formulation;
 use crate::report::codesign::CapacityDocument;
 use crate::solve::ToolInfo;
 use crate::store::files::write_json;
+use crate::text::number;
 use std::path::PathBuf;
 
 /// Flags of `codesign capacity`.
@@ -58,7 +61,8 @@ pub fn run(args: &Args) -> Result<(), String> {
         .clone()
         .unwrap_or_else(|| task.transmission.original.clone());
     let formulation = Formulation::new(&task, robot, args.problem.space, modes)
-        .map_err(|e| format!("{}: {e}", args.model.source()))?;
+        .map_err(|e| format!("{}: {e}", args.model.source()))?
+        .with_hold_tolerance(solve.constraint_tolerance());
     formulation
         .transmission()
         .check_design(&ratios)
@@ -81,6 +85,7 @@ pub fn run(args: &Args) -> Result<(), String> {
             space: args.problem.space,
             ratios: ratios.clone(),
             limit_modes: modes,
+            ends: task.motion.ends,
             settings,
             capacity,
         };
@@ -106,6 +111,13 @@ fn search_settings(args: &Args) -> Result<CapacitySettings, String> {
                  a task may carry)"
             ));
         }
+    }
+    if args.resolution < MIN_RESOLUTION_KG {
+        return Err(format!(
+            "--resolution {}: must be at least {MIN_RESOLUTION_KG} kg (1 mg, below what any scale \
+             resolves)",
+            number(args.resolution)
+        ));
     }
     Ok(CapacitySettings {
         resolution_kg: args.resolution,
@@ -143,8 +155,14 @@ fn print_capacity(
         ),
         (Some(kg), _, None) => say!("{space} space, r = ({design}): carries at least {kg:.3} kg (--max)"),
     }
+    let ends = formulation.task().motion.ends;
+    let judged = if ends.judges_hold() {
+        ""
+    } else {
+        " (not required: ends paper)"
+    };
     if let Some(kg) = capacity.hold_kg {
-        say!("  the motors hold at most {kg:.3} kg at rest at both ends");
+        say!("  the motors hold at most {kg:.3} kg at rest at both ends{judged}");
     }
     say!("  {} solves in {seconds:.1} s", capacity.probes.len());
     Ok(())

@@ -3,7 +3,7 @@
 
 use crate::design::run::{Loaded, ModelChoice, ProblemChoice};
 use crate::ipopt::LinearSolver;
-use crate::model::task::{check_payload, LimitMode, LimitModes, Task, TaskSource};
+use crate::model::task::{check_payload, Ends, LimitMode, LimitModes, Task, TaskSource};
 use crate::model::Robot;
 use crate::problem::Space;
 use crate::solve::SolveSettings;
@@ -24,6 +24,12 @@ pub struct ModelArgs {
     /// Payload at the task's payload point, kg; overrides the task's `payload.mass_kg`.
     #[arg(long, value_name = "KG", allow_negative_numbers = true)]
     pub payload: Option<f64>,
+    /// What the motion asks at its ends beyond q and v fixed at the first and last node:
+    /// `paper` nothing (the paper's formulation), `hold` the load held at rest there within the
+    /// control limits, `rest` that and zero acceleration at the first and last interval;
+    /// overrides the task's `motion.ends` [default: the task's; a task without it: hold].
+    #[arg(long, value_enum, value_name = "ENDS")]
+    pub ends: Option<Ends>,
 }
 
 impl ModelArgs {
@@ -33,6 +39,7 @@ impl ModelArgs {
             task: self.task.clone(),
             robot: self.robot.clone(),
             payload: self.payload,
+            ends: self.ends,
         }
     }
 
@@ -62,6 +69,9 @@ impl ModelArgs {
         let payload = self.payload.unwrap_or(0.0);
         check_payload(payload).map_err(|why| format!("--payload {}: {why}", number(payload)))?;
         task.payload.mass_kg = payload;
+        if let Some(ends) = self.ends {
+            task.motion.ends = ends;
+        }
         let robot = Robot::load(&task).map_err(|e| e.to_string())?;
         Ok((task, robot, true))
     }

@@ -71,6 +71,11 @@ struct Output {
 
 /// Loads the robot, evaluates everything at the given state and prints it as JSON on stdout.
 pub fn run(args: &Args) -> Result<(), String> {
+    if let Some(ends) = args.model.ends {
+        return Err(format!(
+            "--ends {ends}: dynamics evaluates one state, which has no ends; leave --ends out"
+        ));
+    }
     let (_, robot, _) = args.model.load_robot()?;
     let n = robot.dof();
     let joints = robot.joint_names().join(", ");

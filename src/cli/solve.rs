@@ -5,7 +5,7 @@ use super::store_hints::check_output;
 use crate::design::run::Loaded;
 use crate::ipopt::{check_derivatives, DerivativeOrder};
 use crate::model::task::{check_horizon, check_steps, PerMotor};
-use crate::problem::{EndHold, Formulation, StaticHold};
+use crate::problem::{EndHold, Formulation, Space, StaticHold};
 use crate::report::trajectory::{every_plot_file, write_plots, SolveDocument};
 use crate::solve::{
     least_envelope_margin, solve_design, SolveError, SolveSettings, TrajectoryResult,
@@ -83,8 +83,9 @@ pub fn run(args: &Args) -> Result<(), String> {
         }
     }
     let modes = args.problem.modes(&task);
-    let hard =
-        Formulation::new(&task, robot, args.problem.space, modes).map_err(|e| e.to_string())?;
+    let hard = Formulation::new(&task, robot, args.problem.space, modes)
+        .map_err(|e| e.to_string())?
+        .with_hold_tolerance(settings.constraint_tolerance());
     let formulation = if args.elastic { hard.elastic() } else { hard };
     let (ratios, source) = match &args.ratios {
         Some(ratios) => (ratios.clone(), format!("--ratios {}", join(ratios))),
@@ -217,8 +218,13 @@ fn envelope_text(formulation: &Formulation, result: &TrajectoryResult) -> Option
 
 /// The load held at rest, for the summary: each end's least margin, or what it lacks.
 fn hold_text(hold: &StaticHold) -> String {
+    let judged = if hold.judged {
+        ""
+    } else {
+        " (reported, not required: ends paper)"
+    };
     if let Some(reason) = hold.reason() {
-        return format!("static hold: {reason}");
+        return format!("static hold{judged}: {reason}");
     }
     let least = |end: &EndHold| end.margins_nm.iter().copied().fold(f64::INFINITY, f64::min);
     format!(
@@ -281,6 +287,13 @@ fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
     }
     if let Some(hold) = &result.static_hold {
         say!("  {}", hold_text(hold));
+    }
+    if let (Space::Joint, Some(execute)) = (formulation.space(), &result.motors_execute) {
+        say!(
+            "  joint space, {} limits: {}",
+            formulation.modes().torque.name(),
+            execute.text()
+        );
     }
     if let Some(elastic) = &result.elastic {
         say!(

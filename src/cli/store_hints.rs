@@ -48,7 +48,7 @@ pub fn run_error(error: RunError) -> String {
 }
 
 /// Checks, before any work, that `path`, given by `flag`, can take a result, is none of
-/// `inputs` and is not named like an evaluation log (see [`files::check_result`]).
+/// `inputs` and is no evaluation log, by name or content (see [`files::check_result`]).
 pub fn check_output(flag: &str, path: &Path, inputs: &[(&str, &Path)]) -> Result<(), String> {
     files::check_result(path, inputs).map_err(|error| hint(error, flag))
 }

@@ -102,12 +102,20 @@ impl CapacitySettings {
     /// Checks that every mass is a positive number of kg.
     pub fn validate(&self) -> Result<(), CapacityError> {
         let valid = |v: f64| v.is_finite() && v > 0.0;
-        if valid(self.resolution_kg) && valid(self.first_step_kg) && valid(self.max_kg) {
+        if valid(self.resolution_kg)
+            && self.resolution_kg >= MIN_RESOLUTION_KG
+            && valid(self.first_step_kg)
+            && valid(self.max_kg)
+        {
             return Ok(());
         }
         Err(CapacityError::Settings(*self))
     }
 }
+
+/// The finest resolution of a capacity search, kg: 1 mg, below what any scale or gripper
+/// resolves; bisecting the largest payload a task may carry (1000 kg) to it takes 30 probes.
+pub const MIN_RESOLUTION_KG: f64 = 1e-6;
 
 /// Why a capacity search could not run.
 #[derive(Clone, Debug, PartialEq)]
@@ -125,8 +133,8 @@ impl fmt::Display for CapacityError {
         match self {
             CapacityError::Settings(settings) => write!(
                 f,
-                "capacity settings must be positive numbers of kg: resolution {}, first step {}, \
-                 max {}",
+                "capacity settings must be positive numbers of kg, the resolution at least \
+                 {MIN_RESOLUTION_KG} kg: resolution {}, first step {}, max {}",
                 settings.resolution_kg, settings.first_step_kg, settings.max_kg
             ),
             CapacityError::Payload(error) => error.fmt(f),
@@ -191,8 +199,8 @@ impl Search<'_> {
 }
 
 /// Searches the payload capacity of design `ratios` in `formulation` (its payload ignored),
-/// each probe solved with `solve`, up to the smaller of `max_kg` and the payload the motors
-/// hold at rest.
+/// each probe solved with `solve`, up to `max_kg`, and, where the task's ends judge the hold,
+/// up to the payload the motors hold at rest (always reported, `hold_kg`).
 pub fn payload_capacity(
     formulation: &Formulation,
     solve: &SolveSettings,
@@ -210,8 +218,12 @@ pub fn payload_capacity(
         limited_by: Some(CapacityLimit::Hold),
         probes: Vec::new(),
     };
-    let Some(hold) = hold else {
-        return Ok(capacity);
+    // Under the paper's ends the hold is reported and bounds nothing.
+    let judged = formulation.task().motion.ends.judges_hold();
+    let top = match hold {
+        None if judged => return Ok(capacity),
+        Some(hold) if judged => settings.max_kg.min(hold),
+        _ => settings.max_kg,
     };
     let mut search = Search {
         formulation,
@@ -220,13 +232,13 @@ pub fn payload_capacity(
         chain: PayloadChain::new(),
         probes: Vec::new(),
     };
-    let (low, high) = bracket(&mut search, settings.max_kg.min(hold), settings)?;
+    let (low, high) = bracket(&mut search, top, settings)?;
     capacity.probes = search.probes;
     capacity.capacity_kg = low;
     capacity.first_infeasible_kg = high;
     capacity.limited_by = Some(match (low, high) {
         (None, _) | (_, Some(_)) => CapacityLimit::Trajectory,
-        (Some(_), None) if hold < settings.max_kg => CapacityLimit::Hold,
+        (Some(_), None) if top < settings.max_kg => CapacityLimit::Hold,
         (Some(_), None) => CapacityLimit::Search,
     });
     Ok(capacity)
@@ -257,6 +269,10 @@ fn bracket(
     if let Some(mut upper) = high {
         while upper - low > settings.resolution_kg {
             let middle = 0.5 * (low + upper);
+            // Adjacent floats: no payload lies between them (a resolution below their spacing).
+            if !(low < middle && middle < upper) {
+                break;
+            }
             if search.probe(middle)? {
                 low = middle;
             } else {
@@ -276,7 +292,7 @@ mod tests {
 
     #[test]
     fn brackets_the_capacity_of_the_original_design_to_the_resolution() {
-        let formulation = testing::formulation(0.0, Space::Actuation);
+        let formulation = testing::held_formulation(0.0, Space::Actuation);
         let settings = CapacitySettings {
             resolution_kg: 0.05,
             first_step_kg: 1.0,
@@ -293,6 +309,16 @@ mod tests {
         assert_eq!(capacity.first_infeasible_kg, None);
         assert_eq!(capacity.limited_by, Some(CapacityLimit::Hold));
         assert!(capacity.probes.iter().all(|p| p.payload_kg <= hold));
+        // Under the paper's ends the hold bounds nothing: the capacity is the dynamic one,
+        // above the load held at rest, which is reported the same.
+        let paper = testing::formulation(0.0, Space::Actuation);
+        let dynamic = payload_capacity(&paper, &testing::settings(), &original, &settings).unwrap();
+        assert_eq!(dynamic.hold_kg, Some(hold));
+        assert_eq!(dynamic.limited_by, Some(CapacityLimit::Trajectory));
+        assert!(
+            dynamic.capacity_kg.is_some_and(|kg| kg > 1.0),
+            "{dynamic:?}"
+        );
         // A design that holds 3.19 kg: the trajectory bounds its capacity, bracketed to the
         // resolution between 1 and 3 kg.
         let held = [9.0, 8.99, 3.0, 3.0];
@@ -331,6 +357,6 @@ mod tests {
         assert!(error
             .unwrap_err()
             .to_string()
-            .starts_with("capacity settings must be positive numbers of kg: resolution 0,"));
+            .starts_with("capacity settings must be positive numbers of kg, the resolution at least 0.000001 kg: resolution 0,"));
     }
 }

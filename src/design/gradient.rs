@@ -547,7 +547,7 @@ mod tests {
     /// cannot hold it, the descent ends without one).
     #[test]
     fn graded_descent_reaches_feasibility_from_an_infeasible_start() {
-        let formulation = testing::formulation(1.5, Space::Actuation);
+        let formulation = testing::held_formulation(1.5, Space::Actuation);
         let descent = GradientSettings {
             spread: 3,
             fallbacks: 0,

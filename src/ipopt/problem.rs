@@ -177,16 +177,32 @@ fn checked_structure(
 }
 
 pub(super) fn apply_options(handle: &Handle, options: &Options) -> Result<(), Error> {
-    if options.get("linear_solver").is_some() {
-        return Err(Error::InvalidOption {
-            name: "linear_solver".to_owned(),
-            value: "(choose the linear solver with Options::linear_solver: ldl or mumps)"
-                .to_owned(),
-        });
+    for (name, why) in [
+        (
+            "linear_solver",
+            "(choose the linear solver with Options::linear_solver: ldl or mumps)",
+        ),
+        (
+            "option_file_name",
+            "(every option is set in code: no options file is read)",
+        ),
+    ] {
+        if options.get(name).is_some() {
+            return Err(Error::InvalidOption {
+                name: name.to_owned(),
+                value: why.to_owned(),
+            });
+        }
     }
     let print_level = if options.verbose { 5 } else { 0 };
     let solver = options.linear_solver.ipopt_name().to_owned();
     let mut entries = vec![
+        // IPOPT reads `ipopt.opt` from the working folder unless told no file: its options
+        // would change every solve unrecorded, and its `output_file` write over any file.
+        (
+            "option_file_name".to_owned(),
+            OptionValue::Str(String::new()),
+        ),
         ("print_level".to_owned(), OptionValue::Int(print_level)),
         ("linear_solver".to_owned(), OptionValue::Str(solver)),
     ];

@@ -3,7 +3,7 @@
 //! tasks and shows the paper's numbers only beside the paper's task.
 
 use super::robot::BUILT_IN_URDF;
-use super::task::{Task, TaskError};
+use super::task::{Ends, Task, TaskError};
 use crate::hash::fnv1a;
 use serde_json::Value;
 
@@ -13,13 +13,19 @@ use serde_json::Value;
 /// `robot_urdf_fnv1a`, the URDF's hash. A task's file name and folder, its spacing, the order of
 /// its keys and the spelling of its numbers (`1` or `1.0`) leave it unchanged; so do its
 /// `solver` and `experiment` sections, which say how and which runs are made, not what they
-/// solve.
+/// solve. `motion.ends` counts, but `hold`, what a task without the key means, hashes as that
+/// task did before the key existed, so that the results and logs of such a task keep their hash.
 pub fn task_hash(task: &Task, urdf_hash: &str) -> String {
     let mut value =
         serde_json::to_value(task).expect("a task serialises: numbers, strings and lists only");
     if let Value::Object(fields) = &mut value {
         fields.remove("robot");
         fields.insert("robot_urdf_fnv1a".to_owned(), urdf_hash.into());
+        if task.motion.ends == Ends::Hold {
+            if let Some(Value::Object(motion)) = fields.get_mut("motion") {
+                motion.remove("ends");
+            }
+        }
     }
     fnv1a(value.to_string().as_bytes())
 }

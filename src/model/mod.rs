@@ -1,6 +1,7 @@
 //! The robot model and the task: what is read from files before any computation.
 
 pub mod chain;
+mod ends;
 mod error;
 pub mod experiment;
 pub mod identity;

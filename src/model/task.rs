@@ -10,6 +10,8 @@
 //! `robots/tasks/pick_place.json` is compiled into the binary as the built-in task
 //! ([`Task::built_in`]), so that every command works without files from any folder.
 
+use super::ends::read_ends;
+pub use super::ends::Ends;
 use super::experiment::Experiment;
 use crate::input::{read_text, MAX_TASK_BYTES};
 use serde::{Deserialize, Serialize};
@@ -88,7 +90,7 @@ pub struct Payload {
 
 /// The motion to plan.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(try_from = "MotionFile")]
 pub struct Motion {
     /// Joint positions at t = 0, rad (joint order of the URDF chain from the root).
     pub start: Vec<f64>,
@@ -98,16 +100,39 @@ pub struct Motion {
     pub horizon_s: f64,
     /// Number of intervals N (nodes 0..=N).
     pub steps: usize,
-    /// Whether the motion starts and ends at rest: zero joint acceleration at node 0 and at
-    /// node N-1 (the last node with an acceleration) besides v_0 = v_N = 0. Written only when
-    /// true.
-    #[serde(default, skip_serializing_if = "is_false")]
-    pub rest_at_ends: bool,
+    /// What the motion asks at its ends beyond q and v fixed at nodes 0 and N: nothing (the
+    /// paper's `paper`), the load held at rest (`hold`, when the key is absent), or that and zero
+    /// acceleration at nodes 0 and N-1 (`rest`).
+    pub ends: Ends,
 }
 
-/// Whether `value` is false (serde's `skip_serializing_if` for flags written only when set).
-fn is_false(value: &bool) -> bool {
-    !*value
+/// [`Motion`] as a task file writes it: `ends` may be absent, or spelled as the older
+/// `rest_at_ends`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MotionFile {
+    start: Vec<f64>,
+    goal: Vec<f64>,
+    horizon_s: f64,
+    steps: usize,
+    #[serde(default)]
+    ends: Option<Ends>,
+    #[serde(default)]
+    rest_at_ends: Option<bool>,
+}
+
+impl TryFrom<MotionFile> for Motion {
+    type Error = String;
+
+    fn try_from(file: MotionFile) -> Result<Motion, String> {
+        Ok(Motion {
+            ends: read_ends(file.ends, file.rest_at_ends)?,
+            start: file.start,
+            goal: file.goal,
+            horizon_s: file.horizon_s,
+            steps: file.steps,
+        })
+    }
 }
 
 /// Weights of J = sum_k wq |q_k|^2 + wv |v_k|^2 + wu |u_k|^2 + box penalties.
@@ -182,6 +207,17 @@ pub enum LimitMode {
     Interval,
     /// The true limits as linear constraints.
     Exact,
+}
+
+impl LimitMode {
+    /// `paper`, `interval` or `exact`, as the task file and the flags spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            LimitMode::Paper => "paper",
+            LimitMode::Interval => "interval",
+            LimitMode::Exact => "exact",
+        }
+    }
 }
 
 /// The limit modes of a run.
@@ -277,8 +313,8 @@ impl TaskFile {
     /// path is left as written, the `solver` section is kept as written, the `experiment`
     /// section is read and checked.
     fn from_json(text: &str, source: TaskSource) -> Result<TaskFile, TaskError> {
-        let parsed = serde_json::from_str::<Value>(text)
-            .map_err(|e| e.to_string())
+        let parsed = crate::json_keys::check_unique_keys(text)
+            .and_then(|()| serde_json::from_str::<Value>(text).map_err(|e| e.to_string()))
             .and_then(|mut value| {
                 let mut section = |name| value.as_object_mut().and_then(|map| map.remove(name));
                 let solver = section("solver");
@@ -395,6 +431,11 @@ mod tests {
             ("\"mass_kg\": 0.0", "\"mass_kg\": -2", "payload.mass_kg"),
             ("[-1.0, 0.4]", "[0.4, -1.0]", "cartesian_box.y.range"),
             ("\"torque\": \"paper\"", "\"torque\": \"papr\"", "papr"),
+            (
+                "\"steps\": 50,",
+                "\"steps\": 10, \"steps\": 5000,",
+                "the key `steps` is given twice in one object (only one value can count) at line 10",
+            ),
             (
                 "\"limit_modes\"",
                 "\"experiment\": {\"budget\": {\"seeds\": 0}}, \"limit_modes\"",

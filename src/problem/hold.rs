@@ -1,17 +1,29 @@
 //! The load held at rest (docs/model.md, section 6): at the start and the goal, the static
-//! torques tau_s = g(q) (gravity with the payload, at v = a = 0) must lie within the control
-//! limits of the problem's space and torque mode. A property of the formulation, the design and
-//! the payload, computed without IPOPT: one gravity evaluation per end.
+//! torques tau_s = g(q) (gravity with the payload, at v = a = 0) against the control limits of
+//! the problem's space and torque mode. A property of the formulation, the design and the
+//! payload, computed without IPOPT: one gravity evaluation per end. Always reported; a condition
+//! of feasibility only where the task's `motion.ends` asks for it (`hold`, `rest`).
 
 use super::{Formulation, Space, TrajectoryProblem};
 use crate::dynamics::Dynamics;
 use crate::transmission::{Coupling, DesignError, JointLimits};
 use serde::{Deserialize, Serialize};
 
-/// A margin down to minus this counts as held, N m: the rounding of g(q) and G^-T (a joint
-/// whose limit is exactly 0 in mode `paper` and whose gravity torque is 0 up to rounding),
-/// never a real shortfall.
-pub const HOLD_TOLERANCE_NM: f64 = 1e-9;
+/// IPOPT's default `constr_viol_tol`, N m here: the violation of a constraint IPOPT accepts at
+/// an optimum. A hold margin down to minus the solver's tolerance counts as held, as a
+/// trajectory that close to its limit counts as feasible (a joint whose limit is 0 in mode
+/// `paper` and whose gravity torque is 0 up to rounding holds).
+pub const DEFAULT_HOLD_TOLERANCE_NM: f64 = 1e-4;
+
+/// The tolerance of hold files written before it was recorded, N m.
+fn older_tolerance() -> f64 {
+    1e-9
+}
+
+/// Files written before the hold was a choice judged it.
+fn judged_before() -> bool {
+    true
+}
 
 /// What the rows of the control limits are, and so what a margin belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -44,7 +56,7 @@ impl HoldRows {
 /// The static torques at one end of the motion and how they sit in the control limits.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct EndHold {
-    /// Whether every margin is at least -[`HOLD_TOLERANCE_NM`].
+    /// Whether every margin is at least minus the tolerance ([`StaticHold::tolerance_nm`]).
     pub holds: bool,
     /// The gravity torques g(q) at the joints, with the payload, N m.
     pub joint_torques_nm: Vec<f64>,
@@ -58,6 +70,14 @@ pub struct EndHold {
 /// The load held at rest at both ends of the motion.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StaticHold {
+    /// Whether the hold is a condition of feasibility (`motion.ends` `hold` or `rest`); under
+    /// `paper` it is reported and never judged. Files written before the choice: true.
+    #[serde(default = "judged_before")]
+    pub judged: bool,
+    /// A margin down to minus this counts as held, N m: the solver's constraint tolerance
+    /// ([`DEFAULT_HOLD_TOLERANCE_NM`]). Files written before it was recorded: 1e-9.
+    #[serde(default = "older_tolerance")]
+    pub tolerance_nm: f64,
     /// What the margins' rows are.
     pub rows: HoldRows,
     /// At the start pose.
@@ -114,18 +134,19 @@ fn gravity(dynamics: &Dynamics, q: &[f64]) -> Vec<f64> {
 
 impl EndHold {
     /// The static torques of `dynamics` (with its payload) at pose q, rad, for the design of
-    /// `coupling`, against `limits`, the control limits of a problem in `space`.
+    /// `coupling`, against `limits`, the control limits of a problem in `space`; a margin down
+    /// to minus `tolerance_nm` holds.
     pub fn at(
         dynamics: &Dynamics,
         coupling: &Coupling,
-        space: Space,
-        limits: &JointLimits,
+        (space, limits): (Space, &JointLimits),
         q: &[f64],
+        tolerance_nm: f64,
     ) -> EndHold {
         let tau = gravity(dynamics, q);
         let margins_nm = margins(limits, &control(space, coupling, &tau));
         EndHold {
-            holds: margins_nm.iter().all(|m| *m >= -HOLD_TOLERANCE_NM),
+            holds: margins_nm.iter().all(|m| *m >= -tolerance_nm),
             motor_torques_nm: coupling.motor_torques(&tau),
             joint_torques_nm: tau,
             margins_nm,
@@ -137,9 +158,10 @@ impl EndHold {
         self.margins_nm.iter().map(|m| (-m).max(0.0)).sum()
     }
 
-    /// Each row that does not hold, as `motor 2 needs 2.794 N m (limit 1.7)` (`rows` names
-    /// them; every mode's limits are symmetric, so a row's limit is |its torque| + its margin).
-    pub fn shortfalls(&self, rows: HoldRows) -> Vec<String> {
+    /// Each row that does not hold within `tolerance_nm`, as `motor 2 needs 2.794 N m (limit
+    /// 1.7)` (`rows` names them; every mode's limits are symmetric, so a row's limit is |its
+    /// torque| + its margin).
+    pub fn shortfalls(&self, rows: HoldRows, tolerance_nm: f64) -> Vec<String> {
         let torques = match rows {
             HoldRows::Motors => &self.motor_torques_nm,
             HoldRows::Joints => &self.joint_torques_nm,
@@ -148,7 +170,7 @@ impl EndHold {
             .iter()
             .zip(torques)
             .enumerate()
-            .filter(|(_, (margin, _))| **margin < -HOLD_TOLERANCE_NM)
+            .filter(|(_, (margin, _))| **margin < -tolerance_nm)
             .map(|(i, (margin, torque))| {
                 let limit = torque.abs() + margin;
                 format!(
@@ -186,7 +208,8 @@ impl StaticHold {
     }
 
     /// Why the load is not held, naming the end and the rows, e.g. `cannot hold the load at rest
-    /// at the start: motor 2 needs 2.794 N m (limit 1.7)`; none when it is held.
+    /// at the start: motor 2 needs 2.794 N m (limit 1.7)`; none when it is held. Judged or not:
+    /// [`StaticHold::failure`] is the verdict's.
     pub fn reason(&self) -> Option<String> {
         let ends: Vec<String> = [("start", &self.start), ("goal", &self.goal)]
             .into_iter()
@@ -194,11 +217,27 @@ impl StaticHold {
             .map(|(name, end)| {
                 format!(
                     "cannot hold the load at rest at the {name}: {}",
-                    end.shortfalls(self.rows).join(", ")
+                    end.shortfalls(self.rows, self.tolerance_nm).join(", ")
                 )
             })
             .collect();
         (!ends.is_empty()).then(|| ends.join("; "))
+    }
+
+    /// Why the design is infeasible by the hold: [`StaticHold::reason`] where the hold is
+    /// judged, else none.
+    pub fn failure(&self) -> Option<String> {
+        self.reason().filter(|_| self.judged)
+    }
+
+    /// What the judged hold lacks, N m: [`StaticHold::deficit_nm`] where the hold is judged,
+    /// else 0 (it is no constraint of the problem).
+    pub fn judged_deficit_nm(&self) -> f64 {
+        if self.judged {
+            self.deficit_nm()
+        } else {
+            0.0
+        }
     }
 }
 
@@ -209,8 +248,19 @@ impl TrajectoryProblem<'_> {
         let f = self.formulation();
         let limits = self.control_limits();
         let motion = &f.task().motion;
-        let end = |q: &[f64]| EndHold::at(f.dynamics(), self.coupling(), f.space(), &limits, q);
+        let tolerance_nm = f.hold_tolerance_nm();
+        let end = |q: &[f64]| {
+            EndHold::at(
+                f.dynamics(),
+                self.coupling(),
+                (f.space(), &limits),
+                q,
+                tolerance_nm,
+            )
+        };
         StaticHold {
+            judged: motion.ends.judges_hold(),
+            tolerance_nm,
             rows: HoldRows::of(f.space(), &limits),
             start: end(&motion.start),
             goal: end(&motion.goal),
@@ -246,7 +296,7 @@ impl Formulation {
             for ((value, lo, hi), (at_unit, _, _)) in
                 rows_at(&empty, q).into_iter().zip(rows_at(&unit, q))
             {
-                if (hi - value).min(value - lo) < -HOLD_TOLERANCE_NM {
+                if (hi - value).min(value - lo) < -self.hold_tolerance_nm() {
                     return Ok(None);
                 }
                 let slope = at_unit - value;
@@ -368,11 +418,25 @@ mod tests {
                 .unwrap();
             assert_eq!(hold.rows, HoldRows::Joints);
             close(&hold.goal.margins_nm, &less(limits, &tau), 1e-12);
-            assert_eq!(
-                hold.holds(),
-                hold.goal.margins_nm.iter().all(|m| *m >= -1e-9)
-            );
+            let within = |end: &EndHold| {
+                end.margins_nm
+                    .iter()
+                    .all(|m| *m >= -DEFAULT_HOLD_TOLERANCE_NM)
+            };
+            assert_eq!(hold.holds(), within(&hold.start) && within(&hold.goal));
         }
+        // Mode `paper` gives joint 4 a limit of 0 N m. At the goal its gravity torque is
+        // 4.8e-8 N m, within the solver's tolerance: held. At the start it is 0.0025 N m: not.
+        let hold = formulation(1.0, Space::Joint, LimitMode::Paper)
+            .static_hold(&original)
+            .unwrap();
+        let joint_4 = |end: &EndHold| end.joint_torques_nm[3].abs();
+        assert!(
+            joint_4(&hold.goal) < 1e-7 && hold.goal.holds,
+            "{:?}",
+            hold.goal
+        );
+        assert!((joint_4(&hold.start) - 0.002541).abs() < 1e-6 && !hold.start.holds);
     }
 
     #[test]

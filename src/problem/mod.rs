@@ -16,7 +16,7 @@ mod node;
 mod sensitivity;
 
 pub use elastic::{penalty_weights, relaxation, PenaltyWeights, ProblemKind, Relaxation};
-pub use hold::{margins, EndHold, HoldRows, StaticHold, HOLD_TOLERANCE_NM};
+pub use hold::{margins, EndHold, HoldRows, StaticHold, DEFAULT_HOLD_TOLERANCE_NM};
 pub use layout::{Layout, LinearRows};
 pub use nlp::TrajectoryProblem;
 pub use sensitivity::cost_gradient;
@@ -58,6 +58,8 @@ pub struct Formulation {
     motor_dynamics: Option<MotorDynamics>,
     /// The motors' torque-speed envelope, None without `motors.no_load_speed_rad_s`.
     envelope: Option<Envelope>,
+    /// A static-hold margin down to minus this holds, N m: the solver's constraint tolerance.
+    hold_tolerance_nm: f64,
     layout: Layout,
     /// Structural non-zeros of G (row = motor, column = joint) over the whole design space.
     g_pattern: DMatrix<f64>,
@@ -137,6 +139,7 @@ impl Formulation {
             speed_limits: task.motors.speed_limit_rad_s.values(n),
             motor_dynamics: MotorDynamics::of(&task.motors, n),
             envelope,
+            hold_tolerance_nm: DEFAULT_HOLD_TOLERANCE_NM,
             layout,
             speed_pattern: g_pattern.clone(),
             g_pattern,
@@ -188,11 +191,24 @@ impl Formulation {
         let mut task = self.task.clone();
         task.payload.mass_kg = payload_kg;
         let robot = self.dynamics.robot().with_payload(payload_kg);
-        let hard = Formulation::new(&task, robot, self.space, self.modes)?;
+        let hard = Formulation::new(&task, robot, self.space, self.modes)?
+            .with_hold_tolerance(self.hold_tolerance_nm);
         Ok(match self.kind() {
             ProblemKind::Hard => hard,
             ProblemKind::Elastic => hard.elastic(),
         })
+    }
+
+    /// The same formulation, a static-hold margin down to minus `tolerance_nm` N m holding
+    /// (the solve settings' constraint tolerance, `SolveSettings::constraint_tolerance`).
+    pub fn with_hold_tolerance(mut self, tolerance_nm: f64) -> Formulation {
+        self.hold_tolerance_nm = tolerance_nm;
+        self
+    }
+
+    /// The tolerance of the static hold's margins, N m ([`Formulation::with_hold_tolerance`]).
+    pub fn hold_tolerance_nm(&self) -> f64 {
+        self.hold_tolerance_nm
     }
 
     /// Hard or elastic.

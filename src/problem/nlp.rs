@@ -268,7 +268,7 @@ impl Nlp for TrajectoryProblem<'_> {
                 (lower[q], upper[q]) = (pose[i], pose[i]);
                 (lower[v], upper[v]) = (0.0, 0.0);
             }
-            if task.motion.rest_at_ends {
+            if task.motion.ends.rests() {
                 // At rest at both ends: a = 0 at node 0 and at node N-1, the last node with an
                 // acceleration (its interval ends at q_N, v_N).
                 for k in [0, layout.steps - 1] {
@@ -570,7 +570,7 @@ mod tests {
         .collect()
     }
 
-    /// [`formulation`]s with `motion.rest_at_ends`: the accelerations at nodes 0 and N-1 fixed
+    /// [`formulation`]s with `motion.ends` `rest`: the accelerations at nodes 0 and N-1 fixed
     /// at 0, in both spaces.
     fn rest_formulations() -> Vec<Formulation> {
         [
@@ -581,7 +581,7 @@ mod tests {
         .map(|(space, torque)| {
             let mut task = task();
             task.motion.steps = 5;
-            task.motion.rest_at_ends = true;
+            task.motion.ends = crate::model::task::Ends::Rest;
             let robot = Robot::load(&task).unwrap();
             let modes = LimitModes {
                 torque,

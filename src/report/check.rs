@@ -3,9 +3,9 @@
 //! both ends against each motor's own torque limit, the design space, and a verdict per check.
 
 use crate::dynamics::Dynamics;
-use crate::model::task::Task;
+use crate::model::task::{Ends, Task};
 use crate::model::Robot;
-use crate::problem::{EndHold, HoldRows, Space};
+use crate::problem::{EndHold, HoldRows, Space, DEFAULT_HOLD_TOLERANCE_NM};
 use crate::text::{number, numbers};
 use crate::transmission::{JointLimits, Transmission};
 use nalgebra::DMatrix;
@@ -72,6 +72,10 @@ pub struct Inspection {
     pub g_inverse: Option<Vec<Vec<f64>>>,
     /// The static torques at the start and the goal.
     pub holds: Vec<HoldReport>,
+    /// What the task's motion asks at its ends (`motion.ends`): under `paper` the hold is
+    /// reported and no problem; none without a task.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ends: Option<Ends>,
     /// Each motor's torque limit, N m (motor i = row i of G; empty without a task).
     pub torque_limits_nm: Vec<f64>,
     /// Each motor's speed limit, rad/s (empty without a task).
@@ -121,14 +125,23 @@ fn joints(robot: &Robot) -> Vec<JointReport> {
 }
 
 /// The verdict on the static torques `end` against each motor's own limit in `limits`, N m:
-/// the motors over their limits, or every torque beside its limit.
-fn hold_verdict(end: &EndHold, limits: &[f64]) -> (Option<String>, String) {
-    let problem = (!end.holds).then(|| {
+/// the motors over their limits, or every torque beside its limit. Under `ends` `paper` the hold
+/// is no condition, so a shortfall is told among the fine lines.
+fn hold_verdict(end: &EndHold, limits: &[f64], ends: Ends) -> (Option<String>, String) {
+    let shortfall = (!end.holds).then(|| {
         format!(
             "{}: the motors cannot hold the load still",
-            end.shortfalls(HoldRows::Motors).join(", ")
+            end.shortfalls(HoldRows::Motors, DEFAULT_HOLD_TOLERANCE_NM)
+                .join(", ")
         )
     });
+    if let (Some(shortfall), false) = (&shortfall, ends.judges_hold()) {
+        return (
+            None,
+            format!("{shortfall} (not required: motion.ends is paper)"),
+        );
+    }
+    let problem = shortfall;
     let torques: Vec<String> = end
         .motor_torques_nm
         .iter()
@@ -167,6 +180,7 @@ impl Inspection {
             g: None,
             g_inverse: None,
             holds: Vec::new(),
+            ends: Some(task.motion.ends),
             torque_limits_nm: task.motors.torque_limit_nm.values(transmission.dof()),
             speed_limits_rad_s: task.motors.speed_limit_rad_s.values(transmission.dof()),
             no_load_speeds_rad_s: task
@@ -202,6 +216,7 @@ impl Inspection {
             g: None,
             g_inverse: None,
             holds: Vec::new(),
+            ends: None,
             torque_limits_nm: Vec::new(),
             speed_limits_rad_s: Vec::new(),
             no_load_speeds_rad_s: Vec::new(),
@@ -311,9 +326,15 @@ impl Inspection {
             upper: self.torque_limits_nm.clone(),
         };
         for (pose, q) in [("start", &task.motion.start), ("goal", &task.motion.goal)] {
-            let end = EndHold::at(&dynamics, &coupling, Space::Actuation, &limits, q);
+            let end = EndHold::at(
+                &dynamics,
+                &coupling,
+                (Space::Actuation, &limits),
+                q,
+                DEFAULT_HOLD_TOLERANCE_NM,
+            );
             let tcp = dynamics.tcp_position(&mut data, q);
-            let (problem, fine) = hold_verdict(&end, &self.torque_limits_nm);
+            let (problem, fine) = hold_verdict(&end, &self.torque_limits_nm, task.motion.ends);
             self.verdict(&format!("hold at {pose}"), problem, fine);
             self.holds.push(HoldReport {
                 pose: pose.to_owned(),

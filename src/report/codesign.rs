@@ -5,7 +5,7 @@
 use super::plots::{Bars, Chart, DrawResult, Figure, Mark, Radar, Series};
 use crate::design::capacity::{Capacity, CapacitySettings};
 use crate::design::run::{OptimizeDocument, RecordedHash};
-use crate::model::task::LimitModes;
+use crate::model::task::{Ends, LimitModes};
 use crate::problem::Space;
 use crate::solve::ToolInfo;
 use serde::{Deserialize, Serialize};
@@ -27,6 +27,11 @@ pub struct CapacityDocument {
     pub ratios: Vec<f64>,
     /// Limit modes.
     pub limit_modes: LimitModes,
+    /// What the motion asks at its ends (`motion.ends`): under `paper` the capacity is the
+    /// paper's dynamic one and `hold_kg` is reported beside it; under `hold` and `rest` it is
+    /// bounded by `hold_kg`. Files written before the choice: `hold`.
+    #[serde(default)]
+    pub ends: Ends,
     /// Resolution and range of the search.
     pub settings: CapacitySettings,
     /// The outcome, flattened into the document.

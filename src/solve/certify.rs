@@ -17,7 +17,8 @@
 //! continuation first ([`solve_design_along`]).
 //!
 //! It stops at the first feasible trajectory, and skips the rest when the motors cannot hold the
-//! load at rest at an end (no trajectory is then feasible).
+//! load at rest at an end where the task's `motion.ends` judges the hold (no trajectory is then
+//! feasible).
 
 use super::continuation::PayloadChain;
 use super::result::{TrajectoryResult, VerdictBy};
@@ -123,13 +124,13 @@ fn rule(
 }
 
 /// Whether no start can help: the result is feasible, or its motors cannot hold the load at
-/// rest at an end.
+/// rest at an end where the task's ends judge the hold.
 fn settled(result: &TrajectoryResult) -> bool {
     result.feasible
         || result
             .static_hold
             .as_ref()
-            .is_some_and(|hold| hold.reason().is_some())
+            .is_some_and(|hold| hold.failure().is_some())
 }
 
 /// The payload continuation of one rule's solve: its chain, whether the chain is kept between

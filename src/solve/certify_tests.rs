@@ -22,15 +22,18 @@ fn both_kinds(payload_kg: f64, ratios: &[f64]) -> (TrajectoryResult, TrajectoryR
 
 /// The quick reproduction's payload-range design and a design near the 3 kg actuation optimum
 /// (issue 23: one solve called them feasible, another infeasible): at 3 kg their motors cannot
-/// hold the load at rest, so every command calls them infeasible, and no start is tried after
-/// the first solve.
+/// hold the load at rest, so under `ends` `hold` every command calls them infeasible, and no
+/// start is tried after the first solve.
 #[test]
 fn designs_whose_motors_cannot_hold_3_kg_are_infeasible_whoever_asks() {
     for ratios in [
         [8.8516, 3.9278, 1.5982, 2.8179],
         [7.2907, 4.5583, 1.7140, 2.8587],
     ] {
-        let (hard, elastic) = both_kinds(3.0, &ratios);
+        let held = testing::held_formulation(3.0, Space::Actuation);
+        let settings = testing::settings();
+        let hard = solve_design(&held, &ratios, &settings).unwrap();
+        let elastic = solve_design(&held.elastic(), &ratios, &settings).unwrap();
         assert!(!hard.feasible && !elastic.feasible, "{ratios:?}");
         assert_eq!(hard.verdict_by, Some(VerdictBy::Hard));
         assert_eq!(elastic.verdict_by, Some(VerdictBy::Elastic));

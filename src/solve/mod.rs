@@ -16,6 +16,7 @@
 mod certify;
 mod continuation;
 mod error;
+mod execute;
 mod result;
 mod run;
 mod settings;
@@ -24,6 +25,7 @@ mod verify;
 pub use certify::{solve_design, solve_design_along, solve_design_from, solve_elastic};
 pub use continuation::{PayloadChain, CONTINUATION_STEP_KG};
 pub use error::SolveError;
+pub use execute::MotorsExecute;
 pub use result::{
     CostTerms, ElasticMeasures, SolveSeconds, ToolInfo, Trajectory, TrajectoryResult, VerdictBy,
     Violations,

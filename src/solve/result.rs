@@ -1,6 +1,7 @@
 //! The result of a trajectory solve, as result files record it (their schema), and how it is
 //! read from IPOPT's solution.
 
+use super::execute::MotorsExecute;
 use crate::ipopt::{LinearSolver, Nlp, Solution};
 use crate::problem::{
     cost_gradient, relaxation, Formulation, ProblemKind, StaticHold, TrajectoryProblem,
@@ -192,8 +193,9 @@ pub struct TrajectoryResult {
     /// IPOPT's name for its return status.
     pub status: String,
     /// Whether IPOPT reported an optimum (strict or acceptable), for an elastic solve every
-    /// slack is at most the solve settings' `tol` (N m or rad/s), and the motors hold the load
-    /// at rest at both ends (`static_hold`).
+    /// slack is at most the solve settings' `tol` (N m or rad/s), and, where the task's
+    /// `motion.ends` judges it (`hold`, `rest`), the motors hold the load at rest at both ends
+    /// (`static_hold`).
     pub feasible: bool,
     /// Why the result is infeasible, when it is: the end and the motors that cannot hold the
     /// load at rest first, then IPOPT's or the elastic solve's reason.
@@ -216,8 +218,15 @@ pub struct TrajectoryResult {
     pub max_motor_speed: f64,
     /// Largest violation per constraint family.
     pub violations: Violations,
+    /// Whether the motors can execute the trajectory: the motor torques and speeds recovered
+    /// through G against each motor's own limits, with what each exceeds by. A joint-space
+    /// problem under the limit modes `paper` and `interval` bounds the joints, not the motors
+    /// (absent in files written before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motors_execute: Option<MotorsExecute>,
     /// dJ*/dr, the exact sensitivity of the optimal cost to each ratio (envelope theorem; see
-    /// `problem::cost_gradient`), when a hard solve succeeded.
+    /// `problem::cost_gradient`), wherever the result is feasible (of an elastic solve: its
+    /// objective's, whose slacks are then within tol).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cost_gradient: Option<Vec<f64>>,
     /// The static torques at the start and the goal against the problem's control limits
@@ -252,7 +261,7 @@ pub(super) fn read_result(
     let f = problem.formulation();
     let static_hold = problem.static_hold();
     let reasons: Vec<String> = [
-        static_hold.reason(),
+        static_hold.failure(),
         infeasibility(f, solution, elastic.as_ref(), tol),
     ]
     .into_iter()
@@ -285,8 +294,19 @@ pub(super) fn read_result(
             .into_iter()
             .fold(0.0, f64::max),
         violations,
-        cost_gradient: (feasible && f.kind() == ProblemKind::Hard)
-            .then(|| cost_gradient(problem, solution)),
+        motors_execute: Some(MotorsExecute::of(
+            &trajectory,
+            f.motor_torque_limits(),
+            f.motor_speed_limits(),
+        )),
+        // A feasible elastic solution has no slack beyond tol: the gradient of its objective
+        // is dJ*/dr (section 9), and it is the one measured.
+        cost_gradient: feasible
+            .then(|| match &elastic {
+                Some(measures) => measures.objective_gradient.clone(),
+                None => Some(cost_gradient(problem, solution)),
+            })
+            .flatten(),
         static_hold: Some(static_hold),
         elastic,
         cost_terms: Some(cost_terms(problem, &solution.x, &trajectory)),

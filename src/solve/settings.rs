@@ -7,6 +7,7 @@
 
 use crate::ipopt::{LinearSolver, Options};
 use crate::model::task::Task;
+use crate::problem::DEFAULT_HOLD_TOLERANCE_NM;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::collections::BTreeMap;
@@ -117,6 +118,13 @@ impl SolveSettings {
                     ": choose the linear solver with solver.linear_solver (\"ldl\" or \"mumps\")",
                 ));
             }
+            if name == "option_file_name" {
+                return Err(SettingsError::new(
+                    field,
+                    ": codesign reads no IPOPT options file (an `ipopt.opt` in the working folder \
+                     is ignored); write each option in solver.options, where results record it",
+                ));
+            }
             if name == "output_file" {
                 return Err(SettingsError::new(
                     field,
@@ -135,6 +143,17 @@ impl SolveSettings {
             }
         }
         Ok(())
+    }
+
+    /// The violation of a constraint IPOPT accepts at an optimum, in the constraints' units:
+    /// the option `constr_viol_tol` where the section sets it, else IPOPT's default
+    /// ([`DEFAULT_HOLD_TOLERANCE_NM`]). The static hold's margins are judged at it.
+    pub fn constraint_tolerance(&self) -> f64 {
+        self.options
+            .get("constr_viol_tol")
+            .and_then(Value::as_f64)
+            .filter(|tol| tol.is_finite() && *tol > 0.0)
+            .unwrap_or(DEFAULT_HOLD_TOLERANCE_NM)
     }
 
     /// The linear solver of the solves: the one named, else the default.
@@ -237,6 +256,10 @@ mod tests {
             (
                 json!({"options": {"output_file": "task.json"}}),
                 "solver.options.output_file: codesign writes no IPOPT log file",
+            ),
+            (
+                json!({"options": {"option_file_name": "mine.opt"}}),
+                "solver.options.option_file_name: codesign reads no IPOPT options file",
             ),
             (
                 json!({"tol": 1e-8, "max_iter": 10, "linear_solver": "ma57"}),

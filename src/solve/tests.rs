@@ -1,9 +1,9 @@
 //! Tests of the solve layer: results and their verification on the repository's task, and the
 //! exact sensitivity dJ*/dr that results report, against differences of re-solved problems.
 
-use super::{solve_design, solve_design_from, SolveError, SolveSettings};
+use super::{solve_design, solve_design_from, SolveError, SolveSettings, TrajectoryResult};
 use crate::ipopt::{self, Solution};
-use crate::model::task::{LimitMode, LimitModes, PerMotor, Task};
+use crate::model::task::{Ends, LimitMode, LimitModes, PerMotor, Task};
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
 use crate::testing;
@@ -76,7 +76,7 @@ fn a_feasible_result_satisfies_every_constraint_family() {
 /// An infeasible design is a result that says why; a design outside its space is an error.
 #[test]
 fn infeasible_designs_are_results_and_invalid_ones_errors() {
-    let formulation = testing::formulation(3.0, Space::Actuation);
+    let formulation = testing::held_formulation(3.0, Space::Actuation);
     let settings = testing::settings();
     let original = formulation.transmission().original().to_vec();
     let result = solve_design(&formulation, &original, &settings).unwrap();
@@ -94,10 +94,11 @@ fn infeasible_designs_are_results_and_invalid_ones_errors() {
     assert!(matches!(error, SolveError::Design(_)), "{error}");
 }
 
-/// The settings reach IPOPT: its iteration limit, and an option it rejects, named.
+/// The settings reach IPOPT: its iteration limit, and an option it rejects, named (on a design
+/// whose motors cannot hold 1 kg at rest under `hold`, so that one solve runs).
 #[test]
 fn the_settings_reach_ipopt() {
-    let formulation = testing::formulation(1.0, Space::Actuation);
+    let formulation = testing::held_formulation(1.0, Space::Actuation);
     let original = formulation.transmission().original().to_vec();
     let few = SolveSettings {
         max_iter: 3,
@@ -176,6 +177,16 @@ fn cost_gradient_matches_differences_of_resolved_problems() {
             LimitMode::Exact,
             LimitMode::Paper,
             [8.0, 4.0, 2.0, 2.5],
+        ),
+        // The paper's joint-space problem (torque mode `paper`, joint 4 limited to 0 N m),
+        // feasible under the paper's ends although no design holds 1 kg at rest in it
+        // (the best design of the quick reproduction's run, inside the bounds).
+        (
+            Space::Joint,
+            1.0,
+            LimitMode::Paper,
+            LimitMode::Exact,
+            [7.38, 5.24, 1.83, 1.89],
         ),
     ];
     for (space, payload, torque, speed, ratios) in cases {
@@ -282,7 +293,7 @@ fn equal_limits_per_motor_solve_as_one_limit() {
 /// one speed limit and for one per motor.
 #[test]
 fn elastic_objective_gradient_matches_differences_of_resolved_problems() {
-    let mut task = crate::testing::task();
+    let mut task = crate::testing::held_task();
     let settings = SolveSettings {
         tol: 1e-10,
         ..crate::testing::settings()
@@ -481,36 +492,73 @@ fn zero_motor_terms_solve_as_none() {
     }
 }
 
-/// With `motion.rest_at_ends`, a design that holds its load (the original one unloaded, in
-/// actuation space: it holds up to 0.585 kg) starts and ends the motion at rest: the result is
-/// feasible and a_0 and a_{N-1} are 0, which they are not without the option.
+/// The original design solved under `ends` in `space` at `payload_kg` kg.
+fn solve_original_with(ends: Ends, space: Space, payload_kg: f64) -> TrajectoryResult {
+    let mut task = testing::task();
+    task.payload.mass_kg = payload_kg;
+    task.motion.ends = ends;
+    let robot = Robot::load(&task).unwrap();
+    let formulation = Formulation::new(&task, robot, space, task.limit_modes).unwrap();
+    let original = formulation.transmission().original().to_vec();
+    solve_design(&formulation, &original, &testing::settings()).unwrap()
+}
+
+/// Under `paper` the original design at 1 kg (actuation) and 0 kg (joint space, whose mode
+/// `paper` gives joint 4 a limit of 0 N m) is feasible, with dJ*/dr, although its motors cannot
+/// hold the load at rest, which the result still reports; under `hold` the same designs are
+/// infeasible, naming the end and the row.
 #[test]
-fn rest_at_ends_starts_and_ends_the_motion_at_rest() {
-    let settings = testing::settings();
-    let solve = |rest: bool| {
-        let mut task = testing::task();
-        task.payload.mass_kg = 0.0;
-        task.motion.rest_at_ends = rest;
-        let robot = Robot::load(&task).unwrap();
-        let formulation =
-            Formulation::new(&task, robot, Space::Actuation, task.limit_modes).unwrap();
-        let original = formulation.transmission().original().to_vec();
-        solve_design(&formulation, &original, &settings).unwrap()
-    };
+fn paper_ends_report_the_hold_and_hold_ends_judge_it() {
+    for (space, payload, row) in [
+        (Space::Actuation, 1.0, "motor 2 needs"),
+        (Space::Joint, 0.0, "joint 4 needs 0.002541 N m (limit 0)"),
+    ] {
+        let paper = solve_original_with(Ends::Paper, space, payload);
+        assert!(
+            paper.feasible && paper.reason.is_none(),
+            "{space}: {:?}",
+            paper.reason
+        );
+        let hold = paper.static_hold.as_ref().unwrap();
+        assert!(!hold.judged && !hold.holds());
+        assert!(hold.reason().unwrap().contains(row), "{:?}", hold.reason());
+        let gradient = paper.cost_gradient.as_ref().unwrap();
+        assert!(gradient.iter().all(|g| g.is_finite()) && gradient.len() == 4);
+        let held = solve_original_with(Ends::Hold, space, payload);
+        assert!(!held.feasible, "{space}");
+        let reason = held.reason.unwrap();
+        assert!(
+            reason.starts_with("cannot hold the load at rest at the "),
+            "{reason}"
+        );
+        assert!(reason.contains(row), "{reason}");
+        assert!(held.static_hold.unwrap().judged);
+        assert!(held.cost_gradient.is_none());
+    }
+}
+
+/// Under `rest`, a design that holds its load (the original one unloaded, in actuation space:
+/// it holds up to 0.585 kg) starts and ends the motion at rest: the result is feasible and a_0
+/// and a_{N-1} are 0, which they are not under `hold`.
+#[test]
+fn rest_ends_start_and_end_the_motion_at_rest() {
     let largest = |a: &[f64]| a.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-    let rested = solve(true);
+    let rested = solve_original_with(Ends::Rest, Space::Actuation, 0.0);
     assert!(
         rested.feasible && rested.reason.is_none(),
         "{}",
         rested.status
     );
-    assert!(rested.static_hold.as_ref().is_some_and(|h| h.holds()));
+    assert!(rested
+        .static_hold
+        .as_ref()
+        .is_some_and(|h| h.holds() && h.judged));
     let a = &rested.trajectory.a;
     for k in [0, a.len() - 1] {
         assert!(largest(&a[k]) <= 1e-9, "a_{k} = {:?}", a[k]);
     }
     assert!(rested.violations.boundary <= 1e-6);
-    let free = solve(false);
+    let free = solve_original_with(Ends::Hold, Space::Actuation, 0.0);
     assert!(free.feasible);
     let a = &free.trajectory.a;
     assert!(largest(&a[0]).max(largest(&a[a.len() - 1])) > 1e-3);

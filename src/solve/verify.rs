@@ -137,11 +137,11 @@ fn integration_residual(h: f64, trajectory: &Trajectory) -> f64 {
 }
 
 /// The largest distance of the first and last states from the task's start and goal at rest,
-/// and with `rest_at_ends` of the accelerations at nodes 0 and N-1 from zero.
+/// and under `ends` `rest` of the accelerations at nodes 0 and N-1 from zero.
 fn boundary_residual(motion: &Motion, trajectory: &Trajectory) -> f64 {
     let last = trajectory.q.len() - 1;
     let mut largest: f64 = 0.0;
-    if motion.rest_at_ends {
+    if motion.ends.rests() {
         for a in [trajectory.a.first(), trajectory.a.last()]
             .into_iter()
             .flatten()

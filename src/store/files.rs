@@ -8,7 +8,7 @@
 use super::{Action, FileKind, Refusal, StoreError};
 use std::ffi::{CString, OsStr};
 use std::fs::{File, Metadata, OpenOptions, Permissions};
-use std::io::Write;
+use std::io::{Read, Write};
 use std::os::unix::ffi::OsStrExt;
 use std::os::unix::fs::{FileTypeExt, MetadataExt, OpenOptionsExt, PermissionsExt};
 use std::path::{Path, PathBuf};
@@ -48,16 +48,42 @@ pub fn check_output(path: &Path, inputs: &[(&str, &Path)]) -> Result<(), StoreEr
     Ok(())
 }
 
-/// [`check_output`] for a result file a command is given: besides, it must not be named like an
-/// evaluation log (`x.log.jsonl`), which would replace another run's log.
+/// [`check_output`] for a result file a command is given: besides, it must be no evaluation log,
+/// by its name (`x.log.jsonl`) or its first line, where a symbolic link points too, which would
+/// replace another run's log.
 pub fn check_result(path: &Path, inputs: &[(&str, &Path)]) -> Result<(), StoreError> {
-    if path.to_string_lossy().ends_with(".log.jsonl") {
+    if is_log(path) || is_log(&resolved(path)) {
         return Err(StoreError::Refused {
             path: path.to_owned(),
             why: Refusal::LogName,
         });
     }
     check_output(path, inputs)
+}
+
+/// Whether `path` is an evaluation log, or would be one: named like one (`x.log.jsonl`), or a
+/// file whose first line is a log's header, whatever its name.
+fn is_log(path: &Path) -> bool {
+    if path.to_string_lossy().ends_with(".log.jsonl") {
+        return true;
+    }
+    // Only a regular file is read, opened without blocking: a FIFO is no log, and opening one
+    // for reading would wait for a writer.
+    if !std::fs::metadata(path).is_ok_and(|meta| meta.is_file()) {
+        return false;
+    }
+    let opened = OpenOptions::new()
+        .read(true)
+        .custom_flags(libc::O_NONBLOCK)
+        .open(path);
+    let Ok(file) = opened else {
+        return false;
+    };
+    let prefix = super::LOG_HEADER_PREFIX.as_bytes();
+    let mut head = Vec::with_capacity(prefix.len());
+    file.take(prefix.len() as u64)
+        .read_to_end(&mut head)
+        .is_ok_and(|_| head == prefix)
 }
 
 /// The longest file name Linux takes, bytes.
@@ -67,10 +93,16 @@ const NAME_MAX: usize = 255;
 /// 7 digits and `.NN`.
 const TEMPORARY_SUFFIX: usize = 18;
 
-/// Refuses a path that names a folder (ends in `/`) or whose file name is too long to be
-/// written through a temporary file beside it.
+/// Refuses a path that names a folder (ends in `/`, `/.` or `/..`, or is `.` or `..`) or whose
+/// file name is too long to be written through a temporary file beside it.
 fn check_name(path: &Path) -> Result<(), Refusal> {
-    if path.as_os_str().as_bytes().ends_with(b"/") {
+    let bytes = path.as_os_str().as_bytes();
+    let folder = [&b"/"[..], b"/.", b"/.."]
+        .iter()
+        .any(|end| bytes.ends_with(end))
+        || bytes == b"."
+        || bytes == b"..";
+    if folder {
         return Err(Refusal::NamesFolder);
     }
     let bytes = path.file_name().map_or(0, |name| name.len());
@@ -192,10 +224,15 @@ fn temporary_name(name: &OsStr, tag: &str, attempt: usize) -> String {
 /// regular file, or that this user may not write, is refused and left as it is. Errors name the
 /// path.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), StoreError> {
-    let (target, mode) = resolve_target(path).map_err(|why| StoreError::NotWritten {
+    let not_written = |why| StoreError::NotWritten {
         path: path.to_owned(),
         why,
-    })?;
+    };
+    let (target, mode) = resolve_target(path).map_err(not_written)?;
+    // Resolved at the write itself: a link made to a log after the checks before the run.
+    if is_log(&target) {
+        return Err(not_written(Refusal::LogName));
+    }
     let failed = |error: std::io::Error| StoreError::io(Action::Write, path, &error);
     let (mut file, temporary) = create_beside(&target, "tmp")?.map_err(failed)?;
     let written = mode

@@ -118,7 +118,7 @@ pub struct EvaluationLog<E> {
     entries: PhantomData<fn(&E)>,
 }
 
-const FORMAT: &str = "codesign-evaluation-log";
+const FORMAT: &str = super::LOG_FORMAT;
 
 /// The checksum of a log line's text: FNV-1a, 64 bits, as 16 hex digits.
 fn checksum(text: &str) -> String {

@@ -10,6 +10,13 @@ pub mod files;
 pub mod lock;
 pub mod log;
 
+/// The name of the evaluation log's format, its header's first field.
+const LOG_FORMAT: &str = "codesign-evaluation-log";
+
+/// How every evaluation log's first line begins (its header's `format`, written first): how a
+/// log is known whatever its name.
+const LOG_HEADER_PREFIX: &str = "{\"format\":\"codesign-evaluation-log\"";
+
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -158,8 +165,8 @@ pub enum Refusal {
         /// The longest name that fits.
         limit: usize,
     },
-    /// It is named like an evaluation log, which only a co-design run writes beside its
-    /// result.
+    /// It is an evaluation log, by its name or its first line (where a symbolic link points
+    /// too), which only a co-design run writes beside its result.
     LogName,
     /// Its folder takes no new file.
     FolderNotWritable {
@@ -255,15 +262,18 @@ impl fmt::Display for Refusal {
                 f,
                 "is not writable by this user (mode {mode:03o}); codesign leaves it untouched"
             ),
-            Refusal::NamesFolder => f.write_str("ends in /: it names a folder; give a file name"),
+            Refusal::NamesFolder => {
+                f.write_str("ends in /, /. or /..: it names a folder; give a file name")
+            }
             Refusal::NameTooLong { bytes, limit } => write!(
                 f,
                 "its file name is {bytes} bytes long; at most {limit} fit beside the suffix of \
                  the temporary file it is written through"
             ),
             Refusal::LogName => f.write_str(
-                "is named like an evaluation log (.log.jsonl), which only a co-design run writes \
-                 beside its result; choose another name",
+                "is an evaluation log (named .log.jsonl, or one by its first line, also where a \
+                 symbolic link points), which only a co-design run writes beside its result; \
+                 choose another name",
             ),
             Refusal::FolderNotWritable { folder, why } => {
                 write!(f, "cannot write in its folder {}: {why}", folder.display())

@@ -5,6 +5,7 @@
 use super::design_space::{DesignSpace, OrderConstraint};
 use super::Transmission;
 use crate::model::task::{MatrixEntry, TransmissionSpec};
+use crate::text::number;
 use std::fmt;
 
 /// One entry of G: a constant or a multiple of one design ratio.
@@ -97,7 +98,10 @@ impl fmt::Display for SpecError {
                 upper,
             } => write!(
                 f,
-                "transmission.bounds[{index}] = [{lower}, {upper}] must be finite with lower <= upper"
+                "transmission.bounds[{index}] = [{}, {}] must be finite with lower <= upper, each of \
+                 magnitude at most {MAX_MAGNITUDE}",
+                number(*lower),
+                number(*upper)
             ),
             SpecError::Original { index } => {
                 write!(f, "transmission.original[{index}] is not a finite number")
@@ -119,9 +123,10 @@ impl fmt::Display for SpecError {
                 };
                 write!(
                     f,
-                    "transmission.matrix[{row}][{column}] = {shown} must be a finite number, \
-                     \"r<i>\", \"-r<i>\" or \"k*r<i>\" (k a finite non-zero number, e.g. \
-                     \"0.5*r2\") with 1 <= i <= {ratios} (the number of bounds)"
+                    "transmission.matrix[{row}][{column}] = {shown} must be a number, \
+                     \"r<i>\", \"-r<i>\" or \"k*r<i>\" (k a non-zero number, e.g. \
+                     \"0.5*r2\") with 1 <= i <= {ratios} (the number of bounds), each number of \
+                     magnitude at most {MAX_MAGNITUDE}"
                 )
             }
             SpecError::Order {
@@ -143,6 +148,12 @@ impl fmt::Display for SpecError {
 
 impl std::error::Error for SpecError {}
 
+/// The largest magnitude of a number of the transmission (an entry of G, a factor k of `k*r<i>`,
+/// a bound): 1e6, beyond any gear ratio or screw (a 1 mm lead is 6283 rad/m), and small enough
+/// that every product the problem forms of them and the motors' limits stays finite (an entry
+/// of 1e308 times a ratio of 9 would be infinite).
+pub const MAX_MAGNITUDE: f64 = 1e6;
+
 /// Parses `r<i>` (1-based) into a 0-based index below `count`.
 fn parse_ratio_name(text: &str, count: usize) -> Option<usize> {
     let digits = text.trim().strip_prefix('r')?;
@@ -163,7 +174,7 @@ fn parse_entry(text: &str, count: usize) -> Option<Entry> {
             None => (1.0, text),
         },
     };
-    if !(scale.is_finite() && scale != 0.0) {
+    if !(scale.is_finite() && scale != 0.0 && scale.abs() <= MAX_MAGNITUDE) {
         return None;
     }
     let index = parse_ratio_name(name, count)?;
@@ -197,7 +208,8 @@ fn check_bounds(spec: &TransmissionSpec) -> Result<(), SpecError> {
         });
     }
     for (index, &[lower, upper]) in spec.bounds.iter().enumerate() {
-        if !(lower.is_finite() && upper.is_finite() && lower <= upper) {
+        let within = |v: f64| v.abs() <= MAX_MAGNITUDE;
+        if !(within(lower) && within(upper) && lower <= upper) {
             return Err(SpecError::Bound {
                 index,
                 lower,
@@ -231,7 +243,9 @@ fn parse_matrix(
         }
         for (column, entry) in values.iter().enumerate() {
             let parsed = match entry {
-                MatrixEntry::Constant(value) if value.is_finite() => Some(Entry::Constant(*value)),
+                MatrixEntry::Constant(value) if value.abs() <= MAX_MAGNITUDE => {
+                    Some(Entry::Constant(*value))
+                }
                 MatrixEntry::Constant(_) => None,
                 MatrixEntry::Ratio(text) => parse_entry(text, count),
             };
@@ -355,7 +369,17 @@ mod tests {
             ),
             (
                 Box::new(|s| s.matrix[1][0] = MatrixEntry::Ratio("0*r2".into())),
-                "transmission.matrix[1][0] = \"0*r2\" must be a finite number, \"r<i>\"",
+                "transmission.matrix[1][0] = \"0*r2\" must be a number, \"r<i>\"",
+            ),
+            // Products of the task's numbers would overflow: refused, naming the field.
+            (
+                Box::new(|s| s.matrix[1][0] = MatrixEntry::Ratio("1e308*r1".into())),
+                "transmission.matrix[1][0] = \"1e308*r1\" must be a number",
+            ),
+            (
+                Box::new(|s| s.bounds[0] = [1.0, 1e308]),
+                "transmission.bounds[0] = [1, 1e308] must be finite with lower <= upper, each of \
+                 magnitude at most 1000000",
             ),
             (
                 Box::new(|s| s.matrix[1][0] = MatrixEntry::Ratio("inf*r2".into())),
@@ -429,9 +453,9 @@ mod tests {
         spec.matrix[2][1] = MatrixEntry::Ratio("r5".into());
         assert_eq!(
             Transmission::from_spec(&spec).unwrap_err().to_string(),
-            "transmission.matrix[2][1] = \"r5\" must be a finite number, \"r<i>\", \"-r<i>\" or \
-             \"k*r<i>\" (k a finite non-zero number, e.g. \"0.5*r2\") with 1 <= i <= 4 (the number \
-             of bounds)"
+            "transmission.matrix[2][1] = \"r5\" must be a number, \"r<i>\", \"-r<i>\" or \
+             \"k*r<i>\" (k a non-zero number, e.g. \"0.5*r2\") with 1 <= i <= 4 (the number of \
+             bounds), each number of magnitude at most 1000000"
         );
         spec.matrix[2][1] = MatrixEntry::Constant(f64::INFINITY);
         assert_eq!(

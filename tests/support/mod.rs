@@ -109,3 +109,21 @@ pub fn succeed_in(dir: &Path, args: &[&str]) -> String {
 pub fn read_json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
+
+/// Runs codesign in the repository's root with `args` and `--out out`, asserting exit 0: its
+/// stdout and the result file's JSON.
+pub fn succeed_with_out(args: &[&str], out: &Path) -> (String, serde_json::Value) {
+    let out_text = out.to_str().expect("a UTF-8 path").to_owned();
+    let mut all = args.to_vec();
+    all.extend(["--out", &out_text]);
+    let output = codesign(&all);
+    assert!(
+        output.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    (
+        String::from_utf8_lossy(&output.stdout).into_owned(),
+        read_json(out),
+    )
+}

@@ -12,12 +12,12 @@ use crate::design::warm::WarmStart;
 use crate::ipopt::LinearSolver;
 use crate::model::experiment::Budget;
 use crate::model::identity::task_hash;
-use crate::model::task::{Task, TaskFile};
+use crate::model::task::{Ends, Task, TaskFile};
 use crate::model::Robot;
 use crate::problem::Space;
 use crate::report::codesign::{cost_evolution_chart, ratio_chart, CapacityDocument};
 use crate::report::plots::Figure;
-use crate::report::table::{build_table, ResultFile};
+use crate::report::table::{build_table, PaperTable, ResultFile};
 use crate::report::trajectory::write_plots;
 use crate::solve::{SolveSettings, TrajectoryResult};
 use crate::store::files::{create_folder, remove_stale, write_atomic, write_json};
@@ -68,6 +68,11 @@ pub struct Args {
     /// (see `optimize --warm-start`).
     #[arg(long, value_enum, default_value_t = WarmStart::default())]
     warm_start: WarmStart,
+    /// What the motion asks at its ends in every run (see `solve --ends`); default: the task's
+    /// `motion.ends` (the built-in task's: paper). Under `paper`, Table II's cases are solved
+    /// under `hold` as well, in OUT_DIR/hold/, for the table's section on holding the load.
+    #[arg(long, value_enum, value_name = "ENDS")]
+    ends: Option<Ends>,
     /// Continue an interrupted reproduction from its evaluation logs.
     #[arg(long)]
     resume: bool,
@@ -116,7 +121,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     let file = task_source(args.task.as_ref())
         .load()
         .map_err(|e| e.to_string())?;
-    let plan = Plan::new(args, file.experiment.clone())?;
+    let plan = Plan::new(args, file.experiment.clone(), file.task.motion.ends)?;
     if let Some(folder) = &args.from_runs {
         if !folder.is_dir() {
             return Err(format!(
@@ -126,14 +131,20 @@ pub fn run(args: &Args) -> Result<(), String> {
             ));
         }
     }
-    let task = load_task(&plan, file)?;
+    let task = load_task(&plan, file.clone())?;
+    let hold = match plan.hold_section() {
+        Some(hold) => Some((load_task(&hold, file)?, hold)),
+        None => None,
+    };
     if args.plan {
         let program = std::env::current_exe()
             .map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
         // The commands write into these folders, on whichever machine runs them.
-        create_folder(&plan.out_dir).map_err(|e| e.to_string())?;
-        for folder in ["original", "runs", "plots", "capacity"] {
-            create_folder(&plan.out_dir.join(folder)).map_err(|e| e.to_string())?;
+        for section in std::iter::once(&plan).chain(hold.iter().map(|(_, plan)| plan)) {
+            create_folder(&section.out_dir).map_err(|e| e.to_string())?;
+            for folder in ["original", "runs", "plots", "capacity"] {
+                create_folder(&section.out_dir.join(folder)).map_err(|e| e.to_string())?;
+            }
         }
         for line in plan.commands(&program.to_string_lossy()) {
             say!("{line}");
@@ -146,28 +157,38 @@ pub fn run(args: &Args) -> Result<(), String> {
     let task_file = plan.task.iter().map(|path| ("--task", path.as_path()));
     let robot = task.task.robot.iter().map(|path| ("robot", path.as_path()));
     let inputs: Vec<(&str, &Path)> = task_file.chain(robot).collect();
-    for output in plan.outputs() {
+    let sections = std::iter::once(&plan).chain(hold.iter().map(|(_, plan)| plan));
+    for output in sections.flat_map(Plan::outputs) {
         check_output("--out-dir", &output, &inputs)?;
     }
-    let outcomes = if args.from_runs.is_some() {
-        merge::read_all(&plan, &task.hash)?
-    } else {
-        if plan.start == Start::Fresh {
-            refuse_earlier_logs(&plan.out_dir.join("runs"))?;
-        }
-        for folder in ["original", "runs", "plots", "capacity"] {
-            create_folder(&plan.out_dir.join(folder)).map_err(|e| e.to_string())?;
-        }
-        stages::run_all(&plan, &task)?
-    };
     let merged = args.from_runs.is_some();
-    finish(
-        &plan,
-        &task,
-        outcomes,
-        merged,
-        started.elapsed().as_secs_f64(),
-    )
+    let outcomes = section_outcomes(&plan, &task, merged)?;
+    let hold_table = match &hold {
+        Some((hold_task, hold)) => {
+            let outcomes = section_outcomes(hold, hold_task, merged)?;
+            let seconds = started.elapsed().as_secs_f64();
+            Some(finish(hold, hold_task, outcomes, merged, seconds, None)?)
+        }
+        None => None,
+    };
+    let seconds = started.elapsed().as_secs_f64();
+    finish(&plan, &task, outcomes, merged, seconds, hold_table.as_ref()).map(|_| ())
+}
+
+/// The independent stages of one section of the experiment (Table II and beyond, or Table II
+/// under `hold`): read back from the plan's commands' results (`merged`), or run here.
+fn section_outcomes(plan: &Plan, task: &ExperimentTask, merged: bool) -> Result<Outcomes, String> {
+    if merged {
+        return merge::read_all(plan, &task.hash);
+    }
+    if plan.start == Start::Fresh {
+        refuse_earlier_logs(&plan.out_dir.join("runs"))?;
+    }
+    create_folder(&plan.out_dir).map_err(|e| e.to_string())?;
+    for folder in ["original", "runs", "plots", "capacity"] {
+        create_folder(&plan.out_dir.join(folder)).map_err(|e| e.to_string())?;
+    }
+    stages::run_all(plan, task)
 }
 
 /// The experiment's task, checked with its robot.
@@ -180,9 +201,10 @@ pub struct ExperimentTask {
     pub hash: String,
 }
 
-/// The plan's task from its `file`, its solve settings (the plan's linear solver applied) and
-/// its task hash, checked with its robot.
-fn load_task(plan: &Plan, file: TaskFile) -> Result<ExperimentTask, String> {
+/// The plan's task from its `file` (the plan's ends applied), its solve settings (the plan's
+/// linear solver applied) and its task hash, checked with its robot.
+fn load_task(plan: &Plan, mut file: TaskFile) -> Result<ExperimentTask, String> {
+    file.task.motion.ends = plan.ends;
     let source = task_source(plan.task.as_ref());
     let mut solver =
         SolveSettings::from_section(file.solver.as_ref()).map_err(|e| format!("{source}: {e}"))?;
@@ -196,14 +218,15 @@ fn load_task(plan: &Plan, file: TaskFile) -> Result<ExperimentTask, String> {
 }
 
 /// The stages that need every run: the best designs' plots and capacities, the radar chart, and
-/// the table.
+/// the table, with `hold`, the table of the same cases under `hold`, as a section of it.
 fn finish(
     plan: &Plan,
     task: &ExperimentTask,
     outcomes: Outcomes,
     merged: bool,
     seconds: f64,
-) -> Result<(), String> {
+    hold: Option<&PaperTable>,
+) -> Result<PaperTable, String> {
     create_folder(&plan.out_dir.join("capacity")).map_err(|e| e.to_string())?;
     write_case_plots(plan, task, &outcomes.runs)?;
     let mut capacities = outcomes.original_capacities;
@@ -259,7 +282,10 @@ fn finish(
         ));
     }
     notes.push(time_note);
-    let table = build_table(&files, notes);
+    let mut table = build_table(&files, notes);
+    if let Some(hold) = hold {
+        table.add_hold_section(hold);
+    }
     write_atomic(
         &plan.out_dir.join("paper_table.md"),
         table.to_markdown().as_bytes(),
@@ -268,7 +294,7 @@ fn finish(
     write_json(&plan.out_dir.join("paper_table.json"), &table).map_err(|e| e.to_string())?;
     say_raw!("{}", table.to_markdown());
     say!("results written to {}", plan.out_dir.display());
-    Ok(())
+    Ok(table)
 }
 
 /// The time note of a merged reproduction: the co-design runs' working time, summed.

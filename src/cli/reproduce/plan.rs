@@ -12,6 +12,7 @@ use crate::design::run::{shell_quote, task_source, Case, Method, ModelChoice, Pr
 use crate::design::score::{Objective, PayloadRange};
 use crate::design::warm::WarmStart;
 use crate::model::experiment::{Budget, Experiment, MAX_SEEDS};
+use crate::model::task::Ends;
 use crate::problem::Space;
 use crate::report::trajectory::every_plot_file;
 use crate::store::log::Start;
@@ -63,13 +64,22 @@ pub struct Plan {
     pub warm_start: WarmStart,
     /// How the CMA-ES runs treat the logs of an earlier reproduction.
     pub start: Start,
+    /// What the motion asks at its ends in every run: `--ends`, else the task's.
+    pub ends: Ends,
+    /// Whether this plan is the section beyond the paper that solves Table II's cases under
+    /// `hold` ([`Plan::hold_section`]): its originals, CMA-ES runs and capacities only.
+    pub is_hold_section: bool,
 }
+
+/// The folder of the hold section inside a reproduction's output folder.
+pub const HOLD_FOLDER: &str = "hold";
 
 impl Plan {
     /// The plan of the task's `experiment` that `reproduce`'s flags ask for: --seeds,
     /// --population and --generations replace the budget's values (the quick budget's with
-    /// --quick); fails on a size out of range, naming the flag or the task's field.
-    pub fn new(args: &Args, experiment: Experiment) -> Result<Plan, String> {
+    /// --quick), --ends the task's `task_ends`; fails on a size out of range, naming the flag or
+    /// the task's field.
+    pub fn new(args: &Args, experiment: Experiment, task_ends: Ends) -> Result<Plan, String> {
         let base = if args.quick {
             experiment.quick_budget
         } else {
@@ -108,9 +118,23 @@ impl Plan {
             bounds: args.bounds,
             warm_start: args.warm_start,
             start: Start::from_flags(args.resume, args.overwrite),
+            ends: args.ends.unwrap_or(task_ends),
+            is_hold_section: false,
         };
         plan.check_sizes(args)?;
         Ok(plan)
+    }
+
+    /// Beyond the paper, where the plan poses the paper's ends: Table II's cases (the original
+    /// designs, CMA-ES per co-designed payload, space and seed, and their capacities) under
+    /// `hold`, written to `OUT_DIR/hold/`. None under `hold` or `rest`, whose table it is.
+    pub fn hold_section(&self) -> Option<Plan> {
+        (self.ends == Ends::Paper && !self.is_hold_section).then(|| Plan {
+            out_dir: self.out_dir.join(HOLD_FOLDER),
+            ends: Ends::Hold,
+            is_hold_section: true,
+            ..self.clone()
+        })
     }
 
     /// Whether the budget is below the experiment's full one in any respect.
@@ -169,6 +193,7 @@ impl Plan {
             task: self.task.clone(),
             robot: None,
             payload,
+            ends: Some(self.ends),
         };
         let problem = ProblemChoice {
             space,
@@ -268,8 +293,8 @@ impl Plan {
     /// The experiment's independent commands, one a line, with `program` as the binary: the
     /// original designs' solves, every co-design run, and the original designs' capacity
     /// searches. The capacities of the best designs wait for the runs: `--from-runs` does them.
-    pub fn commands(&self, program: &str) -> Vec<String> {
-        let program = shell_quote(program);
+    pub fn commands(&self, program_path: &str) -> Vec<String> {
+        let program = shell_quote(program_path);
         let path = |path: PathBuf| shell_quote(&path.to_string_lossy());
         let mut common = Vec::new();
         if let Some(task) = &self.task {
@@ -278,6 +303,7 @@ impl Plan {
         if let Some(solver) = self.problem.linear_solver {
             common.push(format!("--linear-solver {}", solver.name()));
         }
+        common.push(format!("--ends {}", self.ends));
         let common = common
             .iter()
             .map(|flag| format!(" {flag}"))
@@ -317,6 +343,9 @@ impl Plan {
                 "{program} capacity --space {space}{common} --out {out}"
             ));
         }
+        if let Some(hold) = self.hold_section() {
+            lines.extend(hold.commands(program_path));
+        }
         lines
     }
 
@@ -341,6 +370,9 @@ impl Plan {
     /// (population and generations 0).
     pub fn gradient_runs(&self) -> Vec<PlannedRun> {
         let mut runs = Vec::new();
+        if self.is_hold_section {
+            return runs;
+        }
         for &payload in &self.experiment.codesign_payloads_kg {
             for space in SPACES {
                 runs.push(PlannedRun {
@@ -376,6 +408,9 @@ impl Plan {
     /// The CMA-ES runs beyond the paper: the capacity designs, the payload range, and the
     /// graded payloads' cases with the graded penalty.
     pub fn beyond_runs(&self) -> Vec<PlannedRun> {
+        if self.is_hold_section {
+            return Vec::new();
+        }
         let mut runs = self.capacity_runs();
         runs.extend(self.range_runs());
         runs.extend(self.graded_runs());
@@ -424,6 +459,7 @@ impl Plan {
 mod tests {
     use super::{Args, Plan};
     use crate::model::experiment::{Budget, Experiment};
+    use crate::model::task::Ends;
     use clap::Parser;
 
     #[derive(Parser)]
@@ -434,7 +470,7 @@ mod tests {
 
     fn plan(flags: &[&str]) -> Result<Plan, String> {
         let args = Command::parse_from(["reproduce"].iter().chain(flags)).args;
-        Plan::new(&args, Experiment::paper())
+        Plan::new(&args, Experiment::paper(), Ends::Paper)
     }
 
     #[test]
@@ -487,7 +523,7 @@ mod tests {
             ..Experiment::paper()
         };
         let args = Command::parse_from(["reproduce"]).args;
-        let plan = Plan::new(&args, experiment).unwrap();
+        let plan = Plan::new(&args, experiment, Ends::Paper).unwrap();
         let names: Vec<String> = plan
             .cost_runs()
             .into_iter()
@@ -510,10 +546,15 @@ mod tests {
         // A task's budget below the paper's is the experiment's full run, not a reduced one.
         assert!(!plan.is_reduced());
         let mut quick = Command::parse_from(["reproduce", "--quick"]).args;
-        assert!(Plan::new(&quick, Experiment::paper()).unwrap().is_reduced());
+        assert!(Plan::new(&quick, Experiment::paper(), Ends::Paper)
+            .unwrap()
+            .is_reduced());
         quick.seeds = Some(1);
         assert_eq!(
-            Plan::new(&quick, Experiment::paper()).unwrap().budget.seeds,
+            Plan::new(&quick, Experiment::paper(), Ends::Paper)
+                .unwrap()
+                .budget
+                .seeds,
             1
         );
     }

@@ -40,10 +40,13 @@ pub fn formulation_at(
     payload_kg: f64,
     space: Space,
 ) -> Result<Formulation, String> {
-    let task = &task.task;
-    let robot = Robot::load(task).map_err(|e| e.to_string())?;
-    Formulation::new(task, robot, space, task.limit_modes)
-        .and_then(|formulation| formulation.with_payload(payload_kg))
+    let robot = Robot::load(&task.task).map_err(|e| e.to_string())?;
+    Formulation::new(&task.task, robot, space, task.task.limit_modes)
+        .and_then(|formulation| {
+            formulation
+                .with_hold_tolerance(task.solver.constraint_tolerance())
+                .with_payload(payload_kg)
+        })
         .map_err(|e| e.to_string())
 }
 
@@ -217,6 +220,7 @@ pub fn capacity_document(
         space,
         ratios,
         limit_modes: task.task.limit_modes,
+        ends: task.task.motion.ends,
         settings,
         capacity,
     };

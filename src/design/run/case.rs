@@ -4,7 +4,7 @@
 
 use super::document::{Method, OptimizeInputs, RecordedHash, VerdictRule};
 use crate::design::bounds::BoundHandling;
-use crate::design::capacity::CapacitySettings;
+use crate::design::capacity::{CapacitySettings, MIN_RESOLUTION_KG};
 use crate::design::cmaes::CmaesSettings;
 use crate::design::gradient::GradientSettings;
 use crate::design::penalty::{Grading, Penalty};
@@ -13,7 +13,7 @@ use crate::design::warm::WarmStart;
 use crate::design::workers::{Launcher, SOLVE_TIMEOUT_S};
 use crate::ipopt::LinearSolver;
 use crate::model::identity::task_hash;
-use crate::model::task::{check_payload, LimitMode, LimitModes, Task, TaskSource};
+use crate::model::task::{check_payload, Ends, LimitMode, LimitModes, Task, TaskSource};
 use crate::model::Robot;
 use crate::problem::Space;
 use crate::solve::{SolveSettings, TaskRecord};
@@ -31,6 +31,8 @@ pub struct ModelChoice {
     pub robot: Option<PathBuf>,
     /// The payload, kg, replacing the task's.
     pub payload: Option<f64>,
+    /// What the motion asks at its ends, replacing the task's `motion.ends`.
+    pub ends: Option<Ends>,
 }
 
 /// The task `task` names, or the built-in one.
@@ -59,8 +61,12 @@ impl ModelChoice {
         let file = source.load().map_err(|e| e.to_string())?;
         let settings = SolveSettings::from_section(file.solver.as_ref())
             .map_err(|e| format!("{source}: {e}"))?;
-        let as_read = file.task.clone();
-        let mut task = file.task;
+        let mut as_read = file.task.clone();
+        if let Some(ends) = self.ends {
+            // The ends are part of the problem solved: the task hash counts them.
+            as_read.motion.ends = ends;
+        }
+        let mut task = as_read.clone();
         if let Some(robot) = &self.robot {
             task.robot = Some(robot.clone());
         }
@@ -93,7 +99,7 @@ pub struct Loaded {
     /// The solve settings of the task file's `solver` section.
     pub settings: SolveSettings,
     /// The task hash of the task as read on this robot (`model::identity::task_hash`): the
-    /// `--payload` override aside, `--robot` included.
+    /// `--payload` override aside, `--robot` and `--ends` included.
     pub task_hash: String,
 }
 
@@ -129,6 +135,10 @@ impl ProblemChoice {
 /// The longest `--solve-timeout`, s: a week, beyond any solve of a task (the largest problem
 /// allowed solves in minutes).
 pub const MAX_SOLVE_TIMEOUT_S: f64 = 604_800.0;
+
+/// The shortest `--solve-timeout`, s: a worker process must start, load its task and say hello
+/// within it, which takes a fraction of a second.
+pub const MIN_SOLVE_TIMEOUT_S: f64 = 1.0;
 
 /// `text` quoted for `sh`: in single quotes, each single quote written as '\''.
 pub fn shell_quote(text: &str) -> String {
@@ -214,12 +224,12 @@ impl Case {
             ));
         }
         if !(self.solve_timeout_s.is_finite()
-            && self.solve_timeout_s > 0.0
-            && self.solve_timeout_s <= MAX_SOLVE_TIMEOUT_S)
+            && (MIN_SOLVE_TIMEOUT_S..=MAX_SOLVE_TIMEOUT_S).contains(&self.solve_timeout_s))
         {
             return Err(format!(
-                "--solve-timeout {}: must be a positive number of seconds, at most \
-                 {MAX_SOLVE_TIMEOUT_S} (a week: no solve of a task takes that long)",
+                "--solve-timeout {}: must be {MIN_SOLVE_TIMEOUT_S} to {MAX_SOLVE_TIMEOUT_S} \
+                 seconds (a worker needs about a second to start and say hello; no solve of a \
+                 task takes a week)",
                 number(self.solve_timeout_s)
             ));
         }
@@ -249,10 +259,12 @@ impl Case {
                     .to_owned(),
             ),
             (_, &Objective::Capacity(CapacitySettings { resolution_kg, .. }))
-                if !(resolution_kg.is_finite() && resolution_kg > 0.0) =>
+                if !(resolution_kg.is_finite() && resolution_kg >= MIN_RESOLUTION_KG) =>
             {
                 Err(format!(
-                    "--capacity-resolution {resolution_kg}: must be a positive mass"
+                    "--capacity-resolution {}: must be a mass of at least {MIN_RESOLUTION_KG} \
+                     kg (1 mg, below what any scale resolves)",
+                    number(resolution_kg)
                 ))
             }
             _ => Ok(()),
@@ -314,6 +326,9 @@ impl Case {
         }
         if let Some(payload) = self.model.payload {
             push("--payload", payload.to_string());
+        }
+        if let Some(ends) = self.model.ends {
+            push("--ends", ends.to_string());
         }
         push("--space", self.problem.space.name().to_owned());
         if let Some(solver) = self.problem.linear_solver {
@@ -477,6 +492,7 @@ mod tests {
             task: None,
             robot: None,
             payload: Some(1.0),
+            ends: None,
         };
         let problem = ProblemChoice {
             space: Space::Actuation,
@@ -530,7 +546,7 @@ mod tests {
         clipped.method = Method::Cmaes;
         clipped.validate().unwrap();
         let mut timeout = case(Method::Cmaes);
-        for absurd in [f64::NAN, 1e300, 0.0] {
+        for absurd in [f64::NAN, 1e300, 0.0, 1e-300, 0.5] {
             timeout.solve_timeout_s = absurd;
             assert!(timeout
                 .validate()

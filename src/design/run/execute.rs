@@ -50,7 +50,8 @@ pub fn run_case(
         ..
     } = loaded;
     let formulation = Formulation::new(&task, robot, case.problem.space, modes)
-        .map_err(|e| RunError::Load(e.to_string()))?;
+        .map_err(|e| RunError::Load(e.to_string()))?
+        .with_hold_tolerance(settings.constraint_tolerance());
     let mut log = match case.method {
         Method::Cmaes => Some(open_log(case.start, out, &inputs)?),
         Method::Gradient => None,
@@ -220,7 +221,8 @@ fn probe_solver(
     let mut small = task.clone();
     small.motion.steps = 2;
     let formulation = Formulation::new(&small, robot.clone(), case.problem.space, modes)
-        .map_err(|e| RunError::Load(e.to_string()))?;
+        .map_err(|e| RunError::Load(e.to_string()))?
+        .with_hold_tolerance(settings.constraint_tolerance());
     match solve_design(&formulation, &small.transmission.original, settings) {
         Err(SolveError::Ipopt(error)) => Err(RunError::Solver(format!(
             "{} solver: {error} (checked by a solve of the original design before the run)",

@@ -206,7 +206,7 @@ pub fn judge(formulation: &Formulation, result: &TrajectoryResult) -> Verdict {
                 "torque deficit {:.4} N m s, speed excess {:.4} rad",
                 measures.torque_deficit, measures.speed_excess
             );
-            let reason = match result.static_hold.as_ref().and_then(StaticHold::reason) {
+            let reason = match result.static_hold.as_ref().and_then(StaticHold::failure) {
                 Some(hold) => format!("{hold}; {deficit}"),
                 None => deficit,
             };
@@ -228,7 +228,7 @@ pub fn judge(formulation: &Formulation, result: &TrajectoryResult) -> Verdict {
 }
 
 /// How far a solve's design is from a feasible one, motor-seconds (s): the torque deficit of an
-/// elastic solve (N m s) plus the static hold's deficit held over the horizon (N m times T, s),
+/// elastic solve (N m s) plus the judged static hold's deficit held over the horizon (N m times T, s),
 /// over the motors' mean torque limit, plus the speed excess (rad) over their mean speed limit
 /// (each motor's own limit where they differ; the deficits and the excess are sums over rows,
 /// so no one motor's limit measures them). A hard solve measures only the hold's deficit.
@@ -236,7 +236,7 @@ fn shortfall(formulation: &Formulation, result: &TrajectoryResult) -> f64 {
     let hold = result
         .static_hold
         .as_ref()
-        .map_or(0.0, StaticHold::deficit_nm);
+        .map_or(0.0, StaticHold::judged_deficit_nm);
     let (torque, speed) = result
         .elastic
         .as_ref()

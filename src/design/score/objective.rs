@@ -106,7 +106,8 @@ impl Fitness {
         objective: &Objective,
         penalty: Penalty,
     ) -> Result<Fitness, ScoreError> {
-        let hard = Formulation::new(task, Robot::load(task)?, space, modes)?;
+        let hard = Formulation::new(task, Robot::load(task)?, space, modes)?
+            .with_hold_tolerance(solve.constraint_tolerance());
         let base = match penalty.grading {
             Grading::Flat => hard,
             Grading::Graded => hard.elastic(),
@@ -228,10 +229,10 @@ fn unheld(formulations: &[(f64, &Formulation)], ratios: &[f64]) -> Option<Verdic
     for (payload_kg, formulation) in formulations {
         // A design whose problem cannot be built is judged by its solve.
         let hold = formulation.static_hold(ratios).ok()?;
-        let Some(reason) = hold.reason() else {
+        let Some(reason) = hold.failure() else {
             continue;
         };
-        short += shortfall_of(formulation, 0.0, hold.deficit_nm(), 0.0);
+        short += shortfall_of(formulation, 0.0, hold.judged_deficit_nm(), 0.0);
         reasons.push(match formulations.len() {
             1 => reason,
             _ => format!("at {payload_kg} kg: {reason}"),
@@ -388,8 +389,8 @@ fn unloaded(formulation: &Formulation, ratios: &[f64]) -> Verdict {
         .with_payload(0.0)
         .ok()
         .and_then(|unloaded| unloaded.static_hold(ratios).ok());
-    let deficit = hold.as_ref().map_or(0.0, StaticHold::deficit_nm);
-    let (reason, status) = match hold.and_then(|hold| hold.reason()) {
+    let deficit = hold.as_ref().map_or(0.0, StaticHold::judged_deficit_nm);
+    let (reason, status) = match hold.and_then(|hold| hold.failure()) {
         Some(reason) => (
             format!("infeasible even without payload: {reason}"),
             SolveStatus::StaticHoldFailed,

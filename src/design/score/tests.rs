@@ -13,7 +13,7 @@ fn fitness(payload_kg: f64, space: Space, penalty: &str) -> Fitness {
 }
 
 fn fitness_with(payload_kg: f64, space: Space, penalty: &str, solve: &SolveSettings) -> Fitness {
-    let mut task = testing::task();
+    let mut task = testing::held_task();
     task.payload.mass_kg = payload_kg;
     let modes = task.limit_modes;
     let penalty = penalty.parse().unwrap();
@@ -22,12 +22,13 @@ fn fitness_with(payload_kg: f64, space: Space, penalty: &str, solve: &SolveSetti
 
 /// The original design of the repository's task.
 fn original() -> Vec<f64> {
-    testing::task().transmission.original
+    testing::held_task().transmission.original
 }
 
-/// The entry lines of the committed quick run `name`'s evaluation log.
+/// The entry lines of the committed quick run `name`'s evaluation log (`runs/NAME` of the
+/// paper's ends, `hold/runs/NAME` of the hold section).
 fn log_lines(name: &str) -> Vec<String> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("results/quick/runs");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("results/quick");
     let text = std::fs::read_to_string(path.join(format!("{name}.log.jsonl"))).unwrap();
     text.lines().skip(1).map(str::to_owned).collect()
 }
@@ -67,7 +68,7 @@ fn a_feasible_design_scores_its_cost() {
 fn an_infeasible_design_scores_the_flat_or_the_graded_penalty() {
     // Unloaded, the original design holds the arm at rest, but not through the motion in 0.2 s
     // instead of 0.8 s: IPOPT judges it.
-    let mut task = testing::task();
+    let mut task = testing::held_task();
     task.payload.mass_kg = 0.0;
     task.motion.horizon_s = 0.2;
     let modes = task.limit_modes;
@@ -120,7 +121,7 @@ fn a_design_that_cannot_hold_its_load_is_not_solved_under_either_penalty() {
     // The original design cannot hold 3 kg at rest in actuation space (motor 2): infeasible
     // whatever IPOPT would say, so no solve runs, and the shortfall is the hold's alone: its
     // deficit over the horizon (0.8 s) and the motors' limit (1.7 N m).
-    let deficit = testing::formulation(3.0, Space::Actuation)
+    let deficit = testing::held_formulation(3.0, Space::Actuation)
         .static_hold(&original())
         .unwrap()
         .deficit_nm();
@@ -163,7 +164,7 @@ fn a_design_that_cannot_hold_its_load_is_not_solved_under_either_penalty() {
 #[test]
 fn a_range_or_a_joint_space_design_that_cannot_hold_is_not_solved() {
     // A range names the payloads not held and sums their deficits; the 0 kg one is held.
-    let mut task = testing::task();
+    let mut task = testing::held_task();
     task.payload.mass_kg = 0.0;
     let modes = task.limit_modes;
     let range = Objective::Range(PayloadRange {
@@ -185,7 +186,7 @@ fn a_range_or_a_joint_space_design_that_cannot_hold_is_not_solved() {
     assert!(reason.starts_with("at 1 kg: cannot hold"), "{reason}");
     assert!(reason.contains("; at 3 kg: cannot hold"), "{reason}");
     let term = |kg: f64| {
-        let f = testing::formulation(kg, Space::Actuation);
+        let f = testing::held_formulation(kg, Space::Actuation);
         f.static_hold(&original()).unwrap().deficit_nm() * 0.8 / 1.7
     };
     assert!(
@@ -223,8 +224,8 @@ fn an_invalid_design_is_scored_without_a_solve_by_its_distance() {
     // Logged invalid designs score again to the same text, flat and graded (whose fitness
     // carries the distance).
     for (run, payload_kg, penalty) in [
-        ("joint-1kg-seed0", 1.0, "flat"),
-        ("joint-3kg-graded-seed0", 3.0, "graded"),
+        ("runs/joint-1kg-seed0", 1.0, "flat"),
+        ("runs/joint-3kg-graded-seed0", 3.0, "graded"),
     ] {
         let (record, line) = logged(run, "Invalid_Design");
         let again = fitness(payload_kg, Space::Joint, penalty).evaluate(&record.ratios);
@@ -257,14 +258,24 @@ fn a_solver_error_leaves_the_design_unjudged() {
 
 #[test]
 fn logged_designs_score_again_as_logged() {
-    // A design that holds its load scores as logged (a joint-space design in torque mode
-    // `paper` never does, its joint 4 having no torque at all, so the runs are the actuation
-    // space's).
+    // A design that holds its load scores as logged under `hold` (a joint-space design in
+    // torque mode `paper` never does, its joint 4 having no torque at all, so the runs are the
+    // actuation space's, of the hold section).
     for (run, status, payload_kg, penalty) in [
-        ("actuation-1kg-seed0", "Solve_Succeeded", 1.0, "flat"),
-        ("actuation-1kg-seed1", "Solve_Succeeded", 1.0, "flat"),
+        (
+            "hold/runs/actuation-1kg-seed0",
+            "Solve_Succeeded",
+            1.0,
+            "flat",
+        ),
+        (
+            "hold/runs/actuation-1kg-seed1",
+            "Solve_Succeeded",
+            1.0,
+            "flat",
+        ),
     ] {
-        let formulation = testing::formulation(payload_kg, Space::Actuation);
+        let formulation = testing::held_formulation(payload_kg, Space::Actuation);
         let holds = |e: &Evaluation| formulation.static_hold(&e.ratios).unwrap().holds();
         let tag = format!("\"status\":\"{status}\"");
         let record = log_lines(run)
@@ -287,14 +298,20 @@ fn logged_designs_score_again_as_logged() {
 
 #[test]
 fn records_write_the_texts_of_the_committed_logs() {
-    let runs = Path::new(env!("CARGO_MANIFEST_DIR")).join("results/quick/runs");
+    let quick = Path::new(env!("CARGO_MANIFEST_DIR")).join("results/quick");
     let mut kinds = std::collections::HashSet::new();
-    for entry in std::fs::read_dir(runs).unwrap() {
+    let folders = ["runs", "hold/runs"];
+    let entries = folders.iter().flat_map(|folder| {
+        std::fs::read_dir(quick.join(folder))
+            .unwrap()
+            .map(move |e| (folder, e))
+    });
+    for (folder, entry) in entries {
         let name = entry.unwrap().file_name().into_string().unwrap();
         let Some(run) = name.strip_suffix(".log.jsonl") else {
             continue;
         };
-        for line in log_lines(run) {
+        for line in log_lines(&format!("{folder}/{run}")) {
             let record: Evaluation = serde_json::from_str(&line).unwrap();
             assert!(line.contains(&fields(&record)), "{line}");
             let logged: Value = serde_json::from_str(&line).unwrap();
@@ -420,7 +437,7 @@ fn a_design_that_cannot_hold_its_load_is_infeasible_and_graded_by_the_deficit() 
             "{reason}"
         );
         // The hold's deficit (N m) over the horizon (0.8 s) and the motors' limit (1.7 N m).
-        let formulation = testing::formulation(payload, Space::Actuation);
+        let formulation = testing::held_formulation(payload, Space::Actuation);
         let deficit = formulation.static_hold(&original()).unwrap().deficit_nm();
         assert!(deficit > 0.0);
         assert!(
@@ -474,4 +491,28 @@ fn graded_and_flat_evaluations_give_the_verdicts_solve_gives() {
             );
         }
     }
+}
+
+#[test]
+fn under_the_papers_ends_a_design_that_cannot_hold_is_solved() {
+    // The original design cannot hold 1 kg at rest (motor 2), but the paper's formulation asks
+    // nothing of the ends: it is solved, and its cost is IPOPT's optimum (171.26).
+    let mut task = testing::task();
+    task.payload.mass_kg = 1.0;
+    let penalty: Penalty = "flat".parse().unwrap();
+    let fitness = Fitness::new(
+        &task,
+        &testing::settings(),
+        Space::Actuation,
+        task.limit_modes,
+        &Objective::Cost,
+        penalty,
+    )
+    .unwrap();
+    let score = fitness.score(&original());
+    let Verdict::Feasible { cost, .. } = score.verdict else {
+        panic!("{score:?}");
+    };
+    assert!((cost - 171.26).abs() < 0.01, "{cost}");
+    assert!(score.iterations > 0);
 }

@@ -60,6 +60,8 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
     PaperTable {
         title: task.title(),
         paper_task: paper,
+        ends: files.first().map(ResultFile::ends),
+        hold: Vec::new(),
         task_hash: task.hash,
         tool: ToolInfo::current(linear_solvers.first().copied().unwrap_or_default()),
         linear_solvers,
@@ -205,6 +207,8 @@ fn row_mut(rows: &mut Vec<TableRow>, payload_kg: f64, space: Space, paper: bool)
                 gradient: None,
                 capacity_before_kg: None,
                 capacity_after_kg: None,
+                held_before_kg: None,
+                held_after_kg: None,
                 capacity_max: None,
                 graded: None,
                 graded_gradient: None,
@@ -299,10 +303,11 @@ fn add_seed(after: &mut AfterCell, doc: &OptimizeDocument, motors: &Motors) {
 /// of its CMA-ES runs, and its seeds in order.
 fn complete_row(row: &mut TableRow, files: &[ResultFile]) {
     if let Some(before) = &row.before {
-        row.capacity_before_kg = capacity_of(files, row.space, &before.ratios);
+        (row.capacity_before_kg, row.held_before_kg) =
+            capacity_of(files, row.space, &before.ratios);
     }
     if let Some(best) = row.after.as_ref().and_then(|a| a.best.as_ref()) {
-        row.capacity_after_kg = capacity_of(files, row.space, &best.ratios);
+        (row.capacity_after_kg, row.held_after_kg) = capacity_of(files, row.space, &best.ratios);
     }
     let (payload_kg, space) = (row.payload_kg, row.space);
     for (cell, grading) in [
@@ -316,12 +321,18 @@ fn complete_row(row: &mut TableRow, files: &[ResultFile]) {
     }
 }
 
-/// The capacity, kg, of the first capacity file of `ratios` in `space`.
-fn capacity_of(files: &[ResultFile], space: Space, ratios: &[f64]) -> Option<f64> {
-    files.iter().find_map(|f| match f {
-        ResultFile::Capacity(d) if d.space == space && d.ratios == ratios => d.capacity.capacity_kg,
-        _ => None,
-    })
+/// The capacity and the load held at rest, kg, of the first capacity file of `ratios` in
+/// `space`.
+fn capacity_of(files: &[ResultFile], space: Space, ratios: &[f64]) -> (Option<f64>, Option<f64>) {
+    files
+        .iter()
+        .find_map(|f| match f {
+            ResultFile::Capacity(d) if d.space == space && d.ratios == ratios => {
+                Some((d.capacity.capacity_kg, d.capacity.hold_kg))
+            }
+            _ => None,
+        })
+        .unwrap_or((None, None))
 }
 
 /// The median over the CMA-ES runs on the cost of one row (with the penalty's `grading`) of each

@@ -4,14 +4,27 @@
 
 use super::{AfterCell, DesignCell, PaperTable, RangeRow, TableRow};
 use crate::ipopt::LinearSolver;
+use crate::model::task::Ends;
+use crate::problem::Space;
 
-/// Why rows differ from the paper's formulation: the static hold it lacks.
-const HOLD_NOTE: &str = "> Unlike the paper's formulation, a design must hold its payload at rest at the \
-     start and the goal within the problem's own control limits (`docs/model.md`, section 6); one that \
-     cannot is infeasible whatever IPOPT finds, and its cell names the end and the motor or joint. In \
-     the joint space, the paper's torque limits G^T tau_max give a joint whose column of G sums to 0 \
-     a limit of 0 N m, so no design holds that joint against gravity (`--torque-mode interval` or \
-     `exact` bound the real motors instead).\n\n";
+/// What the table's formulation asks at the ends, under the paper's ends.
+const PAPER_ENDS_NOTE: &str = "> The paper's formulation (`--ends paper`): q and v are fixed at the first and \
+     last node, nothing else. Whether the motors could hold the payload at rest there is reported in each \
+     result (`static_hold`) and never judged; the section \"holding the load at rest\" below solves the same \
+     cases with it required.\n\n";
+
+/// What the table's formulation asks at the ends, when the load must be held at rest.
+const HOLD_ENDS_NOTE: &str = "> Unlike the paper's formulation, a design must hold its payload at rest at the \
+     start and the goal within the problem's own control limits (`--ends hold`, `docs/model.md`, section 6); \
+     one that cannot is infeasible whatever IPOPT finds, and its cell names the end and the motor or joint. \
+     In the joint space, the paper's torque limits G^T tau_max give a joint whose column of G sums to 0 a \
+     limit of 0 N m, so no design holds that joint against gravity.\n\n";
+
+/// What the joint-space limit modes mean for the real motors.
+const MODES_NOTE: &str = "> Joint-space limits: `paper` applies G^T and G^-1 elementwise to the motors' \
+     limits, as the paper prints them; `interval` is the smallest box around the motors' polytope, so a \
+     trajectory feasible under it can still exceed a motor; only `exact`, the motors' limits themselves as \
+     linear rows, cannot. A cell says where the motors cannot execute a joint-space trajectory.\n\n";
 
 impl PaperTable {
     /// The table as Markdown.
@@ -32,6 +45,9 @@ impl PaperTable {
         for row in shown {
             text.push_str(&main_row(row, self.paper_task));
         }
+        if self.paper_task {
+            text.push_str(&self.agreement_text());
+        }
         let beyond = self.rows.iter().any(|r| {
             r.gradient.is_some()
                 || r.capacity_before_kg.is_some()
@@ -44,6 +60,7 @@ impl PaperTable {
         if !self.ranges.is_empty() {
             text.push_str(&self.payload_ranges());
         }
+        text.push_str(&self.hold_markdown());
         if self
             .rows
             .iter()
@@ -89,6 +106,25 @@ impl PaperTable {
         text
     }
 
+    /// Whether every cell agrees in kind with the paper's (feasible or not, improved by
+    /// co-design or not), or where and why one does not.
+    fn agreement_text(&self) -> String {
+        let lines = self.disagreements();
+        if lines.is_empty() {
+            return "\nEvery cell agrees in kind with the paper's: feasible or not before and after \
+                    co-design, and improved by co-design or not.\n"
+                .to_owned();
+        }
+        let mut text = String::from(
+            "\nWhere a cell differs in kind from the paper's (feasible or not, improved by co-design \
+             or not):\n\n",
+        );
+        for line in lines {
+            text.push_str(&format!("- {line}.\n"));
+        }
+        text
+    }
+
     /// The co-design runs for a payload range, one line each.
     fn payload_ranges(&self) -> String {
         let mut text = String::from(
@@ -120,8 +156,13 @@ impl PaperTable {
             self.tool.ipopt_version,
             linear_solvers_text(&self.linear_solvers)
         ));
-        if self.paper_task {
-            text.push_str(HOLD_NOTE);
+        match self.ends {
+            Some(Ends::Paper) => text.push_str(PAPER_ENDS_NOTE),
+            // Tables written before the choice held the load too.
+            Some(Ends::Hold | Ends::Rest) | None => text.push_str(HOLD_ENDS_NOTE),
+        }
+        if self.rows.iter().any(|row| row.space == Space::Joint) {
+            text.push_str(MODES_NOTE);
         }
         for note in &self.notes {
             text.push_str(&format!("> {note}\n\n"));
@@ -271,6 +312,10 @@ fn solve_time_text(seconds: f64) -> String {
 /// One line of the section beyond the paper.
 fn beyond_row(row: &TableRow) -> String {
     let kg = |v: Option<f64>| v.map_or_else(|| "-".to_owned(), |v| format!("{v:.2} kg"));
+    let capacity = |v: Option<f64>, held: Option<f64>| match (v, held) {
+        (Some(v), Some(held)) => format!("{v:.2} kg (holds {held:.2} kg at rest)"),
+        (v, _) => kg(v),
+    };
     let (gradient, solves) = gradient_columns(row.gradient.as_ref());
     let cmaes = row
         .after
@@ -284,8 +329,8 @@ fn beyond_row(row: &TableRow) -> String {
         "| {} kg | {} | {} | {} | {largest} | {gradient} | {solves} | {cmaes} |\n",
         row.payload_kg,
         row.space,
-        kg(row.capacity_before_kg),
-        kg(row.capacity_after_kg)
+        capacity(row.capacity_before_kg, row.held_before_kg),
+        capacity(row.capacity_after_kg, row.held_after_kg)
     )
 }
 
@@ -297,7 +342,7 @@ fn gradient_columns(run: Option<&(DesignCell, usize)>) -> (String, String) {
 }
 
 /// The ratios rounded to two decimals, e.g. `(9, 5.62, 3, 1.8)`.
-fn ratios_text(ratios: &[f64]) -> String {
+pub(super) fn ratios_text(ratios: &[f64]) -> String {
     let parts: Vec<String> = ratios
         .iter()
         .map(|r| format!("{}", (r * 100.0).round() / 100.0))
@@ -306,7 +351,7 @@ fn ratios_text(ratios: &[f64]) -> String {
 }
 
 /// A design's cell: its ratios and cost, or why it is infeasible or the motors cannot execute it.
-fn design_text(cell: &DesignCell) -> String {
+pub(super) fn design_text(cell: &DesignCell) -> String {
     if cell.feasible && !cell.motors_can_execute {
         format!(
             "{}: {:.2}, motors cannot execute it (max torque {:.2} N m, max speed {:.0} rad/s)",

@@ -3,9 +3,13 @@
 //! the table's types and the reading of result files here, the rows in `build`, the checks of a
 //! set of files in `check`, the Markdown in `markdown`.
 
+mod agreement;
 mod build;
 mod check;
+mod hold;
 mod markdown;
+
+pub use hold::HoldRow;
 
 pub use build::build_table;
 pub use check::check_results;
@@ -16,7 +20,7 @@ use super::{ReadFailure, ReportError};
 use crate::design::run::{OptimizeDocument, PayloadCost};
 use crate::input::{read_text, MAX_RESULT_BYTES};
 use crate::ipopt::LinearSolver;
-use crate::model::task::TaskSource;
+use crate::model::task::{Ends, TaskSource};
 use crate::problem::Space;
 use crate::solve::ToolInfo;
 use serde::{Deserialize, Serialize};
@@ -40,6 +44,16 @@ impl ResultFile {
             ResultFile::Solve(d) => &d.inputs.task_file,
             ResultFile::Optimize(d) => &d.inputs.task_file,
             ResultFile::Capacity(d) => &d.task_file,
+        }
+    }
+
+    /// What the motion asked at its ends in the result's problem (`motion.ends`; files written
+    /// before the choice: `hold`).
+    pub fn ends(&self) -> Ends {
+        match self {
+            ResultFile::Solve(d) => d.inputs.task.task.motion.ends,
+            ResultFile::Optimize(d) => d.inputs.task.task.motion.ends,
+            ResultFile::Capacity(d) => d.ends,
         }
     }
 
@@ -189,6 +203,13 @@ pub struct TableRow {
     /// Payload capacity of the best CMA-ES design, kg (from a capacity file).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub capacity_after_kg: Option<f64>,
+    /// The largest payload the original design holds at rest at both ends, kg (from its
+    /// capacity file; absent where no payload is too heavy, none is held, or not recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub held_before_kg: Option<f64>,
+    /// The largest payload the best CMA-ES design holds at rest at both ends, kg.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub held_after_kg: Option<f64>,
     /// The design of largest capacity found by `optimize --objective capacity` in this space,
     /// and its capacity, kg (on the row of the run's payload).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -213,6 +234,13 @@ pub struct PaperTable {
     /// does the table show the paper's values.
     #[serde(default)]
     pub paper_task: bool,
+    /// What the motion asks at its ends in the table's problems (`motion.ends`; absent in
+    /// tables written before the choice, whose results held the load at rest).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ends: Option<Ends>,
+    /// Beyond the paper, under `paper` ends: the same cases with the load held at rest.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub hold: Vec<HoldRow>,
     /// The task hash of the results (None: no result records one).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub task_hash: Option<String>,

@@ -1,0 +1,74 @@
+//! Whether the motors can execute a trajectory: each motor's torques and speeds, recovered
+//! through G from the joints' (tau_u = G^-T tau, w = G v, as the result's trajectory holds
+//! them), against that motor's own limits. A joint-space problem bounds the joints, not the
+//! motors: under the limit modes `paper` and `interval` its optimum can ask more of a motor than
+//! it has; under `exact`, as in the actuation space, it cannot beyond the solver's tolerance.
+
+use super::result::Trajectory;
+use serde::{Deserialize, Serialize};
+
+/// A peak within this share of its limit counts as within it: the solver's bound relaxation.
+const RELATIVE_TOLERANCE: f64 = 1e-6;
+
+/// Whether the motors can execute a trajectory, and by how much each exceeds its limits.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MotorsExecute {
+    /// Whether every motor's peak torque and speed lie within its limits (to 1e-6 relative).
+    pub executes: bool,
+    /// Per motor: its peak |torque| above its torque limit, N m (0 within it).
+    pub torque_excess_nm: Vec<f64>,
+    /// Per motor: its peak |speed| above its speed limit, rad/s (0 within it).
+    pub speed_excess_rad_s: Vec<f64>,
+}
+
+impl MotorsExecute {
+    /// The verdict on `trajectory` against each motor's `torque_limits` (N m) and
+    /// `speed_limits` (rad/s), motor i at index i.
+    pub fn of(trajectory: &Trajectory, torque_limits: &[f64], speed_limits: &[f64]) -> Self {
+        let excess = |peaks: Vec<f64>, limits: &[f64]| -> Vec<f64> {
+            peaks
+                .iter()
+                .zip(limits)
+                .map(|(&peak, &limit)| {
+                    let over = peak - limit;
+                    if over <= RELATIVE_TOLERANCE * limit.abs() {
+                        0.0
+                    } else {
+                        over
+                    }
+                })
+                .collect()
+        };
+        let torque_excess_nm = excess(trajectory.motor_torque_peaks(), torque_limits);
+        let speed_excess_rad_s = excess(trajectory.motor_speed_peaks(), speed_limits);
+        MotorsExecute {
+            executes: torque_excess_nm
+                .iter()
+                .chain(&speed_excess_rad_s)
+                .all(|e| *e == 0.0),
+            torque_excess_nm,
+            speed_excess_rad_s,
+        }
+    }
+
+    /// `the motors can execute it`, or each motor over a limit and by how much, e.g. `motor 2
+    /// exceeds its torque limit by 2.83 N m`.
+    pub fn text(&self) -> String {
+        if self.executes {
+            return "the motors can execute it".to_owned();
+        }
+        let mut over = Vec::new();
+        for (what, unit, excess) in [
+            ("torque", "N m", &self.torque_excess_nm),
+            ("speed", "rad/s", &self.speed_excess_rad_s),
+        ] {
+            for (motor, e) in excess.iter().enumerate().filter(|(_, e)| **e > 0.0) {
+                over.push(format!(
+                    "motor {} exceeds its {what} limit by {e:.3} {unit}",
+                    motor + 1
+                ));
+            }
+        }
+        format!("the motors CANNOT execute it: {}", over.join(", "))
+    }
+}
