@@ -4,7 +4,6 @@
 //! motors: under the limit modes `paper` and `interval` its optimum can ask more of a motor than
 //! it has; under `exact`, as in the actuation space, it cannot beyond the solver's tolerance.
 
-use super::result::Trajectory;
 use serde::{Deserialize, Serialize};
 
 /// A peak within this share of its limit counts as within it: the solver's bound relaxation.
@@ -22,10 +21,11 @@ pub struct MotorsExecute {
 }
 
 impl MotorsExecute {
-    /// The verdict on `trajectory` against each motor's `torque_limits` (N m) and
-    /// `speed_limits` (rad/s), motor i at index i.
-    pub fn of(trajectory: &Trajectory, torque_limits: &[f64], speed_limits: &[f64]) -> Self {
-        let excess = |peaks: Vec<f64>, limits: &[f64]| -> Vec<f64> {
+    /// The verdict on a trajectory whose motors' peak |torque| (N m) and |speed| (rad/s) are
+    /// `peaks`, against each motor's `limits` of torque (N m) and speed (rad/s), motor i at
+    /// index i.
+    pub fn of(peaks: (&[f64], &[f64]), limits: (&[f64], &[f64])) -> Self {
+        let excess = |peaks: &[f64], limits: &[f64]| -> Vec<f64> {
             peaks
                 .iter()
                 .zip(limits)
@@ -39,8 +39,8 @@ impl MotorsExecute {
                 })
                 .collect()
         };
-        let torque_excess_nm = excess(trajectory.motor_torque_peaks(), torque_limits);
-        let speed_excess_rad_s = excess(trajectory.motor_speed_peaks(), speed_limits);
+        let torque_excess_nm = excess(peaks.0, limits.0);
+        let speed_excess_rad_s = excess(peaks.1, limits.1);
         MotorsExecute {
             executes: torque_excess_nm
                 .iter()
@@ -70,5 +70,32 @@ impl MotorsExecute {
             }
         }
         format!("the motors CANNOT execute it: {}", over.join(", "))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::MotorsExecute;
+
+    #[test]
+    fn each_motor_over_a_limit_is_named_with_its_excess() {
+        let within = MotorsExecute::of(
+            (&[1.7, 0.5], &[100.0, 20.0]),
+            (&[1.7, 1.7], &[100.0, 100.0]),
+        );
+        assert!(within.executes, "{within:?}");
+        assert_eq!(within.text(), "the motors can execute it");
+        let over = MotorsExecute::of(
+            (&[4.53, 0.5], &[100.0, 140.0]),
+            (&[1.7, 1.7], &[100.0, 100.0]),
+        );
+        assert!(!over.executes);
+        assert!((over.torque_excess_nm[0] - 2.83).abs() < 1e-12);
+        assert_eq!(over.speed_excess_rad_s, vec![0.0, 40.0]);
+        assert_eq!(
+            over.text(),
+            "the motors CANNOT execute it: motor 1 exceeds its torque limit by 2.830 N m, motor 2 \
+             exceeds its speed limit by 40.000 rad/s"
+        );
     }
 }

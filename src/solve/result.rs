@@ -295,9 +295,11 @@ pub(super) fn read_result(
             .fold(0.0, f64::max),
         violations,
         motors_execute: Some(MotorsExecute::of(
-            &trajectory,
-            f.motor_torque_limits(),
-            f.motor_speed_limits(),
+            (
+                &trajectory.motor_torque_peaks(),
+                &trajectory.motor_speed_peaks(),
+            ),
+            (f.motor_torque_limits(), f.motor_speed_limits()),
         )),
         // A feasible elastic solution has no slack beyond tol: the gradient of its objective
         // is dJ*/dr (section 9), and it is the one measured.
