@@ -171,14 +171,25 @@ fn a_log_of_other_ends_refuses_to_resume() {
 /// much on its summary.
 #[test]
 fn a_joint_space_result_says_whether_the_motors_can_execute_it() {
-    let args = ["solve", "--space", "joint", "--payload", "0", "--steps", "10"];
+    let args = [
+        "solve",
+        "--space",
+        "joint",
+        "--payload",
+        "0",
+        "--steps",
+        "10",
+    ];
     let (text, result) = run(&args, "joint-execute.json");
     assert_eq!(result["feasible"], true, "{result}");
     let execute = &result["motors_execute"];
     assert_eq!(execute["executes"], false, "{execute}");
     let excess = execute["torque_excess_nm"].as_array().unwrap();
     assert_eq!(excess.len(), 4);
-    assert!(excess.iter().any(|e| e.as_f64().unwrap() > 0.0), "{execute}");
+    assert!(
+        excess.iter().any(|e| e.as_f64().unwrap() > 0.0),
+        "{execute}"
+    );
     assert!(
         text.contains("joint space, paper limits: the motors CANNOT execute it: motor "),
         "{text}"

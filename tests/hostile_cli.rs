@@ -565,40 +565,43 @@ fn workers_that_flood_or_hang_are_stopped_with_all_they_started() {
     .unwrap();
     fails_saying(&output, "said no hello within 2 s");
     assert!(!running(hang), "a hung worker was left running");
-    // TERM while workers (each with a child of its own) are busy.
-    let command = "sleep 986 & exec {} worker";
-    let out = dir.join("term.json");
-    let mut child = codesign_command(
-        root(),
-        &[
-            "optimize",
-            "--population",
-            "20",
-            "--generations",
-            "50",
-            "--workers",
-            "2",
-            "--worker-command",
-            command,
-            "--out",
-            path(&out),
-        ],
-    )
-    .stdout(Stdio::null())
-    .stderr(Stdio::null())
-    .spawn()
-    .unwrap();
-    support::wait_for(std::time::Duration::from_secs(20), || running("sleep 986"));
-    std::thread::sleep(std::time::Duration::from_millis(500));
-    // SAFETY: a signal to the child this test started.
-    unsafe { libc::kill(child.id() as i32, libc::SIGTERM) };
-    let status = child.wait().unwrap();
-    assert!(!status.success());
-    std::thread::sleep(std::time::Duration::from_millis(300));
-    assert!(
-        !running("sleep 986"),
-        "TERM left the workers' children running"
-    );
+    // TERM, or HUP (a closed terminal or ssh session), while workers (each with a child of its
+    // own) are busy.
+    for (signal, sleep) in [(libc::SIGTERM, "sleep 986"), (libc::SIGHUP, "sleep 985")] {
+        let command = format!("{sleep} & exec {{}} worker");
+        let out = dir.join(format!("signal-{signal}.json"));
+        let mut child = codesign_command(
+            root(),
+            &[
+                "optimize",
+                "--population",
+                "20",
+                "--generations",
+                "50",
+                "--workers",
+                "2",
+                "--worker-command",
+                &command,
+                "--out",
+                path(&out),
+            ],
+        )
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+        support::wait_for(std::time::Duration::from_secs(20), || running(sleep));
+        std::thread::sleep(std::time::Duration::from_millis(500));
+        // SAFETY: a signal to the child this test started.
+        unsafe { libc::kill(child.id() as i32, signal) };
+        let status = child.wait().unwrap();
+        assert!(!status.success());
+        std::thread::sleep(std::time::Duration::from_millis(300));
+        assert!(
+            !running(sleep),
+            "signal {signal} left the workers' children running"
+        );
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -1,7 +1,7 @@
 //! Worker processes as the operating system sees them: each started in a process group of its
 //! own, so that a hung worker is killed with everything it started (a shell's children, an
-//! `srun` step), and all of them are killed when the run ends, fails, or is interrupted by INT
-//! or TERM.
+//! `srun` step), and all of them are killed when the run ends, fails, or is interrupted by INT,
+//! TERM or HUP.
 
 use std::os::unix::process::CommandExt;
 use std::path::PathBuf;
@@ -88,8 +88,8 @@ pub(super) fn kill(child: &mut Child) {
     }
 }
 
-/// On INT or TERM: kills every worker's process group, then ends this process as the signal
-/// would have. Only async-signal-safe calls.
+/// On INT, TERM or HUP (a closed terminal or ssh session): kills every worker's process group,
+/// then ends this process as the signal would have. Only async-signal-safe calls.
 extern "C" fn on_signal(signal: libc::c_int) {
     for slot in &GROUPS {
         let group = slot.load(Ordering::SeqCst);
@@ -105,11 +105,11 @@ extern "C" fn on_signal(signal: libc::c_int) {
     }
 }
 
-/// Installs [`on_signal`] for INT and TERM, once per process.
+/// Installs [`on_signal`] for INT, TERM and HUP, once per process.
 fn install_handlers() {
     static INSTALLED: Once = Once::new();
     INSTALLED.call_once(|| {
-        for signal in [libc::SIGINT, libc::SIGTERM] {
+        for signal in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
             // SAFETY: the handler only makes async-signal-safe calls.
             unsafe { libc::signal(signal, on_signal as *const () as libc::sighandler_t) };
         }
