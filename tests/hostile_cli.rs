@@ -611,9 +611,14 @@ fn workers_that_flood_or_hang_are_stopped_with_all_they_started() {
 #[test]
 fn worker_answers_are_checked_and_failures_never_replayed() {
     let dir = scratch("answers");
+    // Issue 38, item 3: besides, costs above any the scoring writes, a status no solve gives,
+    // and a negative time.
     let liars = [
         r#"{} worker | sed -u 's/"ratios":\[[0-9.e+-]*/"ratios":[1.5/'"#,
         r#"{} worker | sed -u 's/"cost":[^,]*/"cost":-1e300/'"#,
+        r#"{} worker | sed -u 's/"cost":[^,]*/"cost":1e300/'"#,
+        r#"{} worker | sed -u 's/"status":"[A-Za-z_]*"/"status":"Solved_By_Magic"/'"#,
+        r#"{} worker | sed -u 's/"seconds":[-0-9.e+]*/"seconds":-1e308/'"#,
     ];
     for liar in liars {
         let output = small_run(

@@ -77,6 +77,37 @@ impl Status {
         name.to_owned()
     }
 
+    /// Whether `text` is the name of a status IPOPT returns ([`Status::name`], an unknown code's
+    /// `Unknown_Status_N` included).
+    pub fn is_name(text: &str) -> bool {
+        let known = [
+            Status::SolveSucceeded,
+            Status::SolvedToAcceptableLevel,
+            Status::InfeasibleProblemDetected,
+            Status::SearchDirectionBecomesTooSmall,
+            Status::DivergingIterates,
+            Status::UserRequestedStop,
+            Status::FeasiblePointFound,
+            Status::MaximumIterationsExceeded,
+            Status::RestorationFailed,
+            Status::ErrorInStepComputation,
+            Status::MaximumCpuTimeExceeded,
+            Status::NotEnoughDegreesOfFreedom,
+            Status::InvalidProblemDefinition,
+            Status::InvalidOption,
+            Status::InvalidNumberDetected,
+            Status::UnrecoverableException,
+            Status::NonIpoptExceptionThrown,
+            Status::InsufficientMemory,
+            Status::InternalError,
+        ];
+        let unknown = text
+            .strip_prefix("Unknown_Status_")
+            .and_then(|code| code.parse::<i32>().ok())
+            .is_some_and(|code| Status::Unknown(code).name() == text);
+        unknown || known.iter().any(|status| status.name() == text)
+    }
+
     /// Whether the point returned is a local optimum (to the strict or the acceptable tolerance).
     pub fn is_success(self) -> bool {
         matches!(

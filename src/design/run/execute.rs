@@ -17,7 +17,7 @@ use crate::problem::Formulation;
 use crate::solve::{solve_design, solve_design_from, SolveError, SolveSettings, ToolInfo};
 use crate::stats::median;
 use crate::store::files::{check_output, check_result, write_json};
-use crate::store::log::{log_beside, Start};
+use crate::store::log::log_beside;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
@@ -53,7 +53,7 @@ pub fn run_case(
         .map_err(|e| RunError::Load(e.to_string()))?
         .with_hold_tolerance(settings.constraint_tolerance());
     let mut log = match case.method {
-        Method::Cmaes => Some(open_log(case.start, out, &inputs)?),
+        Method::Cmaes => Some(open_log(case, out, &inputs)?),
         Method::Gradient => None,
     };
     let started = Instant::now();
@@ -88,12 +88,25 @@ pub fn run_case(
 
 /// Opens (locked) the evaluation log of a CMA-ES run as `start` says.
 fn open_log(
-    start: Start,
+    case: &Case,
     out: &Path,
     inputs: &OptimizeInputs,
 ) -> Result<(EvaluationLog, Finished), RunError> {
-    let (log, finished) = EvaluationLog::open(&log_beside(out), inputs, start)
+    let (log, finished) = EvaluationLog::open(&log_beside(out), inputs, case.start)
         .map_err(RunError::store(Output::Log))?;
+    // A replayed entry is believed as a worker's answer would be: only what the scoring writes.
+    let negative_fitness = matches!(case.objective, Objective::Capacity(_));
+    let mut entries: Vec<_> = finished.iter().collect();
+    entries.sort_by_key(|(key, _)| **key);
+    for ((generation, index), evaluation) in entries {
+        if let Some(why) = evaluation.implausible(&case.penalty, negative_fitness) {
+            return Err(RunError::Load(format!(
+                "{}: the evaluation of generation {generation}, design {index} holds {why}, \
+                 which the scoring never writes: the log was edited; start afresh with --overwrite",
+                log_beside(out).display()
+            )));
+        }
+    }
     if let Some(line) = log.dropped_line() {
         note!(
             "note: {} ended in a line cut short by an interruption (line {line}); it was dropped \

@@ -10,11 +10,13 @@
 //! penalty), `record` (the evaluation record and its status texts).
 
 mod objective;
+mod plausible;
 mod record;
 #[cfg(test)]
 mod tests;
 
 pub use objective::{anchor_solution, Fitness, Objective, PayloadRange, ScoreError};
+pub use plausible::MAX_REASON_BYTES;
 pub use record::{Evaluation, SolveStatus, Status};
 
 use super::penalty::Penalty;

@@ -280,7 +280,8 @@ impl Pool {
     }
 
     /// The answer `line` of the worker in `slot`, checked against the job it holds: the same
-    /// design, a finite fitness of the objective's sign. Anything else fails the worker.
+    /// design, and an evaluation the scoring can write (`Evaluation::implausible`). Anything
+    /// else fails the worker.
     fn answer(&mut self, slot: usize, line: &str) -> Heard {
         let fail = |why: String| Heard::Failed(vec![(slot, why)]);
         let response = match serde_json::from_str::<Response>(line) {
@@ -292,14 +293,13 @@ impl Pool {
             return fail("worker answered a design it was not given".to_owned());
         };
         let evaluation = response.evaluation;
-        let cost = evaluation.cost;
         let why = if evaluation.ratios != job.ratios {
             format!(
                 "worker answered for r = {:?} when asked for r = {:?}",
                 evaluation.ratios, job.ratios
             )
-        } else if !cost.is_finite() || (cost < 0.0 && !self.negative_fitness) {
-            format!("worker answered a fitness of {cost}, which no design has")
+        } else if let Some(why) = evaluation.implausible(&self.penalty, self.negative_fitness) {
+            format!("worker answered {why}")
         } else {
             return Heard::Answer(job, evaluation);
         };
