@@ -613,14 +613,32 @@ fn worker_answers_are_checked_and_failures_never_replayed() {
     let dir = scratch("answers");
     // Issue 38, item 3: besides, costs above any the scoring writes, a status no solve gives,
     // and a negative time.
+    let failed = "evaluations failed for a reason not the design's";
     let liars = [
-        r#"{} worker | sed -u 's/"ratios":\[[0-9.e+-]*/"ratios":[1.5/'"#,
-        r#"{} worker | sed -u 's/"cost":[^,]*/"cost":-1e300/'"#,
-        r#"{} worker | sed -u 's/"cost":[^,]*/"cost":1e300/'"#,
-        r#"{} worker | sed -u 's/"status":"[A-Za-z_]*"/"status":"Solved_By_Magic"/'"#,
-        r#"{} worker | sed -u 's/"seconds":[-0-9.e+]*/"seconds":-1e308/'"#,
+        // Penalised designs at 1e300 are refused; a feasible one at 1e300 ends the run
+        // (first: the last liar's log is resumed below).
+        (
+            r#"{} worker | sed -u 's/"cost":[^,]*/"cost":1e300/'"#,
+            "costs 1e300, at or above it",
+        ),
+        (
+            r#"{} worker | sed -u 's/"ratios":\[[0-9.e+-]*/"ratios":[1.5/'"#,
+            failed,
+        ),
+        (
+            r#"{} worker | sed -u 's/"cost":[^,]*/"cost":-1e300/'"#,
+            failed,
+        ),
+        (
+            r#"{} worker | sed -u 's/"status":"[A-Za-z_]*"/"status":"Solved_By_Magic"/'"#,
+            failed,
+        ),
+        (
+            r#"{} worker | sed -u 's/"seconds":[-0-9.e+]*/"seconds":-1e308/'"#,
+            failed,
+        ),
     ];
-    for liar in liars {
+    for (liar, expected) in liars {
         let output = small_run(
             &dir,
             &[
@@ -635,7 +653,7 @@ fn worker_answers_are_checked_and_failures_never_replayed() {
         )
         .output()
         .unwrap();
-        fails_saying(&output, "evaluations failed for a reason not the design's");
+        fails_saying(&output, expected);
         assert!(!dir.join("o.json").exists(), "a result was written");
     }
     let log = std::fs::read_to_string(dir.join("o.log.jsonl")).unwrap();
@@ -647,6 +665,30 @@ fn worker_answers_are_checked_and_failures_never_replayed() {
     let result: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("o.json")).unwrap()).unwrap();
     assert_eq!(result["replayed"], 0, "worker failures were replayed");
+    // Issue 38, item 5: a penalty at or below a feasible cost would rank penalised designs
+    // with or above it; the run fails naming the design instead of reporting one of them best.
+    std::fs::remove_file(dir.join("o.json")).unwrap();
+    for penalty in ["0", "1"] {
+        let output = small_run(
+            &dir,
+            &[
+                "--generations",
+                "0",
+                "--workers",
+                "1",
+                "--penalty",
+                penalty,
+                "--overwrite",
+            ],
+        )
+        .output()
+        .unwrap();
+        fails_saying(
+            &output,
+            &format!("--penalty {penalty}: the feasible design r = "),
+        );
+        assert!(!dir.join("o.json").exists(), "a result was written");
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

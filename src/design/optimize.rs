@@ -10,6 +10,7 @@ use super::warm::WarmStart;
 use super::workers::{Pool, WorkerError};
 use crate::stats::median;
 use crate::store::{self, StoreError};
+use crate::text::number;
 use crate::transmission::DesignSpace;
 use std::fmt;
 
@@ -39,6 +40,16 @@ pub enum OptimizeError {
     },
     /// CMA-ES ended without a best design.
     NoBest,
+    /// A feasible design costs at least the penalty, which then ranks penalised designs with
+    /// or above feasible ones.
+    PenaltyTooLow {
+        /// The penalty's base.
+        penalty: f64,
+        /// The design.
+        ratios: Vec<f64>,
+        /// Its cost.
+        cost: f64,
+    },
 }
 
 impl fmt::Display for OptimizeError {
@@ -59,6 +70,18 @@ impl fmt::Display for OptimizeError {
                 reason.as_deref().unwrap_or("no reason given")
             ),
             OptimizeError::NoBest => f.write_str("CMA-ES has no best design"),
+            OptimizeError::PenaltyTooLow {
+                penalty,
+                ratios,
+                cost,
+            } => write!(
+                f,
+                "--penalty {}: the feasible design r = {ratios:?} costs {}, at or above it, so \
+                 penalised designs would rank with or above feasible ones; choose a penalty \
+                 above every feasible cost (the paper's 1e6)",
+                number(*penalty),
+                number(*cost)
+            ),
         }
     }
 }
@@ -143,6 +166,7 @@ pub fn optimize(
     let initial = bounds.designs(space, &cmaes.initial_population());
     let mut evaluations =
         evaluate_generation(0, &initial, pool, log, finished, &mut outcome, progress)?;
+    check_penalty(&evaluations, pool.penalty().base)?;
     let (fitness, feasible) = record(0, evaluations, &mut outcome);
     cmaes
         .tell_initial(&fitness, &feasible)
@@ -162,6 +186,7 @@ pub fn optimize(
             &mut outcome,
             progress,
         )?;
+        check_penalty(&evaluations, pool.penalty().base)?;
         let (fitness, feasible) = record(generation, evaluations, &mut outcome);
         cmaes
             .tell(&fitness, &feasible)
@@ -212,6 +237,19 @@ pub fn check_evaluations(evaluations: &[Evaluation]) -> Result<(), OptimizeError
             reason: first.reason.clone(),
         }),
         _ => Ok(()),
+    }
+}
+
+/// Fails when a feasible evaluation costs at least `penalty`, the base every penalised design
+/// scores at least: CMA-ES would rank penalised designs with or above it.
+fn check_penalty(evaluations: &[Evaluation], penalty: f64) -> Result<(), OptimizeError> {
+    match evaluations.iter().find(|e| e.feasible && e.cost >= penalty) {
+        Some(e) => Err(OptimizeError::PenaltyTooLow {
+            penalty,
+            ratios: e.ratios.clone(),
+            cost: e.cost,
+        }),
+        None => Ok(()),
     }
 }
 

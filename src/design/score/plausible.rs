@@ -4,6 +4,7 @@
 use super::record::{Evaluation, SolveStatus, Status};
 use crate::design::penalty::Penalty;
 use crate::ipopt;
+use crate::text::number;
 
 /// The longest reason the scoring writes, bytes: a few lines naming ends, motors and limits.
 pub const MAX_REASON_BYTES: usize = 4096;
@@ -15,16 +16,19 @@ const LARGEST_PENALTY_MULTIPLE: f64 = 3.0;
 impl Evaluation {
     /// Why this evaluation cannot be one of the scoring's under `penalty` (None when it can):
     /// a cost that is not finite, or negative where the objective's fitness cannot be
-    /// (`negative_fitness`: the capacity's), a feasible cost at or above the penalty, a
+    /// (`negative_fitness`: the capacity's), a feasible design of a status no solve gives it, a
     /// penalised cost outside the penalty's range, a status no solve gives, a time that is not
     /// a non-negative number, or a reason longer than [`MAX_REASON_BYTES`].
     pub fn implausible(&self, penalty: &Penalty, negative_fitness: bool) -> Option<String> {
         let (cost, base) = (self.cost, penalty.base);
         if !cost.is_finite() || (cost < 0.0 && !negative_fitness) {
-            return Some(format!("a fitness of {cost}, which no design has"));
+            return Some(format!(
+                "a fitness of {}, which no design has",
+                number(cost)
+            ));
         }
         if !(self.seconds.is_finite() && self.seconds >= 0.0) {
-            return Some(format!("a solve time of {} s", self.seconds));
+            return Some(format!("a solve time of {} s", number(self.seconds)));
         }
         if let Some(reason) = self.reason.as_ref().filter(|r| r.len() > MAX_REASON_BYTES) {
             return Some(format!(
@@ -39,18 +43,16 @@ impl Evaluation {
         }
         let penalised = base..=LARGEST_PENALTY_MULTIPLE * base;
         match (self.feasible, &self.status) {
-            (true, Status::Solved(_)) if cost < base => None,
-            (true, Status::Solved(_)) => Some(format!(
-                "a feasible cost of {cost}, at or above the penalty {base} (were it true, the \
-                 penalty would rank penalised designs with feasible ones: choose --penalty above \
-                 every feasible cost)"
-            )),
+            // A feasible cost at or above the penalty is the run's to refuse (the penalty is
+            // too low for the task: `optimize::check_penalty`).
+            (true, Status::Solved(_)) => None,
             (true, status) => Some(format!("a feasible design with the status {status}")),
             (false, _) if penalised.contains(&cost) => None,
             (false, _) => Some(format!(
-                "an infeasible design at a fitness of {cost}, outside the penalty's {} to {}",
-                penalised.start(),
-                penalised.end()
+                "an infeasible design at a fitness of {}, outside the penalty's {} to {}",
+                number(cost),
+                number(*penalised.start()),
+                number(*penalised.end())
             )),
         }
     }
@@ -103,10 +105,6 @@ mod tests {
             (
                 evaluation(1e3, false, "Elastic_Deficit"),
                 "outside the penalty's",
-            ),
-            (
-                evaluation(1e6, true, "Solve_Succeeded"),
-                "at or above the penalty",
             ),
             (
                 evaluation(5.0, true, "Solved_By_Magic"),

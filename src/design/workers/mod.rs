@@ -84,6 +84,11 @@ enum Heard {
 }
 
 impl Pool {
+    /// The penalty the workers score with.
+    pub fn penalty(&self) -> &Penalty {
+        &self.penalty
+    }
+
     /// Starts `count` workers with `launcher`.
     pub fn new(
         launcher: Launcher,
