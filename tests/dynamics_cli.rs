@@ -95,6 +95,15 @@ fn bad_input_is_refused_naming_the_flag() {
             "absent.json",
         ),
         (vec!["--q", "0,zero,0,0"], "--q"),
+        // Issue 38, item 16: terms that overflow printed as null with exit 0.
+        (
+            vec!["--q", "0,0,0,0", "--v", "1e308,0,0,0"],
+            "is not finite at this state",
+        ),
+        (
+            vec!["--q", "0,0,0,0", "--ends", "hold"],
+            "--ends hold: dynamics",
+        ),
     ];
     for (flags, expected) in cases {
         let mut args = vec!["dynamics".to_owned()];

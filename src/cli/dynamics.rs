@@ -159,7 +159,32 @@ fn evaluate(
         lambda,
         hessian_lambda_tau: rows(&hessian),
     };
-    serde_json::to_string_pretty(&output).map_err(|e| e.to_string())
+    let value = serde_json::to_value(&output).map_err(|e| e.to_string())?;
+    // JSON has no infinity: a quantity that overflowed would print as null.
+    if let Some(name) = first_not_finite(&value) {
+        return Err(format!(
+            "{name} is not finite at this state: the speeds or accelerations given (--v, --a, \
+             --lambda) are too large for its terms to be represented"
+        ));
+    }
+    serde_json::to_string_pretty(&value).map_err(|e| e.to_string())
+}
+
+/// The first field of `value` (an object of numbers and lists of them) that holds a number
+/// JSON cannot write (serde_json writes infinities and NaN as null).
+fn first_not_finite(value: &serde_json::Value) -> Option<String> {
+    fn has_null(value: &serde_json::Value) -> bool {
+        match value {
+            serde_json::Value::Null => true,
+            serde_json::Value::Array(items) => items.iter().any(has_null),
+            _ => false,
+        }
+    }
+    value
+        .as_object()?
+        .iter()
+        .find(|(_, field)| has_null(field))
+        .map(|(name, _)| name.clone())
 }
 
 fn rows(matrix: &DMatrix<f64>) -> Vec<Vec<f64>> {

@@ -403,3 +403,29 @@ fn a_prismatic_joint_on_the_chain_and_a_second_limit_are_named() {
     let message = load(&unlimited).unwrap_err().to_string();
     assert!(message.contains("joint 'joint_1' <limit>"), "{message}");
 }
+
+#[test]
+fn magnitudes_that_overflow_the_dynamics_are_refused_naming_the_link() {
+    // Issue 38, item 13: a mass or an origin of 1e308 gave NaN gravity torques.
+    assert_fails(
+        "<mass value=\"5.2318\"/>",
+        "<mass value=\"1e308\"/>",
+        &[
+            "<mass>",
+            "must be a finite mass >= 0 kg, at most 1000000 kg",
+        ],
+    );
+    assert_fails(
+        "<origin xyz=\"-0.023234 0.080829 2.4543E-05\" rpy=\"0 0 0\"/>",
+        "<origin xyz=\"1e308 0 0\" rpy=\"0 0 0\"/>",
+        &[
+            "<inertial><origin>",
+            "a position at most 1000 m from its frame",
+        ],
+    );
+    assert_fails(
+        "<origin xyz=\"0 -0.5 -0.07\" rpy=\"0 -1.5708 0\"/>",
+        "<origin xyz=\"0 -1e308 -0.07\" rpy=\"0 -1.5708 0\"/>",
+        &["<origin>", "a position at most 1000 m from its frame"],
+    );
+}
