@@ -140,3 +140,35 @@ fn rebuilds_the_table_from_result_files() {
     assert!(!missing.status.success());
     assert!(String::from_utf8_lossy(&missing.stderr).contains("results/absent.json"));
 }
+
+/// A solve of another design than the task's original has no cell in the table: `table` refuses
+/// it, naming the file, instead of leaving it out silently (issue 38, item 6).
+#[test]
+fn a_solve_of_another_design_is_refused_naming_the_file() {
+    let dir = support::scratch("other-design");
+    let out = dir.join("other.json");
+    let solve = codesign(&[
+        "solve",
+        "--space",
+        "actuation",
+        "--payload",
+        "0",
+        "--steps",
+        "4",
+        "--ratios",
+        "9,5,3,3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        solve.status.success(),
+        "{}",
+        String::from_utf8_lossy(&solve.stderr)
+    );
+    let output = codesign(&["table", out.to_str().unwrap()]);
+    support::fails_saying(
+        &output,
+        "other.json: a solve of r = [9.0, 5.0, 3.0, 3.0], not of",
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -12,7 +12,8 @@ use std::path::PathBuf;
 /// else of an unknown task that merges with any: see [`ResultFile::task`]), when two describe
 /// different motions (horizon or number of intervals), when one result is given twice (the same
 /// file, or the same run under another name), or when a result holds a cost no run writes
-/// (edited or damaged): one table compares the results of one task, each once.
+/// (edited or damaged), or a solve of another design than the original one, which has no cell:
+/// one table compares the results of one task, each once.
 pub fn check_results(paths: &[PathBuf], files: &[ResultFile]) -> Result<(), ReportError> {
     for (path, file) in paths.iter().zip(files) {
         if let Some(why) = odd_value(file) {
@@ -120,6 +121,14 @@ fn odd_value(file: &ResultFile) -> Option<String> {
                 cost("best_cost", d.best_cost).or_else(|| cost("original_cost", d.original_cost))
             }
         },
+        // The table places the original design's solves; any other design has no cell.
+        ResultFile::Solve(d) if d.result.ratios != d.inputs.task.task.transmission.original => {
+            Some(format!(
+                "a solve of r = {:?}, not of the task's original design {:?}: the table places \
+                 only the original design's solves (a co-design run's result places its best)",
+                d.result.ratios, d.inputs.task.task.transmission.original
+            ))
+        }
         ResultFile::Solve(d) => cost("cost", d.result.cost),
         ResultFile::Capacity(d) => d
             .capacity
