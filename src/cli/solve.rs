@@ -235,6 +235,19 @@ fn hold_text(hold: &StaticHold) -> String {
     )
 }
 
+/// Whether the motors can execute a joint-space trajectory, for the summary (None in the
+/// actuation space, whose controls are the motors' own).
+fn execute_text(formulation: &Formulation, result: &TrajectoryResult) -> Option<String> {
+    let execute = result.motors_execute.as_ref()?;
+    (formulation.space() == Space::Joint).then(|| {
+        format!(
+            "joint space, {} limits: {}",
+            formulation.modes().torque.name(),
+            execute.text()
+        )
+    })
+}
+
 /// `feasible (verdict by hard_from_elastic)`: the verdict and the solve that gave it
 /// (docs/model.md, section 8).
 fn verdict_text(result: &TrajectoryResult) -> String {
@@ -288,12 +301,8 @@ fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
     if let Some(hold) = &result.static_hold {
         say!("  {}", hold_text(hold));
     }
-    if let (Space::Joint, Some(execute)) = (formulation.space(), &result.motors_execute) {
-        say!(
-            "  joint space, {} limits: {}",
-            formulation.modes().torque.name(),
-            execute.text()
-        );
+    if let Some(text) = execute_text(formulation, result) {
+        say!("  {text}");
     }
     if let Some(elastic) = &result.elastic {
         say!(

@@ -166,8 +166,8 @@ pub fn optimize(
     let initial = bounds.designs(space, &cmaes.initial_population());
     let mut evaluations =
         evaluate_generation(0, &initial, pool, log, finished, &mut outcome, progress)?;
-    check_penalty(&evaluations, pool.penalty().base)?;
-    let (fitness, feasible) = record(0, evaluations, &mut outcome);
+    let penalty = pool.penalty().base;
+    let (fitness, feasible) = record(0, evaluations, penalty, &mut outcome)?;
     cmaes
         .tell_initial(&fitness, &feasible)
         .map_err(OptimizeError::Cmaes)?;
@@ -186,8 +186,7 @@ pub fn optimize(
             &mut outcome,
             progress,
         )?;
-        check_penalty(&evaluations, pool.penalty().base)?;
-        let (fitness, feasible) = record(generation, evaluations, &mut outcome);
+        let (fitness, feasible) = record(generation, evaluations, penalty, &mut outcome)?;
         cmaes
             .tell(&fitness, &feasible)
             .map_err(OptimizeError::Cmaes)?;
@@ -254,12 +253,15 @@ fn check_penalty(evaluations: &[Evaluation], penalty: f64) -> Result<(), Optimiz
 }
 
 /// Adds a generation's evaluations to the outcome and returns their costs and whether each was
-/// feasible (CMA-ES's stopping tests ignore a generation with no feasible design).
+/// feasible (CMA-ES's stopping tests ignore a generation with no feasible design); fails when a
+/// feasible one costs at least `penalty` ([`check_penalty`]).
 fn record(
     generation: usize,
     evaluations: Vec<Evaluation>,
+    penalty: f64,
     outcome: &mut Run,
-) -> (Vec<f64>, Vec<bool>) {
+) -> Result<(Vec<f64>, Vec<bool>), OptimizeError> {
+    check_penalty(&evaluations, penalty)?;
     let costs: Vec<f64> = evaluations.iter().map(|e| e.cost).collect();
     let feasible: Vec<bool> = evaluations.iter().map(|e| e.feasible).collect();
     outcome.generations.push(GenerationSummary {
@@ -270,7 +272,7 @@ fn record(
         evaluated: evaluations.len(),
     });
     outcome.evaluations.extend(evaluations);
-    (costs, feasible)
+    Ok((costs, feasible))
 }
 
 fn evaluate_generation(

@@ -79,6 +79,29 @@ impl Shape {
     }
 }
 
+/// Fails on an option set in `options` that codesign sets itself: `linear_solver` (chosen by
+/// [`Options::linear_solver`]) and `option_file_name` (no options file is ever read).
+fn refuse_reserved(options: &Options) -> Result<(), Error> {
+    for (name, why) in [
+        (
+            "linear_solver",
+            "(choose the linear solver with Options::linear_solver: ldl or mumps)",
+        ),
+        (
+            "option_file_name",
+            "(every option is set in code: no options file is read)",
+        ),
+    ] {
+        if options.get(name).is_some() {
+            return Err(Error::InvalidOption {
+                name: name.to_owned(),
+                value: why.to_owned(),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// The primal-dual point a solve starts from and IPOPT overwrites with its result.
 pub(super) struct Point {
     pub(super) x: Vec<f64>,
@@ -177,23 +200,7 @@ fn checked_structure(
 }
 
 pub(super) fn apply_options(handle: &Handle, options: &Options) -> Result<(), Error> {
-    for (name, why) in [
-        (
-            "linear_solver",
-            "(choose the linear solver with Options::linear_solver: ldl or mumps)",
-        ),
-        (
-            "option_file_name",
-            "(every option is set in code: no options file is read)",
-        ),
-    ] {
-        if options.get(name).is_some() {
-            return Err(Error::InvalidOption {
-                name: name.to_owned(),
-                value: why.to_owned(),
-            });
-        }
-    }
+    refuse_reserved(options)?;
     let print_level = if options.verbose { 5 } else { 0 };
     let solver = options.linear_solver.ipopt_name().to_owned();
     let mut entries = vec![

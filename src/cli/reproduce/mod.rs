@@ -140,7 +140,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         let program = std::env::current_exe()
             .map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
         // The commands write into these folders, on whichever machine runs them.
-        for section in std::iter::once(&plan).chain(hold.iter().map(|(_, plan)| plan)) {
+        for section in sections(&plan, hold.as_ref()) {
             create_folder(&section.out_dir).map_err(|e| e.to_string())?;
             for folder in ["original", "runs", "plots", "capacity"] {
                 create_folder(&section.out_dir.join(folder)).map_err(|e| e.to_string())?;
@@ -157,8 +157,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     let task_file = plan.task.iter().map(|path| ("--task", path.as_path()));
     let robot = task.task.robot.iter().map(|path| ("robot", path.as_path()));
     let inputs: Vec<(&str, &Path)> = task_file.chain(robot).collect();
-    let sections = std::iter::once(&plan).chain(hold.iter().map(|(_, plan)| plan));
-    for output in sections.flat_map(Plan::outputs) {
+    for output in sections(&plan, hold.as_ref()).flat_map(Plan::outputs) {
         check_output("--out-dir", &output, &inputs)?;
     }
     let merged = args.from_runs.is_some();
@@ -173,6 +172,14 @@ pub fn run(args: &Args) -> Result<(), String> {
     };
     let seconds = started.elapsed().as_secs_f64();
     finish(&plan, &task, outcomes, merged, seconds, hold_table.as_ref()).map(|_| ())
+}
+
+/// The experiment's sections: `plan`, then its hold section when it has one.
+fn sections<'a>(
+    plan: &'a Plan,
+    hold: Option<&'a (ExperimentTask, Plan)>,
+) -> impl Iterator<Item = &'a Plan> {
+    std::iter::once(plan).chain(hold.map(|(_, plan)| plan))
 }
 
 /// The independent stages of one section of the experiment (Table II and beyond, or Table II
