@@ -429,3 +429,29 @@ fn magnitudes_that_overflow_the_dynamics_are_refused_naming_the_link() {
         &["<origin>", "a position at most 1000 m from its frame"],
     );
 }
+
+#[test]
+fn elements_nested_past_the_bound_are_refused_before_parsing() {
+    // Issue 38, item 7: 16,000 nested elements overflowed the XML parser's stack (SIGABRT).
+    let nested = |levels: usize| {
+        let text = belt_arm_text();
+        let deep = format!("{}{}</robot>", "<a>".repeat(levels), "</a>".repeat(levels));
+        text.replacen("</robot>", &deep, 1)
+    };
+    let message = load(&nested(16_000)).unwrap_err().to_string();
+    assert!(
+        message.starts_with("test.urdf: robot: line ")
+            && message.contains("elements nested deeper than 64 levels"),
+        "{message}"
+    );
+    // The root and 63 levels below it are read (urdf-rs skips elements it does not know).
+    assert!(load(&nested(63)).is_ok());
+    assert!(load(&nested(64)).is_err());
+    // Tags inside comments and declarations do not count.
+    let commented = belt_arm_text().replacen(
+        "</robot>",
+        &format!("<!-- {} --></robot>", "<a>".repeat(100)),
+        1,
+    );
+    assert!(load(&commented).is_ok());
+}

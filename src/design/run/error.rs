@@ -41,14 +41,18 @@ pub enum RunError {
     Gradient(GradientError),
     /// The payload range's formulations for the document could not be built.
     Score(ScoreError),
+    /// This process's own evaluation of the best design disagrees with the answer behind it
+    /// (a worker's, or a resumed log's); names the worker command.
+    Unconfirmed(String),
 }
 
 impl fmt::Display for RunError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            RunError::Case(message) | RunError::Load(message) | RunError::Solver(message) => {
-                f.write_str(message)
-            }
+            RunError::Case(message)
+            | RunError::Load(message)
+            | RunError::Solver(message)
+            | RunError::Unconfirmed(message) => f.write_str(message),
             RunError::Store { error, .. } => write!(f, "{error}"),
             RunError::Workers(error) => write!(f, "{error}"),
             RunError::Cmaes(error) => write!(f, "{error}"),

@@ -4,6 +4,7 @@
 use super::case::{Case, Loaded};
 use super::document::{Method, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
 use super::error::{Output, RunError};
+use super::verify::confirm_best;
 use crate::design::gradient::optimize_gradient;
 use crate::design::optimize::{optimize, EvaluationLog, Finished, Progress, Sampling};
 use crate::design::outcome::DesignOutcome;
@@ -317,7 +318,8 @@ fn run_cmaes(
     let program = std::env::current_exe()
         .map_err(|e| RunError::Load(format!("cannot locate the codesign executable: {e}")))?;
     let timeout = Duration::from_secs_f64(case.solve_timeout_s);
-    let mut pool = Pool::new(case.launcher(&program), setup, workers, timeout)?;
+    let launcher = case.launcher(&program);
+    let mut pool = Pool::new(launcher.clone(), setup, workers, timeout)?;
     let settings = &case.cmaes;
     let total = (settings.population * (settings.generations + 1)) as u64;
     let label = format!(
@@ -330,12 +332,14 @@ fn run_cmaes(
         bounds: case.bounds,
         warm_start: case.warm_start,
     };
-    Ok(optimize(
+    let outcome = optimize(
         settings.clone(),
         sampling,
         &mut pool,
         log,
         finished,
         progress.as_mut(),
-    )?)
+    )?;
+    confirm_best(&outcome, setup, &launcher)?;
+    Ok(outcome)
 }

@@ -6,6 +6,7 @@ mod case;
 mod document;
 mod error;
 mod execute;
+mod verify;
 
 pub use case::{
     shell_quote, task_source, Case, Loaded, ModelChoice, ProblemChoice, MAX_SOLVE_TIMEOUT_S,

@@ -1,13 +1,14 @@
 //! Worker processes as the operating system sees them: each started in a process group of its
 //! own, so that a hung worker is killed with everything it started (a shell's children, an
 //! `srun` step), and all of them are killed when the run ends, fails, or is interrupted by INT,
-//! TERM or HUP.
+//! TERM or HUP, and by a watchdog in each group when the run's process dies any other way
+//! (SIGKILL, a crash).
 
 use std::os::unix::process::CommandExt;
 use std::path::PathBuf;
 use std::process::{Child, Command};
 use std::sync::atomic::{AtomicI32, Ordering};
-use std::sync::Once;
+use std::sync::{Once, OnceLock};
 
 /// The most worker process groups alive at once in one run.
 pub const MAX_GROUPS: usize = 4096;
@@ -42,15 +43,62 @@ impl Launcher {
             }
         };
         command.process_group(0);
-        // SAFETY: the closure runs in the child between fork and exec and only calls prctl,
-        // which is async-signal-safe.
+        let lifeline = lifeline();
+        // SAFETY: the closure runs in the child between fork and exec and only makes
+        // async-signal-safe calls (prctl, getpid, fork, and in the watchdog read, kill, close).
         unsafe {
-            command.pre_exec(|| {
+            command.pre_exec(move || {
                 libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL);
+                if let Some(read_end) = lifeline {
+                    start_watchdog(read_end)?;
+                }
                 Ok(())
             });
         }
         command
+    }
+}
+
+/// The read end of a pipe whose write end only this process holds, for the workers' watchdogs:
+/// it reads end of file exactly when this process is gone, however it died. None when no pipe
+/// could be made (the workers then have only `PR_SET_PDEATHSIG`).
+fn lifeline() -> Option<libc::c_int> {
+    static LIFELINE: OnceLock<Option<libc::c_int>> = OnceLock::new();
+    *LIFELINE.get_or_init(|| {
+        let mut ends = [0; 2];
+        // SAFETY: pipe2 writes two descriptors into `ends`; both close on exec, so no program a
+        // worker runs holds the write end, and this process keeps both open for its lifetime.
+        (unsafe { libc::pipe2(ends.as_mut_ptr(), libc::O_CLOEXEC) } == 0).then_some(ends[0])
+    })
+}
+
+/// In a worker's process between fork and exec (its process group already its own): forks a
+/// watchdog into the group that blocks reading the lifeline and, at its end of file (the run's
+/// process died, even by SIGKILL), kills the whole group: the worker and all it started. The
+/// watchdog first closes every other descriptor, so that it holds no worker's pipe open; it
+/// dies with the group when the run kills a worker.
+///
+/// # Safety
+/// Only between fork and exec, where only async-signal-safe calls are allowed.
+unsafe fn start_watchdog(read_end: libc::c_int) -> std::io::Result<()> {
+    let group = libc::getpid();
+    match libc::fork() {
+        -1 => Err(std::io::Error::last_os_error()),
+        0 => {
+            libc::dup2(read_end, 0);
+            if libc::syscall(libc::SYS_close_range, 1u32, u32::MAX, 0u32) != 0 {
+                for fd in 1..65_536 {
+                    libc::close(fd);
+                }
+            }
+            let mut byte = 0u8;
+            while libc::read(0, (&raw mut byte).cast(), 1) != 0
+                && std::io::Error::last_os_error().raw_os_error() == Some(libc::EINTR)
+            {}
+            libc::kill(-group, libc::SIGKILL);
+            libc::_exit(0)
+        }
+        _ => Ok(()),
     }
 }
 

@@ -48,6 +48,16 @@ fn parse(urdf: &str, file: &str) -> Result<urdf_rs::Robot, ModelError> {
             "this is a xacro file: run xacro first (`xacro FILE.urdf.xacro > FILE.urdf`)",
         ));
     }
+    if let Some(line) = xml::too_deep(urdf, MAX_XML_DEPTH) {
+        return Err(ModelError::new(
+            file,
+            "robot",
+            format!(
+                "line {line}: elements nested deeper than {MAX_XML_DEPTH} levels (a URDF nests \
+                 about 6: robot, link, visual, geometry, mesh)"
+            ),
+        ));
+    }
     let robot = urdf_rs::read_from_string(urdf).map_err(|e| parse_error(urdf, file, &e))?;
     let moving = robot
         .joints
@@ -130,6 +140,10 @@ fn parse_error(urdf: &str, file: &str, e: &urdf_rs::UrdfError) -> ModelError {
 
 /// The most links a URDF may have: arms with their sensors and tools have tens.
 pub const MAX_LINKS: usize = 1000;
+
+/// The deepest nesting of XML elements read in a URDF, the root counting 1: far above any
+/// robot's (vendors' Gazebo plugins reach about 10), far below what overflows the parser's stack.
+pub const MAX_XML_DEPTH: usize = 64;
 
 /// The most moving joints a URDF may have: the serial arms this tool designs have a few.
 pub const MAX_MOVING_JOINTS: usize = 64;

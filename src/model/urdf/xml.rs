@@ -46,16 +46,12 @@ fn quoted_after<'m>(message: &'m str, prefix: &str) -> Option<&'m str> {
     Some(&rest[..rest.find('`')?])
 }
 
-/// Every `<joint>` and `<link>` directly under the root element, in order. Comments, processing
-/// instructions and declarations are skipped; a tag cut short ends the scan.
-pub(super) fn top_elements(urdf: &str) -> Vec<Element> {
-    let mut elements = Vec::new();
-    let mut current: Option<Element> = None;
-    // The number of open elements, the root counting 1.
-    let mut depth = 0usize;
-    let mut rest = urdf;
-    while let Some(start) = rest.find('<') {
-        rest = &rest[start..];
+/// The tags of `text` in order, each as its byte offset and the text between `<` and `>`.
+/// Comments, processing instructions and declarations are skipped; a tag cut short ends them.
+fn tags(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    let mut rest = text;
+    std::iter::from_fn(move || loop {
+        rest = &rest[rest.find('<')?..];
         let skip_to = if rest.starts_with("<!--") {
             rest.find("-->").map(|end| end + 3)
         } else if rest.starts_with("<?") || rest.starts_with("<!") {
@@ -67,9 +63,40 @@ pub(super) fn top_elements(urdf: &str) -> Vec<Element> {
             rest = &rest[skip..];
             continue;
         }
-        let Some(end) = tag_end(rest) else { break };
+        let end = tag_end(rest)?;
+        let offset = text.len() - rest.len();
         let tag = &rest[1..end];
         rest = &rest[end + 1..];
+        return Some((offset, tag));
+    })
+}
+
+/// The line (from 1) of the first element of `urdf` nested deeper than `limit` (the root
+/// element at depth 1), found in one pass over the text; None when none is.
+pub(super) fn too_deep(urdf: &str, limit: usize) -> Option<usize> {
+    let mut depth = 0usize;
+    for (offset, tag) in tags(urdf) {
+        if tag.starts_with('/') {
+            depth = depth.saturating_sub(1);
+            continue;
+        }
+        if depth + 1 > limit {
+            return Some(1 + urdf[..offset].matches('\n').count());
+        }
+        if !tag.ends_with('/') {
+            depth += 1;
+        }
+    }
+    None
+}
+
+/// Every `<joint>` and `<link>` directly under the root element, in order (see [`tags`]).
+pub(super) fn top_elements(urdf: &str) -> Vec<Element> {
+    let mut elements = Vec::new();
+    let mut current: Option<Element> = None;
+    // The number of open elements, the root counting 1.
+    let mut depth = 0usize;
+    for (_, tag) in tags(urdf) {
         if !tag.starts_with('/') {
             depth += 1;
             let name = tag
