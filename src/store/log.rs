@@ -16,6 +16,7 @@
 //! object): the design level logs its evaluations.
 
 use super::files::{resolved, same_file};
+use super::lines::{next_line, Line};
 use super::lock::lock_file;
 use super::{Action, Damage, StoreError, Thing};
 use crate::hash::fnv1a;
@@ -24,7 +25,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::collections::HashMap;
 use std::fs::{File, OpenOptions};
-use std::io::{Read, Seek, SeekFrom, Write};
+use std::io::{BufReader, Seek, SeekFrom, Write};
 use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -224,6 +225,19 @@ fn differences(logged: &Value, current: &Value, path: &str, found: &mut Vec<Stri
     }
 }
 
+/// The header of a log whose first line is `first`, and that line's length in bytes; else why
+/// the file is no log (None: JSON of a header of another format).
+fn header_of(first: Option<Line>) -> Result<(LogHeader, usize), Option<String>> {
+    let text = first
+        .ok_or_else(|| "the file is empty".to_owned())?
+        .text()?;
+    let header: LogHeader = serde_json::from_str(&text).map_err(|e| Some(e.to_string()))?;
+    match header.format == FORMAT {
+        true => Ok((header, text.len())),
+        false => Err(None),
+    }
+}
+
 /// What a non-empty file where a log goes holds.
 enum Contents {
     /// A log header and entries.
@@ -300,44 +314,44 @@ impl<E: Serialize + DeserializeOwned> EvaluationLog<E> {
         mut self,
         run: &T,
     ) -> Result<(EvaluationLog<E>, Finished<E>), StoreError> {
-        let mut text = String::new();
-        self.file
-            .read_to_string(&mut text)
-            .map_err(|e| StoreError::io(Action::Read, &self.path, &e))?;
-        let mut lines = text.split_inclusive('\n');
-        let header_line = lines.next().unwrap_or_default();
-        let not_a_log = |why| StoreError::NotALog {
+        let read_error = |e: std::io::Error| StoreError::io(Action::Read, &self.path, &e);
+        let mut reader = BufReader::new(&self.file);
+        let first = next_line(&mut reader).map_err(read_error)?;
+        let (header, header_bytes) = header_of(first).map_err(|why| StoreError::NotALog {
             path: self.path.clone(),
             why,
-        };
-        let header: LogHeader =
-            serde_json::from_str(header_line).map_err(|e| not_a_log(Some(e.to_string())))?;
-        if header.format != FORMAT {
-            return Err(not_a_log(None));
-        }
+        })?;
         self.check_same_run(&header.run, run)?;
         let mut finished = HashMap::new();
-        let mut valid_end = header_line.len();
-        for (number, line) in (2..).zip(lines) {
-            if !line.ends_with('\n') {
+        let mut valid_end = header_bytes;
+        let mut dropped_line = None;
+        let mut earlier_seconds = self.earlier_seconds;
+        for number in 2.. {
+            let damaged = |why| StoreError::DamagedLine {
+                path: self.path.clone(),
+                line: number,
+                why,
+            };
+            let line = match next_line(&mut reader).map_err(read_error)? {
+                None => break,
+                Some(Line::Whole(text)) => text,
                 // Only the last line can lack its end: an append cut short.
-                self.dropped_line = Some(number);
-                break;
-            }
-            let entry = LogEntry::<E>::from_line(line, header.checksums).map_err(|why| {
-                StoreError::DamagedLine {
-                    path: self.path.clone(),
-                    line: number,
-                    why,
+                Some(Line::Torn(_)) => {
+                    dropped_line = Some(number);
+                    break;
                 }
-            })?;
-            self.earlier_seconds = self
-                .earlier_seconds
+                Some(other) => return Err(damaged(Damage::NotALine(other.text().unwrap_err()))),
+            };
+            let entry = LogEntry::<E>::from_line(&line, header.checksums).map_err(damaged)?;
+            earlier_seconds = earlier_seconds
                 .zip(entry.run_seconds)
                 .map(|(latest, at)| latest.max(at));
             finished.insert((entry.generation, entry.index), entry.evaluation);
             valid_end += line.len();
         }
+        drop(reader);
+        self.dropped_line = dropped_line;
+        self.earlier_seconds = earlier_seconds;
         self.file
             .set_len(valid_end as u64)
             .and_then(|()| self.file.seek(SeekFrom::End(0)))
@@ -377,17 +391,14 @@ impl<E: Serialize + DeserializeOwned> EvaluationLog<E> {
     /// What the non-empty file at the log's path holds: a log with entries, a log header alone,
     /// or something else; leaves the file at its start.
     fn contents(&mut self) -> Result<Contents, StoreError> {
-        let mut text = String::new();
-        self.file
-            .read_to_string(&mut text)
-            .and_then(|_| self.file.seek(SeekFrom::Start(0)))
-            .map_err(|e| StoreError::io(Action::Read, &self.path, &e))?;
-        let mut lines = text.split_inclusive('\n');
-        let header = serde_json::from_str::<LogHeader>(lines.next().unwrap_or_default());
-        Ok(match header {
-            Err(error) => Contents::Foreign(Some(error.to_string())),
-            Ok(header) if header.format != FORMAT => Contents::Foreign(None),
-            Ok(_) if lines.next().is_some() => Contents::Entries,
+        let mut reader = BufReader::new(&self.file);
+        let read = next_line(&mut reader)
+            .and_then(|first| Ok((first, next_line(&mut reader)?.is_some())))
+            .and_then(|read| self.file.seek(SeekFrom::Start(0)).map(|_| read));
+        let (first, more) = read.map_err(|e| StoreError::io(Action::Read, &self.path, &e))?;
+        Ok(match header_of(first) {
+            Err(why) => Contents::Foreign(why),
+            Ok(_) if more => Contents::Entries,
             Ok(_) => Contents::HeaderOnly,
         })
     }
@@ -727,6 +738,63 @@ mod tests {
                 path: path.clone(),
                 why: None
             }
+        );
+        std::fs::remove_file(&path).unwrap();
+    }
+
+    #[test]
+    fn a_huge_file_at_the_log_path_is_refused_reading_one_bounded_line() {
+        // Issue 38, item 11: 1 GiB at the log path was read whole (1.06 GB of memory).
+        let path = scratch("huge");
+        let run = Run {
+            seed: 1,
+            method: None,
+        };
+        std::fs::File::create(&path)
+            .unwrap()
+            .set_len(1 << 30)
+            .unwrap();
+        for start in [Start::Resume, Start::Fresh] {
+            let error = Log::open(&path, &run, start).unwrap_err();
+            assert!(
+                matches!(&error, StoreError::NotALog { why: Some(why), .. }
+                    if why.contains("a line longer than 4194304 bytes")),
+                "{error:?}"
+            );
+        }
+        // A log's header, then an endless second line: damage on line 2, nothing dropped.
+        drop(create(&scratch("huge"), &run));
+        let header = std::fs::read(&path).unwrap();
+        std::fs::File::options()
+            .append(true)
+            .open(&path)
+            .unwrap()
+            .set_len(header.len() as u64 + (1 << 30))
+            .unwrap();
+        let error = Log::open(&path, &run, Start::Resume).unwrap_err();
+        assert!(
+            matches!(
+                &error,
+                StoreError::DamagedLine {
+                    line: 2,
+                    why: Damage::NotALine(_),
+                    ..
+                }
+            ),
+            "{error:?}"
+        );
+        assert_eq!(
+            std::fs::metadata(&path).unwrap().len(),
+            header.len() as u64 + (1 << 30)
+        );
+        // Bytes that are not text on an entry's line are that line's damage.
+        std::fs::write(&path, [&header[..], b"\xff\xfe\n"].concat()).unwrap();
+        let error = Log::open(&path, &run, Start::Resume).unwrap_err();
+        assert!(
+            error
+                .to_string()
+                .contains("line 2: a line that is not UTF-8 text"),
+            "{error}"
         );
         std::fs::remove_file(&path).unwrap();
     }

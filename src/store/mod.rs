@@ -7,6 +7,7 @@
 //! and name paths, never command-line flags: the command line adds the flags that lead on.
 
 pub mod files;
+mod lines;
 pub mod lock;
 pub mod log;
 
@@ -201,6 +202,8 @@ pub enum Damage {
     ChecksumMismatch,
     /// It has no checksum in a log whose entries all carry one.
     NoChecksum,
+    /// It is longer than any entry, or not text (see [`lines::Line::text`]).
+    NotALine(String),
 }
 
 impl fmt::Display for Thing {
@@ -288,6 +291,7 @@ impl fmt::Display for Damage {
             Damage::NotARecord(why) => write!(f, "not an evaluation record ({why})"),
             Damage::ChecksumMismatch => f.write_str("its checksum does not match its content"),
             Damage::NoChecksum => f.write_str("the record has no checksum"),
+            Damage::NotALine(why) => f.write_str(why),
         }
     }
 }
