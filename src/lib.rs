@@ -2,7 +2,8 @@
 //!
 //! The data flow one way: the robot model, its rigid-body dynamics, the trajectory problem, the
 //! IPOPT solve, the design loop, and the reports. Beneath them all, the store writes result
-//! files and the evaluation log, and imports nothing from the rest of the crate.
+//! files and the evaluation log, and imports nothing from the rest of the crate but `signals`
+//! (what INT, TERM and HUP do: never stop a write half done).
 
 #![warn(missing_docs)]
 
@@ -32,6 +33,7 @@ pub mod ldl;
 pub mod model;
 pub mod problem;
 pub mod report;
+pub mod signals;
 pub mod solve;
 pub mod stats;
 pub mod store;

@@ -6,7 +6,9 @@ mod support;
 
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
-use support::{codesign_in, fails_saying, read_json, root, scratch, succeed_in, task_with};
+use support::{
+    codesign_in, fails_saying, read_json, refused_as_usage, root, scratch, succeed_in, task_with,
+};
 
 fn path(path: &Path) -> &str {
     path.to_str().unwrap()
@@ -127,7 +129,7 @@ fn budgets_out_of_range_name_the_task_s_field_or_the_flag() {
     fails_saying(&output, "experiment.budget.population = 2: must be 5 to");
     fails_saying(&output, path(&task));
     let output = codesign_in(&dir, &[&args[..], &["--population", "3"]].concat());
-    fails_saying(&output, "--population 3: must be 5 to");
+    refused_as_usage(&output, "--population 3: must be 5 to");
     with(&|e| e["codesign_payloads_kg"] = json!([0.5, 0.5]));
     let output = codesign_in(&dir, &args);
     fails_saying(

@@ -6,7 +6,9 @@ mod support;
 use std::fs::File;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
-use support::{codesign, codesign_command, fails_saying, root, scratch, task_with};
+use support::{
+    codesign, codesign_command, fails_saying, refused_as_usage, root, scratch, task_with,
+};
 
 fn path(p: &Path) -> &str {
     p.to_str().unwrap()
@@ -91,13 +93,13 @@ fn exit_codes_on_full_disks_closed_outputs_and_pipes() {
 }
 
 /// Item 10: numbers out of any sensible range are refused before a solve, naming the flag or
-/// the field.
+/// the field; a flag out of its range is a usage error, exit 2 (issue 38, item 16).
 #[test]
 fn absurd_numbers_are_refused_before_any_solve() {
     let dir = scratch("ranges");
     let out = dir.join("o.json");
     let output = codesign(&["optimize", "--solve-timeout", "1e300", "--out", path(&out)]);
-    fails_saying(
+    refused_as_usage(
         &output,
         "--solve-timeout 1e300: must be 1 to 604800 seconds",
     );
@@ -120,15 +122,15 @@ fn absurd_numbers_are_refused_before_any_solve() {
     ] {
         let mut args = command.to_vec();
         args.extend(["--out", path(&out)]);
-        fails_saying(&codesign(&args), flag);
+        refused_as_usage(&codesign(&args), flag);
     }
     // Below a second no worker can say hello in time, and the worker would be blamed.
     let output = codesign(&["optimize", "--solve-timeout", "1e-300", "--out", path(&out)]);
-    fails_saying(
+    refused_as_usage(
         &output,
         "--solve-timeout 1e-300: must be 1 to 604800 seconds",
     );
-    fails_saying(
+    refused_as_usage(
         &codesign(&["solve", "--duration", "1e-300"]),
         "the duration must be a number of seconds >= 0.01",
     );

@@ -256,7 +256,7 @@ fn one_design_for_a_payload_range_reports_its_cost_at_each_payload() {
         "--payload",
         "1",
     ]);
-    support::fails_saying(
+    support::refused_as_usage(
         &refused,
         "--payload 1: --objective range solves every payload",
     );

@@ -6,7 +6,9 @@ mod support;
 use std::path::Path;
 use std::process::Command;
 use std::time::Duration;
-use support::{codesign, fails_saying, scratch, start_in_background, task_with, wait_for};
+use support::{
+    codesign, fails_saying, refused_as_usage, scratch, start_in_background, task_with, wait_for,
+};
 
 fn path(p: &Path) -> &str {
     p.to_str().unwrap()
@@ -100,15 +102,15 @@ fn table_outputs_never_collide_with_each_other_or_an_input() {
 fn sizes_are_limited_and_bad_arguments_create_nothing() {
     for steps in ["99999999999", "18446744073709551615"] {
         let output = codesign(&["solve", "--steps", steps]);
-        fails_saying(&output, "the number of intervals must be 1 to 5000");
+        refused_as_usage(&output, "the number of intervals must be 1 to 5000");
     }
-    fails_saying(&codesign(&["solve", "--duration", "1e9"]), "--duration");
-    fails_saying(&codesign(&["solve", "--payload", "1e7"]), "<= 1000 kg");
+    refused_as_usage(&codesign(&["solve", "--duration", "1e9"]), "--duration");
+    refused_as_usage(&codesign(&["solve", "--payload", "1e7"]), "<= 1000 kg");
     let dir = scratch("sizes");
     let out = dir.join("o.json");
     for (flag, value) in [("--population", "0"), ("--generations", "99999999")] {
         let output = codesign(&["optimize", flag, value, "--out", path(&out)]);
-        fails_saying(&output, &format!("{flag} {value}: must be"));
+        refused_as_usage(&output, &format!("{flag} {value}: must be"));
     }
     assert_eq!(
         std::fs::read_dir(&dir).unwrap().count(),
@@ -357,4 +359,65 @@ fn an_output_that_is_a_log_through_a_link_or_its_content_is_refused() {
     assert_eq!(std::fs::read(&log).unwrap(), before);
     assert_eq!(std::fs::read(&renamed).unwrap(), before);
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 38, item 16: the task (and its robot) given by another spelling of the same path is
+/// the same run, and resumes; a task of other content is not.
+#[test]
+fn another_spelling_of_the_task_path_resumes_the_run() {
+    let dir = scratch("spelling");
+    let robot = support::root().join("robots/belt_arm.urdf");
+    std::fs::copy(robot, dir.join("belt_arm.urdf")).unwrap();
+    let task = task_with(&dir, |task| {
+        task["robot"] = "belt_arm.urdf".into();
+        task["motion"]["steps"] = 4.into();
+    });
+    let run = |task: &str, start: &str| {
+        support::codesign_in(
+            &dir,
+            &[
+                "optimize",
+                "--task",
+                task,
+                "--population",
+                "5",
+                "--generations",
+                "1",
+                "--workers",
+                "1",
+                "--out",
+                "o.json",
+                start,
+            ],
+        )
+    };
+    let first = run("task.json", "--overwrite");
+    assert!(first.status.success(), "{}", stderr(&first));
+    let absolute = task.to_str().unwrap().to_owned();
+    for spelling in [
+        "./task.json",
+        &format!("../{}/task.json", file_name(&dir)),
+        &absolute,
+    ] {
+        let again = run(spelling, "--resume");
+        assert!(again.status.success(), "{spelling}: {}", stderr(&again));
+        let result: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("o.json")).unwrap()).unwrap();
+        assert_eq!(result["replayed"], 10, "{spelling}");
+    }
+    // Other content under the same name is another run.
+    task_with(&dir, |task| {
+        task["robot"] = "belt_arm.urdf".into();
+        task["motion"]["steps"] = 5.into();
+    });
+    fails_saying(&run("task.json", "--resume"), "belongs to a different run");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+fn stderr(output: &std::process::Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+fn file_name(path: &Path) -> &str {
+    path.file_name().unwrap().to_str().unwrap()
 }

@@ -1,6 +1,7 @@
 //! `codesign capacity`: the largest payload a design can move through the task.
 
 use super::common::{ModelArgs, ProblemArgs};
+use super::failure::Failure;
 use super::store_hints::check_output;
 use crate::design::capacity::{
     payload_capacity, Capacity, CapacityLimit, CapacitySettings, MIN_RESOLUTION_KG,
@@ -43,8 +44,9 @@ pub struct Args {
 }
 
 /// Searches the capacity, prints it, writes the file.
-pub fn run(args: &Args) -> Result<(), String> {
-    let settings = search_settings(args)?;
+pub fn run(args: &Args) -> Result<(), Failure> {
+    let settings = search_settings(args).map_err(Failure::Usage)?;
+    args.model.validate()?;
     let Loaded {
         task,
         robot,

@@ -1,6 +1,7 @@
 //! `codesign check`: inspects a robot and its task before any solve, and lists every problem.
 
 use super::common::ModelArgs;
+use super::failure::Failure;
 use crate::report::check::Inspection;
 use crate::transmission::Transmission;
 
@@ -20,7 +21,8 @@ pub struct Args {
 
 /// Loads and inspects; prints the inspection; fails (exit 1) listing every problem found. With
 /// `--robot` and no `--task`, the robot alone: its chain, its notes and its tip link.
-pub fn run(args: &Args) -> Result<(), String> {
+pub fn run(args: &Args) -> Result<(), Failure> {
+    args.model.validate()?;
     let (task, robot, alone) = args.model.load_robot()?;
     if alone {
         let inspection = Inspection::of_robot(&robot);
@@ -31,11 +33,11 @@ pub fn run(args: &Args) -> Result<(), String> {
     let transmission =
         Transmission::from_spec(&task.transmission).map_err(|e| format!("{source}: {e}"))?;
     if transmission.dof() != robot.dof() {
-        return Err(format!(
+        return Err(Failure::Work(format!(
             "{source}: transmission.matrix is {0}x{0} but the robot has {1} moving joints",
             transmission.dof(),
             robot.dof()
-        ));
+        )));
     }
     let ratios = args
         .ratios
@@ -47,11 +49,11 @@ pub fn run(args: &Args) -> Result<(), String> {
     if problems.is_empty() {
         return Ok(());
     }
-    Err(format!(
+    Err(Failure::Work(format!(
         "{} problem(s) found: {}",
         problems.len(),
         problems.join("; ")
-    ))
+    )))
 }
 
 /// Prints the inspection as text, or as JSON.

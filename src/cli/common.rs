@@ -1,13 +1,13 @@
 //! Flags shared by the commands that load a task and a robot: parsed here into the design
 //! layer's [`ModelChoice`] and [`ProblemChoice`], which do the work.
 
+use super::failure::Failure;
 use crate::design::run::{Loaded, ModelChoice, ProblemChoice};
 use crate::ipopt::LinearSolver;
-use crate::model::task::{check_payload, Ends, LimitMode, LimitModes, Task, TaskSource};
+use crate::model::task::{Ends, LimitMode, LimitModes, Task, TaskSource};
 use crate::model::Robot;
 use crate::problem::Space;
 use crate::solve::SolveSettings;
-use crate::text::number;
 use std::path::PathBuf;
 
 /// Where the task and robot come from, and the payload.
@@ -43,6 +43,11 @@ impl ModelArgs {
         }
     }
 
+    /// Checks what needs no file ([`ModelChoice::validate`]): a usage error.
+    pub fn validate(&self) -> Result<(), Failure> {
+        self.choice().validate().map_err(Failure::Usage)
+    }
+
     /// Where the task comes from.
     pub fn source(&self) -> TaskSource {
         self.choice().source()
@@ -66,9 +71,8 @@ impl ModelArgs {
         task.tcp.link.clone_from(&tip);
         task.tcp.point = [0.0; 3];
         task.payload.at = task.tcp.clone();
-        let payload = self.payload.unwrap_or(0.0);
-        check_payload(payload).map_err(|why| format!("--payload {}: {why}", number(payload)))?;
-        task.payload.mass_kg = payload;
+        self.choice().validate()?;
+        task.payload.mass_kg = self.payload.unwrap_or(0.0);
         if let Some(ends) = self.ends {
             task.motion.ends = ends;
         }

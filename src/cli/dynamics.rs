@@ -2,6 +2,7 @@
 //! the keys of a sample of `dynamics_vectors.json`.
 
 use super::common::ModelArgs;
+use super::failure::Failure;
 use crate::dynamics::Dynamics;
 use nalgebra::DMatrix;
 use serde::Serialize;
@@ -70,12 +71,13 @@ struct Output {
 }
 
 /// Loads the robot, evaluates everything at the given state and prints it as JSON on stdout.
-pub fn run(args: &Args) -> Result<(), String> {
+pub fn run(args: &Args) -> Result<(), Failure> {
     if let Some(ends) = args.model.ends {
-        return Err(format!(
+        return Err(Failure::Usage(format!(
             "--ends {ends}: dynamics evaluates one state, which has no ends; leave --ends out"
-        ));
+        )));
     }
+    args.model.validate()?;
     let (_, robot, _) = args.model.load_robot()?;
     let n = robot.dof();
     let joints = robot.joint_names().join(", ");

@@ -62,6 +62,7 @@ mod check;
 mod common;
 mod doctor;
 mod dynamics;
+mod failure;
 mod optimize;
 mod reproduce;
 mod solve;
@@ -71,6 +72,7 @@ mod task;
 mod worker;
 
 use clap::{Parser, Subcommand};
+use failure::Failure;
 use std::io::{ErrorKind, Write};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -119,7 +121,7 @@ enum Command {
 
 /// Parses the command line, runs the subcommand, prints any error on stderr and returns the
 /// process exit code (0 on success, 1 on any error, a failed write on stdout included, 2 on a
-/// usage error). `stdout_closed`: the process started with its stdout closed.
+/// usage error: clap's, or a flag's value out of its range, [`Failure::Usage`]). `stdout_closed`: the process started with its stdout closed.
 pub fn main(stdout_closed: bool) -> ExitCode {
     STDOUT_CLOSED.store(stdout_closed, Ordering::Relaxed);
     let cli = match Cli::try_parse() {
@@ -129,28 +131,28 @@ pub fn main(stdout_closed: bool) -> ExitCode {
     // A worker answers on stdout itself and ends quietly when its parent stops reading.
     let answers_itself = matches!(cli.command, Command::Worker);
     let outcome = match cli.command {
-        Command::Doctor(args) => doctor::run(&args),
+        Command::Doctor(args) => doctor::run(&args).map_err(Failure::Work),
         Command::Check(args) => check::run(&args),
         Command::Dynamics(args) => dynamics::run(&args),
         Command::Solve(args) => solve::run(&args),
         Command::Optimize(args) => optimize::run(&args),
         Command::Capacity(args) => capacity::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
-        Command::Table(args) => table::run(&args),
-        Command::Task(args) => task::run(&args),
-        Command::Worker => worker::run(),
+        Command::Table(args) => table::run(&args).map_err(Failure::Work),
+        Command::Task(args) => task::run(&args).map_err(Failure::Work),
+        Command::Worker => worker::run().map_err(Failure::Work),
     };
     let outcome = outcome.and_then(|()| match stdout_failure() {
-        Some(error) if !answers_itself => {
-            Err(format!("cannot write the output on stdout: {error}"))
-        }
+        Some(error) if !answers_itself => Err(Failure::Work(format!(
+            "cannot write the output on stdout: {error}"
+        ))),
         _ => Ok(()),
     });
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
-            note!("error: {message}");
-            ExitCode::FAILURE
+        Err(failure) => {
+            note!("error: {failure}");
+            failure.exit_code()
         }
     }
 }

@@ -2,6 +2,7 @@
 //! method.
 
 use super::common::{ModelArgs, ProblemArgs};
+use super::failure::Failure;
 use super::store_hints::run_error;
 use crate::design::bounds::BoundHandling;
 use crate::design::capacity::CapacitySettings;
@@ -210,7 +211,7 @@ fn summary(document: &OptimizeDocument) -> String {
 }
 
 /// Runs `codesign optimize` and prints a summary.
-pub fn run(args: &Args) -> Result<(), String> {
+pub fn run(args: &Args) -> Result<(), Failure> {
     let out = args.out.clone().unwrap_or_else(|| {
         let payload = args
             .model
@@ -222,9 +223,13 @@ pub fn run(args: &Args) -> Result<(), String> {
         ))
     });
     if args.payloads.is_some() && args.objective != ObjectiveKind::Range {
-        return Err("--payloads: only with --objective range".to_owned());
+        return Err(Failure::Usage(
+            "--payloads: only with --objective range".to_owned(),
+        ));
     }
-    let document = run_case(&args.case(), &out, &progress_bar).map_err(run_error)?;
+    let case = args.case();
+    case.validate().map_err(Failure::Usage)?;
+    let document = run_case(&case, &out, &progress_bar).map_err(run_error)?;
     say!("{}", summary(&document));
     match args.method {
         Method::Cmaes => say!(

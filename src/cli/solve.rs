@@ -1,6 +1,7 @@
 //! `codesign solve`: one trajectory problem for one design.
 
 use super::common::{ModelArgs, ProblemArgs};
+use super::failure::Failure;
 use super::store_hints::check_output;
 use crate::design::run::Loaded;
 use crate::ipopt::{check_derivatives, DerivativeOrder};
@@ -54,7 +55,15 @@ pub struct Args {
 }
 
 /// Solves, prints a summary, writes the requested files.
-pub fn run(args: &Args) -> Result<(), String> {
+pub fn run(args: &Args) -> Result<(), Failure> {
+    args.model.validate()?;
+    if let Some(duration) = args.duration {
+        check_horizon(duration)
+            .map_err(|why| Failure::Usage(format!("--duration {}: {why}", number(duration))))?;
+    }
+    if let Some(steps) = args.steps {
+        check_steps(steps).map_err(|why| Failure::Usage(format!("--steps {steps}: {why}")))?;
+    }
     let Loaded {
         mut task,
         robot,
@@ -63,14 +72,8 @@ pub fn run(args: &Args) -> Result<(), String> {
     } = args.model.load()?;
     args.problem.configure(&mut settings);
     settings.verbose = args.verbose;
-    if let Some(duration) = args.duration {
-        check_horizon(duration).map_err(|why| format!("--duration {}: {why}", number(duration)))?;
-        task.motion.horizon_s = duration;
-    }
-    if let Some(steps) = args.steps {
-        check_steps(steps).map_err(|why| format!("--steps {steps}: {why}"))?;
-        task.motion.steps = steps;
-    }
+    task.motion.horizon_s = args.duration.unwrap_or(task.motion.horizon_s);
+    task.motion.steps = args.steps.unwrap_or(task.motion.steps);
     let choice = args.model.choice();
     let inputs = choice.inputs(&task);
     if let Some(path) = &args.out {
@@ -99,7 +102,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         ),
     };
     if args.check_derivatives {
-        return check(&formulation, &settings, &ratios, &source);
+        return Ok(check(&formulation, &settings, &ratios, &source)?);
     }
     let result = solve_design(&formulation, &ratios, &settings).map_err(|e| match e {
         SolveError::Design(_) => format!("{source}: {e}"),
@@ -108,7 +111,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     })?;
     print_summary(&formulation, &result);
     if let Some(folder) = &args.plot {
-        write_plots(folder, &formulation, &result)?;
+        write_plots(folder, &formulation, &result).map_err(|e| e.to_string())?;
         say!("plots written to {}", folder.display());
     }
     if let Some(path) = &args.out {

@@ -454,4 +454,13 @@ fn elements_nested_past_the_bound_are_refused_before_parsing() {
         1,
     );
     assert!(load(&commented).is_ok());
+    let cdata = belt_arm_text().replacen(
+        "</robot>",
+        &format!(
+            "<gazebo><![CDATA[ {} ]]></gazebo></robot>",
+            "<a>".repeat(100)
+        ),
+        1,
+    );
+    assert!(load(&cdata).is_ok());
 }

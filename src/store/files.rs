@@ -6,6 +6,7 @@
 //! replaced keeps its permission bits. Temporary files never open what is already at their name.
 
 use super::{Action, FileKind, Refusal, StoreError};
+use crate::signals;
 use std::ffi::{CString, OsStr};
 use std::fs::{File, Metadata, OpenOptions, Permissions};
 use std::io::{Read, Write};
@@ -234,6 +235,8 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), StoreError> {
         return Err(not_written(Refusal::LogName));
     }
     let failed = |error: std::io::Error| StoreError::io(Action::Write, path, &error);
+    // INT, TERM and HUP wait until the temporary is renamed into place or removed.
+    let _deferral = signals::defer();
     let (mut file, temporary) = create_beside(&target, "tmp")?.map_err(failed)?;
     let written = mode
         .map_or(Ok(()), |mode| {

@@ -72,6 +72,20 @@ pub struct LogEntry<E> {
     pub check: Option<String>,
 }
 
+/// A run as a log's header records it.
+pub trait LoggedRun: Serialize + DeserializeOwned {
+    /// Whether the logged run `self` is `run`, which may then resume it: equal, but for what
+    /// only names an input whose content the run records otherwise (a path as it was spelled).
+    fn same_run(&self, run: &Self) -> bool;
+}
+
+/// A run known only as its JSON (a log read back by a tool): the same run when equal.
+impl LoggedRun for Value {
+    fn same_run(&self, run: &Value) -> bool {
+        self == run
+    }
+}
+
 /// Finished evaluations of a log by (generation, index).
 pub type Finished<E> = HashMap<(usize, usize), E>;
 
@@ -252,7 +266,7 @@ impl<E: Serialize + DeserializeOwned> EvaluationLog<E> {
     /// Opens the log at `path` for `run`, locked against any other run while it is open. A
     /// missing or empty log starts afresh; an existing one is refused, resumed (its finished
     /// evaluations are returned by (generation, index)) or emptied, as `start` says.
-    pub fn open<T: Serialize + DeserializeOwned + PartialEq>(
+    pub fn open<T: LoggedRun>(
         path: &Path,
         run: &T,
         start: Start,
@@ -310,7 +324,7 @@ impl<E: Serialize + DeserializeOwned> EvaluationLog<E> {
 
     /// Reads a non-empty log back for `run`: checks its header and every entry, drops a torn
     /// last line, and leaves the file positioned for appending.
-    fn replay<T: Serialize + DeserializeOwned + PartialEq>(
+    fn replay<T: LoggedRun>(
         mut self,
         run: &T,
     ) -> Result<(EvaluationLog<E>, Finished<E>), StoreError> {
@@ -361,13 +375,9 @@ impl<E: Serialize + DeserializeOwned> EvaluationLog<E> {
 
     /// Fails, naming the differing settings, unless the logged run is `run`. Compared as the
     /// run's type, so that a field added later with a default still matches older logs.
-    fn check_same_run<T: Serialize + DeserializeOwned + PartialEq>(
-        &self,
-        logged: &Value,
-        run: &T,
-    ) -> Result<(), StoreError> {
+    fn check_same_run<T: LoggedRun>(&self, logged: &Value, run: &T) -> Result<(), StoreError> {
         let parsed = serde_json::from_value::<T>(logged.clone());
-        if parsed.as_ref().is_ok_and(|logged| logged == run) {
+        if parsed.as_ref().is_ok_and(|logged| logged.same_run(run)) {
             return Ok(());
         }
         let logged = match parsed {
@@ -473,6 +483,18 @@ impl<E: Serialize + DeserializeOwned> EvaluationLog<E> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    impl LoggedRun for Run {
+        fn same_run(&self, run: &Run) -> bool {
+            self == run
+        }
+    }
+
+    impl LoggedRun for NewerRun {
+        fn same_run(&self, run: &NewerRun) -> bool {
+            self == run
+        }
+    }
 
     #[derive(Debug, PartialEq, Serialize, Deserialize)]
     struct Run {

@@ -82,6 +82,14 @@ pub fn fails_saying(output: &Output, expected: &str) {
     assert!(stderr.contains(expected), "{stderr}");
 }
 
+/// Asserts that the command was refused as a usage error (exit code 2, a flag out of its range,
+/// as clap's own) and that its error says `expected`.
+pub fn refused_as_usage(output: &Output, expected: &str) {
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains(expected), "{stderr}");
+}
+
 /// The repository's task with its robot's path made absolute and `edit` applied, written to
 /// `dir/task.json`.
 pub fn task_with(dir: &Path, edit: impl Fn(&mut serde_json::Value)) -> PathBuf {

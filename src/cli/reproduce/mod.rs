@@ -5,6 +5,7 @@ mod merge;
 mod plan;
 mod stages;
 
+use super::failure::Failure;
 use super::store_hints::{check_output, hint};
 use crate::design::bounds::BoundHandling;
 use crate::design::run::{task_source, OptimizeDocument};
@@ -114,7 +115,7 @@ pub struct Outcomes {
 
 /// Runs the experiment (or prints its plan, or merges its results) and writes results, table
 /// and plots.
-pub fn run(args: &Args) -> Result<(), String> {
+pub fn run(args: &Args) -> Result<(), Failure> {
     let started = Instant::now();
     // The task and its solver and experiment sections are checked before anything is planned or
     // written.
@@ -124,11 +125,11 @@ pub fn run(args: &Args) -> Result<(), String> {
     let plan = Plan::new(args, file.experiment.clone(), file.task.motion.ends)?;
     if let Some(folder) = &args.from_runs {
         if !folder.is_dir() {
-            return Err(format!(
+            return Err(Failure::Work(format!(
                 "--from-runs {}: not a folder; give the --out-dir that the plan's commands wrote \
                  into",
                 folder.display()
-            ));
+            )));
         }
     }
     let task = load_task(&plan, file.clone())?;
@@ -171,7 +172,8 @@ pub fn run(args: &Args) -> Result<(), String> {
         None => None,
     };
     let seconds = started.elapsed().as_secs_f64();
-    finish(&plan, &task, outcomes, merged, seconds, hold_table.as_ref()).map(|_| ())
+    finish(&plan, &task, outcomes, merged, seconds, hold_table.as_ref())?;
+    Ok(())
 }
 
 /// The experiment's sections: `plan`, then its hold section when it has one.

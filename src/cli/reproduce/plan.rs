@@ -4,9 +4,9 @@
 
 use super::Args;
 use crate::cli::common::ProblemArgs;
+use crate::cli::failure::Failure;
 use crate::design::bounds::BoundHandling;
 use crate::design::capacity::CapacitySettings;
-use crate::design::cmaes::SettingError;
 use crate::design::penalty::{Grading, Penalty, PENALTY};
 use crate::design::run::{shell_quote, task_source, Case, Method, ModelChoice, ProblemChoice};
 use crate::design::score::{Objective, PayloadRange};
@@ -79,7 +79,7 @@ impl Plan {
     /// --population and --generations replace the budget's values (the quick budget's with
     /// --quick), --ends the task's `task_ends`; fails on a size out of range, naming the flag or
     /// the task's field.
-    pub fn new(args: &Args, experiment: Experiment, task_ends: Ends) -> Result<Plan, String> {
+    pub fn new(args: &Args, experiment: Experiment, task_ends: Ends) -> Result<Plan, Failure> {
         let base = if args.quick {
             experiment.quick_budget
         } else {
@@ -148,23 +148,22 @@ impl Plan {
 
     /// Checks the sizes before anything is created; errors name the flag, or the task's field
     /// where no flag gave the value, with the limit and its reason.
-    fn check_sizes(&self, args: &Args) -> Result<(), String> {
+    fn check_sizes(&self, args: &Args) -> Result<(), Failure> {
+        let section = if self.quick { "quick_budget" } else { "budget" };
+        let in_task = |field: &str, value: String, rule: &str| {
+            let task = task_source(self.task.as_ref());
+            Failure::Work(format!(
+                "{task}: experiment.{section}.{field} = {value}: {rule}"
+            ))
+        };
         let seeds = self.budget.seeds;
         if !(1..=MAX_SEEDS).contains(&seeds) {
-            return Err(format!(
-                "--seeds {seeds}: must be 1 to {MAX_SEEDS} (20 times the paper's 5)"
-            ));
+            let rule = format!("must be 1 to {MAX_SEEDS} (20 times the paper's 5)");
+            return Err(match args.seeds {
+                Some(_) => Failure::Usage(format!("--seeds {seeds}: {rule}")),
+                None => in_task("seeds", seeds.to_string(), &rule),
+            });
         }
-        let section = if self.quick { "quick_budget" } else { "budget" };
-        let in_task = |e: SettingError, prefix: &str| {
-            format!(
-                "{}: experiment.{section}.{prefix}{} = {}: {}",
-                task_source(self.task.as_ref()),
-                e.field,
-                e.value,
-                e.rule
-            )
-        };
         let cost = self.cost_case(Space::Actuation, 1.0, 0);
         if let Err(e) = cost.cmaes.validate() {
             let flag_given = match e.field {
@@ -173,15 +172,15 @@ impl Plan {
                 _ => true,
             };
             if !flag_given {
-                return Err(in_task(e, ""));
+                return Err(in_task(e.field, e.value, &e.rule));
             }
         }
-        cost.validate()?;
+        cost.validate().map_err(Failure::Usage)?;
         for run in self.capacity_runs() {
             run.case
                 .cmaes
                 .validate()
-                .map_err(|e| in_task(e, "capacity_"))?;
+                .map_err(|e| in_task(&format!("capacity_{}", e.field), e.value, &e.rule))?;
         }
         Ok(())
     }
@@ -457,7 +456,7 @@ impl Plan {
 
 #[cfg(test)]
 mod tests {
-    use super::{Args, Plan};
+    use super::{Args, Failure, Plan};
     use crate::model::experiment::{Budget, Experiment};
     use crate::model::task::Ends;
     use clap::Parser;
@@ -468,7 +467,7 @@ mod tests {
         args: Args,
     }
 
-    fn plan(flags: &[&str]) -> Result<Plan, String> {
+    fn plan(flags: &[&str]) -> Result<Plan, Failure> {
         let args = Command::parse_from(["reproduce"].iter().chain(flags)).args;
         Plan::new(&args, Experiment::paper(), Ends::Paper)
     }
@@ -476,15 +475,25 @@ mod tests {
     #[test]
     fn sizes_are_checked_with_their_limits() {
         assert_eq!(plan(&[]).unwrap().budget, Budget::PAPER);
-        assert!(plan(&["--seeds", "0"])
-            .unwrap_err()
-            .starts_with("--seeds 0: must be 1 to"));
-        assert!(plan(&["--population", "0"])
-            .unwrap_err()
-            .starts_with("--population 0:"));
-        assert!(plan(&["--generations", "1099511627776"])
-            .unwrap_err()
-            .starts_with("--generations"));
+        // Issue 38, item 16: a flag out of its range is a usage error (exit 2).
+        let usage = |flags: &[&str], prefix: &str| match plan(flags) {
+            Err(Failure::Usage(message)) => assert!(message.starts_with(prefix), "{message}"),
+            other => panic!("{flags:?}: {other:?}"),
+        };
+        usage(&["--seeds", "0"], "--seeds 0: must be 1 to");
+        usage(&["--population", "0"], "--population 0:");
+        usage(&["--generations", "1099511627776"], "--generations");
+        // The same size from the task file is the file's error, naming its field.
+        let args = Command::parse_from(["reproduce"]).args;
+        let mut experiment = Experiment::paper();
+        experiment.budget.seeds = 0;
+        match Plan::new(&args, experiment, Ends::Paper) {
+            Err(Failure::Work(message)) => assert!(
+                message.contains("experiment.budget.seeds = 0: must be 1 to"),
+                "{message}"
+            ),
+            other => panic!("{other:?}"),
+        }
     }
 
     #[test]

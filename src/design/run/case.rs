@@ -54,6 +54,15 @@ impl ModelChoice {
         task_file.into_iter().chain(robot).collect()
     }
 
+    /// Checks what needs no file: the payload's range; the message names `--payload`.
+    pub fn validate(&self) -> Result<(), String> {
+        match self.payload {
+            Some(payload) => check_payload(payload)
+                .map_err(|why| format!("--payload {}: {why}", number(payload))),
+            None => Ok(()),
+        }
+    }
+
     /// Loads the task (with the overrides applied), the robot carrying the payload, the solve
     /// settings of the task file's `solver` section, and the task hash.
     pub fn load(&self) -> Result<Loaded, String> {
@@ -70,9 +79,8 @@ impl ModelChoice {
         if let Some(robot) = &self.robot {
             task.robot = Some(robot.clone());
         }
+        self.validate()?;
         if let Some(payload) = self.payload {
-            check_payload(payload)
-                .map_err(|why| format!("--payload {}: {why}", number(payload)))?;
             task.payload.mass_kg = payload;
         }
         let robot = Robot::load(&task).map_err(|e| match (&self.robot, self.source()) {
@@ -203,6 +211,7 @@ impl Case {
     /// Checks the settings that need no task; every error names the flag of `optimize` that
     /// sets the value, with the rule and its reason.
     pub fn validate(&self) -> Result<(), String> {
+        self.model.validate()?;
         if self.method == Method::Cmaes {
             // The gradient method has no population or generations (reproduce records 0).
             self.cmaes.validate().map_err(|e| {

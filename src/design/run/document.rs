@@ -11,6 +11,7 @@ use crate::ipopt::LinearSolver;
 use crate::model::task::LimitModes;
 use crate::problem::Space;
 use crate::solve::{TaskRecord, ToolInfo, TrajectoryResult};
+use crate::store::log::LoggedRun;
 use serde::{Deserialize, Serialize};
 
 /// The outer-level method of a co-design run.
@@ -132,6 +133,23 @@ impl PartialEq for RecordedHash {
             (Some(a), Some(b)) => a == b,
             _ => true,
         }
+    }
+}
+
+impl LoggedRun for OptimizeInputs {
+    /// Equal, the spelling of the task file's path aside (the task's content is recorded), and
+    /// of the robot's where both record the hash of its text.
+    fn same_run(&self, run: &OptimizeInputs) -> bool {
+        let hashed = !self.robot_hash.is_unknown() && !run.robot_hash.is_unknown();
+        let unspelled = |inputs: &OptimizeInputs| {
+            let mut inputs = inputs.clone();
+            inputs.task_file = String::new();
+            if hashed {
+                inputs.task.task.robot = None;
+            }
+            inputs
+        };
+        unspelled(self) == unspelled(run)
     }
 }
 

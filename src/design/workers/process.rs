@@ -4,18 +4,13 @@
 //! TERM or HUP, and by a watchdog in each group when the run's process dies any other way
 //! (SIGKILL, a crash).
 
+use crate::signals;
 use std::os::unix::process::CommandExt;
 use std::path::PathBuf;
 use std::process::{Child, Command};
-use std::sync::atomic::{AtomicI32, Ordering};
-use std::sync::{Once, OnceLock};
+use std::sync::OnceLock;
 
-/// The most worker process groups alive at once in one run.
-pub const MAX_GROUPS: usize = 4096;
-
-/// The process groups of the running workers (0: a free slot), for the signal handler, which
-/// may only read atomics.
-static GROUPS: [AtomicI32; MAX_GROUPS] = [const { AtomicI32::new(0) }; MAX_GROUPS];
+pub use crate::signals::MAX_GROUPS;
 
 /// How a worker process is started.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -111,15 +106,10 @@ impl std::fmt::Display for Launcher {
     }
 }
 
-/// Notes the process group of a worker just started (its pid), so that INT or TERM kill it;
-/// false when the table is full.
+/// Notes the process group of a worker just started (its pid), so that INT, TERM or HUP kill
+/// it; false when the table is full.
 pub(super) fn register(child: &Child) -> bool {
-    install_handlers();
-    let group = i32::try_from(child.id()).unwrap_or(0);
-    GROUPS.iter().any(|slot| {
-        slot.compare_exchange(0, group, Ordering::SeqCst, Ordering::SeqCst)
-            .is_ok()
-    })
+    signals::register_group(i32::try_from(child.id()).unwrap_or(0))
 }
 
 /// Kills a worker's whole process group, reaps the worker and forgets the group.
@@ -131,35 +121,5 @@ pub(super) fn kill(child: &mut Child) {
     }
     let _ = child.kill();
     let _ = child.wait();
-    for slot in &GROUPS {
-        let _ = slot.compare_exchange(group, 0, Ordering::SeqCst, Ordering::SeqCst);
-    }
-}
-
-/// On INT, TERM or HUP (a closed terminal or ssh session): kills every worker's process group,
-/// then ends this process as the signal would have. Only async-signal-safe calls.
-extern "C" fn on_signal(signal: libc::c_int) {
-    for slot in &GROUPS {
-        let group = slot.load(Ordering::SeqCst);
-        if group > 0 {
-            // SAFETY: kill is async-signal-safe.
-            unsafe { libc::kill(-group, libc::SIGKILL) };
-        }
-    }
-    // SAFETY: signal and raise are async-signal-safe; the default action ends the process.
-    unsafe {
-        libc::signal(signal, libc::SIG_DFL);
-        libc::raise(signal);
-    }
-}
-
-/// Installs [`on_signal`] for INT, TERM and HUP, once per process.
-fn install_handlers() {
-    static INSTALLED: Once = Once::new();
-    INSTALLED.call_once(|| {
-        for signal in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
-            // SAFETY: the handler only makes async-signal-safe calls.
-            unsafe { libc::signal(signal, on_signal as *const () as libc::sighandler_t) };
-        }
-    });
+    signals::forget_group(group);
 }

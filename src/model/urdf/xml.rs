@@ -47,13 +47,16 @@ fn quoted_after<'m>(message: &'m str, prefix: &str) -> Option<&'m str> {
 }
 
 /// The tags of `text` in order, each as its byte offset and the text between `<` and `>`.
-/// Comments, processing instructions and declarations are skipped; a tag cut short ends them.
+/// Comments, CDATA sections, processing instructions and declarations are skipped; a tag cut
+/// short ends them.
 fn tags(text: &str) -> impl Iterator<Item = (usize, &str)> {
     let mut rest = text;
     std::iter::from_fn(move || loop {
         rest = &rest[rest.find('<')?..];
         let skip_to = if rest.starts_with("<!--") {
             rest.find("-->").map(|end| end + 3)
+        } else if rest.starts_with("<![CDATA[") {
+            rest.find("]]>").map(|end| end + 3)
         } else if rest.starts_with("<?") || rest.starts_with("<!") {
             rest.find('>').map(|end| end + 1)
         } else {

@@ -141,7 +141,7 @@ impl PaperTable {
 
     /// The title, the tool and linear solvers, the notes and the solver time, each a paragraph.
     fn header(&self) -> String {
-        let mut text = format!("# {}\n\n", self.title);
+        let mut text = format!("# {}\n\n", one_line(&self.title));
         let comparison = if self.paper_task {
             "Our arm, task and horizon differ from the paper's (`docs/model.md`, section 1), so our \
              costs differ from the paper's: compare the trends, not the digits. "
@@ -366,9 +366,24 @@ pub(super) fn design_text(cell: &DesignCell) -> String {
         format!(
             "{}: infeasible ({})",
             ratios_text(&cell.ratios),
-            cell.reason.as_deref().unwrap_or(&cell.status)
+            one_line(cell.reason.as_deref().unwrap_or(&cell.status))
         )
     }
+}
+
+/// `text` kept on one line of Markdown (a heading, a table cell): each control character (a
+/// newline in a file's name) written as its escape, `\n`, `\t`, `\u{7}`; a `|` escaped so that
+/// it splits no cell.
+fn one_line(text: &str) -> String {
+    let mut line = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '|' => line.push_str("\\|"),
+            c if c.is_control() => line.extend(c.escape_default()),
+            c => line.push(c),
+        }
+    }
+    line
 }
 
 /// "linear solver ldl", or the list when result files of several are merged.
@@ -388,7 +403,7 @@ fn linear_solvers_text(solvers: &[LinearSolver]) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{design_text, solve_time_text, DesignCell};
+    use super::{design_text, one_line, solve_time_text, DesignCell};
 
     fn cell(feasible: bool, motors_can_execute: bool, reason: Option<&str>) -> DesignCell {
         DesignCell {
@@ -421,6 +436,17 @@ mod tests {
             design_text(&cell(false, true, None)),
             "(6, 3, 1, 1): infeasible (Solve_Succeeded)"
         );
+    }
+
+    #[test]
+    fn a_name_or_reason_stays_on_its_line() {
+        // Issue 38, item 16: a task file named with a newline broke the table's title.
+        assert_eq!(one_line("tasks/a\nb.json"), "tasks/a\\nb.json");
+        assert_eq!(one_line("a|b\tc\u{7}"), "a\\|b\\tc\\u{7}");
+        assert_eq!(one_line("pick_place é.json"), "pick_place é.json");
+        let reason = "line one\n| forged | row |";
+        let text = design_text(&cell(false, true, Some(reason)));
+        assert!(!text.contains('\n') && !text.contains(" | "), "{text}");
     }
 
     #[test]

@@ -1,0 +1,143 @@
+//! What INT, TERM and HUP (a closed terminal or ssh session) do to this process: the process
+//! groups of running workers are killed with everything they started, then the process ends as
+//! the signal would have; but never in the middle of writing a file. A signal that arrives while
+//! a [`Deferral`] lives takes effect when the last one ends, once the file being written is in
+//! place (or its temporary removed). The handler makes only async-signal-safe calls.
+
+use std::sync::atomic::{AtomicI32, AtomicUsize, Ordering};
+use std::sync::Once;
+
+/// The most worker process groups alive at once in one process.
+pub const MAX_GROUPS: usize = 4096;
+
+/// The process groups of the running workers (0: a free slot), for the handler, which may only
+/// read atomics.
+static GROUPS: [AtomicI32; MAX_GROUPS] = [const { AtomicI32::new(0) }; MAX_GROUPS];
+
+/// How many deferrals live (writes under way, on any thread).
+static DEFERRING: AtomicUsize = AtomicUsize::new(0);
+
+/// A signal that arrived during a deferral (0: none).
+static PENDING: AtomicI32 = AtomicI32::new(0);
+
+/// Notes a worker's process group, so that INT, TERM or HUP kill it; false when the table is
+/// full.
+pub fn register_group(group: i32) -> bool {
+    install();
+    group > 0
+        && GROUPS.iter().any(|slot| {
+            slot.compare_exchange(0, group, Ordering::SeqCst, Ordering::SeqCst)
+                .is_ok()
+        })
+}
+
+/// Forgets a worker's process group (the worker was killed and reaped).
+pub fn forget_group(group: i32) {
+    for slot in &GROUPS {
+        let _ = slot.compare_exchange(group, 0, Ordering::SeqCst, Ordering::SeqCst);
+    }
+}
+
+/// While alive, INT, TERM and HUP wait: see the module's documentation.
+#[must_use = "signals wait only while the deferral lives"]
+pub struct Deferral(());
+
+/// Defers INT, TERM and HUP until the returned deferral (and any other alive) is dropped.
+pub fn defer() -> Deferral {
+    install();
+    DEFERRING.fetch_add(1, Ordering::SeqCst);
+    Deferral(())
+}
+
+impl Drop for Deferral {
+    fn drop(&mut self) {
+        if DEFERRING.fetch_sub(1, Ordering::SeqCst) == 1 {
+            let pending = PENDING.swap(0, Ordering::SeqCst);
+            if pending != 0 {
+                terminate(pending);
+            }
+        }
+    }
+}
+
+/// The handler of INT, TERM and HUP: noted while a deferral lives, else acted on at once.
+extern "C" fn on_signal(signal: libc::c_int) {
+    if DEFERRING.load(Ordering::SeqCst) > 0 {
+        PENDING.store(signal, Ordering::SeqCst);
+    } else {
+        terminate(signal);
+    }
+}
+
+/// Kills every worker's process group, then ends this process as `signal` would have. Only
+/// async-signal-safe calls.
+fn terminate(signal: libc::c_int) {
+    for slot in &GROUPS {
+        let group = slot.load(Ordering::SeqCst);
+        if group > 0 {
+            // SAFETY: kill with a negative pid signals the process group the worker leads.
+            unsafe { libc::kill(-group, libc::SIGKILL) };
+        }
+    }
+    // SAFETY: signal and raise are async-signal-safe; the default action ends the process.
+    unsafe {
+        libc::signal(signal, libc::SIG_DFL);
+        libc::raise(signal);
+    }
+}
+
+/// Installs [`on_signal`] for INT, TERM and HUP, once per process.
+fn install() {
+    static INSTALLED: Once = Once::new();
+    INSTALLED.call_once(|| {
+        for signal in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
+            // SAFETY: the handler only makes async-signal-safe calls.
+            unsafe { libc::signal(signal, on_signal as *const () as libc::sighandler_t) };
+        }
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::defer;
+    use std::os::unix::process::ExitStatusExt;
+    use std::path::PathBuf;
+
+    /// Set in the child process the test starts (the test binary again, running this test).
+    const CHILD: &str = "CODESIGN_SIGNALS_TEST_FOLDER";
+
+    #[test]
+    fn a_signal_during_a_deferral_takes_effect_when_it_ends() {
+        if let Some(folder) = std::env::var_os(CHILD).map(PathBuf::from) {
+            let deferral = defer();
+            // SAFETY: a signal to this process, which the handler defers.
+            unsafe { libc::raise(libc::SIGINT) };
+            std::fs::write(folder.join("after-signal"), "").unwrap();
+            drop(deferral);
+            std::fs::write(folder.join("after-deferral"), "").unwrap();
+            return;
+        }
+        let folder = std::env::temp_dir().join(format!("codesign-signals-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&folder);
+        std::fs::create_dir_all(&folder).unwrap();
+        let status = std::process::Command::new(std::env::current_exe().unwrap())
+            .args([
+                "--exact",
+                "signals::tests::a_signal_during_a_deferral_takes_effect_when_it_ends",
+            ])
+            .env(CHILD, &folder)
+            .stdout(std::process::Stdio::null())
+            .status()
+            .unwrap();
+        assert_eq!(status.signal(), Some(libc::SIGINT), "{status:?}");
+        assert!(
+            folder.join("after-signal").exists(),
+            "the signal did not wait"
+        );
+        assert!(
+            !folder.join("after-deferral").exists(),
+            "the signal was lost"
+        );
+        std::fs::remove_dir_all(&folder).unwrap();
+    }
+}
