@@ -1,7 +1,7 @@
 //! The built-in task and robot: `codesign solve` works from a folder that holds nothing of the
 //! repository, and `codesign task` (with `--urdf`) writes files that load back as the same task.
 
-mod support;
+use crate::support;
 
 use std::path::Path;
 use support::{codesign_in, scratch};

@@ -1,7 +1,7 @@
 //! `codesign check`: the inspection of a robot and its task, a verdict per check, and every
 //! problem listed with exit 1.
 
-mod support;
+use crate::support;
 
 use support::{codesign, fails_saying, scratch, task_with};
 

@@ -2,7 +2,7 @@
 //! workers of another build refused, and the experiment's plan run by GNU parallel and merged
 //! into the table a single `reproduce` writes.
 
-mod support;
+use crate::support;
 
 use serde_json::Value;
 use std::os::unix::fs::PermissionsExt;

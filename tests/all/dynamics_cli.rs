@@ -2,7 +2,7 @@
 //! prints an object with exactly the sample's keys and values (to 1e-9 of each field's scale), and
 //! refuses bad input with a message naming the flag.
 
-mod support;
+use crate::support;
 
 use serde_json::{Map, Value};
 use std::process::Output;

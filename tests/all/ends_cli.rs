@@ -2,7 +2,7 @@
 //! value on the built-in arm and on an example, the task hash and the log header that record
 //! it, and a resume refused across it.
 
-mod support;
+use crate::support;
 
 use serde_json::Value;
 use support::{codesign, scratch};

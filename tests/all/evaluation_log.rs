@@ -1,7 +1,7 @@
 //! The committed evaluation logs (results/quick/runs, results/hold/runs and their kin) still resume, and the store
 //! writes their header and entry lines byte for byte as they are on disk.
 
-mod support;
+use crate::support;
 
 use codesign::design::optimize::EvaluationLog;
 use codesign::design::penalty::Penalty;

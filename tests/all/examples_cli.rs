@@ -2,7 +2,7 @@
 //! joints, `solve` finds a trajectory in both spaces with the control term leading the cost (the
 //! weights were chosen so), `capacity` gives a number, and a small `optimize` finishes.
 
-mod support;
+use crate::support;
 
 use serde_json::Value;
 use std::path::{Path, PathBuf};

@@ -2,7 +2,7 @@
 //! table; results record their task's hash, and `table` shows the paper's numbers only beside
 //! the paper's task and never merges two tasks.
 
-mod support;
+use crate::support;
 
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};

@@ -2,7 +2,7 @@
 //! capacity is bounded by what its motors hold still at the ends of the motion, and `solve` at a
 //! heavier payload is infeasible, naming the end and the motor.
 
-mod support;
+use crate::support;
 
 use serde_json::Value;
 use support::scratch;

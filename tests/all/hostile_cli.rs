@@ -1,7 +1,7 @@
 //! Hostile inputs and environments, third round (issue 25): every path written is guarded,
 //! every input is bounded, and every failure gives a clear error and the right exit code.
 
-mod support;
+use crate::support;
 
 use std::fs::File;
 use std::path::Path;

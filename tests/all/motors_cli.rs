@@ -3,7 +3,7 @@
 //! each motor's own limit; a task with a torque-speed envelope (`motors.no_load_speed_rad_s`)
 //! keeps its motors inside it; lists and values that do not fit are named.
 
-mod support;
+use crate::support;
 
 use serde_json::{json, Value};
 use std::path::Path;

@@ -8,7 +8,7 @@ use codesign::model::Robot;
 use codesign::problem::{Formulation, Space};
 use codesign::solve::{solve_design, solve_design_from, solve_elastic, SolveSettings};
 
-mod support;
+use crate::support;
 
 #[test]
 fn reference_costs_are_reproduced() {

@@ -1,7 +1,7 @@
 //! Co-design end to end through the worker processes: a killed worker, an interrupted run and
 //! the number of workers change nothing in the result.
 
-mod support;
+use crate::support;
 
 use serde_json::Value;
 use std::path::Path;

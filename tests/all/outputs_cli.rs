@@ -2,7 +2,7 @@
 //! name of one output shares one lock, and a file replaced keeps its permissions while one the
 //! user may not write is refused.
 
-mod support;
+use crate::support;
 
 use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};

@@ -2,7 +2,7 @@
 //! name the joints as the URDF does and the motors by number, and draw the TCP's path in the
 //! world plane it moves in.
 
-mod support;
+use crate::support;
 
 use std::path::Path;
 use support::{codesign, scratch};

@@ -1,7 +1,7 @@
 //! Outputs that never destroy what they replace, runs that cannot collide, and failures that say
 //! so: each bad command gives a clear error, a non-zero exit, and leaves everything as it was.
 
-mod support;
+use crate::support;
 
 use std::path::Path;
 use std::process::Command;

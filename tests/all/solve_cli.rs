@@ -1,6 +1,6 @@
 //! `codesign solve` end to end: the result file, the plots, and clear errors on bad input.
 
-mod support;
+use crate::support;
 
 use std::path::Path;
 use support::{codesign, codesign_command, scratch};

@@ -1,6 +1,6 @@
 //! `codesign table` rebuilds the paper's table from committed result files.
 
-mod support;
+use crate::support;
 
 use support::{codesign, codesign_in, root};
 

@@ -3,7 +3,7 @@
 //! as many joints as move on the chain to the TCP link (`link_4`, the task's); a prismatic joint
 //! on that chain and a joint with two `<limit>`s are refused, naming the joint.
 
-mod support;
+use crate::support;
 
 use serde_json::Value;
 use std::process::Output;

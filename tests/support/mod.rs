@@ -1,5 +1,5 @@
 //! Fixtures shared by the end-to-end tests: the repository's paths, the binary, scratch folders.
-// Each test file uses part of this module.
+// Each test module uses part of this module.
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
@@ -63,13 +63,14 @@ pub fn wait_for(limit: Duration, started: impl Fn() -> bool) {
     }
 }
 
-/// An empty folder outside the repository, named for this test file, its process and `name`.
+/// An empty folder outside the repository, named for this process, the running test (its
+/// thread's name: the test's path, unique in the binary) and `name`.
 pub fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "codesign-{}-{}-{name}",
-        env!("CARGO_CRATE_NAME"),
-        std::process::id()
-    ));
+    let thread = std::thread::current();
+    let test: String = (thread.name().unwrap_or("main").chars())
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
+        .collect();
+    let dir = std::env::temp_dir().join(format!("codesign-{}-{test}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir

@@ -1,0 +1,29 @@
+//! The end-to-end tests, one module per subject, in one binary: the crate and its dependencies
+//! are linked once, not once per file. Two tests keep binaries of their own, because they
+//! measure the whole process: `tests/ldl_cache.rs` (process-wide cache counts that must start at
+//! zero) and `tests/ipopt_leaks.rs` (the resident memory, which other tests running beside it
+//! would move).
+
+#[path = "../support/mod.rs"]
+mod support;
+
+mod built_in_task;
+mod check_cli;
+mod cluster_cli;
+mod dynamics_alloc;
+mod dynamics_cli;
+mod ends_cli;
+mod evaluation_log;
+mod examples_cli;
+mod experiment_cli;
+mod hold_cli;
+mod hostile_cli;
+mod motors_cli;
+mod ocp_reference;
+mod optimize_cli;
+mod outputs_cli;
+mod plots_cli;
+mod reliability_cli;
+mod solve_cli;
+mod table_cli;
+mod urdf_idioms;
