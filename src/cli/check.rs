@@ -23,7 +23,7 @@ pub struct Args {
 /// `--robot` and no `--task`, the robot alone: its chain, its notes and its tip link.
 pub fn run(args: &Args) -> Result<(), Failure> {
     args.model.validate()?;
-    let (task, robot, alone) = args.model.load_robot()?;
+    let (task, robot, settings, alone) = args.model.load_robot()?;
     if alone {
         let inspection = Inspection::of_robot(&robot);
         print(&inspection, args.json)?;
@@ -43,7 +43,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .ratios
         .clone()
         .unwrap_or_else(|| task.transmission.original.clone());
-    let inspection = Inspection::of(&task, &robot, &transmission, &ratios);
+    let tolerance = settings.constraint_tolerance();
+    let inspection = Inspection::of(&task, &robot, (&transmission, &ratios), tolerance);
     print(&inspection, args.json)?;
     let problems = inspection.problems();
     if problems.is_empty() {

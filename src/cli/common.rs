@@ -60,10 +60,11 @@ impl ModelArgs {
 
     /// For the commands that inspect a robot (`check`, `dynamics`): with `--robot` and no
     /// `--task`, the robot alone, its TCP (and payload point) at the origin of its chain's last
-    /// link, and true; else the task's robot ([`ModelArgs::load`]) and false.
-    pub fn load_robot(&self) -> Result<(Task, Robot, bool), String> {
+    /// link, the default solve settings, and true; else the task's robot and solve settings
+    /// ([`ModelArgs::load`]) and false.
+    pub fn load_robot(&self) -> Result<(Task, Robot, SolveSettings, bool), String> {
         let (Some(urdf), None) = (&self.robot, &self.task) else {
-            return self.load().map(|loaded| (loaded.task, loaded.robot, false));
+            return (self.load()).map(|loaded| (loaded.task, loaded.robot, loaded.settings, false));
         };
         let tip = Robot::tip_link(urdf).map_err(|e| e.to_string())?;
         let mut task = Task::built_in().map_err(|e| e.to_string())?;
@@ -77,7 +78,7 @@ impl ModelArgs {
             task.motion.ends = ends;
         }
         let robot = Robot::load(&task).map_err(|e| e.to_string())?;
-        Ok((task, robot, true))
+        Ok((task, robot, SolveSettings::default(), true))
     }
 }
 

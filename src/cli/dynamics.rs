@@ -78,7 +78,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         )));
     }
     args.model.validate()?;
-    let (_, robot, _) = args.model.load_robot()?;
+    let (_, robot, _, _) = args.model.load_robot()?;
     let n = robot.dof();
     let joints = robot.joint_names().join(", ");
     let state = |flag: &str, values: Option<&Vec<f64>>| -> Result<Vec<f64>, String> {

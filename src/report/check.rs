@@ -5,7 +5,7 @@
 use crate::dynamics::Dynamics;
 use crate::model::task::{Ends, Task};
 use crate::model::Robot;
-use crate::problem::{EndHold, HoldRows, Space, DEFAULT_HOLD_TOLERANCE_NM};
+use crate::problem::{EndHold, HoldRows, Space};
 use crate::text::{number, numbers};
 use crate::transmission::{JointLimits, Transmission};
 use nalgebra::DMatrix;
@@ -125,14 +125,19 @@ fn joints(robot: &Robot) -> Vec<JointReport> {
 }
 
 /// The verdict on the static torques `end` against each motor's own limit in `limits`, N m:
-/// the motors over their limits, or every torque beside its limit. Under `ends` `paper` the hold
+/// the motors over their limits by more than `tolerance_nm` (the task's `constr_viol_tol`, as the
+/// solves judge it), or every torque beside its limit. Under `ends` `paper` the hold
 /// is no condition, so a shortfall is told among the fine lines.
-fn hold_verdict(end: &EndHold, limits: &[f64], ends: Ends) -> (Option<String>, String) {
+fn hold_verdict(
+    end: &EndHold,
+    limits: &[f64],
+    ends: Ends,
+    tolerance_nm: f64,
+) -> (Option<String>, String) {
     let shortfall = (!end.holds).then(|| {
         format!(
             "{}: the motors cannot hold the load still",
-            end.shortfalls(HoldRows::Motors, DEFAULT_HOLD_TOLERANCE_NM)
-                .join(", ")
+            end.shortfalls(HoldRows::Motors, tolerance_nm).join(", ")
         )
     });
     if let (Some(shortfall), false) = (&shortfall, ends.judges_hold()) {
@@ -156,12 +161,14 @@ fn hold_verdict(end: &EndHold, limits: &[f64], ends: Ends) -> (Option<String>, S
 }
 
 impl Inspection {
-    /// Inspects `robot` (with the task's payload) and `task` at design `ratios`.
+    /// Inspects `robot` (with the task's payload) and `task` at design `ratios` of
+    /// `transmission`, judging the static hold at `hold_tolerance_nm`, N m (the task's
+    /// `SolveSettings::constraint_tolerance`, as the solves judge it).
     pub fn of(
         task: &Task,
         robot: &Robot,
-        transmission: &Transmission,
-        ratios: &[f64],
+        (transmission, ratios): (&Transmission, &[f64]),
+        hold_tolerance_nm: f64,
     ) -> Inspection {
         let joints = joints(robot);
         let mut inspection = Inspection {
@@ -191,7 +198,7 @@ impl Inspection {
             verdicts: Vec::new(),
         };
         inspection.check_motion(task, robot);
-        inspection.check_design(task, robot, transmission, ratios);
+        inspection.check_design(task, robot, (transmission, ratios), hold_tolerance_nm);
         inspection.check_envelope();
         inspection
     }
@@ -299,7 +306,13 @@ impl Inspection {
 
     /// The design in its space with an invertible G, and the motors holding the arm still at
     /// both ends.
-    fn check_design(&mut self, task: &Task, robot: &Robot, t: &Transmission, ratios: &[f64]) {
+    fn check_design(
+        &mut self,
+        task: &Task,
+        robot: &Robot,
+        (t, ratios): (&Transmission, &[f64]),
+        hold_tolerance_nm: f64,
+    ) {
         let coupling = match t.coupling(ratios) {
             Ok(coupling) => coupling,
             Err(error) => {
@@ -331,10 +344,12 @@ impl Inspection {
                 &coupling,
                 (Space::Actuation, &limits),
                 q,
-                DEFAULT_HOLD_TOLERANCE_NM,
+                hold_tolerance_nm,
             );
             let tcp = dynamics.tcp_position(&mut data, q);
-            let (problem, fine) = hold_verdict(&end, &self.torque_limits_nm, task.motion.ends);
+            let ends = task.motion.ends;
+            let (problem, fine) =
+                hold_verdict(&end, &self.torque_limits_nm, ends, hold_tolerance_nm);
             self.verdict(&format!("hold at {pose}"), problem, fine);
             self.holds.push(HoldReport {
                 pose: pose.to_owned(),
