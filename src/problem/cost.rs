@@ -6,8 +6,8 @@
 //! Its Hessian is diagonal in v and u (2 w_v, 2 w_u) and, in q, 2 w_q I plus
 //! 2 rho (J^T J + c s H) per violated axis (J = dp_axis/dq, H its Hessian, s = dc/dp = +-1).
 
+use super::layout::Layout;
 use super::node::NodeEval;
-use super::Layout;
 use crate::dynamics::{Dynamics, Workspace};
 use crate::model::task::{CartesianBox, Task, Weights};
 use nalgebra::DMatrix;

@@ -2,18 +2,21 @@
 //!
 //! Node k's variables [q_k, v_k, a_k, u_k] couple only among themselves, so the Hessian is block
 //! diagonal by node. Within a node the lower triangle has five blocks (see [`Block`]): the
-//! dynamics rows, weighted by their multipliers, give q-q, v-q, v-v and a-q (a-v and a-a vanish
-//! since RNEA is linear in a with a coefficient free of v); the cost gives q-q, the v-v diagonal
-//! and the u-u diagonal. The integration and limit rows are linear and add nothing.
+//! constraint families' rows, weighted by their multipliers, give q-q, v-q, v-v and a-q (today
+//! the dynamics rows alone: a-v and a-a vanish since RNEA is linear in a with a coefficient free
+//! of v); the cost gives q-q, the v-v diagonal and the u-u diagonal. The integration and limit
+//! rows are linear and add nothing.
 //!
 //! The entries are stored row by row of the node's lower triangle (a v row holds its v-q part,
 //! then its v-v part); the structure and the values are produced from the same entry list, so
 //! they always agree.
 
 use super::cost::Cost;
+use super::families::NodeSecondOrder;
+use super::formulation::Formulation;
+use super::layout::Layout;
 use super::node::NodeEval;
-use super::{Formulation, Layout};
-use crate::dynamics::{Dynamics, Workspace};
+use crate::dynamics::Workspace;
 use nalgebra::DMatrix;
 
 /// A block of one node's Lagrangian Hessian, by the variables it couples (row, column).
@@ -75,22 +78,24 @@ pub(super) fn node_entries(n: usize) -> Vec<Entry> {
 
 /// The Hessian's structure: every node's entries, node by node.
 pub(super) fn pattern(formulation: &Formulation) -> Vec<(usize, usize)> {
-    let layout = &formulation.layout;
+    let layout = formulation.layout();
     (0..layout.steps)
         .flat_map(|k| {
             formulation
-                .node_hessian
+                .node_hessian()
                 .iter()
                 .map(move |entry| entry.position(layout, k))
         })
         .collect()
 }
 
-/// The blocks of one node's Hessian, evaluated: the cost's and the dynamics rows'.
+/// The blocks of one node's Hessian, evaluated: the cost's and the constraint rows'.
 #[derive(Clone, Debug)]
 pub(super) struct NodeHessian {
-    /// lambda_k . RNEA's Hessian in (q, v, a), 3n x 3n.
+    /// The sum over the node's rows of lambda . their Hessian in (q, v, a), 3n x 3n.
     dynamics: DMatrix<f64>,
+    /// Scratch of one family's terms, 3n x 3n.
+    scratch: DMatrix<f64>,
     /// The cost's q-q block, n x n.
     cost_position: DMatrix<f64>,
     /// The cost's v-v and u-u diagonals.
@@ -105,6 +110,7 @@ impl NodeHessian {
     pub(super) fn zeros(n: usize) -> NodeHessian {
         NodeHessian {
             dynamics: DMatrix::zeros(3 * n, 3 * n),
+            scratch: DMatrix::zeros(3 * n, 3 * n),
             cost_position: DMatrix::zeros(n, n),
             cost_velocity: 0.0,
             cost_control: 0.0,
@@ -116,17 +122,31 @@ impl NodeHessian {
         }
     }
 
-    /// Evaluates the blocks at a node's (q, v, a), with its evaluation `node` and its dynamics
-    /// rows' multipliers.
+    /// Evaluates the blocks at node k's (q, v, a) of `formulation`, with the node's evaluation
+    /// `node` and every row's multiplier `lambda`.
     pub(super) fn evaluate(
         &mut self,
-        (dynamics, data): (&Dynamics, &mut Workspace),
+        (formulation, k, data): (&Formulation, usize, &mut Workspace),
         cost: &Cost<'_>,
         (q, v, a): (&[f64], &[f64], &[f64]),
         node: &NodeEval,
-        multipliers: &[f64],
+        lambda: &[f64],
     ) {
-        dynamics.rnea_hessian(data, q, v, a, multipliers, &mut self.dynamics);
+        let (layout, dynamics) = (formulation.layout(), formulation.dynamics());
+        self.dynamics.fill(0.0);
+        for (id, family) in formulation.families() {
+            let (Some(row), Some(block)) = (layout.first_row(*id, k), family.rows()) else {
+                continue;
+            };
+            let terms = NodeSecondOrder {
+                dynamics,
+                data: &mut *data,
+                state: (q, v, a),
+                multipliers: &lambda[row..row + block.per_node],
+                scratch: &mut self.scratch,
+            };
+            family.hessian(terms, &mut self.dynamics);
+        }
         cost.position_hessian(
             (dynamics, data),
             q,
@@ -181,12 +201,7 @@ mod tests {
     #[test]
     fn node_entries_run_row_by_row_through_the_lower_triangle() {
         let n = 4;
-        let rows = crate::problem::LinearRows {
-            speed: true,
-            torque: true,
-            envelope: true,
-        };
-        let layout = Layout::new(n, 3, rows, ProblemKind::Hard);
+        let layout = Layout::new(n, 3, &[], ProblemKind::Hard);
         let base = layout.q(1, 0);
         let mut expected = Vec::new();
         for i in 0..2 * n {

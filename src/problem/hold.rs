@@ -4,8 +4,10 @@
 //! payload, computed without IPOPT: one gravity evaluation per end. Always reported; a condition
 //! of feasibility only where the task's `motion.ends` asks for it (`hold`, `rest`).
 
-use super::{Formulation, Space, TrajectoryProblem};
+use super::formulation::Formulation;
+use super::nlp::TrajectoryProblem;
 use crate::dynamics::Dynamics;
+use crate::transmission::Space;
 use crate::transmission::{Coupling, DesignError, JointLimits};
 use serde::{Deserialize, Serialize};
 

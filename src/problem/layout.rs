@@ -2,133 +2,139 @@
 //!
 //! Variables are grouped by node for a banded structure: node k < N holds
 //! `[q_k, v_k, a_k, u_k]` (4n numbers), the last node N holds `[q_N, v_N]`. Constraint rows are
-//! grouped the same way: node k < N holds the inverse dynamics (n rows), the velocity and position
-//! integration (n rows each), then, when the problem has them, the linear limit rows: the motor
-//! speed rows (nodes 1..N-1, where v is free), the motor torque rows (joint space, nodes 0..N-1)
-//! and the torque-speed envelope's rows P then M, n each (nodes 1..N-1: at node 0, where v_0 = 0,
-//! they are the torque limit).
+//! grouped the same way: node k < N holds the row blocks of the formulation's constraint
+//! families (`families/`, each block keyed by its family's [`BlockId`]) in the families' order, each present at every node k < N or only at
+//! the inner nodes 0 < k < N (where v is free). The layout knows the blocks' sizes, not what
+//! their rows mean: that is each family's own file.
 //!
-//! The elastic kind (docs/model.md, section 14) appends its slack columns after all of these:
-//! the torque deficits `[s+_k, s-_k]` of every node k < N (2n each), then the speed excesses
-//! `[e+_k, e-_k]` of every speed-row node 0 < k < N (2n each). Its rows are the hard kind's,
-//! except that it always has speed rows (in modes `paper` and `interval` they replace the box
-//! bounds on v, so that the slacks can relax them).
+//! The elastic kind (docs/model.md, section 14) appends its slack columns after the
+//! trajectory's: for each relaxed block in the families' order, for each node where it is
+//! present, a pair `[+, -]` per row (2 columns per row). Today the dynamics rows (the torque
+//! deficits s+, s-) and the motor speed rows (the speed excesses e+, e-) are relaxed.
 
-use super::ProblemKind;
-use crate::transmission::Side;
+use super::kind::ProblemKind;
 
-/// Which linear limit rows a problem has beside its dynamics and integration rows.
+/// The key of a row block: the position of its family in the families' order
+/// (`FamilyId as usize`, which converts into it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct BlockId(pub usize);
+
+/// The rows one constraint family holds at a node.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct LinearRows {
-    /// Motor speeds (or, in the elastic kind's box modes, joint speeds) as rows, nodes 0 < k < N.
-    pub speed: bool,
-    /// Motor torques G^-T u_k as rows (joint space, torque mode `exact`), nodes k < N.
-    pub torque: bool,
-    /// The torque-speed envelope's rows P and M (the task's `motors.no_load_speed_rad_s`), nodes
-    /// 0 < k < N.
-    pub envelope: bool,
+pub struct RowBlock {
+    /// Rows per node where the block is present.
+    pub per_node: usize,
+    /// Present only at the inner nodes 0 < k < N (else at every node k < N).
+    pub inner_only: bool,
+    /// Relaxed by a slack pair per row in the elastic kind.
+    pub relaxed: bool,
 }
 
-/// Index arithmetic of one problem shape (dof n, steps N, which linear limits exist).
+impl RowBlock {
+    /// Whether the block has rows at node k of a problem with `steps` intervals.
+    fn present(&self, k: usize, steps: usize) -> bool {
+        k < steps && (k > 0 || !self.inner_only)
+    }
+
+    /// The position of node k among the nodes where the block is present.
+    fn ordinal(&self, k: usize) -> usize {
+        if self.inner_only {
+            k - 1
+        } else {
+            k
+        }
+    }
+
+    /// Number of nodes where the block is present.
+    fn nodes(&self, steps: usize) -> usize {
+        if self.inner_only {
+            steps.saturating_sub(1)
+        } else {
+            steps
+        }
+    }
+}
+
+/// Index arithmetic of one problem shape (dof n, steps N, the families' row blocks, the kind).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Layout {
     /// Degrees of freedom n.
     pub dof: usize,
     /// Number of intervals N.
     pub steps: usize,
-    /// Whether motor speeds are limited by linear rows |G v_k| <= w (speed mode `exact`).
-    pub speed_rows: bool,
-    /// Whether motor torques are limited by linear rows |G^-T u_k| <= tau (joint space, `exact`).
-    pub torque_rows: bool,
-    /// Whether the motors' torque-speed envelope is held by linear rows.
-    pub envelope_rows: bool,
     /// Hard or elastic: whether the slack columns exist.
     pub kind: ProblemKind,
+    /// Each block's rows by key, None where a family has no rows.
+    blocks: Vec<Option<RowBlock>>,
+    /// The number of rows before each node k <= N (the last: the number of rows).
     row_base: Vec<usize>,
+    /// Each block's first row at each node k < N (node-major, `blocks.len()` per node).
+    offsets: Vec<Option<usize>>,
+    /// Each relaxed block's first slack column (elastic kind).
+    slack_base: Vec<Option<usize>>,
+    variables: usize,
 }
 
 impl Layout {
-    /// The layout of a problem of `kind` with `dof` joints, `steps` intervals and the linear
-    /// limit rows `rows`.
-    pub fn new(dof: usize, steps: usize, rows: LinearRows, kind: ProblemKind) -> Layout {
+    /// The layout of a problem of `kind` with `dof` joints, `steps` intervals and the row
+    /// blocks `blocks`, given in the families' order.
+    pub fn new(
+        dof: usize,
+        steps: usize,
+        blocks: &[(BlockId, RowBlock)],
+        kind: ProblemKind,
+    ) -> Layout {
+        let keys = blocks.iter().map(|(id, _)| id.0 + 1).max().unwrap_or(0);
+        let mut by_key = vec![None; keys];
+        for &(id, block) in blocks {
+            by_key[id.0] = Some(block);
+        }
         let mut row_base = Vec::with_capacity(steps + 1);
+        let mut offsets = vec![None; keys * steps];
         let mut row = 0;
         for k in 0..steps {
             row_base.push(row);
-            row += 3 * dof;
-            if rows.speed && k > 0 {
-                row += dof;
-            }
-            if rows.torque {
-                row += dof;
-            }
-            if rows.envelope && k > 0 {
-                row += 2 * dof;
+            for &(id, block) in blocks {
+                if block.present(k, steps) {
+                    offsets[k * keys + id.0] = Some(row);
+                    row += block.per_node;
+                }
             }
         }
         row_base.push(row);
+        let mut slack_base = vec![None; keys];
+        let mut column = 4 * dof * steps + 2 * dof;
+        if kind == ProblemKind::Elastic {
+            for &(id, block) in blocks.iter().filter(|(_, block)| block.relaxed) {
+                slack_base[id.0] = Some(column);
+                column += 2 * block.per_node * block.nodes(steps);
+            }
+        }
         Layout {
             dof,
             steps,
-            speed_rows: rows.speed,
-            torque_rows: rows.torque,
-            envelope_rows: rows.envelope,
             kind,
+            blocks: by_key,
             row_base,
+            offsets,
+            slack_base,
+            variables: column,
         }
     }
 
-    /// Which linear limit rows the layout has.
-    pub fn rows(&self) -> LinearRows {
-        LinearRows {
-            speed: self.speed_rows,
-            torque: self.torque_rows,
-            envelope: self.envelope_rows,
-        }
+    /// The row block of key `id`, None where its family has no rows.
+    pub fn block(&self, id: impl Into<BlockId>) -> Option<RowBlock> {
+        self.blocks.get(id.into().0).copied().flatten()
     }
 
     /// Number of variables: 4nN + 2n, plus the slacks of the elastic kind.
     pub fn num_variables(&self) -> usize {
-        self.trajectory_variables() + self.deficit_slacks() + self.excess_slacks()
+        self.variables
     }
 
     /// Number of the trajectory's own variables (all but the slacks): 4nN + 2n.
     fn trajectory_variables(&self) -> usize {
         4 * self.dof * self.steps + 2 * self.dof
-    }
-
-    /// Number of torque-deficit slacks: 2nN in the elastic kind.
-    fn deficit_slacks(&self) -> usize {
-        match self.kind {
-            ProblemKind::Hard => 0,
-            ProblemKind::Elastic => 2 * self.dof * self.steps,
-        }
-    }
-
-    /// Number of speed-excess slacks: 2n(N-1) in the elastic kind with speed rows.
-    fn excess_slacks(&self) -> usize {
-        match self.kind {
-            ProblemKind::Elastic if self.speed_rows => 2 * self.dof * (self.steps - 1),
-            _ => 0,
-        }
-    }
-
-    /// Columns [s+, s-] of the torque-deficit slacks of the dynamics row (k, i), k in 0..N, in
-    /// the elastic kind.
-    pub fn deficit_slack(&self, k: usize, i: usize) -> Option<[usize; 2]> {
-        let base = self.trajectory_variables() + 2 * self.dof * k;
-        (self.kind == ProblemKind::Elastic && k < self.steps)
-            .then(|| [base + i, base + self.dof + i])
-    }
-
-    /// Columns [e+, e-] of the speed-excess slacks of the speed row (k, i), 0 < k < N, in the
-    /// elastic kind.
-    pub fn excess_slack(&self, k: usize, i: usize) -> Option<[usize; 2]> {
-        self.speed_row(k, i)?;
-        (self.kind == ProblemKind::Elastic).then(|| {
-            let base = self.trajectory_variables() + self.deficit_slacks() + 2 * self.dof * (k - 1);
-            [base + i, base + self.dof + i]
-        })
     }
 
     /// The slack columns (empty in the hard kind).
@@ -139,6 +145,32 @@ impl Layout {
     /// Number of constraint rows.
     pub fn num_constraints(&self) -> usize {
         self.row_base[self.steps]
+    }
+
+    /// The first row of block `id` at node k, where it has one.
+    pub fn first_row(&self, id: impl Into<BlockId>, k: usize) -> Option<usize> {
+        let (keys, id) = (self.blocks.len(), id.into().0);
+        if k >= self.steps || id >= keys {
+            return None;
+        }
+        self.offsets[k * keys + id]
+    }
+
+    /// Row j of block `id` at node k, where it has one.
+    pub fn row(&self, id: impl Into<BlockId>, k: usize, j: usize) -> Option<usize> {
+        self.first_row(id, k).map(|row| row + j)
+    }
+
+    /// Columns [+, -] of the slack pair of row j of block `id` at node k, in the elastic kind
+    /// where the block is relaxed.
+    pub fn slack(&self, id: impl Into<BlockId>, k: usize, j: usize) -> Option<[usize; 2]> {
+        let id = id.into();
+        let block = self.block(id)?;
+        let base = self.slack_base[id.0]?;
+        block.present(k, self.steps).then(|| {
+            let start = base + 2 * block.per_node * block.ordinal(k);
+            [start + j, start + block.per_node + j]
+        })
     }
 
     fn node(&self, k: usize) -> usize {
@@ -175,109 +207,102 @@ impl Layout {
         )
     }
 
-    /// Row of the inverse-dynamics residual RNEA(q_k, v_k, a_k)[i] - tau_k[i].
-    pub fn dynamics_row(&self, k: usize, i: usize) -> usize {
-        self.row_base[k] + i
-    }
-
-    /// Row of v_{k+1}[i] - v_k[i] - h a_k[i].
-    pub fn velocity_row(&self, k: usize, i: usize) -> usize {
-        self.row_base[k] + self.dof + i
-    }
-
-    /// Row of q_{k+1}[i] - q_k[i] - h v_{k+1}[i].
-    pub fn position_row(&self, k: usize, i: usize) -> usize {
-        self.row_base[k] + 2 * self.dof + i
-    }
-
-    /// Row of (G v_k)[i], the motor speed, when it exists (speed rows, 0 < k < N).
-    pub fn speed_row(&self, k: usize, i: usize) -> Option<usize> {
-        (self.speed_rows && k > 0 && k < self.steps).then(|| self.row_base[k] + 3 * self.dof + i)
-    }
-
-    /// Row of (G^-T u_k)[i], the motor torque, when it exists (torque rows, k < N).
-    pub fn torque_row(&self, k: usize, i: usize) -> Option<usize> {
-        let speed = if self.speed_rows && k > 0 {
-            self.dof
-        } else {
-            0
-        };
-        (self.torque_rows && k < self.steps).then(|| self.row_base[k] + 3 * self.dof + speed + i)
-    }
-
-    /// Row `side` of motor i's torque-speed envelope at node k, when it exists (envelope rows,
-    /// 0 < k < N): the node's P rows, then its M rows, after its other limit rows.
-    pub fn envelope_row(&self, k: usize, i: usize, side: Side) -> Option<usize> {
-        (self.envelope_rows && k > 0 && k < self.steps).then(|| {
-            let before = usize::from(self.speed_rows) + usize::from(self.torque_rows);
-            let offset = match side {
-                Side::Plus => 0,
-                Side::Minus => self.dof,
-            };
-            self.row_base[k] + (3 + before) * self.dof + offset + i
-        })
+    /// The controls u_k within the primal point x, k in 0..N.
+    pub fn controls<'x>(&self, x: &'x [f64], k: usize) -> &'x [f64] {
+        &x[self.u(k, 0)..self.u(k, 0) + self.dof]
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::problem::FamilyId;
 
-    /// Every variable and row index is used exactly once.
+    /// Every variable and row index is used exactly once, whichever blocks are present and
+    /// relaxed, in both kinds.
     #[test]
     fn indices_cover_without_overlap() {
-        let flags = [false, true];
-        let shapes = flags.into_iter().flat_map(|speed| {
-            flags.into_iter().flat_map(move |torque| {
-                flags.map(|envelope| LinearRows {
-                    speed,
-                    torque,
-                    envelope,
+        let n = 3;
+        let all = [
+            (FamilyId::Dynamics, n, false, true),
+            (FamilyId::Integration, 2 * n, false, false),
+            (FamilyId::MotorSpeed, n, true, true),
+            (FamilyId::MotorTorque, n, false, false),
+            (FamilyId::Envelope, 2 * n, true, false),
+        ];
+        for mask in 0..(1 << all.len()) {
+            let blocks: Vec<(BlockId, RowBlock)> = all
+                .iter()
+                .enumerate()
+                .filter(|(b, _)| mask & (1 << b) != 0)
+                .map(|(_, &(family, per_node, inner_only, relaxed))| {
+                    let block = RowBlock {
+                        per_node,
+                        inner_only,
+                        relaxed,
+                    };
+                    (family.into(), block)
                 })
-            })
-        });
-        for (shape, kind) in shapes
-            .flat_map(|shape| [ProblemKind::Hard, ProblemKind::Elastic].map(|kind| (shape, kind)))
-        {
-            let layout = Layout::new(3, 5, shape, kind);
-            assert_eq!(layout.rows(), shape);
-            let mut columns = vec![0; layout.num_variables()];
-            let mut rows = vec![0; layout.num_constraints()];
-            for k in 0..=layout.steps {
-                for i in 0..layout.dof {
-                    columns[layout.q(k, i)] += 1;
-                    columns[layout.v(k, i)] += 1;
-                    if k < layout.steps {
-                        columns[layout.a(k, i)] += 1;
-                        columns[layout.u(k, i)] += 1;
-                        rows[layout.dynamics_row(k, i)] += 1;
-                        rows[layout.velocity_row(k, i)] += 1;
-                        rows[layout.position_row(k, i)] += 1;
+                .collect();
+            for kind in [ProblemKind::Hard, ProblemKind::Elastic] {
+                let layout = Layout::new(n, 5, &blocks, kind);
+                let mut columns = vec![0; layout.num_variables()];
+                let mut rows = vec![0; layout.num_constraints()];
+                for k in 0..=layout.steps {
+                    for i in 0..n {
+                        columns[layout.q(k, i)] += 1;
+                        columns[layout.v(k, i)] += 1;
+                        if k < layout.steps {
+                            columns[layout.a(k, i)] += 1;
+                            columns[layout.u(k, i)] += 1;
+                        }
                     }
-                    for slack in [layout.deficit_slack(k, i), layout.excess_slack(k, i)] {
-                        slack.into_iter().flatten().for_each(|c| columns[c] += 1);
+                    for &(family, block) in &blocks {
+                        for j in 0..block.per_node {
+                            layout
+                                .row(family, k, j)
+                                .into_iter()
+                                .for_each(|r| rows[r] += 1);
+                            let slack = layout.slack(family, k, j);
+                            slack.into_iter().flatten().for_each(|c| columns[c] += 1);
+                        }
                     }
-                    layout
-                        .speed_row(k, i)
-                        .into_iter()
-                        .for_each(|r| rows[r] += 1);
-                    layout
-                        .torque_row(k, i)
-                        .into_iter()
-                        .for_each(|r| rows[r] += 1);
-                    Side::BOTH
-                        .into_iter()
-                        .filter_map(|side| layout.envelope_row(k, i, side))
-                        .for_each(|r| rows[r] += 1);
                 }
+                assert!(columns.iter().all(|&c| c == 1), "{kind:?} {columns:?}");
+                let relaxed = blocks.iter().any(|(_, block)| block.relaxed);
+                let elastic = kind == ProblemKind::Elastic;
+                assert_eq!(layout.slacks().is_empty(), !(elastic && relaxed));
+                assert!(rows.iter().all(|&c| c == 1), "{blocks:?}: {rows:?}");
             }
-            assert!(columns.iter().all(|&c| c == 1), "{kind:?} {columns:?}");
-            assert_eq!(layout.slacks().is_empty(), kind == ProblemKind::Hard);
-            assert!(rows.iter().all(|&c| c == 1), "{shape:?}: {rows:?}");
-            let envelope_rows = (1..layout.steps)
-                .filter(|&k| layout.envelope_row(k, 0, Side::Plus).is_some())
-                .count();
-            assert_eq!(envelope_rows, if shape.envelope { 4 } else { 0 });
         }
+    }
+
+    /// The blocks of the hard problem of the paper's modes in actuation space sit as they
+    /// always have: per node the dynamics rows, then the integration rows.
+    #[test]
+    fn dynamics_then_integration_rows_per_node() {
+        let blocks = [
+            (
+                FamilyId::Dynamics.into(),
+                RowBlock {
+                    per_node: 4,
+                    inner_only: false,
+                    relaxed: true,
+                },
+            ),
+            (
+                FamilyId::Integration.into(),
+                RowBlock {
+                    per_node: 8,
+                    inner_only: false,
+                    relaxed: false,
+                },
+            ),
+        ];
+        let layout = Layout::new(4, 3, &blocks, ProblemKind::Hard);
+        assert_eq!(layout.row(FamilyId::Dynamics, 1, 2), Some(14));
+        assert_eq!(layout.row(FamilyId::Integration, 1, 0), Some(16));
+        assert_eq!(layout.num_constraints(), 36);
+        assert_eq!(layout.slack(FamilyId::Dynamics, 1, 2), None);
     }
 }

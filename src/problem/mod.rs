@@ -1,288 +1,30 @@
 //! The trajectory problem (docs/model.md, section 6) of one design, as a sparse NLP for IPOPT.
 //!
 //! A [`Formulation`] fixes everything but the design: task, robot and payload, space and limit
-//! modes, and with them the problem's shape and sparsity pattern, built once. Its
-//! [`Formulation::problem`] gives the [`TrajectoryProblem`] of one design r, which implements
-//! [`crate::ipopt::Nlp`] with exact, hand-derived sparse derivatives.
+//! modes, and with them the problem's constraint families (`families/`, one file each), its
+//! [`Layout`] and its sparsity patterns, built once. Its [`Formulation::problem`] gives the
+//! [`TrajectoryProblem`] of one design r, which implements [`crate::ipopt::Nlp`] with exact,
+//! hand-derived sparse derivatives by walking the families node by node.
 
 mod cost;
-mod elastic;
+mod families;
+mod formulation;
 mod hessian;
 mod hold;
-mod jacobian;
+mod kind;
 mod layout;
 mod nlp;
 mod node;
 mod sensitivity;
+#[cfg(test)]
+pub(crate) mod tests;
 
-pub use elastic::{penalty_weights, relaxation, PenaltyWeights, ProblemKind, Relaxation};
+pub use crate::transmission::Space;
+pub use families::elastic::{penalty_weights, relaxation, PenaltyWeights, Relaxation};
+pub use families::FamilyId;
+pub use formulation::{Formulation, FormulationError};
 pub use hold::{margins, EndHold, HoldRows, StaticHold, DEFAULT_HOLD_TOLERANCE_NM};
-pub use layout::{Layout, LinearRows};
+pub use kind::ProblemKind;
+pub use layout::{BlockId, Layout, RowBlock};
 pub use nlp::TrajectoryProblem;
 pub use sensitivity::cost_gradient;
-
-use crate::dynamics::Dynamics;
-use crate::model::task::{LimitMode, LimitModes, Task};
-use crate::model::Robot;
-pub use crate::transmission::Space;
-use crate::transmission::{DesignError, Envelope, MotorDynamics, Transmission};
-use nalgebra::DMatrix;
-use std::fmt;
-
-/// A formulation that cannot be built; the message names the field at fault.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FormulationError(pub String);
-
-impl fmt::Display for FormulationError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for FormulationError {}
-
-/// Everything of a trajectory problem except the design: built once, then
-/// [`Formulation::problem`] for each design.
-#[derive(Clone, Debug)]
-pub struct Formulation {
-    task: Task,
-    transmission: Transmission,
-    dynamics: Dynamics,
-    space: Space,
-    modes: LimitModes,
-    /// Each motor's torque limit (the task's `motors.torque_limit_nm`), N m, one per row of G.
-    torque_limits: Vec<f64>,
-    /// Each motor's speed limit (the task's `motors.speed_limit_rad_s`), rad/s, one per row of G.
-    speed_limits: Vec<f64>,
-    /// The motors' rotor inertia and friction, None for ideal motors (neither key given).
-    motor_dynamics: Option<MotorDynamics>,
-    /// The motors' torque-speed envelope, None without `motors.no_load_speed_rad_s`.
-    envelope: Option<Envelope>,
-    /// A static-hold margin down to minus this holds, N m: the solver's constraint tolerance.
-    hold_tolerance_nm: f64,
-    layout: Layout,
-    /// Structural non-zeros of G (row = motor, column = joint) over the whole design space.
-    g_pattern: DMatrix<f64>,
-    /// Structural non-zeros of the speed rows' matrix: G's in mode `exact`, the identity's where
-    /// the elastic kind turns a box into rows.
-    speed_pattern: DMatrix<f64>,
-    /// The stored entries of one node's Hessian block, in their order.
-    node_hessian: Vec<hessian::Entry>,
-    jacobian: Vec<(usize, usize)>,
-    hessian: Vec<(usize, usize)>,
-}
-
-impl Formulation {
-    /// The hard formulation of `task` for `robot` (payload already set) in `space` with `modes`.
-    pub fn new(
-        task: &Task,
-        robot: Robot,
-        space: Space,
-        modes: LimitModes,
-    ) -> Result<Formulation, FormulationError> {
-        let transmission = Transmission::from_spec(&task.transmission)
-            .map_err(|message| FormulationError(format!("task: {message}")))?;
-        let n = robot.dof();
-        if transmission.dof() != n {
-            return Err(FormulationError(format!(
-                "task: transmission.matrix is {0} x {0} but the robot has {n} joints",
-                transmission.dof()
-            )));
-        }
-        task.motors
-            .validate(n)
-            .map_err(|error| FormulationError(format!("task: {error}")))?;
-        for (name, pose) in [
-            ("motion.start", &task.motion.start),
-            ("motion.goal", &task.motion.goal),
-        ] {
-            if pose.len() != n {
-                return Err(FormulationError(format!(
-                    "task: {name} has {} values but the robot has {n} joints",
-                    pose.len()
-                )));
-            }
-            for (i, (&value, &(lo, hi))) in pose.iter().zip(robot.position_limits()).enumerate() {
-                if value < lo || value > hi {
-                    return Err(FormulationError(format!(
-                        "task: {name}[{i}] = {value} lies outside the joint limits [{lo}, {hi}] of {}",
-                        robot.joint_names()[i]
-                    )));
-                }
-            }
-        }
-        let mut g_pattern = transmission
-            .matrix(transmission.original())
-            .map(|g| f64::from(u8::from(g != 0.0)));
-        for i in 0..transmission.num_ratios() {
-            let derivative = transmission.matrix_derivative(i);
-            g_pattern.zip_apply(&derivative, |p, d| {
-                if d != 0.0 {
-                    *p = 1.0;
-                }
-            });
-        }
-        let envelope = Envelope::of(&task.motors, n);
-        let rows = LinearRows {
-            speed: modes.speed == LimitMode::Exact,
-            torque: space == Space::Joint && modes.torque == LimitMode::Exact,
-            envelope: envelope.is_some(),
-        };
-        let layout = Layout::new(n, task.motion.steps, rows, ProblemKind::Hard);
-        let mut formulation = Formulation {
-            task: task.clone(),
-            transmission,
-            dynamics: Dynamics::new(robot),
-            space,
-            modes,
-            torque_limits: task.motors.torque_limit_nm.values(n),
-            speed_limits: task.motors.speed_limit_rad_s.values(n),
-            motor_dynamics: MotorDynamics::of(&task.motors, n),
-            envelope,
-            hold_tolerance_nm: DEFAULT_HOLD_TOLERANCE_NM,
-            layout,
-            speed_pattern: g_pattern.clone(),
-            g_pattern,
-            node_hessian: hessian::node_entries(n),
-            jacobian: Vec::new(),
-            hessian: Vec::new(),
-        };
-        formulation.jacobian = jacobian::pattern(&formulation);
-        formulation.hessian = hessian::pattern(&formulation);
-        Ok(formulation)
-    }
-
-    /// The same formulation in the elastic kind (docs/model.md, section 14): always feasible,
-    /// with the torque deficit and the speed excess as penalised slacks.
-    pub fn elastic(&self) -> Formulation {
-        self.of_kind(ProblemKind::Elastic)
-    }
-
-    /// The same formulation in the hard kind: the formulation [`Formulation::elastic`] was made
-    /// from.
-    pub fn hard(&self) -> Formulation {
-        self.of_kind(ProblemKind::Hard)
-    }
-
-    /// The same formulation in `kind`. The elastic kind has speed rows in every mode (the box
-    /// modes' rows on the joint speeds, so that a slack can relax them); the hard kind only in
-    /// mode `exact`, on the motor speeds G v.
-    fn of_kind(&self, kind: ProblemKind) -> Formulation {
-        let layout = &self.layout;
-        let boxed = self.modes.speed != LimitMode::Exact;
-        let mut other = self.clone();
-        let rows = LinearRows {
-            speed: kind == ProblemKind::Elastic || !boxed,
-            ..layout.rows()
-        };
-        other.layout = Layout::new(layout.dof, layout.steps, rows, kind);
-        other.speed_pattern = if kind == ProblemKind::Elastic && boxed {
-            DMatrix::identity(layout.dof, layout.dof)
-        } else {
-            self.g_pattern.clone()
-        };
-        other.jacobian = jacobian::pattern(&other);
-        other
-    }
-
-    /// The same formulation (space, modes, kind) for the robot carrying `payload_kg` kg at the
-    /// task's payload point instead.
-    pub fn with_payload(&self, payload_kg: f64) -> Result<Formulation, FormulationError> {
-        let mut task = self.task.clone();
-        task.payload.mass_kg = payload_kg;
-        let robot = self.dynamics.robot().with_payload(payload_kg);
-        let hard = Formulation::new(&task, robot, self.space, self.modes)?
-            .with_hold_tolerance(self.hold_tolerance_nm);
-        Ok(match self.kind() {
-            ProblemKind::Hard => hard,
-            ProblemKind::Elastic => hard.elastic(),
-        })
-    }
-
-    /// The same formulation, a static-hold margin down to minus `tolerance_nm` N m holding
-    /// (the solve settings' constraint tolerance, `SolveSettings::constraint_tolerance`).
-    pub fn with_hold_tolerance(mut self, tolerance_nm: f64) -> Formulation {
-        self.hold_tolerance_nm = tolerance_nm;
-        self
-    }
-
-    /// The tolerance of the static hold's margins, N m ([`Formulation::with_hold_tolerance`]).
-    pub fn hold_tolerance_nm(&self) -> f64 {
-        self.hold_tolerance_nm
-    }
-
-    /// Hard or elastic.
-    pub fn kind(&self) -> ProblemKind {
-        self.layout.kind
-    }
-
-    /// The problem of design `ratios`, or why the design is not valid.
-    pub fn problem(&self, ratios: &[f64]) -> Result<TrajectoryProblem<'_>, DesignError> {
-        TrajectoryProblem::new(self, ratios)
-    }
-
-    /// The task.
-    pub fn task(&self) -> &Task {
-        &self.task
-    }
-
-    /// The transmission's structure and design space.
-    pub fn transmission(&self) -> &Transmission {
-        &self.transmission
-    }
-
-    /// The robot's dynamics model (with the payload), shared by every problem of the formulation.
-    pub fn dynamics(&self) -> &Dynamics {
-        &self.dynamics
-    }
-
-    /// Joint or actuation space.
-    pub fn space(&self) -> Space {
-        self.space
-    }
-
-    /// The limit modes.
-    pub fn modes(&self) -> &LimitModes {
-        &self.modes
-    }
-
-    /// Each motor's torque limit |tau_u,i| <= limit_i, N m (motor i = row i of G).
-    pub fn motor_torque_limits(&self) -> &[f64] {
-        &self.torque_limits
-    }
-
-    /// Each motor's speed limit |qd_u,i| <= limit_i, rad/s (motor i = row i of G).
-    pub fn motor_speed_limits(&self) -> &[f64] {
-        &self.speed_limits
-    }
-
-    /// The motors' rotor inertia and viscous friction, None for ideal motors.
-    pub fn motor_dynamics(&self) -> Option<&MotorDynamics> {
-        self.motor_dynamics.as_ref()
-    }
-
-    /// The motors' torque-speed envelope, None without `motors.no_load_speed_rad_s`.
-    pub fn envelope(&self) -> Option<&Envelope> {
-        self.envelope.as_ref()
-    }
-
-    /// The index layout.
-    pub fn layout(&self) -> &Layout {
-        &self.layout
-    }
-
-    /// Time step h = T/N, s.
-    pub fn step_s(&self) -> f64 {
-        self.task.step_s()
-    }
-
-    /// Number of structural non-zeros of the constraint Jacobian.
-    pub fn jacobian_nonzeros(&self) -> usize {
-        self.jacobian.len()
-    }
-
-    /// Number of structural non-zeros of the Lagrangian Hessian's lower triangle.
-    pub fn hessian_nonzeros(&self) -> usize {
-        self.hessian.len()
-    }
-}

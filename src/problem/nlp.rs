@@ -1,19 +1,17 @@
-//! The trajectory problem of one design as an [`Nlp`]: bounds, initial guess, cost,
-//! constraints and their exact sparse derivatives. The cost is in `cost.rs`, the Jacobian's
-//! entries in `jacobian.rs`, the Hessian's blocks in `hessian.rs`, the elastic kind's penalty
-//! in `elastic.rs`.
+//! The trajectory problem of one design as an [`Nlp`]: a thin adapter that walks the
+//! formulation's constraint families (`families/`) node by node for the bounds, the values and
+//! the Jacobian, adds the cost (`cost.rs`) and the elastic kind's penalty, and assembles the
+//! Hessian's node blocks (`hessian.rs`).
 
 use super::cost::Cost;
-use super::elastic;
+use super::families::{self, elastic, At, Place};
+use super::formulation::Formulation;
 use super::hessian::NodeHessian;
-use super::jacobian::{self, EnvelopeData, JacobianData};
+use super::kind::ProblemKind;
 use super::node::{Level, NodeEval};
-use super::{Formulation, ProblemKind};
 use crate::dynamics::Workspace;
 use crate::ipopt::{EvalError, Nlp};
-use crate::model::task::LimitMode;
-use crate::transmission::{Actuation, Coupling, DesignError, JointLimits, Side, Space};
-use nalgebra::{DMatrix, DVector};
+use crate::transmission::{Actuation, Coupling, DesignError, JointLimits, Space};
 
 /// The trajectory NLP of one design (see [`Formulation`]).
 #[derive(Clone, Debug)]
@@ -22,13 +20,6 @@ pub struct TrajectoryProblem<'a> {
     ratios: Vec<f64>,
     /// G(r), its inverse, and the controls' map to joint and motor torques.
     actuation: Actuation,
-    /// The speed rows' matrix: G (motor speeds, mode `exact`) or the identity (joint speeds, the
-    /// elastic kind's rows in modes `paper` and `interval`).
-    speed_map: DMatrix<f64>,
-    /// B = G A^-1, with A the speed rows' matrix: the map from the elastic kind's speed
-    /// relaxations d = e- - e+ of a node to the motor speeds its envelope rows see, G v + B d
-    /// (the identity in mode `exact`, G in the box modes).
-    envelope_slack_map: DMatrix<f64>,
     /// One dynamics workspace per node k < N (all of the formulation's one model), so that each
     /// keeps its node's kinematics cached from one callback to the next (the Hessian reuses what
     /// the Jacobian computed at the same point).
@@ -45,28 +36,16 @@ pub struct TrajectoryProblem<'a> {
 impl<'a> TrajectoryProblem<'a> {
     pub(super) fn new(formulation: &'a Formulation, ratios: &[f64]) -> Result<Self, DesignError> {
         // The coupling checks the design (bounds, order, G(r) invertible) before building G(r).
-        let coupling = formulation.transmission.coupling(ratios)?;
-        let n = formulation.layout.dof;
-        let (speed_map, envelope_slack_map) = match formulation.modes.speed {
-            LimitMode::Exact => (coupling.matrix().clone(), DMatrix::identity(n, n)),
-            LimitMode::Paper | LimitMode::Interval => {
-                (DMatrix::identity(n, n), coupling.matrix().clone())
-            }
-        };
+        let coupling = formulation.transmission().coupling(ratios)?;
+        let (n, steps) = (formulation.layout().dof, formulation.layout().steps);
         Ok(TrajectoryProblem {
             formulation,
             ratios: ratios.to_vec(),
-            actuation: Actuation::new(
-                coupling,
-                formulation.space,
-                formulation.motor_dynamics.as_ref(),
-            ),
-            speed_map,
-            envelope_slack_map,
-            workspaces: (0..formulation.layout.steps)
-                .map(|_| formulation.dynamics.workspace())
+            actuation: Actuation::new(coupling, formulation.space(), formulation.motor_dynamics()),
+            workspaces: (0..steps)
+                .map(|_| formulation.dynamics().workspace())
                 .collect(),
-            nodes: vec![NodeEval::zeros(n); formulation.layout.steps],
+            nodes: vec![NodeEval::zeros(n); steps],
             level: Level::Nothing,
             node_hessian: NodeHessian::zeros(n),
             start: None,
@@ -78,7 +57,7 @@ impl<'a> TrajectoryProblem<'a> {
     /// instead of the standard initial guess; the multipliers start as in a cold start. An
     /// error when `x` is shorter than the trajectory or not finite.
     pub fn start_at(&mut self, x: &[f64]) -> Result<(), crate::ipopt::Error> {
-        let trajectory = self.formulation.layout.slacks().start;
+        let trajectory = self.formulation.layout().slacks().start;
         let Some(own) = x.get(..trajectory) else {
             return Err(crate::ipopt::Error::InvalidProblem(format!(
                 "a start of {} values is shorter than the trajectory's {trajectory}",
@@ -130,67 +109,21 @@ impl<'a> TrajectoryProblem<'a> {
     /// The box or linear rows that limit the joint speeds v in the formulation's speed mode, rad/s.
     pub fn speed_limits(&self) -> JointLimits {
         let f = self.formulation;
-        self.coupling().speed_limits(f.modes.speed, &f.speed_limits)
+        self.coupling()
+            .speed_limits(f.modes().speed, f.motor_speed_limits())
     }
 
     /// The box or linear rows that limit the controls u: |u_i| <= motor i's torque limit in
     /// actuation space, the formulation's torque mode in joint space, N m.
     pub fn control_limits(&self) -> JointLimits {
         let f = self.formulation;
-        let limits = &f.torque_limits;
-        match f.space {
+        let limits = f.motor_torque_limits();
+        match f.space() {
             Space::Actuation => JointLimits::Box {
                 lower: limits.iter().map(|limit| -limit).collect(),
-                upper: limits.clone(),
+                upper: limits.to_vec(),
             },
-            Space::Joint => self.coupling().torque_limits(f.modes.torque, limits),
-        }
-    }
-
-    /// The elastic kind's relaxation d = e- - e+ of node k's speed rows at x (0 < k < N), the
-    /// amount by which each row's value is shifted; None in the hard kind.
-    pub(super) fn speed_relaxation(&self, x: &[f64], k: usize) -> Option<DVector<f64>> {
-        let layout = &self.formulation.layout;
-        let columns: Option<Vec<[usize; 2]>> =
-            (0..layout.dof).map(|i| layout.excess_slack(k, i)).collect();
-        columns.map(|columns| {
-            DVector::from_iterator(
-                columns.len(),
-                columns.iter().map(|&[plus, minus]| x[minus] - x[plus]),
-            )
-        })
-    }
-
-    /// The motor speeds node k's envelope rows see at x (0 < k < N), rad/s: G v_k, and in the
-    /// elastic kind G v_k + B d_k, the motor speeds of the relaxed speed rows (docs/model.md,
-    /// section 14).
-    fn envelope_speeds(&self, x: &[f64], k: usize) -> DVector<f64> {
-        let layout = &self.formulation.layout;
-        let v = DVector::from_column_slice(&x[layout.v(k, 0)..layout.v(k, 0) + layout.dof]);
-        let speeds = self.coupling().matrix() * v;
-        match self.speed_relaxation(x, k) {
-            Some(d) => speeds + &self.envelope_slack_map * d,
-            None => speeds,
-        }
-    }
-
-    /// Writes node k's envelope rows at x into g (a no-op where the node has none).
-    fn envelope_constraints(&self, x: &[f64], k: usize, g: &mut [f64]) {
-        let f = self.formulation;
-        let (layout, Some(envelope)) = (&f.layout, &f.envelope) else {
-            return;
-        };
-        if layout.envelope_row(k, 0, Side::Plus).is_none() {
-            return;
-        }
-        let torques = self.motor_torques(&x[layout.u(k, 0)..layout.u(k, 0) + layout.dof]);
-        let speeds = self.envelope_speeds(x, k);
-        for i in 0..layout.dof {
-            for side in Side::BOTH {
-                if let Some(row) = layout.envelope_row(k, i, side) {
-                    g[row] = envelope.row(i, side, torques[i], speeds[i]);
-                }
-            }
+            Space::Joint => self.coupling().torque_limits(f.modes().torque, limits),
         }
     }
 
@@ -211,99 +144,49 @@ impl<'a> TrajectoryProblem<'a> {
         let f = self.formulation;
         let nodes = self.nodes.iter_mut().zip(&mut self.workspaces);
         for (k, (node, data)) in nodes.enumerate() {
-            node.evaluate(&f.dynamics, data, f.layout.node_state(x, k), level);
+            node.evaluate(f.dynamics(), data, f.layout().node_state(x, k), level);
         }
         self.level = level;
         Ok(())
     }
 }
 
+impl TrajectoryProblem<'_> {
+    /// Each family's rows at each node, with where they sit.
+    fn places(&self) -> impl Iterator<Item = (&dyn families::Family, Place)> + '_ {
+        let f = self.formulation;
+        let layout = f.layout();
+        (0..layout.steps).flat_map(move |k| {
+            f.families().iter().filter_map(move |(id, family)| {
+                let row = layout.first_row(*id, k)?;
+                Some((family.as_ref(), Place { k, row }))
+            })
+        })
+    }
+}
+
 impl Nlp for TrajectoryProblem<'_> {
     fn num_variables(&self) -> usize {
-        self.formulation.layout.num_variables()
+        self.formulation.layout().num_variables()
     }
 
     fn num_constraints(&self) -> usize {
-        self.formulation.layout.num_constraints()
+        self.formulation.layout().num_constraints()
     }
 
     fn variable_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
-        let f = self.formulation;
-        let (layout, task) = (&f.layout, &f.task);
-        let n = layout.dof;
         lower.fill(f64::NEG_INFINITY);
         upper.fill(f64::INFINITY);
-        let limits = f.dynamics.robot().position_limits();
-        let speed = self.speed_limits();
-        let torque = self.control_limits();
-        for k in 0..=layout.steps {
-            for i in 0..n {
-                let (q, v) = (layout.q(k, i), layout.v(k, i));
-                (lower[q], upper[q]) = limits[i];
-                if let (
-                    JointLimits::Box {
-                        lower: lo,
-                        upper: hi,
-                    },
-                    false,
-                ) = (&speed, layout.speed_rows)
-                {
-                    (lower[v], upper[v]) = (lo[i], hi[i]);
-                }
-                if k < layout.steps {
-                    if let JointLimits::Box {
-                        lower: lo,
-                        upper: hi,
-                    } = &torque
-                    {
-                        let u = layout.u(k, i);
-                        (lower[u], upper[u]) = (lo[i], hi[i]);
-                    }
-                }
-            }
+        for (_, family) in self.formulation.families() {
+            family.variable_bounds(self, lower, upper);
         }
-        for i in 0..n {
-            for (k, pose) in [(0, &task.motion.start), (layout.steps, &task.motion.goal)] {
-                let (q, v) = (layout.q(k, i), layout.v(k, i));
-                (lower[q], upper[q]) = (pose[i], pose[i]);
-                (lower[v], upper[v]) = (0.0, 0.0);
-            }
-            if task.motion.ends.rests() {
-                // At rest at both ends: a = 0 at node 0 and at node N-1, the last node with an
-                // acceleration (its interval ends at q_N, v_N).
-                for k in [0, layout.steps - 1] {
-                    let a = layout.a(k, i);
-                    (lower[a], upper[a]) = (0.0, 0.0);
-                }
-            }
-        }
-        lower[layout.slacks()].fill(0.0);
     }
 
     fn constraint_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
-        let f = self.formulation;
-        let layout = &f.layout;
         lower.fill(0.0);
         upper.fill(0.0);
-        let torque = &f.torque_limits;
-        let speed = self.speed_limits();
-        for k in 0..layout.steps {
-            for i in 0..layout.dof {
-                if let Some(row) = layout.speed_row(k, i) {
-                    (lower[row], upper[row]) = match &speed {
-                        JointLimits::Linear { limits, .. } => (-limits[i], limits[i]),
-                        JointLimits::Box { lower, upper } => (lower[i], upper[i]),
-                    };
-                }
-                if let Some(row) = layout.torque_row(k, i) {
-                    (lower[row], upper[row]) = (-torque[i], torque[i]);
-                }
-                for side in Side::BOTH {
-                    if let Some(row) = layout.envelope_row(k, i, side) {
-                        (lower[row], upper[row]) = (-torque[i], torque[i]);
-                    }
-                }
-            }
+        for (family, place) in self.places() {
+            family.row_bounds(self, place, lower, upper);
         }
     }
 
@@ -312,7 +195,7 @@ impl Nlp for TrajectoryProblem<'_> {
     /// [`TrajectoryProblem::start_at`], slacks at 0.
     fn initial_point(&self, x: &mut [f64]) {
         let f = self.formulation;
-        let (layout, motion) = (&f.layout, &f.task.motion);
+        let (layout, motion) = (f.layout(), &f.task().motion);
         x.fill(0.0);
         if let Some(start) = &self.start {
             x[..start.len()].copy_from_slice(start);
@@ -333,8 +216,8 @@ impl Nlp for TrajectoryProblem<'_> {
     fn objective(&mut self, x: &[f64], new_x: bool) -> Result<f64, EvalError> {
         self.evaluate(x, new_x, Level::Values)?;
         let f = self.formulation;
-        let cost = Cost::new(&f.task, &f.layout).value(x, &self.nodes);
-        Ok(match f.layout.kind {
+        let cost = Cost::new(f.task(), f.layout()).value(x, &self.nodes);
+        Ok(match f.layout().kind {
             ProblemKind::Hard => cost,
             ProblemKind::Elastic => cost + elastic::penalty(f, x),
         })
@@ -343,49 +226,21 @@ impl Nlp for TrajectoryProblem<'_> {
     fn gradient(&mut self, x: &[f64], new_x: bool, gradient: &mut [f64]) -> Result<(), EvalError> {
         self.evaluate(x, new_x, Level::Derivatives)?;
         let f = self.formulation;
-        Cost::new(&f.task, &f.layout).gradient(x, &self.nodes, gradient);
+        Cost::new(f.task(), f.layout()).gradient(x, &self.nodes, gradient);
         elastic::penalty_gradient(f, gradient);
         Ok(())
     }
 
     fn constraints(&mut self, x: &[f64], new_x: bool, g: &mut [f64]) -> Result<(), EvalError> {
         self.evaluate(x, new_x, Level::Values)?;
-        let f = self.formulation;
-        let layout = &f.layout;
-        let (n, h) = (layout.dof, f.step_s());
-        let slack = |slacks: Option<[usize; 2]>| slacks.map(|[plus, minus]| x[minus] - x[plus]);
-        for (k, node) in self.nodes.iter().enumerate() {
-            let u = &x[layout.u(k, 0)..layout.u(k, 0) + n];
-            let (_, v, a) = layout.node_state(x, k);
-            for i in 0..n {
-                g[layout.dynamics_row(k, i)] = self.actuation.residual(i, &node.tau, (v, a), u);
-                if let Some(s) = slack(layout.deficit_slack(k, i)) {
-                    g[layout.dynamics_row(k, i)] += s;
-                }
-                g[layout.velocity_row(k, i)] =
-                    x[layout.v(k + 1, i)] - x[layout.v(k, i)] - h * x[layout.a(k, i)];
-                g[layout.position_row(k, i)] =
-                    x[layout.q(k + 1, i)] - x[layout.q(k, i)] - h * x[layout.v(k + 1, i)];
-                if let Some(row) = layout.speed_row(k, i) {
-                    g[row] = (0..n)
-                        .map(|j| self.speed_map[(i, j)] * x[layout.v(k, j)])
-                        .sum();
-                    if let Some(e) = slack(layout.excess_slack(k, i)) {
-                        g[row] += e;
-                    }
-                }
-                if let Some(row) = layout.torque_row(k, i) {
-                    let motor_of_joint = self.actuation.motor_of_joint();
-                    g[row] = (0..n).map(|j| motor_of_joint[(i, j)] * u[j]).sum();
-                }
-            }
-            self.envelope_constraints(x, k, g);
+        for (family, place) in self.places() {
+            family.values(self, x, &self.nodes[place.k], place, g);
         }
         Ok(())
     }
 
     fn jacobian_structure(&self) -> Vec<(usize, usize)> {
-        self.formulation.jacobian.clone()
+        self.formulation.jacobian().to_vec()
     }
 
     fn jacobian_values(
@@ -395,30 +250,9 @@ impl Nlp for TrajectoryProblem<'_> {
         values: &mut [f64],
     ) -> Result<(), EvalError> {
         self.evaluate(x, new_x, Level::Derivatives)?;
-        let f = self.formulation;
-        let layout = &f.layout;
-        let pattern = jacobian::control_pattern(f);
-        let envelope_pattern = jacobian::EnvelopePattern::of(f);
         let mut next = 0;
-        let data = JacobianData {
-            control_map: self.actuation.control_map(),
-            control_pattern: &pattern,
-            reflected: self.actuation.reflected(),
-            speed: layout
-                .speed_rows
-                .then_some((&self.speed_map, &f.speed_pattern)),
-            torque: layout
-                .torque_rows
-                .then_some(self.actuation.motor_of_joint()),
-            envelope: f.envelope.as_ref().map(|envelope| EnvelopeData {
-                envelope,
-                torque: (self.actuation.motor_of_control(), &envelope_pattern.torque),
-                speed: (self.coupling().matrix(), &f.g_pattern),
-                slack: (&self.envelope_slack_map, &envelope_pattern.slack),
-            }),
-            h: f.step_s(),
-        };
-        jacobian::visit(layout, &data, &self.nodes, |_, _, value| {
+        let at = At::Design(self);
+        families::visit_jacobian(&at, |k| &self.nodes[k], &mut |_, _, value| {
             values[next] = value;
             next += 1;
         });
@@ -426,7 +260,7 @@ impl Nlp for TrajectoryProblem<'_> {
     }
 
     fn hessian_structure(&self) -> Vec<(usize, usize)> {
-        self.formulation.hessian.clone()
+        self.formulation.hessian().to_vec()
     }
 
     fn hessian_values(
@@ -439,600 +273,16 @@ impl Nlp for TrajectoryProblem<'_> {
     ) -> Result<(), EvalError> {
         self.evaluate(x, new_x, Level::Derivatives)?;
         let f = self.formulation;
-        let layout = &f.layout;
-        let cost = Cost::new(&f.task, layout);
-        let per_node = f.node_hessian.len();
+        let layout = f.layout();
+        let cost = Cost::new(f.task(), layout);
+        let per_node = f.node_hessian().len();
         let nodes = self.nodes.iter().zip(&mut self.workspaces);
         for (k, ((node, data), values)) in nodes.zip(values.chunks_mut(per_node)).enumerate() {
-            let row = layout.dynamics_row(k, 0);
-            self.node_hessian.evaluate(
-                (&f.dynamics, data),
-                &cost,
-                layout.node_state(x, k),
-                node,
-                &lambda[row..row + layout.dof],
-            );
-            self.node_hessian.write(&f.node_hessian, obj_factor, values);
+            self.node_hessian
+                .evaluate((f, k, data), &cost, layout.node_state(x, k), node, lambda);
+            self.node_hessian
+                .write(f.node_hessian(), obj_factor, values);
         }
         Ok(())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::ipopt::{check_derivatives, DerivativeOrder, Options};
-    use crate::model::task::{LimitMode, LimitModes, Task};
-    use crate::model::Robot;
-    use crate::problem::penalty_weights;
-    use crate::testing::{self, Random};
-
-    fn task() -> Task {
-        testing::task()
-    }
-
-    /// The default task with 5 steps: every block of the full problem's structure (first, inner
-    /// and last nodes) is there, and IPOPT 3.11's derivative checker, whose cost grows with the
-    /// fourth power of the size, takes 0.1 s instead of 10 minutes.
-    fn formulation(space: Space, torque: LimitMode, speed: LimitMode, payload: f64) -> Formulation {
-        let mut task = task();
-        task.motion.steps = 5;
-        task.payload.mass_kg = payload;
-        let robot = Robot::load(&task).unwrap();
-        Formulation::new(&task, robot, space, LimitModes { torque, speed }).unwrap()
-    }
-
-    /// [`formulation`] with scaled entries in G (`0.5*r2`, `-2*r3`), in both spaces with the
-    /// linear (exact) limits, whose rows carry G's entries.
-    fn scaled_formulations() -> Vec<Formulation> {
-        use crate::model::task::MatrixEntry;
-        [Space::Actuation, Space::Joint]
-            .into_iter()
-            .map(|space| {
-                let mut task = task();
-                task.motion.steps = 5;
-                task.payload.mass_kg = 1.0;
-                let matrix = &mut task.transmission.matrix;
-                matrix[1][0] = MatrixEntry::Ratio("0.5*r2".into());
-                for row in [2, 3] {
-                    matrix[row][1] = MatrixEntry::Ratio("-2*r3".into());
-                }
-                let robot = Robot::load(&task).unwrap();
-                let modes = LimitModes {
-                    torque: LimitMode::Exact,
-                    speed: LimitMode::Exact,
-                };
-                Formulation::new(&task, robot, space, modes).unwrap()
-            })
-            .collect()
-    }
-
-    /// Every combination of space and modes (torque modes only matter in joint space), and a G
-    /// with scaled entries, each in the hard and the elastic kind.
-    /// The rotor inertias (kg m^2) and frictions (N m s/rad) of the motor-term tests, one per
-    /// motor: larger than real ones, so that their reflected terms weigh in the derivatives.
-    pub(crate) fn motor_terms() -> (Vec<f64>, Vec<f64>) {
-        (vec![3e-3, 2e-3, 1e-3, 5e-4], vec![2e-2, 1e-2, 0.0, 5e-3])
-    }
-
-    /// The motors' no-load speeds (rad/s) of the envelope tests, one per motor: low enough for
-    /// the envelope to bind in the 5-step problems' solutions.
-    pub(crate) fn no_load_speeds() -> Vec<f64> {
-        vec![60.0, 50.0, 40.0, 45.0]
-    }
-
-    /// [`formulation`]s with every motor term set (rotor inertia, friction, torque-speed
-    /// envelope): actuation space, and joint space in every torque mode, speed mode `exact`.
-    fn motor_formulations() -> Vec<Formulation> {
-        use crate::model::task::PerMotor;
-        let (inertia, friction) = motor_terms();
-        [
-            (Space::Actuation, LimitMode::Paper),
-            (Space::Joint, LimitMode::Paper),
-            (Space::Joint, LimitMode::Interval),
-            (Space::Joint, LimitMode::Exact),
-        ]
-        .into_iter()
-        .map(|(space, torque)| {
-            let mut task = task();
-            task.motion.steps = 5;
-            task.payload.mass_kg = 1.0;
-            task.motors.rotor_inertia_kgm2 = Some(PerMotor::Each(inertia.clone()));
-            task.motors.viscous_friction_nm_s_per_rad = Some(PerMotor::Each(friction.clone()));
-            task.motors.no_load_speed_rad_s = Some(PerMotor::Each(no_load_speeds()));
-            let robot = Robot::load(&task).unwrap();
-            let modes = LimitModes {
-                torque,
-                speed: LimitMode::Exact,
-            };
-            Formulation::new(&task, robot, space, modes).unwrap()
-        })
-        .collect()
-    }
-
-    /// [`formulation`]s with the torque-speed envelope alone, under the box speed modes (whose
-    /// elastic kind relaxes joint speeds, which reach the envelope rows through G), both spaces,
-    /// and with one no-load speed for every motor.
-    fn envelope_formulations() -> Vec<Formulation> {
-        use crate::model::task::PerMotor;
-        [
-            (Space::Actuation, LimitMode::Paper, LimitMode::Interval),
-            (Space::Joint, LimitMode::Exact, LimitMode::Paper),
-            (Space::Joint, LimitMode::Interval, LimitMode::Interval),
-        ]
-        .into_iter()
-        .map(|(space, torque, speed)| {
-            let f = formulation(space, torque, speed, 1.0);
-            let mut task = f.task().clone();
-            task.motors.no_load_speed_rad_s = Some(PerMotor::All(45.0));
-            Formulation::new(&task, f.dynamics().robot().clone(), space, *f.modes()).unwrap()
-        })
-        .collect()
-    }
-
-    /// [`formulation`]s with `motion.ends` `rest`: the accelerations at nodes 0 and N-1 fixed
-    /// at 0, in both spaces.
-    fn rest_formulations() -> Vec<Formulation> {
-        [
-            (Space::Actuation, LimitMode::Paper),
-            (Space::Joint, LimitMode::Exact),
-        ]
-        .into_iter()
-        .map(|(space, torque)| {
-            let mut task = task();
-            task.motion.steps = 5;
-            task.motion.ends = crate::model::task::Ends::Rest;
-            let robot = Robot::load(&task).unwrap();
-            let modes = LimitModes {
-                torque,
-                speed: LimitMode::Exact,
-            };
-            Formulation::new(&task, robot, space, modes).unwrap()
-        })
-        .collect()
-    }
-
-    fn all_formulations() -> Vec<Formulation> {
-        let modes = [LimitMode::Paper, LimitMode::Interval, LimitMode::Exact];
-        let mut list = Vec::new();
-        for speed in modes {
-            list.push(formulation(Space::Actuation, LimitMode::Paper, speed, 1.0));
-            for torque in modes {
-                list.push(formulation(Space::Joint, torque, speed, 1.0));
-            }
-        }
-        list.extend(scaled_formulations());
-        list.extend(motor_formulations());
-        list.extend(envelope_formulations());
-        list.extend(rest_formulations());
-        let elastic: Vec<_> = list.iter().map(Formulation::elastic).collect();
-        list.extend(elastic);
-        list
-    }
-
-    /// A point near the initial guess with every trajectory variable moved: the TCP leaves the
-    /// box at some nodes, so the penalty's derivatives are exercised too. The elastic kind's
-    /// slacks stay at 0: they enter linearly, so their derivatives are the same everywhere, and
-    /// at a moved slack the l1 penalty (weights up to 3e5) would make the objective so large
-    /// that its differences lose the gradient's digits.
-    fn random_point(problem: &TrajectoryProblem<'_>, seed: u64) -> Vec<f64> {
-        let mut x = vec![0.0; problem.num_variables()];
-        problem.initial_point(&mut x);
-        let mut rng = Random::new(seed);
-        for value in &mut x {
-            *value += 0.6 * (rng.unit() - 0.5);
-        }
-        x[problem.formulation.layout.slacks()].fill(0.0);
-        x
-    }
-
-    #[test]
-    fn sparse_derivatives_match_finite_differences() {
-        for f in all_formulations() {
-            let mut problem = f.problem(&[7.0, 4.0, 2.0, 1.5]).unwrap();
-            let (n, m) = (problem.num_variables(), problem.num_constraints());
-            let x = random_point(&problem, 7);
-            let lambda: Vec<f64> = {
-                let mut rng = Random::new(11);
-                (0..m).map(|_| rng.unit() - 0.5).collect()
-            };
-            let obj_factor = 0.7;
-            let mut gradient = vec![0.0; n];
-            problem.gradient(&x, true, &mut gradient).unwrap();
-            let mut jacobian = vec![0.0; f.jacobian_nonzeros()];
-            problem.jacobian_values(&x, false, &mut jacobian).unwrap();
-            let mut hessian = vec![0.0; f.hessian_nonzeros()];
-            problem
-                .hessian_values(&x, false, obj_factor, &lambda, &mut hessian)
-                .unwrap();
-            let mut dense_jacobian = DMatrix::<f64>::zeros(m, n);
-            for (&(r, c), &value) in f.jacobian.iter().zip(&jacobian) {
-                dense_jacobian[(r, c)] += value;
-            }
-            let mut dense_hessian = DMatrix::<f64>::zeros(n, n);
-            for (&(r, c), &value) in f.hessian.iter().zip(&hessian) {
-                dense_hessian[(r, c)] += value;
-                if r != c {
-                    dense_hessian[(c, r)] += value;
-                }
-            }
-            // Central differences of the objective/constraints and of the Lagrangian's gradient.
-            let lagrangian_gradient = |problem: &mut TrajectoryProblem<'_>, x: &[f64]| {
-                let mut grad = vec![0.0; n];
-                problem.gradient(x, true, &mut grad).unwrap();
-                let mut values = vec![0.0; f.jacobian_nonzeros()];
-                problem.jacobian_values(x, false, &mut values).unwrap();
-                let mut out: Vec<f64> = grad.iter().map(|g| obj_factor * g).collect();
-                for (&(r, c), &value) in f.jacobian.iter().zip(&values) {
-                    out[c] += lambda[r] * value;
-                }
-                out
-            };
-            let step = 1e-6;
-            for j in 0..n {
-                let (mut plus, mut minus) = (x.clone(), x.clone());
-                plus[j] += step;
-                minus[j] -= step;
-                let fd = (problem.objective(&plus, true).unwrap()
-                    - problem.objective(&minus, true).unwrap())
-                    / (2.0 * step);
-                assert!(
-                    (fd - gradient[j]).abs() <= 1e-5 * (1.0 + fd.abs()),
-                    "gradient[{j}]: {} vs fd {fd}",
-                    gradient[j]
-                );
-                let (mut g_plus, mut g_minus) = (vec![0.0; m], vec![0.0; m]);
-                problem.constraints(&plus, true, &mut g_plus).unwrap();
-                problem.constraints(&minus, true, &mut g_minus).unwrap();
-                for i in 0..m {
-                    let fd = (g_plus[i] - g_minus[i]) / (2.0 * step);
-                    let exact = dense_jacobian[(i, j)];
-                    assert!(
-                        (fd - exact).abs() <= 1e-5 * (1.0 + fd.abs()),
-                        "jacobian ({i}, {j}): {exact} vs fd {fd}"
-                    );
-                }
-                let (l_plus, l_minus) = (
-                    lagrangian_gradient(&mut problem, &plus),
-                    lagrangian_gradient(&mut problem, &minus),
-                );
-                for i in 0..n {
-                    let fd = (l_plus[i] - l_minus[i]) / (2.0 * step);
-                    let exact = dense_hessian[(i, j)];
-                    assert!(
-                        (fd - exact).abs() <= 1e-5 * (1.0 + fd.abs()),
-                        "hessian ({i}, {j}): {exact} vs fd {fd}"
-                    );
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn ipopt_derivative_checker_finds_nothing() {
-        for f in all_formulations() {
-            // IPOPT's random point moves the slacks too (see `random_point`): the elastic kind is
-            // checked at the initial guess, where they are 0.
-            let points = match f.kind() {
-                ProblemKind::Hard => &[("initial guess", 0.0), ("random interior point", 0.05)][..],
-                ProblemKind::Elastic => &[("initial guess", 0.0)][..],
-            };
-            for &(point, radius) in points {
-                let mut problem = f.problem(&[6.0, 3.0, 1.0, 1.0]).unwrap();
-                let options = Options::new()
-                    .num("point_perturbation_radius", radius)
-                    .num("derivative_test_perturbation", 1e-7)
-                    .num("derivative_test_tol", 1e-4);
-                let report =
-                    check_derivatives(&mut problem, &options, DerivativeOrder::Second).unwrap();
-                assert_eq!(
-                    report.errors,
-                    0,
-                    "{:?} {} space, modes {:?}, motors {:?} {:?}, {point}: {:?}",
-                    f.kind(),
-                    f.space(),
-                    f.modes(),
-                    f.motor_dynamics(),
-                    f.envelope(),
-                    &report.flagged[..report.flagged.len().min(10)]
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn pattern_is_lower_triangular_and_unique() {
-        for f in all_formulations() {
-            let mut seen = std::collections::HashSet::new();
-            for &(r, c) in &f.hessian {
-                assert!(r >= c);
-                assert!(seen.insert((r, c)), "duplicate Hessian entry ({r}, {c})");
-            }
-            let mut seen = std::collections::HashSet::new();
-            for &entry in &f.jacobian {
-                assert!(seen.insert(entry), "duplicate Jacobian entry {entry:?}");
-            }
-        }
-    }
-
-    /// The elastic problem is the hard one plus its slacks: with the slacks at zero it has the
-    /// hard objective and rows (the rows replacing box speed bounds hold v itself), slacks enter
-    /// their rows as -s+ + s- and the objective with the weights, and the bounds are the hard
-    /// ones with the slacks at >= 0 and (box modes) the inner speeds free.
-    #[test]
-    fn elastic_problem_is_the_hard_one_plus_slacks() {
-        for hard in all_formulations()
-            .iter()
-            .filter(|f| f.kind() == ProblemKind::Hard)
-        {
-            let elastic = hard.elastic();
-            let ratios = [7.0, 4.0, 2.0, 1.5];
-            let (mut p, mut q) = (
-                hard.problem(&ratios).unwrap(),
-                elastic.problem(&ratios).unwrap(),
-            );
-            let (layout, n) = (elastic.layout(), p.num_variables());
-            let mut x = random_point(&q, 3);
-            x[layout.slacks()].fill(0.0);
-            assert_eq!(x[..n], random_point(&p, 3)[..n]);
-            let (mut g_hard, mut g) = (
-                vec![0.0; p.num_constraints()],
-                vec![0.0; q.num_constraints()],
-            );
-            p.constraints(&x[..n], true, &mut g_hard).unwrap();
-            q.constraints(&x, true, &mut g).unwrap();
-            let objective = p.objective(&x[..n], true).unwrap();
-            assert_eq!(q.objective(&x, true).unwrap(), objective);
-            let weights = penalty_weights(hard.space());
-            let [plus, minus] = layout.deficit_slack(2, 1).unwrap();
-            (x[plus], x[minus]) = (0.25, 0.5);
-            let mut shifted = vec![0.0; g.len()];
-            q.constraints(&x, true, &mut shifted).unwrap();
-            let row = layout.dynamics_row(2, 1);
-            assert!((shifted[row] - g[row] - 0.25).abs() < 1e-12);
-            let penalty = q.objective(&x, true).unwrap() - objective;
-            assert!((penalty - 0.75 * weights.torque).abs() < 1e-9 * weights.torque);
-            let (mut lower, mut upper) =
-                (vec![0.0; q.num_variables()], vec![0.0; q.num_variables()]);
-            q.variable_bounds(&mut lower, &mut upper);
-            let (mut hard_lower, mut hard_upper) = (vec![0.0; n], vec![0.0; n]);
-            p.variable_bounds(&mut hard_lower, &mut hard_upper);
-            assert!(layout
-                .slacks()
-                .all(|c| lower[c] == 0.0 && upper[c] == f64::INFINITY));
-            for c in 0..n {
-                let free_speed = lower[c] == f64::NEG_INFINITY && upper[c] == f64::INFINITY;
-                let same = (lower[c], upper[c]) == (hard_lower[c], hard_upper[c]);
-                assert!(same || (free_speed && hard.modes().speed != LimitMode::Exact));
-            }
-            let (mut row_lower, mut row_upper) = (vec![0.0; g.len()], vec![0.0; g.len()]);
-            q.constraint_bounds(&mut row_lower, &mut row_upper);
-            for (k, i) in (1..layout.steps).flat_map(|k| (0..layout.dof).map(move |i| (k, i))) {
-                let row = layout.speed_row(k, i).unwrap();
-                if hard.modes().speed == LimitMode::Exact {
-                    assert_eq!(g[row], g_hard[hard.layout().speed_row(k, i).unwrap()]);
-                } else {
-                    let v = layout.v(k, i);
-                    assert_eq!(g[row], x[v]);
-                    assert_eq!(
-                        (row_lower[row], row_upper[row]),
-                        (hard_lower[v], hard_upper[v])
-                    );
-                }
-            }
-        }
-    }
-
-    /// The envelope rows: the hard kind's rows hold tau_u +- c G v within the torque limit at
-    /// the nodes 0 < k < N; the elastic kind's are the same at zero slack, and a speed slack
-    /// moves them as it moves the motor speeds, by c B d (B = G A^-1: the identity in mode
-    /// `exact`, G in the box modes).
-    #[test]
-    fn envelope_rows_hold_motor_torque_and_relaxed_motor_speed() {
-        let formulations = all_formulations();
-        let hard = formulations
-            .iter()
-            .filter(|f| f.kind() == ProblemKind::Hard && f.envelope().is_some());
-        for hard in hard {
-            let elastic = hard.elastic();
-            let ratios = [7.0, 4.0, 2.0, 1.5];
-            let (mut p, mut q) = (
-                hard.problem(&ratios).unwrap(),
-                elastic.problem(&ratios).unwrap(),
-            );
-            let envelope = hard.envelope().unwrap();
-            let (layout, n) = (elastic.layout(), p.num_variables());
-            let mut x = random_point(&q, 5);
-            let constraints = |problem: &mut TrajectoryProblem<'_>, x: &[f64]| {
-                let mut g = vec![0.0; problem.num_constraints()];
-                problem.constraints(x, true, &mut g).unwrap();
-                g
-            };
-            let (g_hard, g) = (constraints(&mut p, &x[..n]), constraints(&mut q, &x));
-            let [_, _, row_lower, row_upper] = all_bounds(hard, &ratios);
-            let g_matrix = p.coupling().matrix().clone();
-            for k in 0..hard.layout().steps {
-                let (_, v, _) = hard.layout().node_state(&x, k);
-                let u = &x[hard.layout().u(k, 0)..hard.layout().u(k, 0) + 4];
-                let (torques, speeds) = (p.motor_torques(u), p.coupling().motor_speeds(v));
-                for (i, side) in (0..4).flat_map(|i| Side::BOTH.map(|side| (i, side))) {
-                    let Some(row) = hard.layout().envelope_row(k, i, side) else {
-                        assert_eq!(k, 0);
-                        continue;
-                    };
-                    let expected = torques[i] + side.sign() * envelope.slope(i) * speeds[i];
-                    assert!((g_hard[row] - expected).abs() < 1e-12);
-                    let limit = hard.motor_torque_limits()[i];
-                    assert_eq!((row_lower[row], row_upper[row]), (-limit, limit));
-                    assert_eq!(g[layout.envelope_row(k, i, side).unwrap()], g_hard[row]);
-                }
-            }
-            let [plus, _] = layout.excess_slack(2, 1).unwrap();
-            x[plus] = 0.25;
-            let shifted = constraints(&mut q, &x);
-            for (i, side) in (0..4).flat_map(|i| Side::BOTH.map(|side| (i, side))) {
-                let row = layout.envelope_row(2, i, side).unwrap();
-                let b = match hard.modes().speed {
-                    LimitMode::Exact => f64::from(u8::from(i == 1)),
-                    LimitMode::Paper | LimitMode::Interval => g_matrix[(i, 1)],
-                };
-                let expected = -0.25 * side.sign() * envelope.slope(i) * b;
-                assert!(
-                    (shifted[row] - g[row] - expected).abs() < 1e-12,
-                    "{i} {side:?}"
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn original_design_has_the_papers_joint_torque_bounds() {
-        let f = formulation(Space::Joint, LimitMode::Paper, LimitMode::Exact, 0.0);
-        let problem = f.problem(&[6.0, 3.0, 1.0, 1.0]).unwrap();
-        assert_eq!(f.layout().steps, 5);
-        let (mut lower, mut upper) = (
-            vec![0.0; problem.num_variables()],
-            vec![0.0; problem.num_variables()],
-        );
-        problem.variable_bounds(&mut lower, &mut upper);
-        let layout = f.layout();
-        let expected = [18.7, 8.5, 3.4, 0.0];
-        for (i, bound) in expected.iter().enumerate() {
-            let u = layout.u(3, i);
-            assert!(
-                (upper[u] - bound).abs() < 1e-12 && (lower[u] + bound).abs() < 1e-12,
-                "joint {i}: [{}, {}]",
-                lower[u],
-                upper[u]
-            );
-        }
-    }
-
-    /// Variable and row bounds of `f` at `ratios`.
-    fn all_bounds(f: &Formulation, ratios: &[f64]) -> [Vec<f64>; 4] {
-        let problem = f.problem(ratios).unwrap();
-        let (n, m) = (problem.num_variables(), problem.num_constraints());
-        let (mut lower, mut upper) = (vec![0.0; n], vec![0.0; n]);
-        problem.variable_bounds(&mut lower, &mut upper);
-        let (mut row_lower, mut row_upper) = (vec![0.0; m], vec![0.0; m]);
-        problem.constraint_bounds(&mut row_lower, &mut row_upper);
-        [lower, upper, row_lower, row_upper]
-    }
-
-    /// [`all_formulations`]' hard kinds with the task's motor limits replaced by those of
-    /// `motors` (ideal motors), the motor model's keys kept.
-    fn with_motors(motors: &crate::model::task::Motors) -> Vec<Formulation> {
-        all_formulations()
-            .into_iter()
-            .filter(|f| f.kind() == ProblemKind::Hard)
-            .map(|f| {
-                let mut task = f.task().clone();
-                task.motors.torque_limit_nm = motors.torque_limit_nm.clone();
-                task.motors.speed_limit_rad_s = motors.speed_limit_rad_s.clone();
-                Formulation::new(&task, f.dynamics().robot().clone(), f.space(), *f.modes())
-                    .unwrap()
-            })
-            .collect()
-    }
-
-    /// A list of equal limits bounds every variable and row to the bit as the one number does,
-    /// in both spaces and every mode.
-    #[test]
-    fn equal_limits_per_motor_bound_as_one_limit() {
-        use crate::model::task::{Motors, PerMotor};
-        let listed = Motors::ideal(PerMotor::Each(vec![1.7; 4]), PerMotor::Each(vec![100.0; 4]));
-        let one = all_formulations()
-            .into_iter()
-            .filter(|f| f.kind() == ProblemKind::Hard);
-        for (one, listed) in one.zip(with_motors(&listed)) {
-            assert_eq!(one.task().motors.torque_limit_nm, PerMotor::All(1.7));
-            for ratios in [[6.0, 3.0, 1.0, 1.0], [7.3, 4.1, 2.2, 1.6]] {
-                assert_eq!(all_bounds(&one, &ratios), all_bounds(&listed, &ratios));
-            }
-        }
-    }
-
-    /// Each motor's own limit bounds its control (actuation space) and its exact rows, and the
-    /// box modes' joint bounds are the coupling's for the motors' limits.
-    #[test]
-    fn each_motor_is_bounded_by_its_own_limit() {
-        use crate::model::task::{Motors, PerMotor};
-        let (torques, speeds) = ([1.7, 1.0, 2.5, 0.5], [100.0, 60.0, 120.0, 40.0]);
-        let motors = Motors::ideal(
-            PerMotor::Each(torques.to_vec()),
-            PerMotor::Each(speeds.to_vec()),
-        );
-        let ratios = [7.3, 4.1, 2.2, 1.6];
-        for f in with_motors(&motors) {
-            assert_eq!(f.motor_torque_limits(), torques);
-            assert_eq!(f.motor_speed_limits(), speeds);
-            let [lower, upper, row_lower, row_upper] = all_bounds(&f, &ratios);
-            let coupling = f.transmission().coupling(&ratios).unwrap();
-            let layout = f.layout();
-            let torque = match f.space() {
-                Space::Actuation => JointLimits::Box {
-                    lower: torques.iter().map(|t| -t).collect(),
-                    upper: torques.to_vec(),
-                },
-                Space::Joint => coupling.torque_limits(f.modes().torque, &torques),
-            };
-            let speed = coupling.speed_limits(f.modes().speed, &speeds);
-            for (k, i) in (1..layout.steps).flat_map(|k| (0..layout.dof).map(move |i| (k, i))) {
-                let (u, v) = (layout.u(k, i), layout.v(k, i));
-                match &torque {
-                    JointLimits::Box {
-                        lower: lo,
-                        upper: hi,
-                    } => {
-                        assert_eq!((lower[u], upper[u]), (lo[i], hi[i]));
-                    }
-                    JointLimits::Linear { .. } => {
-                        let row = layout.torque_row(k, i).unwrap();
-                        assert_eq!((row_lower[row], row_upper[row]), (-torques[i], torques[i]));
-                    }
-                }
-                match &speed {
-                    JointLimits::Box {
-                        lower: lo,
-                        upper: hi,
-                    } => {
-                        assert_eq!((lower[v], upper[v]), (lo[i], hi[i]));
-                    }
-                    JointLimits::Linear { .. } => {
-                        let row = layout.speed_row(k, i).unwrap();
-                        assert_eq!((row_lower[row], row_upper[row]), (-speeds[i], speeds[i]));
-                    }
-                }
-                for row in Side::BOTH.map(|side| layout.envelope_row(k, i, side)) {
-                    assert_eq!(row.is_some(), f.envelope().is_some());
-                    if let Some(row) = row {
-                        assert_eq!((row_lower[row], row_upper[row]), (-torques[i], torques[i]));
-                    }
-                }
-            }
-        }
-        let mut task = task();
-        task.motors.torque_limit_nm = PerMotor::Each(vec![1.7; 3]);
-        let robot = Robot::load(&task).unwrap();
-        let error = Formulation::new(&task, robot, Space::Actuation, task.limit_modes).unwrap_err();
-        assert!(
-            error
-                .0
-                .starts_with("task: motors.torque_limit_nm has 3 values"),
-            "{error}"
-        );
-    }
-
-    #[test]
-    fn invalid_designs_are_rejected() {
-        let f = formulation(Space::Actuation, LimitMode::Paper, LimitMode::Exact, 0.0);
-        for ratios in [
-            [10.0, 3.0, 1.0, 1.0],
-            [6.0, 6.0, 1.0, 1.0],
-            [6.0, 2.0, 3.0, 1.0],
-            [f64::NAN, 3.0, 1.0, 1.0],
-        ] {
-            assert!(f.problem(&ratios).is_err(), "{ratios:?} accepted");
-        }
     }
 }

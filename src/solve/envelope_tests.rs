@@ -7,7 +7,8 @@ use super::{least_envelope_margin, solve_design, solve_design_from, SolveSetting
 use crate::ipopt::Solution;
 use crate::model::task::{LimitMode, LimitModes, PerMotor, Task};
 use crate::model::Robot;
-use crate::problem::{penalty_weights, Formulation, Space};
+use crate::problem::tests::envelope_row;
+use crate::problem::{penalty_weights, FamilyId, Formulation, Space};
 use crate::testing;
 use crate::transmission::Side;
 
@@ -212,10 +213,10 @@ fn the_penalty_rule_holds_where_the_envelope_binds() {
         let (mut speed, mut dynamics, mut binds) = (0.0_f64, 0.0_f64, 0.0_f64);
         for (k, i) in (1..layout.steps).flat_map(|k| (0..4).map(move |i| (k, i))) {
             let [plus, minus] =
-                Side::BOTH.map(|side| lambda[layout.envelope_row(k, i, side).unwrap()]);
-            let row = lambda[layout.speed_row(k, i).unwrap()];
+                Side::BOTH.map(|side| lambda[envelope_row(layout, k, i, side).unwrap()]);
+            let row = lambda[layout.row(FamilyId::MotorSpeed, k, i).unwrap()];
             speed = speed.max((row + envelope.slope(i) * (plus - minus)).abs());
-            dynamics = dynamics.max(lambda[layout.dynamics_row(k, i)].abs());
+            dynamics = dynamics.max(lambda[layout.row(FamilyId::Dynamics, k, i).unwrap()].abs());
             binds = binds.max(plus.abs()).max(minus.abs());
         }
         let weights = penalty_weights(space);

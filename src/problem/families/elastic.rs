@@ -11,16 +11,13 @@
 //! `Formulation::new`) held at the goal for the last interval meets the integration rows, the
 //! boundary values and the position bounds.
 
-use super::{Formulation, Layout, Space};
-
-/// Hard or elastic: which trajectory problem a [`super::Formulation`] builds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum ProblemKind {
-    /// Dynamics and speed limits as hard constraints (the problem of docs/model.md, section 6).
-    Hard,
-    /// Dynamics and speed limits relaxed by slacks under an exact penalty (section 14).
-    Elastic,
-}
+use super::{Family, FamilyId, Shape};
+use crate::problem::formulation::Formulation;
+use crate::problem::kind::ProblemKind;
+use crate::problem::layout::Layout;
+use crate::problem::nlp::TrajectoryProblem;
+use crate::transmission::Space;
+use std::sync::Arc;
 
 /// Weights of the l1 penalty on the elastic problem's slacks, in units of the cost J per unit
 /// of slack at one node.
@@ -99,34 +96,33 @@ fn slack_weights(
     weights: PenaltyWeights,
 ) -> impl Iterator<Item = (usize, f64)> + '_ {
     let n = layout.dof;
-    let deficit = (0..layout.steps)
-        .flat_map(move |k| (0..n).filter_map(move |i| layout.deficit_slack(k, i)))
-        .flat_map(move |columns| columns.map(|c| (c, weights.torque)));
-    let excess = (0..layout.steps)
-        .flat_map(move |k| (0..n).filter_map(move |i| layout.excess_slack(k, i)))
-        .flat_map(move |columns| columns.map(|c| (c, weights.speed)));
-    deficit.chain(excess)
+    let columns = move |family: FamilyId, weight: f64| {
+        (0..layout.steps)
+            .flat_map(move |k| (0..n).filter_map(move |i| layout.slack(family, k, i)))
+            .flat_map(move |columns| columns.map(|c| (c, weight)))
+    };
+    columns(FamilyId::Dynamics, weights.torque).chain(columns(FamilyId::MotorSpeed, weights.speed))
 }
 
 /// The penalty at x: the weighted sum of the slacks (0 in the hard kind).
-pub(super) fn penalty(formulation: &Formulation, x: &[f64]) -> f64 {
-    let weights = penalty_weights(formulation.space);
-    slack_weights(&formulation.layout, weights)
+pub(in crate::problem) fn penalty(formulation: &Formulation, x: &[f64]) -> f64 {
+    let weights = penalty_weights(formulation.space());
+    slack_weights(formulation.layout(), weights)
         .map(|(c, weight)| weight * x[c])
         .sum()
 }
 
 /// Writes the penalty's gradient, the weights, into the slack entries of `gradient`.
-pub(super) fn penalty_gradient(formulation: &Formulation, gradient: &mut [f64]) {
-    let weights = penalty_weights(formulation.space);
-    for (c, weight) in slack_weights(&formulation.layout, weights) {
+pub(in crate::problem) fn penalty_gradient(formulation: &Formulation, gradient: &mut [f64]) {
+    let weights = penalty_weights(formulation.space());
+    for (c, weight) in slack_weights(formulation.layout(), weights) {
         gradient[c] = weight;
     }
 }
 
 /// What the slacks of `formulation`'s primal point x relax, or None in the hard kind.
 pub fn relaxation(formulation: &Formulation, x: &[f64]) -> Option<Relaxation> {
-    let (layout, h) = (&formulation.layout, formulation.step_s());
+    let (layout, h) = (formulation.layout(), formulation.step_s());
     if layout.kind == ProblemKind::Hard {
         return None;
     }
@@ -136,17 +132,32 @@ pub fn relaxation(formulation: &Formulation, x: &[f64]) -> Option<Relaxation> {
     };
     for k in 0..layout.steps {
         for i in 0..layout.dof {
-            if let Some([plus, minus]) = layout.deficit_slack(k, i) {
+            if let Some([plus, minus]) = layout.slack(FamilyId::Dynamics, k, i) {
                 relaxation.torque_deficit += h * (x[plus] - x[minus]).abs();
                 relaxation.largest = relaxation.largest.max(x[plus]).max(x[minus]);
             }
-            if let Some([plus, minus]) = layout.excess_slack(k, i) {
+            if let Some([plus, minus]) = layout.slack(FamilyId::MotorSpeed, k, i) {
                 relaxation.speed_excess += h * (x[plus] - x[minus]).abs();
                 relaxation.largest = relaxation.largest.max(x[plus]).max(x[minus]);
             }
         }
     }
     Some(relaxation)
+}
+
+/// The slacks' bounds: non-negative.
+#[derive(Debug)]
+struct Slacks;
+
+/// Slacks in the elastic kind only.
+pub(super) fn of(shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
+    (shape.kind == ProblemKind::Elastic).then(|| Arc::new(Slacks) as Arc<dyn Family>)
+}
+
+impl Family for Slacks {
+    fn variable_bounds(&self, p: &TrajectoryProblem<'_>, lower: &mut [f64], _upper: &mut [f64]) {
+        lower[p.formulation().layout().slacks()].fill(0.0);
+    }
 }
 
 #[cfg(test)]
@@ -189,8 +200,10 @@ mod tests {
                 let (mut torque, mut speed_multiplier) = (0.0_f64, 0.0_f64);
                 for k in 0..layout.steps {
                     for i in 0..layout.dof {
-                        torque = torque.max(solution.lambda[layout.dynamics_row(k, i)].abs());
-                        if let Some(row) = layout.speed_row(k, i) {
+                        torque = torque.max(
+                            solution.lambda[layout.row(FamilyId::Dynamics, k, i).unwrap()].abs(),
+                        );
+                        if let Some(row) = layout.row(FamilyId::MotorSpeed, k, i) {
                             speed_multiplier = speed_multiplier.max(solution.lambda[row].abs());
                         } else if k > 0 {
                             let v = layout.v(k, i);

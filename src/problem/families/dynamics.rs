@@ -1,0 +1,129 @@
+//! The equations of motion at every node k < N, one row per joint:
+//!
+//!   RNEA(q_k, v_k, a_k) + G^T J_m G a_k + G^T B_m G v_k - C u_k = 0,
+//!
+//! with C = G^T in actuation space and the identity in joint space, and the motors' rotor
+//! inertia J_m and friction B_m reflected into the joints (absent for ideal motors). The
+//! elastic kind shifts each row by its torque deficit s-_k - s+_k. The rows' Jacobian is dense
+//! in (q, v, a) and C's pattern in u; their Hessian is lambda . RNEA's (docs/model.md, section
+//! 8); their design sensitivity is the actuation's residual derivative.
+
+use super::{
+    emit_slacks, slack_shift, At, DesignDerivative, Emit, Family, FamilyId, NodeSecondOrder, Place,
+    Shape,
+};
+use crate::ipopt::Solution;
+use crate::problem::layout::RowBlock;
+use crate::problem::nlp::TrajectoryProblem;
+use crate::problem::node::NodeEval;
+use crate::transmission::Space;
+use nalgebra::DMatrix;
+use std::sync::Arc;
+
+/// The dynamics rows, with the structural non-zeros of C.
+#[derive(Debug)]
+struct Dynamics {
+    /// The pattern of d(tau_i)/d(u_j): G^T's in actuation space, the identity's in joint space.
+    control_pattern: DMatrix<f64>,
+}
+
+/// Every formulation has them.
+pub(super) fn of(shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
+    let control_pattern = match shape.space {
+        Space::Actuation => shape.g_pattern.transpose(),
+        Space::Joint => DMatrix::identity(shape.dof, shape.dof),
+    };
+    Some(Arc::new(Dynamics { control_pattern }))
+}
+
+/// value + m[(i, j)], or value itself without m (no rounding where there is nothing to add).
+fn plus(value: f64, m: Option<&DMatrix<f64>>, (i, j): (usize, usize)) -> f64 {
+    m.map_or(value, |m| value + m[(i, j)])
+}
+
+impl Family for Dynamics {
+    fn rows(&self) -> Option<RowBlock> {
+        Some(RowBlock {
+            per_node: self.control_pattern.nrows(),
+            inner_only: false,
+            relaxed: true,
+        })
+    }
+
+    fn values(
+        &self,
+        p: &TrajectoryProblem<'_>,
+        x: &[f64],
+        node: &NodeEval,
+        Place { k, row }: Place,
+        g: &mut [f64],
+    ) {
+        let layout = p.formulation().layout();
+        let u = layout.controls(x, k);
+        let (_, v, a) = layout.node_state(x, k);
+        for i in 0..layout.dof {
+            g[row + i] = p.actuation().residual(i, &node.tau, (v, a), u);
+            if let Some(s) = slack_shift(x, layout.slack(FamilyId::Dynamics, k, i)) {
+                g[row + i] += s;
+            }
+        }
+    }
+
+    fn jacobian(&self, at: &At<'_>, node: &NodeEval, Place { k, row }: Place, emit: &mut Emit<'_>) {
+        let layout = at.formulation().layout();
+        let control = at.pick(|p| p.actuation().control_map(), &self.control_pattern);
+        let reflected = match at {
+            At::Structure(_) => None,
+            At::Design(p) => p.actuation().reflected(),
+        };
+        let (inertia, damping) = (reflected.map(|r| r.0), reflected.map(|r| r.1));
+        let n = layout.dof;
+        for i in 0..n {
+            let r = row + i;
+            for j in 0..n {
+                emit(r, layout.q(k, j), node.dtau_dq[(i, j)]);
+            }
+            for j in 0..n {
+                emit(
+                    r,
+                    layout.v(k, j),
+                    plus(node.dtau_dv[(i, j)], damping, (i, j)),
+                );
+            }
+            for j in 0..n {
+                emit(r, layout.a(k, j), plus(node.mass[(i, j)], inertia, (i, j)));
+            }
+            for j in 0..n {
+                if self.control_pattern[(i, j)] != 0.0 {
+                    emit(r, layout.u(k, j), -control[(i, j)]);
+                }
+            }
+            emit_slacks(r, layout.slack(FamilyId::Dynamics, k, i), emit);
+        }
+    }
+
+    fn hessian(&self, node: NodeSecondOrder<'_>, block: &mut DMatrix<f64>) {
+        let (q, v, a) = node.state;
+        let hessian = node.scratch;
+        node.dynamics
+            .rnea_hessian(node.data, q, v, a, node.multipliers, hessian);
+        *block += &*hessian;
+    }
+
+    fn sensitivity(
+        &self,
+        p: &TrajectoryProblem<'_>,
+        solution: &Solution,
+        derivative: &DesignDerivative,
+        Place { k, row }: Place,
+        total: &mut f64,
+    ) {
+        let layout = p.formulation().layout();
+        let x = &solution.x;
+        let (_, v, a) = layout.node_state(x, k);
+        let u = layout.controls(x, k);
+        if let Some(d) = p.actuation().residual_derivative(&derivative.dg, (v, a), u) {
+            *total += super::segment(&solution.lambda, row, layout.dof).dot(&d);
+        }
+    }
+}

@@ -1,0 +1,38 @@
+//! What the motion asks at its ends (`motion.ends`, docs/model.md, section 6), as bounds that
+//! override the joint limits there: q_0 and q_N at the task's start and goal poses and v_0 =
+//! v_N = 0 under every choice; under `rest` also a_0 = a_(N-1) = 0, the last node with an
+//! acceleration (its interval ends at q_N, v_N). The static hold of `hold` and `rest` is no
+//! bound of the NLP but a check before it (`../hold.rs`).
+
+use super::{Family, Shape};
+use crate::problem::nlp::TrajectoryProblem;
+use std::sync::Arc;
+
+/// The end conditions.
+#[derive(Debug)]
+struct Ends;
+
+/// Every formulation has them.
+pub(super) fn of(_shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
+    Some(Arc::new(Ends))
+}
+
+impl Family for Ends {
+    fn variable_bounds(&self, p: &TrajectoryProblem<'_>, lower: &mut [f64], upper: &mut [f64]) {
+        let f = p.formulation();
+        let (layout, motion) = (f.layout(), &f.task().motion);
+        for i in 0..layout.dof {
+            for (k, pose) in [(0, &motion.start), (layout.steps, &motion.goal)] {
+                let (q, v) = (layout.q(k, i), layout.v(k, i));
+                (lower[q], upper[q]) = (pose[i], pose[i]);
+                (lower[v], upper[v]) = (0.0, 0.0);
+            }
+            if motion.ends.rests() {
+                for k in [0, layout.steps - 1] {
+                    let a = layout.a(k, i);
+                    (lower[a], upper[a]) = (0.0, 0.0);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,225 @@
+//! The motors' torque-speed envelope (docs/model.md, section 13) at the inner nodes 0 < k < N,
+//! two rows per motor, P then M:
+//!
+//!   P_i = tau_u,i(u_k) + c_i w_i,  M_i = tau_u,i(u_k) - c_i w_i,  both within +-tau_max,i,
+//!
+//! with c_i the envelope's slope and w = G v_k + B d_k the motor speeds the rows see: in the
+//! elastic kind d_k = e- - e+ is the relaxation of the node's speed rows, and B = G A^-1 maps it
+//! to motor speeds (the identity in speed mode `exact`, G in the box modes). At node 0, where
+//! v_0 = 0, the rows would be the torque limit itself. The rows are linear: entries
+//! d(tau_u)/du in u, +-c_i G_ij in v and -+c_i B_ij, +-c_i B_ij in the node's slacks e+, e-.
+
+use super::{segment, At, DesignDerivative, Emit, Family, FamilyId, Place, Shape};
+use crate::ipopt::Solution;
+use crate::model::task::LimitMode;
+use crate::problem::layout::{Layout, RowBlock};
+use crate::problem::nlp::TrajectoryProblem;
+use crate::problem::node::NodeEval;
+use crate::transmission::{Side, Space};
+use nalgebra::{DMatrix, DVector};
+use std::sync::Arc;
+
+/// The envelope rows, with the structural non-zeros of their design-dependent blocks.
+#[derive(Debug)]
+struct Envelope {
+    /// Whether B is G (the box speed modes) rather than the identity (mode `exact`).
+    slack_through_g: bool,
+    /// d(tau_u)/du's: diagonal in actuation space, dense (G^-T) in joint space.
+    torque_pattern: DMatrix<f64>,
+    /// G's.
+    speed_pattern: DMatrix<f64>,
+    /// B's: the identity in speed mode `exact`, G's in the box modes.
+    slack_pattern: DMatrix<f64>,
+    /// The identity, B in speed mode `exact`.
+    identity: DMatrix<f64>,
+}
+
+/// Rows where the motors have an envelope (`motors.no_load_speed_rad_s`).
+pub(super) fn of(shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
+    shape.envelope?;
+    let n = shape.dof;
+    let slack_through_g = shape.modes.speed != LimitMode::Exact;
+    Some(Arc::new(Envelope {
+        slack_through_g,
+        torque_pattern: match shape.space {
+            Space::Actuation => DMatrix::identity(n, n),
+            Space::Joint => DMatrix::from_element(n, n, 1.0),
+        },
+        speed_pattern: shape.g_pattern.clone(),
+        slack_pattern: if slack_through_g {
+            shape.g_pattern.clone()
+        } else {
+            DMatrix::identity(n, n)
+        },
+        identity: DMatrix::identity(n, n),
+    }))
+}
+
+/// The elastic kind's relaxation d = e- - e+ of node k's speed rows at x (0 < k < N), the
+/// amount by which each row's value is shifted; None in the hard kind.
+pub(in crate::problem) fn speed_relaxation(
+    layout: &Layout,
+    x: &[f64],
+    k: usize,
+) -> Option<DVector<f64>> {
+    let columns: Option<Vec<[usize; 2]>> = (0..layout.dof)
+        .map(|i| layout.slack(FamilyId::MotorSpeed, k, i))
+        .collect();
+    columns.map(|columns| {
+        DVector::from_iterator(
+            columns.len(),
+            columns.iter().map(|&[plus, minus]| x[minus] - x[plus]),
+        )
+    })
+}
+
+impl Envelope {
+    /// B at the problem's design.
+    fn slack_map<'m>(&'m self, p: &'m TrajectoryProblem<'_>) -> &'m DMatrix<f64> {
+        if self.slack_through_g {
+            p.coupling().matrix()
+        } else {
+            &self.identity
+        }
+    }
+
+    /// The motor speeds node k's rows see at x: G v_k, and in the elastic kind G v_k + B d_k,
+    /// rad/s.
+    fn speeds(&self, p: &TrajectoryProblem<'_>, x: &[f64], k: usize) -> DVector<f64> {
+        let layout = p.formulation().layout();
+        let speeds = p.coupling().matrix() * segment(x, layout.v(k, 0), layout.dof);
+        match speed_relaxation(layout, x, k) {
+            Some(d) => speeds + self.slack_map(p) * d,
+            None => speeds,
+        }
+    }
+}
+
+/// Row `side` of motor i at a node whose envelope rows start at `row`, for n motors.
+fn side_row(row: usize, n: usize, i: usize, side: Side) -> usize {
+    match side {
+        Side::Plus => row + i,
+        Side::Minus => row + n + i,
+    }
+}
+
+impl Family for Envelope {
+    fn rows(&self) -> Option<RowBlock> {
+        Some(RowBlock {
+            per_node: 2 * self.identity.nrows(),
+            inner_only: true,
+            relaxed: false,
+        })
+    }
+
+    fn row_bounds(
+        &self,
+        p: &TrajectoryProblem<'_>,
+        Place { row, .. }: Place,
+        lower: &mut [f64],
+        upper: &mut [f64],
+    ) {
+        let limits = p.formulation().motor_torque_limits();
+        for (i, limit) in limits.iter().enumerate() {
+            for side in Side::BOTH {
+                let r = side_row(row, limits.len(), i, side);
+                (lower[r], upper[r]) = (-limit, *limit);
+            }
+        }
+    }
+
+    fn values(
+        &self,
+        p: &TrajectoryProblem<'_>,
+        x: &[f64],
+        _node: &NodeEval,
+        Place { k, row }: Place,
+        g: &mut [f64],
+    ) {
+        let f = p.formulation();
+        let (layout, Some(envelope)) = (f.layout(), f.envelope()) else {
+            return;
+        };
+        let torques = p.motor_torques(layout.controls(x, k));
+        let speeds = self.speeds(p, x, k);
+        for i in 0..layout.dof {
+            for side in Side::BOTH {
+                g[side_row(row, layout.dof, i, side)] =
+                    envelope.row(i, side, torques[i], speeds[i]);
+            }
+        }
+    }
+
+    fn jacobian(
+        &self,
+        at: &At<'_>,
+        _node: &NodeEval,
+        Place { k, row }: Place,
+        emit: &mut Emit<'_>,
+    ) {
+        let f = at.formulation();
+        let (layout, Some(envelope)) = (f.layout(), f.envelope()) else {
+            return;
+        };
+        let torque = at.pick(|p| p.actuation().motor_of_control(), &self.torque_pattern);
+        let g = at.pick(|p| p.coupling().matrix(), &self.speed_pattern);
+        let slack = at.pick(|p| self.slack_map(p), &self.slack_pattern);
+        let n = layout.dof;
+        for side in Side::BOTH {
+            for i in 0..n {
+                let r = side_row(row, n, i, side);
+                let slope = side.sign() * envelope.slope(i);
+                for j in (0..n).filter(|&j| self.torque_pattern[(i, j)] != 0.0) {
+                    emit(r, layout.u(k, j), torque[(i, j)]);
+                }
+                for j in (0..n).filter(|&j| self.speed_pattern[(i, j)] != 0.0) {
+                    emit(r, layout.v(k, j), slope * g[(i, j)]);
+                }
+                for j in (0..n).filter(|&j| self.slack_pattern[(i, j)] != 0.0) {
+                    if let Some([plus, minus]) = layout.slack(FamilyId::MotorSpeed, k, j) {
+                        let entry = slope * slack[(i, j)];
+                        emit(r, plus, -entry);
+                        emit(r, minus, entry);
+                    }
+                }
+            }
+        }
+    }
+
+    /// With lambda_P and lambda_M the rows' multipliers:
+    /// (lambda_P + lambda_M) . d(tau_u)/dr_l + (lambda_P - lambda_M) . c (dG_l v + dB_l d).
+    fn sensitivity(
+        &self,
+        p: &TrajectoryProblem<'_>,
+        solution: &Solution,
+        derivative: &DesignDerivative,
+        Place { k, row }: Place,
+        total: &mut f64,
+    ) {
+        let f = p.formulation();
+        let (layout, Some(envelope)) = (f.layout(), f.envelope()) else {
+            return;
+        };
+        let n = layout.dof;
+        let (x, lambda) = (&solution.x, &solution.lambda);
+        let (plus, minus) = (
+            &lambda[side_row(row, n, 0, Side::Plus)..][..n],
+            &lambda[side_row(row, n, 0, Side::Minus)..][..n],
+        );
+        let dg = &derivative.dg;
+        let mut speed_derivative = dg * segment(x, layout.v(k, 0), n);
+        // B = G in the elastic kind's box speed modes (dB = dG), the identity in mode `exact`.
+        if let (Some(d), true) = (speed_relaxation(layout, x, k), self.slack_through_g) {
+            speed_derivative += dg * d;
+        }
+        let u = layout.controls(x, k);
+        let torque_derivative = p.actuation().motor_torque_derivative(dg, u);
+        *total += (0..n)
+            .map(|i| {
+                let torque = torque_derivative.as_ref().map_or(0.0, |d| d[i]);
+                (plus[i] + minus[i]) * torque
+                    + (plus[i] - minus[i]) * envelope.slope(i) * speed_derivative[i]
+            })
+            .sum::<f64>();
+    }
+}

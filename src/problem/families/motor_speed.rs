@@ -1,0 +1,148 @@
+//! The speed rows at the inner nodes 0 < k < N (v_0 = v_N = 0), one per motor:
+//!
+//! - speed mode `exact`: the motor speeds G v_k within each motor's own limit, |(G v_k)_i| <= w_i;
+//! - the elastic kind in the box modes `paper` and `interval`: the joint speeds v_k within the
+//!   mode's box, as rows instead of variable bounds, so that a slack can relax them.
+//!
+//! The elastic kind shifts each row by its speed excess e-_k - e+_k. Linear in v: no Hessian.
+//! The design enters through G (mode `exact`: lambda . dG_l v) or through the box's bounds (the
+//! active bound's term -|lambda| . db/dr_l).
+
+use super::joint_limits::box_bound_derivative;
+use super::{
+    emit_slacks, segment, slack_shift, At, DesignDerivative, Emit, Family, FamilyId, Place, Shape,
+};
+use crate::ipopt::Solution;
+use crate::model::task::LimitMode;
+use crate::problem::kind::ProblemKind;
+use crate::problem::layout::RowBlock;
+use crate::problem::nlp::TrajectoryProblem;
+use crate::problem::node::NodeEval;
+use crate::transmission::JointLimits;
+use nalgebra::{DMatrix, DVector};
+use std::sync::Arc;
+
+/// The speed rows A v_k: A = G (mode `exact`) or the identity (the elastic kind's box rows).
+#[derive(Debug)]
+struct MotorSpeed {
+    /// Whether the rows are the box modes' joint speeds (A = I) rather than the motor speeds.
+    boxed: bool,
+    /// A's structural non-zeros: G's, or the identity's.
+    pattern: DMatrix<f64>,
+}
+
+/// Rows in speed mode `exact`, and in every mode of the elastic kind.
+pub(super) fn of(shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
+    let boxed = shape.modes.speed != LimitMode::Exact;
+    if boxed && shape.kind == ProblemKind::Hard {
+        return None;
+    }
+    let pattern = if boxed {
+        DMatrix::identity(shape.dof, shape.dof)
+    } else {
+        shape.g_pattern.clone()
+    };
+    Some(Arc::new(MotorSpeed { boxed, pattern }))
+}
+
+impl MotorSpeed {
+    /// A at the problem's design.
+    fn matrix<'m>(&'m self, p: &'m TrajectoryProblem<'_>) -> &'m DMatrix<f64> {
+        if self.boxed {
+            &self.pattern
+        } else {
+            p.coupling().matrix()
+        }
+    }
+}
+
+impl Family for MotorSpeed {
+    fn rows(&self) -> Option<RowBlock> {
+        Some(RowBlock {
+            per_node: self.pattern.nrows(),
+            inner_only: true,
+            relaxed: true,
+        })
+    }
+
+    fn row_bounds(
+        &self,
+        p: &TrajectoryProblem<'_>,
+        Place { row, .. }: Place,
+        lower: &mut [f64],
+        upper: &mut [f64],
+    ) {
+        let speed = p.speed_limits();
+        for i in 0..self.pattern.nrows() {
+            (lower[row + i], upper[row + i]) = match &speed {
+                JointLimits::Linear { limits, .. } => (-limits[i], limits[i]),
+                JointLimits::Box { lower, upper } => (lower[i], upper[i]),
+            };
+        }
+    }
+
+    fn values(
+        &self,
+        p: &TrajectoryProblem<'_>,
+        x: &[f64],
+        _node: &NodeEval,
+        Place { k, row }: Place,
+        g: &mut [f64],
+    ) {
+        let layout = p.formulation().layout();
+        let a = self.matrix(p);
+        let n = layout.dof;
+        for i in 0..n {
+            g[row + i] = (0..n).map(|j| a[(i, j)] * x[layout.v(k, j)]).sum();
+            if let Some(e) = slack_shift(x, layout.slack(FamilyId::MotorSpeed, k, i)) {
+                g[row + i] += e;
+            }
+        }
+    }
+
+    fn jacobian(
+        &self,
+        at: &At<'_>,
+        _node: &NodeEval,
+        Place { k, row }: Place,
+        emit: &mut Emit<'_>,
+    ) {
+        let layout = at.formulation().layout();
+        let a = at.pick(|p| self.matrix(p), &self.pattern);
+        let n = layout.dof;
+        for i in 0..n {
+            for j in 0..n {
+                if self.pattern[(i, j)] != 0.0 {
+                    emit(row + i, layout.v(k, j), a[(i, j)]);
+                }
+            }
+            emit_slacks(row + i, layout.slack(FamilyId::MotorSpeed, k, i), emit);
+        }
+    }
+
+    fn sensitivity(
+        &self,
+        p: &TrajectoryProblem<'_>,
+        solution: &Solution,
+        derivative: &DesignDerivative,
+        Place { k, row }: Place,
+        total: &mut f64,
+    ) {
+        let f = p.formulation();
+        let layout = f.layout();
+        let n = layout.dof;
+        let multipliers = segment(&solution.lambda, row, n);
+        let g_inv = p.coupling().inverse();
+        let limits = f.motor_speed_limits();
+        match box_bound_derivative(f.modes().speed, g_inv, &derivative.dg_inv, limits) {
+            // Rows G v within fixed bounds (mode `exact`).
+            None => {
+                *total +=
+                    multipliers.dot(&(&derivative.dg * segment(&solution.x, layout.v(k, 0), n)))
+            }
+            // Rows v within [-b(r), b(r)] (the elastic kind's box modes): the active bound's
+            // term -lambda . d(bound)/dr is -|lambda| . db/dr.
+            Some(db) => *total += -multipliers.abs().dot(&DVector::from_column_slice(&db)),
+        }
+    }
+}

@@ -1,0 +1,130 @@
+//! The motors' torque limits, |tau_u,i| <= tau_max,i at every node k < N:
+//!
+//! - in actuation space the controls are the motor torques: a box on u_k, free of the design;
+//! - in joint space under torque mode `exact`, rows G^-T u_k (one per motor) within the limits,
+//!   whose design sensitivity is lambda . d(G^-T)/dr_l u = lambda . dG_inv^T u.
+//!
+//! The joint-space boxes of the modes `paper` and `interval` are joint limits
+//! (`joint_limits.rs`).
+
+use super::{segment, At, DesignDerivative, Emit, Family, Place, Shape};
+use crate::ipopt::Solution;
+use crate::model::task::LimitMode;
+use crate::problem::layout::RowBlock;
+use crate::problem::nlp::TrajectoryProblem;
+use crate::problem::node::NodeEval;
+use crate::transmission::{JointLimits, Space};
+use nalgebra::DMatrix;
+use std::sync::Arc;
+
+/// The motor torque limits of one space.
+#[derive(Debug)]
+enum MotorTorque {
+    /// Actuation space: bounds on u.
+    Bounds,
+    /// Joint space, mode `exact`: rows G^-T u, whose pattern is dense.
+    Rows { pattern: DMatrix<f64> },
+}
+
+/// Bounds in actuation space, rows in joint space under torque mode `exact`.
+pub(super) fn of(shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
+    let n = shape.dof;
+    match (shape.space, shape.modes.torque) {
+        (Space::Actuation, _) => Some(Arc::new(MotorTorque::Bounds)),
+        (Space::Joint, LimitMode::Exact) => Some(Arc::new(MotorTorque::Rows {
+            pattern: DMatrix::from_element(n, n, 1.0),
+        })),
+        (Space::Joint, LimitMode::Paper | LimitMode::Interval) => None,
+    }
+}
+
+impl Family for MotorTorque {
+    fn rows(&self) -> Option<RowBlock> {
+        match self {
+            MotorTorque::Bounds => None,
+            MotorTorque::Rows { pattern } => Some(RowBlock {
+                per_node: pattern.nrows(),
+                inner_only: false,
+                relaxed: false,
+            }),
+        }
+    }
+
+    fn variable_bounds(&self, p: &TrajectoryProblem<'_>, lower: &mut [f64], upper: &mut [f64]) {
+        let layout = p.formulation().layout();
+        let JointLimits::Box {
+            lower: lo,
+            upper: hi,
+        } = p.control_limits()
+        else {
+            return;
+        };
+        for k in 0..layout.steps {
+            for i in 0..layout.dof {
+                let u = layout.u(k, i);
+                (lower[u], upper[u]) = (lo[i], hi[i]);
+            }
+        }
+    }
+
+    fn row_bounds(
+        &self,
+        p: &TrajectoryProblem<'_>,
+        Place { row, .. }: Place,
+        lower: &mut [f64],
+        upper: &mut [f64],
+    ) {
+        for (i, limit) in p.formulation().motor_torque_limits().iter().enumerate() {
+            (lower[row + i], upper[row + i]) = (-limit, *limit);
+        }
+    }
+
+    fn values(
+        &self,
+        p: &TrajectoryProblem<'_>,
+        x: &[f64],
+        _node: &NodeEval,
+        Place { k, row }: Place,
+        g: &mut [f64],
+    ) {
+        let layout = p.formulation().layout();
+        let u = layout.controls(x, k);
+        let motor_of_joint = p.actuation().motor_of_joint();
+        for i in 0..layout.dof {
+            g[row + i] = (0..layout.dof).map(|j| motor_of_joint[(i, j)] * u[j]).sum();
+        }
+    }
+
+    fn jacobian(
+        &self,
+        at: &At<'_>,
+        _node: &NodeEval,
+        Place { k, row }: Place,
+        emit: &mut Emit<'_>,
+    ) {
+        let MotorTorque::Rows { pattern } = self else {
+            return;
+        };
+        let layout = at.formulation().layout();
+        let motor_of_joint = at.pick(|p| p.actuation().motor_of_joint(), pattern);
+        for i in 0..layout.dof {
+            for j in 0..layout.dof {
+                emit(row + i, layout.u(k, j), motor_of_joint[(i, j)]);
+            }
+        }
+    }
+
+    fn sensitivity(
+        &self,
+        p: &TrajectoryProblem<'_>,
+        solution: &Solution,
+        derivative: &DesignDerivative,
+        Place { k, row }: Place,
+        total: &mut f64,
+    ) {
+        let n = p.formulation().layout().dof;
+        let u = segment(&solution.x, p.formulation().layout().u(k, 0), n);
+        // G^-T u differentiates to -G^-T dG^T G^-T u = dG_inv^T u.
+        *total += segment(&solution.lambda, row, n).dot(&derivative.dg_inv.tr_mul(&u));
+    }
+}
