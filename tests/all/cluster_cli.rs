@@ -193,5 +193,18 @@ fn the_plan_run_by_gnu_parallel_and_merged_matches_one_reproduction() {
             assert_eq!(a[key], b[key], "{run}: {key}");
         }
     }
+    // The merge's inputs are no outputs: a table linked to a run's result is refused before
+    // anything is written, and the run's result is kept.
+    let run = split.join("runs/actuation-1kg-seed0.json");
+    let before = std::fs::read(&run).unwrap();
+    let table = split.join("paper_table.json");
+    std::fs::remove_file(&table).unwrap();
+    std::os::unix::fs::symlink(&run, &table).unwrap();
+    let output = codesign_in(&dir, &[&["reproduce"], &merge_flags[..]].concat());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("--from-runs"), "{stderr}");
+    assert!(stderr.contains("that is an input"), "{stderr}");
+    assert_eq!(std::fs::read(&run).unwrap(), before);
     std::fs::remove_dir_all(&dir).unwrap();
 }

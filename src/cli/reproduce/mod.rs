@@ -157,11 +157,23 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let _lock = lock_folder(&plan.out_dir).map_err(|e| hint(e, "--out-dir"))?;
     let task_file = plan.task.iter().map(|path| ("--task", path.as_path()));
     let robot = task.task.robot.iter().map(|path| ("robot", path.as_path()));
-    let inputs: Vec<(&str, &Path)> = task_file.chain(robot).collect();
-    for output in sections(&plan, hold.as_ref()).flat_map(Plan::outputs) {
-        check_output("--out-dir", &output, &inputs)?;
-    }
     let merged = args.from_runs.is_some();
+    // Under --from-runs the results the plan's commands wrote are inputs: no output may be one,
+    // through a symbolic link either.
+    let read: Vec<PathBuf> = match merged {
+        true => sections(&plan, hold.as_ref())
+            .flat_map(Plan::merged_inputs)
+            .collect(),
+        false => Vec::new(),
+    };
+    let results = read.iter().map(|path| ("--from-runs", path.as_path()));
+    let inputs: Vec<(&str, &Path)> = task_file.chain(robot).chain(results).collect();
+    let flag = if merged { "--from-runs" } else { "--out-dir" };
+    for output in sections(&plan, hold.as_ref()).flat_map(Plan::outputs) {
+        if !read.contains(&output) {
+            check_output(flag, &output, &inputs)?;
+        }
+    }
     let outcomes = section_outcomes(&plan, &task, merged)?;
     let hold_table = match &hold {
         Some((hold_task, hold)) => {

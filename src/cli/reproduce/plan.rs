@@ -263,6 +263,19 @@ impl Plan {
         self.out_dir.join("capacity").join(format!("{name}.json"))
     }
 
+    /// Every result `--from-runs` reads (`merge::read_all`): the original designs', the
+    /// co-design runs' and the original designs' capacities. Under `--from-runs` they are
+    /// inputs, which no output may be.
+    pub fn merged_inputs(&self) -> Vec<PathBuf> {
+        let mut files: Vec<PathBuf> = (self.experiment.original_payloads_kg.iter())
+            .flat_map(|&payload| SPACES.map(|space| self.original_file(space, payload)))
+            .collect();
+        let runs = [self.cost_runs(), self.gradient_runs(), self.beyond_runs()];
+        files.extend(runs.iter().flatten().map(|run| self.run_file(run)));
+        files.extend(SPACES.map(|space| self.capacity_file(&format!("{space}-original"))));
+        files
+    }
+
     /// Every file the reproduction writes itself, existing ones to be checked before any work
     /// (a co-design run checks its own): the table, the original designs' results and plots,
     /// the capacities.
