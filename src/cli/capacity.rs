@@ -11,7 +11,7 @@ use crate::model::task::MAX_PAYLOAD_KG;
 use crate::problem::Formulation;
 use crate::report::codesign::CapacityDocument;
 use crate::solve::ToolInfo;
-use crate::store::files::write_json;
+use crate::store::document::write_document;
 use crate::text::number;
 use std::path::PathBuf;
 
@@ -91,7 +91,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             settings,
             capacity,
         };
-        write_json(path, &document).map_err(|e| e.to_string())?;
+        write_document(path, &document).map_err(|e| e.to_string())?;
         say!("result written to {}", path.display());
     }
     Ok(())

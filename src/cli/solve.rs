@@ -11,7 +11,7 @@ use crate::report::trajectory::{every_plot_file, write_plots, SolveDocument};
 use crate::solve::{
     least_envelope_margin, solve_design, SolveError, SolveSettings, TrajectoryResult,
 };
-use crate::store::files::write_json;
+use crate::store::document::write_document;
 use crate::text::number;
 use std::path::PathBuf;
 
@@ -122,7 +122,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             &settings,
             result,
         );
-        write_json(path, &document).map_err(|e| e.to_string())?;
+        write_document(path, &document).map_err(|e| e.to_string())?;
         say!("result written to {}", path.display());
     }
     Ok(())

@@ -2,7 +2,8 @@
 
 use super::store_hints::check_output;
 use crate::report::table::{build_table, check_results, read_result_file};
-use crate::store::files::{write_atomic, write_json};
+use crate::store::document::write_document;
+use crate::store::files::write_atomic;
 use std::path::{Path, PathBuf};
 
 /// Flags of `codesign table`.
@@ -41,7 +42,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     match outputs {
         Some((markdown, json)) => {
             write_atomic(markdown, table.to_markdown().as_bytes()).map_err(|e| e.to_string())?;
-            write_json(&json, &table).map_err(|e| e.to_string())?;
+            write_document(&json, &table).map_err(|e| e.to_string())?;
             say!(
                 "table written to {} and {}",
                 markdown.display(),

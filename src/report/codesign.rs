@@ -39,6 +39,10 @@ pub struct CapacityDocument {
     pub capacity: Capacity,
 }
 
+impl crate::store::document::Document for CapacityDocument {
+    const SCHEMA: crate::store::document::Schema = crate::store::document::Schema::Capacity;
+}
+
 /// The cost of every evaluation of each run, in order, as dots, and the best cost so far as a
 /// line (the paper's figure 6); log scale, so the penalised designs show as a band at the
 /// penalty.

@@ -2,6 +2,7 @@
 //! read, or results that make no table together.
 
 use crate::input::InputError;
+use crate::store::document::EnvelopeError;
 use crate::store::StoreError;
 use crate::transmission::DesignError;
 use std::fmt;
@@ -39,7 +40,12 @@ pub enum ReadFailure {
     Input(InputError),
     /// It is no JSON; the parser's reason.
     NotJson(String),
-    /// It is no codesign result of the kind its fields suggest; the kind and the reason.
+    /// Its envelope (`schema`, `version`) cannot be read.
+    Envelope(EnvelopeError),
+    /// It is a table, which is made from results and no result itself.
+    Table,
+    /// It is no codesign result of the kind its tag (or, before the envelope, its fields) says;
+    /// the kind and the reason.
     NotAResult {
         /// `solve`, `optimize` or `capacity`.
         kind: &'static str,
@@ -59,6 +65,11 @@ impl fmt::Display for ReportError {
                 match why {
                     ReadFailure::Input(error) => write!(f, "{path}: {error}"),
                     ReadFailure::NotJson(why) => write!(f, "{path}: not JSON: {why}"),
+                    ReadFailure::Envelope(why) => write!(f, "{path}: {why}"),
+                    ReadFailure::Table => write!(
+                        f,
+                        "{path}: a table, made from results: give the result files it was made of"
+                    ),
                     ReadFailure::NotAResult { kind, why } => {
                         write!(f, "{path}: not a codesign {kind} result: {why}")
                     }

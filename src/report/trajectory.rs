@@ -43,6 +43,10 @@ pub struct SolveDocument {
     pub result: TrajectoryResult,
 }
 
+impl crate::store::document::Document for SolveDocument {
+    const SCHEMA: crate::store::document::Schema = crate::store::document::Schema::Solve;
+}
+
 impl SolveDocument {
     /// The document of `result`, solved for `formulation` (its task, space and modes) from the
     /// task file `task_file` of task hash `task_hash` with `settings`.

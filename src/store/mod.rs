@@ -6,6 +6,7 @@
 //! ([`crate::hash`], its log's checksums). Its errors are typed ([`StoreError`])
 //! and name paths, never command-line flags: the command line adds the flags that lead on.
 
+pub mod document;
 pub mod files;
 mod lines;
 pub mod lock;

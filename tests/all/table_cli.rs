@@ -172,3 +172,72 @@ fn a_solve_of_another_design_is_refused_naming_the_file() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Every result names its kind and version first (`schema`, `version`), and `table` reads a
+/// file by that tag: a solve tagged as a capacity search is read as one and refused, as are an
+/// unknown tag, a newer version and a table given as a result, each naming the file; a file
+/// without the envelope (written before it) is read by its fields.
+#[test]
+fn results_are_read_by_their_schema_tag() {
+    let dir = support::scratch("schema");
+    let out = dir.join("solve.json");
+    let solve = codesign(&[
+        "solve",
+        "--space",
+        "actuation",
+        "--payload",
+        "0",
+        "--steps",
+        "4",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        solve.status.success(),
+        "{}",
+        String::from_utf8_lossy(&solve.stderr)
+    );
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        text.starts_with("{\n  \"schema\": \"codesign/solve\",\n  \"version\": 1,\n"),
+        "{text}"
+    );
+    let table = dir.join("t.md");
+    let made = codesign(&[
+        "table",
+        out.to_str().unwrap(),
+        "--out",
+        table.to_str().unwrap(),
+    ]);
+    assert!(
+        made.status.success(),
+        "{}",
+        String::from_utf8_lossy(&made.stderr)
+    );
+    let table_json = std::fs::read_to_string(dir.join("t.json")).unwrap();
+    assert!(table_json.starts_with("{\n  \"schema\": \"codesign/table\""));
+    let variant = |name: &str, from: &str, to: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+        codesign(&["table", path.to_str().unwrap()])
+    };
+    let tag = "\"schema\": \"codesign/solve\"";
+    let as_capacity = variant("cap.json", tag, "\"schema\": \"codesign/capacity\"");
+    support::fails_saying(&as_capacity, "cap.json: not a codesign capacity result");
+    let unknown = variant("film.json", tag, "\"schema\": \"codesign/film\"");
+    support::fails_saying(&unknown, "film.json: schema \"codesign/film\" is none of");
+    let newer = variant("newer.json", "\"version\": 1,", "\"version\": 7,");
+    support::fails_saying(&newer, "written by a newer codesign");
+    let given_table = codesign(&["table", dir.join("t.json").to_str().unwrap()]);
+    support::fails_saying(&given_table, "t.json: a table, made from results");
+    let untagged = variant("old.json", &format!("{tag},\n  \"version\": 1,\n  "), "");
+    assert!(!std::fs::read_to_string(dir.join("old.json"))
+        .unwrap()
+        .contains("schema"));
+    assert!(
+        untagged.status.success(),
+        "{}",
+        String::from_utf8_lossy(&untagged.stderr)
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

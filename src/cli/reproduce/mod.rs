@@ -21,7 +21,8 @@ use crate::report::plots::Figure;
 use crate::report::table::{build_table, PaperTable, ResultFile};
 use crate::report::trajectory::write_plots;
 use crate::solve::{SolveSettings, TrajectoryResult};
-use crate::store::files::{create_folder, remove_stale, write_atomic, write_json};
+use crate::store::document::write_document;
+use crate::store::files::{create_folder, remove_stale, write_atomic};
 use crate::store::lock::lock_folder;
 use crate::store::log::{Start, LOG_EXTENSION};
 use plan::{Plan, SPACES};
@@ -312,7 +313,7 @@ fn finish(
         table.to_markdown().as_bytes(),
     )
     .map_err(|e| e.to_string())?;
-    write_json(&plan.out_dir.join("paper_table.json"), &table).map_err(|e| e.to_string())?;
+    write_document(&plan.out_dir.join("paper_table.json"), &table).map_err(|e| e.to_string())?;
     say_raw!("{}", table.to_markdown());
     say!("results written to {}", plan.out_dir.display());
     Ok(table)

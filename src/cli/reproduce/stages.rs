@@ -15,7 +15,7 @@ use crate::report::table::ResultFile;
 use crate::report::trajectory::{write_plots, SolveDocument};
 use crate::solve::ToolInfo;
 use crate::solve::{solve_design, SolveError};
-use crate::store::files::write_json;
+use crate::store::document::write_document;
 
 /// Runs every independent stage of `plan`: what its printed commands do elsewhere.
 pub fn run_all(plan: &Plan, task: &ExperimentTask) -> Result<Outcomes, String> {
@@ -83,7 +83,7 @@ fn solve_originals(plan: &Plan, task: &ExperimentTask) -> Result<Vec<ResultFile>
                 &task.solver,
                 result,
             );
-            write_json(&plan.original_file(space, payload), &document)
+            write_document(&plan.original_file(space, payload), &document)
                 .map_err(|e| e.to_string())?;
             files.push(ResultFile::Solve(Box::new(document)));
         }
@@ -224,6 +224,6 @@ pub fn capacity_document(
         settings,
         capacity,
     };
-    write_json(&plan.capacity_file(name), &document).map_err(|e| e.to_string())?;
+    write_document(&plan.capacity_file(name), &document).map_err(|e| e.to_string())?;
     Ok(document)
 }

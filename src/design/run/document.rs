@@ -114,9 +114,9 @@ impl VerdictRule {
     }
 }
 
-/// A hash a run recorded, or unknown in records written before it was kept. Unknown matches
-/// any hash: an older log cannot say what it ran on, and is trusted on its other settings.
-#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+/// A hash a run recorded, or unknown in records written before it was kept. Unknown equals
+/// only unknown: a record that cannot say what it ran on is never taken for a known run.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(transparent)]
 pub struct RecordedHash(pub Option<String>);
 
@@ -124,15 +124,6 @@ impl RecordedHash {
     /// Whether no hash was recorded.
     pub fn is_unknown(&self) -> bool {
         self.0.is_none()
-    }
-}
-
-impl PartialEq for RecordedHash {
-    fn eq(&self, other: &RecordedHash) -> bool {
-        match (&self.0, &other.0) {
-            (Some(a), Some(b)) => a == b,
-            _ => true,
-        }
     }
 }
 
@@ -209,6 +200,10 @@ pub struct OptimizeDocument {
     pub payload_costs: Option<RangeCosts>,
 }
 
+impl crate::store::document::Document for OptimizeDocument {
+    const SCHEMA: crate::store::document::Schema = crate::store::document::Schema::Optimize;
+}
+
 /// The designs of a payload-range run, solved at each payload.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RangeCosts {
@@ -238,7 +233,18 @@ fn number_or_nan<'de, D: serde::Deserializer<'de>>(reader: D) -> Result<f64, D::
 
 #[cfg(test)]
 mod tests {
-    use super::{OptimizeDocument, OptimizeInputs, VerdictRule};
+    use super::{OptimizeDocument, OptimizeInputs, RecordedHash, VerdictRule};
+
+    /// An unknown hash (a record written before hashes were kept) equals only another unknown
+    /// one, never a known hash.
+    #[test]
+    fn an_unknown_hash_is_never_a_known_one() {
+        let known = RecordedHash(Some("0123abcd".to_owned()));
+        assert_ne!(RecordedHash(None), known);
+        assert_ne!(known, RecordedHash(None));
+        assert_eq!(RecordedHash(None), RecordedHash(None));
+        assert_eq!(known, RecordedHash(Some("0123abcd".to_owned())));
+    }
 
     #[test]
     fn a_run_logged_before_the_static_hold_is_another_run() {

@@ -17,7 +17,8 @@ use crate::model::Robot;
 use crate::problem::Formulation;
 use crate::solve::{solve_design, solve_design_from, SolveError, SolveSettings, ToolInfo};
 use crate::stats::median;
-use crate::store::files::{check_output, check_result, write_json};
+use crate::store::document::write_document;
+use crate::store::files::{check_output, check_result};
 use crate::store::log::log_beside;
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -77,7 +78,7 @@ pub fn run_case(
         let mut document = document(case, &formulation, &settings, inputs, outcome)?;
         document.earlier_seconds = earlier_seconds;
         document.wall_seconds = started.elapsed().as_secs_f64();
-        write_json(out, &document).map_err(RunError::store(Output::Result))?;
+        write_document(out, &document).map_err(RunError::store(Output::Result))?;
         Ok(document)
     });
     if let (Err(_), Some((log, _))) = (&result, log) {

@@ -23,6 +23,7 @@ use crate::ipopt::LinearSolver;
 use crate::model::task::{Ends, TaskSource};
 use crate::problem::Space;
 use crate::solve::ToolInfo;
+use crate::store::document::{self, Schema, Tagged};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -77,28 +78,31 @@ impl ResultFile {
     }
 }
 
-/// Reads a result file, telling its kind by its fields; errors name the file.
+/// Reads a result file, telling its kind by its envelope's tag (files written before the
+/// envelope: by their fields); errors name the file.
 pub fn read_result_file(path: &Path) -> Result<ResultFile, ReportError> {
     let failed = |why| ReportError::Read {
         path: path.to_owned(),
         why,
     };
     let text = read_text(path, MAX_RESULT_BYTES).map_err(|e| failed(ReadFailure::Input(e)))?;
-    let value: serde_json::Value =
+    let mut value: serde_json::Value =
         serde_json::from_str(&text).map_err(|e| failed(ReadFailure::NotJson(e.to_string())))?;
-    let kind = if value.get("best_ratios").is_some() {
-        "optimize"
-    } else if value.get("probes").is_some() {
-        "capacity"
-    } else {
-        "solve"
+    let tagged = document::open(&mut value).map_err(|e| failed(ReadFailure::Envelope(e)))?;
+    let schema = match tagged {
+        Tagged::Kind(schema, _) => schema,
+        Tagged::Untagged => untagged_kind(&value),
     };
-    let parsed = if kind == "capacity" {
-        serde_json::from_value(value).map(|d| ResultFile::Capacity(Box::new(d)))
-    } else if kind == "optimize" {
-        serde_json::from_value(value).map(|d| ResultFile::Optimize(Box::new(d)))
-    } else {
-        serde_json::from_value(value).map(|d| ResultFile::Solve(Box::new(d)))
+    let kind = schema.name();
+    let parsed = match schema {
+        Schema::Capacity => {
+            serde_json::from_value(value).map(|d| ResultFile::Capacity(Box::new(d)))
+        }
+        Schema::Optimize => {
+            serde_json::from_value(value).map(|d| ResultFile::Optimize(Box::new(d)))
+        }
+        Schema::Solve => serde_json::from_value(value).map(|d| ResultFile::Solve(Box::new(d))),
+        Schema::Table => return Err(failed(ReadFailure::Table)),
     };
     parsed.map_err(|e| {
         failed(ReadFailure::NotAResult {
@@ -106,6 +110,18 @@ pub fn read_result_file(path: &Path) -> Result<ResultFile, ReportError> {
             why: e.to_string(),
         })
     })
+}
+
+/// The kind of a result written before the envelope (version 0), by its fields: a co-design
+/// run has `best_ratios`, a capacity search `probes`, a solve neither.
+fn untagged_kind(value: &serde_json::Value) -> Schema {
+    if value.get("best_ratios").is_some() {
+        Schema::Optimize
+    } else if value.get("probes").is_some() {
+        Schema::Capacity
+    } else {
+        Schema::Solve
+    }
 }
 
 /// What the paper reports for one row (docs/model.md, section 13, from the paper's Table II).
@@ -267,6 +283,10 @@ pub struct PaperTable {
     /// Co-design runs for a payload range (`--objective range`), beyond the paper.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub ranges: Vec<RangeRow>,
+}
+
+impl crate::store::document::Document for PaperTable {
+    const SCHEMA: crate::store::document::Schema = crate::store::document::Schema::Table;
 }
 
 /// A co-design run for a payload range: one design for every payload of it.
