@@ -241,3 +241,39 @@ fn results_are_read_by_their_schema_tag() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Numbers no run writes are refused as edited or damaged, naming the file and the field: a
+/// capacity above its search's range, a search's range above the largest payload, counts of a
+/// co-design run that disagree with its costs (issue 38, probe D10).
+#[test]
+fn impossible_counts_and_capacities_are_refused() {
+    let dir = support::scratch("impossible");
+    let root = support::root();
+    let quick = root.join("results/quick");
+    let edit = |from: &str, name: &str, change: &dyn Fn(&mut serde_json::Value)| {
+        let mut value = support::read_json(&quick.join(from));
+        change(&mut value);
+        let path = dir.join(name);
+        std::fs::write(&path, serde_json::to_string(&value).unwrap()).unwrap();
+        codesign(&["table", path.to_str().unwrap()])
+    };
+    let capacity = "capacity/actuation-original.json";
+    let above = edit(capacity, "above.json", &|v| v["capacity_kg"] = 100.0.into());
+    support::fails_saying(
+        &above,
+        "above.json: capacity_kg = 100 is above the search's max_kg",
+    );
+    let range = edit(capacity, "range.json", &|v| {
+        v["settings"]["max_kg"] = 1e308.into();
+    });
+    support::fails_saying(&range, "range.json: settings.max_kg = ");
+    let run = "runs/actuation-1kg-seed0.json";
+    let none = edit(run, "none.json", &|v| v["evaluations"] = 0.into());
+    support::fails_saying(&none, "none.json: evaluations = 0 but costs holds 144");
+    let replayed = edit(run, "replayed.json", &|v| v["replayed"] = 145.into());
+    support::fails_saying(
+        &replayed,
+        "replayed.json: replayed = 145 is more than evaluations",
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

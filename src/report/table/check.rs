@@ -4,7 +4,10 @@
 use super::ResultFile;
 use crate::design::score::Objective;
 use crate::model::identity::built_in_task_hash;
+use crate::model::task::MAX_PAYLOAD_KG;
+use crate::report::codesign::CapacityDocument;
 use crate::report::ReportError;
+use crate::text::number;
 use std::path::PathBuf;
 
 /// Fails, naming the files, when two results are of different tasks (their task hashes differ;
@@ -130,12 +133,57 @@ fn odd_value(file: &ResultFile) -> Option<String> {
             ))
         }
         ResultFile::Solve(d) => cost("cost", d.result.cost),
-        ResultFile::Capacity(d) => d
-            .capacity
-            .capacity_kg
-            .filter(|kg| !(kg.is_finite() && *kg >= 0.0))
-            .map(|kg| {
-                format!("capacity_kg = {kg} is not a payload; the file was edited or damaged")
-            }),
+        ResultFile::Capacity(d) => odd_capacity(d),
     }
+    .or_else(|| odd_count(file))
+}
+
+/// What is wrong when a capacity search's result holds a mass no search writes: a capacity
+/// that is no payload, or above the search's own `max_kg` or the largest payload a task may
+/// carry.
+fn odd_capacity(d: &CapacityDocument) -> Option<String> {
+    let max = d.settings.max_kg;
+    let edited = "the file was edited or damaged";
+    if !(max.is_finite() && max > 0.0 && max <= MAX_PAYLOAD_KG) {
+        return Some(format!(
+            "settings.max_kg = {} is not a search's range (0 to {MAX_PAYLOAD_KG} kg); {edited}",
+            number(max)
+        ));
+    }
+    let kg = d.capacity.capacity_kg?;
+    if !(kg.is_finite() && kg >= 0.0) {
+        return Some(format!("capacity_kg = {kg} is not a payload; {edited}"));
+    }
+    (kg > max).then(|| {
+        format!(
+            "capacity_kg = {} is above the search's max_kg = {}; {edited}",
+            number(kg),
+            number(max)
+        )
+    })
+}
+
+/// What is wrong when a co-design run's counts disagree: one cost per evaluation, and no more
+/// evaluations replayed or solved than there were.
+fn odd_count(file: &ResultFile) -> Option<String> {
+    let ResultFile::Optimize(d) = file else {
+        return None;
+    };
+    let edited = "the file was edited or damaged";
+    if d.costs.len() != d.evaluations {
+        return Some(format!(
+            "evaluations = {} but costs holds {}; {edited}",
+            d.evaluations,
+            d.costs.len()
+        ));
+    }
+    let most = |name: &str, count: usize| {
+        (count > d.evaluations).then(|| {
+            format!(
+                "{name} = {count} is more than evaluations = {}; {edited}",
+                d.evaluations
+            )
+        })
+    };
+    most("replayed", d.replayed).or_else(|| most("solves", d.solves))
 }
