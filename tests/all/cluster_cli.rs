@@ -112,6 +112,52 @@ fn a_worker_of_another_build_is_refused() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A worker command that ends at once (bad flags, no such program, `false`) fails the run
+/// before any evaluation, every time the same way: naming the command and how it ended, and
+/// leaving no log (issue 38, probe D9: "cannot send the setup to a worker: Broken pipe", or,
+/// by timing, evaluations scored as crashed and a log left behind).
+#[test]
+fn a_worker_that_ends_at_once_is_named_with_its_exit() {
+    let dir = scratch("ends-at-once");
+    let task = small_task(&dir);
+    let out = dir.join("never.json");
+    for (command, status) in [
+        ("{} worker --bogus", "exit status: 2"),
+        ("false", "exit status: 1"),
+        ("/nonexistent/worker", "exit status: 127"),
+    ] {
+        let output = codesign_in(
+            &dir,
+            &[
+                "optimize",
+                "--task",
+                task.to_str().unwrap(),
+                "--payload",
+                "1",
+                "--population",
+                "5",
+                "--generations",
+                "0",
+                "--workers",
+                "1",
+                "--worker-command",
+                command,
+                "--out",
+                out.to_str().unwrap(),
+            ],
+        );
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{stderr}");
+        assert!(stderr.contains("ended before its hello"), "{stderr}");
+        assert!(stderr.contains(status), "{command}: {stderr}");
+        assert!(
+            !out.exists() && !dir.join("never.log.jsonl").exists(),
+            "{command}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// The table with every time (a number before "ms", "s", "min" or "h") blanked, and the note on
 /// the run's wall time left out: what two runs of one experiment must share.
 fn table_without_times(folder: &Path) -> Vec<String> {

@@ -30,8 +30,14 @@ pub enum WorkerError {
     },
     /// A started worker has no pipe of this name (`stdin`, `stdout`).
     NoPipe(&'static str),
-    /// The setup line could not be sent to a worker.
-    SendSetup(io::Error),
+    /// A worker ended before its hello (its setup could not be sent, or its output ended): the
+    /// command starts no codesign worker.
+    EndedEarly {
+        /// The command that started it.
+        launcher: String,
+        /// How it ended, where known (`exit status: 2`).
+        status: Option<String>,
+    },
     /// Every thread reading the workers' answers stopped.
     ReadersStopped,
     /// A worker's hello differs from the pool's: another build, or another reading of the setup.
@@ -84,7 +90,16 @@ impl fmt::Display for WorkerError {
                 write!(f, "cannot start a worker with `{launcher}`: {source}")
             }
             WorkerError::NoPipe(pipe) => write!(f, "worker has no {pipe}"),
-            WorkerError::SendSetup(e) => write!(f, "cannot send the setup to a worker: {e}"),
+            WorkerError::EndedEarly { launcher, status } => {
+                let how = status
+                    .as_deref()
+                    .map_or(String::new(), |s| format!(" ({s})"));
+                write!(
+                    f,
+                    "the worker started by `{launcher}` ended before its hello{how}: is it a \
+                     codesign worker (`codesign worker`, `{{}} worker`)?"
+                )
+            }
             WorkerError::ReadersStopped => f.write_str("all worker readers stopped"),
             WorkerError::Refused {
                 launcher,
@@ -114,7 +129,6 @@ impl std::error::Error for WorkerError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
             WorkerError::Start { source: e, .. }
-            | WorkerError::SendSetup(e)
             | WorkerError::ReadSetup(e)
             | WorkerError::ReadRequest(e)
             | WorkerError::Answer(e) => Some(e),
@@ -128,6 +142,7 @@ impl std::error::Error for WorkerError {
             WorkerError::NoWorkers
             | WorkerError::TooMany
             | WorkerError::NoHello { .. }
+            | WorkerError::EndedEarly { .. }
             | WorkerError::NoPipe(_)
             | WorkerError::ReadersStopped
             | WorkerError::Refused { .. } => None,

@@ -149,7 +149,9 @@ impl Pool {
         }
         let mut stdin = child.stdin.take().ok_or(WorkerError::NoPipe("stdin"))?;
         let stdout = child.stdout.take().ok_or(WorkerError::NoPipe("stdout"))?;
-        writeln!(stdin, "{}", self.setup_line).map_err(WorkerError::SendSetup)?;
+        if writeln!(stdin, "{}", self.setup_line).is_err() {
+            return Err(ended_early(&self.launcher.to_string(), &mut child));
+        }
         self.incarnations += 1;
         let incarnation = self.incarnations;
         let sender = self.sender.clone();
@@ -275,6 +277,10 @@ impl Pool {
             Ok((slot, _, Read::Broken(why))) if !self.workers[slot].introduced => {
                 self.introduce(slot, &why)?;
                 Ok(Heard::Failed(Vec::new()))
+            }
+            Ok((slot, _, Read::End)) if !self.workers[slot].introduced => {
+                let launcher = self.launcher.to_string();
+                Err(ended_early(&launcher, &mut self.workers[slot].child))
             }
             Ok((slot, _, Read::End)) => failed(slot, "worker process crashed".to_owned()),
             Ok((slot, _, Read::Broken(why))) => failed(slot, format!("worker sent {why}")),
@@ -403,6 +409,26 @@ impl Drop for Pool {
         for worker in &mut self.workers {
             process::kill(&mut worker.child);
         }
+    }
+}
+
+/// The error of a worker started by `launcher` that ended before its hello, with its exit
+/// status where it is known within a second (the process is killed after that).
+fn ended_early(launcher: &str, child: &mut Child) -> WorkerError {
+    let deadline = Instant::now() + Duration::from_secs(1);
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break Some(status.to_string()),
+            Ok(None) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(10)),
+            _ => {
+                process::kill(child);
+                break None;
+            }
+        }
+    };
+    WorkerError::EndedEarly {
+        launcher: launcher.to_owned(),
+        status,
     }
 }
 
