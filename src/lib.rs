@@ -25,6 +25,7 @@ pub fn write_note(text: std::fmt::Arguments<'_>) {
 pub mod cli;
 pub mod design;
 pub mod dynamics;
+pub mod experiment;
 pub mod hash;
 pub mod input;
 pub mod ipopt;

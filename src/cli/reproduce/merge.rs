@@ -4,6 +4,7 @@
 use super::plan::{Plan, PlannedRun, SPACES};
 use super::Outcomes;
 use crate::design::run::OptimizeDocument;
+use crate::experiment::CapacityOf;
 use crate::report::codesign::CapacityDocument;
 use crate::report::table::{check_results, read_result_file, ResultFile};
 use std::path::{Path, PathBuf};
@@ -18,7 +19,7 @@ pub fn read_all(plan: &Plan, task_hash: &str) -> Result<Outcomes, String> {
     let payloads = &plan.experiment.original_payloads_kg;
     for &payload in payloads {
         for space in SPACES {
-            let path = plan.original_file(space, payload);
+            let path = plan.layout.original(space, payload);
             match read(&path)? {
                 file @ ResultFile::Solve(_) => originals.push(file),
                 _ => return Err(wrong_kind(&path, "a `solve` result")),
@@ -27,7 +28,7 @@ pub fn read_all(plan: &Plan, task_hash: &str) -> Result<Outcomes, String> {
     }
     // A gradient run may be missing: the gradient method fails where it finds no feasible
     // start.
-    let present = |run: &PlannedRun| plan.run_file(run).exists();
+    let present = |run: &PlannedRun| plan.layout.run(&run.name).exists();
     let runs = planned_all(plan, task_hash, plan.cost_runs())?;
     let gradient_runs = planned_all(
         plan,
@@ -37,7 +38,7 @@ pub fn read_all(plan: &Plan, task_hash: &str) -> Result<Outcomes, String> {
     let beyond_runs = planned_all(plan, task_hash, plan.beyond_runs())?;
     let mut paths: Vec<PathBuf> = payloads
         .iter()
-        .flat_map(|&payload| SPACES.map(|space| plan.original_file(space, payload)))
+        .flat_map(|&payload| SPACES.map(|space| plan.layout.original(space, payload)))
         .collect();
     let mut files = originals.clone();
     for (path, document) in runs.iter().chain(&gradient_runs).chain(&beyond_runs) {
@@ -55,7 +56,7 @@ pub fn read_all(plan: &Plan, task_hash: &str) -> Result<Outcomes, String> {
     let original_capacities = SPACES
         .iter()
         .map(|space| {
-            let path = plan.capacity_file(&format!("{space}-original"));
+            let path = plan.layout.capacity(CapacityOf::Original(*space));
             match read(&path)? {
                 ResultFile::Capacity(document) => Ok(*document),
                 _ => Err(wrong_kind(&path, "a `capacity` result")),
@@ -97,7 +98,7 @@ fn planned_all(
 ) -> Result<Vec<(PathBuf, OptimizeDocument)>, String> {
     runs.into_iter()
         .map(|run| {
-            let path = plan.run_file(&run);
+            let path = plan.layout.run(&run.name);
             planned(&path, &run, task_hash).map(|document| (path, document))
         })
         .collect()

@@ -10,6 +10,7 @@ use super::store_hints::{check_output, hint};
 use crate::design::bounds::BoundHandling;
 use crate::design::run::{task_source, OptimizeDocument};
 use crate::design::warm::WarmStart;
+use crate::experiment::CapacityOf;
 use crate::ipopt::LinearSolver;
 use crate::model::experiment::Budget;
 use crate::model::identity::task_hash;
@@ -143,9 +144,9 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             .map_err(|e| format!("cannot locate the codesign executable: {e}"))?;
         // The commands write into these folders, on whichever machine runs them.
         for section in sections(&plan, hold.as_ref()) {
-            create_folder(&section.out_dir).map_err(|e| e.to_string())?;
-            for folder in ["original", "runs", "plots", "capacity"] {
-                create_folder(&section.out_dir.join(folder)).map_err(|e| e.to_string())?;
+            create_folder(section.out_dir()).map_err(|e| e.to_string())?;
+            for folder in section.layout.folders() {
+                create_folder(&folder).map_err(|e| e.to_string())?;
             }
         }
         for line in plan.commands(&program.to_string_lossy()) {
@@ -153,9 +154,9 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         }
         return Ok(());
     }
-    create_folder(&plan.out_dir).map_err(|e| e.to_string())?;
+    create_folder(plan.out_dir()).map_err(|e| e.to_string())?;
     // Held until the reproduction ends: a second one on the same folder fails at once.
-    let _lock = lock_folder(&plan.out_dir).map_err(|e| hint(e, "--out-dir"))?;
+    let _lock = lock_folder(plan.out_dir()).map_err(|e| hint(e, "--out-dir"))?;
     let task_file = plan.task.iter().map(|path| ("--task", path.as_path()));
     let robot = task.task.robot.iter().map(|path| ("robot", path.as_path()));
     let merged = args.from_runs.is_some();
@@ -204,11 +205,11 @@ fn section_outcomes(plan: &Plan, task: &ExperimentTask, merged: bool) -> Result<
         return merge::read_all(plan, &task.hash);
     }
     if plan.start == Start::Fresh {
-        refuse_earlier_logs(&plan.out_dir.join("runs"))?;
+        refuse_earlier_logs(&plan.layout.runs())?;
     }
-    create_folder(&plan.out_dir).map_err(|e| e.to_string())?;
-    for folder in ["original", "runs", "plots", "capacity"] {
-        create_folder(&plan.out_dir.join(folder)).map_err(|e| e.to_string())?;
+    create_folder(plan.out_dir()).map_err(|e| e.to_string())?;
+    for folder in plan.layout.folders() {
+        create_folder(&folder).map_err(|e| e.to_string())?;
     }
     stages::run_all(plan, task)
 }
@@ -249,7 +250,9 @@ fn finish(
     seconds: f64,
     hold: Option<&PaperTable>,
 ) -> Result<PaperTable, String> {
-    create_folder(&plan.out_dir.join("capacity")).map_err(|e| e.to_string())?;
+    for folder in plan.layout.folders() {
+        create_folder(&folder).map_err(|e| e.to_string())?;
+    }
     write_case_plots(plan, task, &outcomes.runs)?;
     let mut capacities = outcomes.original_capacities;
     capacities.extend(best_capacities(plan, task, &outcomes.runs)?);
@@ -260,7 +263,7 @@ fn finish(
         .chain(&outcomes.beyond_runs)
         .collect();
     let time_note = if merged {
-        merged_note(&plan.out_dir, runs.iter().chain(beyond.iter().copied()))
+        merged_note(plan.out_dir(), runs.iter().chain(beyond.iter().copied()))
     } else {
         // Resumed runs' earlier invocations, from their logs (the capacity co-design runs too).
         let earlier: Option<f64> = runs
@@ -309,13 +312,13 @@ fn finish(
         table.add_hold_section(hold);
     }
     write_atomic(
-        &plan.out_dir.join("paper_table.md"),
+        &plan.layout.table_markdown(),
         table.to_markdown().as_bytes(),
     )
     .map_err(|e| e.to_string())?;
-    write_document(&plan.out_dir.join("paper_table.json"), &table).map_err(|e| e.to_string())?;
+    write_document(&plan.layout.table_json(), &table).map_err(|e| e.to_string())?;
     say_raw!("{}", table.to_markdown());
-    say!("results written to {}", plan.out_dir.display());
+    say!("results written to {}", plan.out_dir().display());
     Ok(table)
 }
 
@@ -350,12 +353,12 @@ fn best_capacities(
     let mut capacities = Vec::new();
     for &payload in &plan.experiment.codesign_payloads_kg {
         for space in SPACES {
-            let name = format!("{space}-{payload}kg-best");
+            let of = CapacityOf::Best(space, payload);
             if let Some(best) = best_of(runs, payload, space) {
                 let ratios = best.ratios.clone();
-                capacities.push(stages::capacity_document(plan, task, space, ratios, &name)?);
+                capacities.push(stages::capacity_document(plan, task, space, ratios, of)?);
             } else {
-                remove_stale_output(&plan.capacity_file(&name))?;
+                remove_stale_output(&plan.layout.capacity(of))?;
             }
         }
     }
@@ -382,8 +385,7 @@ fn write_case_plots(
     task: &ExperimentTask,
     runs: &[OptimizeDocument],
 ) -> Result<(), String> {
-    let plots = plan.out_dir.join("plots");
-    create_folder(&plots).map_err(|e| e.to_string())?;
+    create_folder(&plan.layout.plots()).map_err(|e| e.to_string())?;
     let mut radar_cases = Vec::new();
     for &payload in &plan.experiment.codesign_payloads_kg {
         for space in SPACES {
@@ -391,11 +393,10 @@ fn write_case_plots(
                 .iter()
                 .filter(|d| d.inputs.payload_kg == payload && d.inputs.space == space)
                 .collect();
-            let name = format!("{space}-{payload}kg");
             let title = format!("CMA-ES cost per evaluation: {space} space, {payload} kg");
             cost_evolution_chart(&title, &case)
-                .write(&plots.join(format!("cost_evolution-{name}.svg")))?;
-            let folder = plots.join(format!("best-{name}"));
+                .write(&plan.layout.cost_evolution(space, payload))?;
+            let folder = plan.layout.best_plots(space, payload);
             if let Some(best) = best_of(runs, payload, space) {
                 let formulation = stages::formulation_at(task, payload, space)?;
                 write_plots(&folder, &formulation, best)?;
@@ -411,7 +412,7 @@ fn write_case_plots(
         &radar_cases,
         &upper,
     );
-    Ok(ratios.write(&plots.join("optimal_ratios.svg"))?)
+    Ok(ratios.write(&plan.layout.optimal_ratios())?)
 }
 
 /// Fails, naming a log and the two ways on, when `runs` holds evaluation logs of an earlier

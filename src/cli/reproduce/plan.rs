@@ -11,6 +11,7 @@ use crate::design::penalty::{Grading, Penalty, PENALTY};
 use crate::design::run::{shell_quote, task_source, Case, Method, ModelChoice, ProblemChoice};
 use crate::design::score::{Objective, PayloadRange};
 use crate::design::warm::WarmStart;
+use crate::experiment::{CapacityOf, Layout, RunName};
 use crate::model::experiment::{Budget, Experiment, MAX_SEEDS};
 use crate::model::task::Ends;
 use crate::problem::Space;
@@ -32,8 +33,8 @@ const RANGE_SPACE: Space = Space::Actuation;
 /// One co-design run of the experiment.
 #[derive(Clone, Debug)]
 pub struct PlannedRun {
-    /// The file stem of its result in `runs/`, e.g. `actuation-1kg-seed0`.
-    pub name: String,
+    /// The name of its result in `runs/`, e.g. `actuation-1kg-seed0`.
+    pub name: RunName,
     /// The run.
     pub case: Case,
 }
@@ -48,8 +49,8 @@ pub struct Plan {
     pub experiment: Experiment,
     /// The budget: the experiment's (its quick one with --quick), with the flags applied.
     pub budget: Budget,
-    /// The output folder.
-    pub out_dir: PathBuf,
+    /// The output folder and where each result lies in it.
+    pub layout: Layout,
     /// The task file (None: the built-in task).
     pub task: Option<PathBuf>,
     /// Space-independent problem flags: the linear solver.
@@ -70,9 +71,6 @@ pub struct Plan {
     /// `hold` ([`Plan::hold_section`]): its originals, CMA-ES runs and capacities only.
     pub is_hold_section: bool,
 }
-
-/// The folder of the hold section inside a reproduction's output folder.
-pub const HOLD_FOLDER: &str = "hold";
 
 impl Plan {
     /// The plan of the task's `experiment` that `reproduce`'s flags ask for: --seeds,
@@ -95,17 +93,18 @@ impl Plan {
             quick: args.quick,
             experiment,
             budget,
-            out_dir: args
-                .from_runs
-                .clone()
-                .or_else(|| args.out_dir.clone())
-                .unwrap_or_else(|| {
-                    PathBuf::from(if args.quick {
-                        "results/quick"
-                    } else {
-                        "results"
-                    })
-                }),
+            layout: Layout::new(
+                args.from_runs
+                    .clone()
+                    .or_else(|| args.out_dir.clone())
+                    .unwrap_or_else(|| {
+                        PathBuf::from(if args.quick {
+                            "results/quick"
+                        } else {
+                            "results"
+                        })
+                    }),
+            ),
             task: args.task.clone(),
             problem: ProblemArgs {
                 space: Space::Actuation,
@@ -130,7 +129,7 @@ impl Plan {
     /// `hold`, written to `OUT_DIR/hold/`. None under `hold` or `rest`, whose table it is.
     pub fn hold_section(&self) -> Option<Plan> {
         (self.ends == Ends::Paper && !self.is_hold_section).then(|| Plan {
-            out_dir: self.out_dir.join(HOLD_FOLDER),
+            layout: self.layout.hold(),
             ends: Ends::Hold,
             is_hold_section: true,
             ..self.clone()
@@ -236,31 +235,18 @@ impl Plan {
         case.cmaes.population = self.budget.population;
         case.cmaes.generations = self.budget.generations;
         vec![PlannedRun {
-            name: format!("{RANGE_SPACE}-range-{first}-{last}kg-seed0"),
+            name: RunName::Range {
+                space: RANGE_SPACE,
+                first_kg: *first,
+                last_kg: *last,
+            },
             case,
         }]
     }
 
-    /// The result file of the original design at `payload_kg` in `space`.
-    pub fn original_file(&self, space: Space, payload_kg: f64) -> PathBuf {
-        let name = format!("{space}-{payload_kg}kg.json");
-        self.out_dir.join("original").join(name)
-    }
-
-    /// The plot folder of the original design at `payload_kg` in `space`.
-    pub fn original_plots(&self, space: Space, payload_kg: f64) -> PathBuf {
-        let name = format!("original-{space}-{payload_kg}kg");
-        self.out_dir.join("plots").join(name)
-    }
-
-    /// The result file of a co-design run.
-    pub fn run_file(&self, run: &PlannedRun) -> PathBuf {
-        self.out_dir.join("runs").join(format!("{}.json", run.name))
-    }
-
-    /// The result file of a capacity search, `capacity/NAME.json`.
-    pub fn capacity_file(&self, name: &str) -> PathBuf {
-        self.out_dir.join("capacity").join(format!("{name}.json"))
+    /// The output folder.
+    pub fn out_dir(&self) -> &Path {
+        self.layout.root()
     }
 
     /// Every result `--from-runs` reads (`merge::read_all`): the original designs', the
@@ -268,11 +254,11 @@ impl Plan {
     /// inputs, which no output may be.
     pub fn merged_inputs(&self) -> Vec<PathBuf> {
         let mut files: Vec<PathBuf> = (self.experiment.original_payloads_kg.iter())
-            .flat_map(|&payload| SPACES.map(|space| self.original_file(space, payload)))
+            .flat_map(|&payload| SPACES.map(|space| self.layout.original(space, payload)))
             .collect();
         let runs = [self.cost_runs(), self.gradient_runs(), self.beyond_runs()];
-        files.extend(runs.iter().flatten().map(|run| self.run_file(run)));
-        files.extend(SPACES.map(|space| self.capacity_file(&format!("{space}-original"))));
+        files.extend(runs.iter().flatten().map(|run| self.layout.run(&run.name)));
+        files.extend(SPACES.map(|space| self.layout.capacity(CapacityOf::Original(space))));
         files
     }
 
@@ -280,21 +266,18 @@ impl Plan {
     /// (a co-design run checks its own): the table, the original designs' results and plots,
     /// the capacities.
     pub fn outputs(&self) -> Vec<PathBuf> {
-        let mut files = vec![
-            self.out_dir.join("paper_table.md"),
-            self.out_dir.join("paper_table.json"),
-        ];
+        let mut files = vec![self.layout.table_markdown(), self.layout.table_json()];
         for &payload in &self.experiment.original_payloads_kg {
             for space in SPACES {
-                files.push(self.original_file(space, payload));
-                let plots = self.original_plots(space, payload);
+                files.push(self.layout.original(space, payload));
+                let plots = self.layout.original_plots(space, payload);
                 files.extend(every_plot_file().map(|name| plots.join(name)));
             }
         }
         for space in SPACES {
-            files.push(self.capacity_file(&format!("{space}-original")));
+            files.push(self.layout.capacity(CapacityOf::Original(space)));
             for payload in &self.experiment.codesign_payloads_kg {
-                files.push(self.capacity_file(&format!("{space}-{payload}kg-best")));
+                files.push(self.layout.capacity(CapacityOf::Best(space, *payload)));
             }
         }
         // Folders not made yet hold nothing to protect.
@@ -325,8 +308,8 @@ impl Plan {
             for space in SPACES {
                 lines.push(format!(
                     "{program} solve --space {space} --payload {payload}{common} --out {} --plot {}",
-                    path(self.original_file(space, payload)),
-                    path(self.original_plots(space, payload))
+                    path(self.layout.original(space, payload)),
+                    path(self.layout.original_plots(space, payload))
                 ));
             }
         }
@@ -346,11 +329,11 @@ impl Plan {
             let flags = case.flags().join(" ");
             lines.push(format!(
                 "{program} optimize {flags} --out {}",
-                path(self.run_file(&run))
+                path(self.layout.run(&run.name))
             ));
         }
         for space in SPACES {
-            let out = path(self.capacity_file(&format!("{space}-original")));
+            let out = path(self.layout.capacity(CapacityOf::Original(space)));
             lines.push(format!(
                 "{program} capacity --space {space}{common} --out {out}"
             ));
@@ -368,7 +351,11 @@ impl Plan {
             for space in SPACES {
                 for seed in 0..self.budget.seeds {
                     runs.push(PlannedRun {
-                        name: format!("{space}-{payload}kg-seed{seed}"),
+                        name: RunName::Cost {
+                            space,
+                            payload_kg: payload,
+                            seed,
+                        },
                         case: self.cost_case(space, payload, seed),
                     });
                 }
@@ -388,7 +375,11 @@ impl Plan {
         for &payload in &self.experiment.codesign_payloads_kg {
             for space in SPACES {
                 runs.push(PlannedRun {
-                    name: format!("{space}-{payload}kg-gradient"),
+                    name: RunName::Gradient {
+                        space,
+                        payload_kg: payload,
+                        graded: false,
+                    },
                     case: self.gradient_case(space, payload),
                 });
             }
@@ -398,7 +389,11 @@ impl Plan {
                 let mut case = self.gradient_case(space, payload);
                 case.penalty = GRADED_PENALTY;
                 runs.push(PlannedRun {
-                    name: format!("{space}-{payload}kg-graded-gradient"),
+                    name: RunName::Gradient {
+                        space,
+                        payload_kg: payload,
+                        graded: true,
+                    },
                     case,
                 });
             }
@@ -439,7 +434,11 @@ impl Plan {
                     let mut case = self.cost_case(space, payload, seed);
                     case.penalty = GRADED_PENALTY;
                     runs.push(PlannedRun {
-                        name: format!("{space}-{payload}kg-graded-seed{seed}"),
+                        name: RunName::Graded {
+                            space,
+                            payload_kg: payload,
+                            seed,
+                        },
                         case,
                     });
                 }
@@ -459,7 +458,7 @@ impl Plan {
                 case.cmaes.population = self.budget.capacity_population;
                 case.cmaes.generations = self.budget.capacity_generations;
                 PlannedRun {
-                    name: format!("{space}-capacity-seed0"),
+                    name: RunName::Capacity { space },
                     case,
                 }
             })
@@ -519,7 +518,7 @@ mod tests {
             .into_iter()
             .chain(quick.gradient_runs())
             .chain(quick.beyond_runs())
-            .map(|run| run.name)
+            .map(|run| run.name.to_string())
             .collect();
         assert_eq!(names.len(), 2 * 2 * 2 + (4 + 2) + 2 + 1 + 2 * 2);
         assert!(names.contains(&"actuation-3kg-graded-gradient".to_owned()));
@@ -551,7 +550,7 @@ mod tests {
             .into_iter()
             .chain(plan.gradient_runs())
             .chain(plan.beyond_runs())
-            .map(|run| run.name)
+            .map(|run| run.name.to_string())
             .collect();
         assert_eq!(
             names,

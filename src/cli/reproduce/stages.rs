@@ -8,6 +8,7 @@ use crate::cli::store_hints::run_error;
 use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::design::run::{run_case, task_source, OptimizeDocument, RecordedHash};
 use crate::design::score::Objective;
+use crate::experiment::CapacityOf;
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
 use crate::report::codesign::CapacityDocument;
@@ -28,7 +29,7 @@ pub fn run_all(plan: &Plan, task: &ExperimentTask) -> Result<Outcomes, String> {
             .iter()
             .map(|&space| {
                 let ratios = task.task.transmission.original.clone();
-                capacity_document(plan, task, space, ratios, &format!("{space}-original"))
+                capacity_document(plan, task, space, ratios, CapacityOf::Original(space))
             })
             .collect::<Result<_, _>>()?,
     })
@@ -75,7 +76,11 @@ fn solve_originals(plan: &Plan, task: &ExperimentTask) -> Result<Vec<ResultFile>
                 result.cost,
                 result.iterations
             );
-            write_plots(&plan.original_plots(space, payload), &formulation, &result)?;
+            write_plots(
+                &plan.layout.original_plots(space, payload),
+                &formulation,
+                &result,
+            )?;
             let document = SolveDocument::new(
                 &source.label(),
                 &task.hash,
@@ -83,7 +88,7 @@ fn solve_originals(plan: &Plan, task: &ExperimentTask) -> Result<Vec<ResultFile>
                 &task.solver,
                 result,
             );
-            write_document(&plan.original_file(space, payload), &document)
+            write_document(&plan.layout.original(space, payload), &document)
                 .map_err(|e| e.to_string())?;
             files.push(ResultFile::Solve(Box::new(document)));
         }
@@ -93,7 +98,7 @@ fn solve_originals(plan: &Plan, task: &ExperimentTask) -> Result<Vec<ResultFile>
 
 /// Runs one planned co-design run.
 fn run(plan: &Plan, run: &PlannedRun) -> Result<OptimizeDocument, String> {
-    run_case(&run.case, &plan.run_file(run), &progress_bar).map_err(run_error)
+    run_case(&run.case, &plan.layout.run(&run.name), &progress_bar).map_err(run_error)
 }
 
 /// The paper's co-design runs (CMA-ES on the cost), in order.
@@ -203,15 +208,15 @@ pub fn capacity_document(
     task: &ExperimentTask,
     space: Space,
     ratios: Vec<f64>,
-    name: &str,
+    of: CapacityOf,
 ) -> Result<CapacityDocument, String> {
     let settings = CapacitySettings::default();
     let formulation = formulation_at(task, task.task.payload.mass_kg, space)?;
     let capacity = payload_capacity(&formulation, &task.solver, &ratios, &settings)
         .map_err(|e| e.to_string())?;
     match capacity.capacity_kg {
-        Some(kg) => say!("payload capacity, {name}: {kg} kg"),
-        None => say!("payload capacity, {name}: infeasible even without payload"),
+        Some(kg) => say!("payload capacity, {of}: {kg} kg"),
+        None => say!("payload capacity, {of}: infeasible even without payload"),
     }
     let document = CapacityDocument {
         tool: ToolInfo::current(task.solver.linear_solver()),
@@ -224,6 +229,6 @@ pub fn capacity_document(
         settings,
         capacity,
     };
-    write_document(&plan.capacity_file(name), &document).map_err(|e| e.to_string())?;
+    write_document(&plan.layout.capacity(of), &document).map_err(|e| e.to_string())?;
     Ok(document)
 }
