@@ -79,10 +79,16 @@ fn parse(urdf: &str, file: &str) -> Result<urdf_rs::Robot, ModelError> {
     Ok(robot)
 }
 
-/// The link at the end of the longest chain of revolute and continuous joints from the root
-/// (a link fixed after it counts as further out): the TCP's link when no task names one.
-/// Branches through other joints (prismatic fingers, mimic joints) are not followed; ties go to
-/// the link written first. `file` names the URDF in errors.
+/// The names of tool frames by convention (ROS-Industrial's `tool0` among them), in the order
+/// they are preferred: a link of one of these names is the TCP's link when no task names one.
+pub const TOOL_FRAMES: [&str; 6] = ["tcp", "tool0", "tool", "ee_link", "end_effector", "flange"];
+
+/// The TCP's link when no task names one: a tool frame by its conventional name
+/// ([`TOOL_FRAMES`]) on a chain of revolute, continuous and fixed joints from the root; else the
+/// end of the longest such chain (a link fixed after it counts as further out), where the
+/// longest chains part (a gripper's two fingers) the link where they part, and from there the
+/// one link fixed to it, if it has exactly one. Branches through other joints (prismatic
+/// fingers, mimic joints) are not followed. `file` names the URDF in errors.
 pub fn tip_link(urdf: &str, file: &str) -> Result<String, ModelError> {
     let robot = parse(urdf, file)?;
     let parent: std::collections::HashMap<&str, &urdf_rs::Joint> = robot
@@ -90,32 +96,62 @@ pub fn tip_link(urdf: &str, file: &str) -> Result<String, ModelError> {
         .iter()
         .map(|joint| (joint.child.link.as_str(), joint))
         .collect();
-    let reach = |link: &str| -> Option<(usize, usize)> {
-        let (mut moving, mut steps, mut at) = (0, 0, link);
+    // The links from `link` up to the root, and the number of moving joints on the way; None
+    // where the way passes another kind of joint.
+    let way = |link: &str| -> Option<(Vec<String>, usize)> {
+        let (mut links, mut moving, mut at) = (vec![link.to_owned()], 0, link);
         while let Some(joint) = parent.get(at) {
             match joint.joint_type {
                 JointType::Revolute | JointType::Continuous if joint.mimic.is_none() => moving += 1,
                 JointType::Fixed => {}
                 _ => return None,
             }
-            steps += 1;
-            if steps > robot.links.len() {
+            if links.len() > robot.links.len() {
                 return None;
             }
             at = &joint.parent.link;
+            links.push(at.to_owned());
         }
-        Some((moving, steps))
+        Some((links, moving))
     };
-    let mut best: Option<((usize, usize), &str)> = None;
-    for link in &robot.links {
-        if let Some(depth) = reach(&link.name) {
-            if best.is_none_or(|(most, _)| depth > most) {
-                best = Some((depth, &link.name));
-            }
+    for frame in TOOL_FRAMES {
+        if robot.links.iter().any(|link| link.name == frame) && way(frame).is_some() {
+            return Ok(frame.to_owned());
         }
     }
-    best.map(|(_, name)| name.to_owned())
-        .ok_or_else(|| ModelError::new(file, "robot", "has no link"))
+    let ways: Vec<(Vec<String>, usize)> = robot
+        .links
+        .iter()
+        .filter_map(|link| way(&link.name))
+        .collect();
+    let Some(most) = ways.iter().map(|(_, moving)| *moving).max() else {
+        return Err(ModelError::new(file, "robot", "has no link"));
+    };
+    let tips: Vec<&Vec<String>> = (ways.iter())
+        .filter(|(_, moving)| *moving == most)
+        .map(|(links, _)| links)
+        .collect();
+    let deepest = tips.iter().map(|links| links.len()).max().unwrap_or(0);
+    let far: Vec<&Vec<String>> = tips.into_iter().filter(|l| l.len() == deepest).collect();
+    let Some(first) = far.first() else {
+        return Err(ModelError::new(file, "robot", "has no link"));
+    };
+    if far.len() == 1 {
+        return Ok(first[0].clone());
+    }
+    // The chains part: the last link they share, then its one fixed child, if one.
+    let shared = (first.iter().rev())
+        .take_while(|link| far.iter().all(|other| other.contains(link)))
+        .last()
+        .cloned()
+        .unwrap_or_else(|| first[0].clone());
+    let fixed: Vec<&urdf_rs::Joint> = (robot.joints.iter())
+        .filter(|j| j.parent.link == shared && matches!(j.joint_type, JointType::Fixed))
+        .collect();
+    Ok(match fixed.as_slice() {
+        [only] => only.child.link.clone(),
+        _ => shared,
+    })
 }
 
 /// The error for a URDF that `urdf-rs` cannot read: the joint or link at fault when the text
@@ -147,3 +183,61 @@ pub const MAX_XML_DEPTH: usize = 64;
 
 /// The most moving joints a URDF may have: the serial arms this tool designs have a few.
 pub const MAX_MOVING_JOINTS: usize = 64;
+
+#[cfg(test)]
+mod tests {
+    use super::tip_link;
+
+    /// A two-joint arm whose last link holds `tail`.
+    fn arm(tail: &str) -> String {
+        let inertial = r#"<inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>"#;
+        let joint = |name: &str, kind: &str, parent: &str, child: &str| {
+            format!(
+                r#"<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>"#
+            )
+        };
+        format!(
+            r#"<robot name="r"><link name="base"/><link name="l1">{inertial}</link><link name="l2">{inertial}</link>{}{}{tail}</robot>"#,
+            joint("j1", "revolute", "base", "l1"),
+            joint("j2", "revolute", "l1", "l2"),
+        )
+    }
+
+    /// Two fingers on revolute joints after `l2`, and `extra` beside them.
+    fn gripper(extra: &str) -> String {
+        let finger = |name: &str| {
+            format!(
+                r#"<link name="{name}"/><joint name="j_{name}" type="revolute"><parent link="l2"/><child link="{name}"/><axis xyz="0 0 1"/><limit lower="0" upper="1" effort="1" velocity="1"/></joint>"#
+            )
+        };
+        arm(&format!(
+            "{}{}{extra}",
+            finger("left_finger"),
+            finger("right_finger")
+        ))
+    }
+
+    fn fixed(name: &str) -> String {
+        format!(
+            r#"<link name="{name}"/><joint name="j_{name}" type="fixed"><parent link="l2"/><child link="{name}"/></joint>"#
+        )
+    }
+
+    /// A tool frame by its conventional name is the TCP's link; where the longest chains part,
+    /// at a gripper's fingers, the link where they part, or the one link fixed to it; a single
+    /// longest chain ends at its last link (a link fixed after it counts as further out).
+    #[test]
+    fn the_tip_is_the_tool_frame_or_where_the_fingers_part() {
+        let tip = |urdf: &str| tip_link(urdf, "r.urdf").unwrap();
+        assert_eq!(tip(&gripper(&fixed("tcp"))), "tcp");
+        assert_eq!(tip(&gripper(&fixed("grasp_point"))), "grasp_point");
+        assert_eq!(tip(&gripper("")), "l2");
+        assert_eq!(
+            tip(&gripper(&format!("{}{}", fixed("a"), fixed("b")))),
+            "l2"
+        );
+        assert_eq!(tip(&arm(&fixed("tool0"))), "tool0");
+        assert_eq!(tip(&arm(&fixed("camera"))), "camera");
+        assert_eq!(tip(&arm("")), "l2");
+    }
+}
