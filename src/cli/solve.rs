@@ -251,8 +251,9 @@ fn execute_text(formulation: &Formulation, result: &TrajectoryResult) -> Option<
     })
 }
 
-/// `feasible (verdict by hard_from_elastic)`: the verdict and the solve that gave it
-/// (docs/model.md, section 8).
+/// `feasible (verdict by hard_from_elastic: the trajectory problem started from the relaxed
+/// problem's trajectory)`: the verdict and, in plain words, the solve that gave it (docs/model.md,
+/// section 8).
 fn verdict_text(result: &TrajectoryResult) -> String {
     let verdict = if result.feasible {
         "feasible"
@@ -260,7 +261,11 @@ fn verdict_text(result: &TrajectoryResult) -> String {
         "INFEASIBLE"
     };
     match result.verdict_by {
-        Some(by) => format!("{verdict} (verdict by {})", by.name()),
+        Some(by) => format!(
+            "{verdict} (verdict by {}: {})",
+            by.name(),
+            by.describe(result.feasible)
+        ),
         None => verdict.to_owned(),
     }
 }
@@ -309,7 +314,7 @@ fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
     }
     if let Some(elastic) = &result.elastic {
         say!(
-            "  elastic: torque deficit {:.4e} N m s, speed excess {:.4e} rad (largest slack {:.1e}); penalised objective {:.6}",
+            "  relaxed (elastic) problem: the motors lack {:.4e} N m s of torque and exceed their speed limits by {:.4e} rad over the motion (largest slack at one node {:.1e} N m or rad/s); penalised objective {:.6}",
             elastic.torque_deficit,
             elastic.speed_excess,
             elastic.largest_slack,

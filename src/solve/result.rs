@@ -52,6 +52,26 @@ pub enum VerdictBy {
 }
 
 impl VerdictBy {
+    /// In plain words, for a reader without docs/model.md: how the verdict was reached.
+    pub fn describe(self, feasible: bool) -> &'static str {
+        match (self, feasible) {
+            (VerdictBy::Hard, _) => "the trajectory problem solved directly",
+            (VerdictBy::Elastic, true) => {
+                "the relaxed problem, which found a trajectory that needs no extra torque or speed"
+            }
+            (VerdictBy::Elastic, false) => {
+                "the relaxed problem: the least extra torque and speed the motors would need is \
+                 above zero"
+            }
+            (VerdictBy::HardFromElastic, _) => {
+                "the trajectory problem started from the relaxed problem's trajectory"
+            }
+            (VerdictBy::PayloadContinuation, _) => {
+                "the trajectory problem carried up step by step from the unloaded arm"
+            }
+        }
+    }
+
     /// The name result files give it.
     pub fn name(self) -> &'static str {
         match self {

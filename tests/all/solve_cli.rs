@@ -97,7 +97,14 @@ fn elastic_solve_reports_the_torque_deficit() {
     );
     assert!(stdout.contains("Solve_Succeeded"), "{stdout}");
     assert!(stdout.contains("INFEASIBLE"), "{stdout}");
-    assert!(stdout.contains("elastic: torque deficit"), "{stdout}");
+    assert!(
+        stdout.contains("relaxed (elastic) problem: the motors lack"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("verdict by elastic: the relaxed problem: the least extra torque"),
+        "{stdout}"
+    );
     let result: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
     assert_eq!(result["feasible"], false);
