@@ -109,6 +109,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         SolveError::Ipopt(_) => format!("{} solver: {e}", args.model.source()),
         SolveError::Formulation(_) => format!("{}: {e}", args.model.source()),
     })?;
+    if let Some(part) = result.non_finite() {
+        return Err(Failure::from(format!(
+            "{source}: the solve (IPOPT status {}) gave a result whose {part} holds a number \
+             that is not finite (infinite or NaN); no result is written",
+            result.status
+        )));
+    }
     print_summary(&formulation, &result);
     if let Some(folder) = &args.plot {
         write_plots(folder, &formulation, &result).map_err(|e| e.to_string())?;

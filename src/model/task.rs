@@ -439,6 +439,16 @@ mod tests {
             ),
             ("\"horizon_s\": 0.8", "\"horizon_s\": 1e9", "<= 3600"),
             (
+                "\"position\": 0.01",
+                "\"position\": 1e308",
+                "weights.position = 1e308 must be >= 0 and <= 1000000 per rad^2 (",
+            ),
+            (
+                "\"weight\": 1000.0",
+                "\"weight\": 1e-320",
+                "cartesian_box.y.weight = 1e-320 must be 0 or at least 2.2250738585072014e-308",
+            ),
+            (
                 "\"steps\": 50",
                 "\"steps\": \"10\"",
                 "motion.steps at line 10: invalid type: string \"10\", expected usize",
