@@ -116,6 +116,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             result.status
         )));
     }
+    if let Some(why) = result.unjudged() {
+        return Err(Failure::from(format!(
+            "{source}: {why}; no result is written (raise solver.max_iter, or see IPOPT's log \
+             with --verbose)"
+        )));
+    }
     print_summary(&formulation, &result);
     if let Some(folder) = &args.plot {
         write_plots(folder, &formulation, &result).map_err(|e| e.to_string())?;

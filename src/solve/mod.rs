@@ -10,8 +10,8 @@
 //! solution, and reports how much torque and speed the design lacks.
 //!
 //! The rooms: `settings` (IPOPT's settings, read from a task file's `solver` section), `run`
-//! (one IPOPT solve), `certify` (the rule, over several solves), `continuation` (its payload continuation), `result` (the result and its file schema), `result_checks` (whether it holds finite numbers
-//! only), `verify` (the constraint residuals
+//! (one IPOPT solve), `certify` (the rule, over several solves), `continuation` (its payload continuation), `result` (the result and its file schema), `result_checks` (whether it judges its design and
+//! holds finite numbers only), `verify` (the constraint residuals
 //! evaluated again on the trajectory), `error`.
 
 mod certify;

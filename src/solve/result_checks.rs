@@ -1,9 +1,31 @@
-//! What a result can stand for: whether every number in it is finite
-//! ([`TrajectoryResult::non_finite`]), so that no command writes a number JSON cannot hold.
+//! What a result can stand for: whether it judges its design ([`TrajectoryResult::unjudged`])
+//! and whether every number in it is finite ([`TrajectoryResult::non_finite`]), so that no
+//! command reports a solver failure as a verdict or writes a number JSON cannot hold.
 
 use super::result::TrajectoryResult;
+use crate::ipopt::Status;
 
 impl TrajectoryResult {
+    /// Why the result is no verdict, where it is none: an infeasible elastic result that IPOPT
+    /// did not bring to an optimum (its iterations spent, a number it could not evaluate), whose
+    /// deficit measures only where IPOPT stopped, unless the motors cannot hold the load at rest
+    /// at a judged end (which no trajectory changes). None where the result judges the design.
+    pub fn unjudged(&self) -> Option<String> {
+        let optimum = [Status::SolveSucceeded, Status::SolvedToAcceptableLevel]
+            .iter()
+            .any(|status| status.name() == self.status);
+        let unheld = self.static_hold.as_ref().and_then(|h| h.failure());
+        let judged = self.feasible || self.elastic.is_none() || optimum || unheld.is_some();
+        (!judged).then(|| {
+            format!(
+                "the elastic solve ended with {} short of an optimum (in {} iterations in all), \
+                 so it shows neither a feasible trajectory nor a deficit: the design was not \
+                 judged",
+                self.status, self.iterations
+            )
+        })
+    }
+
     /// The first part of the result holding a number that is not finite (JSON would write it
     /// as null, and no reader of results takes that), e.g. `cost`; None where every number is.
     pub fn non_finite(&self) -> Option<&'static str> {
