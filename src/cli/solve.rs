@@ -11,7 +11,7 @@ use crate::report::trajectory::{every_plot_file, write_plots, SolveDocument};
 use crate::solve::{
     least_envelope_margin, solve_design, SolveError, SolveSettings, TrajectoryResult,
 };
-use crate::store::files::write_json;
+use crate::store::files::{check_folder, write_json};
 use crate::text::number;
 use std::path::PathBuf;
 
@@ -79,9 +79,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if let Some(path) = &args.out {
         check_output("--out", path, &inputs)?;
     }
-    // A folder not made yet holds nothing to protect.
-    if let Some(folder) = args.plot.as_ref().filter(|folder| folder.is_dir()) {
-        for name in every_plot_file() {
+    if let Some(folder) = &args.plot {
+        check_folder(folder).map_err(|e| format!("--plot: {e}"))?;
+        // A folder not made yet holds nothing to protect.
+        for name in every_plot_file().filter(|_| folder.is_dir()) {
             check_output("--plot", &folder.join(name), &inputs)?;
         }
     }

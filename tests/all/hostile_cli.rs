@@ -4,7 +4,8 @@
 use crate::support;
 
 use std::fs::File;
-use std::path::Path;
+use std::os::unix::fs::PermissionsExt;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use support::{
     codesign, codesign_command, fails_saying, refused_as_usage, root, scratch, task_with,
@@ -442,6 +443,50 @@ fn a_plot_never_writes_through_a_link_to_an_input() {
     ]);
     assert!(output.status.success(), "{}", stderr(&output));
     assert_eq!(std::fs::read_dir(&fresh).unwrap().count(), 4);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A `--plot` folder that cannot be made (a regular file, a device, a path through a file, a
+/// folder this user may not write) is refused before the solve, which prints nothing.
+#[test]
+fn a_plot_folder_that_cannot_be_made_is_refused_before_the_solve() {
+    let dir = scratch("plot-folder");
+    let task = task_with(&dir, |_| {});
+    let file = dir.join("file");
+    std::fs::write(&file, "x").unwrap();
+    let locked = dir.join("locked");
+    std::fs::create_dir(&locked).unwrap();
+    std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o555)).unwrap();
+    let root = unsafe { libc::geteuid() } == 0;
+    let mut cases = vec![
+        (file.clone(), "it exists and is no folder"),
+        (PathBuf::from("/dev/null"), "it exists and is no folder"),
+        (file.join("plots"), "is no folder"),
+    ];
+    // Root may write in any folder whatever its permission bits.
+    if !root {
+        cases.push((locked.join("plots"), "this user may not write in"));
+    }
+    for (folder, expected) in cases {
+        let output = codesign(&[
+            "solve",
+            "--steps",
+            "2",
+            "--task",
+            path(&task),
+            "--plot",
+            path(&folder),
+        ]);
+        fails_saying(&output, "--plot: cannot create folder");
+        fails_saying(&output, expected);
+        assert!(
+            output.stdout.is_empty(),
+            "{}",
+            String::from_utf8_lossy(&output.stdout)
+        );
+    }
+    assert_eq!(std::fs::read(&file).unwrap(), b"x");
+    std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o755)).unwrap();
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
