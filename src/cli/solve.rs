@@ -49,8 +49,9 @@ pub struct Args {
     elastic: bool,
     /// Instead of solving, run IPOPT's derivative checker (first and second order) at the
     /// initial guess and report what it flags. IPOPT 3.11's checker takes about 13 minutes on
-    /// the full 50-step problem: `--steps 5` checks the same structure in 0.1 s.
-    #[arg(long)]
+    /// the full 50-step problem: `--steps 5` checks the same structure in 0.1 s. It writes no
+    /// result and no plot, so it takes neither `--out` nor `--plot`.
+    #[arg(long, conflicts_with_all = ["out", "plot"])]
     check_derivatives: bool,
 }
 

@@ -446,6 +446,28 @@ fn a_plot_never_writes_through_a_link_to_an_input() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// `--check-derivatives` writes no result and no plot: with `--out` or `--plot` it is a usage
+/// error naming both flags, where it ignored them and exited 0.
+#[test]
+fn the_derivative_checker_refuses_the_outputs_it_would_not_write() {
+    let dir = scratch("check-derivatives");
+    let out = dir.join("cd.json");
+    for flag in ["--out", "--plot"] {
+        let output = codesign(&[
+            "solve",
+            "--steps",
+            "1",
+            "--check-derivatives",
+            flag,
+            path(&out),
+        ]);
+        refused_as_usage(&output, "'--check-derivatives' cannot be used with");
+        refused_as_usage(&output, flag);
+    }
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A `--plot` folder that cannot be made (a regular file, a device, a path through a file, a
 /// folder this user may not write) is refused before the solve, which prints nothing.
 #[test]
