@@ -468,6 +468,32 @@ fn the_derivative_checker_refuses_the_outputs_it_would_not_write() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A gear ratio that is no finite number, and `--resume` of a gradient run, are usage errors
+/// (exit 2), as `--payload nan` and the other flags' conflicts are.
+#[test]
+fn ratios_that_are_no_numbers_and_a_resumed_gradient_run_are_usage_errors() {
+    for command in ["solve", "check", "capacity"] {
+        for ratios in ["nan,12,1,1", "inf,12,1,1", "6,-inf,1,1"] {
+            let output = codesign(&[command, "--ratios", ratios]);
+            refused_as_usage(&output, "a gear ratio must be a finite number");
+            refused_as_usage(&output, "--ratios");
+        }
+    }
+    let dir = scratch("gradient-resume");
+    let out = dir.join("g.json");
+    let output = codesign(&[
+        "optimize",
+        "--method",
+        "gradient",
+        "--resume",
+        "--out",
+        path(&out),
+    ]);
+    refused_as_usage(&output, "--resume continues CMA-ES runs");
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A `--plot` folder that cannot be made (a regular file, a device, a path through a file, a
 /// folder this user may not write) is refused before the solve, which prints nothing.
 #[test]
