@@ -1,6 +1,6 @@
 //! `codesign capacity`: the largest payload a design can move through the task.
 
-use super::common::{ModelArgs, ProblemArgs};
+use super::common::{finite_ratio, ModelArgs, ProblemArgs};
 use super::failure::Failure;
 use super::store_hints::check_output;
 use crate::design::capacity::{
@@ -24,7 +24,13 @@ pub struct Args {
     problem: ProblemArgs,
     /// Gear ratios of the design, one per ratio of the task's transmission (r1,r2,..); default:
     /// the task's original design.
-    #[arg(long, value_name = "R1,R2,..", value_delimiter = ',', num_args = 1..)]
+    #[arg(
+        long,
+        value_name = "R1,R2,..",
+        value_delimiter = ',',
+        num_args = 1..,
+        value_parser = finite_ratio
+    )]
     ratios: Option<Vec<f64>>,
     /// Width of the final bracket, kg.
     #[arg(long, value_name = "KG", default_value_t = CapacitySettings::default().resolution_kg)]

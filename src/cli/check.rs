@@ -1,6 +1,6 @@
 //! `codesign check`: inspects a robot and its task before any solve, and lists every problem.
 
-use super::common::ModelArgs;
+use super::common::{finite_ratio, ModelArgs};
 use super::failure::Failure;
 use crate::report::check::Inspection;
 use crate::transmission::Transmission;
@@ -12,7 +12,13 @@ pub struct Args {
     model: ModelArgs,
     /// Gear ratios of the design to inspect, one per ratio of the task's transmission; default:
     /// the task's original design.
-    #[arg(long, value_name = "R1,R2,..", value_delimiter = ',', num_args = 1..)]
+    #[arg(
+        long,
+        value_name = "R1,R2,..",
+        value_delimiter = ',',
+        num_args = 1..,
+        value_parser = finite_ratio
+    )]
     ratios: Option<Vec<f64>>,
     /// Print the inspection as one JSON object instead of text.
     #[arg(long)]

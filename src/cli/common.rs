@@ -10,6 +10,16 @@ use crate::problem::Space;
 use crate::solve::SolveSettings;
 use std::path::PathBuf;
 
+/// Reads one gear ratio of `--ratios`: a finite number, so that NaN and inf are usage errors
+/// as the other flags' values out of range are.
+pub fn finite_ratio(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(ratio) if ratio.is_finite() => Ok(ratio),
+        Ok(_) => Err("a gear ratio must be a finite number".to_owned()),
+        Err(error) => Err(error.to_string()),
+    }
+}
+
 /// Where the task and robot come from, and the payload.
 #[derive(Debug, Clone, clap::Args)]
 pub struct ModelArgs {

@@ -1,6 +1,6 @@
 //! `codesign solve`: one trajectory problem for one design.
 
-use super::common::{ModelArgs, ProblemArgs};
+use super::common::{finite_ratio, ModelArgs, ProblemArgs};
 use super::failure::Failure;
 use super::store_hints::check_output;
 use crate::design::run::Loaded;
@@ -12,6 +12,7 @@ use crate::solve::{
     least_envelope_margin, solve_design, SolveError, SolveSettings, TrajectoryResult,
 };
 use crate::store::document::write_document;
+use crate::store::files::check_folder;
 use crate::text::number;
 use std::path::PathBuf;
 
@@ -24,7 +25,13 @@ pub struct Args {
     problem: ProblemArgs,
     /// Gear ratios of the design, one per ratio of the task's transmission (r1,r2,..); default:
     /// the task's original design.
-    #[arg(long, value_name = "R1,R2,..", value_delimiter = ',', num_args = 1..)]
+    #[arg(
+        long,
+        value_name = "R1,R2,..",
+        value_delimiter = ',',
+        num_args = 1..,
+        value_parser = finite_ratio
+    )]
     ratios: Option<Vec<f64>>,
     /// Duration of the motion, s; default: the task's horizon.
     #[arg(long, value_name = "S")]
@@ -49,8 +56,9 @@ pub struct Args {
     elastic: bool,
     /// Instead of solving, run IPOPT's derivative checker (first and second order) at the
     /// initial guess and report what it flags. IPOPT 3.11's checker takes about 13 minutes on
-    /// the full 50-step problem: `--steps 5` checks the same structure in 0.1 s.
-    #[arg(long)]
+    /// the full 50-step problem: `--steps 5` checks the same structure in 0.1 s. It writes no
+    /// result and no plot, so it takes neither `--out` nor `--plot`.
+    #[arg(long, conflicts_with_all = ["out", "plot"])]
     check_derivatives: bool,
 }
 
@@ -79,9 +87,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if let Some(path) = &args.out {
         check_output("--out", path, &inputs)?;
     }
-    // A folder not made yet holds nothing to protect.
-    if let Some(folder) = args.plot.as_ref().filter(|folder| folder.is_dir()) {
-        for name in every_plot_file() {
+    if let Some(folder) = &args.plot {
+        check_folder(folder).map_err(|e| format!("--plot: {e}"))?;
+        // A folder not made yet holds nothing to protect.
+        for name in every_plot_file().filter(|_| folder.is_dir()) {
             check_output("--plot", &folder.join(name), &inputs)?;
         }
     }
@@ -109,6 +118,19 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         SolveError::Ipopt(_) => format!("{} solver: {e}", args.model.source()),
         SolveError::Formulation(_) => format!("{}: {e}", args.model.source()),
     })?;
+    if let Some(part) = result.non_finite() {
+        return Err(Failure::from(format!(
+            "{source}: the solve (IPOPT status {}) gave a result whose {part} holds a number \
+             that is not finite (infinite or NaN); no result is written",
+            result.status
+        )));
+    }
+    if let Some(why) = result.unjudged() {
+        return Err(Failure::from(format!(
+            "{source}: {why}; no result is written (raise solver.max_iter, or see IPOPT's log \
+             with --verbose)"
+        )));
+    }
     print_summary(&formulation, &result);
     if let Some(folder) = &args.plot {
         write_plots(folder, &formulation, &result).map_err(|e| e.to_string())?;

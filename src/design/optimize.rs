@@ -29,10 +29,13 @@ pub enum OptimizeError {
     Workers(WorkerError),
     /// An evaluation could not be appended to the evaluation log.
     Log(StoreError),
-    /// No evaluation judged a design: every one failed for a reason not the design's.
+    /// No solve judged a design: every evaluation failed for a reason not the design's, or was
+    /// of a design outside the design space, which nothing solves.
     NotJudged {
         /// The evaluations made.
         evaluations: usize,
+        /// Those that failed for a reason not the design's.
+        unjudged: usize,
         /// Their status (a solver error, a failed worker).
         status: Status,
         /// Their reason.
@@ -60,15 +63,26 @@ impl fmt::Display for OptimizeError {
             OptimizeError::Workers(error) => error.fmt(f),
             OptimizeError::NotJudged {
                 evaluations,
+                unjudged,
                 status,
                 reason,
-            } => write!(
-                f,
-                "every one of the {evaluations} evaluations failed for a reason not the \
-                 design's (the first: {status}: {}); no design was judged, so no result is \
-                 written (fix the cause, then resume: those designs are solved again)",
-                reason.as_deref().unwrap_or("no reason given")
-            ),
+            } => {
+                let (which, others) = match unjudged == evaluations {
+                    true => (format!("every one of the {evaluations}"), ""),
+                    false => (
+                        format!("{unjudged} of the {evaluations}"),
+                        " and the others were of designs outside the design space, which no \
+                         solve judges",
+                    ),
+                };
+                write!(
+                    f,
+                    "{which} evaluations failed for a reason not the design's (the first: \
+                     {status}: {}){others}; no design was judged, so no result is written (fix \
+                     the cause, then resume: those designs are solved again)",
+                    reason.as_deref().unwrap_or("no reason given")
+                )
+            }
             OptimizeError::NoBest => f.write_str("CMA-ES has no best design"),
             OptimizeError::PenaltyTooLow {
                 penalty,
@@ -225,13 +239,18 @@ pub fn optimize(
     })
 }
 
-/// Fails when no evaluation judged a design: every one failed for a reason that is not the
-/// design's (a solver error, a crashed or lying worker), so the run's result would mean nothing.
+/// Fails when no solve judged a design: evaluations failed for a reason that is not the
+/// design's (a solver error, a crashed or lying worker), and the others, if any, were of
+/// invalid designs, which nothing solves; the run's result would mean nothing. A run of
+/// invalid designs alone has judged them all.
 pub fn check_evaluations(evaluations: &[Evaluation]) -> Result<(), OptimizeError> {
-    let not_judged = |e: &Evaluation| !e.feasible && !e.status.is_judged();
-    match evaluations.first() {
-        Some(first) if evaluations.iter().all(not_judged) => Err(OptimizeError::NotJudged {
+    let not_judged = |e: &&Evaluation| !e.feasible && !e.status.is_judged();
+    let solved = |e: &Evaluation| !not_judged(&e) && e.status != Status::InvalidDesign;
+    let unjudged = evaluations.iter().filter(not_judged).count();
+    match evaluations.iter().find(not_judged) {
+        Some(first) if !evaluations.iter().any(solved) => Err(OptimizeError::NotJudged {
             evaluations: evaluations.len(),
+            unjudged,
             status: first.status.clone(),
             reason: first.reason.clone(),
         }),
@@ -315,7 +334,7 @@ fn evaluate_generation(
 mod tests {
     use super::check_evaluations;
     use crate::design::penalty::Penalty;
-    use crate::design::score::{Evaluation, Score, Verdict};
+    use crate::design::score::{Evaluation, Score, SolveStatus, Verdict};
 
     fn penalised(verdict: Verdict) -> Evaluation {
         Evaluation::new(&[6.0], &Score::unsolved(verdict), &Penalty::PAPER)
@@ -338,10 +357,24 @@ mod tests {
         );
         let differing = vec![failed("a"), failed("b")];
         assert!(check_evaluations(&differing).is_err());
+        // Invalid designs are judged without a solve: beside solver errors, no solve judged.
         let mut mixed = differing;
         mixed.push(penalised(Verdict::Invalid {
             distance: 1.0,
             reason: "r".into(),
+        }));
+        let error = check_evaluations(&mixed).unwrap_err().to_string();
+        assert!(
+            error.starts_with(
+                "2 of the 3 evaluations failed for a reason not the design's (the first: \
+                 Solver_Error: a) and the others were of designs outside the design space"
+            ),
+            "{error}"
+        );
+        mixed.push(penalised(Verdict::Infeasible {
+            shortfall: 1.0,
+            reason: "short".into(),
+            status: SolveStatus::ElasticDeficit,
         }));
         assert!(check_evaluations(&mixed).is_ok(), "one design was judged");
         let invalid = vec![

@@ -3,7 +3,7 @@
 //! Motor i drives row i of the transmission matrix G (`transmission.matrix`), so a per-motor
 //! list has one value per row of G, in that order.
 
-use super::validate::FieldError;
+use super::validate::{Bounds, FieldError};
 use crate::text::{number, numbers};
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
@@ -57,23 +57,11 @@ impl PerMotor {
     }
 
     /// Checks the quantity `field` (e.g. `motors.torque_limit_nm`) for `motors` motors: a list
-    /// has one value per motor, and every value is finite and `accept`s, whose rule `rule`
-    /// (e.g. `> 0`) the error states. The error names the value at fault, e.g.
-    /// `motors.torque_limit_nm[2] = -1 must be > 0`.
-    pub fn check(
-        &self,
-        field: &str,
-        motors: usize,
-        accept: fn(f64) -> bool,
-        rule: &str,
-    ) -> Result<(), FieldError> {
-        let fine = |value: f64| value.is_finite() && accept(value);
+    /// has one value per motor, and every value is within `bounds`. The error names the value
+    /// at fault, e.g. `motors.torque_limit_nm[2] = -1 must be > 0 and <= ...`.
+    pub fn check(&self, field: &str, motors: usize, bounds: &Bounds) -> Result<(), FieldError> {
         match self {
-            PerMotor::All(value) if fine(*value) => Ok(()),
-            PerMotor::All(value) => Err(FieldError::new(
-                field,
-                format!(" = {} must be {rule}", number(*value)),
-            )),
+            PerMotor::All(value) => bounds.check(field, *value),
             PerMotor::Each(values) if values.len() != motors => Err(FieldError::new(
                 field,
                 format!(
@@ -82,16 +70,56 @@ impl PerMotor {
                     values.len()
                 ),
             )),
-            PerMotor::Each(values) => match values.iter().position(|&v| !fine(v)) {
-                Some(i) => Err(FieldError::new(
-                    format!("{field}[{i}]"),
-                    format!(" = {} must be {rule}", number(values[i])),
-                )),
-                None => Ok(()),
-            },
+            PerMotor::Each(values) => values
+                .iter()
+                .enumerate()
+                .try_for_each(|(i, &value)| bounds.check(&format!("{field}[{i}]"), value)),
         }
     }
 }
+
+/// The limits of the motors' quantities: physically generous, and small enough that no product
+/// of the task's numbers overflows the dynamics; none may be subnormal.
+const TORQUE_LIMIT: Bounds = Bounds {
+    zero: false,
+    least: f64::MIN_POSITIVE,
+    most: 1e6,
+    unit: "N m",
+    why: "far beyond any robot joint's torque; beyond that, or below 2.2e-308, products of the \
+          task's numbers overflow",
+};
+const SPEED_LIMIT: Bounds = Bounds {
+    zero: false,
+    least: f64::MIN_POSITIVE,
+    most: 1e6,
+    unit: "rad/s",
+    why: "a hundred times the fastest motor's; beyond that, or below 2.2e-308, products of the \
+          task's numbers overflow",
+};
+const ROTOR_INERTIA: Bounds = Bounds {
+    zero: true,
+    least: f64::MIN_POSITIVE,
+    most: 1.0,
+    unit: "kg m^2",
+    why: "ten times the rotor of a large industrial motor; reflected through ratios up to 1e6 \
+          a larger one overflows the dynamics, and positive ones below 2.2e-308 are subnormal",
+};
+const FRICTION: Bounds = Bounds {
+    zero: true,
+    least: f64::MIN_POSITIVE,
+    most: 1e3,
+    unit: "N m s/rad",
+    why: "far beyond any motor's; reflected through ratios up to 1e6 a larger one overflows the \
+          dynamics, and positive ones below 2.2e-308 are subnormal",
+};
+const NO_LOAD_SPEED: Bounds = Bounds {
+    zero: false,
+    least: 1e-3,
+    most: 1e6,
+    unit: "rad/s",
+    why: "from a turn in under two hours to a hundred times the fastest motor's; the envelope's \
+          slope, the torque limit over it, overflows below",
+};
 
 impl fmt::Display for PerMotor {
     /// As written in a task file: `1.7`, or `[1.7, 2, 0.9, 0.9]`.
@@ -177,37 +205,36 @@ impl Motors {
     }
 
     /// Checks every quantity for `motors` motors (the rows of G): one value per motor where a
-    /// list is given, each finite; the limits and the no-load speed > 0, the rotor inertia and
-    /// the friction >= 0.
+    /// list is given, each within its bounds: the limits and the no-load speed > 0, the rotor
+    /// inertia and the friction >= 0, none above its largest value or subnormal.
     pub fn validate(&self, motors: usize) -> Result<(), FieldError> {
-        let positive = |value: f64| value > 0.0;
-        let non_negative = |value: f64| value >= 0.0;
         self.torque_limit_nm
-            .check("motors.torque_limit_nm", motors, positive, "> 0")?;
+            .check("motors.torque_limit_nm", motors, &TORQUE_LIMIT)?;
         self.speed_limit_rad_s
-            .check("motors.speed_limit_rad_s", motors, positive, "> 0")?;
-        let optional = |quantity: &Option<PerMotor>, field, accept, rule| match quantity {
-            Some(quantity) => quantity.check(field, motors, accept, rule),
-            None => Ok(()),
-        };
-        optional(
-            &self.rotor_inertia_kgm2,
-            "motors.rotor_inertia_kgm2",
-            non_negative,
-            ">= 0",
-        )?;
-        optional(
-            &self.viscous_friction_nm_s_per_rad,
-            "motors.viscous_friction_nm_s_per_rad",
-            non_negative,
-            ">= 0",
-        )?;
-        optional(
-            &self.no_load_speed_rad_s,
-            "motors.no_load_speed_rad_s",
-            positive,
-            "> 0",
-        )
+            .check("motors.speed_limit_rad_s", motors, &SPEED_LIMIT)?;
+        let optional = [
+            (
+                &self.rotor_inertia_kgm2,
+                "motors.rotor_inertia_kgm2",
+                ROTOR_INERTIA,
+            ),
+            (
+                &self.viscous_friction_nm_s_per_rad,
+                "motors.viscous_friction_nm_s_per_rad",
+                FRICTION,
+            ),
+            (
+                &self.no_load_speed_rad_s,
+                "motors.no_load_speed_rad_s",
+                NO_LOAD_SPEED,
+            ),
+        ];
+        optional
+            .into_iter()
+            .try_for_each(|(quantity, field, bounds)| match quantity {
+                Some(quantity) => quantity.check(field, motors, &bounds),
+                None => Ok(()),
+            })
     }
 }
 
@@ -300,9 +327,10 @@ mod tests {
             assert!(error.starts_with(expected), "{error}");
         }
         let infinite = Motors::ideal(PerMotor::Each(vec![1.0, f64::INFINITY]), PerMotor::All(1.0));
-        assert_eq!(
-            infinite.validate(2).unwrap_err().to_string(),
-            "motors.torque_limit_nm[1] = inf must be > 0"
+        let error = infinite.validate(2).unwrap_err().to_string();
+        assert!(
+            error.starts_with("motors.torque_limit_nm[1] = inf must be > 0 and <= 1000000 N m"),
+            "{error}"
         );
     }
 
@@ -413,10 +441,73 @@ mod tests {
         assert!(motors(zero).unwrap().validate(4).is_ok());
         let mut infinite = Motors::ideal(PerMotor::All(1.7), PerMotor::All(100.0));
         infinite.no_load_speed_rad_s = Some(PerMotor::Each(vec![150.0, f64::INFINITY]));
-        assert_eq!(
-            infinite.validate(2).unwrap_err().to_string(),
-            "motors.no_load_speed_rad_s[1] = inf must be > 0"
+        let error = infinite.validate(2).unwrap_err().to_string();
+        assert!(
+            error.starts_with("motors.no_load_speed_rad_s[1] = inf must be > 0"),
+            "{error}"
         );
+    }
+
+    /// Values that overflow the dynamics (1e308), or that are subnormal (1e-320), are refused
+    /// naming the field, the limit and why; the largest and the least values are accepted.
+    #[test]
+    fn motor_quantities_are_bounded_and_never_subnormal() {
+        let base = json!({"torque_limit_nm": 1.7, "speed_limit_rad_s": 100});
+        let cases = [
+            (
+                "torque_limit_nm",
+                json!(1e308),
+                "motors.torque_limit_nm = 1e308 must be > 0 and <= 1000000 N m (far beyond any",
+            ),
+            (
+                "torque_limit_nm",
+                json!(1e-320),
+                "motors.torque_limit_nm = 1e-320 must be at least 2.2250738585072014e-308 N m",
+            ),
+            (
+                "speed_limit_rad_s",
+                json!([100, 1e7, 100, 100]),
+                "motors.speed_limit_rad_s[1] = 10000000 must be > 0 and <= 1000000 rad/s",
+            ),
+            (
+                "rotor_inertia_kgm2",
+                json!(1e308),
+                "motors.rotor_inertia_kgm2 = 1e308 must be >= 0 and <= 1 kg m^2",
+            ),
+            (
+                "rotor_inertia_kgm2",
+                json!(1e-320),
+                "motors.rotor_inertia_kgm2 = 1e-320 must be 0 or at least 2.2250738585072014e-308 kg m^2",
+            ),
+            (
+                "viscous_friction_nm_s_per_rad",
+                json!(1e4),
+                "motors.viscous_friction_nm_s_per_rad = 10000 must be >= 0 and <= 1000 N m s/rad",
+            ),
+            (
+                "no_load_speed_rad_s",
+                json!(1e-320),
+                "motors.no_load_speed_rad_s = 1e-320 must be at least 0.001 rad/s",
+            ),
+            (
+                "no_load_speed_rad_s",
+                json!(1e308),
+                "motors.no_load_speed_rad_s = 1e308 must be > 0 and <= 1000000 rad/s",
+            ),
+        ];
+        for (key, value, expected) in cases {
+            let mut given = base.clone();
+            given[key] = value;
+            let error = motors(given).unwrap().validate(4).unwrap_err().to_string();
+            assert!(error.starts_with(expected), "{error}");
+        }
+        let mut largest = base;
+        largest["torque_limit_nm"] = json!(1e6);
+        largest["speed_limit_rad_s"] = json!(1e6);
+        largest["rotor_inertia_kgm2"] = json!([1, 0, 2.3e-308, 1]);
+        largest["viscous_friction_nm_s_per_rad"] = json!(1e3);
+        largest["no_load_speed_rad_s"] = json!([1e6, 1e-3, 1, 1]);
+        assert_eq!(motors(largest).unwrap().validate(4), Ok(()));
     }
 
     /// A task checks its motors against the rows of its G.

@@ -122,9 +122,9 @@ fn with(budget: Budget, given: BudgetSection) -> Budget {
 
 /// Reads `value` as a `T`; the error names `field`.
 fn parse<T: DeserializeOwned>(field: &str, value: &Value) -> Result<T, FieldError> {
-    T::deserialize(value).map_err(|e| FieldError {
-        field: field.to_owned(),
-        problem: format!(": {e}"),
+    crate::json_keys::read_value(value).map_err(|e| FieldError {
+        field: e.field(field),
+        problem: format!(": {}", e.message),
     })
 }
 
@@ -223,18 +223,19 @@ mod tests {
     #[test]
     fn errors_name_the_field() {
         let cases = [
-            (json!([1, 2]), "experiment: invalid type"),
+            // serde reads a struct from an array too: its first element is at fault.
+            (json!([1, 2]), "experiment[0]: invalid type: integer `1`"),
             (
                 json!({"payloads": [1]}),
-                "experiment: unknown field `payloads`",
+                "experiment.payloads: unknown field `payloads`",
             ),
             (
                 json!({"budget": {"popsize": 5}}),
-                "experiment.budget: unknown field `popsize`",
+                "experiment.budget.popsize: unknown field `popsize`",
             ),
             (
                 json!({"quick_budget": {"seeds": -1}}),
-                "experiment.quick_budget: invalid value",
+                "experiment.quick_budget.seeds: invalid value",
             ),
             (
                 json!({"original_payloads_kg": []}),

@@ -320,7 +320,7 @@ impl TaskFile {
                 let solver = section("solver");
                 let experiment = Experiment::from_section(section("experiment").as_ref())
                     .map_err(|e| e.to_string())?;
-                let task = Task::deserialize(value).map_err(|e| e.to_string())?;
+                let task = read_task(text, &value)?;
                 task.validate().map_err(|e| e.to_string())?;
                 Ok(TaskFile {
                     task,
@@ -330,6 +330,21 @@ impl TaskFile {
             });
         parsed.map_err(|message| TaskError { source, message })
     }
+}
+
+/// Reads the task `value` parsed from `text` (its `solver` and `experiment` sections taken
+/// out); a value of the wrong type is named with its field and line, e.g.
+/// `motion.steps at line 10: invalid type: string "10", expected usize`.
+fn read_task(text: &str, value: &Value) -> Result<Task, String> {
+    crate::json_keys::read_value(value).map_err(|error| {
+        let field = error.field("");
+        let line = crate::json_keys::line_of(text, &error.path);
+        match (field.is_empty(), line) {
+            (true, _) => error.message,
+            (false, Some(line)) => format!("{field} at line {line}: {}", error.message),
+            (false, None) => format!("{field}: {}", error.message),
+        }
+    })
 }
 
 impl Task {
@@ -423,6 +438,31 @@ mod tests {
                 "motion.steps = 99999999999: the number of intervals must be 1 to 5000",
             ),
             ("\"horizon_s\": 0.8", "\"horizon_s\": 1e9", "<= 3600"),
+            (
+                "\"position\": 0.01",
+                "\"position\": 1e308",
+                "weights.position = 1e308 must be >= 0 and <= 1000000 per rad^2 (",
+            ),
+            (
+                "\"weight\": 1000.0",
+                "\"weight\": 1e-320",
+                "cartesian_box.y.weight = 1e-320 must be 0 or at least 2.2250738585072014e-308",
+            ),
+            (
+                "\"steps\": 50",
+                "\"steps\": \"10\"",
+                "motion.steps at line 10: invalid type: string \"10\", expected usize",
+            ),
+            (
+                "[0.0, 0.0, -9.81]",
+                "[0.0, -9.81]",
+                "gravity at line 3: invalid length 2, expected an array of length 3",
+            ),
+            (
+                "[[1.0, 9.0], [1.0, 9.0]",
+                "[[1.0, 9.0], [1.0, \"9\"]",
+                "transmission.bounds[1][1] at line 27: invalid type: string",
+            ),
             (
                 "\"mass_kg\": 0.0",
                 "\"mass_kg\": 1e6",

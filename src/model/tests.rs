@@ -200,6 +200,32 @@ fn bad_masses_and_inertias_are_named() {
     );
 }
 
+/// A number urdf-rs cannot read (`invalid float literal`) is named with its element, the
+/// link or joint it lies in, the attribute and the line.
+#[test]
+fn numbers_that_are_none_are_named_with_their_line() {
+    let text = belt_arm_text();
+    let line = |needle: &str| 1 + text[..text.find(needle).unwrap()].matches('\n').count();
+    let mass = format!(
+        "line {}: value=\"0.75688kg\" is not a number",
+        line("0.75688")
+    );
+    assert_fails(
+        "<mass value=\"0.75688\"/>",
+        "<mass value=\"0.75688kg\"/>",
+        &["link 'link_2' <mass>: ", &mass, "invalid float literal"],
+    );
+    let inertia = format!(
+        "line {}: ixy=\"1.4333E-06 x\" is not a number",
+        line("1.4333E-06")
+    );
+    assert_fails(
+        "ixy=\"1.4333E-06\"",
+        "ixy=\"1.4333E-06 x\"",
+        &["link 'link_4' <inertia>: ", &inertia],
+    );
+}
+
 #[test]
 fn unsupported_joints_are_named() {
     let swap = |kind: &str| {

@@ -25,6 +25,79 @@ pub const MAX_POINT_M: f64 = 100.0;
 /// Heaviest payload, kg: a tonne, far beyond what a 4-DOF arm of this class can lift.
 pub const MAX_PAYLOAD_KG: f64 = 1_000.0;
 
+/// Largest weight of the cost (`weights.*`, `cartesian_box.*.weight`): a million, a thousand
+/// times the largest the examples use; with larger ones J overflows with the motion's numbers.
+pub const MAX_WEIGHT: f64 = 1e6;
+
+/// The range of a non-negative quantity of a task: 0 (where `zero`) or from `least` to `most`,
+/// in `unit`, for the reason `why`. The least is at least the least normal f64, 2.2e-308: a
+/// subnormal number has lost its precision, and what divides by it overflows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bounds {
+    /// Whether 0 is allowed.
+    pub zero: bool,
+    /// The smallest positive value.
+    pub least: f64,
+    /// The largest value.
+    pub most: f64,
+    /// The unit, e.g. `N m` (empty for none).
+    pub unit: &'static str,
+    /// Why the limits.
+    pub why: &'static str,
+}
+
+impl Bounds {
+    /// The bounds of a cost weight: 0 to [`MAX_WEIGHT`], in `unit`.
+    pub const fn weight(unit: &'static str) -> Bounds {
+        Bounds {
+            zero: true,
+            least: f64::MIN_POSITIVE,
+            most: MAX_WEIGHT,
+            unit,
+            why: "a thousand times the largest weight of the examples; with larger ones J \
+                  overflows, and positive ones below 2.2e-308 are subnormal",
+        }
+    }
+
+    /// What is wrong with `value`, as it follows the field's name (` = -1 must be >= 0 and
+    /// <= ...`); None where it is within the bounds.
+    fn problem(&self, value: f64) -> Option<String> {
+        let unit = if self.unit.is_empty() {
+            String::new()
+        } else {
+            format!(" {}", self.unit)
+        };
+        let low = if self.zero { ">= 0" } else { "> 0" };
+        let signed = value > 0.0 || (self.zero && value == 0.0);
+        if !(value.is_finite() && signed && value <= self.most) {
+            let most = number(self.most);
+            return Some(format!(
+                " = {} must be {low} and <= {most}{unit} ({})",
+                number(value),
+                self.why
+            ));
+        }
+        if value != 0.0 && value < self.least {
+            let zero = if self.zero { "0 or " } else { "" };
+            let least = number(self.least);
+            return Some(format!(
+                " = {} must be {zero}at least {least}{unit} ({})",
+                number(value),
+                self.why
+            ));
+        }
+        None
+    }
+
+    /// Checks `value` of `field`.
+    pub fn check(&self, field: &str, value: f64) -> Result<(), FieldError> {
+        match self.problem(value) {
+            Some(problem) => Err(FieldError::new(field, problem)),
+            None => Ok(()),
+        }
+    }
+}
+
 /// A value outside the range that its quantity allows; displays the rule and its reason.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum OutOfRange {
@@ -153,24 +226,17 @@ impl Motion {
 }
 
 impl Weights {
-    /// Checks that every weight is finite and >= 0.
+    /// Checks that every weight is 0 or within [`Bounds::weight`].
     fn validate(&self) -> Result<(), FieldError> {
-        let weights = [
-            ("weights.position", self.position),
-            ("weights.velocity", self.velocity),
-            ("weights.control", self.control),
-        ];
-        for (name, value) in weights {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(FieldError::new(name, format!(" = {value} must be >= 0")));
-            }
-        }
-        Ok(())
+        Bounds::weight("per rad^2").check("weights.position", self.position)?;
+        Bounds::weight("per (rad/s)^2").check("weights.velocity", self.velocity)?;
+        Bounds::weight("per (N m)^2").check("weights.control", self.control)
     }
 }
 
 impl CartesianBox {
-    /// Checks each given axis: a finite range with lower < upper and a finite weight >= 0.
+    /// Checks each given axis: a finite range with lower < upper and a weight within
+    /// [`Bounds::weight`].
     fn validate(&self) -> Result<(), FieldError> {
         let axes = [("x", &self.x), ("y", &self.y), ("z", &self.z)];
         for (axis, interval) in axes {
@@ -187,12 +253,7 @@ impl CartesianBox {
                     format!(" [{lo}, {hi}] must be finite with lower < upper"),
                 ));
             }
-            if !(weight.is_finite() && *weight >= 0.0) {
-                return Err(FieldError::new(
-                    format!("cartesian_box.{axis}.weight"),
-                    format!(" = {weight} must be >= 0"),
-                ));
-            }
+            Bounds::weight("per m^2").check(&format!("cartesian_box.{axis}.weight"), *weight)?;
         }
         Ok(())
     }

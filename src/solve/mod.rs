@@ -10,7 +10,8 @@
 //! solution, and reports how much torque and speed the design lacks.
 //!
 //! The rooms: `settings` (IPOPT's settings, read from a task file's `solver` section), `run`
-//! (one IPOPT solve), `certify` (the rule, over several solves), `continuation` (its payload continuation), `result` (the result and its file schema), `verify` (the constraint residuals
+//! (one IPOPT solve), `certify` (the rule, over several solves), `continuation` (its payload continuation), `result` (the result and its file schema), `result_checks` (whether it judges its design and
+//! holds finite numbers only), `verify` (the constraint residuals
 //! evaluated again on the trajectory), `error`.
 
 mod certify;
@@ -18,6 +19,7 @@ mod continuation;
 mod error;
 mod execute;
 mod result;
+mod result_checks;
 mod run;
 mod settings;
 mod verify;

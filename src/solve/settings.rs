@@ -94,8 +94,8 @@ impl SolveSettings {
         let Some(section) = section else {
             return Ok(SolveSettings::default());
         };
-        let settings = SolveSettings::deserialize(section)
-            .map_err(|e| SettingsError::new("solver", format!(": {e}")))?;
+        let settings = crate::json_keys::read_value::<SolveSettings>(section)
+            .map_err(|e| SettingsError::new(e.field("solver"), format!(": {}", e.message)))?;
         settings.validate()?;
         Ok(settings)
     }
@@ -263,7 +263,11 @@ mod tests {
             ),
             (
                 json!({"tol": 1e-8, "max_iter": 10, "linear_solver": "ma57"}),
-                "solver: unknown variant `ma57`",
+                "solver.linear_solver: unknown variant `ma57`",
+            ),
+            (
+                json!({"max_iter": 1e20}),
+                "solver.max_iter: invalid type: floating point",
             ),
         ];
         for (section, expected) in cases {

@@ -564,3 +564,25 @@ fn rest_ends_start_and_end_the_motion_at_rest() {
     assert!(largest(&a[0]).max(largest(&a[a.len() - 1])) > 1e-3);
     assert!(rested.cost >= free.cost * (1.0 - 1e-6));
 }
+
+/// A solved result holds only finite numbers; one made infinite or NaN in any part is named
+/// by that part, which `solve` then refuses to write (JSON would write it as null).
+#[test]
+fn a_number_that_is_not_finite_is_named_by_its_part() {
+    let formulation = testing::formulation(0.5, Space::Actuation);
+    let original = formulation.transmission().original().to_vec();
+    let result = solve_design(&formulation, &original, &testing::settings()).unwrap();
+    assert_eq!(result.non_finite(), None);
+    let mut cost = result.clone();
+    cost.cost = f64::INFINITY;
+    assert_eq!(cost.non_finite(), Some("cost"));
+    let mut torque = result.clone();
+    torque.trajectory.joint_torque[1][0] = f64::NAN;
+    assert_eq!(torque.non_finite(), Some("trajectory"));
+    let mut gradient = result.clone();
+    gradient.cost_gradient = Some(vec![0.0, f64::NEG_INFINITY]);
+    assert_eq!(gradient.non_finite(), Some("cost_gradient"));
+    let mut hold = result;
+    hold.static_hold.as_mut().unwrap().start.margins_nm[0] = f64::INFINITY;
+    assert_eq!(hold.non_finite(), Some("static_hold"));
+}

@@ -267,6 +267,54 @@ pub fn create_folder(folder: &Path) -> Result<(), StoreError> {
         .map_err(|error| StoreError::io(Action::CreateFolder, folder, &error))
 }
 
+/// Checks, before any work, that [`create_folder`] can give `folder`: it is a folder (a
+/// symbolic link to one is followed), or the nearest part of its path that exists is a folder
+/// this user may write in. Nothing is created.
+pub fn check_folder(folder: &Path) -> Result<(), StoreError> {
+    let refuse = |why: String| StoreError::Io {
+        action: Action::CreateFolder,
+        path: folder.to_owned(),
+        why,
+    };
+    let mut existing = folder;
+    loop {
+        match std::fs::metadata(existing) {
+            Ok(meta) if meta.is_dir() => break,
+            Ok(_) if existing == folder => return Err(refuse("it exists and is no folder".into())),
+            Ok(_) => return Err(refuse(format!("{} is no folder", existing.display()))),
+            Err(_) if std::fs::symlink_metadata(existing).is_ok() => {
+                return Err(refuse(format!(
+                    "{} is a symbolic link to nothing",
+                    existing.display()
+                )))
+            }
+            // Missing, or under a file (which the next part of the loop names).
+            Err(error)
+                if matches!(
+                    error.kind(),
+                    std::io::ErrorKind::NotFound | std::io::ErrorKind::NotADirectory
+                ) => {}
+            Err(error) => return Err(StoreError::io(Action::CreateFolder, folder, &error)),
+        }
+        existing = match existing.parent() {
+            Some(parent) if !parent.as_os_str().is_empty() => parent,
+            _ if existing != Path::new(".") => Path::new("."),
+            _ => return Err(refuse("the working folder is gone".into())),
+        };
+    }
+    let writable = CString::new(existing.as_os_str().as_bytes()).is_ok_and(|name| {
+        // SAFETY: `name` is a NUL-terminated string that outlives the call, which only reads it.
+        unsafe { libc::access(name.as_ptr(), libc::W_OK | libc::X_OK) == 0 }
+    });
+    match writable {
+        true => Ok(()),
+        false => Err(refuse(format!(
+            "this user may not write in {}",
+            existing.display()
+        ))),
+    }
+}
+
 /// Removes `path`, a file or a folder with what it holds, when it exists: an output of an
 /// earlier run that this run no longer makes. Returns whether there was one.
 pub fn remove_stale(path: &Path) -> Result<bool, StoreError> {

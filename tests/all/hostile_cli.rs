@@ -4,7 +4,8 @@
 use crate::support;
 
 use std::fs::File;
-use std::path::Path;
+use std::os::unix::fs::PermissionsExt;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use support::{
     codesign, codesign_command, fails_saying, refused_as_usage, root, scratch, task_with,
@@ -442,6 +443,98 @@ fn a_plot_never_writes_through_a_link_to_an_input() {
     ]);
     assert!(output.status.success(), "{}", stderr(&output));
     assert_eq!(std::fs::read_dir(&fresh).unwrap().count(), 4);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `--check-derivatives` writes no result and no plot: with `--out` or `--plot` it is a usage
+/// error naming both flags, where it ignored them and exited 0.
+#[test]
+fn the_derivative_checker_refuses_the_outputs_it_would_not_write() {
+    let dir = scratch("check-derivatives");
+    let out = dir.join("cd.json");
+    for flag in ["--out", "--plot"] {
+        let output = codesign(&[
+            "solve",
+            "--steps",
+            "1",
+            "--check-derivatives",
+            flag,
+            path(&out),
+        ]);
+        refused_as_usage(&output, "'--check-derivatives' cannot be used with");
+        refused_as_usage(&output, flag);
+    }
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A gear ratio that is no finite number, and `--resume` of a gradient run, are usage errors
+/// (exit 2), as `--payload nan` and the other flags' conflicts are.
+#[test]
+fn ratios_that_are_no_numbers_and_a_resumed_gradient_run_are_usage_errors() {
+    for command in ["solve", "check", "capacity"] {
+        for ratios in ["nan,12,1,1", "inf,12,1,1", "6,-inf,1,1"] {
+            let output = codesign(&[command, "--ratios", ratios]);
+            refused_as_usage(&output, "a gear ratio must be a finite number");
+            refused_as_usage(&output, "--ratios");
+        }
+    }
+    let dir = scratch("gradient-resume");
+    let out = dir.join("g.json");
+    let output = codesign(&[
+        "optimize",
+        "--method",
+        "gradient",
+        "--resume",
+        "--out",
+        path(&out),
+    ]);
+    refused_as_usage(&output, "--resume continues CMA-ES runs");
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A `--plot` folder that cannot be made (a regular file, a device, a path through a file, a
+/// folder this user may not write) is refused before the solve, which prints nothing.
+#[test]
+fn a_plot_folder_that_cannot_be_made_is_refused_before_the_solve() {
+    let dir = scratch("plot-folder");
+    let task = task_with(&dir, |_| {});
+    let file = dir.join("file");
+    std::fs::write(&file, "x").unwrap();
+    let locked = dir.join("locked");
+    std::fs::create_dir(&locked).unwrap();
+    std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o555)).unwrap();
+    let root = unsafe { libc::geteuid() } == 0;
+    let mut cases = vec![
+        (file.clone(), "it exists and is no folder"),
+        (PathBuf::from("/dev/null"), "it exists and is no folder"),
+        (file.join("plots"), "is no folder"),
+    ];
+    // Root may write in any folder whatever its permission bits.
+    if !root {
+        cases.push((locked.join("plots"), "this user may not write in"));
+    }
+    for (folder, expected) in cases {
+        let output = codesign(&[
+            "solve",
+            "--steps",
+            "2",
+            "--task",
+            path(&task),
+            "--plot",
+            path(&folder),
+        ]);
+        fails_saying(&output, "--plot: cannot create folder");
+        fails_saying(&output, expected);
+        assert!(
+            output.stdout.is_empty(),
+            "{}",
+            String::from_utf8_lossy(&output.stdout)
+        );
+    }
+    assert_eq!(std::fs::read(&file).unwrap(), b"x");
+    std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o755)).unwrap();
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -178,8 +178,8 @@ fn check_shows_what_the_envelope_leaves_at_the_speed_limit() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// A list of another length than G has rows, a value that is not > 0, and a value that is
-/// neither a number nor a list are errors naming the field.
+/// A list of another length than G has rows, a value that is not > 0 or beyond its limit, and
+/// a value that is neither a number nor a list are errors naming the field.
 #[test]
 fn lists_that_do_not_fit_are_named() {
     let dir = scratch("bad");
@@ -203,6 +203,19 @@ fn lists_that_do_not_fit_are_named() {
         (
             json!({"torque_limit_nm": 1.7, "speed_limit_rad_s": 100, "no_load_speed_rad_s": [150, 150]}),
             "motors.no_load_speed_rad_s has 2 values but transmission.matrix has 4 rows",
+        ),
+        // Values that overflowed the dynamics into null results (probe D2), and a subnormal one.
+        (
+            json!({"torque_limit_nm": 1.7, "speed_limit_rad_s": 100, "rotor_inertia_kgm2": 1e308}),
+            "motors.rotor_inertia_kgm2 = 1e308 must be >= 0 and <= 1 kg m^2",
+        ),
+        (
+            json!({"torque_limit_nm": 1e308, "speed_limit_rad_s": 100}),
+            "motors.torque_limit_nm = 1e308 must be > 0 and <= 1000000 N m",
+        ),
+        (
+            json!({"torque_limit_nm": 1.7, "speed_limit_rad_s": 100, "no_load_speed_rad_s": 1e-320}),
+            "motors.no_load_speed_rad_s = 1e-320 must be at least 0.001 rad/s",
         ),
     ];
     for (motors, expected) in cases {

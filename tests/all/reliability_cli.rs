@@ -155,6 +155,37 @@ fn a_rejected_solver_option_fails_the_run_before_it_starts() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// With `solver.max_iter` 0 no solve reaches an optimum: `solve` says the design was not
+/// judged, and an `optimize` run in which no design was judged fails, where both reported
+/// infeasible designs with zero deficits and exited 0.
+#[test]
+fn solves_short_of_an_optimum_judge_no_design() {
+    let dir = scratch("max-iter");
+    let task = task_with(&dir, |task| task["solver"]["max_iter"] = 0.into());
+    let output = codesign(&["solve", "--steps", "2", "--task", path(&task)]);
+    fails_saying(
+        &output,
+        "the elastic solve ended with Maximum_Iterations_Exceeded short of an optimum",
+    );
+    let out = dir.join("o.json");
+    let output = codesign(&[
+        "optimize",
+        "--task",
+        path(&task),
+        "--population",
+        "5",
+        "--generations",
+        "1",
+        "--workers",
+        "1",
+        "--out",
+        path(&out),
+    ]);
+    fails_saying(&output, "no design was judged");
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn a_second_run_on_one_output_fails_at_once_naming_the_first() {
     let dir = scratch("lock");

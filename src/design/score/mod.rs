@@ -194,13 +194,17 @@ pub fn solve(
 /// The verdict of one result of `formulation` (under the one rule of feasibility, the result
 /// of an infeasible design is its elastic solve, unless its motors cannot hold the load at
 /// rest): feasible with the optimal cost J, or infeasible with the elastic solve's deficit (or
-/// IPOPT's reason) and its shortfall.
+/// IPOPT's reason) and its shortfall; a solver error where the elastic solve reached no
+/// optimum ([`TrajectoryResult::unjudged`]).
 pub fn judge(formulation: &Formulation, result: &TrajectoryResult) -> Verdict {
     if result.feasible {
         return Verdict::Feasible {
             cost: result.cost,
             status: SolveStatus::Ipopt(result.status.clone()),
         };
+    }
+    if let Some(message) = result.unjudged() {
+        return Verdict::SolverError { message };
     }
     let (status, reason) = match &result.elastic {
         Some(measures) => {

@@ -317,12 +317,26 @@ fn elastic(
         };
         iterations += result.iterations;
         seconds += result.solve_seconds.total;
-        let Verdict::Infeasible {
-            shortfall, reason, ..
-        } = judge(formulation, &result)
-        else {
-            sum += result.cost;
-            continue;
+        let (shortfall, reason) = match judge(formulation, &result) {
+            Verdict::Feasible { .. } => {
+                sum += result.cost;
+                continue;
+            }
+            Verdict::Infeasible {
+                shortfall, reason, ..
+            } => (shortfall, reason),
+            // A solve that judged nothing leaves the design unjudged at every payload.
+            verdict => {
+                let verdict = match formulations.len() {
+                    1 => verdict,
+                    _ => verdict.at(*payload_kg),
+                };
+                return Score {
+                    verdict,
+                    iterations,
+                    seconds,
+                };
+            }
         };
         short += shortfall;
         reasons.push(match formulations.len() {

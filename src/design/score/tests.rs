@@ -256,6 +256,24 @@ fn a_solver_error_leaves_the_design_unjudged() {
     assert_eq!(record.status.to_string(), "Solver_Error");
 }
 
+/// An elastic solve that IPOPT stops short of an optimum (`max_iter` 0: at the guess) judges
+/// nothing, under either penalty: a solver error, not an infeasible design with no deficit.
+#[test]
+fn an_elastic_solve_short_of_an_optimum_leaves_the_design_unjudged() {
+    let mut settings = testing::settings();
+    settings.max_iter = 0;
+    for penalty in ["flat", "graded"] {
+        let score = fitness_with(0.0, Space::Actuation, penalty, &settings).score(&original());
+        let Verdict::SolverError { ref message } = score.verdict else {
+            panic!("{penalty}: {score:?}");
+        };
+        assert!(
+            message.contains("the elastic solve ended with Maximum_Iterations_Exceeded"),
+            "{message}"
+        );
+    }
+}
+
 #[test]
 fn logged_designs_score_again_as_logged() {
     // A design that holds its load scores as logged under `hold` (a joint-space design in

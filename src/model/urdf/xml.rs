@@ -1,5 +1,6 @@
 //! A light scan of the URDF's text for what urdf-rs does not tell: which joint or link an XML
-//! fault lies in, and which joints have a `<limit>` element at all.
+//! fault lies in (an element given twice, a number that is none), and which joints have a
+//! `<limit>` element at all.
 
 /// A `<joint>` or `<link>` element directly under `<robot>`: its name and its children's tags.
 pub(super) struct Element {
@@ -12,8 +13,12 @@ pub(super) struct Element {
 }
 
 /// The joint or link at fault for urdf-rs's error `message`, with what is wrong, when the text
-/// shows it: a child element given twice, or a joint without `<parent>` or `<child>`.
+/// shows it: a child element given twice, a joint without `<parent>` or `<child>`, or an
+/// attribute that should hold numbers and does not (urdf-rs says only `invalid float literal`).
 pub(super) fn fault(urdf: &str, message: &str) -> Option<(String, String)> {
+    if message.contains("float") {
+        return bad_number(urdf);
+    }
     let elements = top_elements(urdf);
     if let Some(field) = quoted_after(message, "duplicate field `") {
         let count = |e: &Element| e.children.iter().filter(|c| *c == field).count();
@@ -38,6 +43,80 @@ pub(super) fn fault(urdf: &str, message: &str) -> Option<(String, String)> {
         format!("joint '{}'", e.name),
         format!("has no <{field}>: a joint names its {field} link"),
     ))
+}
+
+/// The attributes of the URDF element `tag` that hold a number or a list of numbers.
+fn numeric_attributes(tag: &str) -> &'static [&'static str] {
+    match tag {
+        "origin" => &["xyz", "rpy"],
+        "mass" => &["value"],
+        "inertia" => &["ixx", "ixy", "ixz", "iyy", "iyz", "izz"],
+        "axis" => &["xyz"],
+        "limit" => &["lower", "upper", "effort", "velocity"],
+        "dynamics" => &["damping", "friction"],
+        "mimic" => &["multiplier", "offset"],
+        "safety_controller" => &[
+            "soft_lower_limit",
+            "soft_upper_limit",
+            "k_position",
+            "k_velocity",
+        ],
+        "calibration" => &["rising", "falling"],
+        "box" => &["size"],
+        "cylinder" | "capsule" => &["radius", "length"],
+        "sphere" => &["radius"],
+        "mesh" => &["scale"],
+        "color" => &["rgba"],
+        _ => &[],
+    }
+}
+
+/// The first attribute of `urdf` that should hold numbers and does not (e.g. `<mass
+/// value="0.6kg"/>`): the element, in the joint or link it lies in, and what is wrong, with its
+/// line.
+fn bad_number(urdf: &str) -> Option<(String, String)> {
+    let mut owner = "robot".to_owned();
+    // The number of open elements, the root counting 1.
+    let mut depth = 0usize;
+    for (offset, tag) in tags(urdf) {
+        if tag.starts_with('/') {
+            depth = depth.saturating_sub(1);
+            continue;
+        }
+        depth += 1;
+        let name = tag_name(tag);
+        if depth == 2 {
+            owner = match (name, attribute(tag, "name")) {
+                ("joint" | "link", Some(named)) => format!("{name} '{named}'"),
+                _ => "robot".to_owned(),
+            };
+        }
+        let numbers = |value: &str| {
+            let mut parts = value.split_whitespace().peekable();
+            parts.peek().is_some() && parts.all(|part| part.parse::<f64>().is_ok())
+        };
+        for key in numeric_attributes(name) {
+            match attribute(tag, key) {
+                Some(value) if !numbers(value) => {
+                    let line = 1 + urdf[..offset].matches('\n').count();
+                    let what = format!("line {line}: {key}=\"{value}\" is not a number");
+                    return Some((format!("{owner} <{name}>"), what));
+                }
+                _ => {}
+            }
+        }
+        if tag.ends_with('/') {
+            depth -= 1;
+        }
+    }
+    None
+}
+
+/// The element's name in the tag text `tag` (`mass` of `mass value="1"/`).
+fn tag_name(tag: &str) -> &str {
+    tag.split(|c: char| c.is_whitespace() || c == '/')
+        .next()
+        .unwrap_or_default()
 }
 
 /// The text between `prefix` and the next backtick in `message`.
@@ -102,10 +181,7 @@ pub(super) fn top_elements(urdf: &str) -> Vec<Element> {
     for (_, tag) in tags(urdf) {
         if !tag.starts_with('/') {
             depth += 1;
-            let name = tag
-                .split(|c: char| c.is_whitespace() || c == '/')
-                .next()
-                .unwrap_or_default();
+            let name = tag_name(tag);
             if depth == 2 && matches!(name, "joint" | "link") {
                 current = Some(Element {
                     kind: name.to_owned(),
