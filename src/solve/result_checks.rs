@@ -7,20 +7,29 @@ use crate::ipopt::Status;
 
 impl TrajectoryResult {
     /// Why the result is no verdict, where it is none: an infeasible elastic result that IPOPT
-    /// did not bring to an optimum (its iterations spent, a number it could not evaluate), whose
-    /// deficit measures only where IPOPT stopped, unless the motors cannot hold the load at rest
-    /// at a judged end (which no trajectory changes). None where the result judges the design.
+    /// did not bring to an optimum (its iterations spent, a number it could not evaluate) and
+    /// that shows no shortfall at all (no torque deficit, no speed excess: an infeasible verdict
+    /// with nothing lacking says nothing), unless the motors cannot hold the load at rest at a
+    /// judged end (which no trajectory changes). An elastic solve stopped short of an optimum
+    /// with a positive shortfall still judges the design infeasible, by the shortfall where it
+    /// stopped, as every verdict of the committed results was made. None where the result
+    /// judges the design.
     pub fn unjudged(&self) -> Option<String> {
         let optimum = [Status::SolveSucceeded, Status::SolvedToAcceptableLevel]
             .iter()
             .any(|status| status.name() == self.status);
         let unheld = self.static_hold.as_ref().and_then(|h| h.failure());
-        let judged = self.feasible || self.elastic.is_none() || optimum || unheld.is_some();
+        let shortfall = self.elastic.as_ref().is_some_and(|e| {
+            let positive = |value: f64| value.is_finite() && value > 0.0;
+            positive(e.torque_deficit) || positive(e.speed_excess)
+        });
+        let judged =
+            self.feasible || self.elastic.is_none() || optimum || shortfall || unheld.is_some();
         (!judged).then(|| {
             format!(
-                "the elastic solve ended with {} short of an optimum (in {} iterations in all), \
-                 so it shows neither a feasible trajectory nor a deficit: the design was not \
-                 judged",
+                "the elastic solve ended with {} short of an optimum (in {} iterations in all) \
+                 and shows no shortfall, so it shows neither a feasible trajectory nor a \
+                 deficit: the design was not judged",
                 self.status, self.iterations
             )
         })
