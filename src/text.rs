@@ -1,4 +1,5 @@
-//! How numbers are written in messages: as people write them, never a 300-digit expansion.
+//! How numbers and names are written in messages: numbers as people write them, never a
+//! 300-digit expansion; names from files on one line, with nothing that steers a terminal.
 
 use std::fmt;
 
@@ -12,6 +13,25 @@ pub fn number(x: f64) -> impl fmt::Display {
 pub fn numbers(values: &[f64]) -> String {
     let texts: Vec<String> = values.iter().map(|&v| number(v).to_string()).collect();
     texts.join(", ")
+}
+
+/// `name` (a link's or joint's, read from a file) as a terminal may show it: each control
+/// character (a newline, an escape) and each character that reorders text (U+202A-U+202E,
+/// U+2066-U+2069, U+200E, U+200F) written as its escape, `\n`, `\u{202e}`.
+pub fn shown(name: &str) -> String {
+    let steers = |c: char| {
+        c.is_control()
+            || matches!(c, '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}' | '\u{200e}' | '\u{200f}')
+    };
+    let mut text = String::with_capacity(name.len());
+    for c in name.chars() {
+        if steers(c) {
+            text.extend(c.escape_default());
+        } else {
+            text.push(c);
+        }
+    }
+    text
 }
 
 struct Number(f64);
@@ -29,7 +49,14 @@ impl fmt::Display for Number {
 
 #[cfg(test)]
 mod tests {
-    use super::{number, numbers};
+    use super::{number, numbers, shown};
+
+    #[test]
+    fn names_stay_on_one_line_and_in_order() {
+        assert_eq!(shown("grip\n|per"), "grip\\n|per");
+        assert_eq!(shown("ab\u{202e}cd"), "ab\\u{202e}cd");
+        assert_eq!(shown("link_4 é"), "link_4 é");
+    }
 
     #[test]
     fn plain_in_the_usual_range_and_exponents_outside() {

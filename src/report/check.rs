@@ -6,7 +6,7 @@ use crate::dynamics::Dynamics;
 use crate::model::task::{Ends, Task};
 use crate::model::Robot;
 use crate::problem::{EndHold, HoldRows, Space};
-use crate::text::{number, numbers};
+use crate::text::{number, numbers, shown};
 use crate::transmission::{JointLimits, Transmission};
 use nalgebra::DMatrix;
 use serde::Serialize;
@@ -381,7 +381,7 @@ impl Inspection {
         let mut text = format!(
             "{} moving joints, TCP on link '{}', payload {} kg\n",
             self.joints.len(),
-            self.tcp_link,
+            shown(&self.tcp_link),
             self.payload_kg
         );
         for (i, joint) in self.joints.iter().enumerate() {
@@ -390,12 +390,12 @@ impl Inspection {
                 text,
                 "  joint {} '{}': limits [{lo:.4}, {hi:.4}] rad, carries {:.3} kg",
                 i + 1,
-                joint.name,
+                shown(&joint.name),
                 joint.carries_kg
             );
         }
         for note in &self.notes {
-            let _ = writeln!(text, "  note: {note}");
+            let _ = writeln!(text, "  note: {}", shown(note));
         }
         if !self.ratios.is_empty() {
             let _ = writeln!(
@@ -443,7 +443,7 @@ impl Inspection {
         }
         for verdict in &self.verdicts {
             let mark = if verdict.ok { "ok  " } else { "FAIL" };
-            let _ = writeln!(text, "{mark} {}: {}", verdict.check, verdict.detail);
+            let _ = writeln!(text, "{mark} {}: {}", verdict.check, shown(&verdict.detail));
         }
         text
     }

@@ -136,3 +136,30 @@ fn a_robot_alone_is_inspected() {
         String::from_utf8_lossy(&dynamics.stderr)
     );
 }
+
+/// Names read from a URDF reach the terminal on one line and in order: a newline or a
+/// right-to-left override in a link's or joint's name is printed as its escape (issue 38,
+/// probe D15).
+#[test]
+fn names_that_steer_a_terminal_are_escaped() {
+    let dir = support::scratch("names");
+    let source = support::root().join("tests/data/urdf/gripper.urdf");
+    let text = std::fs::read_to_string(source)
+        .unwrap()
+        .replace("\"link_4\"", "\"link&#10;4&#x202E;\"");
+    let urdf = dir.join("names.urdf");
+    std::fs::write(&urdf, text).unwrap();
+    let output = codesign(&["check", "--robot", urdf.to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(
+        stdout.contains("TCP on link 'link\\n4\\u{202e}'"),
+        "{stdout}"
+    );
+    assert!(!stdout.contains('\u{202e}'), "{stdout}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
