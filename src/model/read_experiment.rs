@@ -245,6 +245,11 @@ mod tests {
                 json!({"codesign_payloads_kg": [1, -2]}),
                 "experiment.codesign_payloads_kg[1] = -2: the payload must be",
             ),
+            // A payload of 1e-320 kg named files of 341 bytes after the originals were solved.
+            (
+                json!({"codesign_payloads_kg": [1e-320]}),
+                "experiment.codesign_payloads_kg[0] = 1e-320: the payload must be 0 or a mass from",
+            ),
             (
                 json!({"range_payloads_kg": [1, 2, 1]}),
                 "experiment.range_payloads_kg[2] = 1: given twice",

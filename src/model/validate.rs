@@ -22,6 +22,10 @@ pub const MAX_GRAVITY: f64 = 1_000.0;
 /// Farthest a task's point (the TCP, the payload) may lie from its link's origin, m.
 pub const MAX_POINT_M: f64 = 100.0;
 
+/// The lightest payload other than none, kg: a milligram (a payload of 1e-320 kg named
+/// result files hundreds of bytes long and printed as 320 digits).
+pub const MIN_PAYLOAD_KG: f64 = 1e-6;
+
 /// Heaviest payload, kg: a tonne, far beyond what a 4-DOF arm of this class can lift.
 pub const MAX_PAYLOAD_KG: f64 = 1_000.0;
 
@@ -114,7 +118,7 @@ impl fmt::Display for OutOfRange {
         match self {
             OutOfRange::Steps => write!(f, "the number of intervals must be 1 to {MAX_STEPS} (100 times the paper's 50; beyond that IPOPT's memory and time grow out of reach)"),
             OutOfRange::Horizon => write!(f, "the duration must be a number of seconds >= {MIN_HORIZON_S} and <= {MAX_HORIZON_S} (from a hundredth of a second, below which no motor makes the motion and IPOPT's numbers overflow, to an hour, far beyond any pick-and-place)"),
-            OutOfRange::Payload => write!(f, "the payload must be a mass >= 0 and <= {MAX_PAYLOAD_KG} kg (a tonne, far beyond what this class of arm lifts)"),
+            OutOfRange::Payload => write!(f, "the payload must be 0 or a mass from {MIN_PAYLOAD_KG} kg (a milligram, below what any scale resolves) to {MAX_PAYLOAD_KG} kg (a tonne, far beyond what this class of arm lifts)"),
         }
     }
 }
@@ -172,7 +176,7 @@ pub fn check_horizon(seconds: f64) -> Result<(), OutOfRange> {
 
 /// Checks a payload mass, kg.
 pub fn check_payload(kg: f64) -> Result<(), OutOfRange> {
-    if kg.is_finite() && (0.0..=MAX_PAYLOAD_KG).contains(&kg) {
+    if kg == 0.0 || (MIN_PAYLOAD_KG..=MAX_PAYLOAD_KG).contains(&kg) {
         Ok(())
     } else {
         Err(OutOfRange::Payload)
