@@ -105,7 +105,8 @@ fn sizes_are_limited_and_bad_arguments_create_nothing() {
         refused_as_usage(&output, "the number of intervals must be 1 to 5000");
     }
     refused_as_usage(&codesign(&["solve", "--duration", "1e9"]), "--duration");
-    refused_as_usage(&codesign(&["solve", "--payload", "1e7"]), "<= 1000 kg");
+    refused_as_usage(&codesign(&["solve", "--payload", "1e7"]), "to 1000 kg");
+    refused_as_usage(&codesign(&["solve", "--payload", "1e-320"]), "a milligram");
     let dir = scratch("sizes");
     let out = dir.join("o.json");
     for (flag, value) in [("--population", "0"), ("--generations", "99999999")] {
