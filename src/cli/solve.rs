@@ -5,7 +5,7 @@ use super::failure::Failure;
 use super::store_hints::check_output;
 use crate::design::run::Loaded;
 use crate::ipopt::{check_derivatives, DerivativeOrder};
-use crate::model::task::{check_horizon, check_steps, PerMotor};
+use crate::model::task::{check_horizon, check_steps, PerMotor, Task};
 use crate::problem::{EndHold, Formulation, Space, StaticHold};
 use crate::report::trajectory::{every_plot_file, write_plots, SolveDocument};
 use crate::solve::{
@@ -62,6 +62,43 @@ pub struct Args {
     check_derivatives: bool,
 }
 
+/// Checks, before any solve, that `--out` and the files of `--plot` can be written and are none
+/// of the inputs of `task`.
+fn check_outputs(args: &Args, task: &Task) -> Result<(), Failure> {
+    let choice = args.model.choice();
+    let inputs = choice.inputs(task);
+    if let Some(path) = &args.out {
+        check_output("--out", path, &inputs)?;
+    }
+    if let Some(folder) = &args.plot {
+        check_folder(folder).map_err(|e| format!("--plot: {e}"))?;
+        // A folder not made yet holds nothing to protect.
+        for name in every_plot_file().filter(|_| folder.is_dir()) {
+            check_output("--plot", &folder.join(name), &inputs)?;
+        }
+    }
+    Ok(())
+}
+
+/// Fails, naming the design by `source`, where `result` is no result to report: a number in it
+/// is not finite, or it judges no design.
+fn refuse_unwritable(result: &TrajectoryResult, source: &str) -> Result<(), Failure> {
+    if let Some(part) = result.non_finite() {
+        return Err(Failure::from(format!(
+            "{source}: the solve (IPOPT status {}) gave a result whose {part} holds a number \
+             that is not finite (infinite or NaN); no result is written",
+            result.status
+        )));
+    }
+    if let Some(why) = result.unjudged() {
+        return Err(Failure::from(format!(
+            "{source}: {why}; no result is written (raise solver.max_iter, or see IPOPT's log \
+             with --verbose)"
+        )));
+    }
+    Ok(())
+}
+
 /// Solves, prints a summary, writes the requested files.
 pub fn run(args: &Args) -> Result<(), Failure> {
     args.model.validate()?;
@@ -82,18 +119,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     settings.verbose = args.verbose;
     task.motion.horizon_s = args.duration.unwrap_or(task.motion.horizon_s);
     task.motion.steps = args.steps.unwrap_or(task.motion.steps);
-    let choice = args.model.choice();
-    let inputs = choice.inputs(&task);
-    if let Some(path) = &args.out {
-        check_output("--out", path, &inputs)?;
-    }
-    if let Some(folder) = &args.plot {
-        check_folder(folder).map_err(|e| format!("--plot: {e}"))?;
-        // A folder not made yet holds nothing to protect.
-        for name in every_plot_file().filter(|_| folder.is_dir()) {
-            check_output("--plot", &folder.join(name), &inputs)?;
-        }
-    }
+    check_outputs(args, &task)?;
     let modes = args.problem.modes(&task);
     let hard = Formulation::new(&task, robot, args.problem.space, modes)
         .map_err(|e| e.to_string())?
@@ -118,19 +144,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         SolveError::Ipopt(_) => format!("{} solver: {e}", args.model.source()),
         SolveError::Formulation(_) => format!("{}: {e}", args.model.source()),
     })?;
-    if let Some(part) = result.non_finite() {
-        return Err(Failure::from(format!(
-            "{source}: the solve (IPOPT status {}) gave a result whose {part} holds a number \
-             that is not finite (infinite or NaN); no result is written",
-            result.status
-        )));
-    }
-    if let Some(why) = result.unjudged() {
-        return Err(Failure::from(format!(
-            "{source}: {why}; no result is written (raise solver.max_iter, or see IPOPT's log \
-             with --verbose)"
-        )));
-    }
+    refuse_unwritable(&result, &source)?;
     print_summary(&formulation, &result);
     if let Some(folder) = &args.plot {
         write_plots(folder, &formulation, &result).map_err(|e| e.to_string())?;

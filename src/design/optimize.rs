@@ -206,12 +206,24 @@ pub fn optimize(
             .map_err(OptimizeError::Cmaes)?;
     }
     check_evaluations(&outcome.evaluations)?;
+    finish(&cmaes, &sampling, outcome, &anchors)
+}
+
+/// The run's outcome once CMA-ES has stopped: its best design (as evaluated: the projection of
+/// CMA-ES's best sample where samples are clipped; none when no evaluation was feasible), the
+/// anchor it was evaluated from, and every evaluation's cost and time.
+fn finish(
+    cmaes: &Cmaes,
+    sampling: &Sampling<'_>,
+    outcome: Run,
+    anchors: &[Option<Vec<f64>>],
+) -> Result<DesignOutcome, OptimizeError> {
     let (best, cost) = cmaes.best().ok_or(OptimizeError::NoBest)?;
     // A design no evaluation found feasible is no result: the run reports none.
     let any_feasible = outcome.evaluations.iter().any(|e| e.feasible);
     // CMA-ES's best is a sample: the design evaluated for it is its projection when clipped.
     let best_ratios = if any_feasible {
-        bounds.design(space, best)
+        sampling.bounds.design(sampling.space, best)
     } else {
         Vec::new()
     };

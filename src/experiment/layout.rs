@@ -150,6 +150,11 @@ impl Layout {
         self.root.join("runs")
     }
 
+    /// The folder of the capacity searches' results.
+    pub fn capacities(&self) -> PathBuf {
+        self.root.join("capacity")
+    }
+
     /// The folder of the plots.
     pub fn plots(&self) -> PathBuf {
         self.root.join("plots")
@@ -200,7 +205,7 @@ impl Layout {
 
     /// The result of the capacity search of `of`.
     pub fn capacity(&self, of: CapacityOf) -> PathBuf {
-        self.root.join("capacity").join(format!("{of}.json"))
+        self.capacities().join(format!("{of}.json"))
     }
 }
 

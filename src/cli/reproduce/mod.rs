@@ -250,9 +250,7 @@ fn finish(
     seconds: f64,
     hold: Option<&PaperTable>,
 ) -> Result<PaperTable, String> {
-    for folder in plan.layout.folders() {
-        create_folder(&folder).map_err(|e| e.to_string())?;
-    }
+    create_folder(&plan.layout.capacities()).map_err(|e| e.to_string())?;
     write_case_plots(plan, task, &outcomes.runs)?;
     let mut capacities = outcomes.original_capacities;
     capacities.extend(best_capacities(plan, task, &outcomes.runs)?);

@@ -9,7 +9,7 @@
 //! v_0 = 0, the rows would be the torque limit itself. The rows are linear: entries
 //! d(tau_u)/du in u, +-c_i G_ij in v and -+c_i B_ij, +-c_i B_ij in the node's slacks e+, e-.
 
-use super::{segment, At, DesignDerivative, Emit, Family, FamilyId, Place, Shape};
+use super::{segment, slack_shift, At, DesignDerivative, Emit, Family, FamilyId, Place, Shape};
 use crate::ipopt::Solution;
 use crate::model::task::LimitMode;
 use crate::problem::layout::{Layout, RowBlock};
@@ -62,15 +62,10 @@ pub(in crate::problem) fn speed_relaxation(
     x: &[f64],
     k: usize,
 ) -> Option<DVector<f64>> {
-    let columns: Option<Vec<[usize; 2]>> = (0..layout.dof)
-        .map(|i| layout.slack(FamilyId::MotorSpeed, k, i))
+    let shifts: Option<Vec<f64>> = (0..layout.dof)
+        .map(|i| slack_shift(x, layout.slack(FamilyId::MotorSpeed, k, i)))
         .collect();
-    columns.map(|columns| {
-        DVector::from_iterator(
-            columns.len(),
-            columns.iter().map(|&[plus, minus]| x[minus] - x[plus]),
-        )
-    })
+    shifts.map(DVector::from_vec)
 }
 
 impl Envelope {
