@@ -3,8 +3,13 @@
 //! the signal would have; but never in the middle of writing a file. A signal that arrives while
 //! a [`Deferral`] lives takes effect when the last one ends, once the file being written is in
 //! place (or its temporary removed). The handler makes only async-signal-safe calls.
+//!
+//! A host that handles the signals itself (the Python package, whose interpreter owns INT) calls
+//! [`leave_signals_to_host`] first: no handler is installed, and the host asks the work under way
+//! to stop with [`request_stop`]. Every IPOPT solve then stops at its next iteration, and a
+//! co-design run stops before its next evaluation, its log kept for `--resume`.
 
-use std::sync::atomic::{AtomicI32, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicI32, AtomicUsize, Ordering};
 use std::sync::Once;
 
 /// The most worker process groups alive at once in one process.
@@ -19,6 +24,33 @@ static DEFERRING: AtomicUsize = AtomicUsize::new(0);
 
 /// A signal that arrived during a deferral (0: none).
 static PENDING: AtomicI32 = AtomicI32::new(0);
+
+/// Whether the host handles INT, TERM and HUP ([`leave_signals_to_host`]).
+static HOSTED: AtomicBool = AtomicBool::new(false);
+
+/// Whether the host asked the work under way to stop ([`request_stop`]).
+static STOP: AtomicBool = AtomicBool::new(false);
+
+/// Installs no handler, now or later: the host process handles INT, TERM and HUP and calls
+/// [`request_stop`]. Call it before any work starts.
+pub fn leave_signals_to_host() {
+    HOSTED.store(true, Ordering::SeqCst);
+}
+
+/// Asks every solve and co-design run of this process to stop as soon as it can.
+pub fn request_stop() {
+    STOP.store(true, Ordering::SeqCst);
+}
+
+/// Withdraws [`request_stop`], before the next piece of work starts.
+pub fn clear_stop() {
+    STOP.store(false, Ordering::SeqCst);
+}
+
+/// Whether [`request_stop`] was called and not withdrawn.
+pub fn stop_requested() -> bool {
+    STOP.load(Ordering::SeqCst)
+}
 
 /// Notes a worker's process group, so that INT, TERM or HUP kill it; false when the table is
 /// full.
@@ -86,9 +118,12 @@ fn terminate(signal: libc::c_int) {
     }
 }
 
-/// Installs [`on_signal`] for INT, TERM and HUP, once per process.
+/// Installs [`on_signal`] for INT, TERM and HUP, once per process, unless the host handles them.
 fn install() {
     static INSTALLED: Once = Once::new();
+    if HOSTED.load(Ordering::SeqCst) {
+        return;
+    }
     INSTALLED.call_once(|| {
         for signal in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
             // SAFETY: the handler only makes async-signal-safe calls.

@@ -2,7 +2,7 @@
 //! layer's [`ModelChoice`] and [`ProblemChoice`], which do the work.
 
 use super::failure::Failure;
-use crate::design::run::{Loaded, ModelChoice, ProblemChoice};
+use crate::design::run::{task_source, Loaded, ModelChoice, ProblemChoice};
 use crate::ipopt::LinearSolver;
 use crate::model::task::{Ends, LimitMode, LimitModes, Task, TaskSource};
 use crate::model::Robot;
@@ -46,7 +46,7 @@ impl ModelArgs {
     /// What these flags choose.
     pub fn choice(&self) -> ModelChoice {
         ModelChoice {
-            task: self.task.clone(),
+            task: task_source(self.task.as_ref()),
             robot: self.robot.clone(),
             payload: self.payload,
             ends: self.ends,

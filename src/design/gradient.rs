@@ -150,6 +150,8 @@ pub enum GradientError {
         /// The candidate designs solved.
         solved: usize,
     },
+    /// The host asked the run to stop (`signals::request_stop`).
+    Interrupted,
 }
 
 impl fmt::Display for GradientError {
@@ -159,6 +161,7 @@ impl fmt::Display for GradientError {
                 f,
                 "the gradient method found no feasible start among {solved} candidate designs"
             ),
+            GradientError::Interrupted => f.write_str("interrupted"),
         }
     }
 }
@@ -194,13 +197,20 @@ pub fn optimize_gradient(
         seconds: Vec::new(),
         best: None,
     };
+    let interrupted = || crate::signals::stop_requested();
     let (candidates, solved) = descent_starts(set, settings, &mut evaluator);
+    if interrupted() {
+        return Err(GradientError::Interrupted);
+    }
     if candidates.is_empty() {
         return Err(GradientError::NoFeasibleStart { solved });
     }
     let mut iterates = Vec::new();
     for (start, point) in candidates {
         descend(start, point, set, settings, &mut evaluator, &mut iterates);
+        if interrupted() {
+            return Err(GradientError::Interrupted);
+        }
     }
     let solves = evaluator.costs.len();
     let stop_reason = format!(
@@ -249,7 +259,8 @@ fn descent_starts(
     let mut candidates = Vec::new();
     let mut solved = 0;
     for (index, start) in starts.iter().chain(&fallbacks).enumerate() {
-        if index >= starts.len() && candidates.len() >= settings.descents {
+        let enough = index >= starts.len() && candidates.len() >= settings.descents;
+        if enough || crate::signals::stop_requested() {
             break;
         }
         solved += 1;
@@ -400,7 +411,7 @@ fn descend(
     let scale = 0.1 * width / dot(&point.gradient, &point.gradient).sqrt().max(1e-12);
     let mut h = InverseHessian::scaled_identity(point.ratios.len(), scale);
     for _ in 0..settings.max_iterations {
-        if is_stationary(set, &point, settings.tolerance) {
+        if is_stationary(set, &point, settings.tolerance) || crate::signals::stop_requested() {
             break;
         }
         let held = held_at_bounds(set, &point.ratios, &point.gradient);

@@ -188,5 +188,5 @@ pub(super) unsafe extern "C" fn intermediate<P: Nlp>(
 ) -> sys::Bool {
     let context = &mut *user_data.cast::<Context<P>>();
     context.iterations = iter_count;
-    sys::Bool::from(context.error.is_none())
+    sys::Bool::from(context.error.is_none() && !crate::signals::stop_requested())
 }

@@ -18,6 +18,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::fmt;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 pub use super::motors::{Motors, PerMotor};
 pub use super::validate::{
@@ -231,29 +232,53 @@ pub struct LimitModes {
 }
 
 /// Where a task comes from.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub enum TaskSource {
     /// The built-in task, [`BUILT_IN_TASK`].
+    #[default]
     BuiltIn,
     /// A task file.
     File(PathBuf),
+    /// A task a program built in memory (the Python package's `Task.with_changes`), read and
+    /// checked as a file is ([`TaskFile::from_text`]).
+    Given(Arc<GivenTask>),
+}
+
+/// A task built in memory: what it was made from, in words, and the task read from it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GivenTask {
+    /// What the task was made from, e.g. `robots/tasks/pick_place.json with changes`.
+    pub label: String,
+    /// The task as read.
+    pub file: TaskFile,
 }
 
 impl TaskSource {
-    /// The file's path, or `built-in`: how result files record where their task came from.
+    /// The file's path, `built-in`, or a given task's label: how result files record where
+    /// their task came from.
     pub fn label(&self) -> String {
         match self {
             TaskSource::BuiltIn => "built-in".to_owned(),
             TaskSource::File(path) => path.display().to_string(),
+            TaskSource::Given(given) => given.label.clone(),
         }
     }
 
-    /// Loads the task file from here: the built-in one ([`Task::built_in`]) or a file
-    /// ([`Task::load`]), with its `solver` section.
+    /// The task file's path, if the task comes from one.
+    pub fn path(&self) -> Option<&Path> {
+        match self {
+            TaskSource::File(path) => Some(path),
+            TaskSource::BuiltIn | TaskSource::Given(_) => None,
+        }
+    }
+
+    /// Loads the task file from here: the built-in one ([`Task::built_in`]), a file
+    /// ([`Task::load`]) or the given one, with its `solver` section.
     pub fn load(&self) -> Result<TaskFile, TaskError> {
         match self {
             TaskSource::BuiltIn => TaskFile::built_in(),
             TaskSource::File(path) => TaskFile::load(path),
+            TaskSource::Given(given) => Ok(given.file.clone()),
         }
     }
 }
@@ -263,6 +288,7 @@ impl fmt::Display for TaskSource {
         match self {
             TaskSource::BuiltIn => write!(f, "built-in task"),
             TaskSource::File(path) => write!(f, "task file {}", path.display()),
+            TaskSource::Given(given) => write!(f, "task {}", given.label),
         }
     }
 }
@@ -270,8 +296,8 @@ impl fmt::Display for TaskSource {
 /// A task that could not be read or does not make sense; names its source and the field.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TaskError {
-    /// The task file, or the built-in task.
-    pub source: TaskSource,
+    /// The task file, the built-in task or a given task, in words (`task file t.json`).
+    pub source: String,
     /// What is wrong, naming the field.
     pub message: String,
 }
@@ -287,24 +313,41 @@ impl std::error::Error for TaskError {}
 impl TaskFile {
     /// Reads and checks a task file. A relative robot path is resolved against the file's folder.
     pub fn load(path: &Path) -> Result<TaskFile, TaskError> {
-        let source = TaskSource::File(path.to_owned());
+        let source = TaskSource::File(path.to_owned()).to_string();
         let text = read_text(path, MAX_TASK_BYTES).map_err(|e| TaskError {
             source: source.clone(),
             message: e.to_string(),
         })?;
-        let mut file = TaskFile::from_json(&text, source)?;
-        if let Some(robot) = file.task.robot.as_mut().filter(|robot| robot.is_relative()) {
-            let folder = path.parent().unwrap_or(Path::new("."));
+        let folder = path.parent().unwrap_or(Path::new("."));
+        TaskFile::from_json(&text, source).map(|file| file.robot_from(folder))
+    }
+
+    /// Reads and checks the JSON `text` of a task built in memory, as a file is read, its
+    /// errors naming the task by `label`; a relative robot path is resolved against `folder`.
+    pub fn from_text(text: &str, label: &str, folder: &Path) -> Result<TaskFile, TaskError> {
+        let source = format!("task {label}");
+        if text.len() as u64 > MAX_TASK_BYTES {
+            return Err(TaskError {
+                source,
+                message: format!("longer than the {MAX_TASK_BYTES} bytes a task may have"),
+            });
+        }
+        TaskFile::from_json(text, source).map(|file| file.robot_from(folder))
+    }
+
+    /// This task file with a relative robot path resolved against `folder`.
+    fn robot_from(mut self, folder: &Path) -> TaskFile {
+        if let Some(robot) = self.task.robot.as_mut().filter(|robot| robot.is_relative()) {
             *robot = folder.join(&*robot);
         }
-        Ok(file)
+        self
     }
 
     /// The built-in task, [`BUILT_IN_TASK`], with the built-in robot. Its `robot` path,
     /// `../belt_arm.urdf` beside `robots/tasks/`, names the very URDF compiled in as the built-in
     /// robot, so it is replaced by `None`.
     pub fn built_in() -> Result<TaskFile, TaskError> {
-        let mut file = TaskFile::from_json(BUILT_IN_TASK, TaskSource::BuiltIn)?;
+        let mut file = TaskFile::from_json(BUILT_IN_TASK, TaskSource::BuiltIn.to_string())?;
         file.task.robot = None;
         Ok(file)
     }
@@ -312,7 +355,7 @@ impl TaskFile {
     /// Parses and checks the JSON `text` of a task from `source` (named in errors); the robot
     /// path is left as written, the `solver` section is kept as written, the `experiment`
     /// section is read and checked.
-    fn from_json(text: &str, source: TaskSource) -> Result<TaskFile, TaskError> {
+    fn from_json(text: &str, source: String) -> Result<TaskFile, TaskError> {
         let parsed = crate::json_keys::check_unique_keys(text)
             .and_then(|()| serde_json::from_str::<Value>(text).map_err(|e| e.to_string()))
             .and_then(|mut value| {
@@ -405,7 +448,7 @@ mod tests {
     #[test]
     fn errors_name_the_built_in_task_and_a_task_without_robot_means_the_built_in_one() {
         let broken = BUILT_IN_TASK.replacen("\"steps\": 50", "\"steps\": 0", 1);
-        let message = TaskFile::from_json(&broken, TaskSource::BuiltIn)
+        let message = TaskFile::from_json(&broken, TaskSource::BuiltIn.to_string())
             .unwrap_err()
             .to_string();
         assert!(
@@ -414,7 +457,7 @@ mod tests {
         );
         let without = BUILT_IN_TASK.replacen("\"robot\": \"../belt_arm.urdf\",", "", 1);
         assert_ne!(without, BUILT_IN_TASK);
-        let task = TaskFile::from_json(&without, TaskSource::BuiltIn)
+        let task = TaskFile::from_json(&without, TaskSource::BuiltIn.to_string())
             .unwrap()
             .task;
         assert_eq!(task.robot, None);

@@ -73,14 +73,24 @@ struct Envelope<'d, D: Serialize> {
     document: &'d D,
 }
 
-/// Writes `document` to `path` whole, in its envelope (see [`super::files::write_json`]).
-pub fn write_document<D: Document>(path: &Path, document: &D) -> Result<(), StoreError> {
-    let envelope = Envelope {
+/// `document` in its envelope.
+fn envelope<D: Document>(document: &D) -> Envelope<'_, D> {
+    Envelope {
         schema: D::SCHEMA.tag(),
         version: D::SCHEMA.version(),
         document,
-    };
-    write_json(path, &envelope)
+    }
+}
+
+/// Writes `document` to `path` whole, in its envelope (see [`super::files::write_json`]).
+pub fn write_document<D: Document>(path: &Path, document: &D) -> Result<(), StoreError> {
+    write_json(path, &envelope(document))
+}
+
+/// The JSON text [`write_document`] writes for `document`, without the final newline (what the
+/// Python package's `to_json` gives).
+pub fn document_json<D: Document>(document: &D) -> Result<String, serde_json::Error> {
+    serde_json::to_string_pretty(&envelope(document))
 }
 
 /// What a document's envelope says.

@@ -188,7 +188,7 @@ impl Plan {
     /// (`bounds` and `warm_start` for CMA-ES only) and every other setting at its default.
     fn case(&self, space: Space, payload: Option<f64>, method: Method) -> Case {
         let model = ModelChoice {
-            task: self.task.clone(),
+            task: task_source(self.task.as_ref()),
             robot: None,
             payload,
             ends: Some(self.ends),

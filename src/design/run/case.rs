@@ -25,8 +25,8 @@ use std::path::{Path, PathBuf};
 /// `--payload`).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ModelChoice {
-    /// The task file; None: the built-in task.
-    pub task: Option<PathBuf>,
+    /// Where the task comes from.
+    pub task: TaskSource,
     /// The robot's URDF, replacing the task's; None: the task's.
     pub robot: Option<PathBuf>,
     /// The payload, kg, replacing the task's.
@@ -43,13 +43,13 @@ pub fn task_source(task: Option<&PathBuf>) -> TaskSource {
 impl ModelChoice {
     /// Where the task comes from.
     pub fn source(&self) -> TaskSource {
-        task_source(self.task.as_ref())
+        self.task.clone()
     }
 
     /// The files a run with this choice reads, each with where it was named: the task file
     /// (unless built in) and the robot's URDF (unless built in). An output must be none of them.
     pub fn inputs<'a>(&'a self, task: &'a Task) -> Vec<(&'static str, &'a Path)> {
-        let task_file = self.task.as_deref().map(|path| ("--task", path));
+        let task_file = self.task.path().map(|path| ("--task", path));
         let robot = task.robot.as_deref().map(|path| ("robot", path));
         task_file.into_iter().chain(robot).collect()
     }
@@ -327,8 +327,11 @@ impl Case {
     pub fn flags(&self) -> Vec<String> {
         let mut flags: Vec<String> = Vec::new();
         let mut push = |flag: &str, value: String| flags.extend([flag.to_owned(), value]);
-        if let Some(task) = &self.model.task {
-            push("--task", shell_quote(&task.to_string_lossy()));
+        match &self.model.task {
+            TaskSource::BuiltIn => {}
+            TaskSource::File(task) => push("--task", shell_quote(&task.to_string_lossy())),
+            // A task built in memory has no flag: its text is what the run's log records.
+            TaskSource::Given(given) => push("--task", shell_quote(&given.label)),
         }
         if let Some(robot) = &self.model.robot {
             push("--robot", shell_quote(&robot.to_string_lossy()));
@@ -498,7 +501,7 @@ mod tests {
 
     fn case(method: Method) -> Case {
         let model = ModelChoice {
-            task: None,
+            task: crate::model::task::TaskSource::BuiltIn,
             robot: None,
             payload: Some(1.0),
             ends: None,

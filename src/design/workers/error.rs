@@ -40,6 +40,8 @@ pub enum WorkerError {
     },
     /// Every thread reading the workers' answers stopped.
     ReadersStopped,
+    /// The host asked the run to stop (`signals::request_stop`, Ctrl-C in Python).
+    Interrupted,
     /// A worker's hello differs from the pool's: another build, or another reading of the setup.
     Refused {
         /// The command that started it.
@@ -101,6 +103,7 @@ impl fmt::Display for WorkerError {
                 )
             }
             WorkerError::ReadersStopped => f.write_str("all worker readers stopped"),
+            WorkerError::Interrupted => f.write_str("interrupted"),
             WorkerError::Refused {
                 launcher,
                 what,
@@ -145,6 +148,7 @@ impl std::error::Error for WorkerError {
             | WorkerError::EndedEarly { .. }
             | WorkerError::NoPipe(_)
             | WorkerError::ReadersStopped
+            | WorkerError::Interrupted
             | WorkerError::Refused { .. } => None,
         }
     }

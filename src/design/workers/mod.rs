@@ -16,6 +16,7 @@ pub use protocol::{read_line, serve, Hello, Request, Response, WorkerSetup, MAX_
 
 use super::penalty::Penalty;
 use super::score::{Evaluation, Objective, Score, Verdict};
+use crate::signals;
 use std::collections::VecDeque;
 use std::io::{BufReader, Write};
 use std::process::{Child, ChildStdin, Stdio};
@@ -25,6 +26,9 @@ use std::time::{Duration, Instant};
 /// How long one evaluation may take before its worker counts as hung, s (the default of
 /// `--solve-timeout`).
 pub const SOLVE_TIMEOUT_S: f64 = 600.0;
+
+/// How often a pool waiting for answers looks whether the host asked it to stop.
+const STOP_POLL: Duration = Duration::from_millis(200);
 
 /// A message from a worker's reader thread: its slot, its incarnation, and what it read.
 type Message = (usize, u64, Read);
@@ -262,9 +266,14 @@ impl Pool {
             .iter()
             .filter_map(|w| w.job.as_ref().map(|(_, d)| *d))
             .min();
-        let wait = next_deadline.map_or(self.timeout, |d| {
-            d.saturating_duration_since(Instant::now())
-        });
+        let wait = next_deadline
+            .map_or(self.timeout, |d| {
+                d.saturating_duration_since(Instant::now())
+            })
+            .min(STOP_POLL);
+        if signals::stop_requested() {
+            return Err(WorkerError::Interrupted);
+        }
         let failed = |slot: usize, why: String| Ok(Heard::Failed(vec![(slot, why)]));
         match self.receiver.recv_timeout(wait) {
             Ok((slot, incarnation, _)) if self.workers[slot].incarnation != incarnation => {
@@ -285,6 +294,9 @@ impl Pool {
             Ok((slot, _, Read::End)) => failed(slot, "worker process crashed".to_owned()),
             Ok((slot, _, Read::Broken(why))) => failed(slot, format!("worker sent {why}")),
             Ok((slot, _, Read::Line(line))) => Ok(self.answer(slot, &line)),
+            Err(RecvTimeoutError::Timeout) if signals::stop_requested() => {
+                Err(WorkerError::Interrupted)
+            }
             Err(RecvTimeoutError::Timeout) => self.late(),
             Err(RecvTimeoutError::Disconnected) => Err(WorkerError::ReadersStopped),
         }

@@ -1,0 +1,32 @@
+"""codesign: co-design of the transmission and the motion of robots with parallel
+transmissions, on IPOPT.
+
+>>> import codesign as cd
+>>> task = cd.Task.builtin()
+>>> sol = task.solve(space="actuation", payload=1.0)
+>>> sol.feasible, sol.cost, sol.q.shape
+
+Every result converts to the document the command line writes (``to_dict()``, ``to_json()``);
+every failure raises a :class:`codesign.Error` (:class:`InputError` for a bad input, a
+``ValueError``; :class:`SolverError` when the work fails, a ``RuntimeError``).
+"""
+
+from codesign._errors import Error, InputError, SolverError
+from codesign._native import versions as _versions
+from codesign._results import Capacity, CheckReport, Run, Solution
+from codesign._task import Task
+
+__version__, IPOPT_VERSION = _versions()
+
+__all__ = [
+    "Capacity",
+    "CheckReport",
+    "Error",
+    "InputError",
+    "IPOPT_VERSION",
+    "Run",
+    "Solution",
+    "SolverError",
+    "Task",
+    "__version__",
+]

@@ -1,0 +1,247 @@
+"""The results of a task's methods: each wraps the document the command line writes as JSON
+(``to_dict()``, ``to_json()``), with its main figures as attributes and its trajectories as numpy
+arrays. The fields are documented in ``docs/results.md``."""
+
+from __future__ import annotations
+
+import json
+from typing import Any, Dict, List, Optional
+
+import numpy as np
+
+from codesign import _native
+
+
+class _Document:
+    """A result document: the same JSON object as the command line's ``--out`` file."""
+
+    def __init__(self, text: str) -> None:
+        self._text = text
+        self._document: Dict[str, Any] = json.loads(text)
+
+    def to_dict(self) -> Dict[str, Any]:
+        """The document as a dict (a deep copy: changing it changes nothing here)."""
+        return json.loads(self._text)
+
+    def to_json(self) -> str:
+        """The document as JSON text, as the command line writes it (without the final newline)."""
+        return self._text
+
+    @property
+    def schema(self) -> str:
+        """The kind of document, e.g. ``codesign/solve``."""
+        return self._document["schema"]
+
+    @property
+    def version(self) -> int:
+        """The version of its schema."""
+        return self._document["version"]
+
+
+def _rows(rows: List[List[float]], width: int) -> np.ndarray:
+    """A list of rows as a 2-D float array, shape (len(rows), width) even when empty."""
+    return np.asarray(rows, dtype=float).reshape(len(rows), width)
+
+
+class Solution(_Document):
+    """One solve of the trajectory problem (``codesign solve --out``).
+
+    Node arrays have N+1 rows (nodes k = 0..N, times ``t``); interval arrays have N rows (the
+    controls and accelerations of the intervals k = 0..N-1, constant over each). n is the number
+    of joints, m the number of motors (m = n).
+    """
+
+    def __init__(self, text: str, start: "_native.NativeStart") -> None:
+        super().__init__(text)
+        self._start = start
+        trajectory = self._document["trajectory"]
+        n = len(trajectory["q"][0])
+        m = len(trajectory["motor_speed"][0])
+        self.t: np.ndarray = np.asarray(trajectory["time"], dtype=float)
+        """Node times, s, shape (N+1,)."""
+        self.q: np.ndarray = _rows(trajectory["q"], n)
+        """Joint positions, rad, shape (N+1, n)."""
+        self.v: np.ndarray = _rows(trajectory["v"], n)
+        """Joint speeds, rad/s, shape (N+1, n)."""
+        self.a: np.ndarray = _rows(trajectory["a"], n)
+        """Joint accelerations per interval, rad/s^2, shape (N, n)."""
+        self.tau: np.ndarray = _rows(trajectory["joint_torque"], n)
+        """Joint torques per interval, N m, shape (N, n)."""
+        self.tau_u: np.ndarray = _rows(trajectory["motor_torque"], m)
+        """Motor torques per interval, N m, shape (N, m)."""
+        self.motor_speed: np.ndarray = _rows(trajectory["motor_speed"], m)
+        """Motor speeds per node, rad/s, shape (N+1, m)."""
+        self.tcp: np.ndarray = np.column_stack(
+            [trajectory["tcp_x"], trajectory["tcp_y"], trajectory["tcp_z"]]
+        ).reshape(len(self.t), 3)
+        """TCP position in the world frame per node, m, shape (N+1, 3)."""
+
+    @property
+    def feasible(self) -> bool:
+        """Whether the design moves the payload within every limit (one rule: docs/model.md, 8)."""
+        return self._document["feasible"]
+
+    @property
+    def reason(self) -> Optional[str]:
+        """Why the design is infeasible; None when feasible."""
+        return None if self.feasible else self._document.get("reason")
+
+    @property
+    def cost(self) -> float:
+        """The optimal cost J of the trajectory found (a local optimum; meaningful when
+        ``feasible``: an infeasible solve's cost is that of the point IPOPT stopped at)."""
+        return self._document["cost"]
+
+    @property
+    def cost_terms(self) -> Optional[Dict[str, float]]:
+        """J by term: ``position``, ``velocity``, ``control``, ``cartesian_box``."""
+        return self._document.get("cost_terms")
+
+    @property
+    def cost_gradient(self) -> Optional[np.ndarray]:
+        """dJ*/dr, the exact sensitivity of the optimal cost to each ratio; None when infeasible."""
+        gradient = self._document.get("cost_gradient")
+        return None if gradient is None else np.asarray(gradient, dtype=float)
+
+    @property
+    def status(self) -> str:
+        """IPOPT's return status of the solve that gave the verdict."""
+        return self._document["status"]
+
+    @property
+    def iterations(self) -> int:
+        """IPOPT iterations, summed over every start the rule tried."""
+        return self._document["iterations"]
+
+    @property
+    def ratios(self) -> np.ndarray:
+        """The design r solved."""
+        return np.asarray(self._document["ratios"], dtype=float)
+
+    @property
+    def payload(self) -> float:
+        """The payload, kg."""
+        return self._document["inputs"]["payload_kg"]
+
+    @property
+    def space(self) -> str:
+        """``joint`` or ``actuation``."""
+        return self._document["inputs"]["space"]
+
+    @property
+    def task_hash(self) -> str:
+        """The hash of the task solved (payload aside): equal hashes, equal problems."""
+        return self._document["inputs"].get("task_hash", "")
+
+    def __repr__(self) -> str:
+        verdict = "feasible" if self.feasible else f"infeasible: {self.reason}"
+        return f"<codesign.Solution {self.space} r={self.ratios.tolist()} J={self.cost:.6g} {verdict}>"
+
+
+class Capacity(_Document):
+    """The payload capacity of a design (``codesign capacity --out``)."""
+
+    @property
+    def capacity_kg(self) -> Optional[float]:
+        """The largest payload found feasible, kg; None when even 0 kg is infeasible."""
+        return self._document.get("capacity_kg")
+
+    @property
+    def limited_by(self) -> Optional[str]:
+        """What bounds the capacity: ``trajectory``, ``hold`` or ``search`` (the largest payload tried)."""
+        return self._document.get("limited_by")
+
+    @property
+    def hold_kg(self) -> Optional[float]:
+        """The most the motors hold at rest at both ends, kg."""
+        return self._document.get("hold_kg")
+
+    @property
+    def first_infeasible_kg(self) -> Optional[float]:
+        """The lightest payload found infeasible, kg; None when the search reached ``max``."""
+        return self._document.get("first_infeasible_kg")
+
+    @property
+    def ratios(self) -> np.ndarray:
+        """The design searched."""
+        return np.asarray(self._document["ratios"], dtype=float)
+
+    @property
+    def probes(self) -> List[Dict[str, Any]]:
+        """Each payload solved, in order, with its verdict."""
+        return self._document["probes"]
+
+    def __repr__(self) -> str:
+        return f"<codesign.Capacity {self.capacity_kg} kg (limited by {self.limited_by})>"
+
+
+class Run(_Document):
+    """A co-design run (``codesign optimize --out``)."""
+
+    def __init__(self, text: str, result: str, log: Optional[str]) -> None:
+        super().__init__(text)
+        self.result_file: str = result
+        """Where the document was written."""
+        self.log_file: Optional[str] = log
+        """Its evaluation log (CMA-ES), which ``resume=True`` continues."""
+
+    @property
+    def best_ratios(self) -> np.ndarray:
+        """The best design found; empty when none was feasible."""
+        return np.asarray(self._document["best_ratios"], dtype=float)
+
+    @property
+    def best_cost(self) -> float:
+        """Its fitness (J*, or the penalty when none was feasible)."""
+        return self._document["best_cost"]
+
+    @property
+    def costs(self) -> np.ndarray:
+        """The fitness of every evaluation, in order."""
+        return np.asarray(self._document["costs"], dtype=float)
+
+    @property
+    def generations(self) -> List[Dict[str, Any]]:
+        """Per CMA-ES generation: its best, mean and spread."""
+        return self._document["generations"]
+
+    @property
+    def best_result(self) -> Optional[Dict[str, Any]]:
+        """The best design's solve, as in a solve document."""
+        return self._document.get("best_result")
+
+    def __repr__(self) -> str:
+        return f"<codesign.Run best r={self.best_ratios.tolist()} J={self.best_cost:.6g}>"
+
+
+class CheckReport(_Document):
+    """What ``codesign check`` finds before any solve: the joints, the static torques, the hold."""
+
+    def __init__(self, text: str, words: str, problems: List[str]) -> None:
+        self._text = text
+        self._document = json.loads(text)
+        self.text: str = words
+        """The report as ``codesign check`` prints it."""
+        self.problems: List[str] = problems
+        """Every problem found; empty when none."""
+
+    @property
+    def ok(self) -> bool:
+        """Whether no problem was found."""
+        return not self.problems
+
+    @property
+    def schema(self) -> str:
+        """The inspection has no envelope: ``codesign/check``."""
+        return "codesign/check"
+
+    @property
+    def version(self) -> int:
+        """1."""
+        return 1
+
+    def __str__(self) -> str:
+        return self.text
+
+    def __repr__(self) -> str:
+        return f"<codesign.CheckReport {len(self.problems)} problem(s)>"

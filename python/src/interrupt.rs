@@ -1,0 +1,74 @@
+//! Work that Ctrl-C can stop: it runs on a thread of its own, the GIL released, while the
+//! calling thread waits and looks every 100 ms whether Python has a signal to raise. On one it
+//! asks the work to stop (`signals::request_stop`: IPOPT at its next iteration, a co-design run
+//! before its next evaluation, its log kept), waits for it, and raises the signal's exception.
+
+use crate::errors::{Failure, Outcome};
+use codesign::signals;
+use pyo3::prelude::*;
+use std::sync::mpsc::{channel, RecvTimeoutError, Sender};
+use std::time::Duration;
+
+/// How often the waiting thread looks for a signal.
+const POLL: Duration = Duration::from_millis(100);
+
+/// What the work's thread sends: progress (evaluations done, best fitness so far), or its end.
+pub enum Message<T> {
+    /// One more evaluation of a co-design run: (done, total, best fitness).
+    Progress(u64, u64, f64),
+    /// The work's outcome.
+    Done(Outcome<T>),
+}
+
+/// Runs `work` on a thread of its own (handing it a sender for its progress), calls `progress`
+/// with the GIL for each progress message, and returns its outcome; a Python signal (Ctrl-C)
+/// stops the work and is raised once the work has stopped.
+pub fn run<T: Send + 'static>(
+    py: Python<'_>,
+    work: impl FnOnce(Sender<Message<T>>) -> Outcome<T> + Send + 'static,
+    mut progress: impl FnMut(Python<'_>, u64, u64, f64) -> PyResult<()>,
+) -> PyResult<T> {
+    let (sender, mut receiver) = channel();
+    let own = sender.clone();
+    let thread = std::thread::Builder::new()
+        .name("codesign".to_owned())
+        .spawn(move || {
+            let outcome = work(own.clone());
+            let _ = own.send(Message::Done(outcome));
+        })
+        .map_err(|e| Failure::solver(format!("could not start a thread: {e}")).into_py(py))?;
+    drop(sender);
+    let outcome = loop {
+        // A receiver is not Sync: the waiting closure takes it by unique reference.
+        let waiting = &mut receiver;
+        match py.detach(move || waiting.recv_timeout(POLL)) {
+            Ok(Message::Done(outcome)) => break outcome,
+            Ok(Message::Progress(done, total, best)) => {
+                if let Err(error) = progress(py, done, total, best) {
+                    stop(py, thread);
+                    return Err(error);
+                }
+            }
+            Err(RecvTimeoutError::Timeout) => {
+                if let Err(signal) = py.check_signals() {
+                    stop(py, thread);
+                    return Err(signal);
+                }
+            }
+            Err(RecvTimeoutError::Disconnected) => {
+                break Err(Failure::solver(
+                    "the solve's thread ended without an answer",
+                ));
+            }
+        }
+    };
+    let _ = thread.join();
+    outcome.map_err(|failure| failure.into_py(py))
+}
+
+/// Asks the work to stop, waits for its thread, and withdraws the request.
+fn stop(py: Python<'_>, thread: std::thread::JoinHandle<()>) {
+    signals::request_stop();
+    let _ = py.detach(|| thread.join());
+    signals::clear_stop();
+}

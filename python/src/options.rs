@@ -1,0 +1,117 @@
+//! The keyword arguments every method shares, read into the library's choices: where the task
+//! comes from with its payload and ends, and the space, limit modes and linear solver.
+
+use crate::errors::{Failure, Outcome};
+use clap::ValueEnum;
+use codesign::design::run::{Loaded, ModelChoice, ProblemChoice};
+use codesign::ipopt::LinearSolver;
+use codesign::model::task::{Ends, LimitMode, TaskSource};
+use codesign::problem::{Formulation, Space};
+use codesign::text::number;
+
+/// The value of keyword `name` among the values of `T` (the command line's names), or an error
+/// listing them.
+pub fn choice<T: ValueEnum>(name: &str, text: &str) -> Outcome<T> {
+    T::from_str(text, false).map_err(|_| {
+        let names: Vec<String> = T::value_variants()
+            .iter()
+            .filter_map(|v| v.to_possible_value().map(|p| p.get_name().to_owned()))
+            .collect();
+        Failure::input(format!(
+            "{name}={text:?}: must be one of {}",
+            names.join(", ")
+        ))
+    })
+}
+
+/// `choice` of an optional keyword.
+pub fn optional<T: ValueEnum>(name: &str, text: Option<&str>) -> Outcome<Option<T>> {
+    text.map(|text| choice(name, text)).transpose()
+}
+
+/// The model and problem of one call: the task, its payload and ends, and the space, limit modes
+/// and linear solver.
+#[derive(Clone, Debug)]
+pub struct Posed {
+    /// Task, payload and ends.
+    pub model: ModelChoice,
+    /// Space, limit modes and linear solver.
+    pub problem: ProblemChoice,
+}
+
+/// The keywords [`Posed`] is read from, as Python gives them.
+pub struct Keywords<'a> {
+    /// `space=`: `joint` or `actuation`.
+    pub space: &'a str,
+    /// `payload=`, kg.
+    pub payload: Option<f64>,
+    /// `ends=`: `paper`, `hold` or `rest`.
+    pub ends: Option<&'a str>,
+    /// `torque_mode=`.
+    pub torque_mode: Option<&'a str>,
+    /// `speed_mode=`.
+    pub speed_mode: Option<&'a str>,
+    /// `linear_solver=`: `ldl` or `mumps`.
+    pub linear_solver: Option<&'a str>,
+}
+
+impl Posed {
+    /// Reads the keywords for the task from `source`; an unknown name or a payload out of range
+    /// is an input error naming the keyword.
+    pub fn read(source: TaskSource, keywords: &Keywords<'_>) -> Outcome<Posed> {
+        let model = ModelChoice {
+            task: source,
+            robot: None,
+            payload: keywords.payload,
+            ends: optional::<Ends>("ends", keywords.ends)?,
+        };
+        if let Some(payload) = keywords.payload {
+            codesign::model::task::check_payload(payload)
+                .map_err(|why| Failure::input(format!("payload={}: {why}", number(payload))))?;
+        }
+        let problem = ProblemChoice {
+            space: choice::<Space>("space", keywords.space)?,
+            torque_mode: optional::<LimitMode>("torque_mode", keywords.torque_mode)?,
+            speed_mode: optional::<LimitMode>("speed_mode", keywords.speed_mode)?,
+            linear_solver: optional::<LinearSolver>("linear_solver", keywords.linear_solver)?,
+        };
+        Ok(Posed { model, problem })
+    }
+
+    /// Loads the task and robot, the solve settings with the linear solver applied.
+    pub fn load(&self) -> Outcome<Loaded> {
+        let mut loaded = self.model.load().map_err(Failure::input)?;
+        self.problem.configure(&mut loaded.settings);
+        Ok(loaded)
+    }
+
+    /// The hard formulation of `loaded`'s task in this problem's space and limit modes.
+    pub fn formulation(&self, loaded: &Loaded) -> Outcome<Formulation> {
+        let modes = self.problem.modes(&loaded.task);
+        let formulation = Formulation::new(
+            &loaded.task,
+            loaded.robot.clone(),
+            self.problem.space,
+            modes,
+        )
+        .map_err(|e| Failure::input(format!("{}: {e}", self.model.source())))?;
+        Ok(formulation.with_hold_tolerance(loaded.settings.constraint_tolerance()))
+    }
+
+    /// `ratios`, or the task's original design; checked against the design space, the error
+    /// naming `ratios=` or the task's `transmission.original`.
+    pub fn design(&self, formulation: &Formulation, ratios: Option<Vec<f64>>) -> Outcome<Vec<f64>> {
+        let (ratios, named) = match ratios {
+            Some(ratios) => (ratios, "ratios=".to_owned()),
+            None => (
+                formulation.task().transmission.original.clone(),
+                format!("{} transmission.original", self.model.source()),
+            ),
+        };
+        formulation
+            .transmission()
+            .check_design(&ratios)
+            .map_err(|e| Failure::input(format!("{named} {ratios:?}: invalid design: {e}")))?;
+        Ok(ratios)
+    }
+}

@@ -1,0 +1,341 @@
+//! `NativeTask`: a task, where it comes from, and what the package does with it: check, solve
+//! and capacity here, optimize in `runs`. Each answers with the command line's JSON document.
+
+use crate::errors::{Failure, Outcome};
+use crate::interrupt;
+use crate::options::{Keywords, Posed};
+use codesign::design::capacity::{payload_capacity, CapacitySettings};
+use codesign::design::run::RecordedHash;
+use codesign::ipopt::Solution;
+use codesign::model::task::BUILT_IN_TASK;
+use codesign::model::task::{check_horizon, check_steps, GivenTask, TaskFile, TaskSource};
+use codesign::problem::{ProblemKind, Space};
+use codesign::report::check::Inspection;
+use codesign::report::codesign::CapacityDocument;
+use codesign::report::trajectory::SolveDocument;
+use codesign::solve::{solve_design_from, SolveError, ToolInfo};
+use codesign::store::document::{document_json, Document};
+use codesign::text::number;
+use pyo3::prelude::*;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// A task: the built-in one, a task file, or one built in memory (see `codesign.Task`).
+#[pyclass(module = "codesign._native", frozen)]
+pub struct NativeTask {
+    pub(crate) source: TaskSource,
+}
+
+/// Where a solve ended, to start another from (`start=`): IPOPT's point and multipliers, and
+/// what they fit (the task hash, the space, the kind of problem).
+#[pyclass(module = "codesign._native", frozen)]
+pub struct NativeStart {
+    solution: Solution,
+    task_hash: String,
+    space: Space,
+    kind: ProblemKind,
+}
+
+/// The text of the task file at `path` (None: the built-in task, its robot null, which means the
+/// built-in robot), to change and read again as a given task.
+#[pyfunction]
+#[pyo3(signature = (path=None))]
+pub fn task_text(py: Python<'_>, path: Option<PathBuf>) -> PyResult<String> {
+    let Some(path) = path else {
+        let built_in = || -> Result<String, serde_json::Error> {
+            let mut value: serde_json::Value = serde_json::from_str(BUILT_IN_TASK)?;
+            value["robot"] = serde_json::Value::Null;
+            serde_json::to_string(&value)
+        };
+        return built_in().map_err(|e| Failure::solver(e.to_string()).into_py(py));
+    };
+    codesign::input::read_text(&path, codesign::input::MAX_TASK_BYTES)
+        .map_err(|e| Failure::input(format!("task file {}: {e}", path.display())).into_py(py))
+}
+
+/// The document `document` as JSON, an encoding error a solver error.
+fn json<D: Document>(document: &D) -> Outcome<String> {
+    document_json(document).map_err(|e| Failure::solver(format!("result not encoded: {e}")))
+}
+
+#[pymethods]
+impl NativeTask {
+    /// The task file at `path`, read and checked.
+    #[staticmethod]
+    fn load(py: Python<'_>, path: PathBuf) -> PyResult<NativeTask> {
+        let source = TaskSource::File(path);
+        source
+            .load()
+            .map_err(|e| Failure::input(e.to_string()).into_py(py))?;
+        Ok(NativeTask { source })
+    }
+
+    /// The built-in task.
+    #[staticmethod]
+    fn builtin() -> NativeTask {
+        NativeTask {
+            source: TaskSource::BuiltIn,
+        }
+    }
+
+    /// The task of JSON `text`, named `label`, read and checked as a file is; a relative robot
+    /// path is resolved against `folder`.
+    #[staticmethod]
+    fn given(py: Python<'_>, text: &str, label: &str, folder: PathBuf) -> PyResult<NativeTask> {
+        let file = TaskFile::from_text(text, label, &folder)
+            .map_err(|e| Failure::input(e.to_string()).into_py(py))?;
+        let given = GivenTask {
+            label: label.to_owned(),
+            file,
+        };
+        Ok(NativeTask {
+            source: TaskSource::Given(Arc::new(given)),
+        })
+    }
+
+    /// How result documents name the task (`task_file`).
+    fn label(&self) -> String {
+        self.source.label()
+    }
+
+    /// The inspection of `codesign check` as JSON, its text, and its problems.
+    #[pyo3(signature = (payload=None, ends=None, ratios=None))]
+    fn check(
+        &self,
+        py: Python<'_>,
+        payload: Option<f64>,
+        ends: Option<&str>,
+        ratios: Option<Vec<f64>>,
+    ) -> PyResult<(String, String, Vec<String>)> {
+        let keywords = Keywords {
+            space: "actuation",
+            payload,
+            ends,
+            torque_mode: None,
+            speed_mode: None,
+            linear_solver: None,
+        };
+        let inspect = || -> Outcome<(String, String, Vec<String>)> {
+            let posed = Posed::read(self.source.clone(), &keywords)?;
+            let loaded = posed.load()?;
+            let formulation = posed.formulation(&loaded)?;
+            let ratios = ratios.unwrap_or_else(|| loaded.task.transmission.original.clone());
+            let inspection = Inspection::of(
+                &loaded.task,
+                &loaded.robot,
+                (formulation.transmission(), &ratios),
+                loaded.settings.constraint_tolerance(),
+            );
+            let text = serde_json::to_string_pretty(&inspection)
+                .map_err(|e| Failure::solver(e.to_string()))?;
+            Ok((text, inspection.to_text(), inspection.problems()))
+        };
+        inspect().map_err(|failure| failure.into_py(py))
+    }
+
+    /// One solve, as `codesign solve --out` writes it, and where it ended (see `Task.solve`).
+    #[pyo3(signature = (space, payload=None, ends=None, torque_mode=None, speed_mode=None,
+        linear_solver=None, ratios=None, duration=None, steps=None, elastic=false, start=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn solve(
+        &self,
+        py: Python<'_>,
+        space: &str,
+        payload: Option<f64>,
+        ends: Option<&str>,
+        torque_mode: Option<&str>,
+        speed_mode: Option<&str>,
+        linear_solver: Option<&str>,
+        ratios: Option<Vec<f64>>,
+        duration: Option<f64>,
+        steps: Option<usize>,
+        elastic: bool,
+        start: Option<Py<NativeStart>>,
+    ) -> PyResult<(String, NativeStart)> {
+        let keywords = Keywords {
+            space,
+            payload,
+            ends,
+            torque_mode,
+            speed_mode,
+            linear_solver,
+        };
+        let posed = Posed::read(self.source.clone(), &keywords).map_err(|f| f.into_py(py))?;
+        let request = SolveRequest {
+            posed,
+            ratios,
+            duration,
+            steps,
+            elastic,
+            start,
+        };
+        interrupt::run(py, move |_| request.solve(), |_, _, _, _| Ok(()))
+    }
+
+    /// The payload capacity of a design, as `codesign capacity --out` writes it.
+    #[pyo3(signature = (space, ends=None, torque_mode=None, speed_mode=None, linear_solver=None,
+        ratios=None, resolution=None, first_step=None, max=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn capacity(
+        &self,
+        py: Python<'_>,
+        space: &str,
+        ends: Option<&str>,
+        torque_mode: Option<&str>,
+        speed_mode: Option<&str>,
+        linear_solver: Option<&str>,
+        ratios: Option<Vec<f64>>,
+        resolution: Option<f64>,
+        first_step: Option<f64>,
+        max: Option<f64>,
+    ) -> PyResult<String> {
+        let keywords = Keywords {
+            space,
+            payload: None,
+            ends,
+            torque_mode,
+            speed_mode,
+            linear_solver,
+        };
+        let posed = Posed::read(self.source.clone(), &keywords).map_err(|f| f.into_py(py))?;
+        let defaults = CapacitySettings::default();
+        let settings = CapacitySettings {
+            resolution_kg: resolution.unwrap_or(defaults.resolution_kg),
+            first_step_kg: first_step.unwrap_or(defaults.first_step_kg),
+            max_kg: max.unwrap_or(defaults.max_kg),
+        };
+        interrupt::run(
+            py,
+            move |_| capacity(&posed, ratios, settings),
+            |_, _, _, _| Ok(()),
+        )
+    }
+}
+
+/// What one solve was asked.
+struct SolveRequest {
+    posed: Posed,
+    ratios: Option<Vec<f64>>,
+    duration: Option<f64>,
+    steps: Option<usize>,
+    elastic: bool,
+    start: Option<Py<NativeStart>>,
+}
+
+impl SolveRequest {
+    /// Solves under the one rule, from the start when given; the document and where it ended.
+    fn solve(self) -> Outcome<(String, NativeStart)> {
+        let mut loaded = self.posed.load()?;
+        if let Some(duration) = self.duration {
+            check_horizon(duration)
+                .map_err(|why| Failure::input(format!("duration={}: {why}", number(duration))))?;
+            loaded.task.motion.horizon_s = duration;
+        }
+        if let Some(steps) = self.steps {
+            check_steps(steps).map_err(|why| Failure::input(format!("steps={steps}: {why}")))?;
+            loaded.task.motion.steps = steps;
+        }
+        let hard = self.posed.formulation(&loaded)?;
+        let formulation = if self.elastic { hard.elastic() } else { hard };
+        let ratios = self.posed.design(&formulation, self.ratios)?;
+        let start = self.start.as_ref().map(|start| start.get());
+        if let Some(start) = start {
+            start.fits(&loaded.task_hash, formulation.space(), formulation.kind())?;
+        }
+        let warm = start.map(|start| &start.solution);
+        let (result, solution) = solve_design_from(&formulation, &ratios, &loaded.settings, warm)
+            .map_err(|e| match e {
+            SolveError::Design(_) | SolveError::Formulation(_) => {
+                Failure::input(format!("{}: {e}", self.posed.model.source()))
+            }
+            SolveError::Ipopt(_) => Failure::solver(format!("solver: {e}")),
+        })?;
+        if let Some(part) = result.non_finite() {
+            return Err(Failure::solver(format!(
+                "the solve (IPOPT status {}) gave a result whose {part} holds a number that is \
+                 not finite",
+                result.status
+            )));
+        }
+        let label = self.posed.model.source().label();
+        let document = SolveDocument::new(
+            &label,
+            &loaded.task_hash,
+            &formulation,
+            &loaded.settings,
+            result,
+        );
+        let end = NativeStart {
+            solution,
+            task_hash: loaded.task_hash,
+            space: formulation.space(),
+            kind: formulation.kind(),
+        };
+        Ok((json(&document)?, end))
+    }
+}
+
+impl NativeStart {
+    /// Whether this start fits a problem of task hash `task_hash` in `space` of `kind`; the
+    /// payload may differ (a continuation), the task, the space and the kind may not.
+    fn fits(&self, task_hash: &str, space: Space, kind: ProblemKind) -> Outcome<()> {
+        let refuse = |what: String| Err(Failure::input(format!("start=: {what}")));
+        if self.task_hash != task_hash {
+            return refuse(format!(
+                "the start was solved for another task (task hash {}, this one {task_hash}): \
+                 another robot, motion, weights, limits or ends",
+                self.task_hash
+            ));
+        }
+        if self.space != space {
+            return refuse(format!(
+                "the start was solved in the {} space, this solve is in the {space} space",
+                self.space
+            ));
+        }
+        if self.kind != kind {
+            return refuse(format!(
+                "the start is of the {} problem, this solve of the {} one (elastic= differs)",
+                kind_name(self.kind),
+                kind_name(kind)
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The kind of problem in words.
+fn kind_name(kind: ProblemKind) -> &'static str {
+    match kind {
+        ProblemKind::Hard => "hard",
+        ProblemKind::Elastic => "elastic",
+    }
+}
+
+/// The capacity search of design `ratios` (None: the original) with `settings`, its document.
+fn capacity(
+    posed: &Posed,
+    ratios: Option<Vec<f64>>,
+    settings: CapacitySettings,
+) -> Outcome<String> {
+    let loaded = posed.load()?;
+    let formulation = posed.formulation(&loaded)?;
+    let ratios = posed.design(&formulation, ratios)?;
+    settings
+        .validate()
+        .map_err(|e| Failure::input(e.to_string()))?;
+    let capacity = payload_capacity(&formulation, &loaded.settings, &ratios, &settings)
+        .map_err(|e| Failure::solver(format!("{}: {e}", posed.model.source())))?;
+    let document = CapacityDocument {
+        tool: ToolInfo::current(loaded.settings.linear_solver()),
+        task_file: posed.model.source().label(),
+        task_hash: RecordedHash(Some(loaded.task_hash.clone())),
+        space: formulation.space(),
+        ratios,
+        limit_modes: *formulation.modes(),
+        ends: loaded.task.motion.ends,
+        settings,
+        capacity,
+    };
+    json(&document)
+}
