@@ -1,0 +1,76 @@
+"""The native module of codesign (pyo3): tasks and what they do, answered as the command line's
+JSON documents. Use it through :mod:`codesign`."""
+
+from typing import Callable, List, Optional, Tuple
+
+class NativeStart:
+    """Where a solve ended (IPOPT's point and multipliers), to warm-start another."""
+
+class NativeTask:
+    """A task: built in, read from a file, or given as JSON text."""
+
+    @staticmethod
+    def load(path: str) -> NativeTask: ...
+    @staticmethod
+    def builtin() -> NativeTask: ...
+    @staticmethod
+    def given(text: str, label: str, folder: str) -> NativeTask: ...
+    def label(self) -> str: ...
+    def check(
+        self,
+        payload: Optional[float] = None,
+        ends: Optional[str] = None,
+        ratios: Optional[List[float]] = None,
+    ) -> Tuple[str, str, List[str]]: ...
+    def solve(
+        self,
+        space: str,
+        payload: Optional[float] = None,
+        ends: Optional[str] = None,
+        torque_mode: Optional[str] = None,
+        speed_mode: Optional[str] = None,
+        linear_solver: Optional[str] = None,
+        ratios: Optional[List[float]] = None,
+        duration: Optional[float] = None,
+        steps: Optional[int] = None,
+        elastic: bool = False,
+        start: Optional[NativeStart] = None,
+    ) -> Tuple[str, NativeStart]: ...
+    def capacity(
+        self,
+        space: str,
+        ends: Optional[str] = None,
+        torque_mode: Optional[str] = None,
+        speed_mode: Optional[str] = None,
+        linear_solver: Optional[str] = None,
+        ratios: Optional[List[float]] = None,
+        resolution: Optional[float] = None,
+        first_step: Optional[float] = None,
+        max: Optional[float] = None,
+    ) -> str: ...
+
+def optimize(
+    task: NativeTask,
+    space: str,
+    out: str,
+    worker_command: str,
+    payload: Optional[float] = None,
+    ends: Optional[str] = None,
+    torque_mode: Optional[str] = None,
+    speed_mode: Optional[str] = None,
+    linear_solver: Optional[str] = None,
+    method: str = "cmaes",
+    population: Optional[int] = None,
+    generations: Optional[int] = None,
+    seed: Optional[int] = None,
+    sigma: Optional[float] = None,
+    gradient_iterations: Optional[int] = None,
+    warm_start: Optional[bool] = None,
+    workers: Optional[int] = None,
+    resume: bool = False,
+    overwrite: bool = False,
+    progress: Optional[Callable[[int, int, float], object]] = None,
+) -> str: ...
+def serve_worker() -> None: ...
+def task_text(path: Optional[str] = None) -> str: ...
+def versions() -> Tuple[str, str]: ...

@@ -1,0 +1,91 @@
+"""Co-design runs from Python: results, logs, resumption, progress and Ctrl-C."""
+
+import json
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+import codesign as cd
+from conftest import PLANAR
+
+SMALL = dict(space="actuation", payload=1.0, population=8, generations=2, seed=0, workers=2)
+
+
+def test_a_cmaes_run_writes_its_result_and_log_and_resumes(planar, tmp_path):
+    log = tmp_path / "run.log.jsonl"
+    seen = []
+    run = planar.optimize(**SMALL, log=log, progress=lambda *p: seen.append(p))
+    assert run.result_file == str(tmp_path / "run.json")
+    assert json.loads((tmp_path / "run.json").read_text()) == run.to_dict()
+    assert len(run.best_ratios) == 2 and run.best_cost < 1e6
+    assert len(run.costs) == 8 * 3
+    assert [done for done, _, _ in seen] == list(range(1, 25))
+    assert all(total == 24 for _, total, _ in seen)
+    again = planar.optimize(**SMALL, log=log, resume=True, progress=False)
+    assert again.to_dict()["replayed"] == 24
+    assert again.best_cost == run.best_cost
+    with pytest.raises(cd.InputError, match="exists already"):
+        planar.optimize(**SMALL, log=log, progress=False)
+
+
+def test_a_run_without_files_and_the_gradient_method(planar):
+    run = planar.optimize(**SMALL, progress=False)
+    assert run.result_file == "" and run.log_file is None
+    gradient = planar.optimize(space="actuation", payload=1.0, method="gradient",
+                               gradient_iterations=3)
+    assert gradient.best_cost < 1e6
+
+
+def test_run_settings_are_checked(planar, tmp_path):
+    with pytest.raises(cd.InputError, match="method="):
+        planar.optimize(method="annealing")
+    with pytest.raises(cd.InputError, match="log="):
+        planar.optimize(log=tmp_path / "run.txt")
+    with pytest.raises(cd.InputError, match="choose one"):
+        planar.optimize(**SMALL, log=tmp_path / "a.log.jsonl", resume=True, overwrite=True)
+    with pytest.raises(cd.InputError, match="population"):
+        planar.optimize(space="actuation", population=1, progress=False)
+
+
+def test_a_progress_callback_that_raises_stops_the_run(planar, tmp_path):
+    def fail(done, total, best):
+        raise RuntimeError("enough")
+
+    with pytest.raises(RuntimeError, match="enough"):
+        planar.optimize(**SMALL, log=tmp_path / "r.log.jsonl", progress=fail)
+
+
+RUN = """
+import sys, codesign as cd
+task = cd.Task.load(sys.argv[1])
+def progress(done, total, best):
+    if done == 10:
+        print("running", flush=True)
+task.optimize(space="actuation", payload=1.0, population=8, generations=40, seed=1,
+              workers=1, log=sys.argv[2], progress=progress)
+print("finished", flush=True)
+"""
+
+
+def test_ctrl_c_stops_a_run_within_a_second_and_leaves_it_resumable(planar, tmp_path):
+    log = tmp_path / "long.log.jsonl"
+    child = subprocess.Popen(
+        [sys.executable, "-c", RUN, str(PLANAR), str(log)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert child.stdout.readline().strip() == "running"
+    child.send_signal(signal.SIGINT)
+    sent = time.monotonic()
+    _, errors = child.communicate(timeout=30)
+    assert time.monotonic() - sent < 1.5, "the run did not stop within a second"
+    assert child.returncode != 0 and "KeyboardInterrupt" in errors
+    kept = log.read_text().splitlines()
+    assert len(kept) > 10
+    run = planar.optimize(space="actuation", payload=1.0, population=8, generations=40, seed=1,
+                          workers=1, log=log, resume=True, progress=False)
+    assert run.to_dict()["replayed"] >= 10

@@ -1,0 +1,174 @@
+"""Tasks, checks, solves and capacities from Python, against the command line's documents."""
+
+import json
+import subprocess
+import threading
+
+import numpy as np
+import pytest
+
+import codesign as cd
+from conftest import PLANAR, ROOT
+
+
+def without_times(document):
+    """A document without its wall times, which no two runs share."""
+    document = dict(document)
+    document.pop("solve_seconds", None)
+    return document
+
+
+def test_versions_are_this_build():
+    assert cd.__version__ == "0.1.0"
+    assert cd.IPOPT_VERSION.startswith("3.")
+
+
+def test_tasks_load_from_files_and_the_built_in_one(planar):
+    assert planar.label == str(PLANAR)
+    assert planar.to_dict()["transmission"]["original"] == [50.0, 12.0]
+    built_in = cd.Task.builtin()
+    assert built_in.label == "built-in"
+    assert built_in.to_dict()["robot"] is None
+    assert json.loads(built_in.to_json()) == built_in.to_dict()
+
+
+def test_a_missing_or_broken_task_file_is_an_input_error(tmp_path):
+    with pytest.raises(cd.InputError, match="missing.json"):
+        cd.Task.load(tmp_path / "missing.json")
+    broken = tmp_path / "broken.json"
+    broken.write_text('{"motion": ')
+    with pytest.raises(ValueError, match="broken.json"):
+        cd.Task.load(broken)
+
+
+def test_changes_are_checked_as_a_file_is(planar):
+    heavier = planar.with_changes(payload=2.0, motors={"torque_limit_nm": 0.8})
+    assert heavier.to_dict()["payload"]["mass_kg"] == 2.0
+    assert heavier.to_dict()["motors"]["torque_limit_nm"] == 0.8
+    assert heavier.to_dict()["motors"]["speed_limit_rad_s"] == planar.to_dict()["motors"][
+        "speed_limit_rad_s"
+    ]
+    assert "with motors, payload changed" in heavier.label
+    with pytest.raises(cd.InputError, match="motion.steps"):
+        planar.with_changes(motion={"steps": "ten"})
+    with pytest.raises(cd.InputError, match="unknown field"):
+        planar.with_changes(motor={"torque_limit_nm": 1.0})
+    # The original is untouched.
+    assert planar.to_dict()["motors"]["torque_limit_nm"] != 0.8
+
+
+def test_check_reports_what_the_command_line_prints(planar, binary):
+    report = planar.check(payload=1.0)
+    assert report.ok and report.problems == []
+    printed = subprocess.run(
+        [binary, "check", "--task", PLANAR, "--payload", "1"],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    assert report.text.strip() == printed.strip()
+    overloaded = planar.check(payload=200.0)
+    assert not overloaded.ok and overloaded.problems
+
+
+def test_a_solve_gives_arrays_of_documented_shapes(planar):
+    sol = planar.solve(space="actuation", payload=1.0, ratios=[50, 12])
+    steps = planar.to_dict()["motion"]["steps"]
+    assert sol.feasible and sol.reason is None
+    assert sol.t.shape == (steps + 1,)
+    for nodes in (sol.q, sol.v, sol.motor_speed):
+        assert nodes.shape == (steps + 1, 2)
+    for intervals in (sol.a, sol.tau, sol.tau_u):
+        assert intervals.shape == (steps, 2)
+    assert sol.tcp.shape == (steps + 1, 3)
+    assert sol.cost_gradient.shape == (2,)
+    assert sol.cost == pytest.approx(sum(sol.cost_terms.values()))
+    # The task's G(r) = [[r1, 0], [r2, 2 r2]]: motor speeds are G v at every node.
+    G = np.array([[50.0, 0.0], [12.0, 24.0]])
+    np.testing.assert_allclose(sol.motor_speed, sol.v @ G.T, rtol=1e-12, atol=1e-12)
+
+
+def test_a_solve_is_the_command_lines_to_the_last_bit(planar, binary, tmp_path):
+    out = tmp_path / "solve.json"
+    subprocess.run(
+        [binary, "solve", "--task", PLANAR, "--payload", "1", "--ratios", "50,12", "--out", out],
+        check=True,
+        capture_output=True,
+    )
+    cli = json.loads(out.read_text())
+    python = planar.solve(space="actuation", payload=1.0, ratios=[50, 12]).to_dict()
+    assert without_times(python) == without_times(cli)
+
+
+def test_an_infeasible_design_says_why_and_has_no_gradient(planar):
+    weak = planar.with_changes(motors={"torque_limit_nm": 0.05})
+    sol = weak.solve(payload=1.0, ratios=[50, 12])
+    assert not sol.feasible
+    assert isinstance(sol.reason, str) and sol.reason
+    assert sol.cost_gradient is None
+
+
+def test_a_warm_start_continues_to_a_nearby_payload(planar):
+    first = planar.solve(payload=1.0, ratios=[50, 12])
+    warm = planar.solve(payload=1.2, ratios=[50, 12], start=first)
+    cold = planar.solve(payload=1.2, ratios=[50, 12])
+    assert warm.feasible and cold.feasible
+    assert warm.iterations < cold.iterations
+    assert warm.cost == pytest.approx(cold.cost, rel=1e-6)
+
+
+def test_a_start_that_does_not_fit_is_refused(planar):
+    actuation = planar.solve(payload=1.0, ratios=[50, 12])
+    with pytest.raises(cd.InputError, match="joint space"):
+        planar.solve(space="joint", payload=1.0, ratios=[50, 12], start=actuation)
+    with pytest.raises(cd.InputError, match="another task"):
+        planar.with_changes(weights={"control": 0.5}).solve(payload=1.0, start=actuation)
+    with pytest.raises(cd.InputError, match="elastic"):
+        planar.solve(payload=1.0, elastic=True, start=actuation)
+
+
+def test_bad_keywords_name_themselves(planar):
+    with pytest.raises(cd.InputError, match="space=.*joint, actuation"):
+        planar.solve(space="motor")
+    with pytest.raises(cd.InputError, match="payload=-1"):
+        planar.solve(payload=-1.0)
+    with pytest.raises(cd.InputError, match="ratios="):
+        planar.solve(ratios=[500, 12])
+    with pytest.raises(cd.InputError, match="steps=0"):
+        planar.solve(steps=0)
+    with pytest.raises(cd.InputError, match="ends="):
+        planar.solve(ends="stop")
+
+
+def test_solves_in_threads_agree_with_solves_in_turn(planar):
+    designs = [[50, 12], [40, 10], [60, 14], [45, 20]]
+    alone = [planar.solve(payload=1.0, ratios=r).to_dict() for r in designs]
+    together = [None] * len(designs)
+
+    def solve(index):
+        together[index] = planar.solve(payload=1.0, ratios=designs[index]).to_dict()
+
+    threads = [threading.Thread(target=solve, args=(i,)) for i in range(len(designs))]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert [without_times(d) for d in together] == [without_times(d) for d in alone]
+
+
+def test_capacity_brackets_the_payload(planar):
+    cap = planar.capacity(ratios=[50, 12], resolution=0.05)
+    assert cap.capacity_kg > 0
+    assert cap.first_infeasible_kg - cap.capacity_kg <= 0.05 + 1e-12
+    assert cap.limited_by in ("trajectory", "hold", "search")
+    assert cap.to_dict()["schema"] == "codesign/capacity"
+    with pytest.raises(cd.InputError, match="resolution"):
+        planar.capacity(resolution=-1.0)
+
+
+def test_the_built_in_task_solves_in_both_spaces():
+    task = cd.Task.builtin()
+    for space in ("joint", "actuation"):
+        sol = task.solve(space=space, payload=0.0, steps=20)
+        assert sol.space == space and sol.q.shape == (21, 4)
+        assert ROOT.exists()
