@@ -1,7 +1,7 @@
 //! `codesign solve`: one trajectory problem for one design.
 
 use super::common::{finite_ratio, ModelArgs, ProblemArgs};
-use super::failure::Failure;
+use super::failure::{Failure, INFEASIBLE_EXIT};
 use super::store_hints::check_output;
 use crate::design::run::Loaded;
 use crate::ipopt::{check_derivatives, DerivativeOrder};
@@ -60,7 +60,7 @@ pub struct Args {
     /// initial guess and report what it flags. IPOPT 3.11's checker takes about 13 minutes on
     /// the full 50-step problem: `--steps 5` checks the same structure in 0.1 s. It writes no
     /// result and no plot, so it takes neither `--out` nor `--plot`.
-    #[arg(long, conflicts_with_all = ["out", "plot", "start"])]
+    #[arg(long, conflicts_with_all = ["out", "plot", "start", "fail_if_infeasible"])]
     check_derivatives: bool,
     /// Start from the trajectory and multipliers of an earlier `solve --out` result of the same
     /// task, space, steps and kind (hard or `--elastic`): another design or payload converges
@@ -68,6 +68,10 @@ pub struct Args {
     /// finds no feasible trajectory, the cold starts follow as without it.
     #[arg(long, value_name = "FILE.json")]
     start: Option<PathBuf>,
+    /// Exit with code 3 (after writing the result and plots) when the design is infeasible;
+    /// without it an infeasible verdict, like a feasible one, exits 0.
+    #[arg(long)]
+    fail_if_infeasible: bool,
 }
 
 /// Checks, before any solve, that `--out` and the files of `--plot` can be written and are none
@@ -149,7 +153,8 @@ fn read_start_flag(
     Ok(Some(start))
 }
 
-/// Solves, prints a summary, writes the requested files.
+/// Solves, prints a summary, writes the requested files; fails after writing them where
+/// `--fail-if-infeasible` asks it to.
 pub fn run(args: &Args) -> Result<(), Failure> {
     check_flags(args)?;
     let Loaded {
@@ -185,8 +190,24 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if let Some(start) = &start {
         say!("  {}", start_text(&start.record));
     }
+    let verdict = (!result.feasible).then(|| result.reason.clone().unwrap_or_default());
     let point = StartPoint::from_solution(&solution, &formulation, &task_hash);
-    write_outputs(args, &formulation, &settings, &task_hash, result, point, start)
+    write_outputs(
+        args,
+        &formulation,
+        &settings,
+        &task_hash,
+        result,
+        point,
+        start,
+    )?;
+    match verdict {
+        Some(reason) if args.fail_if_infeasible => Err(Failure::Infeasible(format!(
+            "{source}: the design is infeasible ({reason}); --fail-if-infeasible makes that \
+             exit {INFEASIBLE_EXIT}"
+        ))),
+        _ => Ok(()),
+    }
 }
 
 /// `started from FILE (its design r = (..), payload .. kg)`: the start, for the summary.

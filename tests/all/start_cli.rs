@@ -1,5 +1,6 @@
 //! `codesign solve --start FILE`: a solve started from an earlier result's point and
-//! multipliers, a start that does not fit refused naming why.
+//! multipliers, a start that does not fit refused naming why; and `--fail-if-infeasible`, the
+//! exit code a script tells an infeasible design by.
 
 use crate::support;
 
@@ -159,5 +160,31 @@ fn a_start_that_does_not_fit_is_refused_naming_why() {
     ] {
         refused("actuation", &["--start", file], expected);
     }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// An infeasible design exits 0 by default and 3 under `--fail-if-infeasible`, the result
+/// written either way; a feasible one exits 0 under it.
+#[test]
+fn an_infeasible_design_fails_only_when_asked_with_its_own_code() {
+    let dir = scratch("infeasible");
+    // 3 kg held at rest at the ends: the motors cannot hold it, so no start can help.
+    let held = ["--ends", "hold", "--out", "held.json"];
+    let asked = [&held[..], &["--fail-if-infeasible"]].concat();
+    let output = solve_small(&dir, "actuation", "3", &asked);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(3), "{stderr}");
+    assert!(
+        stderr.contains("the design is infeasible (cannot hold the load at rest"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("--fail-if-infeasible"), "{stderr}");
+    assert_eq!(read_json(&dir.join("held.json"))["feasible"], false);
+    std::fs::remove_file(dir.join("held.json")).unwrap();
+    let output = solve_small(&dir, "actuation", "3", &held);
+    assert_eq!(output.status.code(), Some(0));
+    assert_eq!(read_json(&dir.join("held.json"))["feasible"], false);
+    let output = solve_small(&dir, "actuation", "1", &["--fail-if-infeasible"]);
+    assert_eq!(output.status.code(), Some(0));
     std::fs::remove_dir_all(&dir).unwrap();
 }
