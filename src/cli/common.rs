@@ -11,13 +11,22 @@ use crate::solve::SolveSettings;
 use std::path::PathBuf;
 
 /// Reads one gear ratio of `--ratios`: a finite number, so that NaN and inf are usage errors
-/// as the other flags' values out of range are.
+/// as the other flags' values out of range are. Spaces around it are ignored, so that
+/// `--ratios "40, 25, 12"` reads as `--ratios 40,25,12`.
 pub fn finite_ratio(text: &str) -> Result<f64, String> {
-    match text.parse::<f64>() {
+    match text.trim().parse::<f64>() {
         Ok(ratio) if ratio.is_finite() => Ok(ratio),
         Ok(_) => Err("a gear ratio must be a finite number".to_owned()),
         Err(error) => Err(error.to_string()),
     }
+}
+
+/// Reads one number of a comma-separated list (`--payloads`, `dynamics --q`), spaces around it
+/// ignored as in [`finite_ratio`]; its range is the flag's own check.
+pub fn listed_number(text: &str) -> Result<f64, String> {
+    text.trim()
+        .parse::<f64>()
+        .map_err(|error| error.to_string())
 }
 
 /// Where the task and robot come from, and the payload.
@@ -129,5 +138,53 @@ impl ProblemArgs {
     /// The limit modes: the flags where given, else the task's.
     pub fn modes(&self, task: &Task) -> LimitModes {
         self.choice().modes(task)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::Cli;
+    use super::*;
+    use clap::Parser;
+
+    #[test]
+    fn numbers_are_read_with_spaces_around_them() {
+        assert_eq!(finite_ratio(" 25 "), Ok(25.0));
+        assert_eq!(finite_ratio("\t1.8"), Ok(1.8));
+        assert!(finite_ratio(" inf").is_err());
+        assert!(finite_ratio("2 5").is_err());
+        assert!(finite_ratio(" ").is_err());
+        assert_eq!(listed_number(" -0.5 "), Ok(-0.5));
+        assert!(listed_number("1 kg").is_err());
+    }
+
+    /// Every flag that takes a list of numbers reads `"40, 25, 12"` as `40,25,12` (clap splits
+    /// at the commas and hands each piece, spaces and all, to the flag's value parser).
+    #[test]
+    fn every_list_of_numbers_takes_spaces_around_its_commas() {
+        let lists: [&[&str]; 6] = [
+            &["solve", "--ratios", "9, 5.62 ,3,  1.8"],
+            &["check", "--ratios", "9, 5.62 ,3,  1.8"],
+            &["capacity", "--ratios", "9, 5.62 ,3,  1.8"],
+            &["optimize", "--objective", "range", "--payloads", "1, 2, 3"],
+            &[
+                "dynamics",
+                "--q",
+                "0, -0.5, 1 ,2",
+                "--v",
+                " 1, 2",
+                "--a",
+                "1 ,2",
+            ],
+            &["dynamics", "--q", "0,0", "--lambda", "0.5, -1"],
+        ];
+        for args in lists {
+            let line = [&["codesign"][..], args].concat();
+            if let Err(error) = Cli::try_parse_from(&line) {
+                panic!("{line:?}: {error}");
+            }
+        }
+        let refused = Cli::try_parse_from(["codesign", "solve", "--ratios", "9, x"]);
+        assert!(refused.is_err());
     }
 }

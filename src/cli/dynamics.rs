@@ -1,7 +1,7 @@
 //! `codesign dynamics`: every dynamics quantity of the robot at one state, as one JSON object with
 //! the keys of a sample of `dynamics_vectors.json`.
 
-use super::common::ModelArgs;
+use super::common::{listed_number, ModelArgs};
 use super::failure::Failure;
 use crate::dynamics::Dynamics;
 use nalgebra::DMatrix;
@@ -19,6 +19,7 @@ pub struct Args {
         value_name = "Q1,Q2,..",
         value_delimiter = ',',
         allow_hyphen_values = true,
+        value_parser = listed_number,
         required = true
     )]
     q: Vec<f64>,
@@ -27,7 +28,8 @@ pub struct Args {
         long,
         value_name = "V1,V2,..",
         value_delimiter = ',',
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        value_parser = listed_number
     )]
     v: Option<Vec<f64>>,
     /// Joint accelerations, rad/s^2 [default: 0].
@@ -35,7 +37,8 @@ pub struct Args {
         long,
         value_name = "A1,A2,..",
         value_delimiter = ',',
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        value_parser = listed_number
     )]
     a: Option<Vec<f64>>,
     /// Weights of the joint torques in the Hessian of lambda . tau [default: 0].
@@ -43,7 +46,8 @@ pub struct Args {
         long,
         value_name = "L1,L2,..",
         value_delimiter = ',',
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        value_parser = listed_number
     )]
     lambda: Option<Vec<f64>>,
 }

@@ -1,8 +1,13 @@
 //! Why a command failed, which sets its exit code: 2 for a command line that asks for something
-//! out of range (as clap's own usage errors), 1 for work that failed.
+//! out of range (as clap's own usage errors), 1 for work that failed, 3 for a verdict of
+//! infeasibility that the command line asked to fail on (`solve --fail-if-infeasible`).
 
 use std::fmt;
 use std::process::ExitCode;
+
+/// The exit code of a design found infeasible under `solve --fail-if-infeasible`: neither a
+/// usage error (2) nor failed work (1), so that a script tells the three apart.
+pub const INFEASIBLE_EXIT: u8 = 3;
 
 /// Why a command failed.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -12,6 +17,9 @@ pub enum Failure {
     Usage(String),
     /// Anything else: an input, the work or an output failed. Exit 1.
     Work(String),
+    /// The work was done and its files written, but the design is infeasible and the command
+    /// line asked to fail on that (`--fail-if-infeasible`). Exit [`INFEASIBLE_EXIT`].
+    Infeasible(String),
 }
 
 impl Failure {
@@ -20,6 +28,7 @@ impl Failure {
         match self {
             Failure::Usage(_) => ExitCode::from(2),
             Failure::Work(_) => ExitCode::FAILURE,
+            Failure::Infeasible(_) => ExitCode::from(INFEASIBLE_EXIT),
         }
     }
 }
@@ -33,7 +42,9 @@ impl From<String> for Failure {
 impl fmt::Display for Failure {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Failure::Usage(message) | Failure::Work(message) => f.write_str(message),
+            Failure::Usage(message) | Failure::Work(message) | Failure::Infeasible(message) => {
+                f.write_str(message)
+            }
         }
     }
 }

@@ -121,7 +121,9 @@ enum Command {
 
 /// Parses the command line, runs the subcommand, prints any error on stderr and returns the
 /// process exit code (0 on success, 1 on any error, a failed write on stdout included, 2 on a
-/// usage error: clap's, or a flag's value out of its range, [`Failure::Usage`]). `stdout_closed`: the process started with its stdout closed.
+/// usage error: clap's, or a flag's value out of its range, [`Failure::Usage`], 3 for an
+/// infeasible design under `solve --fail-if-infeasible`, [`Failure::Infeasible`]).
+/// `stdout_closed`: the process started with its stdout closed.
 pub fn main(stdout_closed: bool) -> ExitCode {
     STDOUT_CLOSED.store(stdout_closed, Ordering::Relaxed);
     let cli = match Cli::try_parse() {
@@ -142,12 +144,17 @@ pub fn main(stdout_closed: bool) -> ExitCode {
         Command::Task(args) => task::run(&args).map_err(Failure::Work),
         Command::Worker => worker::run().map_err(Failure::Work),
     };
-    let outcome = outcome.and_then(|()| match stdout_failure() {
-        Some(error) if !answers_itself => Err(Failure::Work(format!(
-            "cannot write the output on stdout: {error}"
-        ))),
-        _ => Ok(()),
-    });
+    // The work done (an infeasible verdict asked to fail on included), output that could not be
+    // written on stdout is the failure to report.
+    let outcome = match outcome {
+        Ok(()) | Err(Failure::Infeasible(_)) => match stdout_failure() {
+            Some(error) if !answers_itself => Err(Failure::Work(format!(
+                "cannot write the output on stdout: {error}"
+            ))),
+            _ => outcome,
+        },
+        Err(failure) => Err(failure),
+    };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => {

@@ -1,7 +1,7 @@
 //! `codesign optimize`: co-design of one case (space, payload, seed) with CMA-ES or the gradient
 //! method.
 
-use super::common::{ModelArgs, ProblemArgs};
+use super::common::{listed_number, ModelArgs, ProblemArgs};
 use super::failure::Failure;
 use super::store_hints::run_error;
 use crate::design::bounds::BoundHandling;
@@ -32,7 +32,13 @@ pub struct Args {
     pub objective: ObjectiveKind,
     /// Payloads of `--objective range`, kg: each evaluation solves the design at every one (in
     /// its worker) and scores the mean cost, or the penalty when any is infeasible.
-    #[arg(long, value_name = "KG,KG,..", value_delimiter = ',', num_args = 1..)]
+    #[arg(
+        long,
+        value_name = "KG,KG,..",
+        value_delimiter = ',',
+        num_args = 1..,
+        value_parser = listed_number
+    )]
     pub payloads: Option<Vec<f64>>,
     /// Resolution of the capacity search of `--objective capacity`, kg.
     #[arg(long, value_name = "KG", default_value_t = CapacitySettings::default().resolution_kg)]

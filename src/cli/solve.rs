@@ -1,15 +1,17 @@
 //! `codesign solve`: one trajectory problem for one design.
 
 use super::common::{finite_ratio, ModelArgs, ProblemArgs};
-use super::failure::Failure;
+use super::failure::{Failure, INFEASIBLE_EXIT};
 use super::store_hints::check_output;
 use crate::design::run::Loaded;
 use crate::ipopt::{check_derivatives, DerivativeOrder};
 use crate::model::task::{check_horizon, check_steps, PerMotor, Task};
 use crate::problem::{EndHold, Formulation, Space, StaticHold};
+use crate::report::start::{read_start, StartFile, StartRecord};
 use crate::report::trajectory::{every_plot_file, write_plots, SolveDocument};
 use crate::solve::{
-    least_envelope_margin, solve_design, SolveError, SolveSettings, TrajectoryResult,
+    least_envelope_margin, solve_design_from, SolveError, SolveSettings, StartPoint,
+    TrajectoryResult,
 };
 use crate::store::document::write_document;
 use crate::store::files::check_folder;
@@ -58,15 +60,26 @@ pub struct Args {
     /// initial guess and report what it flags. IPOPT 3.11's checker takes about 13 minutes on
     /// the full 50-step problem: `--steps 5` checks the same structure in 0.1 s. It writes no
     /// result and no plot, so it takes neither `--out` nor `--plot`.
-    #[arg(long, conflicts_with_all = ["out", "plot"])]
+    #[arg(long, conflicts_with_all = ["out", "plot", "start", "fail_if_infeasible"])]
     check_derivatives: bool,
+    /// Start from the trajectory and multipliers of an earlier `solve --out` result of the same
+    /// task, space, steps and kind (hard or `--elastic`): another design or payload converges
+    /// in fewer iterations. A start that does not fit is refused, naming why; where the start
+    /// finds no feasible trajectory, the cold starts follow as without it.
+    #[arg(long, value_name = "FILE.json")]
+    start: Option<PathBuf>,
+    /// Exit with code 3 (after writing the result and plots) when the design is infeasible;
+    /// without it an infeasible verdict, like a feasible one, exits 0.
+    #[arg(long)]
+    fail_if_infeasible: bool,
 }
 
 /// Checks, before any solve, that `--out` and the files of `--plot` can be written and are none
-/// of the inputs of `task`.
+/// of the inputs of `task` (`--start` among them).
 fn check_outputs(args: &Args, task: &Task) -> Result<(), Failure> {
     let choice = args.model.choice();
-    let inputs = choice.inputs(task);
+    let mut inputs = choice.inputs(task);
+    inputs.extend(args.start.as_deref().map(|path| ("--start", path)));
     if let Some(path) = &args.out {
         check_output("--out", path, &inputs)?;
     }
@@ -76,6 +89,19 @@ fn check_outputs(args: &Args, task: &Task) -> Result<(), Failure> {
         for name in every_plot_file().filter(|_| folder.is_dir()) {
             check_output("--plot", &folder.join(name), &inputs)?;
         }
+    }
+    Ok(())
+}
+
+/// Checks the flags that need no file: `--payload`, `--duration`, `--steps`.
+fn check_flags(args: &Args) -> Result<(), Failure> {
+    args.model.validate()?;
+    if let Some(duration) = args.duration {
+        check_horizon(duration)
+            .map_err(|why| Failure::Usage(format!("--duration {}: {why}", number(duration))))?;
+    }
+    if let Some(steps) = args.steps {
+        check_steps(steps).map_err(|why| Failure::Usage(format!("--steps {steps}: {why}")))?;
     }
     Ok(())
 }
@@ -99,16 +125,38 @@ fn refuse_unwritable(result: &TrajectoryResult, source: &str) -> Result<(), Fail
     Ok(())
 }
 
-/// Solves, prints a summary, writes the requested files.
+/// The design to solve, `--ratios` or the task's original one, with the words that name it.
+fn design(args: &Args, task: &Task) -> (Vec<f64>, String) {
+    match &args.ratios {
+        Some(ratios) => (ratios.clone(), format!("--ratios {}", join(ratios))),
+        None => (
+            task.transmission.original.clone(),
+            format!(
+                "{} transmission.original ({})",
+                args.model.source(),
+                join(&task.transmission.original)
+            ),
+        ),
+    }
+}
+
+/// The start of `--start`, read and checked to fit `formulation` for the task of `task_hash`.
+fn read_start_flag(
+    args: &Args,
+    formulation: &Formulation,
+    task_hash: &str,
+) -> Result<Option<StartFile>, Failure> {
+    let Some(path) = &args.start else {
+        return Ok(None);
+    };
+    let start = read_start(path, formulation, task_hash).map_err(|e| format!("--start {e}"))?;
+    Ok(Some(start))
+}
+
+/// Solves, prints a summary, writes the requested files; fails after writing them where
+/// `--fail-if-infeasible` asks it to.
 pub fn run(args: &Args) -> Result<(), Failure> {
-    args.model.validate()?;
-    if let Some(duration) = args.duration {
-        check_horizon(duration)
-            .map_err(|why| Failure::Usage(format!("--duration {}: {why}", number(duration))))?;
-    }
-    if let Some(steps) = args.steps {
-        check_steps(steps).map_err(|why| Failure::Usage(format!("--steps {steps}: {why}")))?;
-    }
+    check_flags(args)?;
     let Loaded {
         mut task,
         robot,
@@ -125,39 +173,79 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .map_err(|e| e.to_string())?
         .with_hold_tolerance(settings.constraint_tolerance());
     let formulation = if args.elastic { hard.elastic() } else { hard };
-    let (ratios, source) = match &args.ratios {
-        Some(ratios) => (ratios.clone(), format!("--ratios {}", join(ratios))),
-        None => (
-            task.transmission.original.clone(),
-            format!(
-                "{} transmission.original ({})",
-                args.model.source(),
-                join(&task.transmission.original)
-            ),
-        ),
-    };
+    let (ratios, source) = design(args, &task);
     if args.check_derivatives {
         return Ok(check(&formulation, &settings, &ratios, &source)?);
     }
-    let result = solve_design(&formulation, &ratios, &settings).map_err(|e| match e {
-        SolveError::Design(_) => format!("{source}: {e}"),
-        SolveError::Ipopt(_) => format!("{} solver: {e}", args.model.source()),
-        SolveError::Formulation(_) => format!("{}: {e}", args.model.source()),
-    })?;
+    let start = read_start_flag(args, &formulation, &task_hash)?;
+    let warm = start.as_ref().map(|start| start.point.to_solution());
+    let (result, solution) = solve_design_from(&formulation, &ratios, &settings, warm.as_ref())
+        .map_err(|e| match e {
+            SolveError::Design(_) => format!("{source}: {e}"),
+            SolveError::Ipopt(_) => format!("{} solver: {e}", args.model.source()),
+            SolveError::Formulation(_) => format!("{}: {e}", args.model.source()),
+        })?;
     refuse_unwritable(&result, &source)?;
     print_summary(&formulation, &result);
+    if let Some(start) = &start {
+        say!("  {}", start_text(&start.record));
+    }
+    let verdict = (!result.feasible).then(|| result.reason.clone().unwrap_or_default());
+    let point = StartPoint::from_solution(&solution, &formulation, &task_hash);
+    write_outputs(
+        args,
+        &formulation,
+        &settings,
+        &task_hash,
+        result,
+        point,
+        start,
+    )?;
+    match verdict {
+        Some(reason) if args.fail_if_infeasible => Err(Failure::Infeasible(format!(
+            "{source}: the design is infeasible ({reason}); --fail-if-infeasible makes that \
+             exit {INFEASIBLE_EXIT}"
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// `started from FILE (its design r = (..), payload .. kg)`: the start, for the summary.
+fn start_text(record: &StartRecord) -> String {
+    let ratios: Vec<String> = record.ratios.iter().map(|r| r.to_string()).collect();
+    format!(
+        "started from {} (its design r = ({}), payload {} kg)",
+        record.file,
+        ratios.join(", "),
+        number(record.payload_kg)
+    )
+}
+
+/// Writes the plots of `--plot` and the result of `--out`, with `point` (the raw solution, to
+/// start another solve from) and the record of `start`.
+fn write_outputs(
+    args: &Args,
+    formulation: &Formulation,
+    settings: &SolveSettings,
+    task_hash: &str,
+    result: TrajectoryResult,
+    point: StartPoint,
+    start: Option<StartFile>,
+) -> Result<(), Failure> {
     if let Some(folder) = &args.plot {
-        write_plots(folder, &formulation, &result).map_err(|e| e.to_string())?;
+        write_plots(folder, formulation, &result).map_err(|e| e.to_string())?;
         say!("plots written to {}", folder.display());
     }
     if let Some(path) = &args.out {
-        let document = SolveDocument::new(
-            &args.model.source().label(),
-            &task_hash,
-            &formulation,
-            &settings,
-            result,
-        );
+        let label = args.model.source().label();
+        let mut document = SolveDocument::new(&label, task_hash, formulation, settings, result);
+        // Only a point that could start this very problem again is kept.
+        if point.check_fits(formulation, task_hash).is_ok() {
+            document = document.with_start_point(point);
+        }
+        if let Some(start) = start {
+            document = document.started_from(start.record);
+        }
         write_document(path, &document).map_err(|e| e.to_string())?;
         say!("result written to {}", path.display());
     }

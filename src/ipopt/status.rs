@@ -77,35 +77,44 @@ impl Status {
         name.to_owned()
     }
 
-    /// Whether `text` is the name of a status IPOPT returns ([`Status::name`], an unknown code's
-    /// `Unknown_Status_N` included).
-    pub fn is_name(text: &str) -> bool {
-        let known = [
-            Status::SolveSucceeded,
-            Status::SolvedToAcceptableLevel,
-            Status::InfeasibleProblemDetected,
-            Status::SearchDirectionBecomesTooSmall,
-            Status::DivergingIterates,
-            Status::UserRequestedStop,
-            Status::FeasiblePointFound,
-            Status::MaximumIterationsExceeded,
-            Status::RestorationFailed,
-            Status::ErrorInStepComputation,
-            Status::MaximumCpuTimeExceeded,
-            Status::NotEnoughDegreesOfFreedom,
-            Status::InvalidProblemDefinition,
-            Status::InvalidOption,
-            Status::InvalidNumberDetected,
-            Status::UnrecoverableException,
-            Status::NonIpoptExceptionThrown,
-            Status::InsufficientMemory,
-            Status::InternalError,
-        ];
+    /// Every status but [`Status::Unknown`].
+    const KNOWN: [Status; 19] = [
+        Status::SolveSucceeded,
+        Status::SolvedToAcceptableLevel,
+        Status::InfeasibleProblemDetected,
+        Status::SearchDirectionBecomesTooSmall,
+        Status::DivergingIterates,
+        Status::UserRequestedStop,
+        Status::FeasiblePointFound,
+        Status::MaximumIterationsExceeded,
+        Status::RestorationFailed,
+        Status::ErrorInStepComputation,
+        Status::MaximumCpuTimeExceeded,
+        Status::NotEnoughDegreesOfFreedom,
+        Status::InvalidProblemDefinition,
+        Status::InvalidOption,
+        Status::InvalidNumberDetected,
+        Status::UnrecoverableException,
+        Status::NonIpoptExceptionThrown,
+        Status::InsufficientMemory,
+        Status::InternalError,
+    ];
+
+    /// The status named `text` ([`Status::name`], an unknown code's `Unknown_Status_N`
+    /// included), if any: the inverse of [`Status::name`].
+    pub fn from_name(text: &str) -> Option<Status> {
         let unknown = text
             .strip_prefix("Unknown_Status_")
             .and_then(|code| code.parse::<i32>().ok())
-            .is_some_and(|code| Status::Unknown(code).name() == text);
-        unknown || known.iter().any(|status| status.name() == text)
+            .map(Status::Unknown)
+            .filter(|status| status.name() == text);
+        unknown.or_else(|| Status::KNOWN.into_iter().find(|s| s.name() == text))
+    }
+
+    /// Whether `text` is the name of a status IPOPT returns ([`Status::name`], an unknown code's
+    /// `Unknown_Status_N` included).
+    pub fn is_name(text: &str) -> bool {
+        Status::from_name(text).is_some()
     }
 
     /// Whether the point returned is a local optimum (to the strict or the acceptable tolerance).
@@ -168,6 +177,11 @@ mod tests {
             "Internal_Error"
         );
         assert!(Status::SolvedToAcceptableLevel.is_success());
+        for status in Status::KNOWN.into_iter().chain([Status::Unknown(-7)]) {
+            assert_eq!(Status::from_name(&status.name()), Some(status));
+        }
+        assert_eq!(Status::from_name("Unknown_Status_+7"), None);
+        assert_eq!(Status::from_name("solve_succeeded"), None);
         assert!(!Status::RestorationFailed.is_success());
     }
 }

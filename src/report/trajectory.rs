@@ -1,11 +1,12 @@
 //! The result file and plots of one trajectory solve (`codesign solve`).
 
 use super::plots::{Chart, Figure, Guide, Series};
+use super::start::StartRecord;
 use super::ReportError;
 use crate::design::run::RecordedHash;
 use crate::model::task::{LimitModes, SoftInterval, Task};
 use crate::problem::{Formulation, Space};
-use crate::solve::{SolveSettings, TaskRecord, ToolInfo, Trajectory, TrajectoryResult};
+use crate::solve::{SolveSettings, StartPoint, TaskRecord, ToolInfo, Trajectory, TrajectoryResult};
 use crate::transmission::{Envelope, JointLimits};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -29,6 +30,9 @@ pub struct SolveInputs {
     pub limit_modes: LimitModes,
     /// The task with every override applied (horizon, payload, robot), and the solve settings.
     pub task: TaskRecord,
+    /// The result the solve started from (`solve --start`); absent when it started cold.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start: Option<StartRecord>,
 }
 
 /// The JSON file `codesign solve --out` writes.
@@ -41,6 +45,10 @@ pub struct SolveDocument {
     /// The result, flattened into the document.
     #[serde(flatten)]
     pub result: TrajectoryResult,
+    /// The raw solution nearest the verdict, to start another solve from (`solve --start`);
+    /// written by `solve --out`, absent from `reproduce`'s results and from older files.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start_point: Option<StartPoint>,
 }
 
 impl crate::store::document::Document for SolveDocument {
@@ -71,9 +79,23 @@ impl SolveDocument {
                     task: task.clone(),
                     solver: settings.clone(),
                 },
+                start: None,
             },
             result,
+            start_point: None,
         }
+    }
+
+    /// The document with `point`, the raw solution of its solve, to start another solve from.
+    pub fn with_start_point(mut self, point: StartPoint) -> SolveDocument {
+        self.start_point = Some(point);
+        self
+    }
+
+    /// The document of a solve that started from the result `record` names.
+    pub fn started_from(mut self, record: StartRecord) -> SolveDocument {
+        self.inputs.start = Some(record);
+        self
     }
 }
 

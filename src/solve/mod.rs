@@ -12,7 +12,8 @@
 //! The rooms: `settings` (IPOPT's settings, read from a task file's `solver` section), `run`
 //! (one IPOPT solve), `certify` (the rule, over several solves), `continuation` (its payload continuation), `result` (the result and its file schema), `result_checks` (whether it judges its design and
 //! holds finite numbers only), `verify` (the constraint residuals
-//! evaluated again on the trajectory), `error`.
+//! evaluated again on the trajectory), `start` (a solve's raw solution kept to warm-start another
+//! solve from, [`StartPoint`], with the checks that it fits), `error`.
 
 mod certify;
 mod continuation;
@@ -22,6 +23,7 @@ mod result;
 mod result_checks;
 mod run;
 mod settings;
+mod start;
 mod verify;
 
 pub use certify::{solve_design, solve_design_along, solve_design_from, solve_elastic};
@@ -34,6 +36,7 @@ pub use result::{
 };
 pub use run::WARM_MAX_ITER;
 pub use settings::{SettingsError, SolveSettings, TaskRecord, DEFAULT_MAX_ITER, DEFAULT_TOL};
+pub use start::{StartError, StartPart, StartPoint};
 pub use verify::{envelope_margins, least_envelope_margin, EnvelopeMargin};
 
 #[cfg(test)]

@@ -33,6 +33,21 @@ fn the_built_in_task_passes_every_check() {
     assert_eq!(value["holds"][0]["pose"], "start");
 }
 
+/// `--ratios "9, 5.62, 3, 1.8"`, as a person types a list, is the design `9,5.62,3,1.8`.
+#[test]
+fn ratios_may_have_spaces_around_their_commas() {
+    let spaced = codesign(&["check", "--json", "--ratios", " 9, 5.62 ,3,  1.8"]);
+    let tight = codesign(&["check", "--json", "--ratios", "9,5.62,3,1.8"]);
+    assert!(
+        spaced.status.success(),
+        "{}",
+        String::from_utf8_lossy(&spaced.stderr)
+    );
+    assert_eq!(spaced.stdout, tight.stdout);
+    let value: serde_json::Value = serde_json::from_slice(&spaced.stdout).unwrap();
+    assert_eq!(value["g"][0][0], 9.0);
+}
+
 #[test]
 fn every_problem_is_listed() {
     // 3 kg on the best 3 kg design of the reproduction's rows: the motors cannot hold it still,

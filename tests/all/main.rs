@@ -25,5 +25,6 @@ mod outputs_cli;
 mod plots_cli;
 mod reliability_cli;
 mod solve_cli;
+mod start_cli;
 mod table_cli;
 mod urdf_idioms;
