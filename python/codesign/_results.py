@@ -38,104 +38,105 @@ class _Document:
         return self._document["version"]
 
 
-def _rows(rows: List[List[float]], width: int) -> np.ndarray:
-    """A list of rows as a 2-D float array, shape (len(rows), width) even when empty."""
-    return np.asarray(rows, dtype=float).reshape(len(rows), width)
+_TERMS = ("position", "velocity", "control", "cartesian_box")
 
 
-class Solution(_Document):
+class Solution:
     """One solve of the trajectory problem (``codesign solve --out``).
 
     Node arrays have N+1 rows (nodes k = 0..N, times ``t``); interval arrays have N rows (the
     controls and accelerations of the intervals k = 0..N-1, constant over each). n is the number
-    of joints, m the number of motors (m = n).
+    of joints, m the number of motors (m = n). The document stays in the native module until
+    ``to_dict()`` or ``to_json()`` asks for it.
     """
 
-    def __init__(self, text: str, start: "_native.NativeStart") -> None:
-        super().__init__(text)
-        self._start = start
-        trajectory = self._document["trajectory"]
-        n = len(trajectory["q"][0])
-        m = len(trajectory["motor_speed"][0])
-        self.t: np.ndarray = np.asarray(trajectory["time"], dtype=float)
+    def __init__(self, native: "_native.NativeSolution") -> None:
+        self._native = native
+        self._text: Optional[str] = None
+        t, (q, v, a, tau, tau_u, motor_speed, tcp) = native.arrays()
+        self.t: np.ndarray = t
         """Node times, s, shape (N+1,)."""
-        self.q: np.ndarray = _rows(trajectory["q"], n)
+        self.q: np.ndarray = q
         """Joint positions, rad, shape (N+1, n)."""
-        self.v: np.ndarray = _rows(trajectory["v"], n)
+        self.v: np.ndarray = v
         """Joint speeds, rad/s, shape (N+1, n)."""
-        self.a: np.ndarray = _rows(trajectory["a"], n)
+        self.a: np.ndarray = a
         """Joint accelerations per interval, rad/s^2, shape (N, n)."""
-        self.tau: np.ndarray = _rows(trajectory["joint_torque"], n)
+        self.tau: np.ndarray = tau
         """Joint torques per interval, N m, shape (N, n)."""
-        self.tau_u: np.ndarray = _rows(trajectory["motor_torque"], m)
+        self.tau_u: np.ndarray = tau_u
         """Motor torques per interval, N m, shape (N, m)."""
-        self.motor_speed: np.ndarray = _rows(trajectory["motor_speed"], m)
+        self.motor_speed: np.ndarray = motor_speed
         """Motor speeds per node, rad/s, shape (N+1, m)."""
-        self.tcp: np.ndarray = np.column_stack(
-            [trajectory["tcp_x"], trajectory["tcp_y"], trajectory["tcp_z"]]
-        ).reshape(len(self.t), 3)
+        self.tcp: np.ndarray = tcp
         """TCP position in the world frame per node, m, shape (N+1, 3)."""
+        status, iterations, ratios, payload, space, task_hash = native.summary()
+        self.status: str = status
+        """IPOPT's return status of the solve that gave the verdict."""
+        self.iterations: int = iterations
+        """IPOPT iterations, summed over every start the rule tried."""
+        self.ratios: np.ndarray = np.asarray(ratios, dtype=float)
+        """The design r solved."""
+        self.payload: float = payload
+        """The payload, kg."""
+        self.space: str = space
+        """``joint`` or ``actuation``."""
+        self.task_hash: str = task_hash
+        """The hash of the task solved (payload aside): equal hashes, equal problems."""
+
+    def to_json(self) -> str:
+        """The document as JSON text, as ``codesign solve --out`` writes it (without the final
+        newline)."""
+        if self._text is None:
+            self._text = self._native.json()
+        return self._text
+
+    def to_dict(self) -> Dict[str, Any]:
+        """The document as a dict (a new one at each call)."""
+        return json.loads(self.to_json())
+
+    @property
+    def schema(self) -> str:
+        """``codesign/solve``."""
+        return "codesign/solve"
+
+    @property
+    def version(self) -> int:
+        """The version of the solve schema."""
+        return self.to_dict()["version"]
 
     @property
     def feasible(self) -> bool:
         """Whether the design moves the payload within every limit (one rule: docs/model.md, 8)."""
-        return self._document["feasible"]
+        return self._native.feasible()
 
     @property
     def reason(self) -> Optional[str]:
         """Why the design is infeasible; None when feasible."""
-        return None if self.feasible else self._document.get("reason")
+        return None if self.feasible else self._native.reason()
 
     @property
     def cost(self) -> float:
         """The optimal cost J of the trajectory found (a local optimum; meaningful when
         ``feasible``: an infeasible solve's cost is that of the point IPOPT stopped at)."""
-        return self._document["cost"]
+        return self._native.cost()
 
     @property
     def cost_terms(self) -> Optional[Dict[str, float]]:
         """J by term: ``position``, ``velocity``, ``control``, ``cartesian_box``."""
-        return self._document.get("cost_terms")
+        terms = self._native.cost_terms()
+        return None if terms is None else dict(zip(_TERMS, terms))
 
     @property
     def cost_gradient(self) -> Optional[np.ndarray]:
         """dJ*/dr, the exact sensitivity of the optimal cost to each ratio; None when infeasible."""
-        gradient = self._document.get("cost_gradient")
+        gradient = self._native.cost_gradient()
         return None if gradient is None else np.asarray(gradient, dtype=float)
-
-    @property
-    def status(self) -> str:
-        """IPOPT's return status of the solve that gave the verdict."""
-        return self._document["status"]
-
-    @property
-    def iterations(self) -> int:
-        """IPOPT iterations, summed over every start the rule tried."""
-        return self._document["iterations"]
-
-    @property
-    def ratios(self) -> np.ndarray:
-        """The design r solved."""
-        return np.asarray(self._document["ratios"], dtype=float)
-
-    @property
-    def payload(self) -> float:
-        """The payload, kg."""
-        return self._document["inputs"]["payload_kg"]
-
-    @property
-    def space(self) -> str:
-        """``joint`` or ``actuation``."""
-        return self._document["inputs"]["space"]
-
-    @property
-    def task_hash(self) -> str:
-        """The hash of the task solved (payload aside): equal hashes, equal problems."""
-        return self._document["inputs"].get("task_hash", "")
 
     def __repr__(self) -> str:
         verdict = "feasible" if self.feasible else f"infeasible: {self.reason}"
-        return f"<codesign.Solution {self.space} r={self.ratios.tolist()} J={self.cost:.6g} {verdict}>"
+        return (f"<codesign.Solution {self.space} r={self.ratios.tolist()} "
+                f"J={self.cost:.6g} {verdict}>")
 
 
 class Capacity(_Document):

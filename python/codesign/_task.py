@@ -159,8 +159,8 @@ class Task:
         from an earlier solution of the same task, space and kind (its point and multipliers;
         the payload may differ). The GIL is released while IPOPT runs; Ctrl-C stops it.
         """
-        native_start = None if start is None else start._start
-        text, end = self._native.solve(
+        native_start = None if start is None else start._native
+        native = self._native.solve(
             space,
             payload,
             ends,
@@ -173,7 +173,7 @@ class Task:
             elastic,
             native_start,
         )
-        return Solution(text, end)
+        return Solution(native)
 
     def capacity(
         self,

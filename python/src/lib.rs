@@ -11,6 +11,7 @@ mod errors;
 mod interrupt;
 mod options;
 mod runs;
+mod solution;
 mod task;
 
 use pyo3::prelude::*;
@@ -43,7 +44,7 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     // then stops the work (see `interrupt`).
     codesign::signals::leave_signals_to_host();
     module.add_class::<task::NativeTask>()?;
-    module.add_class::<task::NativeStart>()?;
+    module.add_class::<solution::NativeSolution>()?;
     module.add_function(wrap_pyfunction!(serve_worker, module)?)?;
     module.add_function(wrap_pyfunction!(versions, module)?)?;
     module.add_function(wrap_pyfunction!(task::task_text, module)?)?;

@@ -4,16 +4,16 @@
 use crate::errors::{Failure, Outcome};
 use crate::interrupt;
 use crate::options::{Keywords, Posed};
+use crate::solution::NativeSolution;
 use codesign::design::capacity::{payload_capacity, CapacitySettings};
 use codesign::design::run::RecordedHash;
-use codesign::ipopt::Solution;
 use codesign::model::task::BUILT_IN_TASK;
 use codesign::model::task::{check_horizon, check_steps, GivenTask, TaskFile, TaskSource};
-use codesign::problem::{ProblemKind, Space};
 use codesign::report::check::Inspection;
 use codesign::report::codesign::CapacityDocument;
+use codesign::report::start::StartRecord;
 use codesign::report::trajectory::SolveDocument;
-use codesign::solve::{solve_design_from, SolveError, ToolInfo};
+use codesign::solve::{solve_design_from, SolveError, StartPoint, ToolInfo};
 use codesign::store::document::{document_json, Document};
 use codesign::text::number;
 use pyo3::prelude::*;
@@ -24,16 +24,6 @@ use std::sync::Arc;
 #[pyclass(module = "codesign._native", frozen)]
 pub struct NativeTask {
     pub(crate) source: TaskSource,
-}
-
-/// Where a solve ended, to start another from (`start=`): IPOPT's point and multipliers, and
-/// what they fit (the task hash, the space, the kind of problem).
-#[pyclass(module = "codesign._native", frozen)]
-pub struct NativeStart {
-    solution: Solution,
-    task_hash: String,
-    space: Space,
-    kind: ProblemKind,
 }
 
 /// The text of the task file at `path` (None: the built-in task, its robot null, which means the
@@ -150,8 +140,8 @@ impl NativeTask {
         duration: Option<f64>,
         steps: Option<usize>,
         elastic: bool,
-        start: Option<Py<NativeStart>>,
-    ) -> PyResult<(String, NativeStart)> {
+        start: Option<Py<NativeSolution>>,
+    ) -> PyResult<NativeSolution> {
         let keywords = Keywords {
             space,
             payload,
@@ -219,12 +209,12 @@ struct SolveRequest {
     duration: Option<f64>,
     steps: Option<usize>,
     elastic: bool,
-    start: Option<Py<NativeStart>>,
+    start: Option<Py<NativeSolution>>,
 }
 
 impl SolveRequest {
     /// Solves under the one rule, from the start when given; the document and where it ended.
-    fn solve(self) -> Outcome<(String, NativeStart)> {
+    fn solve(self) -> Outcome<NativeSolution> {
         let mut loaded = self.posed.load()?;
         if let Some(duration) = self.duration {
             check_horizon(duration)
@@ -240,9 +230,13 @@ impl SolveRequest {
         let ratios = self.posed.design(&formulation, self.ratios)?;
         let start = self.start.as_ref().map(|start| start.get());
         if let Some(start) = start {
-            start.fits(&loaded.task_hash, formulation.space(), formulation.kind())?;
+            start
+                .point
+                .check_fits(&formulation, &loaded.task_hash)
+                .map_err(|e| Failure::input(format!("start=: {e}")))?;
         }
-        let warm = start.map(|start| &start.solution);
+        let warm = start.map(|start| start.point.to_solution());
+        let warm = warm.as_ref();
         let (result, solution) = solve_design_from(&formulation, &ratios, &loaded.settings, warm)
             .map_err(|e| match e {
             SolveError::Design(_) | SolveError::Formulation(_) => {
@@ -258,59 +252,32 @@ impl SolveRequest {
             )));
         }
         let label = self.posed.model.source().label();
-        let document = SolveDocument::new(
+        let point = StartPoint::from_solution(&solution, &formulation, &loaded.task_hash);
+        let fits = point.check_fits(&formulation, &loaded.task_hash).is_ok();
+        let mut document = SolveDocument::new(
             &label,
             &loaded.task_hash,
             &formulation,
             &loaded.settings,
             result,
         );
-        let end = NativeStart {
-            solution,
-            task_hash: loaded.task_hash,
-            space: formulation.space(),
-            kind: formulation.kind(),
-        };
-        Ok((json(&document)?, end))
+        // As `solve --out`: only a point that could start this very problem again is kept.
+        if fits {
+            document = document.with_start_point(point.clone());
+        }
+        if let Some(start) = start {
+            document = document.started_from(StartRecord {
+                file: IN_MEMORY.to_owned(),
+                ratios: start.document.result.ratios.clone(),
+                payload_kg: start.document.inputs.payload_kg,
+            });
+        }
+        Ok(NativeSolution { document, point })
     }
 }
 
-impl NativeStart {
-    /// Whether this start fits a problem of task hash `task_hash` in `space` of `kind`; the
-    /// payload may differ (a continuation), the task, the space and the kind may not.
-    fn fits(&self, task_hash: &str, space: Space, kind: ProblemKind) -> Outcome<()> {
-        let refuse = |what: String| Err(Failure::input(format!("start=: {what}")));
-        if self.task_hash != task_hash {
-            return refuse(format!(
-                "the start was solved for another task (task hash {}, this one {task_hash}): \
-                 another robot, motion, weights, limits or ends",
-                self.task_hash
-            ));
-        }
-        if self.space != space {
-            return refuse(format!(
-                "the start was solved in the {} space, this solve is in the {space} space",
-                self.space
-            ));
-        }
-        if self.kind != kind {
-            return refuse(format!(
-                "the start is of the {} problem, this solve of the {} one (elastic= differs)",
-                kind_name(self.kind),
-                kind_name(kind)
-            ));
-        }
-        Ok(())
-    }
-}
-
-/// The kind of problem in words.
-fn kind_name(kind: ProblemKind) -> &'static str {
-    match kind {
-        ProblemKind::Hard => "hard",
-        ProblemKind::Elastic => "elastic",
-    }
-}
+/// What a result started from a Python solution records as its start's file.
+const IN_MEMORY: &str = "start= (a Solution in memory)";
 
 /// The capacity search of design `ratios` (None: the original) with `settings`, its document.
 fn capacity(

@@ -1,0 +1,111 @@
+//! `NativeSolution`: one solve's document, kept in Rust and read on demand: its figures by
+//! getters, its trajectories as numpy arrays, its JSON text only when asked (`to_json`), and the
+//! point where it ended, to start another solve from.
+
+use crate::errors::Failure;
+use codesign::report::trajectory::SolveDocument;
+use codesign::solve::StartPoint;
+use codesign::store::document::document_json;
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::prelude::*;
+
+/// One solve (see `codesign.Solution`).
+#[pyclass(module = "codesign._native", frozen)]
+pub struct NativeSolution {
+    /// The document `codesign solve --out` writes for it.
+    pub(crate) document: SolveDocument,
+    /// Where it ended: IPOPT's point and multipliers, and what they fit.
+    pub(crate) point: StartPoint,
+}
+
+/// Rows of equal length as a 2-D array of shape (rows, `width`).
+fn rows<'py>(py: Python<'py>, rows: &[Vec<f64>], width: usize) -> Bound<'py, PyArray2<f64>> {
+    let flat: Vec<f64> = rows.iter().flatten().copied().collect();
+    let array = PyArray1::from_vec(py, flat);
+    array
+        .reshape([rows.len(), width])
+        .unwrap_or_else(|_| PyArray2::zeros(py, [0, width], false))
+}
+
+#[pymethods]
+impl NativeSolution {
+    /// The document as JSON text, as `solve --out` writes it (without the final newline).
+    fn json(&self, py: Python<'_>) -> PyResult<String> {
+        document_json(&self.document)
+            .map_err(|e| Failure::solver(format!("result not encoded: {e}")).into_py(py))
+    }
+
+    /// Whether the design is feasible.
+    fn feasible(&self) -> bool {
+        self.document.result.feasible
+    }
+
+    /// Why it is infeasible (None when feasible).
+    fn reason(&self) -> Option<String> {
+        self.document.result.reason.clone()
+    }
+
+    /// The optimal cost J.
+    fn cost(&self) -> f64 {
+        self.document.result.cost
+    }
+
+    /// J by term: (position, velocity, control, cartesian_box), where recorded.
+    fn cost_terms(&self) -> Option<(f64, f64, f64, f64)> {
+        let terms = self.document.result.cost_terms.as_ref()?;
+        Some((
+            terms.position,
+            terms.velocity,
+            terms.control,
+            terms.cartesian_box,
+        ))
+    }
+
+    /// dJ*/dr, where feasible.
+    fn cost_gradient(&self) -> Option<Vec<f64>> {
+        self.document.result.cost_gradient.clone()
+    }
+
+    /// IPOPT's status, its iterations, the design, the payload (kg), the space, the task hash.
+    fn summary(&self) -> (String, usize, Vec<f64>, f64, String, String) {
+        let (result, inputs) = (&self.document.result, &self.document.inputs);
+        (
+            result.status.clone(),
+            result.iterations,
+            result.ratios.clone(),
+            inputs.payload_kg,
+            inputs.space.name().to_owned(),
+            inputs.task_hash.0.clone().unwrap_or_default(),
+        )
+    }
+
+    /// The trajectory as arrays: t (N+1), q, v (N+1, n), a, tau (N, n), tau_u (N, m),
+    /// motor_speed (N+1, m), tcp (N+1, 3).
+    #[allow(clippy::type_complexity)]
+    fn arrays<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> (Bound<'py, PyArray1<f64>>, [Bound<'py, PyArray2<f64>>; 7]) {
+        let t = &self.document.result.trajectory;
+        let n = t.q.first().map_or(0, Vec::len);
+        let m = t.motor_speed.first().map_or(0, Vec::len);
+        let tcp: Vec<Vec<f64>> = (0..t.time.len())
+            .map(|k| {
+                let at = |axis: &[f64]| axis.get(k).copied().unwrap_or(f64::NAN);
+                vec![at(&t.tcp_x), at(&t.tcp_y), at(&t.tcp_z)]
+            })
+            .collect();
+        (
+            PyArray1::from_slice(py, &t.time),
+            [
+                rows(py, &t.q, n),
+                rows(py, &t.v, n),
+                rows(py, &t.a, n),
+                rows(py, &t.joint_torque, n),
+                rows(py, &t.motor_torque, m),
+                rows(py, &t.motor_speed, m),
+                rows(py, &tcp, 3),
+            ],
+        )
+    }
+}
