@@ -57,6 +57,30 @@ impl Dynamics {
         self.tcp_world(data)
     }
 
+    /// The world positions at `q`, m, of the joints' origins from the base outward, then of the
+    /// TCP: the arm drawn as segments between them (the base at the world origin before them).
+    pub fn skeleton(&self, data: &mut Workspace, q: &[f64]) -> Vec<Vector3<f64>> {
+        self.update_frames(data, q);
+        let mut points: Vec<Vector3<f64>> =
+            data.frames.iter().map(|f| f.pose.translation).collect();
+        points.push(self.tcp_world(data));
+        points
+    }
+
+    /// The world position at `q` of `point`, fixed to a body of the chain (or to the base), m.
+    pub fn point_position(
+        &self,
+        data: &mut Workspace,
+        q: &[f64],
+        point: &crate::model::chain::PointOnBody,
+    ) -> Vector3<f64> {
+        self.update_frames(data, q);
+        match point.body {
+            Some(b) => data.frames[b].pose.apply(&point.point),
+            None => point.point,
+        }
+    }
+
     /// The Jacobian dp/dq (3 x n, m/rad) of the TCP's world position; `jacobian` is resized if
     /// it has another shape.
     pub fn tcp_jacobian(&self, data: &mut Workspace, q: &[f64], jacobian: &mut DMatrix<f64>) {

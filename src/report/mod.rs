@@ -5,6 +5,7 @@ pub mod check;
 pub mod codesign;
 mod error;
 pub mod plots;
+pub mod poses;
 pub mod start;
 pub mod table;
 pub mod trajectory;

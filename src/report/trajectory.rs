@@ -141,16 +141,21 @@ pub const PLOT_FILES: [&str; 4] = [
 /// the motors have a torque-speed envelope.
 pub const ENVELOPE_PLOT_FILE: &str = "motor_torque_speed.svg";
 
-/// Every file [`write_plots`] may write: [`PLOT_FILES`] and [`ENVELOPE_PLOT_FILE`].
+/// Every file [`write_plots`] may write: [`PLOT_FILES`], [`ENVELOPE_PLOT_FILE`] and the arm's
+/// poses and animation (`poses`).
 pub fn every_plot_file() -> impl Iterator<Item = &'static str> {
-    PLOT_FILES.into_iter().chain([ENVELOPE_PLOT_FILE])
+    PLOT_FILES.into_iter().chain([
+        ENVELOPE_PLOT_FILE,
+        super::poses::POSES_FILE,
+        super::poses::MOTION_FILE,
+    ])
 }
 
 /// Writes the plots of a solve into `folder` ([`PLOT_FILES`]): joint positions and joint
 /// torques (named as in the URDF) and motor torques with their limits, and the TCP path in the
 /// world plane it moves most in ([`path_plane`]) with the Cartesian box; where the motors have a
 /// torque-speed envelope, also each motor's operating points in the torque-speed plane inside
-/// it ([`ENVELOPE_PLOT_FILE`]).
+/// it ([`ENVELOPE_PLOT_FILE`]); and the arm in poses along the motion and animated (`poses`).
 pub fn write_plots(
     folder: &Path,
     formulation: &Formulation,
@@ -173,11 +178,11 @@ pub fn write_plots(
     if let Some(envelope) = formulation.envelope() {
         motor_torque_speed(envelope, t, &title).write(&folder.join(ENVELOPE_PLOT_FILE))?;
     }
-    Ok(())
+    super::poses::write_poses(folder, formulation, result)
 }
 
 /// What every plot of a solve is of: the space, the design and the payload.
-fn plot_title(formulation: &Formulation, result: &TrajectoryResult) -> String {
+pub(crate) fn plot_title(formulation: &Formulation, result: &TrajectoryResult) -> String {
     format!(
         "{} space, r = ({}), payload {} kg",
         formulation.space(),
@@ -321,8 +326,17 @@ pub enum WorldAxis {
 }
 
 impl WorldAxis {
+    /// The axis' index in a world vector: 0, 1 or 2.
+    pub fn index(self) -> usize {
+        match self {
+            WorldAxis::X => 0,
+            WorldAxis::Y => 1,
+            WorldAxis::Z => 2,
+        }
+    }
+
     /// The axis' name, `x`, `y` or `z`.
-    fn name(self) -> &'static str {
+    pub fn name(self) -> &'static str {
         match self {
             WorldAxis::X => "x",
             WorldAxis::Y => "y",

@@ -86,6 +86,32 @@ fn a_planar_arm_is_plotted_with_its_joint_names_in_its_plane() {
     assert!(path.contains("world x [m]") && path.contains("world z [m]"));
     assert!(!path.contains("world y [m]"));
     assert!(path.contains("r = (4.000, 2.000)"));
+    // The arm itself: five poses of base, shoulder, elbow and TCP, in the x-z plane; and the
+    // animation through every node of the motion.
+    let poses = plot("poses.svg");
+    assert!(poses.contains("world x-z plane"));
+    let arms: Vec<&str> = poses
+        .split("<polyline points=\"")
+        .skip(1)
+        .filter(|part| part.contains("stroke-width=\"5\""))
+        .collect();
+    assert_eq!(arms.len(), 5, "{poses}");
+    for arm in arms {
+        let points = arm.split('"').next().unwrap();
+        assert_eq!(points.split(' ').count(), 4, "{points}");
+    }
+    assert_eq!(poses.matches("t = ").count(), 5);
+    let motion = plot("motion.svg");
+    let values = motion
+        .split("attributeName=\"points\"")
+        .nth(1)
+        .and_then(|rest| rest.split("values=\"").nth(1))
+        .and_then(|rest| rest.split('"').next())
+        .unwrap();
+    let steps = support::read_json(&task)["motion"]["steps"]
+        .as_u64()
+        .unwrap() as usize;
+    assert_eq!(values.split(';').count(), steps + 1);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
