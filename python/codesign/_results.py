@@ -128,6 +128,13 @@ class Solution:
         return None if terms is None else dict(zip(_TERMS, terms))
 
     @property
+    def figures(self) -> Optional[Dict[str, Any]]:
+        """Physical figures per motor (``motors[i]``) and in total: int tau_u^2 dt, RMS and peak
+        torque, peak speed, peak power and work (docs/results.md, section 3)."""
+        text = self._native.figures()
+        return None if text is None else json.loads(text)
+
+    @property
     def cost_gradient(self) -> Optional[np.ndarray]:
         """dJ*/dr, the exact sensitivity of the optimal cost to each ratio; None when infeasible."""
         gradient = self._native.cost_gradient()
@@ -165,7 +172,7 @@ class Capacity(_Document):
     @property
     def ratios(self) -> np.ndarray:
         """The design searched."""
-        return np.asarray(self._document["ratios"], dtype=float)
+        return np.asarray(self._document["inputs"]["ratios"], dtype=float)
 
     @property
     def probes(self) -> List[Dict[str, Any]]:

@@ -61,6 +61,12 @@ impl NativeSolution {
         ))
     }
 
+    /// The physical figures (per motor and in total) as JSON, where recorded.
+    fn figures(&self) -> Option<String> {
+        let figures = self.document.result.figures.as_ref()?;
+        serde_json::to_string(figures).ok()
+    }
+
     /// dJ*/dr, where feasible.
     fn cost_gradient(&self) -> Option<Vec<f64>> {
         self.document.result.cost_gradient.clone()

@@ -10,7 +10,7 @@ use codesign::design::run::RecordedHash;
 use codesign::model::task::BUILT_IN_TASK;
 use codesign::model::task::{check_horizon, check_steps, GivenTask, TaskFile, TaskSource};
 use codesign::report::check::Inspection;
-use codesign::report::codesign::CapacityDocument;
+use codesign::report::codesign::{CapacityDocument, CapacityInputs};
 use codesign::report::start::StartRecord;
 use codesign::report::trajectory::SolveDocument;
 use codesign::solve::{solve_design_from, SolveError, StartPoint, ToolInfo};
@@ -295,13 +295,15 @@ fn capacity(
         .map_err(|e| Failure::solver(format!("{}: {e}", posed.model.source())))?;
     let document = CapacityDocument {
         tool: ToolInfo::current(loaded.settings.linear_solver()),
-        task_file: posed.model.source().label(),
-        task_hash: RecordedHash(Some(loaded.task_hash.clone())),
-        space: formulation.space(),
-        ratios,
-        limit_modes: *formulation.modes(),
-        ends: loaded.task.motion.ends,
-        settings,
+        inputs: CapacityInputs {
+            task_file: posed.model.source().label(),
+            task_hash: RecordedHash(Some(loaded.task_hash.clone())),
+            space: formulation.space(),
+            ratios,
+            limit_modes: *formulation.modes(),
+            ends: loaded.task.motion.ends,
+            settings,
+        },
         capacity,
     };
     json(&document)

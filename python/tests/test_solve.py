@@ -83,6 +83,16 @@ def test_a_solve_gives_arrays_of_documented_shapes(planar):
     assert sol.tcp.shape == (steps + 1, 3)
     assert sol.cost_gradient.shape == (2,)
     assert sol.cost == pytest.approx(sum(sol.cost_terms.values()))
+    document = sol.to_dict()
+    assert document["version"] == 2 and document["reason"] is None
+    motors = document["motors_execute"]
+    limits = planar.to_dict()["motors"]
+    np.testing.assert_allclose(motors["torque_peak_nm"], np.abs(sol.tau_u).max(axis=0))
+    np.testing.assert_allclose(motors["speed_peak_rad_s"], np.abs(sol.motor_speed).max(axis=0))
+    np.testing.assert_allclose(
+        motors["torque_margin_nm"],
+        limits["torque_limit_nm"] - np.asarray(motors["torque_peak_nm"]),
+    )
     # The task's G(r) = [[r1, 0], [r2, 2 r2]]: motor speeds are G v at every node.
     G = np.array([[50.0, 0.0], [12.0, 24.0]])
     np.testing.assert_allclose(sol.motor_speed, sol.v @ G.T, rtol=1e-12, atol=1e-12)
@@ -162,6 +172,8 @@ def test_capacity_brackets_the_payload(planar):
     assert cap.first_infeasible_kg - cap.capacity_kg <= 0.05 + 1e-12
     assert cap.limited_by in ("trajectory", "hold", "search")
     assert cap.to_dict()["schema"] == "codesign/capacity"
+    assert cap.ratios.tolist() == [50.0, 12.0]
+    assert cap.to_dict()["inputs"]["task_file"] == str(PLANAR)
     with pytest.raises(cd.InputError, match="resolution"):
         planar.capacity(resolution=-1.0)
 
@@ -172,3 +184,30 @@ def test_the_built_in_task_solves_in_both_spaces():
         sol = task.solve(space=space, payload=0.0, steps=20)
         assert sol.space == space and sol.q.shape == (21, 4)
         assert ROOT.exists()
+
+
+def test_physical_figures_match_a_hand_computation(planar):
+    """Controls constant over each interval, speeds at the nodes: power is linear in each."""
+    sol = planar.solve(payload=1.0, ratios=[50, 12])
+    h = np.diff(sol.t)
+    tau, w = sol.tau_u, sol.motor_speed
+    figures = sol.figures
+    for i, motor in enumerate(figures["motors"]):
+        p0, p1 = tau[:, i] * w[:-1, i], tau[:, i] * w[1:, i]
+        assert motor["torque_squared_integral"] == pytest.approx(np.sum(h * tau[:, i] ** 2))
+        assert motor["rms_torque_nm"] == pytest.approx(
+            np.sqrt(np.sum(h * tau[:, i] ** 2) / (sol.t[-1] - sol.t[0])))
+        assert motor["peak_torque_nm"] == pytest.approx(np.abs(tau[:, i]).max())
+        assert motor["peak_speed_rad_s"] == pytest.approx(np.abs(w[:, i]).max())
+        assert motor["peak_power_w"] == pytest.approx(np.maximum(abs(p0), abs(p1)).max())
+        assert motor["work_j"] == pytest.approx(np.sum(h * (p0 + p1) / 2))
+        fine = np.linspace(0, 1, 2001)
+
+        def positive(a, b, step):
+            """int max(p, 0) dt by the trapezoid rule on a fine grid of the interval."""
+            p = np.maximum(a + (b - a) * fine, 0.0)
+            return np.sum((p[1:] + p[:-1]) / 2) * step / (len(fine) - 1)
+
+        driving = sum(positive(a, b, step) for a, b, step in zip(p0, p1, h))
+        assert motor["positive_work_j"] == pytest.approx(driving, rel=1e-4)
+    assert figures["work_j"] == pytest.approx(sum(m["work_j"] for m in figures["motors"]))

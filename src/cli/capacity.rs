@@ -9,7 +9,7 @@ use crate::design::capacity::{
 use crate::design::run::{Loaded, RecordedHash};
 use crate::model::task::MAX_PAYLOAD_KG;
 use crate::problem::Formulation;
-use crate::report::codesign::CapacityDocument;
+use crate::report::codesign::{CapacityDocument, CapacityInputs};
 use crate::solve::ToolInfo;
 use crate::store::document::write_document;
 use crate::text::number;
@@ -88,13 +88,15 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if let Some(path) = &args.out {
         let document = CapacityDocument {
             tool: ToolInfo::current(solve.linear_solver()),
-            task_file: args.model.source().label(),
-            task_hash: RecordedHash(Some(task_hash)),
-            space: args.problem.space,
-            ratios: ratios.clone(),
-            limit_modes: modes,
-            ends: task.motion.ends,
-            settings,
+            inputs: CapacityInputs {
+                task_file: args.model.source().label(),
+                task_hash: RecordedHash(Some(task_hash)),
+                space: args.problem.space,
+                ratios: ratios.clone(),
+                limit_modes: modes,
+                ends: task.motion.ends,
+                settings,
+            },
             capacity,
         };
         write_document(path, &document).map_err(|e| e.to_string())?;

@@ -430,6 +430,10 @@ fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
     if let Some(text) = envelope_text(formulation, result) {
         say!("  {text}");
     }
+    let space = formulation.transmission().design_space();
+    for bound in space.active_bounds(&result.ratios, result.cost_gradient.as_deref()) {
+        say!("  at its bounds: {bound}");
+    }
     if let Some(hold) = &result.static_hold {
         say!("  {}", hold_text(hold));
     }

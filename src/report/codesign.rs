@@ -10,11 +10,10 @@ use crate::problem::Space;
 use crate::solve::ToolInfo;
 use serde::{Deserialize, Serialize};
 
-/// The JSON file `codesign capacity` writes.
+/// What defined a capacity search: the task, the space, the design and the search's settings
+/// (in `inputs`, as in every result document).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct CapacityDocument {
-    /// Program and solver versions.
-    pub tool: ToolInfo,
+pub struct CapacityInputs {
     /// The task file as given.
     pub task_file: String,
     /// The task hash of the task as read on its robot (`model::identity::task_hash`); unknown in
@@ -34,9 +33,44 @@ pub struct CapacityDocument {
     pub ends: Ends,
     /// Resolution and range of the search.
     pub settings: CapacitySettings,
+}
+
+/// The JSON file `codesign capacity` writes (version 2: the inputs under `inputs`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CapacityDocument {
+    /// Program and solver versions.
+    pub tool: ToolInfo,
+    /// The inputs.
+    pub inputs: CapacityInputs,
     /// The outcome, flattened into the document.
     #[serde(flatten)]
     pub capacity: Capacity,
+}
+
+/// The fields of [`CapacityInputs`], which versions 0 and 1 wrote at the top level.
+const INPUT_FIELDS: [&str; 7] = [
+    "task_file",
+    "task_hash",
+    "space",
+    "ratios",
+    "limit_modes",
+    "ends",
+    "settings",
+];
+
+/// Brings a capacity document of version 0 or 1, opened (its envelope removed), to version 2:
+/// its inputs move from the top level into `inputs`.
+pub fn upgrade_capacity(value: &mut serde_json::Value, version: u32) {
+    let Some(object) = value.as_object_mut().filter(|_| version < 2) else {
+        return;
+    };
+    let mut inputs = serde_json::Map::new();
+    for field in INPUT_FIELDS {
+        if let Some(entry) = object.remove(field) {
+            inputs.insert(field.to_owned(), entry);
+        }
+    }
+    object.insert("inputs".to_owned(), serde_json::Value::Object(inputs));
 }
 
 impl crate::store::document::Document for CapacityDocument {
@@ -182,5 +216,22 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A capacity of version 1 (or 0) has its inputs at the top level; the upgrade moves them,
+    /// and only them, under `inputs`, and leaves a version 2 document as it is.
+    #[test]
+    fn a_capacity_of_version_1_reads_as_version_2() {
+        let mut old = serde_json::json!({"tool": {}, "task_file": "t.json", "space": "joint", "ratios": [1.0],
+            "limit_modes": {}, "settings": {"max_kg": 4.0}, "capacity_kg": 2.0, "probes": []});
+        upgrade_capacity(&mut old, 1);
+        assert_eq!(old["inputs"]["task_file"], "t.json");
+        assert_eq!(old["inputs"]["settings"]["max_kg"], 4.0);
+        assert_eq!(old["capacity_kg"], 2.0);
+        assert!(old.get("space").is_none() && old["inputs"].get("ends").is_none());
+        let current = serde_json::json!({"inputs": {"space": "joint"}, "capacity_kg": 1.0});
+        let mut same = current.clone();
+        upgrade_capacity(&mut same, 2);
+        assert_eq!(same, current);
     }
 }

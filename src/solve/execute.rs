@@ -18,6 +18,21 @@ pub struct MotorsExecute {
     pub torque_excess_nm: Vec<f64>,
     /// Per motor: its peak |speed| above its speed limit, rad/s (0 within it).
     pub speed_excess_rad_s: Vec<f64>,
+    /// Per motor: its peak |torque| over the intervals, N m (absent in files of version 1 and
+    /// before: empty).
+    #[serde(default)]
+    pub torque_peak_nm: Vec<f64>,
+    /// Per motor: its peak |speed| over the nodes, rad/s (version 1 and before: empty).
+    #[serde(default)]
+    pub speed_peak_rad_s: Vec<f64>,
+    /// Per motor: its torque limit less its peak |torque|, N m; negative where it exceeds it
+    /// (version 1 and before: empty).
+    #[serde(default)]
+    pub torque_margin_nm: Vec<f64>,
+    /// Per motor: its speed limit less its peak |speed|, rad/s; negative where it exceeds it
+    /// (version 1 and before: empty).
+    #[serde(default)]
+    pub speed_margin_rad_s: Vec<f64>,
 }
 
 impl MotorsExecute {
@@ -41,7 +56,14 @@ impl MotorsExecute {
         };
         let torque_excess_nm = excess(peaks.0, limits.0);
         let speed_excess_rad_s = excess(peaks.1, limits.1);
+        let margin = |peaks: &[f64], limits: &[f64]| -> Vec<f64> {
+            peaks.iter().zip(limits).map(|(p, l)| l - p).collect()
+        };
         MotorsExecute {
+            torque_margin_nm: margin(peaks.0, limits.0),
+            speed_margin_rad_s: margin(peaks.1, limits.1),
+            torque_peak_nm: peaks.0.to_vec(),
+            speed_peak_rad_s: peaks.1.to_vec(),
             executes: torque_excess_nm
                 .iter()
                 .chain(&speed_excess_rad_s)

@@ -19,6 +19,7 @@ mod certify;
 mod continuation;
 mod error;
 mod execute;
+mod figures;
 mod result;
 mod result_checks;
 mod run;
@@ -30,6 +31,7 @@ pub use certify::{solve_design, solve_design_along, solve_design_from, solve_ela
 pub use continuation::{PayloadChain, CONTINUATION_STEP_KG};
 pub use error::SolveError;
 pub use execute::MotorsExecute;
+pub use figures::{MotorFigures, PhysicalFigures};
 pub use result::{
     CostTerms, ElasticMeasures, SolveSeconds, ToolInfo, Trajectory, TrajectoryResult, VerdictBy,
     Violations,

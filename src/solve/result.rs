@@ -2,6 +2,7 @@
 //! read from IPOPT's solution.
 
 use super::execute::MotorsExecute;
+use super::figures::PhysicalFigures;
 use crate::ipopt::{LinearSolver, Nlp, Solution};
 use crate::problem::{
     cost_gradient, relaxation, Formulation, ProblemKind, StaticHold, TrajectoryProblem,
@@ -218,8 +219,9 @@ pub struct TrajectoryResult {
     /// (`static_hold`).
     pub feasible: bool,
     /// Why the result is infeasible, when it is: the end and the motors that cannot hold the
-    /// load at rest first, then IPOPT's or the elastic solve's reason.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// load at rest first, then IPOPT's or the elastic solve's reason; null when feasible
+    /// (files of version 1 and before leave it out then).
+    #[serde(default)]
     pub reason: Option<String>,
     /// Which solve gave the verdict (docs/model.md, section 8): the hard problem, the elastic
     /// one, or the hard one started from the elastic trajectory. Absent in files written before
@@ -264,6 +266,10 @@ pub struct TrajectoryResult {
     /// per-joint vector; empty in files written before it was recorded).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub joints: Vec<String>,
+    /// Per motor and in total: int tau_u^2 dt, RMS and peak torque, peak speed, peak power and
+    /// work (`solve::PhysicalFigures`; absent in files of version 1 and before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub figures: Option<PhysicalFigures>,
     /// The trajectory.
     pub trajectory: Trajectory,
 }
@@ -333,6 +339,7 @@ pub(super) fn read_result(
         elastic,
         cost_terms: Some(cost_terms(problem, &solution.x, &trajectory)),
         joints: f.dynamics().robot().joint_names().to_vec(),
+        figures: PhysicalFigures::of(&trajectory),
         trajectory,
     }
 }

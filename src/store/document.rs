@@ -47,9 +47,14 @@ impl Schema {
         &self.tag()["codesign/".len()..]
     }
 
-    /// The version of this kind that this build writes (0: written before the envelope).
+    /// The version of this kind that this build writes (0: written before the envelope). The
+    /// results are at 2: `reason` always written (null when feasible), each motor's peaks and
+    /// margins in `motors_execute`, and a capacity search's inputs under `inputs`.
     pub fn version(self) -> u32 {
-        1
+        match self {
+            Schema::Solve | Schema::Optimize | Schema::Capacity => 2,
+            Schema::Table => 1,
+        }
     }
 
     /// The kind of tag `tag`, if any.
@@ -190,7 +195,7 @@ mod tests {
         let keys: Vec<&str> = text.lines().filter_map(|l| l.split('"').nth(1)).collect();
         assert_eq!(keys[..4], ["schema", "version", "b", "a"], "{text}");
         let mut value: Value = serde_json::from_str(&text).unwrap();
-        assert_eq!(open(&mut value), Ok(Tagged::Kind(Schema::Capacity, 1)));
+        assert_eq!(open(&mut value), Ok(Tagged::Kind(Schema::Capacity, 2)));
         assert_eq!(value, serde_json::json!({"b": 0.1, "a": [2]}));
         std::fs::remove_dir_all(&dir).unwrap();
     }
@@ -209,7 +214,7 @@ mod tests {
         );
         let mut bad = serde_json::json!({"schema": "codesign/solve", "version": 1.5});
         assert!(matches!(open(&mut bad), Err(EnvelopeError::BadVersion(_))));
-        let mut newer = serde_json::json!({"schema": "codesign/solve", "version": 2});
+        let mut newer = serde_json::json!({"schema": "codesign/solve", "version": 3});
         let error = open(&mut newer).unwrap_err();
         assert!(
             error.to_string().contains("written by a newer codesign"),

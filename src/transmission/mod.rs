@@ -7,11 +7,13 @@
 //!
 //! - `spec`: reading the task's `transmission` section (`r<i>` names, entries, order strings);
 //! - `design_space`: bounds, order constraints, the original design, checks and projection;
+//! - `active`: the bounds a design sits on, with what widening each would gain;
 //! - `coupling`: G(r), dG/dr_i, and G with its inverse at one design;
 //! - `limits`: the joint torque and speed limits of each [`LimitMode`](crate::model::task::LimitMode);
 //! - `actuation`: the controls' map to joint and motor torques at one design ([`Actuation`]);
 //! - `envelope`: the motors' linear torque-speed envelope ([`Envelope`]).
 
+mod active;
 mod actuation;
 mod coupling;
 mod design_space;
@@ -19,6 +21,7 @@ mod envelope;
 mod limits;
 mod spec;
 
+pub use active::{ActiveBound, BoundSide};
 pub use actuation::{Actuation, MotorDynamics, Space};
 pub use coupling::Coupling;
 pub use design_space::{DesignError, DesignSpace, HalfSpace, OrderConstraint};

@@ -90,7 +90,7 @@ fn each_ends_value_on_an_example() {
         run(&args, "planar-capacity.json").1
     };
     let held_kg = capacity["hold_kg"].as_f64().unwrap();
-    assert_eq!(capacity["ends"], "hold");
+    assert_eq!(capacity["inputs"]["ends"], "hold");
     let over = format!("{}", (held_kg * 1.05 * 1000.0).round() / 1000.0);
     let paper = solve(&over, "paper");
     let hold = solve(&over, "hold");

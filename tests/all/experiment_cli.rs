@@ -187,7 +187,10 @@ fn a_task_s_experiment_runs_and_its_table_names_the_task_without_the_paper_s_num
             out.join("runs/joint-capacity-seed0.json"),
             "/inputs/task_hash",
         ),
-        (out.join("capacity/actuation-original.json"), "/task_hash"),
+        (
+            out.join("capacity/actuation-original.json"),
+            "/inputs/task_hash",
+        ),
     ] {
         assert_eq!(
             read_json(&file).pointer(key),

@@ -199,7 +199,7 @@ fn results_are_read_by_their_schema_tag() {
     );
     let text = std::fs::read_to_string(&out).unwrap();
     assert!(
-        text.starts_with("{\n  \"schema\": \"codesign/solve\",\n  \"version\": 1,\n"),
+        text.starts_with("{\n  \"schema\": \"codesign/solve\",\n  \"version\": 2,\n"),
         "{text}"
     );
     let table = dir.join("t.md");
@@ -226,11 +226,11 @@ fn results_are_read_by_their_schema_tag() {
     support::fails_saying(&as_capacity, "cap.json: not a codesign capacity result");
     let unknown = variant("film.json", tag, "\"schema\": \"codesign/film\"");
     support::fails_saying(&unknown, "film.json: schema \"codesign/film\" is none of");
-    let newer = variant("newer.json", "\"version\": 1,", "\"version\": 7,");
+    let newer = variant("newer.json", "\"version\": 2,", "\"version\": 7,");
     support::fails_saying(&newer, "written by a newer codesign");
     let given_table = codesign(&["table", dir.join("t.json").to_str().unwrap()]);
     support::fails_saying(&given_table, "t.json: a table, made from results");
-    let untagged = variant("old.json", &format!("{tag},\n  \"version\": 1,\n  "), "");
+    let untagged = variant("old.json", &format!("{tag},\n  \"version\": 2,\n  "), "");
     assert!(!std::fs::read_to_string(dir.join("old.json"))
         .unwrap()
         .contains("schema"));
@@ -276,4 +276,41 @@ fn impossible_counts_and_capacities_are_refused() {
         "replayed.json: replayed = 145 is more than evaluations",
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The committed optima at their bounds are said so: the gradient method's 1 kg actuation-space
+/// optimum sits on the upper bounds of r1, r3 and r4, each named with dJ*/dr_i.
+#[test]
+fn the_committed_optima_at_their_bounds_are_named() {
+    let runs = support::root().join("results/runs");
+    let files: Vec<String> = std::fs::read_dir(&runs)
+        .unwrap()
+        .map(|entry| entry.unwrap().path())
+        .filter(|path| path.extension().is_some_and(|e| e == "json"))
+        .map(|path| path.to_str().unwrap().to_owned())
+        .collect();
+    let mut args = vec!["table"];
+    args.extend(files.iter().map(String::as_str));
+    let output = codesign(&args);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let table = String::from_utf8(output.stdout).unwrap();
+    let line = table
+        .lines()
+        .find(|l| l.starts_with("- 1 kg, actuation space, gradient method"))
+        .unwrap_or_else(|| panic!("no bound report of the gradient optimum:\n{table}"));
+    for ratio in [1, 3, 4] {
+        assert!(
+            line.contains(&format!("r{ratio} at its upper bound")),
+            "r{ratio}: {line}"
+        );
+        assert!(
+            line.contains(&format!("dJ*/dr{ratio} = -")),
+            "r{ratio}: {line}"
+        );
+    }
+    assert!(!line.contains("r2 at its"), "{line}");
 }

@@ -11,7 +11,7 @@ use crate::design::score::Objective;
 use crate::experiment::CapacityOf;
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
-use crate::report::codesign::CapacityDocument;
+use crate::report::codesign::{CapacityDocument, CapacityInputs};
 use crate::report::table::ResultFile;
 use crate::report::trajectory::{write_plots, SolveDocument};
 use crate::solve::ToolInfo;
@@ -220,13 +220,15 @@ pub fn capacity_document(
     }
     let document = CapacityDocument {
         tool: ToolInfo::current(task.solver.linear_solver()),
-        task_file: task_source(plan.task.as_ref()).label(),
-        task_hash: RecordedHash(Some(task.hash.clone())),
-        space,
-        ratios,
-        limit_modes: task.task.limit_modes,
-        ends: task.task.motion.ends,
-        settings,
+        inputs: CapacityInputs {
+            task_file: task_source(plan.task.as_ref()).label(),
+            task_hash: RecordedHash(Some(task.hash.clone())),
+            space,
+            ratios,
+            limit_modes: task.task.limit_modes,
+            ends: task.task.motion.ends,
+            settings,
+        },
         capacity,
     };
     write_document(&plan.layout.capacity(of), &document).map_err(|e| e.to_string())?;

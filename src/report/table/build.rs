@@ -15,7 +15,7 @@ use crate::problem::Space;
 use crate::solve::ToolInfo;
 use crate::solve::{envelope_margins, TrajectoryResult};
 use crate::stats::median;
-use crate::transmission::Envelope;
+use crate::transmission::{Envelope, Transmission};
 
 /// Builds the table from result files: solves of the original design give "before"; co-design
 /// runs give "after" (the best over their seeds) and, if no solve did, "before" too. The
@@ -129,7 +129,23 @@ fn cell(result: &TrajectoryResult, motors: &Motors) -> DesignCell {
         reason: result.reason.clone(),
         max_motor_torque: result.max_motor_torque,
         max_motor_speed: result.max_motor_speed,
+        active_bounds: Vec::new(),
     }
+}
+
+/// `cell` with the bounds of `doc`'s design space that `result`'s design sits on.
+fn with_bounds(
+    mut cell: DesignCell,
+    result: &TrajectoryResult,
+    doc: &OptimizeDocument,
+) -> DesignCell {
+    if let Ok(transmission) = Transmission::from_spec(&doc.inputs.task.task.transmission) {
+        let active = transmission
+            .design_space()
+            .active_bounds(&result.ratios, result.cost_gradient.as_deref());
+        cell.active_bounds = active.iter().map(ToString::to_string).collect();
+    }
+    cell
 }
 
 /// The task of a table's files.
@@ -243,7 +259,7 @@ fn add_run(row: &mut TableRow, doc: &OptimizeDocument) {
             Grading::Graded => &mut row.graded_gradient,
         };
         if let Some(result) = doc.best_result.as_ref().filter(|r| r.feasible) {
-            *column = Some((cell(result, motors), doc.solves));
+            *column = Some((with_bounds(cell(result, motors), result, doc), doc.solves));
         }
         return;
     }
@@ -294,7 +310,7 @@ fn add_seed(after: &mut AfterCell, doc: &OptimizeDocument, motors: &Motors) {
             .as_ref()
             .is_none_or(|best| result.cost < best.cost)
         {
-            after.best = Some(cell(result, motors));
+            after.best = Some(with_bounds(cell(result, motors), result, doc));
         }
     }
 }
@@ -327,7 +343,7 @@ fn capacity_of(files: &[ResultFile], space: Space, ratios: &[f64]) -> (Option<f6
     files
         .iter()
         .find_map(|f| match f {
-            ResultFile::Capacity(d) if d.space == space && d.ratios == ratios => {
+            ResultFile::Capacity(d) if d.inputs.space == space && d.inputs.ratios == ratios => {
                 Some((d.capacity.capacity_kg, d.capacity.hold_kg))
             }
             _ => None,

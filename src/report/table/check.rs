@@ -90,6 +90,7 @@ fn same_result(a: &ResultFile, b: &ResultFile) -> bool {
             a.inputs == b.inputs && a.result.ratios == b.result.ratios
         }
         (ResultFile::Capacity(a), ResultFile::Capacity(b)) => {
+            let (a, b) = (&a.inputs, &b.inputs);
             (&a.task_file, a.space, &a.ratios, a.limit_modes, a.settings)
                 == (&b.task_file, b.space, &b.ratios, b.limit_modes, b.settings)
         }
@@ -142,7 +143,7 @@ fn odd_value(file: &ResultFile) -> Option<String> {
 /// that is no payload, or above the search's own `max_kg` or the largest payload a task may
 /// carry.
 fn odd_capacity(d: &CapacityDocument) -> Option<String> {
-    let max = d.settings.max_kg;
+    let max = d.inputs.settings.max_kg;
     let edited = "the file was edited or damaged";
     if !(max.is_finite() && max > 0.0 && max <= MAX_PAYLOAD_KG) {
         return Some(format!(

@@ -48,6 +48,7 @@ impl PaperTable {
         if self.paper_task {
             text.push_str(&self.agreement_text());
         }
+        text.push_str(&self.bounds_text());
         let beyond = self.rows.iter().any(|r| {
             r.gradient.is_some()
                 || r.capacity_before_kg.is_some()
@@ -183,6 +184,42 @@ impl PaperTable {
         }
         text.push_str("\n\n");
         text
+    }
+
+    /// The best designs on bounds of the design space, each bound named with dJ*/dr_i and what
+    /// widening it would gain; empty when none is.
+    fn bounds_text(&self) -> String {
+        let mut lines = Vec::new();
+        for row in &self.rows {
+            let cells = [
+                ("CMA-ES", row.after.as_ref().and_then(|a| a.best.as_ref())),
+                (
+                    "gradient method",
+                    row.gradient.as_ref().map(|(cell, _)| cell),
+                ),
+            ];
+            for (method, cell) in cells {
+                let Some(cell) = cell.filter(|c| !c.active_bounds.is_empty()) else {
+                    continue;
+                };
+                lines.push(format!(
+                    "- {} kg, {} space, {method}, r = {}: {}.\n",
+                    row.payload_kg,
+                    row.space,
+                    ratios_text(&cell.ratios),
+                    cell.active_bounds.join("; ")
+                ));
+            }
+        }
+        if lines.is_empty() {
+            return String::new();
+        }
+        format!(
+            "\n**Designs at their bounds.** The best designs that sit on a bound of the design \
+             space, with dJ*/dr_i there: a negative slope at an upper bound (a positive one at a \
+             lower bound) is what a wider bound would gain.\n\n{}",
+            lines.concat()
+        )
     }
 
     /// The section beyond the paper: capacities, the largest capacity found and the gradient
@@ -415,6 +452,7 @@ mod tests {
             max_motor_torque: 2.5,
             max_motor_speed: 80.0,
             motors_can_execute,
+            active_bounds: Vec::new(),
         }
     }
 

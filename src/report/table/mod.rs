@@ -14,7 +14,7 @@ pub use hold::HoldRow;
 pub use build::build_table;
 pub use check::check_results;
 
-use super::codesign::CapacityDocument;
+use super::codesign::{upgrade_capacity, CapacityDocument};
 use super::trajectory::SolveDocument;
 use super::{ReadFailure, ReportError};
 use crate::design::run::{OptimizeDocument, PayloadCost};
@@ -44,7 +44,7 @@ impl ResultFile {
         match self {
             ResultFile::Solve(d) => &d.inputs.task_file,
             ResultFile::Optimize(d) => &d.inputs.task_file,
-            ResultFile::Capacity(d) => &d.task_file,
+            ResultFile::Capacity(d) => &d.inputs.task_file,
         }
     }
 
@@ -54,7 +54,7 @@ impl ResultFile {
         match self {
             ResultFile::Solve(d) => d.inputs.task.task.motion.ends,
             ResultFile::Optimize(d) => d.inputs.task.task.motion.ends,
-            ResultFile::Capacity(d) => d.ends,
+            ResultFile::Capacity(d) => d.inputs.ends,
         }
     }
 
@@ -66,7 +66,7 @@ impl ResultFile {
         let recorded = match self {
             ResultFile::Solve(d) => &d.inputs.task_hash,
             ResultFile::Optimize(d) => &d.inputs.task_hash,
-            ResultFile::Capacity(d) => &d.task_hash,
+            ResultFile::Capacity(d) => &d.inputs.task_hash,
         };
         match (&recorded.0, built_in) {
             (Some(hash), _) => Some(hash.clone()),
@@ -89,13 +89,14 @@ pub fn read_result_file(path: &Path) -> Result<ResultFile, ReportError> {
     let mut value: serde_json::Value =
         serde_json::from_str(&text).map_err(|e| failed(ReadFailure::NotJson(e.to_string())))?;
     let tagged = document::open(&mut value).map_err(|e| failed(ReadFailure::Envelope(e)))?;
-    let schema = match tagged {
-        Tagged::Kind(schema, _) => schema,
-        Tagged::Untagged => untagged_kind(&value),
+    let (schema, version) = match tagged {
+        Tagged::Kind(schema, version) => (schema, version),
+        Tagged::Untagged => (untagged_kind(&value), 0),
     };
     let kind = schema.name();
     let parsed = match schema {
         Schema::Capacity => {
+            upgrade_capacity(&mut value, version);
             serde_json::from_value(value).map(|d| ResultFile::Capacity(Box::new(d)))
         }
         Schema::Optimize => {
@@ -174,6 +175,10 @@ pub struct DesignCell {
     /// Whether the real motors can execute the trajectory: motor torques and speeds within the
     /// task's limits (to 1e-6 relative). A joint-space solution under the `paper` limits may not.
     pub motors_can_execute: bool,
+    /// The design-space bounds it sits on, each with dJ*/dr_i and what widening it would gain
+    /// (`ActiveBound`); empty inside the bounds and in tables written before they were said.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub active_bounds: Vec<String>,
 }
 
 /// The co-design runs of one row.

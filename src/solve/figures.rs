@@ -1,0 +1,153 @@
+//! Physical figures of a trajectory, per motor and in total: what a designer judges a gear ratio
+//! by, beside the weighted sum J (docs/model.md, section 16).
+//!
+//! The motor torques are constant over each interval k (the controls), and the joint speeds
+//! change linearly in it (the acceleration is constant), so each motor's speed w and power
+//! p = tau w are linear between the nodes k and k + 1. Every integral below is therefore exact on
+//! the discretised trajectory: int tau^2 dt = sum h tau_k^2, the work int p dt = sum h (p_k^- +
+//! p_k^+) / 2, with p_k^- = tau_k w_k and p_k^+ = tau_k w_{k+1}, and the peaks of |p| lie at the
+//! nodes.
+
+use super::result::Trajectory;
+use serde::{Deserialize, Serialize};
+
+/// One motor's figures along a trajectory.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MotorFigures {
+    /// int tau_u^2 dt, N^2 m^2 s: the control effort J's control term counts per node.
+    pub torque_squared_integral: f64,
+    /// Root mean square torque over the motion, N m: sqrt(int tau_u^2 dt / T), what heats a
+    /// motor's windings.
+    pub rms_torque_nm: f64,
+    /// Peak |torque|, N m.
+    pub peak_torque_nm: f64,
+    /// Peak |speed|, rad/s.
+    pub peak_speed_rad_s: f64,
+    /// Peak |mechanical power| tau_u w, W.
+    pub peak_power_w: f64,
+    /// Net mechanical work int tau_u w dt, J (negative: the motor brakes more than it drives).
+    pub work_j: f64,
+    /// Work delivered while driving, int max(tau_u w, 0) dt, J: the energy a motor supplies
+    /// when braking recovers nothing.
+    pub positive_work_j: f64,
+}
+
+/// The figures of every motor, and their sums.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PhysicalFigures {
+    /// Per motor, motor i at index i.
+    pub motors: Vec<MotorFigures>,
+    /// Sum over the motors of int tau_u^2 dt, N^2 m^2 s.
+    pub torque_squared_integral: f64,
+    /// Peak |sum over the motors of tau_u w| at one instant, W.
+    pub peak_power_w: f64,
+    /// Net mechanical work of all motors, J.
+    pub work_j: f64,
+    /// Sum of the motors' positive work, J.
+    pub positive_work_j: f64,
+}
+
+/// int_0^h max(p, 0) dt for p linear from `start` to `end` over a step `h`.
+fn positive_part(start: f64, end: f64, h: f64) -> f64 {
+    match (start >= 0.0, end >= 0.0) {
+        (true, true) => h * (start + end) / 2.0,
+        (false, false) => 0.0,
+        _ => {
+            let (high, low) = (start.max(end), start.min(end));
+            h * high * high / (2.0 * (high - low))
+        }
+    }
+}
+
+/// Motor `i`'s figures over the intervals of `t`.
+fn motor(t: &Trajectory, i: usize) -> MotorFigures {
+    let mut figures = MotorFigures {
+        torque_squared_integral: 0.0,
+        rms_torque_nm: 0.0,
+        peak_torque_nm: 0.0,
+        peak_speed_rad_s: 0.0,
+        peak_power_w: 0.0,
+        work_j: 0.0,
+        positive_work_j: 0.0,
+    };
+    for (k, torques) in t.motor_torque.iter().enumerate() {
+        let h = t.time[k + 1] - t.time[k];
+        let tau = torques[i];
+        let (w0, w1) = (t.motor_speed[k][i], t.motor_speed[k + 1][i]);
+        let (p0, p1) = (tau * w0, tau * w1);
+        figures.torque_squared_integral += h * tau * tau;
+        figures.peak_torque_nm = figures.peak_torque_nm.max(tau.abs());
+        figures.peak_power_w = figures.peak_power_w.max(p0.abs()).max(p1.abs());
+        figures.work_j += h * (p0 + p1) / 2.0;
+        figures.positive_work_j += positive_part(p0, p1, h);
+    }
+    for speeds in &t.motor_speed {
+        figures.peak_speed_rad_s = figures.peak_speed_rad_s.max(speeds[i].abs());
+    }
+    let duration = t.time.last().copied().unwrap_or(0.0) - t.time.first().copied().unwrap_or(0.0);
+    if duration > 0.0 {
+        figures.rms_torque_nm = (figures.torque_squared_integral / duration).sqrt();
+    }
+    figures
+}
+
+impl PhysicalFigures {
+    /// The figures of trajectory `t` (None when it has no interval or no motor).
+    pub fn of(t: &Trajectory) -> Option<PhysicalFigures> {
+        let motors = t.motor_torque.first()?.len();
+        if t.time.len() != t.motor_torque.len() + 1 || t.motor_speed.len() != t.time.len() {
+            return None;
+        }
+        let each: Vec<MotorFigures> = (0..motors).map(|i| motor(t, i)).collect();
+        let mut peak_power_w: f64 = 0.0;
+        for (k, torques) in t.motor_torque.iter().enumerate() {
+            for speeds in [&t.motor_speed[k], &t.motor_speed[k + 1]] {
+                let power: f64 = torques.iter().zip(speeds).map(|(tau, w)| tau * w).sum();
+                peak_power_w = peak_power_w.max(power.abs());
+            }
+        }
+        Some(PhysicalFigures {
+            torque_squared_integral: each.iter().map(|m| m.torque_squared_integral).sum(),
+            work_j: each.iter().map(|m| m.work_j).sum(),
+            positive_work_j: each.iter().map(|m| m.positive_work_j).sum(),
+            peak_power_w,
+            motors: each,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One motor, two intervals of 0.5 s: torque 2 then -1 N m, speeds 0, 4, 2 rad/s at the
+    /// nodes; every figure by hand.
+    #[test]
+    fn figures_match_a_hand_computation() {
+        let t = Trajectory {
+            time: vec![0.0, 0.5, 1.0],
+            motor_torque: vec![vec![2.0], vec![-1.0]],
+            motor_speed: vec![vec![0.0], vec![4.0], vec![2.0]],
+            ..Trajectory::default()
+        };
+        let f = PhysicalFigures::of(&t).unwrap();
+        let m = &f.motors[0];
+        assert_eq!(m.torque_squared_integral, 0.5 * 4.0 + 0.5 * 1.0);
+        assert_eq!(m.rms_torque_nm, 2.5f64.sqrt());
+        assert_eq!((m.peak_torque_nm, m.peak_speed_rad_s), (2.0, 4.0));
+        // Power: 0 -> 8 W over the first interval, -4 -> -2 W over the second.
+        assert_eq!(m.peak_power_w, 8.0);
+        assert_eq!(m.work_j, 0.5 * 8.0 / 2.0 + 0.5 * (-6.0) / 2.0);
+        assert_eq!(m.positive_work_j, 2.0);
+        assert_eq!((f.work_j, f.peak_power_w), (m.work_j, 8.0));
+    }
+
+    /// Power that changes sign within an interval: only the positive triangle counts.
+    #[test]
+    fn positive_work_counts_the_driving_part_of_an_interval() {
+        // p from -2 to 6 W over 1 s: it crosses 0 at 0.25 s; the positive part is 0.75 * 6 / 2.
+        assert_eq!(positive_part(-2.0, 6.0, 1.0), 2.25);
+        assert_eq!(positive_part(6.0, -2.0, 1.0), 2.25);
+        assert_eq!(positive_part(-1.0, -3.0, 1.0), 0.0);
+    }
+}
