@@ -5,9 +5,11 @@ use crate::errors::{Failure, Outcome};
 use clap::ValueEnum;
 use codesign::design::run::{Loaded, ModelChoice, ProblemChoice};
 use codesign::ipopt::LinearSolver;
-use codesign::model::task::{Ends, LimitMode, TaskSource};
+use codesign::model::task::{Ends, LimitMode, TaskFile, TaskSource};
+use codesign::model::Robot;
 use codesign::problem::{Formulation, Space};
 use codesign::text::number;
+use std::sync::Arc;
 
 /// The value of keyword `name` among the values of `T` (the command line's names), or an error
 /// listing them.
@@ -29,6 +31,26 @@ pub fn optional<T: ValueEnum>(name: &str, text: Option<&str>) -> Outcome<Option<
     text.map(|text| choice(name, text)).transpose()
 }
 
+/// A task read once, with its robot: what every call on the task starts from, so that a
+/// thousand solves read the task file and the URDF once.
+#[derive(Debug)]
+pub struct ReadTask {
+    /// The task file as read.
+    pub file: TaskFile,
+    /// The robot of its own task (its URDF and payload).
+    pub robot: Robot,
+}
+
+impl ReadTask {
+    /// Reads the task from `source` and its robot; errors name the file.
+    pub fn of(source: &TaskSource) -> Outcome<ReadTask> {
+        let file = source.load().map_err(|e| Failure::input(e.to_string()))?;
+        let robot = Robot::load(&file.task)
+            .map_err(|e| Failure::input(format!("{e} (the `robot` of {source})")))?;
+        Ok(ReadTask { file, robot })
+    }
+}
+
 /// The model and problem of one call: the task, its payload and ends, and the space, limit modes
 /// and linear solver.
 #[derive(Clone, Debug)]
@@ -37,6 +59,8 @@ pub struct Posed {
     pub model: ModelChoice,
     /// Space, limit modes and linear solver.
     pub problem: ProblemChoice,
+    /// The task and robot as read when the task was made.
+    read: Arc<ReadTask>,
 }
 
 /// The keywords [`Posed`] is read from, as Python gives them.
@@ -58,7 +82,11 @@ pub struct Keywords<'a> {
 impl Posed {
     /// Reads the keywords for the task from `source`; an unknown name or a payload out of range
     /// is an input error naming the keyword.
-    pub fn read(source: TaskSource, keywords: &Keywords<'_>) -> Outcome<Posed> {
+    pub fn read(
+        source: TaskSource,
+        read: Arc<ReadTask>,
+        keywords: &Keywords<'_>,
+    ) -> Outcome<Posed> {
         let model = ModelChoice {
             task: source,
             robot: None,
@@ -75,12 +103,19 @@ impl Posed {
             speed_mode: optional::<LimitMode>("speed_mode", keywords.speed_mode)?,
             linear_solver: optional::<LinearSolver>("linear_solver", keywords.linear_solver)?,
         };
-        Ok(Posed { model, problem })
+        Ok(Posed {
+            model,
+            problem,
+            read,
+        })
     }
 
     /// Loads the task and robot, the solve settings with the linear solver applied.
     pub fn load(&self) -> Outcome<Loaded> {
-        let mut loaded = self.model.load().map_err(Failure::input)?;
+        let mut loaded = self
+            .model
+            .load_from(&self.read.file, Some(&self.read.robot))
+            .map_err(Failure::input)?;
         self.problem.configure(&mut loaded.settings);
         Ok(loaded)
     }

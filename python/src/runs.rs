@@ -129,7 +129,7 @@ pub fn optimize(
         linear_solver,
     };
     let settings = |py| -> PyResult<Case> {
-        let posed = Posed::read(task.source.clone(), &keywords).map_err(|f| f.into_py(py))?;
+        let posed = task.posed(&keywords).map_err(|f| f.into_py(py))?;
         if resume && overwrite {
             let both = "resume=True and overwrite=True: choose one";
             return Err(Failure::input(both).into_py(py));

@@ -3,7 +3,7 @@
 
 use crate::errors::{Failure, Outcome};
 use crate::interrupt;
-use crate::options::{Keywords, Posed};
+use crate::options::{Keywords, Posed, ReadTask};
 use crate::solution::NativeSolution;
 use codesign::design::capacity::{payload_capacity, CapacitySettings};
 use codesign::design::run::RecordedHash;
@@ -24,6 +24,21 @@ use std::sync::Arc;
 #[pyclass(module = "codesign._native", frozen)]
 pub struct NativeTask {
     pub(crate) source: TaskSource,
+    /// The task and its robot, read when the task was made.
+    pub(crate) read: Arc<ReadTask>,
+}
+
+impl NativeTask {
+    /// The task of `source`, read with its robot.
+    fn of(source: TaskSource) -> Outcome<NativeTask> {
+        let read = Arc::new(ReadTask::of(&source)?);
+        Ok(NativeTask { source, read })
+    }
+
+    /// The call's choices read for this task.
+    pub(crate) fn posed(&self, keywords: &Keywords<'_>) -> Outcome<Posed> {
+        Posed::read(self.source.clone(), self.read.clone(), keywords)
+    }
 }
 
 /// The text of the task file at `path` (None: the built-in task, its robot null, which means the
@@ -53,19 +68,13 @@ impl NativeTask {
     /// The task file at `path`, read and checked.
     #[staticmethod]
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<NativeTask> {
-        let source = TaskSource::File(path);
-        source
-            .load()
-            .map_err(|e| Failure::input(e.to_string()).into_py(py))?;
-        Ok(NativeTask { source })
+        NativeTask::of(TaskSource::File(path)).map_err(|f| f.into_py(py))
     }
 
     /// The built-in task.
     #[staticmethod]
-    fn builtin() -> NativeTask {
-        NativeTask {
-            source: TaskSource::BuiltIn,
-        }
+    fn builtin(py: Python<'_>) -> PyResult<NativeTask> {
+        NativeTask::of(TaskSource::BuiltIn).map_err(|f| f.into_py(py))
     }
 
     /// The task of JSON `text`, named `label`, read and checked as a file is; a relative robot
@@ -78,9 +87,7 @@ impl NativeTask {
             label: label.to_owned(),
             file,
         };
-        Ok(NativeTask {
-            source: TaskSource::Given(Arc::new(given)),
-        })
+        NativeTask::of(TaskSource::Given(Arc::new(given))).map_err(|f| f.into_py(py))
     }
 
     /// How result documents name the task (`task_file`).
@@ -106,7 +113,7 @@ impl NativeTask {
             linear_solver: None,
         };
         let inspect = || -> Outcome<(String, String, Vec<String>)> {
-            let posed = Posed::read(self.source.clone(), &keywords)?;
+            let posed = self.posed(&keywords)?;
             let loaded = posed.load()?;
             let formulation = posed.formulation(&loaded)?;
             let ratios = ratios.unwrap_or_else(|| loaded.task.transmission.original.clone());
@@ -150,7 +157,7 @@ impl NativeTask {
             speed_mode,
             linear_solver,
         };
-        let posed = Posed::read(self.source.clone(), &keywords).map_err(|f| f.into_py(py))?;
+        let posed = self.posed(&keywords).map_err(|f| f.into_py(py))?;
         let request = SolveRequest {
             posed,
             ratios,
@@ -187,7 +194,7 @@ impl NativeTask {
             speed_mode,
             linear_solver,
         };
-        let posed = Posed::read(self.source.clone(), &keywords).map_err(|f| f.into_py(py))?;
+        let posed = self.posed(&keywords).map_err(|f| f.into_py(py))?;
         let defaults = CapacitySettings::default();
         let settings = CapacitySettings {
             resolution_kg: resolution.unwrap_or(defaults.resolution_kg),

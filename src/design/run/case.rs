@@ -13,7 +13,7 @@ use crate::design::warm::WarmStart;
 use crate::design::workers::{Launcher, SOLVE_TIMEOUT_S};
 use crate::ipopt::LinearSolver;
 use crate::model::identity::task_hash;
-use crate::model::task::{check_payload, Ends, LimitMode, LimitModes, Task, TaskSource};
+use crate::model::task::{check_payload, Ends, LimitMode, LimitModes, Task, TaskFile, TaskSource};
 use crate::model::Robot;
 use crate::problem::Space;
 use crate::solve::{SolveSettings, TaskRecord};
@@ -66,8 +66,15 @@ impl ModelChoice {
     /// Loads the task (with the overrides applied), the robot carrying the payload, the solve
     /// settings of the task file's `solver` section, and the task hash.
     pub fn load(&self) -> Result<Loaded, String> {
+        let file = self.source().load().map_err(|e| e.to_string())?;
+        self.load_from(&file, None)
+    }
+
+    /// As [`ModelChoice::load`], from `file`, the task file already read; `robot`, where given,
+    /// is the robot of that file's own task (its URDF, its payload), reused instead of read
+    /// again unless this choice names another robot (a host that solves one task many times).
+    pub fn load_from(&self, file: &TaskFile, robot: Option<&Robot>) -> Result<Loaded, String> {
         let source = self.source();
-        let file = source.load().map_err(|e| e.to_string())?;
         let settings = SolveSettings::from_section(file.solver.as_ref())
             .map_err(|e| format!("{source}: {e}"))?;
         let mut as_read = file.task.clone();
@@ -83,12 +90,15 @@ impl ModelChoice {
         if let Some(payload) = self.payload {
             task.payload.mass_kg = payload;
         }
-        let robot = Robot::load(&task).map_err(|e| match (&self.robot, self.source()) {
-            (None, source @ TaskSource::File(_)) => format!(
-                "{e} (the `robot` of {source}, relative to its folder; see `codesign task --help`)"
-            ),
-            _ => e.to_string(),
-        })?;
+        let robot = match robot.filter(|_| self.robot.is_none()) {
+            Some(robot) => robot.with_payload(task.payload.mass_kg),
+            None => Robot::load(&task).map_err(|e| match (&self.robot, self.source()) {
+                (None, source @ TaskSource::File(_)) => format!(
+                    "{e} (the `robot` of {source}, relative to its folder; see `codesign task --help`)"
+                ),
+                _ => e.to_string(),
+            })?,
+        };
         Ok(Loaded {
             task_hash: task_hash(&as_read, robot.urdf_hash()),
             task,
