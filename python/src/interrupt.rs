@@ -41,7 +41,14 @@ pub fn run<T: Send + 'static>(
     let outcome = loop {
         // A receiver is not Sync: the waiting closure takes it by unique reference.
         let waiting = &mut receiver;
-        match py.detach(move || waiting.recv_timeout(POLL)) {
+        let received = py.detach(move || waiting.recv_timeout(POLL));
+        // Signals are looked for after every message too: a run whose evaluations answer faster
+        // than the poll never waits long enough to time out.
+        if let Err(signal) = py.check_signals() {
+            stop(py, thread);
+            return Err(signal);
+        }
+        match received {
             Ok(Message::Done(outcome)) => break outcome,
             Ok(Message::Progress(done, total, best)) => {
                 if let Err(error) = progress(py, done, total, best) {
@@ -49,12 +56,7 @@ pub fn run<T: Send + 'static>(
                     return Err(error);
                 }
             }
-            Err(RecvTimeoutError::Timeout) => {
-                if let Err(signal) = py.check_signals() {
-                    stop(py, thread);
-                    return Err(signal);
-                }
-            }
+            Err(RecvTimeoutError::Timeout) => {}
             Err(RecvTimeoutError::Disconnected) => {
                 break Err(Failure::solver(
                     "the solve's thread ended without an answer",

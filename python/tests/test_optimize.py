@@ -81,8 +81,10 @@ def test_ctrl_c_stops_a_run_within_a_second_and_leaves_it_resumable(planar, tmp_
     assert child.stdout.readline().strip() == "running"
     child.send_signal(signal.SIGINT)
     sent = time.monotonic()
+    child.wait(timeout=30)
+    stopped = time.monotonic() - sent
     _, errors = child.communicate(timeout=30)
-    assert time.monotonic() - sent < 1.5, "the run did not stop within a second"
+    assert stopped < 1.5, f"the run took {stopped:.1f} s to stop:\n{errors}"
     assert child.returncode != 0 and "KeyboardInterrupt" in errors
     kept = log.read_text().splitlines()
     assert len(kept) > 10
