@@ -58,8 +58,11 @@ def test_a_progress_callback_that_raises_stops_the_run(planar, tmp_path):
         planar.optimize(**SMALL, log=tmp_path / "r.log.jsonl", progress=fail)
 
 
+# The child restores Python's own handler of INT: a shell without job control (a CI runner, a
+# background job) starts its children with INT ignored, as no terminal can send it there.
 RUN = """
-import sys, codesign as cd
+import signal, sys, codesign as cd
+signal.signal(signal.SIGINT, signal.default_int_handler)
 task = cd.Task.load(sys.argv[1])
 def progress(done, total, best):
     if done == 10:
