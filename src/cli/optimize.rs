@@ -15,7 +15,6 @@ use crate::design::score::{Objective, PayloadRange};
 use crate::design::warm::WarmStart;
 use crate::design::workers::SOLVE_TIMEOUT_S;
 use crate::store::log::{log_beside, Start};
-use crate::transmission::Transmission;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 
@@ -217,24 +216,6 @@ fn summary(document: &OptimizeDocument) -> String {
     )
 }
 
-/// The bounds of the design space the best design sits on, with dJ*/dr_i where its result has it.
-fn bounds_of(document: &OptimizeDocument) -> Vec<String> {
-    let Ok(transmission) = Transmission::from_spec(&document.inputs.task.task.transmission) else {
-        return Vec::new();
-    };
-    let gradient = document
-        .best_result
-        .as_ref()
-        .and_then(|r| r.cost_gradient.as_deref());
-    if document.best_ratios.is_empty() {
-        return Vec::new();
-    }
-    let active = transmission
-        .design_space()
-        .active_bounds(&document.best_ratios, gradient);
-    active.iter().map(ToString::to_string).collect()
-}
-
 /// Runs `codesign optimize` and prints a summary.
 pub fn run(args: &Args) -> Result<(), Failure> {
     let out = args.out.clone().unwrap_or_else(|| {
@@ -256,7 +237,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     case.validate().map_err(Failure::Usage)?;
     let document = run_case(&case, &out, &progress_bar).map_err(run_error)?;
     say!("{}", summary(&document));
-    for bound in bounds_of(&document) {
+    for bound in document.best_at_bounds() {
         say!("  at its bounds: {bound}");
     }
     match args.method {

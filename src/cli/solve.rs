@@ -394,6 +394,14 @@ fn verdict_text(result: &TrajectoryResult) -> String {
     }
 }
 
+/// Each ratio of the design at a bound of the design space, with dJ*/dr_i there.
+fn print_bounds(formulation: &Formulation, result: &TrajectoryResult) {
+    let space = formulation.transmission().design_space();
+    for bound in space.active_bounds(&result.ratios, result.cost_gradient.as_deref()) {
+        say!("  at its bounds: {bound}");
+    }
+}
+
 fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
     let task = formulation.task();
     say!(
@@ -430,10 +438,7 @@ fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
     if let Some(text) = envelope_text(formulation, result) {
         say!("  {text}");
     }
-    let space = formulation.transmission().design_space();
-    for bound in space.active_bounds(&result.ratios, result.cost_gradient.as_deref()) {
-        say!("  at its bounds: {bound}");
-    }
+    print_bounds(formulation, result);
     if let Some(hold) = &result.static_hold {
         say!("  {}", hold_text(hold));
     }

@@ -12,6 +12,7 @@ use crate::model::task::LimitModes;
 use crate::problem::Space;
 use crate::solve::{TaskRecord, ToolInfo, TrajectoryResult};
 use crate::store::log::LoggedRun;
+use crate::transmission::{ActiveBound, Transmission};
 use serde::{Deserialize, Serialize};
 
 /// The outer-level method of a co-design run.
@@ -198,6 +199,26 @@ pub struct OptimizeDocument {
     /// `best_result` and `original_result` are then None).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub payload_costs: Option<RangeCosts>,
+}
+
+impl OptimizeDocument {
+    /// The bounds of the run's design space that its best design sits on, with dJ*/dr_i from
+    /// the best design's result where it has one; none when no design was found.
+    pub fn best_at_bounds(&self) -> Vec<ActiveBound> {
+        let Ok(transmission) = Transmission::from_spec(&self.inputs.task.task.transmission) else {
+            return Vec::new();
+        };
+        if self.best_ratios.is_empty() {
+            return Vec::new();
+        }
+        let gradient = self
+            .best_result
+            .as_ref()
+            .and_then(|r| r.cost_gradient.as_deref());
+        transmission
+            .design_space()
+            .active_bounds(&self.best_ratios, gradient)
+    }
 }
 
 impl crate::store::document::Document for OptimizeDocument {

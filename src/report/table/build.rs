@@ -15,7 +15,7 @@ use crate::problem::Space;
 use crate::solve::ToolInfo;
 use crate::solve::{envelope_margins, TrajectoryResult};
 use crate::stats::median;
-use crate::transmission::{Envelope, Transmission};
+use crate::transmission::Envelope;
 
 /// Builds the table from result files: solves of the original design give "before"; co-design
 /// runs give "after" (the best over their seeds) and, if no solve did, "before" too. The
@@ -133,18 +133,13 @@ fn cell(result: &TrajectoryResult, motors: &Motors) -> DesignCell {
     }
 }
 
-/// `cell` with the bounds of `doc`'s design space that `result`'s design sits on.
-fn with_bounds(
-    mut cell: DesignCell,
-    result: &TrajectoryResult,
-    doc: &OptimizeDocument,
-) -> DesignCell {
-    if let Ok(transmission) = Transmission::from_spec(&doc.inputs.task.task.transmission) {
-        let active = transmission
-            .design_space()
-            .active_bounds(&result.ratios, result.cost_gradient.as_deref());
-        cell.active_bounds = active.iter().map(ToString::to_string).collect();
-    }
+/// `cell` of `doc`'s best design with the bounds of its design space it sits on.
+fn with_bounds(mut cell: DesignCell, doc: &OptimizeDocument) -> DesignCell {
+    cell.active_bounds = doc
+        .best_at_bounds()
+        .iter()
+        .map(ToString::to_string)
+        .collect();
     cell
 }
 
@@ -259,7 +254,7 @@ fn add_run(row: &mut TableRow, doc: &OptimizeDocument) {
             Grading::Graded => &mut row.graded_gradient,
         };
         if let Some(result) = doc.best_result.as_ref().filter(|r| r.feasible) {
-            *column = Some((with_bounds(cell(result, motors), result, doc), doc.solves));
+            *column = Some((with_bounds(cell(result, motors), doc), doc.solves));
         }
         return;
     }
@@ -310,7 +305,7 @@ fn add_seed(after: &mut AfterCell, doc: &OptimizeDocument, motors: &Motors) {
             .as_ref()
             .is_none_or(|best| result.cost < best.cost)
         {
-            after.best = Some(with_bounds(cell(result, motors), result, doc));
+            after.best = Some(with_bounds(cell(result, motors), doc));
         }
     }
 }
