@@ -6,7 +6,7 @@ use crate::interrupt::{self, Message};
 use crate::options::{choice, Keywords, Posed};
 use crate::task::NativeTask;
 use codesign::design::optimize::Progress;
-use codesign::design::run::{run_case, Case, Method, RunError};
+use codesign::design::run::{run_case, Case, CaseError, Method, RunError};
 use codesign::design::warm::WarmStart;
 use codesign::store::document::document_json;
 use codesign::store::log::Start;
@@ -33,19 +33,31 @@ impl RunKeywords {
     /// The case these settings and `posed` make.
     fn case(&self, posed: Posed) -> Case {
         let mut case = Case::new(posed.model, posed.problem, self.method);
-        let cmaes = &mut case.cmaes;
+        let cmaes = &mut case.settings.cmaes;
         cmaes.population = self.population.unwrap_or(cmaes.population);
         cmaes.generations = self.generations.unwrap_or(cmaes.generations);
         cmaes.seed = self.seed.unwrap_or(cmaes.seed);
         cmaes.sigma0 = self.sigma.unwrap_or(cmaes.sigma0);
         let gradient = &mut case.gradient;
         gradient.max_iterations = self.gradient_iterations.unwrap_or(gradient.max_iterations);
-        case.warm_start = self.warm_start.unwrap_or(case.warm_start);
-        case.workers = self.workers;
-        case.worker_command = Some(self.worker_command.clone());
-        case.start = self.start;
+        let settings = &mut case.settings;
+        settings.warm_start = self.warm_start.unwrap_or(settings.warm_start);
+        let execution = &mut case.execution;
+        execution.workers = self.workers;
+        execution.worker_command = Some(self.worker_command.clone());
+        execution.start = self.start;
         case
     }
+}
+
+/// A case's error worded with the keyword that sets the value (`sigma=-1: ...`).
+fn case_message(error: &CaseError) -> String {
+    let keyword = match error.key {
+        "sigma0" => "sigma",
+        "start" => return format!("{}=True: {}", error.value, error.rule),
+        key => key,
+    };
+    format!("{keyword}={}: {}", error.value, error.rule)
 }
 
 /// Hands each finished evaluation to the waiting Python thread.
@@ -68,9 +80,8 @@ impl Progress for Forward {
 /// a log to resume or overwrite) or the work's.
 fn failure(error: RunError) -> Failure {
     match error {
-        RunError::Case(_) | RunError::Load(_) | RunError::Store { .. } => {
-            Failure::input(error.to_string())
-        }
+        RunError::Case(error) => Failure::input(case_message(&error)),
+        RunError::Load(_) | RunError::Store { .. } => Failure::input(error.to_string()),
         _ => Failure::solver(error.to_string()),
     }
 }

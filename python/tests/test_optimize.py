@@ -46,8 +46,11 @@ def test_run_settings_are_checked(planar, tmp_path):
         planar.optimize(log=tmp_path / "run.txt")
     with pytest.raises(cd.InputError, match="choose one"):
         planar.optimize(**SMALL, log=tmp_path / "a.log.jsonl", resume=True, overwrite=True)
-    with pytest.raises(cd.InputError, match="population"):
+    # Worded with the keyword, not the command line's flag.
+    with pytest.raises(cd.InputError, match="^population=1: must be 5 to"):
         planar.optimize(space="actuation", population=1, progress=False)
+    with pytest.raises(cd.InputError, match="^sigma=-1: must be a positive number"):
+        planar.optimize(space="actuation", sigma=-1.0, progress=False)
 
 
 def test_a_progress_callback_that_raises_stops_the_run(planar, tmp_path):

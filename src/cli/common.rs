@@ -2,6 +2,7 @@
 //! layer's [`ModelChoice`] and [`ProblemChoice`], which do the work.
 
 use super::failure::Failure;
+use super::run_flags::{case_error, case_message};
 use crate::design::run::{task_source, Loaded, ModelChoice, ProblemChoice};
 use crate::ipopt::LinearSolver;
 use crate::model::task::{Ends, LimitMode, LimitModes, Task, TaskSource};
@@ -64,7 +65,7 @@ impl ModelArgs {
 
     /// Checks what needs no file ([`ModelChoice::validate`]): a usage error.
     pub fn validate(&self) -> Result<(), Failure> {
-        self.choice().validate().map_err(Failure::Usage)
+        self.choice().validate().map_err(case_error)
     }
 
     /// Where the task comes from.
@@ -91,7 +92,7 @@ impl ModelArgs {
         task.tcp.link.clone_from(&tip);
         task.tcp.point = [0.0; 3];
         task.payload.at = task.tcp.clone();
-        self.choice().validate()?;
+        (self.choice().validate()).map_err(|e| case_message(&e))?;
         task.payload.mass_kg = self.payload.unwrap_or(0.0);
         if let Some(ends) = self.ends {
             task.motion.ends = ends;

@@ -65,6 +65,7 @@ mod dynamics;
 mod failure;
 mod optimize;
 mod reproduce;
+mod run_flags;
 mod solve;
 mod store_hints;
 mod table;

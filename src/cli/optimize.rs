@@ -3,8 +3,8 @@
 
 use super::common::{listed_number, ModelArgs, ProblemArgs};
 use super::failure::Failure;
+use super::run_flags::{case_error, RunArgs};
 use super::store_hints::run_error;
-use crate::design::bounds::BoundHandling;
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::gradient::GradientSettings;
@@ -12,8 +12,6 @@ use crate::design::optimize::Progress;
 use crate::design::penalty::Penalty;
 use crate::design::run::{run_case, Case, Method, OptimizeDocument};
 use crate::design::score::{Objective, PayloadRange};
-use crate::design::warm::WarmStart;
-use crate::design::workers::SOLVE_TIMEOUT_S;
 use crate::store::log::{log_beside, Start};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
@@ -67,27 +65,8 @@ pub struct Args {
     /// problem's objective, from infeasible starts too), or a number (flat, of that value).
     #[arg(long, value_name = "flat|graded|VALUE", default_value_t = Penalty::PAPER)]
     pub penalty: Penalty,
-    /// What CMA-ES does with a sample outside the design space (bounds, order constraints):
-    /// `penalty` evaluates it as drawn, so it scores the penalty (the paper's rule); `clip`
-    /// evaluates and logs its Euclidean projection onto the space instead (pagmo's force_bounds).
-    #[arg(long, value_enum, default_value_t = BoundHandling::Penalty)]
-    pub bounds: BoundHandling,
-    /// Whether CMA-ES starts the designs of each generation from a solution of the generation's
-    /// mean (cost objective only), falling back to the standard guess where that fails; `off`
-    /// starts every design from the standard guess (the paper's).
-    #[arg(long, value_enum, default_value_t = WarmStart::default())]
-    pub warm_start: WarmStart,
-    /// Worker processes (default: one per core).
-    #[arg(long, value_name = "N")]
-    pub workers: Option<usize>,
-    /// A solve taking longer than this (s) counts as a hung worker.
-    #[arg(long, value_name = "S", default_value_t = SOLVE_TIMEOUT_S)]
-    pub solve_timeout: f64,
-    /// Shell command that starts one worker speaking the worker protocol on stdin/stdout; `{}`
-    /// stands for this binary's path, e.g. "srun --ntasks=1 --exclusive {} worker" inside a
-    /// Slurm allocation or "ssh node7 codesign worker" [default: this binary's `worker`].
-    #[arg(long, value_name = "CMD")]
-    pub worker_command: Option<String>,
+    #[command(flatten)]
+    pub run: RunArgs,
     /// Result file (JSON); the evaluation log is written beside it as FILE.log.jsonl and locked
     /// for the whole run (a second run on the same file fails at once). A symbolic link is
     /// followed, and the log sits beside the file it points to; an input file, a folder, a
@@ -106,7 +85,8 @@ impl Args {
     /// The run these flags ask for.
     pub fn case(&self) -> Case {
         let mut case = Case::new(self.model.choice(), self.problem.choice(), self.method);
-        case.objective = match self.objective {
+        let settings = &mut case.settings;
+        settings.objective = match self.objective {
             ObjectiveKind::Cost => Objective::Cost,
             ObjectiveKind::Capacity => Objective::Capacity(CapacitySettings {
                 resolution_kg: self.capacity_resolution,
@@ -116,21 +96,19 @@ impl Args {
                 payloads_kg: self.payloads.clone().unwrap_or_default(),
             }),
         };
-        case.cmaes = CmaesSettings {
+        settings.cmaes = CmaesSettings {
             population: self.population,
             generations: self.generations,
             sigma0: self.sigma,
             seed: self.seed,
             ..CmaesSettings::default()
         };
+        settings.set_penalty(self.penalty);
+        self.run.apply(settings);
         case.gradient.max_iterations = self.gradient_iterations;
-        case.penalty = self.penalty;
-        case.bounds = self.bounds;
-        case.warm_start = self.warm_start;
-        case.workers = self.workers;
-        case.solve_timeout_s = self.solve_timeout;
-        case.worker_command = self.worker_command.clone();
-        case.start = Start::from_flags(self.resume, self.overwrite);
+        case.execution = self
+            .run
+            .execution(Start::from_flags(self.resume, self.overwrite));
         case
     }
 }
@@ -181,7 +159,7 @@ fn summary(document: &OptimizeDocument) -> String {
         texts.join(", ")
     };
     let best = join(&document.best_ratios);
-    let found = match (&document.inputs.objective, &document.payload_costs) {
+    let found = match (&document.inputs.settings.objective, &document.payload_costs) {
         _ if document.best_ratios.is_empty() => "no feasible design found".to_owned(),
         (Objective::Capacity(_), _) => format!(
             "largest payload capacity {:.3} kg at r = ({best})",
@@ -234,7 +212,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         ));
     }
     let case = args.case();
-    case.validate().map_err(Failure::Usage)?;
+    case.validate().map_err(case_error)?;
     let document = run_case(&case, &out, &progress_bar).map_err(run_error)?;
     say!("{}", summary(&document));
     for bound in document.best_at_bounds() {

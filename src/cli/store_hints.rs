@@ -43,6 +43,7 @@ pub fn run_error(error: RunError) -> String {
             error: error @ StoreError::Refused { .. },
         } => hint(error, "--out (its evaluation log)"),
         RunError::Store { error, .. } => hint(error, "--out"),
+        RunError::Case(error) => super::run_flags::case_message(&error),
         other => other.to_string(),
     }
 }

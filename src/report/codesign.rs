@@ -82,7 +82,7 @@ impl crate::store::document::Document for CapacityDocument {
 /// penalty.
 pub fn cost_evolution_chart(title: &str, runs: &[&OptimizeDocument]) -> Chart {
     let dots = runs.iter().map(|run| Series {
-        name: format!("seed {}: every evaluation", run.inputs.seed),
+        name: format!("seed {}: every evaluation", run.inputs.settings.cmaes.seed),
         points: run
             .costs
             .iter()
@@ -94,7 +94,7 @@ pub fn cost_evolution_chart(title: &str, runs: &[&OptimizeDocument]) -> Chart {
     let best = runs.iter().map(|run| {
         let mut best = f64::INFINITY;
         Series::line(
-            format!("seed {}: best so far", run.inputs.seed),
+            format!("seed {}: best so far", run.inputs.settings.cmaes.seed),
             run.costs
                 .iter()
                 .enumerate()

@@ -90,7 +90,8 @@ impl LoggedRun for Value {
 pub type Finished<E> = HashMap<(usize, usize), E>;
 
 /// How a run treats a log already at its path.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Start {
     /// Refuse it (the user decides between resuming and overwriting).
     Fresh,

@@ -52,10 +52,10 @@ fn committed_logs_resume_and_their_lines_are_written_as_they_are() {
         // Every entry is one the scoring writes, so that a resumption believes it.
         let inputs: OptimizeInputs = serde_json::from_value(header.run.clone()).unwrap();
         let penalty = Penalty {
-            base: inputs.penalty,
-            grading: inputs.grading,
+            base: inputs.settings.penalty,
+            grading: inputs.settings.grading,
         };
-        let negative = matches!(inputs.objective, Objective::Capacity(_));
+        let negative = matches!(inputs.settings.objective, Objective::Capacity(_));
         for line in lines {
             let entry = LogEntry::<Evaluation>::from_line(line, header.checksums)
                 .unwrap_or_else(|why| panic!("{}: {why:?}", original.display()));

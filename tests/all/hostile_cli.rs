@@ -490,7 +490,7 @@ fn ratios_that_are_no_numbers_and_a_resumed_gradient_run_are_usage_errors() {
         "--out",
         path(&out),
     ]);
-    refused_as_usage(&output, "--resume continues CMA-ES runs");
+    refused_as_usage(&output, "--resume: only CMA-ES runs are resumed");
     assert!(!out.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -1,10 +1,10 @@
 //! `reproduce --from-runs`: the results that the plan's commands wrote (on other machines, by
 //! GNU parallel or a Slurm job array), read back from the output folder.
 
-use super::plan::{Plan, PlannedRun, SPACES};
 use super::Outcomes;
 use crate::design::run::OptimizeDocument;
 use crate::experiment::CapacityOf;
+use crate::experiment::{Plan, PlannedRun, SPACES};
 use crate::report::codesign::CapacityDocument;
 use crate::report::table::{check_results, read_result_file, ResultFile};
 use std::path::{Path, PathBuf};

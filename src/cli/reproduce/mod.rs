@@ -1,16 +1,17 @@
 //! `codesign reproduce`: the task's experiment, by default the paper's (docs/model.md, section
 //! 13), end to end.
 
+mod commands;
 mod merge;
-mod plan;
 mod stages;
 
 use super::failure::Failure;
 use super::store_hints::{check_output, hint};
-use crate::design::bounds::BoundHandling;
+use crate::cli::run_flags::{case_error, RunArgs};
 use crate::design::run::{task_source, OptimizeDocument};
-use crate::design::warm::WarmStart;
+use crate::design::run::{Method, RunSettings};
 use crate::experiment::CapacityOf;
+use crate::experiment::{Plan, PlanError, PlanRequest, SPACES};
 use crate::ipopt::LinearSolver;
 use crate::model::experiment::Budget;
 use crate::model::identity::task_hash;
@@ -26,7 +27,6 @@ use crate::store::document::write_document;
 use crate::store::files::{create_folder, remove_stale, write_atomic};
 use crate::store::lock::lock_folder;
 use crate::store::log::{Start, LOG_EXTENSION};
-use plan::{Plan, SPACES};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -57,20 +57,12 @@ pub struct Args {
     /// experiment].
     #[arg(long, value_name = "FILE")]
     task: Option<PathBuf>,
-    /// Worker processes (default: one per core).
-    #[arg(long, value_name = "N")]
-    workers: Option<usize>,
     /// Linear solver inside IPOPT; default: the task's `solver.linear_solver`, else ldl.
     #[arg(long, value_enum, value_name = "SOLVER")]
     linear_solver: Option<LinearSolver>,
-    /// What every CMA-ES run does with a sample outside the design space (see `optimize
-    /// --bounds`): penalised as drawn (the paper's rule) or projected onto the space.
-    #[arg(long, value_enum, default_value_t = BoundHandling::Penalty)]
-    bounds: BoundHandling,
-    /// Whether every CMA-ES run starts each generation's designs from a solution of its mean
-    /// (see `optimize --warm-start`).
-    #[arg(long, value_enum, default_value_t = WarmStart::default())]
-    warm_start: WarmStart,
+    /// The CMA-ES runs' bound handling and warm starts, and their workers (as `optimize`'s).
+    #[command(flatten)]
+    run: RunArgs,
     /// What the motion asks at its ends in every run (see `solve --ends`); default: the task's
     /// `motion.ends` (the built-in task's: paper). Under `paper`, Table II's cases are solved
     /// under `hold` as well, in OUT_DIR/hold/, for the table's section on holding the load.
@@ -83,10 +75,6 @@ pub struct Args {
     /// (they are replaced case by case as the new runs start).
     #[arg(long, conflicts_with = "resume")]
     overwrite: bool,
-    /// Shell command that starts one worker, `{}` standing for this binary (see `optimize
-    /// --worker-command`), e.g. "srun --ntasks=1 --exclusive {} worker".
-    #[arg(long, value_name = "CMD")]
-    worker_command: Option<String>,
     /// Print the experiment's independent commands, one a line, instead of running them (each
     /// co-design run an `optimize` with its own --out, one worker unless --workers is given,
     /// resuming its log when run again), after creating the output folder they write into; run
@@ -98,6 +86,36 @@ pub struct Args {
     /// the capacities of the best designs, and write the table and plots as `reproduce` does.
     #[arg(long, value_name = "DIR", conflicts_with_all = ["out_dir", "resume", "overwrite"])]
     from_runs: Option<PathBuf>,
+}
+
+impl Args {
+    /// What these flags ask of the task's experiment.
+    fn request(&self) -> PlanRequest {
+        let mut cmaes = RunSettings::new(Method::Cmaes);
+        self.run.apply(&mut cmaes);
+        PlanRequest {
+            quick: self.quick,
+            seeds: self.seeds,
+            population: self.population,
+            generations: self.generations,
+            folder: self.from_runs.clone().or_else(|| self.out_dir.clone()),
+            task: self.task.clone(),
+            linear_solver: self.linear_solver,
+            cmaes,
+            execution: self
+                .run
+                .execution(Start::from_flags(self.resume, self.overwrite)),
+            ends: self.ends,
+        }
+    }
+}
+
+/// A plan's error: a usage error naming the flag, or the task file's.
+fn plan_error(error: PlanError) -> Failure {
+    match error {
+        PlanError::Request(error) => case_error(error),
+        PlanError::Task(message) => Failure::Work(message),
+    }
 }
 
 /// What the experiment's independent stages produced, in this process or by the plan's
@@ -124,7 +142,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let file = task_source(args.task.as_ref())
         .load()
         .map_err(|e| e.to_string())?;
-    let plan = Plan::new(args, file.experiment.clone(), file.task.motion.ends)?;
+    let plan = Plan::new(
+        &args.request(),
+        file.experiment.clone(),
+        file.task.motion.ends,
+    )
+    .map_err(plan_error)?;
     if let Some(folder) = &args.from_runs {
         if !folder.is_dir() {
             return Err(Failure::Work(format!(
@@ -149,7 +172,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 create_folder(&folder).map_err(|e| e.to_string())?;
             }
         }
-        for line in plan.commands(&program.to_string_lossy()) {
+        for line in commands::commands(&plan, &program.to_string_lossy()) {
             say!("{line}");
         }
         return Ok(());
@@ -204,7 +227,7 @@ fn section_outcomes(plan: &Plan, task: &ExperimentTask, merged: bool) -> Result<
     if merged {
         return merge::read_all(plan, &task.hash);
     }
-    if plan.start == Start::Fresh {
+    if plan.execution.start == Start::Fresh {
         refuse_earlier_logs(&plan.layout.runs())?;
     }
     create_folder(plan.out_dir()).map_err(|e| e.to_string())?;
@@ -231,7 +254,7 @@ fn load_task(plan: &Plan, mut file: TaskFile) -> Result<ExperimentTask, String> 
     let source = task_source(plan.task.as_ref());
     let mut solver =
         SolveSettings::from_section(file.solver.as_ref()).map_err(|e| format!("{source}: {e}"))?;
-    solver.override_linear_solver(plan.problem.linear_solver);
+    solver.override_linear_solver(plan.linear_solver);
     let robot = Robot::load(&file.task).map_err(|e| e.to_string())?;
     Ok(ExperimentTask {
         hash: task_hash(&file.task, robot.urdf_hash()),

@@ -1,7 +1,6 @@
 //! The stages of the experiment run in this process: the original designs, the co-design runs
 //! and the capacities, each written to its file in the output folder as it finishes.
 
-use super::plan::{Plan, PlannedRun, SPACES};
 use super::{ExperimentTask, Outcomes};
 use crate::cli::optimize::progress_bar;
 use crate::cli::store_hints::run_error;
@@ -9,6 +8,7 @@ use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::design::run::{run_case, task_source, OptimizeDocument, RecordedHash};
 use crate::design::score::Objective;
 use crate::experiment::CapacityOf;
+use crate::experiment::{Plan, PlannedRun, SPACES};
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
 use crate::report::codesign::{CapacityDocument, CapacityInputs};
@@ -110,7 +110,7 @@ fn cost_runs(plan: &Plan) -> Result<Vec<OptimizeDocument>, String> {
             "co-design, {} space, {} kg, seed {}: {} ({} evaluations)",
             planned.case.problem.space,
             document.inputs.payload_kg,
-            planned.case.cmaes.seed,
+            planned.case.settings.cmaes.seed,
             best_text(&document),
             document.evaluations
         );
@@ -139,7 +139,7 @@ fn gradient_runs(plan: &Plan) -> Vec<OptimizeDocument> {
     for planned in plan.gradient_runs() {
         let space = planned.case.problem.space;
         let payload = planned.case.model.payload.unwrap_or_default();
-        let penalty = planned.case.penalty;
+        let penalty = planned.case.settings.penalty();
         let label = format!("gradient co-design, {space} space, {payload} kg, {penalty} penalty");
         match run(plan, &planned) {
             Ok(document) if document.best_ratios.is_empty() => {
@@ -171,7 +171,7 @@ fn beyond_runs(plan: &Plan) -> Result<Vec<OptimizeDocument>, String> {
     for planned in plan.beyond_runs() {
         let document = run(plan, &planned)?;
         let space = planned.case.problem.space;
-        match &planned.case.objective {
+        match &planned.case.settings.objective {
             Objective::Range(range) => say!(
                 "range co-design, {space} space, {:?} kg: {} ({} evaluations)",
                 range.payloads_kg,
@@ -191,8 +191,8 @@ fn beyond_runs(plan: &Plan) -> Result<Vec<OptimizeDocument>, String> {
             Objective::Cost => say!(
                 "co-design, {space} space, {} kg, seed {}, penalty {}: {} ({} evaluations)",
                 document.inputs.payload_kg,
-                planned.case.cmaes.seed,
-                planned.case.penalty,
+                planned.case.settings.cmaes.seed,
+                planned.case.settings.penalty(),
                 best_text(&document),
                 document.evaluations
             ),

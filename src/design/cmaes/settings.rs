@@ -1,10 +1,12 @@
 //! The settings of a CMA-ES run, their defaults and ranges, and why a run stops.
 
 use crate::model::experiment::Budget;
+use serde::{Deserialize, Serialize};
 use std::fmt;
 
 /// Settings of one run. Units of x are those of the bounds, units of f those of the fitness.
-#[derive(Clone, Debug, PartialEq)]
+/// Serialised with their field names, as a run's document records them.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CmaesSettings {
     /// lambda: designs per generation and in the initial population (at least 5, as in pagmo).
     pub population: usize,

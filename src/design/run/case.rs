@@ -3,21 +3,15 @@
 //! `codesign optimize` that sets each value, since a case is what those flags pose.
 
 use super::document::{Method, OptimizeInputs, RecordedHash, VerdictRule};
-use crate::design::bounds::BoundHandling;
-use crate::design::capacity::{CapacitySettings, MIN_RESOLUTION_KG};
-use crate::design::cmaes::CmaesSettings;
+use super::settings::{CaseError, Execution, RunSettings};
 use crate::design::gradient::GradientSettings;
-use crate::design::penalty::{Grading, Penalty};
-use crate::design::score::{Objective, PayloadRange};
-use crate::design::warm::WarmStart;
-use crate::design::workers::{Launcher, SOLVE_TIMEOUT_S};
+use crate::design::workers::Launcher;
 use crate::ipopt::LinearSolver;
 use crate::model::identity::task_hash;
 use crate::model::task::{check_payload, Ends, LimitMode, LimitModes, Task, TaskFile, TaskSource};
 use crate::model::Robot;
 use crate::problem::Space;
 use crate::solve::{SolveSettings, TaskRecord};
-use crate::store::log::Start;
 use crate::text::number;
 use std::path::{Path, PathBuf};
 
@@ -54,11 +48,11 @@ impl ModelChoice {
         task_file.into_iter().chain(robot).collect()
     }
 
-    /// Checks what needs no file: the payload's range; the message names `--payload`.
-    pub fn validate(&self) -> Result<(), String> {
+    /// Checks what needs no file: the payload's range.
+    pub fn validate(&self) -> Result<(), CaseError> {
         match self.payload {
             Some(payload) => check_payload(payload)
-                .map_err(|why| format!("--payload {}: {why}", number(payload))),
+                .map_err(|why| CaseError::new("payload_kg", number(payload), why.to_string())),
             None => Ok(()),
         }
     }
@@ -86,7 +80,7 @@ impl ModelChoice {
         if let Some(robot) = &self.robot {
             task.robot = Some(robot.clone());
         }
-        self.validate()?;
+        self.validate().map_err(|e| e.to_string())?;
         if let Some(payload) = self.payload {
             task.payload.mass_kg = payload;
         }
@@ -150,20 +144,12 @@ impl ProblemChoice {
     }
 }
 
-/// The longest `--solve-timeout`, s: a week, beyond any solve of a task (the largest problem
-/// allowed solves in minutes).
-pub const MAX_SOLVE_TIMEOUT_S: f64 = 604_800.0;
-
-/// The shortest `--solve-timeout`, s: a worker process must start, load its task and say hello
-/// within it, which takes a fraction of a second.
-pub const MIN_SOLVE_TIMEOUT_S: f64 = 1.0;
-
 /// `text` quoted for `sh`: in single quotes, each single quote written as '\''.
 pub fn shell_quote(text: &str) -> String {
     format!("'{}'", text.replace('\'', "'\\''"))
 }
 
-/// A co-design run of one case: the problem, the outer method and its settings, and how the
+/// A co-design run of one case: the problem, the settings that decide its result, and how its
 /// evaluations run.
 #[derive(Clone, Debug)]
 pub struct Case {
@@ -171,30 +157,12 @@ pub struct Case {
     pub model: ModelChoice,
     /// Space, limit modes and linear solver.
     pub problem: ProblemChoice,
-    /// The outer method.
-    pub method: Method,
-    /// What is minimised.
-    pub objective: Objective,
-    /// CMA-ES's settings; recorded in the result of every run (a gradient run of `reproduce`
-    /// records population and generations 0).
-    pub cmaes: CmaesSettings,
+    /// The method, objective, CMA-ES settings, penalty, bound handling and warm starts.
+    pub settings: RunSettings,
     /// The gradient method's settings.
     pub gradient: GradientSettings,
-    /// How invalid or infeasible designs are scored.
-    pub penalty: Penalty,
-    /// Whether CMA-ES's samples are evaluated as drawn or projected onto the design space.
-    pub bounds: BoundHandling,
-    /// Whether CMA-ES's designs start from a solution of their generation's mean.
-    pub warm_start: WarmStart,
-    /// Worker processes (default: one per core).
-    pub workers: Option<usize>,
-    /// A solve taking longer than this counts as a hung worker, s.
-    pub solve_timeout_s: f64,
-    /// The shell command that starts one worker, `{}` standing for this binary's path (None:
-    /// this binary's `worker`, started directly).
-    pub worker_command: Option<String>,
-    /// Fresh start, resumption of its evaluation log, or replacement of it.
-    pub start: Start,
+    /// Workers, timeout and start.
+    pub execution: Execution,
 }
 
 impl Case {
@@ -204,127 +172,28 @@ impl Case {
         Case {
             model,
             problem,
-            method,
-            objective: Objective::Cost,
-            cmaes: CmaesSettings::default(),
+            settings: RunSettings::new(method),
             gradient: GradientSettings::default(),
-            penalty: Penalty::PAPER,
-            bounds: BoundHandling::Penalty,
-            warm_start: WarmStart::default(),
-            workers: None,
-            solve_timeout_s: SOLVE_TIMEOUT_S,
-            worker_command: None,
-            start: Start::Fresh,
+            execution: Execution::default(),
         }
     }
 
-    /// Checks the settings that need no task; every error names the flag of `optimize` that
-    /// sets the value, with the rule and its reason.
-    pub fn validate(&self) -> Result<(), String> {
+    /// The outer method.
+    pub fn method(&self) -> Method {
+        self.settings.method
+    }
+
+    /// Checks the settings that need no task; the error names the setting by its key.
+    pub fn validate(&self) -> Result<(), CaseError> {
         self.model.validate()?;
-        if self.method == Method::Cmaes {
-            // The gradient method has no population or generations (reproduce records 0).
-            self.cmaes.validate().map_err(|e| {
-                let flag = match e.field {
-                    "sigma0" => "sigma",
-                    field => field,
-                };
-                format!("--{flag} {}: {}", e.value, e.rule)
-            })?;
-        }
-        if self.penalty.grading == Grading::Graded {
-            self.check_graded()?;
-        }
-        if self.method == Method::Gradient && !self.bounds.is_penalty() {
-            return Err(format!(
-                "--bounds {}: the gradient method keeps its iterates in the design space itself; \
-                 use --method cmaes",
-                self.bounds
-            ));
-        }
-        if !(self.solve_timeout_s.is_finite()
-            && (MIN_SOLVE_TIMEOUT_S..=MAX_SOLVE_TIMEOUT_S).contains(&self.solve_timeout_s))
-        {
-            return Err(format!(
-                "--solve-timeout {}: must be {MIN_SOLVE_TIMEOUT_S} to {MAX_SOLVE_TIMEOUT_S} \
-                 seconds (a worker needs about a second to start and say hello; no solve of a \
-                 task takes a week)",
-                number(self.solve_timeout_s)
-            ));
-        }
-        if self.workers == Some(0) {
-            return Err("--workers 0: must be at least 1".to_owned());
-        }
-        if self
-            .worker_command
-            .as_ref()
-            .is_some_and(|line| line.trim().is_empty())
-        {
-            return Err("--worker-command: must be a shell command, e.g. \"{} worker\"".to_owned());
-        }
-        match (self.method, &self.objective) {
-            (Method::Gradient, Objective::Capacity(_)) => Err(
-                "--objective capacity: the capacity is not differentiable in r; use --method cmaes"
-                    .to_owned(),
-            ),
-            (Method::Gradient, Objective::Range(_)) => Err(
-                "--objective range: the gradient method descends one payload's cost; use \
-                 --method cmaes"
-                    .to_owned(),
-            ),
-            (_, Objective::Range(range)) => self.check_range(range),
-            (Method::Gradient, _) if self.start == Start::Resume => Err(
-                "--resume continues CMA-ES runs; a gradient run is short, start it again"
-                    .to_owned(),
-            ),
-            (_, &Objective::Capacity(CapacitySettings { resolution_kg, .. }))
-                if !(resolution_kg.is_finite() && resolution_kg >= MIN_RESOLUTION_KG) =>
-            {
-                Err(format!(
-                    "--capacity-resolution {}: must be a mass of at least {MIN_RESOLUTION_KG} \
-                     kg (1 mg, below what any scale resolves)",
-                    number(resolution_kg)
-                ))
-            }
-            _ => Ok(()),
-        }
-    }
-
-    /// Checks that a graded penalty has something to grade: the cost of a design, at one
-    /// payload or (CMA-ES) over a range.
-    fn check_graded(&self) -> Result<(), String> {
-        if matches!(self.objective, Objective::Capacity(_)) {
-            return Err(
-                "--penalty graded: the capacity search has no elastic form; use \
-                 --objective cost or range"
-                    .to_owned(),
-            );
-        }
-        Ok(())
-    }
-
-    /// Checks the payloads of `--objective range`: at least one, each a valid payload, and no
-    /// `--payload` beside them.
-    fn check_range(&self, range: &PayloadRange) -> Result<(), String> {
-        if let Some(payload) = self.model.payload {
-            return Err(format!(
-                "--payload {payload}: --objective range solves every payload of --payloads; leave \
-                 --payload out"
-            ));
-        }
-        if range.payloads_kg.is_empty() {
-            return Err("--objective range: give the payloads with --payloads KG,KG,..".to_owned());
-        }
-        for &payload in &range.payloads_kg {
-            check_payload(payload)
-                .map_err(|why| format!("--payloads {}: {why}", number(payload)))?;
-        }
-        Ok(())
+        self.settings
+            .validate(self.model.payload, self.execution.start)?;
+        self.execution.validate()
     }
 
     /// How the run's workers start, for this binary at `program`.
     pub fn launcher(&self, program: &Path) -> Launcher {
-        match &self.worker_command {
+        match &self.execution.worker_command {
             None => Launcher::Program(program.to_owned()),
             Some(line) => {
                 Launcher::Shell(line.replace("{}", &shell_quote(&program.to_string_lossy())))
@@ -332,132 +201,23 @@ impl Case {
         }
     }
 
-    /// The flags of `codesign optimize` that pose this run (all but `--out`): what `reproduce
-    /// --plan` prints.
-    pub fn flags(&self) -> Vec<String> {
-        let mut flags: Vec<String> = Vec::new();
-        let mut push = |flag: &str, value: String| flags.extend([flag.to_owned(), value]);
-        match &self.model.task {
-            TaskSource::BuiltIn => {}
-            TaskSource::File(task) => push("--task", shell_quote(&task.to_string_lossy())),
-            // A task built in memory has no flag: its text is what the run's log records.
-            TaskSource::Given(given) => push("--task", shell_quote(&given.label)),
-        }
-        if let Some(robot) = &self.model.robot {
-            push("--robot", shell_quote(&robot.to_string_lossy()));
-        }
-        if let Some(payload) = self.model.payload {
-            push("--payload", payload.to_string());
-        }
-        if let Some(ends) = self.model.ends {
-            push("--ends", ends.to_string());
-        }
-        push("--space", self.problem.space.name().to_owned());
-        if let Some(solver) = self.problem.linear_solver {
-            push("--linear-solver", solver.name().to_owned());
-        }
-        if self.method == Method::Gradient {
-            push("--method", "gradient".to_owned());
-            push(
-                "--gradient-iterations",
-                self.gradient.max_iterations.to_string(),
-            );
-        }
-        match &self.objective {
-            Objective::Cost => {}
-            Objective::Capacity(settings) => {
-                push("--objective", "capacity".to_owned());
-                push("--capacity-resolution", settings.resolution_kg.to_string());
-            }
-            Objective::Range(range) => {
-                push("--objective", "range".to_owned());
-                let payloads: Vec<String> = range.payloads_kg.iter().map(f64::to_string).collect();
-                push("--payloads", payloads.join(","));
-            }
-        }
-        push("--seed", self.cmaes.seed.to_string());
-        push("--population", self.cmaes.population.to_string());
-        push("--generations", self.cmaes.generations.to_string());
-        push("--sigma", self.cmaes.sigma0.to_string());
-        push("--penalty", self.penalty.to_string());
-        if !self.bounds.is_penalty() {
-            push("--bounds", self.bounds.to_string());
-        }
-        if self.method == Method::Cmaes && !self.warm_start.is_on() {
-            push("--warm-start", self.warm_start.to_string());
-        }
-        if let Some(workers) = self.workers {
-            push("--workers", workers.to_string());
-        }
-        if let Some(line) = &self.worker_command {
-            push("--worker-command", shell_quote(line));
-        }
-        match self.start {
-            Start::Fresh => {}
-            Start::Resume => flags.push("--resume".to_owned()),
-            Start::Overwrite => flags.push("--overwrite".to_owned()),
-        }
-        flags
-    }
-
-    /// The settings in which a run recorded as `inputs` differs from this case, as
-    /// `setting: recorded X, case Y` (none: it is a run of this case). The task itself is not
-    /// compared: the case names it by path only.
+    /// The settings in which the run recorded as `inputs` differs from this case, as `key:
+    /// recorded X, planned Y` (none: it is a run of this case): its settings key by key, its
+    /// space, and its payload where the case gives one. The task is not compared: the case
+    /// names it by path only.
     pub fn differences(&self, inputs: &OptimizeInputs) -> Vec<String> {
-        let mut found = Vec::new();
-        let mut compare = |name: &str, recorded: String, case: String| {
-            if recorded != case {
-                found.push(format!("{name}: recorded {recorded}, planned {case}"));
-            }
-        };
-        compare(
-            "method",
-            format!("{:?}", inputs.method),
-            format!("{:?}", self.method),
-        );
-        compare(
-            "objective",
-            format!("{:?}", inputs.objective),
-            format!("{:?}", self.objective),
-        );
-        compare(
-            "space",
-            inputs.space.to_string(),
-            self.problem.space.to_string(),
-        );
-        if let Some(payload) = self.model.payload {
-            compare(
-                "payload_kg",
-                inputs.payload_kg.to_string(),
-                payload.to_string(),
-            );
+        let mut found = self.settings.differences(inputs);
+        if inputs.space != self.problem.space {
+            found.push(format!(
+                "space: recorded {}, planned {}",
+                inputs.space, self.problem.space
+            ));
         }
-        let penalty = |base: f64, grading| format!("{base} {grading:?}");
-        compare(
-            "penalty",
-            penalty(inputs.penalty, inputs.grading),
-            penalty(self.penalty.base, self.penalty.grading),
-        );
-        if self.method == Method::Cmaes {
-            let c = &self.cmaes;
-            compare("seed", inputs.seed.to_string(), c.seed.to_string());
-            compare(
-                "population",
-                inputs.population.to_string(),
-                c.population.to_string(),
-            );
-            compare(
-                "generations",
-                inputs.generations.to_string(),
-                c.generations.to_string(),
-            );
-            compare("sigma0", inputs.sigma0.to_string(), c.sigma0.to_string());
-            compare("bounds", inputs.bounds.to_string(), self.bounds.to_string());
-            compare(
-                "warm_start",
-                inputs.warm_start.to_string(),
-                self.warm_start.to_string(),
-            );
+        if let Some(payload) = self.model.payload.filter(|p| *p != inputs.payload_kg) {
+            found.push(format!(
+                "payload_kg: recorded {}, planned {payload}",
+                inputs.payload_kg
+            ));
         }
         found
     }
@@ -468,8 +228,7 @@ impl Case {
     pub fn inputs(&self, loaded: &Loaded, modes: LimitModes) -> OptimizeInputs {
         let (task, settings) = (&loaded.task, &loaded.settings);
         OptimizeInputs {
-            method: self.method,
-            objective: self.objective.clone(),
+            settings: self.settings.recorded(),
             task_file: self.model.source().label(),
             // The linear solver is recorded in its own field, so that a log written before the
             // field existed (MUMPS) compares by that field alone.
@@ -483,20 +242,7 @@ impl Case {
             space: self.problem.space,
             payload_kg: task.payload.mass_kg,
             limit_modes: modes,
-            seed: self.cmaes.seed,
-            population: self.cmaes.population,
-            generations: self.cmaes.generations,
-            sigma0: self.cmaes.sigma0,
-            penalty: self.penalty.base,
-            grading: self.penalty.grading,
-            bounds: self.bounds,
-            ftol: self.cmaes.ftol,
-            xtol: self.cmaes.xtol,
             verdict_rule: VerdictRule::default(),
-            warm_start: match self.method {
-                Method::Cmaes => self.warm_start,
-                Method::Gradient => WarmStart::Off,
-            },
         }
     }
 }
@@ -525,55 +271,55 @@ mod tests {
         Case::new(model, problem, method)
     }
 
+    /// The key of the setting `case` is refused for.
+    fn refused(case: &Case) -> &'static str {
+        case.validate().unwrap_err().key
+    }
+
     #[test]
     fn population_and_generations_are_checked_for_cma_es_only() {
         let mut cmaes = case(Method::Cmaes);
-        cmaes.cmaes.population = 0;
+        cmaes.settings.cmaes.population = 0;
         let error = cmaes.validate().unwrap_err();
-        assert!(error.starts_with("--population 0: must be 5 to"), "{error}");
+        assert_eq!(error.key, "population");
+        assert!(error.rule.starts_with("must be 5 to"), "{error}");
         let mut gradient = case(Method::Gradient);
-        gradient.cmaes.population = 0;
-        gradient.cmaes.generations = 0;
+        gradient.settings.cmaes.population = 0;
+        gradient.settings.cmaes.generations = 0;
         gradient.validate().unwrap();
     }
 
     #[test]
-    fn every_error_names_its_flag() {
+    fn every_error_names_its_setting() {
         let mut sigma = case(Method::Cmaes);
-        sigma.cmaes.sigma0 = -1.0;
-        assert!(sigma.validate().unwrap_err().starts_with("--sigma -1:"));
+        sigma.settings.cmaes.sigma0 = -1.0;
+        assert_eq!(refused(&sigma), "sigma0");
         let mut resumed = case(Method::Gradient);
-        resumed.start = Start::Resume;
-        assert!(resumed.validate().unwrap_err().starts_with("--resume"));
+        resumed.execution.start = Start::Resume;
+        assert_eq!(refused(&resumed), "start");
         let mut capacity = case(Method::Gradient);
-        capacity.objective = Objective::Capacity(Default::default());
-        assert!(capacity
-            .validate()
-            .unwrap_err()
-            .starts_with("--objective capacity"));
+        capacity.settings.objective = Objective::Capacity(Default::default());
+        assert_eq!(refused(&capacity), "objective");
         let mut graded = case(Method::Cmaes);
-        graded.objective = Objective::Capacity(Default::default());
-        graded.penalty = "graded".parse().unwrap();
-        assert!(graded
-            .validate()
-            .unwrap_err()
-            .starts_with("--penalty graded"));
+        graded.settings.objective = Objective::Capacity(Default::default());
+        graded.settings.set_penalty("graded".parse().unwrap());
+        assert_eq!(refused(&graded), "grading");
         // The gradient method grades too: it descends on the elastic problem.
         let mut descent = case(Method::Gradient);
-        descent.penalty = "graded".parse().unwrap();
+        descent.settings.set_penalty("graded".parse().unwrap());
         descent.validate().unwrap();
         let mut clipped = case(Method::Gradient);
-        clipped.bounds = BoundHandling::Clip;
-        assert!(clipped.validate().unwrap_err().starts_with("--bounds clip"));
-        clipped.method = Method::Cmaes;
+        clipped.settings.bounds = BoundHandling::Clip;
+        assert_eq!(refused(&clipped), "bounds");
+        clipped.settings.method = Method::Cmaes;
         clipped.validate().unwrap();
         let mut timeout = case(Method::Cmaes);
         for absurd in [f64::NAN, 1e300, 0.0, 1e-300, 0.5] {
-            timeout.solve_timeout_s = absurd;
-            assert!(timeout
-                .validate()
-                .unwrap_err()
-                .starts_with("--solve-timeout"));
+            timeout.execution.solve_timeout_s = absurd;
+            assert_eq!(refused(&timeout), "solve_timeout_s");
         }
+        let mut heavy = case(Method::Cmaes);
+        heavy.model.payload = Some(-1.0);
+        assert_eq!(refused(&heavy), "payload_kg");
     }
 }

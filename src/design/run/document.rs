@@ -1,12 +1,9 @@
 //! The document of a co-design run: its settings ([`OptimizeInputs`], also the header of its
 //! evaluation log) and what it found ([`OptimizeDocument`], the JSON file `optimize` writes).
 
-use crate::design::bounds::BoundHandling;
+use super::settings::RunSettings;
 use crate::design::outcome::GenerationSummary;
 use crate::design::outcome::GradientIterate;
-use crate::design::penalty::Grading;
-use crate::design::score::Objective;
-use crate::design::warm::WarmStart;
 use crate::ipopt::LinearSolver;
 use crate::model::task::LimitModes;
 use crate::problem::Space;
@@ -29,12 +26,10 @@ pub enum Method {
 /// Everything that defines a co-design run; two runs with equal inputs give equal results.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct OptimizeInputs {
-    /// The outer-level method.
-    #[serde(default)]
-    pub method: Method,
-    /// What is minimised.
-    #[serde(default)]
-    pub objective: Objective,
+    /// The settings of the run (method, objective, CMA-ES, penalty, bounds, warm starts),
+    /// written at this level of the document.
+    #[serde(flatten)]
+    pub settings: RunSettings,
     /// The task file as given.
     pub task_file: String,
     /// The task with every override applied, and its solve settings, the linear solver aside.
@@ -57,36 +52,10 @@ pub struct OptimizeInputs {
     pub payload_kg: f64,
     /// Limit modes.
     pub limit_modes: LimitModes,
-    /// CMA-ES seed.
-    pub seed: u64,
-    /// CMA-ES population lambda.
-    pub population: usize,
-    /// CMA-ES generations after the initial population.
-    pub generations: usize,
-    /// Initial step, relative to the design box.
-    pub sigma0: f64,
-    /// Fitness of invalid or infeasible designs (the base of a graded penalty).
-    pub penalty: f64,
-    /// Whether the penalty is graded by the distance from feasibility; flat (the paper's) when
-    /// left out.
-    #[serde(default, skip_serializing_if = "Grading::is_flat")]
-    pub grading: Grading,
-    /// Whether CMA-ES's samples outside the design space were projected onto it before they
-    /// were evaluated; penalised as drawn (the paper's rule) when left out.
-    #[serde(default, skip_serializing_if = "BoundHandling::is_penalty")]
-    pub bounds: BoundHandling,
-    /// Stop when the population's cost spread falls below this.
-    pub ftol: f64,
-    /// Stop when the step falls below this.
-    pub xtol: f64,
     /// The rule that judged each design feasible; a log is resumed only under its own rule, so
     /// that no verdict of an older rule is replayed as today's.
     #[serde(default = "VerdictRule::before_hold")]
     pub verdict_rule: VerdictRule,
-    /// Whether each generation's designs started from a solution of its mean; left out when
-    /// off, so that the logs written before warm starts existed (all cold) read as off.
-    #[serde(default = "WarmStart::off", skip_serializing_if = "WarmStart::is_off")]
-    pub warm_start: WarmStart,
 }
 
 /// What makes a design feasible in a run's evaluations.

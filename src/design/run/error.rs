@@ -1,5 +1,6 @@
 //! Why a co-design run failed, by what failed: the case, its inputs, its outputs or the run.
 
+use super::settings::CaseError;
 use crate::design::gradient::GradientError;
 use crate::design::optimize::OptimizeError;
 use crate::design::score::ScoreError;
@@ -19,8 +20,8 @@ pub enum Output {
 /// Why a co-design run failed.
 #[derive(Debug)]
 pub enum RunError {
-    /// A setting of the case is out of its range; the message names the `optimize` flag.
-    Case(String),
+    /// A setting of the case is out of its range, or at odds with another.
+    Case(CaseError),
     /// The task, the robot, the solver settings or the program itself could not be loaded;
     /// names file and field.
     Load(String),
@@ -49,8 +50,8 @@ pub enum RunError {
 impl fmt::Display for RunError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            RunError::Case(message)
-            | RunError::Load(message)
+            RunError::Case(error) => write!(f, "{error}"),
+            RunError::Load(message)
             | RunError::Solver(message)
             | RunError::Unconfirmed(message) => f.write_str(message),
             RunError::Store { error, .. } => write!(f, "{error}"),

@@ -39,7 +39,7 @@ pub fn run_case(
     case.problem.configure(&mut loaded.settings);
     let read = case.model.inputs(&loaded.task);
     check_result(out, &read).map_err(RunError::store(Output::Result))?;
-    if case.method == Method::Cmaes {
+    if case.settings.method == Method::Cmaes {
         check_output(&log_beside(out), &read).map_err(RunError::store(Output::Log))?;
     }
     let modes = case.problem.modes(&loaded.task);
@@ -54,7 +54,7 @@ pub fn run_case(
     let formulation = Formulation::new(&task, robot, case.problem.space, modes)
         .map_err(|e| RunError::Load(e.to_string()))?
         .with_hold_tolerance(settings.constraint_tolerance());
-    let mut log = match case.method {
+    let mut log = match case.settings.method {
         Method::Cmaes => Some(open_log(case, out, &inputs)?),
         Method::Gradient => None,
     };
@@ -70,9 +70,14 @@ pub fn run_case(
             };
             run_cmaes(run, log, finished, display).map(|o| (o, log.earlier_seconds()))
         }
-        None => optimize_gradient(&formulation, &settings, &case.gradient, case.penalty)
-            .map(|o| (o, Some(0.0)))
-            .map_err(RunError::from),
+        None => optimize_gradient(
+            &formulation,
+            &settings,
+            &case.gradient,
+            case.settings.penalty(),
+        )
+        .map(|o| (o, Some(0.0)))
+        .map_err(RunError::from),
     };
     let result = outcome.and_then(|(outcome, earlier_seconds)| {
         let mut document = document(case, &formulation, &settings, inputs, outcome)?;
@@ -94,14 +99,14 @@ fn open_log(
     out: &Path,
     inputs: &OptimizeInputs,
 ) -> Result<(EvaluationLog, Finished), RunError> {
-    let (log, finished) = EvaluationLog::open(&log_beside(out), inputs, case.start)
+    let (log, finished) = EvaluationLog::open(&log_beside(out), inputs, case.execution.start)
         .map_err(RunError::store(Output::Log))?;
     // A replayed entry is believed as a worker's answer would be: only what the scoring writes.
-    let negative_fitness = matches!(case.objective, Objective::Capacity(_));
+    let negative_fitness = matches!(case.settings.objective, Objective::Capacity(_));
     let mut entries: Vec<_> = finished.iter().collect();
     entries.sort_by_key(|(key, _)| **key);
     for ((generation, index), evaluation) in entries {
-        if let Some(why) = evaluation.implausible(&case.penalty, negative_fitness) {
+        if let Some(why) = evaluation.implausible(&case.settings.penalty(), negative_fitness) {
             return Err(RunError::Load(format!(
                 "{}: the evaluation of generation {generation}, design {index} holds {why}, \
                  which the scoring never writes: the log was edited; start afresh with --overwrite",
@@ -133,7 +138,7 @@ fn document(
     // The designs are solved again as they were scored: the elastic problem for a graded
     // penalty, so that the reported cost is the one behind `best_cost`.
     let elastic;
-    let scored = match case.penalty.grading {
+    let scored = match case.settings.grading {
         Grading::Flat => formulation,
         Grading::Graded => {
             elastic = formulation.elastic();
@@ -142,15 +147,15 @@ fn document(
     };
     let anchored =
         (outcome.best_anchor.as_ref()).and_then(|anchor| anchor_solution(scored, settings, anchor));
-    let (best_result, original_result, payload_costs) = match &case.objective {
+    let (best_result, original_result, payload_costs) = match &case.settings.objective {
         Objective::Range(_) => {
             let fitness = Fitness::new(
                 formulation.task(),
                 settings,
                 formulation.space(),
                 *formulation.modes(),
-                &case.objective,
-                case.penalty,
+                &case.settings.objective,
+                case.settings.penalty(),
             )?;
             let best = payload_costs(&fitness, settings, &outcome.best_ratios);
             let original = payload_costs(&fitness, settings, &original_ratios);
@@ -176,7 +181,7 @@ fn document(
         (_, Some(costs)) if costs.original.iter().all(|c| c.feasible) => {
             costs.original.iter().map(|c| c.cost).sum::<f64>() / costs.original.len() as f64
         }
-        _ => case.penalty.base,
+        _ => case.settings.penalty,
     };
     Ok(OptimizeDocument {
         tool: ToolInfo::current(inputs.linear_solver),
@@ -262,12 +267,12 @@ fn worker_setup(
         worker_task.robot = Some(absolute);
     }
     Ok(WorkerSetup {
-        objective: inputs.objective.clone(),
+        objective: inputs.settings.objective.clone(),
         task: worker_task,
         solve: settings.clone(),
         space: case.problem.space,
         modes: *formulation.modes(),
-        penalty: case.penalty,
+        penalty: case.settings.penalty(),
         robot_hash: inputs.robot_hash.0.clone().unwrap_or_default(),
     })
 }
@@ -315,13 +320,13 @@ fn run_cmaes(
         setup,
         formulation,
     } = run;
-    let workers = worker_count(case.workers, case.cmaes.population);
+    let workers = worker_count(case.execution.workers, case.settings.cmaes.population);
     let program = std::env::current_exe()
         .map_err(|e| RunError::Load(format!("cannot locate the codesign executable: {e}")))?;
-    let timeout = Duration::from_secs_f64(case.solve_timeout_s);
+    let timeout = Duration::from_secs_f64(case.execution.solve_timeout_s);
     let launcher = case.launcher(&program);
     let mut pool = Pool::new(launcher.clone(), setup, workers, timeout)?;
-    let settings = &case.cmaes;
+    let settings = &case.settings.cmaes;
     let total = (settings.population * (settings.generations + 1)) as u64;
     let label = format!(
         "{} {} kg seed {}",
@@ -330,8 +335,8 @@ fn run_cmaes(
     let mut progress = display(total, label);
     let sampling = Sampling {
         space: formulation.transmission().design_space(),
-        bounds: case.bounds,
-        warm_start: case.warm_start,
+        bounds: case.settings.bounds,
+        warm_start: case.settings.warm_start,
     };
     let outcome = optimize(
         settings.clone(),

@@ -6,13 +6,13 @@ mod case;
 mod document;
 mod error;
 mod execute;
+mod settings;
 mod verify;
 
-pub use case::{
-    shell_quote, task_source, Case, Loaded, ModelChoice, ProblemChoice, MAX_SOLVE_TIMEOUT_S,
-};
+pub use case::{shell_quote, task_source, Case, Loaded, ModelChoice, ProblemChoice};
 pub use document::{
     Method, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts, RecordedHash,
 };
 pub use error::{Output, RunError};
 pub use execute::{run_case, ProgressDisplay};
+pub use settings::{CaseError, Execution, RunSettings, MAX_SOLVE_TIMEOUT_S, MIN_SOLVE_TIMEOUT_S};

@@ -36,7 +36,9 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
     let mut ranges = Vec::new();
     for file in files {
         match file {
-            ResultFile::Optimize(doc) if matches!(doc.inputs.objective, Objective::Range(_)) => {
+            ResultFile::Optimize(doc)
+                if matches!(doc.inputs.settings.objective, Objective::Range(_)) =>
+            {
                 ranges.extend(range_row(doc));
             }
             ResultFile::Optimize(doc) => add_run(
@@ -77,14 +79,14 @@ pub fn build_table(files: &[ResultFile], notes: Vec<String>) -> PaperTable {
 
 /// The row of a payload-range run.
 fn range_row(doc: &OptimizeDocument) -> Option<RangeRow> {
-    let Objective::Range(range) = &doc.inputs.objective else {
+    let Objective::Range(range) = &doc.inputs.settings.objective else {
         return None;
     };
     let costs = doc.payload_costs.as_ref();
     Some(RangeRow {
         payloads_kg: range.payloads_kg.clone(),
         space: doc.inputs.space,
-        seed: doc.inputs.seed,
+        seed: doc.inputs.settings.cmaes.seed,
         ratios: doc.best_ratios.clone(),
         mean_cost: doc.best_cost,
         per_payload: costs.map_or_else(Vec::new, |c| c.best.clone()),
@@ -236,7 +238,7 @@ fn row_mut(rows: &mut Vec<TableRow>, payload_kg: f64, space: Space, paper: bool)
 /// empty) or with the graded penalty to "graded".
 fn add_run(row: &mut TableRow, doc: &OptimizeDocument) {
     let motors = &doc.inputs.task.task.motors;
-    if let Objective::Capacity(_) = doc.inputs.objective {
+    if let Objective::Capacity(_) = doc.inputs.settings.objective {
         let capacity = -doc.best_cost;
         if row
             .capacity_max
@@ -248,8 +250,8 @@ fn add_run(row: &mut TableRow, doc: &OptimizeDocument) {
         }
         return;
     }
-    if doc.inputs.method == Method::Gradient {
-        let column = match doc.inputs.grading {
+    if doc.inputs.settings.method == Method::Gradient {
+        let column = match doc.inputs.settings.grading {
             Grading::Flat => &mut row.gradient,
             Grading::Graded => &mut row.graded_gradient,
         };
@@ -258,7 +260,7 @@ fn add_run(row: &mut TableRow, doc: &OptimizeDocument) {
         }
         return;
     }
-    if !doc.inputs.grading.is_flat() {
+    if !doc.inputs.settings.grading.is_flat() {
         let graded = row.graded.get_or_insert_with(|| AfterCell::new(doc));
         add_seed(graded, doc, motors);
         return;
@@ -280,8 +282,8 @@ impl AfterCell {
             evaluations: 0,
             solves: 0,
             median_solve_seconds: f64::NAN,
-            population: doc.inputs.population,
-            generations: doc.inputs.generations,
+            population: doc.inputs.settings.cmaes.population,
+            generations: doc.inputs.settings.cmaes.generations,
         }
     }
 }
@@ -289,12 +291,16 @@ impl AfterCell {
 /// Adds one CMA-ES run (one seed) to "after": its best cost, an early stop, its evaluations and
 /// its best design when that beats the others.
 fn add_seed(after: &mut AfterCell, doc: &OptimizeDocument, motors: &Motors) {
-    after.per_seed.push((doc.inputs.seed, doc.best_cost));
+    after
+        .per_seed
+        .push((doc.inputs.settings.cmaes.seed, doc.best_cost));
     if let Some(last) = doc.generations.last() {
-        if last.generation < doc.inputs.generations {
-            after
-                .early_stops
-                .push((doc.inputs.seed, last.generation, doc.stop_reason.clone()));
+        if last.generation < doc.inputs.settings.cmaes.generations {
+            after.early_stops.push((
+                doc.inputs.settings.cmaes.seed,
+                last.generation,
+                doc.stop_reason.clone(),
+            ));
         }
     }
     after.evaluations += doc.evaluations;
@@ -360,9 +366,9 @@ fn median_solve_seconds(
             ResultFile::Optimize(d)
                 if d.inputs.payload_kg == payload_kg
                     && d.inputs.space == space
-                    && d.inputs.method == Method::Cmaes
-                    && d.inputs.objective == Objective::Cost
-                    && d.inputs.grading == grading =>
+                    && d.inputs.settings.method == Method::Cmaes
+                    && d.inputs.settings.objective == Objective::Cost
+                    && d.inputs.settings.grading == grading =>
             {
                 Some(d.median_solve_seconds)
             }
@@ -379,7 +385,8 @@ fn run_totals(files: &[ResultFile], objective_is_cost: bool) -> (usize, f64) {
         .iter()
         .filter_map(|f| match f {
             ResultFile::Optimize(d)
-                if matches!(d.inputs.objective, Objective::Capacity(_)) != objective_is_cost =>
+                if matches!(d.inputs.settings.objective, Objective::Capacity(_))
+                    != objective_is_cost =>
             {
                 Some(d)
             }

@@ -111,12 +111,12 @@ fn odd_value(file: &ResultFile) -> Option<String> {
         })
     };
     match file {
-        ResultFile::Optimize(d) => match d.inputs.objective {
+        ResultFile::Optimize(d) => match d.inputs.settings.objective {
             // The capacity objective minimises minus the payload: its best cost is <= 0, or
             // the penalty (at least its base) when every design was infeasible, as every one
             // is whose motors cannot hold the arm at rest.
             Objective::Capacity(_)
-                if d.best_cost.is_finite() && d.best_cost >= d.inputs.penalty =>
+                if d.best_cost.is_finite() && d.best_cost >= d.inputs.settings.penalty =>
             {
                 None
             }

@@ -1,22 +1,21 @@
-//! The experiment `reproduce` runs, as data: the task's [`Experiment`] (its payloads), its
-//! budget, its output folder and every co-design run of it as a [`Case`] with the file it
-//! writes.
+//! The experiment of a task as data: its [`Experiment`] (payloads, budgets), the budget and
+//! output folder a [`PlanRequest`] asks for, and every co-design run of it as a [`Case`] with
+//! the file it writes ([`PlannedRun`]).
 
-use super::Args;
-use crate::cli::common::ProblemArgs;
-use crate::cli::failure::Failure;
-use crate::design::bounds::BoundHandling;
+use super::{CapacityOf, Layout, RunName};
 use crate::design::capacity::CapacitySettings;
 use crate::design::penalty::{Grading, Penalty, PENALTY};
-use crate::design::run::{shell_quote, task_source, Case, Method, ModelChoice, ProblemChoice};
+use crate::design::run::{
+    task_source, Case, CaseError, Execution, Method, ModelChoice, ProblemChoice, RunSettings,
+};
 use crate::design::score::{Objective, PayloadRange};
-use crate::design::warm::WarmStart;
-use crate::experiment::{CapacityOf, Layout, RunName};
+use crate::ipopt::LinearSolver;
 use crate::model::experiment::{Budget, Experiment, MAX_SEEDS};
 use crate::model::task::Ends;
 use crate::problem::Space;
 use crate::report::trajectory::every_plot_file;
 use crate::store::log::Start;
+use std::fmt;
 use std::path::{Path, PathBuf};
 
 /// Both spaces, joint first.
@@ -39,7 +38,54 @@ pub struct PlannedRun {
     pub case: Case,
 }
 
-/// The experiment: its payloads, where it writes, how much it runs, and the flags every run
+/// What a reproduction asks of the task's experiment: each value None takes the experiment's.
+#[derive(Clone, Debug)]
+pub struct PlanRequest {
+    /// The reduced run: the experiment's quick budget, written to `results/quick/` by default.
+    pub quick: bool,
+    /// Seeds per case, replacing the budget's.
+    pub seeds: Option<u64>,
+    /// CMA-ES population, replacing the budget's.
+    pub population: Option<usize>,
+    /// CMA-ES generations, replacing the budget's.
+    pub generations: Option<usize>,
+    /// The results folder (None: `results/`, or `results/quick/` for the quick run).
+    pub folder: Option<PathBuf>,
+    /// The task file (None: the built-in task).
+    pub task: Option<PathBuf>,
+    /// The linear solver inside IPOPT (None: the task's).
+    pub linear_solver: Option<LinearSolver>,
+    /// The settings every CMA-ES run shares (bound handling, warm starts); the plan sets the
+    /// rest per run.
+    pub cmaes: RunSettings,
+    /// How every run's evaluations run and how the CMA-ES runs treat earlier logs.
+    pub execution: Execution,
+    /// What the motion asks at its ends (None: the task's).
+    pub ends: Option<Ends>,
+}
+
+/// Why an experiment cannot be planned.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PlanError {
+    /// A value the request gave is out of its range (keys `seeds`, `population`,
+    /// `generations`, or a setting of the runs).
+    Request(CaseError),
+    /// A size of the task's experiment section is out of its range; names the task and field.
+    Task(String),
+}
+
+impl fmt::Display for PlanError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PlanError::Request(error) => write!(f, "{error}"),
+            PlanError::Task(message) => f.write_str(message),
+        }
+    }
+}
+
+impl std::error::Error for PlanError {}
+
+/// The experiment: its payloads, where it writes, how much it runs, and the settings every run
 /// shares.
 #[derive(Clone, Debug)]
 pub struct Plan {
@@ -47,25 +93,20 @@ pub struct Plan {
     pub quick: bool,
     /// The task's experiment: its payloads and budgets.
     pub experiment: Experiment,
-    /// The budget: the experiment's (its quick one with --quick), with the flags applied.
+    /// The budget: the experiment's (its quick one when quick), with the request applied.
     pub budget: Budget,
     /// The output folder and where each result lies in it.
     pub layout: Layout,
     /// The task file (None: the built-in task).
     pub task: Option<PathBuf>,
-    /// Space-independent problem flags: the linear solver.
-    pub problem: ProblemArgs,
-    /// Worker processes per run.
-    pub workers: Option<usize>,
-    /// The shell command that starts one worker (None: this binary's `worker`).
-    pub worker_command: Option<String>,
-    /// What the CMA-ES runs do with a sample outside the design space.
-    pub bounds: BoundHandling,
-    /// Whether the CMA-ES runs warm-start each generation's designs.
-    pub warm_start: WarmStart,
-    /// How the CMA-ES runs treat the logs of an earlier reproduction.
-    pub start: Start,
-    /// What the motion asks at its ends in every run: `--ends`, else the task's.
+    /// The linear solver inside IPOPT (None: the task's).
+    pub linear_solver: Option<LinearSolver>,
+    /// The settings every CMA-ES run shares (bound handling, warm starts).
+    pub cmaes: RunSettings,
+    /// How every run's evaluations run, and how the CMA-ES runs treat the logs of an earlier
+    /// reproduction.
+    pub execution: Execution,
+    /// What the motion asks at its ends in every run: the request's, else the task's.
     pub ends: Ends,
     /// Whether this plan is the section beyond the paper that solves Table II's cases under
     /// `hold` ([`Plan::hold_section`]): its originals, CMA-ES runs and capacities only.
@@ -73,54 +114,46 @@ pub struct Plan {
 }
 
 impl Plan {
-    /// The plan of the task's `experiment` that `reproduce`'s flags ask for: --seeds,
-    /// --population and --generations replace the budget's values (the quick budget's with
-    /// --quick), --ends the task's `task_ends`; fails on a size out of range, naming the flag or
-    /// the task's field.
-    pub fn new(args: &Args, experiment: Experiment, task_ends: Ends) -> Result<Plan, Failure> {
-        let base = if args.quick {
+    /// The plan of the task's `experiment` that `request` asks for: its seeds, population and
+    /// generations replace the budget's values (the quick budget's when quick), its ends the
+    /// task's `task_ends`; fails on a size out of range, naming the request's key or the
+    /// task's field.
+    pub fn new(
+        request: &PlanRequest,
+        experiment: Experiment,
+        task_ends: Ends,
+    ) -> Result<Plan, PlanError> {
+        let base = if request.quick {
             experiment.quick_budget
         } else {
             experiment.budget
         };
         let budget = Budget {
-            seeds: args.seeds.unwrap_or(base.seeds),
-            population: args.population.unwrap_or(base.population),
-            generations: args.generations.unwrap_or(base.generations),
+            seeds: request.seeds.unwrap_or(base.seeds),
+            population: request.population.unwrap_or(base.population),
+            generations: request.generations.unwrap_or(base.generations),
             ..base
         };
+        let folder = request.folder.clone().unwrap_or_else(|| {
+            PathBuf::from(if request.quick {
+                "results/quick"
+            } else {
+                "results"
+            })
+        });
         let plan = Plan {
-            quick: args.quick,
+            quick: request.quick,
             experiment,
             budget,
-            layout: Layout::new(
-                args.from_runs
-                    .clone()
-                    .or_else(|| args.out_dir.clone())
-                    .unwrap_or_else(|| {
-                        PathBuf::from(if args.quick {
-                            "results/quick"
-                        } else {
-                            "results"
-                        })
-                    }),
-            ),
-            task: args.task.clone(),
-            problem: ProblemArgs {
-                space: Space::Actuation,
-                torque_mode: None,
-                speed_mode: None,
-                linear_solver: args.linear_solver,
-            },
-            workers: args.workers,
-            worker_command: args.worker_command.clone(),
-            bounds: args.bounds,
-            warm_start: args.warm_start,
-            start: Start::from_flags(args.resume, args.overwrite),
-            ends: args.ends.unwrap_or(task_ends),
+            layout: Layout::new(folder),
+            task: request.task.clone(),
+            linear_solver: request.linear_solver,
+            cmaes: request.cmaes.clone(),
+            execution: request.execution.clone(),
+            ends: request.ends.unwrap_or(task_ends),
             is_hold_section: false,
         };
-        plan.check_sizes(args)?;
+        plan.check_sizes(request)?;
         Ok(plan)
     }
 
@@ -145,40 +178,38 @@ impl Plan {
             || b.seeds < full.seeds
     }
 
-    /// Checks the sizes before anything is created; errors name the flag, or the task's field
-    /// where no flag gave the value, with the limit and its reason.
-    fn check_sizes(&self, args: &Args) -> Result<(), Failure> {
+    /// Checks the sizes before anything is created; errors name the request's key, or the
+    /// task's field where the request did not give the value, with the limit and its reason.
+    fn check_sizes(&self, request: &PlanRequest) -> Result<(), PlanError> {
         let section = if self.quick { "quick_budget" } else { "budget" };
         let in_task = |field: &str, value: String, rule: &str| {
             let task = task_source(self.task.as_ref());
-            Failure::Work(format!(
+            PlanError::Task(format!(
                 "{task}: experiment.{section}.{field} = {value}: {rule}"
             ))
         };
         let seeds = self.budget.seeds;
         if !(1..=MAX_SEEDS).contains(&seeds) {
             let rule = format!("must be 1 to {MAX_SEEDS} (20 times the paper's 5)");
-            return Err(match args.seeds {
-                Some(_) => Failure::Usage(format!("--seeds {seeds}: {rule}")),
+            return Err(match request.seeds {
+                Some(_) => PlanError::Request(CaseError::new("seeds", seeds, rule)),
                 None => in_task("seeds", seeds.to_string(), &rule),
             });
         }
         let cost = self.cost_case(Space::Actuation, 1.0, 0);
-        if let Err(e) = cost.cmaes.validate() {
-            let flag_given = match e.field {
-                "population" => args.population.is_some(),
-                "generations" => args.generations.is_some(),
+        if let Err(e) = cost.settings.cmaes.validate() {
+            let given = match e.field {
+                "population" => request.population.is_some(),
+                "generations" => request.generations.is_some(),
                 _ => true,
             };
-            if !flag_given {
+            if !given {
                 return Err(in_task(e.field, e.value, &e.rule));
             }
         }
-        cost.validate().map_err(Failure::Usage)?;
+        cost.validate().map_err(PlanError::Request)?;
         for run in self.capacity_runs() {
-            run.case
-                .cmaes
-                .validate()
+            (run.case.settings.cmaes.validate())
                 .map_err(|e| in_task(&format!("capacity_{}", e.field), e.value, &e.rule))?;
         }
         Ok(())
@@ -195,26 +226,25 @@ impl Plan {
         };
         let problem = ProblemChoice {
             space,
-            ..self.problem.choice()
+            torque_mode: None,
+            speed_mode: None,
+            linear_solver: self.linear_solver,
         };
         let mut case = Case::new(model, problem, method);
         if method == Method::Cmaes {
             // The gradient method keeps its iterates in the design space itself.
-            case.bounds = self.bounds;
-            case.warm_start = self.warm_start;
+            case.settings = self.cmaes.clone();
         }
-        case.workers = self.workers;
-        case.worker_command = self.worker_command.clone();
-        case.start = self.start;
+        case.execution = self.execution.clone();
         case
     }
 
     /// The CMA-ES run on the cost of one case and seed.
     fn cost_case(&self, space: Space, payload: f64, seed: u64) -> Case {
         let mut case = self.case(space, Some(payload), Method::Cmaes);
-        case.cmaes.seed = seed;
-        case.cmaes.population = self.budget.population;
-        case.cmaes.generations = self.budget.generations;
+        case.settings.cmaes.seed = seed;
+        case.settings.cmaes.population = self.budget.population;
+        case.settings.cmaes.generations = self.budget.generations;
         case
     }
 
@@ -228,12 +258,12 @@ impl Plan {
             return Vec::new();
         };
         let mut case = self.case(RANGE_SPACE, None, Method::Cmaes);
-        case.objective = Objective::Range(PayloadRange {
+        case.settings.objective = Objective::Range(PayloadRange {
             payloads_kg: payloads.clone(),
         });
-        case.penalty = GRADED_PENALTY;
-        case.cmaes.population = self.budget.population;
-        case.cmaes.generations = self.budget.generations;
+        case.settings.set_penalty(GRADED_PENALTY);
+        case.settings.cmaes.population = self.budget.population;
+        case.settings.cmaes.generations = self.budget.generations;
         vec![PlannedRun {
             name: RunName::Range {
                 space: RANGE_SPACE,
@@ -285,65 +315,6 @@ impl Plan {
         files
     }
 
-    /// The experiment's independent commands, one a line, with `program` as the binary: the
-    /// original designs' solves, every co-design run, and the original designs' capacity
-    /// searches. The capacities of the best designs wait for the runs: `--from-runs` does them.
-    pub fn commands(&self, program_path: &str) -> Vec<String> {
-        let program = shell_quote(program_path);
-        let path = |path: PathBuf| shell_quote(&path.to_string_lossy());
-        let mut common = Vec::new();
-        if let Some(task) = &self.task {
-            common.push(format!("--task {}", path(task.clone())));
-        }
-        if let Some(solver) = self.problem.linear_solver {
-            common.push(format!("--linear-solver {}", solver.name()));
-        }
-        common.push(format!("--ends {}", self.ends));
-        let common = common
-            .iter()
-            .map(|flag| format!(" {flag}"))
-            .collect::<String>();
-        let mut lines = Vec::new();
-        for &payload in &self.experiment.original_payloads_kg {
-            for space in SPACES {
-                lines.push(format!(
-                    "{program} solve --space {space} --payload {payload}{common} --out {} --plot {}",
-                    path(self.layout.original(space, payload)),
-                    path(self.layout.original_plots(space, payload))
-                ));
-            }
-        }
-        let runs = self
-            .cost_runs()
-            .into_iter()
-            .chain(self.gradient_runs())
-            .chain(self.beyond_runs());
-        for run in runs {
-            let mut case = run.case.clone();
-            // Commands run side by side: one worker each unless --workers says otherwise; a
-            // CMA-ES run continues its log when the plan runs again.
-            case.workers.get_or_insert(1);
-            if case.method == Method::Cmaes && case.start == Start::Fresh {
-                case.start = Start::Resume;
-            }
-            let flags = case.flags().join(" ");
-            lines.push(format!(
-                "{program} optimize {flags} --out {}",
-                path(self.layout.run(&run.name))
-            ));
-        }
-        for space in SPACES {
-            let out = path(self.layout.capacity(CapacityOf::Original(space)));
-            lines.push(format!(
-                "{program} capacity --space {space}{common} --out {out}"
-            ));
-        }
-        if let Some(hold) = self.hold_section() {
-            lines.extend(hold.commands(program_path));
-        }
-        lines
-    }
-
     /// The paper's co-design runs: CMA-ES on the cost, per co-designed payload, space and seed.
     pub fn cost_runs(&self) -> Vec<PlannedRun> {
         let mut runs = Vec::new();
@@ -387,7 +358,7 @@ impl Plan {
         for &payload in &self.experiment.graded_payloads_kg {
             for space in SPACES {
                 let mut case = self.gradient_case(space, payload);
-                case.penalty = GRADED_PENALTY;
+                case.settings.set_penalty(GRADED_PENALTY);
                 runs.push(PlannedRun {
                     name: RunName::Gradient {
                         space,
@@ -404,10 +375,10 @@ impl Plan {
     /// The gradient method's run in `space` at `payload` (it has no log to resume).
     fn gradient_case(&self, space: Space, payload: f64) -> Case {
         let mut case = self.case(space, Some(payload), Method::Gradient);
-        case.cmaes.population = 0;
-        case.cmaes.generations = 0;
-        if case.start == Start::Resume {
-            case.start = Start::Fresh;
+        case.settings.cmaes.population = 0;
+        case.settings.cmaes.generations = 0;
+        if case.execution.start == Start::Resume {
+            case.execution.start = Start::Fresh;
         }
         case
     }
@@ -432,7 +403,7 @@ impl Plan {
             for space in SPACES {
                 for seed in 0..self.budget.seeds {
                     let mut case = self.cost_case(space, payload, seed);
-                    case.penalty = GRADED_PENALTY;
+                    case.settings.set_penalty(GRADED_PENALTY);
                     runs.push(PlannedRun {
                         name: RunName::Graded {
                             space,
@@ -454,9 +425,9 @@ impl Plan {
             .iter()
             .map(|&space| {
                 let mut case = self.case(space, None, Method::Cmaes);
-                case.objective = Objective::Capacity(CapacitySettings::default());
-                case.cmaes.population = self.budget.capacity_population;
-                case.cmaes.generations = self.budget.capacity_generations;
+                case.settings.objective = Objective::Capacity(CapacitySettings::default());
+                case.settings.cmaes.population = self.budget.capacity_population;
+                case.settings.cmaes.generations = self.budget.capacity_generations;
                 PlannedRun {
                     name: RunName::Capacity { space },
                     case,
@@ -468,39 +439,62 @@ impl Plan {
 
 #[cfg(test)]
 mod tests {
-    use super::{Args, Failure, Plan};
+    use super::{Plan, PlanError, PlanRequest};
+    use crate::design::run::{Execution, Method, RunSettings};
     use crate::model::experiment::{Budget, Experiment};
     use crate::model::task::Ends;
-    use clap::Parser;
 
-    #[derive(Parser)]
-    struct Command {
-        #[command(flatten)]
-        args: Args,
+    /// The request of a reproduction with every value the experiment's.
+    fn request() -> PlanRequest {
+        PlanRequest {
+            quick: false,
+            seeds: None,
+            population: None,
+            generations: None,
+            folder: None,
+            task: None,
+            linear_solver: None,
+            cmaes: RunSettings::new(Method::Cmaes),
+            execution: Execution::default(),
+            ends: None,
+        }
     }
 
-    fn plan(flags: &[&str]) -> Result<Plan, Failure> {
-        let args = Command::parse_from(["reproduce"].iter().chain(flags)).args;
-        Plan::new(&args, Experiment::paper(), Ends::Paper)
+    fn plan(request: &PlanRequest) -> Result<Plan, PlanError> {
+        Plan::new(request, Experiment::paper(), Ends::Paper)
     }
 
     #[test]
     fn sizes_are_checked_with_their_limits() {
-        assert_eq!(plan(&[]).unwrap().budget, Budget::PAPER);
-        // Issue 38, item 16: a flag out of its range is a usage error (exit 2).
-        let usage = |flags: &[&str], prefix: &str| match plan(flags) {
-            Err(Failure::Usage(message)) => assert!(message.starts_with(prefix), "{message}"),
-            other => panic!("{flags:?}: {other:?}"),
+        assert_eq!(plan(&request()).unwrap().budget, Budget::PAPER);
+        // Issue 38, item 16: a value of the request out of its range names its key.
+        let refused = |request: PlanRequest, key: &str, rule: &str| match plan(&request) {
+            Err(PlanError::Request(error)) => {
+                assert_eq!(error.key, key);
+                assert!(error.rule.starts_with(rule), "{error}");
+            }
+            other => panic!("{other:?}"),
         };
-        usage(&["--seeds", "0"], "--seeds 0: must be 1 to");
-        usage(&["--population", "0"], "--population 0:");
-        usage(&["--generations", "1099511627776"], "--generations");
+        let seeds = PlanRequest {
+            seeds: Some(0),
+            ..request()
+        };
+        refused(seeds, "seeds", "must be 1 to");
+        let population = PlanRequest {
+            population: Some(0),
+            ..request()
+        };
+        refused(population, "population", "must be 5 to");
+        let generations = PlanRequest {
+            generations: Some(1 << 40),
+            ..request()
+        };
+        refused(generations, "generations", "must be at most");
         // The same size from the task file is the file's error, naming its field.
-        let args = Command::parse_from(["reproduce"]).args;
         let mut experiment = Experiment::paper();
         experiment.budget.seeds = 0;
-        match Plan::new(&args, experiment, Ends::Paper) {
-            Err(Failure::Work(message)) => assert!(
+        match Plan::new(&request(), experiment, Ends::Paper) {
+            Err(PlanError::Task(message)) => assert!(
                 message.contains("experiment.budget.seeds = 0: must be 1 to"),
                 "{message}"
             ),
@@ -510,9 +504,13 @@ mod tests {
 
     #[test]
     fn the_experiment_has_every_case_once() {
-        let quick = plan(&["--quick"]).unwrap();
+        let quick = plan(&PlanRequest {
+            quick: true,
+            ..request()
+        })
+        .unwrap();
         assert!(quick.is_reduced());
-        assert!(!plan(&[]).unwrap().is_reduced());
+        assert!(!plan(&request()).unwrap().is_reduced());
         let names: Vec<String> = quick
             .cost_runs()
             .into_iter()
@@ -543,8 +541,7 @@ mod tests {
             },
             ..Experiment::paper()
         };
-        let args = Command::parse_from(["reproduce"]).args;
-        let plan = Plan::new(&args, experiment, Ends::Paper).unwrap();
+        let plan = Plan::new(&request(), experiment, Ends::Paper).unwrap();
         let names: Vec<String> = plan
             .cost_runs()
             .into_iter()
@@ -566,7 +563,10 @@ mod tests {
         );
         // A task's budget below the paper's is the experiment's full run, not a reduced one.
         assert!(!plan.is_reduced());
-        let mut quick = Command::parse_from(["reproduce", "--quick"]).args;
+        let mut quick = PlanRequest {
+            quick: true,
+            ..request()
+        };
         assert!(Plan::new(&quick, Experiment::paper(), Ends::Paper)
             .unwrap()
             .is_reduced());
