@@ -121,6 +121,22 @@ const NO_LOAD_SPEED: Bounds = Bounds {
           slope, the torque limit over it, overflows below",
 };
 
+const TORQUE_CONSTANT: Bounds = Bounds {
+    zero: false,
+    least: 1e-6,
+    most: 1e3,
+    unit: "N m/A",
+    why: "from a micro-motor's 1e-6 to far beyond a large torque motor's 100",
+};
+const RESISTANCE: Bounds = Bounds {
+    zero: true,
+    least: f64::MIN_POSITIVE,
+    most: 1e6,
+    unit: "ohm",
+    why: "from a superconducting winding's 0 to far beyond any motor winding's kilo-ohms; \
+          positive ones below 2.2e-308 are subnormal",
+};
+
 impl fmt::Display for PerMotor {
     /// As written in a task file: `1.7`, or `[1.7, 2, 0.9, 0.9]`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -189,6 +205,14 @@ pub struct Motors {
     /// envelope, only the torque and speed limits.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub no_load_speed_rad_s: Option<PerMotor>,
+    /// Torque constant k_t of motor i, N m/A: its current is tau_u / k_t. Given with
+    /// `resistance_ohm`, results report the copper losses and the electrical energy.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub torque_constant_nm_per_a: Option<PerMotor>,
+    /// Winding resistance R of motor i (terminal to terminal), ohm: its copper losses are
+    /// R (tau_u / k_t)^2. Given with `torque_constant_nm_per_a`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resistance_ohm: Option<PerMotor>,
 }
 
 impl Motors {
@@ -201,7 +225,23 @@ impl Motors {
             rotor_inertia_kgm2: None,
             viscous_friction_nm_s_per_rad: None,
             no_load_speed_rad_s: None,
+            torque_constant_nm_per_a: None,
+            resistance_ohm: None,
         }
+    }
+
+    /// Each motor's torque constant (N m/A) and winding resistance (ohm), for `motors` motors,
+    /// when the task gives both (checked by [`Motors::validate`]).
+    pub fn electrical(&self, motors: usize) -> Option<Vec<(f64, f64)>> {
+        let (k_t, r) = (
+            self.torque_constant_nm_per_a.as_ref()?,
+            self.resistance_ohm.as_ref()?,
+        );
+        Some(
+            (k_t.values(motors).into_iter())
+                .zip(r.values(motors))
+                .collect(),
+        )
     }
 
     /// Checks every quantity for `motors` motors (the rows of G): one value per motor where a
@@ -228,13 +268,32 @@ impl Motors {
                 "motors.no_load_speed_rad_s",
                 NO_LOAD_SPEED,
             ),
+            (
+                &self.torque_constant_nm_per_a,
+                "motors.torque_constant_nm_per_a",
+                TORQUE_CONSTANT,
+            ),
+            (&self.resistance_ohm, "motors.resistance_ohm", RESISTANCE),
         ];
         optional
             .into_iter()
             .try_for_each(|(quantity, field, bounds)| match quantity {
                 Some(quantity) => quantity.check(field, motors, &bounds),
                 None => Ok(()),
-            })
+            })?;
+        match (&self.torque_constant_nm_per_a, &self.resistance_ohm) {
+            (Some(_), None) => Err(FieldError::new(
+                "motors.resistance_ohm",
+                " is missing: the copper losses need the torque constant and the winding \
+                 resistance; give both or neither",
+            )),
+            (None, Some(_)) => Err(FieldError::new(
+                "motors.torque_constant_nm_per_a",
+                " is missing: the copper losses need the torque constant and the winding \
+                 resistance; give both or neither",
+            )),
+            _ => Ok(()),
+        }
     }
 }
 

@@ -30,6 +30,28 @@ pub struct MotorFigures {
     /// Work delivered while driving, int max(tau_u w, 0) dt, J: the energy a motor supplies
     /// when braking recovers nothing.
     pub positive_work_j: f64,
+    /// Currents, copper losses and electrical energy, where the task gives the motor's torque
+    /// constant and winding resistance.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub electrical: Option<ElectricalFigures>,
+}
+
+/// One motor's electrical figures, from its torque constant k_t (N m/A) and winding resistance
+/// R (ohm): current i = tau_u / k_t, copper losses R i^2, electrical power tau_u w + R i^2.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ElectricalFigures {
+    /// Root mean square current over the motion, A.
+    pub rms_current_a: f64,
+    /// Peak |current|, A.
+    pub peak_current_a: f64,
+    /// Copper losses int R i^2 dt, J: R / k_t^2 times int tau_u^2 dt.
+    pub copper_loss_j: f64,
+    /// Net electrical energy int (tau_u w + R i^2) dt, J: the mechanical work plus the copper
+    /// losses, braking energy returned to the supply.
+    pub energy_j: f64,
+    /// Electrical energy drawn, int max(tau_u w + R i^2, 0) dt, J: what the supply gives when
+    /// braking returns nothing to it.
+    pub drawn_energy_j: f64,
 }
 
 /// The figures of every motor, and their sums.
@@ -45,6 +67,21 @@ pub struct PhysicalFigures {
     pub work_j: f64,
     /// Sum of the motors' positive work, J.
     pub positive_work_j: f64,
+    /// Sums of the motors' copper losses, net and drawn electrical energy, J, where the task
+    /// gives every motor's torque constant and resistance.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub electrical: Option<ElectricalTotals>,
+}
+
+/// The motors' electrical figures summed, J.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ElectricalTotals {
+    /// Copper losses of all motors, J.
+    pub copper_loss_j: f64,
+    /// Net electrical energy of all motors, J.
+    pub energy_j: f64,
+    /// Electrical energy the motors draw, each returning nothing when braking, J.
+    pub drawn_energy_j: f64,
 }
 
 /// int_0^h max(p, 0) dt for p linear from `start` to `end` over a step `h`.
@@ -59,6 +96,38 @@ fn positive_part(start: f64, end: f64, h: f64) -> f64 {
     }
 }
 
+/// Motor `i`'s electrical figures over the intervals of `t`, with torque constant `k_t` (N m/A)
+/// and resistance `r` (ohm).
+fn electrical(t: &Trajectory, i: usize, (k_t, r): (f64, f64)) -> ElectricalFigures {
+    let mut figures = ElectricalFigures {
+        rms_current_a: 0.0,
+        peak_current_a: 0.0,
+        copper_loss_j: 0.0,
+        energy_j: 0.0,
+        drawn_energy_j: 0.0,
+    };
+    let mut current_squared_integral = 0.0;
+    for (k, torques) in t.motor_torque.iter().enumerate() {
+        let h = t.time[k + 1] - t.time[k];
+        let current = torques[i] / k_t;
+        let copper = r * current * current;
+        let (p0, p1) = (
+            torques[i] * t.motor_speed[k][i] + copper,
+            torques[i] * t.motor_speed[k + 1][i] + copper,
+        );
+        current_squared_integral += h * current * current;
+        figures.peak_current_a = figures.peak_current_a.max(current.abs());
+        figures.copper_loss_j += h * copper;
+        figures.energy_j += h * (p0 + p1) / 2.0;
+        figures.drawn_energy_j += positive_part(p0, p1, h);
+    }
+    let duration = t.time.last().copied().unwrap_or(0.0) - t.time.first().copied().unwrap_or(0.0);
+    if duration > 0.0 {
+        figures.rms_current_a = (current_squared_integral / duration).sqrt();
+    }
+    figures
+}
+
 /// Motor `i`'s figures over the intervals of `t`.
 fn motor(t: &Trajectory, i: usize) -> MotorFigures {
     let mut figures = MotorFigures {
@@ -69,6 +138,7 @@ fn motor(t: &Trajectory, i: usize) -> MotorFigures {
         peak_power_w: 0.0,
         work_j: 0.0,
         positive_work_j: 0.0,
+        electrical: None,
     };
     for (k, torques) in t.motor_torque.iter().enumerate() {
         let h = t.time[k + 1] - t.time[k];
@@ -92,13 +162,33 @@ fn motor(t: &Trajectory, i: usize) -> MotorFigures {
 }
 
 impl PhysicalFigures {
-    /// The figures of trajectory `t` (None when it has no interval or no motor).
-    pub fn of(t: &Trajectory) -> Option<PhysicalFigures> {
+    /// The figures of trajectory `t` (None when it has no interval or no motor), with each
+    /// motor's torque constant (N m/A) and resistance (ohm) where `constants` gives them.
+    pub fn of(t: &Trajectory, constants: Option<&[(f64, f64)]>) -> Option<PhysicalFigures> {
         let motors = t.motor_torque.first()?.len();
         if t.time.len() != t.motor_torque.len() + 1 || t.motor_speed.len() != t.time.len() {
             return None;
         }
-        let each: Vec<MotorFigures> = (0..motors).map(|i| motor(t, i)).collect();
+        let constants = constants.filter(|c| c.len() == motors);
+        let each: Vec<MotorFigures> = (0..motors)
+            .map(|i| MotorFigures {
+                electrical: constants.map(|c| electrical(t, i, c[i])),
+                ..motor(t, i)
+            })
+            .collect();
+        let electrical = constants.map(|_| {
+            let sum = |of: fn(&ElectricalFigures) -> f64| {
+                each.iter()
+                    .filter_map(|m| m.electrical.as_ref())
+                    .map(of)
+                    .sum()
+            };
+            ElectricalTotals {
+                copper_loss_j: sum(|e| e.copper_loss_j),
+                energy_j: sum(|e| e.energy_j),
+                drawn_energy_j: sum(|e| e.drawn_energy_j),
+            }
+        });
         let mut peak_power_w: f64 = 0.0;
         for (k, torques) in t.motor_torque.iter().enumerate() {
             for speeds in [&t.motor_speed[k], &t.motor_speed[k + 1]] {
@@ -112,6 +202,7 @@ impl PhysicalFigures {
             positive_work_j: each.iter().map(|m| m.positive_work_j).sum(),
             peak_power_w,
             motors: each,
+            electrical,
         })
     }
 }
@@ -130,7 +221,7 @@ mod tests {
             motor_speed: vec![vec![0.0], vec![4.0], vec![2.0]],
             ..Trajectory::default()
         };
-        let f = PhysicalFigures::of(&t).unwrap();
+        let f = PhysicalFigures::of(&t, None).unwrap();
         let m = &f.motors[0];
         assert_eq!(m.torque_squared_integral, 0.5 * 4.0 + 0.5 * 1.0);
         assert_eq!(m.rms_torque_nm, 2.5f64.sqrt());
@@ -140,6 +231,50 @@ mod tests {
         assert_eq!(m.work_j, 0.5 * 8.0 / 2.0 + 0.5 * (-6.0) / 2.0);
         assert_eq!(m.positive_work_j, 2.0);
         assert_eq!((f.work_j, f.peak_power_w), (m.work_j, 8.0));
+    }
+
+    /// The same motor with k_t = 0.5 N m/A and R = 2 ohm: currents 4 and -2 A, copper losses
+    /// 32 and 8 W, electrical power 32 -> 40 W, then 4 -> 6 W.
+    #[test]
+    fn electrical_figures_match_a_hand_computation() {
+        let t = Trajectory {
+            time: vec![0.0, 0.5, 1.0],
+            motor_torque: vec![vec![2.0], vec![-1.0]],
+            motor_speed: vec![vec![0.0], vec![4.0], vec![2.0]],
+            ..Trajectory::default()
+        };
+        let f = PhysicalFigures::of(&t, Some(&[(0.5, 2.0)])).unwrap();
+        let e = f.motors[0].electrical.as_ref().unwrap();
+        assert_eq!(e.peak_current_a, 4.0);
+        assert_eq!(e.rms_current_a, (0.5f64 * 16.0 + 0.5 * 4.0).sqrt());
+        assert_eq!(e.copper_loss_j, 0.5 * 32.0 + 0.5 * 8.0);
+        // Net: the work (0.5) plus the copper losses (20).
+        assert_eq!(
+            e.energy_j,
+            0.5 * (32.0 + 40.0) / 2.0 + 0.5 * (4.0 + 6.0) / 2.0
+        );
+        assert_eq!(e.energy_j, f.motors[0].work_j + e.copper_loss_j);
+        assert_eq!(
+            e.drawn_energy_j, e.energy_j,
+            "the copper losses outweigh the braking"
+        );
+        let totals = f.electrical.as_ref().unwrap();
+        assert_eq!(totals.copper_loss_j, e.copper_loss_j);
+        // A motor braking harder than its losses returns energy: drawn < net is impossible,
+        // drawn > net then.
+        let braking = Trajectory {
+            motor_torque: vec![vec![2.0], vec![-2.0]],
+            motor_speed: vec![vec![0.0], vec![40.0], vec![40.0]],
+            ..t
+        };
+        let f = PhysicalFigures::of(&braking, Some(&[(0.5, 2.0)])).unwrap();
+        let e = f.motors[0].electrical.as_ref().unwrap();
+        // Second interval: -80 + 32 = -48 W throughout, returned.
+        assert_eq!(e.energy_j - e.drawn_energy_j, -0.5 * -48.0 * -1.0);
+        assert!(PhysicalFigures::of(&braking, None)
+            .unwrap()
+            .electrical
+            .is_none());
     }
 
     /// Power that changes sign within an interval: only the positive triangle counts.

@@ -295,6 +295,8 @@ pub(super) fn read_result(
     .collect();
     let feasible = reasons.is_empty();
     let reason = (!feasible).then(|| reasons.join("; "));
+    let electrical =
+        (f.task().motors).electrical(trajectory.motor_torque.first().map_or(0, Vec::len));
     TrajectoryResult {
         ratios: problem.ratios().to_vec(),
         status: solution.status.name(),
@@ -339,7 +341,7 @@ pub(super) fn read_result(
         elastic,
         cost_terms: Some(cost_terms(problem, &solution.x, &trajectory)),
         joints: f.dynamics().robot().joint_names().to_vec(),
-        figures: PhysicalFigures::of(&trajectory),
+        figures: PhysicalFigures::of(&trajectory, electrical.as_deref()),
         trajectory,
     }
 }

@@ -318,3 +318,71 @@ fn the_torque_speed_envelope_bounds_the_motors_at_speed() {
     assert!(result["violations"]["motor_envelope"].as_f64().unwrap() > 0.01);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A task with the motors' torque constants and resistances: every result reports their
+/// currents, copper losses and electrical energy, consistent with its mechanical figures
+/// (copper losses R / k_t^2 times the torque-squared integral; net energy the work plus them),
+/// and the task hash of a task without them is unchanged. One without the other is named.
+#[test]
+fn electrical_figures_follow_the_motors_constants() {
+    let dir = scratch("electrical");
+    let (k_t, r) = ([0.05, 0.05, 0.03, 0.03], 1.2);
+    let task = task_with(&dir, |task| {
+        task["motors"]["torque_constant_nm_per_a"] = json!(k_t);
+        task["motors"]["resistance_ohm"] = json!(r);
+    });
+    let out = dir.join("solve.json");
+    let args = [
+        "solve",
+        "--task",
+        task.to_str().unwrap(),
+        "--space",
+        "actuation",
+    ];
+    succeed(&[&args[..], &["--out", out.to_str().unwrap()]].concat());
+    let figures = read_json(&out)["figures"].clone();
+    let mut copper_total = 0.0;
+    for (i, motor) in figures["motors"].as_array().unwrap().iter().enumerate() {
+        let e = &motor["electrical"];
+        let number = |value: &Value| value.as_f64().unwrap();
+        let copper = r / (k_t[i] * k_t[i]) * number(&motor["torque_squared_integral"]);
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs().max(1.0);
+        assert!(close(number(&e["copper_loss_j"]), copper), "motor {i}: {e}");
+        let net = number(&motor["work_j"]) + number(&e["copper_loss_j"]);
+        assert!(close(number(&e["energy_j"]), net), "motor {i}: {e}");
+        assert!(number(&e["drawn_energy_j"]) >= number(&e["energy_j"]) - 1e-12);
+        assert!(
+            number(&e["peak_current_a"]) * k_t[i]
+                >= number(&motor["peak_torque_nm"]) * (1.0 - 1e-12)
+        );
+        copper_total += number(&e["copper_loss_j"]);
+    }
+    let total = figures["electrical"]["copper_loss_j"].as_f64().unwrap();
+    assert!((total - copper_total).abs() <= 1e-9 * copper_total);
+    // Without the constants, no electrical figures.
+    let plain = task_with(&dir, |_| {});
+    let plain_out = dir.join("plain.json");
+    let plain_args = [
+        "solve",
+        "--task",
+        plain.to_str().unwrap(),
+        "--space",
+        "actuation",
+    ];
+    succeed(&[&plain_args[..], &["--out", plain_out.to_str().unwrap()]].concat());
+    let plain_doc = read_json(&plain_out);
+    assert!(plain_doc["figures"]["motors"][0]
+        .get("electrical")
+        .is_none());
+    assert!(plain_doc["figures"].get("electrical").is_none());
+    assert!(plain_doc["figures"]["motors"][0]["work_j"].is_number());
+    // One constant without the other is refused, naming the missing field.
+    let half = task_with(&dir, |task| {
+        task["motors"]["torque_constant_nm_per_a"] = json!(0.05);
+    });
+    fails_saying(
+        &codesign(&["solve", "--task", half.to_str().unwrap()]),
+        "motors.resistance_ohm is missing",
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
