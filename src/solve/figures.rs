@@ -260,8 +260,8 @@ mod tests {
         );
         let totals = f.electrical.as_ref().unwrap();
         assert_eq!(totals.copper_loss_j, e.copper_loss_j);
-        // A motor braking harder than its losses returns energy: drawn < net is impossible,
-        // drawn > net then.
+        // A motor braking harder than its losses returns energy, which the drawn energy does
+        // not count.
         let braking = Trajectory {
             motor_torque: vec![vec![2.0], vec![-2.0]],
             motor_speed: vec![vec![0.0], vec![40.0], vec![40.0]],
@@ -270,7 +270,7 @@ mod tests {
         let f = PhysicalFigures::of(&braking, Some(&[(0.5, 2.0)])).unwrap();
         let e = f.motors[0].electrical.as_ref().unwrap();
         // Second interval: -80 + 32 = -48 W throughout, returned.
-        assert_eq!(e.energy_j - e.drawn_energy_j, -0.5 * -48.0 * -1.0);
+        assert_eq!(e.drawn_energy_j - e.energy_j, 0.5 * 48.0);
         assert!(PhysicalFigures::of(&braking, None)
             .unwrap()
             .electrical
