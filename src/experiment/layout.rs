@@ -3,6 +3,7 @@
 //!
 //! ```text
 //! OUT_DIR/paper_table.md, paper_table.json     the table
+//! OUT_DIR/index.html                           the table and the plots in one page
 //! OUT_DIR/original/SPACE-Pkg.json              the original design's solve at payload P
 //! OUT_DIR/runs/NAME.json (+ NAME.log.jsonl)    each co-design run ([`RunName`])
 //! OUT_DIR/capacity/SPACE-original.json         the original design's payload capacity
@@ -168,6 +169,11 @@ impl Layout {
     /// The table as a result document.
     pub fn table_json(&self) -> PathBuf {
         self.root.join("paper_table.json")
+    }
+
+    /// The page of the table and the plots.
+    pub fn index(&self) -> PathBuf {
+        self.root.join("index.html")
     }
 
     /// The result of the original design's solve at `payload_kg` in `space`.

@@ -293,10 +293,14 @@ impl Plan {
     }
 
     /// Every file the reproduction writes itself, existing ones to be checked before any work
-    /// (a co-design run checks its own): the table, the original designs' results and plots,
-    /// the capacities.
+    /// (a co-design run checks its own): the table and its page, the original designs' results
+    /// and plots, the capacities.
     pub fn outputs(&self) -> Vec<PathBuf> {
-        let mut files = vec![self.layout.table_markdown(), self.layout.table_json()];
+        let mut files = vec![
+            self.layout.table_markdown(),
+            self.layout.table_json(),
+            self.layout.index(),
+        ];
         for &payload in &self.experiment.original_payloads_kg {
             for space in SPACES {
                 files.push(self.layout.original(space, payload));

@@ -1,9 +1,10 @@
-//! Reports: SVG plots, the paper table, and the documents of each command (written through
-//! [`crate::store`]).
+//! Reports: SVG plots, the paper table, the front page of a results folder, and the documents of
+//! each command (written through [`crate::store`]).
 
 pub mod check;
 pub mod codesign;
 mod error;
+pub mod index;
 pub mod plots;
 pub mod poses;
 pub mod start;

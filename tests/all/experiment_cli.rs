@@ -241,6 +241,14 @@ fn a_task_s_experiment_runs_and_its_table_names_the_task_without_the_paper_s_num
     );
     assert!(table.contains("| 0.5 kg | joint | ("), "{table}");
     assert!(table.contains("| 0.5 kg | actuation | ("), "{table}");
+    // Its page shows the same table and the plots.
+    let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(page.contains(&format!("<h1>Co-design of task {}", path(&task))));
+    assert!(
+        page.contains("<td>0.5 kg</td><td>actuation</td><td>("),
+        "{page}"
+    );
+    assert!(page.contains("<img src=\"plots/original-joint-0.5kg/motion.svg\""));
     // Every result records the task's hash, the table too.
     let hash = read_json(&out.join("paper_table.json"))["task_hash"].clone();
     assert_eq!(hash.as_str().map(str::len), Some(16), "{hash}");

@@ -18,6 +18,7 @@ mod examples_cli;
 mod experiment_cli;
 mod hold_cli;
 mod hostile_cli;
+mod index_page;
 mod motors_cli;
 mod ocp_reference;
 mod optimize_cli;

@@ -1,6 +1,9 @@
-//! Fixtures shared by the end-to-end tests: the repository's paths, the binary, scratch folders.
+//! Fixtures shared by the end-to-end tests: the repository's paths, the binary, scratch folders,
+//! and headless Chromium (`chromium`).
 // Each test module uses part of this module.
 #![allow(dead_code)]
+
+pub mod chromium;
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};

@@ -19,6 +19,7 @@ use crate::model::task::{Ends, Task, TaskFile};
 use crate::model::Robot;
 use crate::problem::Space;
 use crate::report::codesign::{cost_evolution_chart, ratio_chart, CapacityDocument};
+use crate::report::index::write_index;
 use crate::report::plots::Figure;
 use crate::report::table::{build_table, PaperTable, ResultFile};
 use crate::report::trajectory::write_plots;
@@ -338,6 +339,7 @@ fn finish(
     )
     .map_err(|e| e.to_string())?;
     write_document(&plan.layout.table_json(), &table).map_err(|e| e.to_string())?;
+    write_index(&plan.layout, &table).map_err(|e| e.to_string())?;
     say_raw!("{}", table.to_markdown());
     say!("results written to {}", plan.out_dir().display());
     Ok(table)

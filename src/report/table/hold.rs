@@ -2,6 +2,7 @@
 //! the paper's formulation, and what holding costs: the best design, its J and its capacity
 //! under each.
 
+use super::blocks::Block;
 use super::markdown::{design_text, ratios_text};
 use super::{DesignCell, PaperTable, TableRow};
 use crate::problem::Space;
@@ -68,31 +69,40 @@ impl PaperTable {
             .collect();
     }
 
-    /// The section on holding the load at rest, in Markdown (empty without hold rows).
-    pub(super) fn hold_markdown(&self) -> String {
+    /// The section on holding the load at rest (nothing without hold rows).
+    pub(super) fn hold_blocks(&self) -> Vec<Block> {
         if self.hold.is_empty() {
-            return String::new();
+            return Vec::new();
         }
-        let mut text = String::from(
-            "\n## Beyond the paper: holding the load at rest\n\nThe same cases with `--ends hold` \
-             (results in `hold/`): the motors must also hold the payload at rest at the start and \
-             the goal within the problem's own control limits (`docs/model.md`, section 6), which \
-             the paper's formulation does not ask. \"Cost of holding\" is J of the best design \
-             under `hold` less J of the best design under the paper's ends; the capacities are \
-             the best designs' dynamic capacities under each formulation, with the load each \
-             holds at rest.\n\n\
-             | payload | space | before (hold) | after (hold) | cost of holding | capacity of the best design: paper | hold |\n\
-             |---|---|---|---|---|---|---|\n",
-        );
-        for row in &self.hold {
-            text.push_str(&hold_line(row));
-        }
-        text
+        vec![
+            Block::Heading(2, "Beyond the paper: holding the load at rest".to_owned()),
+            Block::Paragraph(
+                "The same cases with `--ends hold` (results in `hold/`): the motors must also hold \
+                 the payload at rest at the start and the goal within the problem's own control \
+                 limits (`docs/model.md`, section 6), which the paper's formulation does not ask. \
+                 \"Cost of holding\" is J of the best design under `hold` less J of the best \
+                 design under the paper's ends; the capacities are the best designs' dynamic \
+                 capacities under each formulation, with the load each holds at rest."
+                    .to_owned(),
+            ),
+            Block::grid(
+                &[
+                    "payload",
+                    "space",
+                    "before (hold)",
+                    "after (hold)",
+                    "cost of holding",
+                    "capacity of the best design: paper",
+                    "hold",
+                ],
+                self.hold.iter().map(hold_line).collect(),
+            ),
+        ]
     }
 }
 
 /// One line of the hold section.
-fn hold_line(row: &HoldRow) -> String {
+fn hold_line(row: &HoldRow) -> Vec<String> {
     let dash = || "-".to_owned();
     let before = row.before.as_ref().map_or_else(dash, design_text);
     let after = match (&row.after, row.codesigned) {
@@ -115,10 +125,13 @@ fn hold_line(row: &HoldRow) -> String {
         (Some(kg), Some(held)) => format!("{kg:.2} kg (holds {held:.2} kg at rest)"),
         (capacity, _) => kg(capacity),
     };
-    format!(
-        "| {} kg | {} | {before} | {after} | {cost} | {paper_capacity} | {} |\n",
-        row.payload_kg,
-        row.space,
-        kg(row.capacity_after_kg)
-    )
+    vec![
+        format!("{} kg", row.payload_kg),
+        row.space.to_string(),
+        before,
+        after,
+        cost,
+        paper_capacity,
+        kg(row.capacity_after_kg),
+    ]
 }

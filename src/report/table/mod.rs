@@ -1,14 +1,16 @@
 //! The paper's Table II with our numbers beside the paper's, built from result files (for any
 //! other task than the paper's, the same table without the paper's numbers, titled by its task):
 //! the table's types and the reading of result files here, the rows in `build`, the checks of a
-//! set of files in `check`, the Markdown in `markdown`.
+//! set of files in `check`, its text in `markdown`, rendered as Markdown or HTML by `blocks`.
 
 mod agreement;
+mod blocks;
 mod build;
 mod check;
 mod hold;
 mod markdown;
 
+pub use blocks::{escape_html, to_html, Block};
 pub use hold::HoldRow;
 
 pub use build::build_table;
