@@ -9,6 +9,12 @@ pub fn number(x: f64) -> impl fmt::Display {
     Number(x)
 }
 
+/// `x` rounded to three significant digits and written as [`number`] writes it: `0.931`,
+/// `1230`, `1.23e-5`; a measured value, where more digits would be noise.
+pub fn rounded(x: f64) -> impl fmt::Display {
+    Number(format!("{x:.2e}").parse().unwrap_or(x))
+}
+
 /// `values` as written in messages ([`number`]), separated by commas: `1.7, 0.5, 100`.
 pub fn numbers(values: &[f64]) -> String {
     let texts: Vec<String> = values.iter().map(|&v| number(v).to_string()).collect();
@@ -49,7 +55,7 @@ impl fmt::Display for Number {
 
 #[cfg(test)]
 mod tests {
-    use super::{number, numbers, shown};
+    use super::{number, numbers, rounded, shown};
 
     #[test]
     fn names_stay_on_one_line_and_in_order() {
@@ -69,5 +75,11 @@ mod tests {
         assert_eq!(shown(f64::NAN), "NaN");
         assert_eq!(numbers(&[1.7, 1e-300, 100.0]), "1.7, 1e-300, 100");
         assert_eq!(numbers(&[]), "");
+        let three = |x: f64| rounded(x).to_string();
+        assert_eq!(three(0.93125), "0.931");
+        assert_eq!(three(1234.5), "1230");
+        assert_eq!(three(0.1 * 3.0), "0.3");
+        assert_eq!(three(1.23456e-5), "1.23e-5");
+        assert_eq!(three(0.0), "0");
     }
 }

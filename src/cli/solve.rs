@@ -10,12 +10,12 @@ use crate::problem::{EndHold, Formulation, Space, StaticHold};
 use crate::report::start::{read_start, StartFile, StartRecord};
 use crate::report::trajectory::{every_plot_file, write_plots, SolveDocument};
 use crate::solve::{
-    least_envelope_margin, solve_design_from, SolveError, SolveSettings, StartPoint,
-    TrajectoryResult,
+    least_envelope_margin, solve_design_from, ElasticMeasures, SolveError, SolveSettings,
+    StartPoint, TrajectoryResult,
 };
 use crate::store::document::write_document;
 use crate::store::files::check_folder;
-use crate::text::number;
+use crate::text::{number, rounded};
 use std::path::PathBuf;
 
 /// Flags of `codesign solve`.
@@ -375,9 +375,8 @@ fn execute_text(formulation: &Formulation, result: &TrajectoryResult) -> Option<
     })
 }
 
-/// `feasible (verdict by hard_from_elastic: the trajectory problem started from the relaxed
-/// problem's trajectory)`: the verdict and, in plain words, the solve that gave it (docs/model.md,
-/// section 8).
+/// `feasible (judged by solving the trajectory problem directly)`: the verdict and, in plain
+/// words, the solve that gave it (docs/model.md, section 8).
 fn verdict_text(result: &TrajectoryResult) -> String {
     let verdict = if result.feasible {
         "feasible"
@@ -385,13 +384,22 @@ fn verdict_text(result: &TrajectoryResult) -> String {
         "INFEASIBLE"
     };
     match result.verdict_by {
-        Some(by) => format!(
-            "{verdict} (verdict by {}: {})",
-            by.name(),
-            by.describe(result.feasible)
-        ),
+        Some(by) => format!("{verdict} ({})", by.describe(result.feasible)),
         None => verdict.to_owned(),
     }
+}
+
+/// What the relaxed (elastic) problem measured, in plain words with units.
+fn elastic_text(elastic: &ElasticMeasures) -> String {
+    format!(
+        "relaxed problem (limits may give way, at a price added to J): over the motion the \
+         motors lack {} N m s of torque and exceed their speed limits by {} rad, at one node by \
+         at most {} N m or rad/s; J with the price {:.6}",
+        rounded(elastic.torque_deficit),
+        rounded(elastic.speed_excess),
+        rounded(elastic.largest_slack),
+        elastic.objective
+    )
 }
 
 /// Each ratio of the design at a bound of the design space, with dJ*/dr_i there.
@@ -446,13 +454,7 @@ fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
         say!("  {text}");
     }
     if let Some(elastic) = &result.elastic {
-        say!(
-            "  relaxed (elastic) problem: the motors lack {:.4e} N m s of torque and exceed their speed limits by {:.4e} rad over the motion (largest slack at one node {:.1e} N m or rad/s); penalised objective {:.6}",
-            elastic.torque_deficit,
-            elastic.speed_excess,
-            elastic.largest_slack,
-            elastic.objective
-        );
+        say!("  {}", elastic_text(elastic));
     }
     if let Some(t) = &result.cost_terms {
         let terms = [

@@ -13,14 +13,18 @@ use serde_json::Value;
 /// `robot_urdf_fnv1a`, the URDF's hash. A task's file name and folder, its spacing, the order of
 /// its keys and the spelling of its numbers (`1` or `1.0`) leave it unchanged; so do its
 /// `solver` and `experiment` sections, which say how and which runs are made, not what they
-/// solve. `motion.ends` counts, but `hold`, what a task without the key means, hashes as that
-/// task did before the key existed, so that the results and logs of such a task keep their hash.
+/// solve, and `motors.names`, labels of plots. `motion.ends` counts, but `hold`, what a task
+/// without the key means, hashes as that task did before the key existed, so that the results
+/// and logs of such a task keep their hash.
 pub fn task_hash(task: &Task, urdf_hash: &str) -> String {
     let mut value =
         serde_json::to_value(task).expect("a task serialises: numbers, strings and lists only");
     if let Value::Object(fields) = &mut value {
         fields.remove("robot");
         fields.insert("robot_urdf_fnv1a".to_owned(), urdf_hash.into());
+        if let Some(Value::Object(motors)) = fields.get_mut("motors") {
+            motors.remove("names");
+        }
         if task.motion.ends == Ends::Hold {
             if let Some(Value::Object(motion)) = fields.get_mut("motion") {
                 motion.remove("ends");
@@ -47,6 +51,18 @@ mod tests {
         let task = TaskFile::load(path).unwrap().task;
         let robot = Robot::load(&task).unwrap();
         task_hash(&task, robot.urdf_hash())
+    }
+
+    /// The built-in task's hash as results recorded it before `motors.names` existed: the field
+    /// leaves every existing task's hash as it was, and naming the motors changes none.
+    #[test]
+    fn motor_names_leave_the_hash_unchanged() {
+        let built_in = built_in_task_hash().unwrap();
+        assert_eq!(built_in, "dd1db534c1095e98");
+        let mut named = Task::built_in().unwrap();
+        named.motors.names = Some((1..=4).map(|i| format!("M{i}")).collect());
+        let urdf = crate::hash::fnv1a(crate::model::BUILT_IN_URDF.as_bytes());
+        assert_eq!(task_hash(&named, &urdf), built_in);
     }
 
     #[test]

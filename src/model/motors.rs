@@ -213,6 +213,10 @@ pub struct Motors {
     /// R (tau_u / k_t)^2. Given with `torque_constant_nm_per_a`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub resistance_ohm: Option<PerMotor>,
+    /// The motors' names in plots, motor i's at index i; absent: `motor 1` to `motor m`. Labels
+    /// only: no part of the problem or of the task hash.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub names: Option<Vec<String>>,
 }
 
 impl Motors {
@@ -227,6 +231,7 @@ impl Motors {
             no_load_speed_rad_s: None,
             torque_constant_nm_per_a: None,
             resistance_ohm: None,
+            names: None,
         }
     }
 
@@ -281,7 +286,7 @@ impl Motors {
                 Some(quantity) => quantity.check(field, motors, &bounds),
                 None => Ok(()),
             })?;
-        match (&self.torque_constant_nm_per_a, &self.resistance_ohm) {
+        let electrical = match (&self.torque_constant_nm_per_a, &self.resistance_ohm) {
             (Some(_), None) => Err(FieldError::new(
                 "motors.resistance_ohm",
                 " is missing: the copper losses need the torque constant and the winding \
@@ -293,8 +298,46 @@ impl Motors {
                  resistance; give both or neither",
             )),
             _ => Ok(()),
+        };
+        electrical?;
+        self.names
+            .as_deref()
+            .map_or(Ok(()), |names| check_names(names, motors))
+    }
+}
+
+/// Checks `motors.names` for `motors` motors: one name per motor, none empty (or only spaces),
+/// no two alike.
+fn check_names(names: &[String], motors: usize) -> Result<(), FieldError> {
+    const FIELD: &str = "motors.names";
+    if names.len() != motors {
+        return Err(FieldError::new(
+            FIELD,
+            format!(
+                " has {} names but transmission.matrix has {motors} rows: give one name per \
+                 motor (row of G)",
+                names.len()
+            ),
+        ));
+    }
+    for (i, name) in names.iter().enumerate() {
+        if name.trim().is_empty() {
+            return Err(FieldError::new(
+                format!("{FIELD}[{i}]"),
+                " is empty: give each motor a name",
+            ));
+        }
+        if let Some(first) = names[..i].iter().position(|other| other == name) {
+            return Err(FieldError::new(
+                format!("{FIELD}[{i}]"),
+                format!(
+                    " = '{}' is also the name of {FIELD}[{first}]: give each motor its own",
+                    crate::text::shown(name)
+                ),
+            ));
         }
     }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -567,6 +610,39 @@ mod tests {
         largest["viscous_friction_nm_s_per_rad"] = json!(1e3);
         largest["no_load_speed_rad_s"] = json!([1e6, 1e-3, 1, 1]);
         assert_eq!(motors(largest).unwrap().validate(4), Ok(()));
+    }
+
+    /// `motors.names`: optional, not written back when absent; one name per motor, none
+    /// empty, no two alike, each error naming the field.
+    #[test]
+    fn motor_names_are_one_per_motor_and_distinct() {
+        let limits = json!({"torque_limit_nm": 1.7, "speed_limit_rad_s": 100.0});
+        assert_eq!(motors(limits.clone()).unwrap().names, None);
+        let mut named = limits;
+        named["names"] = json!(["shoulder", "elbow", "wrist 1", "wrist 2"]);
+        let read = motors(named.clone()).unwrap();
+        assert_eq!(read.validate(4), Ok(()));
+        assert_eq!(read.names.as_ref().unwrap()[2], "wrist 1");
+        assert_eq!(serde_json::to_value(&read).unwrap(), named);
+        let cases = [
+            (
+                json!(["a", "b", "c"]),
+                "motors.names has 3 names but transmission.matrix has 4 rows",
+            ),
+            (json!(["a", "b", " ", "d"]), "motors.names[2] is empty"),
+            (
+                json!(["a", "b", "a", "d"]),
+                "motors.names[2] = 'a' is also the name of motors.names[0]",
+            ),
+        ];
+        for (names, expected) in cases {
+            let mut given = named.clone();
+            given["names"] = names;
+            let error = motors(given).unwrap().validate(4).unwrap_err().to_string();
+            assert!(error.starts_with(expected), "{error}");
+        }
+        named["names"] = json!("shoulder");
+        assert!(motors(named).unwrap_err().contains("expected a sequence"));
     }
 
     /// A task checks its motors against the rows of its G.

@@ -15,6 +15,7 @@ pub struct Robot {
     chain: Chain,
     gravity: Vector3<f64>,
     tcp: PointOnBody,
+    tcp_link: String,
     payload_at: PointOnBody,
     payload_kg: f64,
     urdf_hash: String,
@@ -70,6 +71,7 @@ impl Robot {
         }
         Ok(Robot {
             tcp: point_on_chain(&chain, &task.tcp, source, "task tcp")?,
+            tcp_link: task.tcp.link.clone(),
             payload_at: point_on_chain(&chain, &task.payload.at, source, "task payload.at")?,
             chain,
             gravity,
@@ -139,6 +141,12 @@ impl Robot {
     /// The tool centre point: a point on a body of the chain.
     pub fn tcp(&self) -> &PointOnBody {
         &self.tcp
+    }
+
+    /// The URDF link the TCP is given on (the task's `tcp.link`, or the tip link the robot was
+    /// read to without a task): one of the links merged into the TCP's body, by name.
+    pub fn tcp_link(&self) -> &str {
+        &self.tcp_link
     }
 }
 

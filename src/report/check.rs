@@ -209,13 +209,7 @@ impl Inspection {
         Inspection {
             joints,
             notes: robot.notes().to_vec(),
-            tcp_link: robot
-                .chain()
-                .links
-                .iter()
-                .rev()
-                .find(|link| link.body == robot.tcp().body)
-                .map_or_else(String::new, |link| link.name.clone()),
+            tcp_link: robot.tcp_link().to_owned(),
             payload_kg: robot.payload_kg(),
             ratios: Vec::new(),
             bounds: Vec::new(),
@@ -446,5 +440,44 @@ impl Inspection {
             let _ = writeln!(text, "{mark} {}: {}", verdict.check, shown(&verdict.detail));
         }
         text
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Inspection;
+    use crate::model::task::Task;
+    use crate::model::Robot;
+
+    /// Without a task the TCP is on the URDF's tip link, and the inspection names that link,
+    /// not another merged into the same body (a gripper's finger), wherever the URDF lists it.
+    #[test]
+    fn a_robot_alone_names_its_tip_link() {
+        let dir = std::env::temp_dir().join(format!("codesign-check-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let source =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/urdf/gripper.urdf");
+        let text = std::fs::read_to_string(source)
+            .unwrap()
+            .replace("\"link_4\"", "\"tcp\"");
+        let tcp_joint = &text[text.find("  <joint name=\"tcp_joint\"").unwrap()..];
+        let tcp_joint = &tcp_joint[..tcp_joint.find("</joint>\n").unwrap() + 9];
+        let last = text
+            .replace(tcp_joint, "")
+            .replace("</robot>", &format!("{tcp_joint}</robot>"));
+        for (name, urdf) in [("first.urdf", text.clone()), ("last.urdf", last)] {
+            let path = dir.join(name);
+            std::fs::write(&path, urdf).unwrap();
+            let mut task = Task::built_in().unwrap();
+            task.tcp.link = Robot::tip_link(&path).unwrap();
+            assert_eq!(task.tcp.link, "tcp", "{name}");
+            task.robot = Some(path);
+            task.payload.at = task.tcp.clone();
+            let robot = Robot::load(&task).unwrap();
+            let inspection = Inspection::of_robot(&robot);
+            assert_eq!(inspection.tcp_link, "tcp", "{name}");
+            assert!(inspection.to_text().contains("TCP on link 'tcp'"), "{name}");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -1,6 +1,6 @@
 //! The result file and plots of one trajectory solve (`codesign solve`).
 
-use super::plots::{Chart, Figure, Guide, Series};
+use super::plots::{Chart, Figure, Guide, Line, Series};
 use super::start::StartRecord;
 use super::ReportError;
 use crate::design::run::RecordedHash;
@@ -124,9 +124,23 @@ fn joint_labels(formulation: &Formulation, result: &TrajectoryResult) -> Vec<Str
     }
 }
 
-/// The motors' names, `motor 1` to `motor m` (row i of G drives motor i).
-fn motor_labels(motors: usize) -> Vec<String> {
-    (1..=motors).map(|i| format!("motor {i}")).collect()
+/// The names of `motors` motors (row i of G drives motor i): the task's `motors.names`, else
+/// `motor 1` to `motor m`.
+fn motor_labels(task: &Task, motors: usize) -> Vec<String> {
+    match &task.motors.names {
+        Some(names) if names.len() == motors => names.clone(),
+        _ => (1..=motors).map(|i| format!("motor {i}")).collect(),
+    }
+}
+
+/// Each of `limits`' finite values, a (lower, upper) pair per curve, as a horizontal line in
+/// the curve's colour, labelled `<name> limit` by the curves' `names`.
+fn limit_guides(limits: impl IntoIterator<Item = (f64, f64)>, names: &[String]) -> Vec<Guide> {
+    let lines = limits
+        .into_iter()
+        .enumerate()
+        .flat_map(|(i, (lo, hi))| [(i, Line::Horizontal(lo)), (i, Line::Horizontal(hi))]);
+    Guide::owned(lines, "limit", names)
 }
 
 /// The files of the plots of a solve, in the order [`write_plots`] writes them.
@@ -152,10 +166,12 @@ pub fn every_plot_file() -> impl Iterator<Item = &'static str> {
 }
 
 /// Writes the plots of a solve into `folder` ([`PLOT_FILES`]): joint positions and joint
-/// torques (named as in the URDF) and motor torques with their limits, and the TCP path in the
-/// world plane it moves most in ([`path_plane`]) with the Cartesian box; where the motors have a
-/// torque-speed envelope, also each motor's operating points in the torque-speed plane inside
-/// it ([`ENVELOPE_PLOT_FILE`]); and the arm in poses along the motion and animated (`poses`).
+/// torques (named as in the URDF) and motor torques (named as in the task) with each curve's
+/// limits in its colour, and the TCP path from its start to its goal in the world plane it moves
+/// most in ([`path_plane`]) with the Cartesian box; where the motors have a torque-speed
+/// envelope, also each motor's operating points in the torque-speed plane inside it and its
+/// speed limits ([`ENVELOPE_PLOT_FILE`]); and the arm in poses along the motion and animated
+/// (`poses`).
 pub fn write_plots(
     folder: &Path,
     formulation: &Formulation,
@@ -166,17 +182,20 @@ pub fn write_plots(
     let t = &result.trajectory;
     let title = plot_title(formulation, result);
     let joints = joint_labels(formulation, result);
+    let motors = motor_labels(task, t.motor_torque.first().map_or(0, Vec::len));
     let charts = [
         joint_positions(formulation, t, &joints, &title),
         joint_torques(formulation, result, &joints, &title)?,
-        motor_torques(formulation.motor_torque_limits(), t, &title),
+        motor_torques(formulation.motor_torque_limits(), t, &motors, &title),
         tcp_path(task, t, &title),
     ];
     for (name, chart) in PLOT_FILES.into_iter().zip(charts) {
         chart.write(&folder.join(name))?;
     }
     if let Some(envelope) = formulation.envelope() {
-        motor_torque_speed(envelope, t, &title).write(&folder.join(ENVELOPE_PLOT_FILE))?;
+        let speed_limits = task.motors.speed_limit_rad_s.values(motors.len());
+        motor_torque_speed((envelope, &speed_limits), t, &motors, &title)
+            .write(&folder.join(ENVELOPE_PLOT_FILE))?;
     }
     super::poses::write_poses(folder, formulation, result)
 }
@@ -204,17 +223,12 @@ fn joint_positions(
     title: &str,
 ) -> Chart {
     let limits = formulation.dynamics().robot().position_limits();
-    let position_guides = limits
-        .iter()
-        .flat_map(|&(lo, hi)| [lo, hi])
-        .filter(|v| v.is_finite())
-        .map(Guide::Horizontal);
     Chart {
         title: format!("Joint positions: {title}"),
         x_label: "time [s]".into(),
         y_label: "q [rad]".into(),
         series: per_column(&t.time, &t.q, joints),
-        guides: position_guides.collect(),
+        guides: limit_guides(limits.iter().copied(), joints),
         log_y: false,
     }
 }
@@ -233,11 +247,9 @@ fn joint_torques(
             let coupling = formulation.transmission().coupling(&result.ratios)?;
             let limits = formulation.motor_torque_limits();
             match coupling.torque_limits(formulation.modes().torque, limits) {
-                JointLimits::Box { lower, upper } => lower
-                    .into_iter()
-                    .chain(upper)
-                    .map(Guide::Horizontal)
-                    .collect(),
+                JointLimits::Box { lower, upper } => {
+                    limit_guides(lower.into_iter().zip(upper), joints)
+                }
                 JointLimits::Linear { .. } => Vec::new(),
             }
         }
@@ -253,63 +265,55 @@ fn joint_torques(
     })
 }
 
-/// Motor torques over the control intervals, N m, with the motors' limits (`limits`, one per
-/// motor): a pair of lines at -+ each limit, once for motors that share it.
-fn motor_torques(limits: &[f64], t: &Trajectory, title: &str) -> Chart {
-    let mut distinct: Vec<f64> = Vec::new();
-    for &limit in limits {
-        if !distinct.contains(&limit) {
-            distinct.push(limit);
-        }
-    }
+/// Motor torques over the control intervals, N m, of the motors named `motors`, with their
+/// limits (`limits`, one per motor): lines at -+ each limit, one for motors that share it.
+fn motor_torques(limits: &[f64], t: &Trajectory, motors: &[String], title: &str) -> Chart {
     Chart {
         title: format!("Motor torques: {title}"),
         x_label: "time [s]".into(),
         y_label: "tau_u [N m]".into(),
-        series: per_column(
-            &t.time[..t.joint_torque.len()],
-            &t.motor_torque,
-            &motor_labels(t.motor_torque.first().map_or(0, Vec::len)),
-        ),
-        guides: distinct
-            .into_iter()
-            .flat_map(|limit| [Guide::Horizontal(-limit), Guide::Horizontal(limit)])
-            .collect(),
+        series: per_column(&t.time[..t.joint_torque.len()], &t.motor_torque, motors),
+        guides: limit_guides(limits.iter().map(|&l| (-l, l)), motors),
         log_y: false,
     }
 }
 
 /// Each motor's operating points (motor speed w_k, motor torque tau_u,k) at the nodes k < N,
-/// the pairs the envelope rows bound (docs/model.md, section 5), inside the envelope
-/// |tau_u| + c |w| <= tau_max drawn as a diamond, once for motors that share it.
-fn motor_torque_speed(envelope: &Envelope, t: &Trajectory, title: &str) -> Chart {
-    let motors = t.motor_torque.first().map_or(0, Vec::len);
-    let series = motor_labels(motors)
-        .into_iter()
+/// the pairs the envelope rows bound (docs/model.md, section 5), from start to goal, of the
+/// motors named `motors`: inside the envelope |tau_u| + c |w| <= tau_max drawn as a diamond,
+/// and between the speed limits -+w_max (`speed_limits`, rad/s, one per motor), each in its
+/// motor's colour, one for motors that share it.
+fn motor_torque_speed(
+    (envelope, speed_limits): (&Envelope, &[f64]),
+    t: &Trajectory,
+    motors: &[String],
+    title: &str,
+) -> Chart {
+    let series = motors
+        .iter()
         .enumerate()
         .map(|(motor, label)| {
             let points = t.motor_torque.iter().zip(&t.motor_speed);
             let points = points.map(|(torque, speed)| (speed[motor], torque[motor]));
-            Series::line(label, points.collect())
+            Series::path(label.clone(), points.collect())
         })
         .collect();
-    let mut diamonds: Vec<(f64, f64)> = Vec::new();
-    for motor in 0..envelope.motors() {
-        let corner = (envelope.no_load_speed(motor), envelope.torque_limit(motor));
-        if !diamonds.contains(&corner) {
-            diamonds.push(corner);
-        }
-    }
-    let guides = diamonds.into_iter().flat_map(|(w0, tau)| {
+    let edges = (0..envelope.motors()).flat_map(|motor| {
+        let (w0, tau) = (envelope.no_load_speed(motor), envelope.torque_limit(motor));
         let corners = [(w0, 0.0), (0.0, tau), (-w0, 0.0), (0.0, -tau)];
-        (0..4).map(move |i| Guide::Segment(corners[i], corners[(i + 1) % 4]))
+        (0..4).map(move |i| (motor, Line::Segment(corners[i], corners[(i + 1) % 4])))
     });
+    let speeds = speed_limits.iter().enumerate();
+    let speeds =
+        speeds.flat_map(|(motor, &w)| [(motor, Line::Vertical(-w)), (motor, Line::Vertical(w))]);
+    let mut guides = Guide::owned(edges, "torque-speed envelope", motors);
+    guides.extend(Guide::owned(speeds, "speed limit", motors));
     Chart {
         title: format!("Motor torque against motor speed: {title}"),
         x_label: "w [rad/s]".into(),
         y_label: "tau_u [N m]".into(),
         series,
-        guides: guides.collect(),
+        guides,
         log_y: false,
     }
 }
@@ -398,22 +402,23 @@ pub fn path_plane(t: &Trajectory) -> (WorldAxis, WorldAxis) {
     }
 }
 
-/// The TCP's path in the world plane it moves most in ([`path_plane`]), m, with the task's
-/// Cartesian box on those axes.
+/// The TCP's path from its start to its goal in the world plane it moves most in
+/// ([`path_plane`]), m, with the task's Cartesian box on those axes.
 fn tcp_path(task: &Task, t: &Trajectory, title: &str) -> Chart {
     let (across, up) = path_plane(t);
-    let mut box_guides = Vec::new();
+    let mut edges = Vec::new();
     if let Some(interval) = across.interval(task) {
-        box_guides.extend(interval.range.map(Guide::Vertical));
+        edges.extend(interval.range.map(Line::Vertical));
     }
     if let Some(interval) = up.interval(task) {
-        box_guides.extend(interval.range.map(Guide::Horizontal));
+        edges.extend(interval.range.map(Line::Horizontal));
     }
+    let box_guides = edges.into_iter().map(|l| Guide::plain(l, "Cartesian box"));
     Chart {
         title: format!("TCP path: {title}"),
         x_label: format!("world {} [m]", across.name()),
         y_label: format!("world {} [m]", up.name()),
-        series: vec![Series::line(
+        series: vec![Series::path(
             "TCP",
             across
                 .of(t)
@@ -422,7 +427,7 @@ fn tcp_path(task: &Task, t: &Trajectory, title: &str) -> Chart {
                 .zip(up.of(t).iter().copied())
                 .collect(),
         )],
-        guides: box_guides,
+        guides: box_guides.collect(),
         log_y: false,
     }
 }
@@ -479,18 +484,27 @@ mod tests {
             (chart.x_label.as_str(), chart.y_label.as_str()),
             ("world x [m]", "world z [m]")
         );
-        // The task's box bounds y and z: only z shows in the x-z plane.
+        // The task's box bounds y and z: only z shows in the x-z plane, in grey.
+        let lines = |chart: &Chart| chart.guides.iter().map(|g| g.line).collect::<Vec<_>>();
         assert_eq!(
-            chart.guides,
-            vec![Guide::Horizontal(-0.9), Guide::Horizontal(0.6)]
+            lines(&chart),
+            [Line::Horizontal(-0.9), Line::Horizontal(0.6)]
         );
+        assert!(chart
+            .guides
+            .iter()
+            .all(|g| g.owners.is_empty() && g.label == "Cartesian box"));
         task.cartesian_box.x = task.cartesian_box.y.clone();
         let chart = tcp_path(&task, &xz, "planar");
         assert_eq!(
-            chart.guides[..2],
-            [Guide::Vertical(-1.0), Guide::Vertical(0.4)]
+            lines(&chart)[..2],
+            [Line::Vertical(-1.0), Line::Vertical(0.4)]
         );
         assert_eq!(chart.series[0].points[10], (1.0, 0.2));
+        // From its start to its goal, marked.
+        assert!(chart.series[0].ends);
+        let svg = chart.to_svg().unwrap();
+        assert!(svg.contains(">\nstart\n</text>") && svg.contains(">\ngoal\n</text>"));
     }
 
     #[test]
@@ -506,12 +520,46 @@ mod tests {
             assert!(svg.contains(name.as_str()), "{name} missing");
         }
         assert!(!svg.contains("joint 1"));
-        let svg = motor_torques(formulation.motor_torque_limits(), &t, "test")
+        // Each joint's limits in its colour, named after it (the built-in arm's first joint
+        // has its own, the others share theirs).
+        assert!(svg.contains(">\njoint_arm_1 limit\n</text>"));
+        let shared = ">\nlimit of joint_arm_2, joint_arm_3,\n</text>";
+        assert!(svg.contains(shared) && svg.contains(">\njoint_arm_4\n</text>"));
+        let task = formulation.task();
+        let motors = motor_labels(task, 4);
+        assert_eq!(motors, ["motor 1", "motor 2", "motor 3", "motor 4"]);
+        let svg = motor_torques(formulation.motor_torque_limits(), &t, &motors, "test")
             .to_svg()
             .unwrap();
         for i in 1..=4 {
-            assert!(svg.contains(&format!("motor {i}")), "motor {i} missing");
+            assert!(
+                svg.contains(&format!(">\nmotor {i}\n</text>")),
+                "motor {i} missing"
+            );
         }
+        // One limit the four share, its legend text wrapped: its second row and motor 4's.
+        assert!(svg.contains(">\nlimit of motor 1, motor 2, motor 3,\n</text>"));
+        assert_eq!(svg.matches(">\nmotor 4\n</text>").count(), 2);
+        // Named as the task names them.
+        let mut named = task.clone();
+        let names = ["shoulder", "elbow", "wrist 1", "wrist 2"].map(String::from);
+        named.motors.names = Some(names.to_vec());
+        assert_eq!(motor_labels(&named, 4), names);
+        assert_eq!(motor_labels(&named, 3), ["motor 1", "motor 2", "motor 3"]);
+        let limits = [1.7, 0.9, 0.9, 0.9];
+        let chart = motor_torques(&limits, &t, &names, "test");
+        let labels: Vec<&str> = chart.guides.iter().map(|g| g.label.as_str()).collect();
+        assert_eq!(
+            labels,
+            [
+                "shoulder limit",
+                "shoulder limit",
+                "limit of elbow, wrist 1, wrist 2",
+                "limit of elbow, wrist 1, wrist 2"
+            ]
+        );
+        assert_eq!(chart.guides[0].line, Line::Horizontal(-1.7));
+        assert_eq!(chart.guides[0].owners, [0]);
     }
 
     #[test]
@@ -522,20 +570,53 @@ mod tests {
         let envelope = Envelope::of(&motors, 2).unwrap();
         let mut t = trajectory(5, 2, |s| [0.0, s, s]);
         t.motor_speed[2][1] = -30.0;
-        let chart = motor_torque_speed(&envelope, &t, "test");
-        // A diamond of four edges per distinct motor, through (+-w_0, 0) and (0, +-tau_max).
-        assert_eq!(chart.guides.len(), 8);
-        assert_eq!(chart.guides[0], Guide::Segment((50.0, 0.0), (0.0, 1.7)));
-        assert_eq!(chart.guides[6], Guide::Segment((-50.0, 0.0), (0.0, -1.0)));
-        // Motor torque over interval k against motor speed at node k, k < N.
+        let names = ["motor 1".to_owned(), "motor 2".to_owned()];
+        let speeds = [40.0, 40.0];
+        let chart = motor_torque_speed((&envelope, &speeds), &t, &names, "test");
+        // A diamond of four edges per distinct motor, through (+-w_0, 0) and (0, +-tau_max),
+        // in its motor's colour; then the speed limits the motors share.
+        assert_eq!(chart.guides.len(), 10);
+        let first = &chart.guides[0];
+        assert_eq!(first.line, Line::Segment((50.0, 0.0), (0.0, 1.7)));
+        assert_eq!(
+            (first.owners.as_slice(), first.label.as_str()),
+            ([0].as_slice(), "motor 1 torque-speed envelope")
+        );
+        assert_eq!(
+            chart.guides[6].line,
+            Line::Segment((-50.0, 0.0), (0.0, -1.0))
+        );
+        let speed = &chart.guides[8..];
+        assert_eq!(
+            (speed[0].line, speed[1].line),
+            (Line::Vertical(-40.0), Line::Vertical(40.0))
+        );
+        assert_eq!(speed[1].owners, [0, 1]);
+        assert_eq!(speed[1].label, "speed limit of motor 1, motor 2");
+        // Motor torque over interval k against motor speed at node k, k < N, start to goal.
         assert_eq!(chart.series.len(), 2);
         assert_eq!(chart.series[1].points.len(), 4);
         assert_eq!(chart.series[1].points[2], (-30.0, t.motor_torque[2][1]));
+        assert!(chart.series.iter().all(|s| s.ends));
         let svg = chart.to_svg().unwrap();
-        assert!(svg.contains("motor 2") && svg.contains("w [rad/s]"));
-        // Motors that share their limits share one diamond.
+        assert!(svg.contains(">\nmotor 2\n</text>") && svg.contains("w [rad/s]"));
+        for label in [
+            "speed limit of motor 1, motor 2",
+            "motor 2 torque-speed envelope",
+        ] {
+            let x = crate::report::plots::tests::text_x(&svg, label);
+            assert!(x > 900.0, "{label} at {x}");
+        }
+        // Motors that share their limits share one diamond; each its own speed limit.
         motors.torque_limit_nm = PerMotor::All(1.7);
-        let shared = motor_torque_speed(&Envelope::of(&motors, 2).unwrap(), &t, "test");
-        assert_eq!(shared.guides.len(), 4);
+        let envelope = Envelope::of(&motors, 2).unwrap();
+        let shared = motor_torque_speed((&envelope, &[40.0, 60.0]), &t, &names, "test");
+        assert_eq!(shared.guides.len(), 8);
+        assert_eq!(
+            shared.guides[0].label,
+            "torque-speed envelope of motor 1, motor 2"
+        );
+        assert_eq!(shared.guides[7].label, "motor 2 speed limit");
+        assert_eq!(shared.guides[7].line, Line::Vertical(60.0));
     }
 }

@@ -53,22 +53,24 @@ pub enum VerdictBy {
 }
 
 impl VerdictBy {
-    /// In plain words, for a reader without docs/model.md: how the verdict was reached.
+    /// In plain words, for a reader without docs/model.md: how the verdict was reached, to
+    /// follow `feasible` or `infeasible`.
     pub fn describe(self, feasible: bool) -> &'static str {
         match (self, feasible) {
-            (VerdictBy::Hard, _) => "the trajectory problem solved directly",
+            (VerdictBy::Hard, _) => "judged by solving the trajectory problem directly",
             (VerdictBy::Elastic, true) => {
-                "the relaxed problem, which found a trajectory that needs no extra torque or speed"
+                "judged by the relaxed problem, whose limits may give way: none had to, the \
+                 motors need no extra torque or speed"
             }
             (VerdictBy::Elastic, false) => {
-                "the relaxed problem: the least extra torque and speed the motors would need is \
-                 above zero"
+                "judged by the relaxed problem, whose limits may give way: the least extra \
+                 torque and speed the motors would need is above zero"
             }
             (VerdictBy::HardFromElastic, _) => {
-                "the trajectory problem started from the relaxed problem's trajectory"
+                "judged by solving the trajectory problem from the relaxed problem's trajectory"
             }
             (VerdictBy::PayloadContinuation, _) => {
-                "the trajectory problem carried up step by step from the unloaded arm"
+                "judged by solving the trajectory problem step by step up from the unloaded arm"
             }
         }
     }

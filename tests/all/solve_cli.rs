@@ -98,11 +98,11 @@ fn elastic_solve_reports_the_torque_deficit() {
     assert!(stdout.contains("Solve_Succeeded"), "{stdout}");
     assert!(stdout.contains("INFEASIBLE"), "{stdout}");
     assert!(
-        stdout.contains("relaxed (elastic) problem: the motors lack"),
+        stdout.contains("relaxed problem (limits may give way, at a price added to J): over the motion the motors lack"),
         "{stdout}"
     );
     assert!(
-        stdout.contains("verdict by elastic: the relaxed problem: the least extra torque"),
+        stdout.contains("INFEASIBLE (judged by the relaxed problem, whose limits may give way: the least extra torque"),
         "{stdout}"
     );
     let result: serde_json::Value =

@@ -1,13 +1,23 @@
-//! SVG figures: line charts of trajectories (the paper's figures 4 and 5) and co-design
-//! histories, and the radar or bar chart of values per case ([`ratios`]).
+//! SVG figures: line charts of trajectories (the paper's figures 4 and 5), the cost of
+//! co-design runs ([`CostEvolution`]), and the radar or bar chart of values per case
+//! ([`ratios`]). Every figure's legend stands in a column beside its plot, never over the data.
 
+mod cost;
+mod guide;
+mod legend;
 mod ratios;
 
+pub use cost::{CostEvolution, CostRun};
+pub use guide::{Guide, Line};
 pub use ratios::{Bars, Radar};
 
 use super::ReportError;
+use crate::text::{number, rounded};
+use guide::draw_dashes;
+use legend::{Key, Legend};
 use plotters::coord::ranged1d::ValueFormatter;
 use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -29,6 +39,9 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
     /// Line or dots.
     pub mark: Mark,
+    /// Whether the first point is marked as the start (a disc) and the last as the goal (a
+    /// square): a path.
+    pub ends: bool,
 }
 
 impl Series {
@@ -38,37 +51,23 @@ impl Series {
             name: name.into(),
             points,
             mark: Mark::Line,
-        }
-    }
-}
-
-/// A dashed reference line: a limit, a box edge or an edge of a motor's torque-speed envelope.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Guide {
-    /// y = value across the chart.
-    Horizontal(f64),
-    /// x = value across the chart.
-    Vertical(f64),
-    /// The segment between two points (x, y); the chart's range takes in both.
-    Segment((f64, f64), (f64, f64)),
-}
-
-impl Guide {
-    /// The x values the chart's range must take in.
-    fn xs(&self) -> Vec<f64> {
-        match *self {
-            Guide::Horizontal(_) => Vec::new(),
-            Guide::Vertical(x) => vec![x],
-            Guide::Segment(from, to) => vec![from.0, to.0],
+            ends: false,
         }
     }
 
-    /// The y values the chart's range must take in.
-    fn ys(&self) -> Vec<f64> {
-        match *self {
-            Guide::Horizontal(y) => vec![y],
-            Guide::Vertical(_) => Vec::new(),
-            Guide::Segment(from, to) => vec![from.1, to.1],
+    /// A path: a line with its start and goal marked.
+    pub fn path(name: impl Into<String>, points: Vec<(f64, f64)>) -> Series {
+        Series {
+            ends: true,
+            ..Series::line(name, points)
+        }
+    }
+
+    /// A series drawn as dots.
+    pub fn dots(name: impl Into<String>, points: Vec<(f64, f64)>) -> Series {
+        Series {
+            mark: Mark::Dots,
+            ..Series::line(name, points)
         }
     }
 }
@@ -84,12 +83,13 @@ pub struct Chart {
     pub y_label: String,
     /// The curves.
     pub series: Vec<Series>,
-    /// Dashed guides (limits, box edges), drawn in grey.
+    /// Dashed guides (limits, box edges), each in the colours of its series.
     pub guides: Vec<Guide>,
-    /// Draw the y axis in log scale (all y must be positive).
+    /// Draw the y axis in log scale (only positive y are drawn).
     pub log_y: bool,
 }
 
+/// The range of `values` (the finite ones) with 5 % to spare each side; (0, 1) for none.
 fn span(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = values
         .filter(|v| v.is_finite())
@@ -105,6 +105,26 @@ fn span(values: impl Iterator<Item = f64>) -> (f64, f64) {
         0.5_f64.max(lo.abs() * 0.1)
     };
     (lo - pad, hi + pad)
+}
+
+/// The range of a log axis over `values` (the positive finite ones): half the least to twice
+/// the largest, at least a decade; (1e-3, 1) for none.
+fn log_span(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if !lo.is_finite() {
+        return (1e-3, 1.0);
+    }
+    (0.5 * lo, (2.0 * hi).max(10.0 * lo))
+}
+
+/// A log axis' tick label: the value to three digits, as messages write numbers (`20`, `1000`,
+/// `0.003`, `1e-9`).
+fn log_tick(value: &f64) -> String {
+    rounded(*value).to_string()
 }
 
 /// The outcome of drawing a figure.
@@ -126,6 +146,9 @@ const PALETTE: [RGBColor; 12] = [
     RGBColor(128, 128, 0),
     RGBColor(240, 50, 230),
 ];
+
+/// The colour of guides of no series.
+const GREY: RGBAColor = RGBAColor(0, 0, 0, 0.45);
 
 /// The colour of the `i`-th series (or case) of a figure, cycling through [`PALETTE`].
 fn palette(i: usize) -> RGBAColor {
@@ -161,6 +184,25 @@ fn caption_size(title: &str, width: u32, margin: u32) -> f64 {
     fit.clamp(SMALLEST, LARGEST)
 }
 
+/// An area of an SVG figure, in pixels.
+type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
+
+/// The areas of a figure drawn into `svg`: its plot column, `size.0` px wide under `title`, and
+/// the column of `legend` beside it, both `size.1` px high.
+fn canvas<'a>(
+    svg: &'a mut String,
+    title: &str,
+    (width, height): (u32, u32),
+    legend: &Legend,
+) -> Result<(Area<'a>, Area<'a>), Box<dyn std::error::Error>> {
+    let root =
+        SVGBackend::with_string(svg, (width + legend.width(height), height)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (plot, side) = root.split_horizontally(width);
+    let plot = plot.titled(title, ("sans-serif", caption_size(title, width, 12)))?;
+    Ok((plot, side))
+}
+
 /// A figure drawn as SVG.
 pub trait Figure {
     /// The title above the plot.
@@ -188,148 +230,345 @@ pub trait Figure {
     }
 }
 
+/// A chart's plot column, px: its width and the figure's height.
+const CHART: (u32, u32) = (900, 540);
+
 impl Figure for Chart {
     fn title(&self) -> &str {
         &self.title
     }
 
     fn draw(&self, svg: &mut String) -> DrawResult {
-        let points = || self.series.iter().flat_map(|s| s.points.iter());
-        let (x0, x1) = span(
-            points()
-                .map(|p| p.0)
-                .chain(self.guides.iter().flat_map(Guide::xs)),
-        );
-        let (y0, y1) = span(
-            points()
-                .map(|p| p.1)
-                .chain(self.guides.iter().flat_map(Guide::ys)),
-        );
-        let root = SVGBackend::with_string(svg, (900, 540)).into_drawing_area();
-        root.fill(&WHITE)?;
-        let mut builder = ChartBuilder::on(&root);
-        builder
-            .caption(
-                &self.title,
-                ("sans-serif", caption_size(&self.title, 900, 12)),
-            )
-            .margin(12)
-            .x_label_area_size(45)
-            .y_label_area_size(70);
-        if self.log_y {
-            let low = points()
-                .map(|p| p.1)
-                .filter(|y| *y > 0.0)
-                .fold(f64::INFINITY, f64::min);
-            let low = if low.is_finite() { low * 0.5 } else { 1e-3 };
-            let chart =
-                builder.build_cartesian_2d(x0..x1, (low..y1.max(low * 10.0)).log_scale())?;
-            self.draw_on(chart, (x0, x1), (low, y1))?;
-        } else {
-            let chart = builder.build_cartesian_2d(x0..x1, y0..y1)?;
-            self.draw_on(chart, (x0, x1), (y0, y1))?;
-        }
-        root.present()?;
+        let legend = self.legend();
+        let (plot, side) = canvas(svg, &self.title, CHART, &legend)?;
+        self.plot(&plot, self.x_range())?;
+        legend.draw(&side)?;
+        plot.present()?;
         Ok(())
     }
 }
 
 impl Chart {
-    /// Mesh, guides, series and legend on a chart of either y scale.
-    fn draw_on<'a, Y>(
+    /// The colour of series `i` and whether its line is dashed: the k-th series of its mark
+    /// takes the k-th colour.
+    fn style(&self, i: usize) -> (RGBAColor, bool) {
+        let mark = self.series[i].mark;
+        let ordinal = self.series[..i].iter().filter(|s| s.mark == mark).count();
+        (colour(ordinal, mark), mark == Mark::Line && dashed(ordinal))
+    }
+
+    /// The colours `guide`'s dashes take turns in: its owners', or grey.
+    fn guide_colours(&self, guide: &Guide) -> Vec<RGBAColor> {
+        let owners = guide.owners.iter().filter(|&&i| i < self.series.len());
+        let colours: Vec<RGBAColor> = owners.map(|&i| self.style(i).0).collect();
+        if colours.is_empty() {
+            vec![GREY]
+        } else {
+            colours
+        }
+    }
+
+    /// One entry per series drawn (one with points), per guide label, and the start and goal where a path is drawn.
+    fn legend(&self) -> Legend {
+        let mut legend = Legend::default();
+        for (i, series) in self.series.iter().enumerate() {
+            if series.points.is_empty() {
+                continue;
+            }
+            let (colour, dashed) = self.style(i);
+            let key = match series.mark {
+                Mark::Line => Key::Line(colour, dashed),
+                Mark::Dots => Key::Dot(colour),
+            };
+            legend.add(key, &series.name);
+        }
+        for guide in &self.guides {
+            legend.add(Key::Dashes(self.guide_colours(guide)), &guide.label);
+        }
+        if self.series.iter().any(|s| s.ends && !s.points.is_empty()) {
+            legend.add(Key::Start, "start");
+            legend.add(Key::Goal, "goal");
+        }
+        legend
+    }
+
+    /// The x range of the series and guides.
+    fn x_range(&self) -> (f64, f64) {
+        let points = self.series.iter().flat_map(|s| s.points.iter());
+        span(
+            points
+                .map(|p| p.0)
+                .chain(self.guides.iter().flat_map(|g| g.line.xs())),
+        )
+    }
+
+    /// Draws the axes, guides and series into `area` over x range `x`, the y range the data's.
+    fn plot(&self, area: &Area<'_>, x: (f64, f64)) -> DrawResult {
+        let ys = || {
+            let points = self.series.iter().flat_map(|s| s.points.iter());
+            points
+                .map(|p| p.1)
+                .chain(self.guides.iter().flat_map(|g| g.line.ys()))
+        };
+        let mut builder = ChartBuilder::on(area);
+        builder
+            .margin(12)
+            .x_label_area_size(45)
+            .y_label_area_size(70);
+        if self.log_y {
+            let y = log_span(ys());
+            let chart = builder.build_cartesian_2d(x.0..x.1, (y.0..y.1).log_scale())?;
+            self.draw_on(chart, x, y)
+        } else {
+            let y = span(ys());
+            let chart = builder.build_cartesian_2d(x.0..x.1, y.0..y.1)?;
+            self.draw_on(chart, x, y)
+        }
+    }
+
+    /// Mesh, guides, series and the paths' ends on a chart of either y scale.
+    fn draw_on<Y>(
         &self,
-        mut chart: ChartContext<'a, SVGBackend<'a>, Cartesian2d<RangedCoordf64, Y>>,
-        (x0, x1): (f64, f64),
-        (y0, y1): (f64, f64),
+        mut chart: ChartContext<'_, SVGBackend<'_>, Cartesian2d<RangedCoordf64, Y>>,
+        x: (f64, f64),
+        y: (f64, f64),
     ) -> DrawResult
     where
         Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
     {
-        chart
-            .configure_mesh()
-            .x_desc(&self.x_label)
-            .y_desc(&self.y_label)
-            .draw()?;
+        let mut mesh = chart.configure_mesh();
+        mesh.x_desc(&self.x_label).y_desc(&self.y_label);
+        if self.log_y {
+            mesh.y_label_formatter(&log_tick);
+        }
+        mesh.draw()?;
         for guide in &self.guides {
-            let line = match *guide {
-                Guide::Horizontal(y) => vec![(x0, y), (x1, y)],
-                Guide::Vertical(x) => vec![(x, y0), (x, y1)],
-                Guide::Segment(from, to) => vec![from, to],
-            };
-            chart.draw_series(DashedLineSeries::new(
-                line,
-                6,
-                4,
-                BLACK.mix(0.45).stroke_width(1),
-            ))?;
+            let width = if guide.owners.is_empty() { 1 } else { 2 };
+            let colours = self.guide_colours(guide);
+            draw_dashes(&mut chart, guide.line.ends(x, y), &colours, width)?;
         }
         // Dots first, so that lines are drawn over them.
         let mut order: Vec<usize> = (0..self.series.len()).collect();
         order.sort_by_key(|&i| self.series[i].mark == Mark::Line);
         for i in order {
             let series = &self.series[i];
-            let ordinal = self.series[..i]
-                .iter()
-                .filter(|s| s.mark == series.mark)
-                .count();
-            let colour = colour(ordinal, series.mark);
+            let points = series.points.iter().copied();
+            let points = points.filter(|&(_, y)| !self.log_y || y > 0.0);
+            let (colour, dashed) = self.style(i);
             match series.mark {
-                Mark::Line => draw_line(&mut chart, series, colour, dashed(ordinal))?,
+                Mark::Line if dashed => {
+                    chart.draw_series(DashedLineSeries::new(
+                        points,
+                        8,
+                        5,
+                        colour.stroke_width(2),
+                    ))?;
+                }
+                Mark::Line => {
+                    chart.draw_series(LineSeries::new(points, colour.stroke_width(2)))?;
+                }
                 Mark::Dots => {
-                    chart
-                        .draw_series(
-                            series
-                                .points
-                                .iter()
-                                .map(|&(x, y)| Circle::new((x, y), 2, colour.filled())),
-                        )?
-                        .label(&series.name)
-                        .legend(move |(x, y)| Circle::new((x + 10, y), 3, colour.filled()));
+                    let dots = points.map(|p| Circle::new(p, 2, colour.filled()));
+                    chart.draw_series(dots)?;
                 }
             }
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()?;
+        for (i, series) in self.series.iter().enumerate() {
+            if let (true, Some(&start), Some(&goal)) =
+                (series.ends, series.points.first(), series.points.last())
+            {
+                draw_ends(&mut chart, (start, goal), self.style(i).0)?;
+            }
+        }
         Ok(())
     }
 }
 
-/// Draws `series` as a line of `colour`, solid or dashed, with its legend entry.
-fn draw_line<'a, Y>(
-    chart: &mut ChartContext<'a, SVGBackend<'a>, Cartesian2d<RangedCoordf64, Y>>,
-    series: &Series,
+/// Marks a path's start with a disc and its goal with a square, in `colour` ringed in black.
+fn draw_ends<Y>(
+    chart: &mut ChartContext<'_, SVGBackend<'_>, Cartesian2d<RangedCoordf64, Y>>,
+    (start, goal): ((f64, f64), (f64, f64)),
     colour: RGBAColor,
-    dashed: bool,
 ) -> DrawResult
 where
     Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
-    let style = colour.stroke_width(2);
-    let points = series.points.iter().copied();
-    if dashed {
-        chart
-            .draw_series(DashedLineSeries::new(points, 8, 5, style))?
-            .label(&series.name)
-            .legend(move |(x, y)| {
-                EmptyElement::at((x, y))
-                    + PathElement::new(vec![(0, 0), (8, 0)], style)
-                    + PathElement::new(vec![(13, 0), (20, 0)], style)
-            });
-    } else {
-        chart
-            .draw_series(LineSeries::new(points, style))?
-            .label(&series.name)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
-    }
+    let ring = BLACK.stroke_width(1);
+    chart.draw_series([
+        Circle::new(start, 6, colour.filled()),
+        Circle::new(start, 6, ring),
+    ])?;
+    let square =
+        |style: ShapeStyle| EmptyElement::at(goal) + Rectangle::new([(-6, -6), (6, 6)], style);
+    chart.draw_series([square(colour.filled()), square(ring)])?;
     Ok(())
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
+
+    /// The x of the text `label` in `svg` (plotters writes `<text x="..." ...>\nlabel\n</text>`).
+    pub(in crate::report) fn text_x(svg: &str, label: &str) -> f64 {
+        let end = svg
+            .find(&format!(">\n{label}\n</text>"))
+            .unwrap_or_else(|| panic!("no text {label}"));
+        let start = svg[..end].rfind("<text x=\"").unwrap() + "<text x=\"".len();
+        let x = &svg[start..];
+        x[..x.find('"').unwrap()].parse().unwrap()
+    }
+
+    /// The x of every point of the lines and segments `svg` strokes in `colour`.
+    pub(in crate::report) fn stroke_xs(svg: &str, colour: RGBAColor) -> Vec<f64> {
+        let (r, g, b) = colour.rgb();
+        let stroke = format!("stroke=\"#{r:02X}{g:02X}{b:02X}\"");
+        svg.split("<polyline")
+            .skip(1)
+            .filter(|element| element[..element.find("/>").unwrap()].contains(&stroke))
+            .flat_map(|element| {
+                let points = &element[element.find("points=\"").unwrap() + 8..];
+                let points = &points[..points.find('"').unwrap()];
+                points
+                    .split_whitespace()
+                    .map(|p| p.split(',').next().unwrap().parse::<f64>().unwrap())
+                    .collect::<Vec<_>>()
+            })
+            .collect()
+    }
+
+    fn two_joints() -> Chart {
+        let names = vec!["joint_a".to_owned(), "joint_b".to_owned()];
+        let limits = [(0, -3.0), (0, 3.0), (1, -3.0), (1, 2.0), (1, f64::INFINITY)];
+        let guides = limits.map(|(i, v)| (i, Line::Horizontal(v)));
+        Chart {
+            title: "two joints".into(),
+            x_label: "t [s]".into(),
+            y_label: "q [rad]".into(),
+            series: vec![
+                Series::line("joint_a", vec![(0.0, -1.0), (1.0, 2.5)]),
+                Series::line("joint_b", vec![(0.0, 1.0), (1.0, -2.0)]),
+            ],
+            guides: Guide::owned(guides, "limit", &names),
+            log_y: false,
+        }
+    }
+
+    /// A limit is drawn in its curve's colour and named after it; one that curves share takes
+    /// turns in their colours; an infinite one is left out.
+    #[test]
+    fn limits_take_their_curves_colours_and_names() {
+        let chart = two_joints();
+        let lines: Vec<(Line, Vec<usize>, &str)> = chart
+            .guides
+            .iter()
+            .map(|g| (g.line, g.owners.clone(), g.label.as_str()))
+            .collect();
+        assert_eq!(
+            lines,
+            vec![
+                (
+                    Line::Horizontal(-3.0),
+                    vec![0, 1],
+                    "limit of joint_a, joint_b"
+                ),
+                (Line::Horizontal(3.0), vec![0], "joint_a limit"),
+                (Line::Horizontal(2.0), vec![1], "joint_b limit"),
+            ]
+        );
+        assert_eq!(
+            chart.guide_colours(&chart.guides[0]),
+            [palette(0), palette(1)]
+        );
+        assert_eq!(chart.guide_colours(&chart.guides[2]), [palette(1)]);
+        let svg = chart.to_svg().unwrap();
+        for label in [
+            "joint_a limit",
+            "joint_b limit",
+            "limit of joint_a, joint_b",
+        ] {
+            assert!(text_x(&svg, label) > 900.0, "{label}");
+        }
+        // Each limit's dashes, 2 px wide in the colour of its curve: many short strokes.
+        let dashes = |colour: RGBAColor| {
+            let (r, g, b) = colour.rgb();
+            let stroke = format!("stroke=\"#{r:02X}{g:02X}{b:02X}\" stroke-width=\"2\"");
+            svg.matches(&stroke).count()
+        };
+        assert!(dashes(palette(0)) > 60 && dashes(palette(1)) > 60);
+    }
+
+    /// The legend stands in a column right of the plot (900 px, its data within a margin of
+    /// 12 px): every stroke of a curve's colour is the curve, left of 888 px, or its legend key,
+    /// right of 900 px, beside the curve's name.
+    #[test]
+    fn the_legend_stands_beside_the_plot() {
+        let chart = two_joints();
+        let svg = chart.to_svg().unwrap();
+        let (plot, key): (Vec<f64>, Vec<f64>) = stroke_xs(&svg, palette(0))
+            .into_iter()
+            .partition(|&x| x < 900.0);
+        let right = plot.iter().copied().fold(f64::MIN, f64::max);
+        assert!(right > 800.0 && right <= 888.0, "the plot ends at {right}");
+        let key_left = key.iter().copied().fold(f64::MAX, f64::min);
+        assert!(key_left > 900.0, "the key at {key_left}");
+        assert!(text_x(&svg, "joint_a") > key_left);
+        assert_eq!(Legend::default().width(540), 0);
+        assert!(svg.contains(&format!("width=\"{}\"", 900 + chart.legend().width(540))));
+    }
+
+    /// A path's start is a disc and its goal a square, at its first and last points, and the
+    /// legend says which is which.
+    #[test]
+    fn a_path_marks_its_start_and_goal() {
+        let chart = Chart {
+            title: "path".into(),
+            x_label: "world y [m]".into(),
+            y_label: "world z [m]".into(),
+            series: vec![Series::path(
+                "TCP",
+                vec![(0.0, 0.0), (0.5, 1.0), (1.0, 0.0)],
+            )],
+            guides: Vec::new(),
+            log_y: false,
+        };
+        let svg = chart.to_svg().unwrap();
+        let discs = svg.matches("<circle").count();
+        assert_eq!(discs, 3, "the start's disc and ring, and the legend's disc");
+        assert_eq!(svg.matches("width=\"12\" height=\"12\"").count(), 2);
+        assert!(text_x(&svg, "start") > 900.0 && text_x(&svg, "goal") > 900.0);
+        let line = Chart {
+            series: vec![Series::line("TCP", vec![(0.0, 0.0), (1.0, 0.0)])],
+            ..chart
+        };
+        let svg = line.to_svg().unwrap();
+        assert!(!svg.contains("<circle") && !svg.contains(">\nstart\n"));
+    }
+
+    /// A log axis labels its decades plainly and leaves out what it cannot show (y <= 0).
+    #[test]
+    fn a_log_axis_labels_its_decades() {
+        let chart = Chart {
+            title: "log".into(),
+            x_label: "evaluation".into(),
+            y_label: "cost J".into(),
+            series: vec![Series::dots(
+                "J",
+                vec![(0.0, 12.0), (1.0, 950.0), (2.0, 0.0)],
+            )],
+            guides: Vec::new(),
+            log_y: true,
+        };
+        let svg = chart.to_svg().unwrap();
+        for tick in ["10", "100", "1000"] {
+            assert!(svg.contains(&format!(">\n{tick}\n</text>")), "{tick}");
+        }
+        assert_eq!(
+            log_span([12.0, 950.0, 0.0, f64::NAN].into_iter()),
+            (6.0, 1900.0)
+        );
+        assert_eq!(log_span([5.0].into_iter()), (2.5, 50.0));
+        assert_eq!(log_tick(&(0.1 * 3.0)), "0.3");
+    }
 
     #[test]
     fn draws_series_guides_and_labels() {
@@ -339,17 +578,14 @@ mod tests {
             y_label: "q [rad]".into(),
             series: vec![
                 Series::line("joint 1", vec![(0.0, 0.0), (1.0, 2.0)]),
-                Series {
-                    name: "samples".into(),
-                    points: vec![(0.5, 1.0)],
-                    mark: Mark::Dots,
-                },
+                Series::dots("samples", vec![(0.5, 1.0)]),
             ],
-            guides: vec![Guide::Horizontal(1.5)],
+            guides: vec![Guide::plain(Line::Horizontal(1.5), "box")],
             log_y: false,
         };
         let svg = chart.to_svg().unwrap();
         assert!(svg.starts_with("<svg") && svg.contains("test chart") && svg.contains("joint 1"));
+        assert!(svg.contains(">\nbox\n</text>"), "the guide's legend entry");
         let log = Chart {
             log_y: true,
             guides: vec![],

@@ -1,7 +1,8 @@
 //! Values per case on a common set of axes: a radar chart (three axes or more) or a grouped bar
 //! chart (any number).
 
-use super::{caption_size, palette, DrawResult, Figure};
+use super::legend::{Key, Legend};
+use super::{canvas, palette, DrawResult, Figure};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
@@ -31,15 +32,11 @@ impl Figure for Radar {
     }
 
     fn draw(&self, svg: &mut String) -> DrawResult {
-        let root = SVGBackend::with_string(svg, (760, 640)).into_drawing_area();
-        root.fill(&WHITE)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(
-                &self.title,
-                ("sans-serif", caption_size(&self.title, 760, 20)),
-            )
+        let legend = cases_legend(&self.cases, |colour| Key::Line(colour, false));
+        let (plot, side) = canvas(svg, &self.title, (760, 640), &legend)?;
+        let mut chart = ChartBuilder::on(&plot)
             .margin(20)
-            .build_cartesian_2d(-1.35..1.95, -1.25..1.25)?;
+            .build_cartesian_2d(-1.6..1.6, -1.25..1.25)?;
         let grey = BLACK.mix(0.35);
         let n = self.axes.len();
         for ring in [0.25, 0.5, 0.75, 1.0] {
@@ -70,23 +67,13 @@ impl Figure for Radar {
             let style = ("sans-serif", 16).into_font().color(&BLACK).pos(anchor);
             chart.draw_series(std::iter::once(Text::new(label.clone(), (x, y), style)))?;
         }
-        for (k, (name, values)) in self.cases.iter().enumerate() {
+        for (k, (_, values)) in self.cases.iter().enumerate() {
             let colour = palette(k);
             let outline: Vec<(f64, f64)> = (0..=n).map(|i| self.at(i % n, values[i % n])).collect();
-            chart
-                .draw_series(LineSeries::new(outline, colour.stroke_width(2)))?
-                .label(name)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-                });
+            chart.draw_series(LineSeries::new(outline, colour.stroke_width(2)))?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()?;
-        root.present()?;
+        legend.draw(&side)?;
+        plot.present()?;
         Ok(())
     }
 }
@@ -121,8 +108,8 @@ impl Figure for Bars {
     }
 
     fn draw(&self, svg: &mut String) -> DrawResult {
-        let root = SVGBackend::with_string(svg, (760, 640)).into_drawing_area();
-        root.fill(&WHITE)?;
+        let legend = cases_legend(&self.cases, Key::Bar);
+        let (plot, side) = canvas(svg, &self.title, (760, 640), &legend)?;
         let top = self
             .cases
             .iter()
@@ -130,11 +117,7 @@ impl Figure for Bars {
             .filter(|v| v.is_finite())
             .fold(1.0, f64::max);
         let groups = self.axes.len() as f64;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(
-                &self.title,
-                ("sans-serif", caption_size(&self.title, 760, 20)),
-            )
+        let mut chart = ChartBuilder::on(&plot)
             .margin(20)
             .x_label_area_size(40)
             .y_label_area_size(60)
@@ -151,31 +134,34 @@ impl Figure for Bars {
                 .into_font()
                 .color(&BLACK)
                 .pos(Pos::new(HPos::Center, VPos::Top));
-            root.draw(&Text::new(label.clone(), (x, y + 10), style))?;
+            plot.draw(&Text::new(label.clone(), (x, y + 10), style))?;
         }
-        for (k, (name, values)) in self.cases.iter().enumerate() {
+        for (k, (_, values)) in self.cases.iter().enumerate() {
             let colour = palette(k);
             let bars = values.iter().enumerate().map(|(i, &value)| {
                 let (left, right) = self.bar(i, k);
                 Rectangle::new([(left, 0.0), (right, value)], colour.filled())
             });
-            chart.draw_series(bars)?.label(name).legend(move |(x, y)| {
-                Rectangle::new([(x, y - 5), (x + 16, y + 5)], colour.filled())
-            });
+            chart.draw_series(bars)?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()?;
-        root.present()?;
+        legend.draw(&side)?;
+        plot.present()?;
         Ok(())
     }
 }
 
+/// The legend of `cases`: each case's name beside its `key` in its colour.
+fn cases_legend(cases: &[(String, Vec<f64>)], key: impl Fn(RGBAColor) -> Key) -> Legend {
+    let mut legend = Legend::default();
+    for (k, (name, _)) in cases.iter().enumerate() {
+        legend.add(key(palette(k)), name);
+    }
+    legend
+}
+
 #[cfg(test)]
 mod tests {
+    use super::super::tests::text_x;
     use super::*;
 
     #[test]
@@ -189,6 +175,10 @@ mod tests {
         for text in ["ratios", "r1", "r3", "case A", "0.75"] {
             assert!(svg.contains(text), "{text} missing");
         }
+        assert!(
+            text_x(&svg, "case A") > 760.0,
+            "the legend beside the radar"
+        );
         let top = radar.at(0, 1.0);
         assert!(top.0.abs() < 1e-12 && (top.1 - 1.0).abs() < 1e-12);
         let second = radar.at(1, 1.0);
@@ -210,6 +200,7 @@ mod tests {
         for text in ["two ratios", "r1 (max 9)", "r2 (max 3)", "case A", "case B"] {
             assert!(svg.contains(text), "{text} missing");
         }
+        assert!(text_x(&svg, "case B") > 760.0, "the legend beside the bars");
         // The bars of one group sit side by side, in case order, inside the group's 0.8.
         let (a, b) = (bars.bar(1, 0), bars.bar(1, 1));
         assert!(0.6 <= a.0 && a.0 < a.1 && a.1 < b.0 && b.0 < b.1 && b.1 <= 1.4);
