@@ -131,7 +131,8 @@ fn a_robot_alone_is_inspected() {
         String::from_utf8_lossy(&output.stderr)
     );
     assert!(
-        text.contains("2 moving joints, TCP on link 'link_4'"),
+        // The tip link the TCP is read on (link_4 and the hand are fixed to it too).
+        text.contains("2 moving joints, TCP on link 'link_2'"),
         "{text}"
     );
     assert!(
@@ -161,7 +162,7 @@ fn names_that_steer_a_terminal_are_escaped() {
     let source = support::root().join("tests/data/urdf/gripper.urdf");
     let text = std::fs::read_to_string(source)
         .unwrap()
-        .replace("\"link_4\"", "\"link&#10;4&#x202E;\"");
+        .replace("\"link_2\"", "\"link&#10;2&#x202E;\"");
     let urdf = dir.join("names.urdf");
     std::fs::write(&urdf, text).unwrap();
     let output = codesign(&["check", "--robot", urdf.to_str().unwrap()]);
@@ -172,7 +173,7 @@ fn names_that_steer_a_terminal_are_escaped() {
         String::from_utf8_lossy(&output.stderr)
     );
     assert!(
-        stdout.contains("TCP on link 'link\\n4\\u{202e}'"),
+        stdout.contains("TCP on link 'link\\n2\\u{202e}'"),
         "{stdout}"
     );
     assert!(!stdout.contains('\u{202e}'), "{stdout}");
