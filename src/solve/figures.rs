@@ -96,6 +96,11 @@ fn positive_part(start: f64, end: f64, h: f64) -> f64 {
     }
 }
 
+/// The length of the motion `t`, s.
+fn duration(t: &Trajectory) -> f64 {
+    t.time.last().copied().unwrap_or(0.0) - t.time.first().copied().unwrap_or(0.0)
+}
+
 /// Motor `i`'s electrical figures over the intervals of `t`, with torque constant `k_t` (N m/A)
 /// and resistance `r` (ohm).
 fn electrical(t: &Trajectory, i: usize, (k_t, r): (f64, f64)) -> ElectricalFigures {
@@ -121,7 +126,7 @@ fn electrical(t: &Trajectory, i: usize, (k_t, r): (f64, f64)) -> ElectricalFigur
         figures.energy_j += h * (p0 + p1) / 2.0;
         figures.drawn_energy_j += positive_part(p0, p1, h);
     }
-    let duration = t.time.last().copied().unwrap_or(0.0) - t.time.first().copied().unwrap_or(0.0);
+    let duration = duration(t);
     if duration > 0.0 {
         figures.rms_current_a = (current_squared_integral / duration).sqrt();
     }
@@ -154,7 +159,7 @@ fn motor(t: &Trajectory, i: usize) -> MotorFigures {
     for speeds in &t.motor_speed {
         figures.peak_speed_rad_s = figures.peak_speed_rad_s.max(speeds[i].abs());
     }
-    let duration = t.time.last().copied().unwrap_or(0.0) - t.time.first().copied().unwrap_or(0.0);
+    let duration = duration(t);
     if duration > 0.0 {
         figures.rms_torque_nm = (figures.torque_squared_integral / duration).sqrt();
     }
