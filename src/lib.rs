@@ -29,6 +29,7 @@ pub mod experiment;
 pub mod hash;
 pub mod input;
 pub mod ipopt;
+pub mod jet;
 pub mod json_keys;
 pub mod ldl;
 pub mod model;

@@ -67,6 +67,12 @@ impl Dynamics {
         points
     }
 
+    /// The pose at `q` of `body`'s frame in the world frame (the identity for the base).
+    pub fn body_pose(&self, data: &mut Workspace, q: &[f64], body: Option<usize>) -> Placement {
+        self.update_frames(data, q);
+        body.map_or_else(Placement::identity, |b| data.frames[b].pose)
+    }
+
     /// The world position at `q` of `point`, fixed to a body of the chain (or to the base), m.
     pub fn point_position(
         &self,

@@ -21,7 +21,10 @@ mod derivatives;
 mod hessian;
 mod inverse;
 mod kinematics;
+mod point_jet;
 mod spatial;
+
+pub use point_jet::Fixed;
 
 use crate::model::chain::{Placement, PointOnBody};
 use crate::model::Robot;

@@ -423,3 +423,94 @@ fn a_workspace_of_another_model_is_refused() {
     let mut data = one.workspace();
     other.tcp_position(&mut data, &[0.0; 4]);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Point jets
+
+/// The world pose of `body` at q by forward kinematics in jet arithmetic (Rodrigues' formula on
+/// jets of the angles): an independent computation of what `fixed_jet` gives in closed form.
+fn pose_by_jets<'s>(
+    dynamics: &Dynamics,
+    q: &[f64],
+    body: usize,
+    joints: std::ops::Range<usize>,
+    shape: &'s crate::jet::JetShape,
+) -> ([[crate::jet::Jet<'s>; 3]; 3], [crate::jet::Jet<'s>; 3]) {
+    use crate::jet::Jet;
+    let constant = |v: f64| Jet::constant(shape, v);
+    let mut rotation =
+        [0, 1, 2].map(|i| [0, 1, 2].map(|j| constant(if i == j { 1.0 } else { 0.0 })));
+    let mut translation = [0, 1, 2].map(|_| constant(0.0));
+    for (k, model) in dynamics.bodies.iter().enumerate().take(body + 1) {
+        let placement = &model.joint_placement;
+        translation = [0, 1, 2].map(|i| {
+            (0..3).fold(translation[i].clone(), |sum, j| {
+                &sum + &(&rotation[i][j] * placement.translation[j])
+            })
+        });
+        let joint = [0, 1, 2].map(|i| {
+            [0, 1, 2].map(|j| {
+                (0..3).fold(constant(0.0), |sum, l| {
+                    &sum + &(&rotation[i][l] * placement.rotation[(l, j)])
+                })
+            })
+        });
+        let angle = if joints.contains(&k) {
+            Jet::variable(shape, k - joints.start, q[k])
+        } else {
+            constant(q[k])
+        };
+        let (sin, cos) = angle.sin_cos();
+        let versine = cos.scaled(-1.0, 1.0);
+        let turn = [0, 1, 2].map(|i| {
+            [0, 1, 2].map(|j| {
+                let identity = constant(if i == j { 1.0 } else { 0.0 });
+                let sine = &sin * model.axis_cross[(i, j)];
+                let square = &versine * model.axis_cross_squared[(i, j)];
+                &(&identity + &sine) + &square
+            })
+        });
+        rotation = [0, 1, 2].map(|i| {
+            [0, 1, 2]
+                .map(|j| (0..3).fold(constant(0.0), |sum, l| &sum + &(&joint[i][l] * &turn[l][j])))
+        });
+    }
+    (rotation, translation)
+}
+
+#[test]
+fn point_and_direction_jets_match_forward_kinematics_in_jets() {
+    use super::Fixed;
+    use crate::jet::JetShape;
+    let dynamics = random_chain(0.0);
+    let q = [0.3, -0.7, 1.1, 0.4, -1.3, 0.9];
+    let mut data = dynamics.workspace();
+    let local = nalgebra::Vector3::new(0.12, -0.3, 0.07);
+    for (joints, body, order) in [(0..6, 5, 4), (2..5, 4, 4), (1..3, 4, 3), (0..4, 1, 4)] {
+        let shape = JetShape::new(joints.len(), 1, order);
+        let (rotation, translation) = pose_by_jets(&dynamics, &q, body, joints.clone(), &shape);
+        for vector in [Fixed::Point(local), Fixed::Direction(local)] {
+            let jet = dynamics.fixed_jet(&mut data, &q, Some(body), vector, joints.clone(), &shape);
+            for i in 0..3 {
+                let mut expected = (0..3).fold(crate::jet::Jet::constant(&shape, 0.0), |sum, j| {
+                    &sum + &(&rotation[i][j] * local[j])
+                });
+                if let Fixed::Point(_) = vector {
+                    expected = &expected + &translation[i];
+                }
+                for (m, (a, b)) in jet.0[i]
+                    .coefficients()
+                    .iter()
+                    .zip(expected.coefficients())
+                    .enumerate()
+                {
+                    assert!(
+                        (a - b).abs() < 1e-12,
+                        "{vector:?} on body {body}, joints {joints:?}, coordinate {i}, monomial {:?}: {a} against {b}",
+                        shape.monomials()[m]
+                    );
+                }
+            }
+        }
+    }
+}

@@ -5,6 +5,7 @@ mod ends;
 mod error;
 pub mod experiment;
 pub mod identity;
+pub mod matrix_row;
 mod motors;
 mod read_experiment;
 mod robot;

@@ -173,6 +173,8 @@ pub struct CartesianBox {
     pub z: Option<SoftInterval>,
 }
 
+pub use super::matrix_row::MatrixRow;
+
 /// One entry of the transmission matrix G: a constant or a signed design ratio.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
@@ -188,8 +190,9 @@ pub enum MatrixEntry {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TransmissionSpec {
-    /// G(r), row i = motor i, column j = joint j.
-    pub matrix: Vec<Vec<MatrixEntry>>,
+    /// G(r), row i = motor i, column j = joint j: constant entries, or a linkage whose ratio
+    /// changes with the pose.
+    pub matrix: Vec<MatrixRow>,
     /// The original design r.
     pub original: Vec<f64>,
     /// Bounds [lower, upper] of each ratio.

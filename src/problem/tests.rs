@@ -46,9 +46,9 @@ fn scaled_formulations() -> Vec<Formulation> {
             task.motion.steps = 5;
             task.payload.mass_kg = 1.0;
             let matrix = &mut task.transmission.matrix;
-            matrix[1][0] = MatrixEntry::Ratio("0.5*r2".into());
+            *matrix[1].entry_mut(0).unwrap() = MatrixEntry::Ratio("0.5*r2".into());
             for row in [2, 3] {
-                matrix[row][1] = MatrixEntry::Ratio("-2*r3".into());
+                *matrix[row].entry_mut(1).unwrap() = MatrixEntry::Ratio("-2*r3".into());
             }
             let robot = Robot::load(&task).unwrap();
             let modes = LimitModes {

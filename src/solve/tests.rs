@@ -374,9 +374,9 @@ fn cost_gradient_with_scaled_entries_matches_differences() {
         ..crate::testing::settings()
     };
     let matrix = &mut task.transmission.matrix;
-    matrix[1][0] = MatrixEntry::Ratio("0.5*r2".into());
+    *matrix[1].entry_mut(0).unwrap() = MatrixEntry::Ratio("0.5*r2".into());
     for row in [2, 3] {
-        matrix[row][1] = MatrixEntry::Ratio("-2*r3".into());
+        *matrix[row].entry_mut(1).unwrap() = MatrixEntry::Ratio("-2*r3".into());
     }
     let ratios = [7.0, 4.0, 2.0, 2.0];
     for space in [Space::Actuation, Space::Joint] {

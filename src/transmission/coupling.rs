@@ -22,10 +22,7 @@ impl Transmission {
         DMatrix::from_row_iterator(
             self.dof,
             self.dof,
-            self.entries.iter().map(|entry| match *entry {
-                Entry::Constant(value) => value,
-                Entry::Ratio { index, scale } => scale * r[index],
-            }),
+            self.entries.iter().map(|entry| entry.value(r)),
         )
     }
 

@@ -268,7 +268,7 @@ impl Transmission {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::task::{MatrixEntry, TransmissionSpec};
+    use crate::model::task::{MatrixEntry, MatrixRow, TransmissionSpec};
     use crate::transmission::fixtures::belt_arm;
 
     #[test]
@@ -304,8 +304,11 @@ mod tests {
 
         let singular = TransmissionSpec {
             matrix: vec![
-                vec![MatrixEntry::Ratio("r1".into()), MatrixEntry::Constant(1.0)],
-                vec![MatrixEntry::Constant(1.0), MatrixEntry::Constant(1.0)],
+                MatrixRow::Entries(vec![
+                    MatrixEntry::Ratio("r1".into()),
+                    MatrixEntry::Constant(1.0),
+                ]),
+                MatrixRow::Entries(vec![MatrixEntry::Constant(1.0), MatrixEntry::Constant(1.0)]),
             ],
             original: vec![2.0],
             bounds: vec![[0.5, 2.0]],

@@ -137,7 +137,7 @@ impl Coupling {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::task::{MatrixEntry, TransmissionSpec};
+    use crate::model::task::{MatrixEntry, MatrixRow, TransmissionSpec};
     use crate::testing::Random;
     use crate::transmission::fixtures::{belt_arm, pick_place};
     use crate::transmission::Transmission;
@@ -274,8 +274,11 @@ mod tests {
     fn paper_limits_order_reversed_elements() {
         let spec = TransmissionSpec {
             matrix: vec![
-                vec![MatrixEntry::Ratio("-r1".into()), MatrixEntry::Constant(0.0)],
-                vec![MatrixEntry::Constant(0.0), MatrixEntry::Constant(2.0)],
+                MatrixRow::Entries(vec![
+                    MatrixEntry::Ratio("-r1".into()),
+                    MatrixEntry::Constant(0.0),
+                ]),
+                MatrixRow::Entries(vec![MatrixEntry::Constant(0.0), MatrixEntry::Constant(2.0)]),
             ],
             original: vec![3.0],
             bounds: vec![[1.0, 4.0]],

@@ -19,6 +19,7 @@ mod coupling;
 mod design_space;
 mod envelope;
 mod limits;
+pub mod linkage;
 mod spec;
 
 pub use active::{ActiveBound, BoundSide};

@@ -4,7 +4,7 @@
 
 use super::design_space::{DesignSpace, OrderConstraint};
 use super::Transmission;
-use crate::model::task::{MatrixEntry, TransmissionSpec};
+use crate::model::task::{MatrixEntry, MatrixRow, TransmissionSpec};
 use crate::text::number;
 use std::fmt;
 
@@ -17,6 +17,24 @@ pub(super) enum Entry {
         index: usize,
         scale: f64,
     },
+}
+
+impl Entry {
+    /// The entry's value at the design `r`.
+    pub(super) fn value(&self, r: &[f64]) -> f64 {
+        match *self {
+            Entry::Constant(value) => value,
+            Entry::Ratio { index, scale } => scale * r[index],
+        }
+    }
+
+    /// The design parameter the entry is a multiple of, if any.
+    pub(super) fn parameter(&self) -> Option<usize> {
+        match *self {
+            Entry::Constant(_) => None,
+            Entry::Ratio { index, .. } => Some(index),
+        }
+    }
 }
 
 /// Why a task's `transmission` section is not usable; each variant names its field (indices
@@ -75,6 +93,15 @@ pub enum SpecError {
         text: String,
         /// The number of ratios.
         ratios: usize,
+    },
+    /// `transmission.matrix[row]` is a linkage, whose ratio changes with the pose: read and
+    /// checked ([`super::linkage::Linkage::resolve`]), but not yet posed by the trajectory
+    /// problem.
+    PoseDependent {
+        /// Row of G (motor).
+        row: usize,
+        /// The linkage's key: `linear` or `crank_rod`.
+        kind: &'static str,
     },
     /// `transmission.order[index]` compares a ratio with itself.
     OrderWithItself {
@@ -138,6 +165,12 @@ impl fmt::Display for SpecError {
                 "transmission.order[{index}] = {text:?} must read \"r<i> <= r<j>\" or \"r<i> < r<j>\" \
                  with 1 <= i, j <= {ratios}"
             ),
+            SpecError::PoseDependent { row, kind } => write!(
+                f,
+                "transmission.matrix[{row}] is a {kind} linkage, whose ratio changes with the \
+                 pose: this version reads such rows but cannot yet pose them in the trajectory \
+                 problem; give the row as constant entries, one per joint"
+            ),
             SpecError::OrderWithItself { index, text } => write!(
                 f,
                 "transmission.order[{index}] = {text:?} compares a ratio with itself"
@@ -179,6 +212,18 @@ fn parse_entry(text: &str, count: usize) -> Option<Entry> {
     }
     let index = parse_ratio_name(name, count)?;
     Some(Entry::Ratio { index, scale })
+}
+
+/// Parses an entry or a linkage's number: a finite number of magnitude at most
+/// [`MAX_MAGNITUDE`], or `[-]r<i>` / `k*r<i>` of one of `count` ratios.
+pub(super) fn parse_number(entry: &MatrixEntry, count: usize) -> Option<Entry> {
+    match entry {
+        MatrixEntry::Constant(value) if value.abs() <= MAX_MAGNITUDE => {
+            Some(Entry::Constant(*value))
+        }
+        MatrixEntry::Constant(_) => None,
+        MatrixEntry::Ratio(text) => parse_entry(text, count),
+    }
 }
 
 /// Parses `r<i> <= r<j>` or `r<i> < r<j>`.
@@ -224,16 +269,22 @@ fn check_bounds(spec: &TransmissionSpec) -> Result<(), SpecError> {
 }
 
 /// The row-major entries of the square matrix, with the matrix's size.
-fn parse_matrix(
-    matrix: &[Vec<MatrixEntry>],
-    count: usize,
-) -> Result<(usize, Vec<Entry>), SpecError> {
+fn parse_matrix(matrix: &[MatrixRow], count: usize) -> Result<(usize, Vec<Entry>), SpecError> {
     let dof = matrix.len();
     if dof == 0 {
         return Err(SpecError::EmptyMatrix);
     }
     let mut entries = Vec::with_capacity(dof * dof);
     for (row, values) in matrix.iter().enumerate() {
+        let values = match values {
+            MatrixRow::Entries(values) => values,
+            MatrixRow::Linkage(linkage) => {
+                return Err(SpecError::PoseDependent {
+                    row,
+                    kind: linkage.kind(),
+                })
+            }
+        };
         if values.len() != dof {
             return Err(SpecError::RowLength {
                 row,
@@ -242,14 +293,7 @@ fn parse_matrix(
             });
         }
         for (column, entry) in values.iter().enumerate() {
-            let parsed = match entry {
-                MatrixEntry::Constant(value) if value.abs() <= MAX_MAGNITUDE => {
-                    Some(Entry::Constant(*value))
-                }
-                MatrixEntry::Constant(_) => None,
-                MatrixEntry::Ratio(text) => parse_entry(text, count),
-            };
-            entries.push(parsed.ok_or_else(|| SpecError::Entry {
+            entries.push(parse_number(entry, count).ok_or_else(|| SpecError::Entry {
                 row,
                 column,
                 entry: entry.clone(),
@@ -337,9 +381,9 @@ mod tests {
     #[test]
     fn scaled_entries_scale_g_and_its_derivative() {
         let mut spec = pick_place().transmission;
-        spec.matrix[1][0] = MatrixEntry::Ratio("0.5*r2".into());
-        spec.matrix[2][1] = MatrixEntry::Ratio(" -2 * r3 ".into());
-        spec.matrix[3][3] = MatrixEntry::Ratio("-1*r4".into());
+        *spec.matrix[1].entry_mut(0).unwrap() = MatrixEntry::Ratio("0.5*r2".into());
+        *spec.matrix[2].entry_mut(1).unwrap() = MatrixEntry::Ratio(" -2 * r3 ".into());
+        *spec.matrix[3].entry_mut(3).unwrap() = MatrixEntry::Ratio("-1*r4".into());
         let t = Transmission::from_spec(&spec).unwrap();
         let g = t.matrix(&[6.0, 3.0, 1.5, 2.0]);
         assert_eq!(g[(1, 0)], 1.5);
@@ -351,29 +395,54 @@ mod tests {
     }
 
     #[test]
+    fn a_linkage_row_is_refused_by_name_until_the_problem_poses_it() {
+        let mut spec = pick_place().transmission;
+        spec.matrix[2] = serde_json::from_str(
+            r#"{"linear": {"from": {"link": "link_1", "point": [0, 0, 0]},
+                "to": {"link": "link_2", "point": [0.1, 0, 0]}, "lead_m": 0.01}}"#,
+        )
+        .unwrap();
+        let error = Transmission::from_spec(&spec).unwrap_err();
+        assert_eq!(
+            error,
+            SpecError::PoseDependent {
+                row: 2,
+                kind: "linear"
+            }
+        );
+        assert!(error
+            .to_string()
+            .starts_with("transmission.matrix[2] is a linear linkage, whose ratio changes"));
+    }
+
+    #[test]
     fn spec_errors_name_the_field() {
         let good = pick_place().transmission;
         type Change = Box<dyn Fn(&mut TransmissionSpec)>;
         let cases: Vec<(Change, &str)> = vec![
             (
-                Box::new(|s| s.matrix[2][1] = MatrixEntry::Ratio("r5".into())),
+                Box::new(|s| *s.matrix[2].entry_mut(1).unwrap() = MatrixEntry::Ratio("r5".into())),
                 "transmission.matrix[2][1]",
             ),
             (
-                Box::new(|s| s.matrix[0][0] = MatrixEntry::Ratio("x1".into())),
+                Box::new(|s| *s.matrix[0].entry_mut(0).unwrap() = MatrixEntry::Ratio("x1".into())),
                 "transmission.matrix[0][0]",
             ),
             (
-                Box::new(|s| s.matrix[3][3] = MatrixEntry::Ratio("-r0".into())),
+                Box::new(|s| *s.matrix[3].entry_mut(3).unwrap() = MatrixEntry::Ratio("-r0".into())),
                 "transmission.matrix[3][3]",
             ),
             (
-                Box::new(|s| s.matrix[1][0] = MatrixEntry::Ratio("0*r2".into())),
+                Box::new(|s| {
+                    *s.matrix[1].entry_mut(0).unwrap() = MatrixEntry::Ratio("0*r2".into())
+                }),
                 "transmission.matrix[1][0] = \"0*r2\" must be a number, \"r<i>\"",
             ),
             // Products of the task's numbers would overflow: refused, naming the field.
             (
-                Box::new(|s| s.matrix[1][0] = MatrixEntry::Ratio("1e308*r1".into())),
+                Box::new(|s| {
+                    *s.matrix[1].entry_mut(0).unwrap() = MatrixEntry::Ratio("1e308*r1".into())
+                }),
                 "transmission.matrix[1][0] = \"1e308*r1\" must be a number",
             ),
             (
@@ -382,24 +451,32 @@ mod tests {
                  magnitude at most 1000000",
             ),
             (
-                Box::new(|s| s.matrix[1][0] = MatrixEntry::Ratio("inf*r2".into())),
-                "transmission.matrix[1][0]",
-            ),
-            (
-                Box::new(|s| s.matrix[1][0] = MatrixEntry::Ratio("2*r9".into())),
-                "transmission.matrix[1][0]",
-            ),
-            (
-                Box::new(|s| s.matrix[1][0] = MatrixEntry::Ratio("r2*2".into())),
-                "transmission.matrix[1][0]",
-            ),
-            (
-                Box::new(|s| s.matrix[1][0] = MatrixEntry::Constant(f64::NAN)),
+                Box::new(|s| {
+                    *s.matrix[1].entry_mut(0).unwrap() = MatrixEntry::Ratio("inf*r2".into())
+                }),
                 "transmission.matrix[1][0]",
             ),
             (
                 Box::new(|s| {
-                    s.matrix[1].pop();
+                    *s.matrix[1].entry_mut(0).unwrap() = MatrixEntry::Ratio("2*r9".into())
+                }),
+                "transmission.matrix[1][0]",
+            ),
+            (
+                Box::new(|s| {
+                    *s.matrix[1].entry_mut(0).unwrap() = MatrixEntry::Ratio("r2*2".into())
+                }),
+                "transmission.matrix[1][0]",
+            ),
+            (
+                Box::new(|s| *s.matrix[1].entry_mut(0).unwrap() = MatrixEntry::Constant(f64::NAN)),
+                "transmission.matrix[1][0]",
+            ),
+            (
+                Box::new(|s| {
+                    if let MatrixRow::Entries(row) = &mut s.matrix[1] {
+                        row.pop();
+                    }
                 }),
                 "transmission.matrix[1]",
             ),
@@ -437,7 +514,7 @@ mod tests {
             assert!(error.contains(field), "{error} should name {field}");
         }
         let mut spaced = good.clone();
-        spaced.matrix[3][3] = MatrixEntry::Ratio(" -r4 ".into());
+        *spaced.matrix[3].entry_mut(3).unwrap() = MatrixEntry::Ratio(" -r4 ".into());
         spaced.order = vec![" r3<=r2".into(), "r2<r1 ".into()];
         let t = Transmission::from_spec(&spaced).unwrap();
         assert_eq!(
@@ -450,14 +527,14 @@ mod tests {
     #[test]
     fn spec_errors_keep_their_messages() {
         let mut spec = pick_place().transmission;
-        spec.matrix[2][1] = MatrixEntry::Ratio("r5".into());
+        *spec.matrix[2].entry_mut(1).unwrap() = MatrixEntry::Ratio("r5".into());
         assert_eq!(
             Transmission::from_spec(&spec).unwrap_err().to_string(),
             "transmission.matrix[2][1] = \"r5\" must be a number, \"r<i>\", \"-r<i>\" or \
              \"k*r<i>\" (k a non-zero number, e.g. \"0.5*r2\") with 1 <= i <= 4 (the number of \
              bounds), each number of magnitude at most 1000000"
         );
-        spec.matrix[2][1] = MatrixEntry::Constant(f64::INFINITY);
+        *spec.matrix[2].entry_mut(1).unwrap() = MatrixEntry::Constant(f64::INFINITY);
         assert_eq!(
             Transmission::from_spec(&spec).unwrap_err(),
             SpecError::Entry {

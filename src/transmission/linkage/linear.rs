@@ -1,0 +1,63 @@
+//! A linear actuator: a screw of lead l between two points turns its motor 2 pi per l of stroke,
+//! q_u = 2 pi |p_to(q) - p_from(q)| / l.
+
+use super::{positive, Anchor, At, Entry, LinkageError};
+use crate::dynamics::Workspace;
+use crate::jet::Jet;
+use std::f64::consts::TAU;
+
+/// A ball screw or cylinder between two links.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinearActuator {
+    /// Its end on one link.
+    pub from: Anchor,
+    /// Its end on the other.
+    pub to: Anchor,
+    /// The screw's lead, m per motor turn.
+    pub(in crate::transmission) lead: Entry,
+    /// The length between its ends it must keep, [min, max], m.
+    pub stroke: Option<[f64; 2]>,
+}
+
+impl LinearActuator {
+    /// Every number of the actuator as written.
+    pub(super) fn entries(&self) -> Vec<Entry> {
+        let mut entries: Vec<Entry> = self.from.coordinates().to_vec();
+        entries.extend(self.to.coordinates());
+        entries.push(self.lead);
+        entries
+    }
+
+    /// Its lead at design `r`, m.
+    pub fn lead(&self, r: &[f64]) -> f64 {
+        self.lead.value(r)
+    }
+
+    /// The length between its ends, m, as a jet.
+    pub(super) fn length<'s>(
+        &self,
+        at: &At<'_, 's>,
+        data: &mut Workspace,
+    ) -> Result<Jet<'s>, LinkageError> {
+        let span = self.to.jet(at, data).sub(&self.from.jet(at, data));
+        let squared = span.norm_squared();
+        // Below a micrometre the screw has no direction the derivatives could follow.
+        if squared.value() < 1e-12 {
+            return Err(LinkageError::Collapsed {
+                length: squared.value().max(0.0).sqrt(),
+            });
+        }
+        Ok(squared.sqrt())
+    }
+
+    /// The motor angle 2 pi |p_to - p_from| / l, rad.
+    pub(super) fn angle<'s>(
+        &self,
+        at: &At<'_, 's>,
+        data: &mut Workspace,
+    ) -> Result<Jet<'s>, LinkageError> {
+        let lead = positive(at.variables.number(&self.lead, at.r, at.shape), "lead")?;
+        let length = self.length(at, data)?;
+        Ok(&length.div(&lead) * TAU)
+    }
+}

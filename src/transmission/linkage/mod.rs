@@ -1,0 +1,195 @@
+//! Linkages whose motor angle depends on the pose (docs/model.md, section 17): a motor angle
+//! q_u = gamma(q; r) given by the geometry of a screw or a crank and rod, with its derivatives of
+//! every order the trajectory problem needs, as jets ([`crate::jet`]) in the joints the linkage
+//! spans and, to first order, in its design parameters.
+//!
+//! - `linear`: a linear actuator (ball screw, cylinder) between two links;
+//! - `crank_rod`: a crank turned by a motor on one link and a rod to a point of another.
+//!
+//! Joints outside the span between the linkage's two links move both its ends as one rigid body,
+//! so gamma does not depend on them: a linkage's jets have one variable per joint it spans.
+
+mod anchor;
+mod crank_rod;
+mod linear;
+mod resolve;
+
+pub use anchor::Anchor;
+pub use crank_rod::CrankRod;
+pub use linear::LinearActuator;
+pub use resolve::{Problem, ResolveError};
+
+use super::spec::Entry;
+use crate::dynamics::{Dynamics, Workspace};
+use crate::jet::{Jet, JetShape};
+use std::fmt;
+use std::ops::Range;
+
+/// A pose-dependent row of the transmission.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Linkage {
+    /// A screw between two points: q_u = 2 pi |p_to - p_from| / lead.
+    Linear(LinearActuator),
+    /// A crank and rod: q_u = k theta(q), theta from the loop closure.
+    CrankRod(CrankRod),
+}
+
+/// Why a linkage has no motor angle at a pose: its geometry does not close there.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LinkageError {
+    /// The screw's two points coincide: its length is zero, m.
+    Collapsed {
+        /// The distance between the points, m.
+        length: f64,
+    },
+    /// The rod cannot join the crank pin to its point: |C / R| >= 1 in the closure
+    /// R cos(theta - phi) = C (1 at a dead point, where the rod is in line with the crank;
+    /// above 1 where the rod is too short or too long).
+    Open {
+        /// |C / R|, dimensionless.
+        reach: f64,
+    },
+    /// A number of the linkage (a lead, a radius, a rod length) is zero or negative at this
+    /// design.
+    NotPositive {
+        /// What the number is.
+        what: &'static str,
+        /// Its value.
+        value: f64,
+    },
+}
+
+impl fmt::Display for LinkageError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            LinkageError::Collapsed { length } => {
+                write!(f, "its two points are {length:.3e} m apart: the screw has no length")
+            }
+            LinkageError::Open { reach } if *reach < 1.0 + 1e-12 => write!(
+                f,
+                "its crank is at a dead point (the rod in line with the crank, |C/R| = {reach:.6})"
+            ),
+            LinkageError::Open { reach } => write!(
+                f,
+                "its rod cannot reach the crank pin (the loop does not close: |C/R| = {reach:.4} > 1)"
+            ),
+            LinkageError::NotPositive { what, value } => {
+                write!(f, "its {what} is {value}, which must be positive")
+            }
+        }
+    }
+}
+
+impl std::error::Error for LinkageError {}
+
+/// The variables of a linkage's jets: the joints it spans (primary, in order), then its design
+/// parameters (kept to first order).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Variables {
+    /// The joints, as a range of joint indices.
+    pub joints: Range<usize>,
+    /// The design parameters' indices in r, in the order of their variables.
+    pub parameters: Vec<usize>,
+}
+
+impl Variables {
+    /// The shape of jets in these variables up to `order`.
+    pub fn shape(&self, order: usize) -> JetShape {
+        JetShape::new(self.joints.len(), self.parameters.len(), order)
+    }
+
+    /// The jet of `entry` at design `r`: its value, with its design parameter as a variable when
+    /// that parameter is one of these (a number of a linkage is `k r_i` or a constant).
+    fn number<'s>(&self, entry: &Entry, r: &[f64], shape: &'s JetShape) -> Jet<'s> {
+        let value = entry.value(r);
+        match (*entry, self.parameter_variable(entry.parameter())) {
+            (Entry::Ratio { scale, .. }, Some(variable)) => {
+                Jet::variable(shape, variable, 0.0).scaled(scale, value)
+            }
+            _ => Jet::constant(shape, value),
+        }
+    }
+
+    /// The jet variable of design parameter `parameter`, if it is one of these.
+    fn parameter_variable(&self, parameter: Option<usize>) -> Option<usize> {
+        let index = parameter?;
+        let position = self.parameters.iter().position(|&p| p == index)?;
+        Some(self.joints.len() + position)
+    }
+}
+
+/// A positive number's jet, or the error naming it.
+fn positive<'s>(jet: Jet<'s>, what: &'static str) -> Result<Jet<'s>, LinkageError> {
+    if jet.value() > 0.0 {
+        Ok(jet)
+    } else {
+        Err(LinkageError::NotPositive {
+            what,
+            value: jet.value(),
+        })
+    }
+}
+
+impl Linkage {
+    /// The joints the linkage spans: those between its two links' bodies.
+    pub fn joints(&self) -> Range<usize> {
+        match self {
+            Linkage::Linear(screw) => span(screw.from.body(), screw.to.body()),
+            Linkage::CrankRod(crank) => span(crank.crank.body(), crank.to.body()),
+        }
+    }
+
+    /// Its design parameters' indices in r, sorted, each once.
+    pub fn parameters(&self) -> Vec<usize> {
+        let entries = match self {
+            Linkage::Linear(screw) => screw.entries(),
+            Linkage::CrankRod(crank) => crank.entries(),
+        };
+        let mut parameters: Vec<usize> = entries.iter().filter_map(Entry::parameter).collect();
+        parameters.sort_unstable();
+        parameters.dedup();
+        parameters
+    }
+
+    /// The motor angle gamma(q; r), rad, as a jet in `variables` (of shape `shape`).
+    pub fn angle<'s>(
+        &self,
+        dynamics: &Dynamics,
+        data: &mut Workspace,
+        q: &[f64],
+        r: &[f64],
+        variables: &Variables,
+        shape: &'s JetShape,
+    ) -> Result<Jet<'s>, LinkageError> {
+        let at = At {
+            dynamics,
+            q,
+            r,
+            variables,
+            shape,
+        };
+        match self {
+            Linkage::Linear(screw) => screw.angle(&at, data),
+            Linkage::CrankRod(crank) => crank.angle(&at, data),
+        }
+    }
+}
+
+/// Where a linkage is evaluated: the model, the pose, the design and the jets' variables.
+struct At<'a, 's> {
+    dynamics: &'a Dynamics,
+    q: &'a [f64],
+    r: &'a [f64],
+    variables: &'a Variables,
+    shape: &'s JetShape,
+}
+
+/// The joints between two bodies of the chain (None: the base).
+fn span(one: Option<usize>, other: Option<usize>) -> Range<usize> {
+    let reach = |body: Option<usize>| body.map_or(0, |b| b + 1);
+    let (a, b) = (reach(one), reach(other));
+    a.min(b)..a.max(b)
+}
+
+#[cfg(test)]
+mod tests;
