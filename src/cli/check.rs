@@ -2,8 +2,12 @@
 
 use super::common::{finite_ratio, ModelArgs};
 use super::failure::Failure;
+use crate::dynamics::Dynamics;
+use crate::model::task::Task;
+use crate::model::Robot;
 use crate::report::check::Inspection;
-use crate::transmission::Transmission;
+use crate::report::mechanism::{linkage_reports, linkages_text};
+use crate::transmission::{SpecError, Transmission};
 
 /// Flags of `codesign check`.
 #[derive(Debug, clap::Args)]
@@ -36,8 +40,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         return Ok(());
     }
     let source = args.model.source();
-    let transmission =
-        Transmission::from_spec(&task.transmission).map_err(|e| format!("{source}: {e}"))?;
+    let transmission = match Transmission::from_spec(&task.transmission) {
+        Err(error @ SpecError::PoseDependent { .. }) => {
+            return linkages(&task, robot, args.json, format!("{source}: {error}"))
+        }
+        other => other.map_err(|e| format!("{source}: {e}"))?,
+    };
     if transmission.dof() != robot.dof() {
         return Err(Failure::Work(format!(
             "{source}: transmission.matrix is {0}x{0} but the robot has {1} moving joints",
@@ -61,6 +69,21 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         problems.len(),
         problems.join("; ")
     )))
+}
+
+/// Shows the linkage rows of a transmission the trajectory problem cannot yet pose, then fails
+/// with `refusal`, the reason it cannot.
+fn linkages(task: &Task, robot: Robot, json: bool, refusal: String) -> Result<(), Failure> {
+    let dynamics = Dynamics::new(robot);
+    let reports = linkage_reports(task, &dynamics).map_err(|e| e.to_string())?;
+    if json {
+        let object = serde_json::json!({ "linkages": reports });
+        let text = serde_json::to_string_pretty(&object).map_err(|e| e.to_string())?;
+        say!("{text}");
+    } else {
+        say_raw!("{}", linkages_text(&reports));
+    }
+    Err(Failure::Work(refusal))
 }
 
 /// Prints the inspection as text, or as JSON.

@@ -5,6 +5,7 @@ pub mod check;
 pub mod codesign;
 mod error;
 pub mod index;
+pub mod mechanism;
 pub mod plots;
 pub mod poses;
 pub mod start;

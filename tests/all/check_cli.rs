@@ -179,3 +179,54 @@ fn names_that_steer_a_terminal_are_escaped() {
     assert!(!stdout.contains('\u{202e}'), "{stdout}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The planar arm's elbow driven by a ball screw (lead 10 mm) from 0.15 m up the upper arm to a
+/// lever 0.10 m across the forearm: `check` shows its ratio, its length and its dead points, and
+/// then says the trajectory problem cannot pose it yet.
+#[test]
+fn check_shows_a_ball_screws_ratio_length_and_dead_points() {
+    let dir = scratch("screw");
+    let example = support::root().join("robots/examples/planar_2dof");
+    let text = std::fs::read_to_string(example.join("task.json")).unwrap();
+    let mut task: serde_json::Value = serde_json::from_str(&text).unwrap();
+    task["robot"] = example.join("robot.urdf").to_str().unwrap().into();
+    task["transmission"]["matrix"][1] = serde_json::json!({"linear": {
+        "from": {"link": "upper_arm", "point": [0.15, 0, 0]},
+        "to": {"link": "forearm", "point": [0, 0, 0.1]},
+        "lead_m": 0.01, "stroke_m": [0.06, 0.24]}});
+    let file = dir.join("task.json");
+    std::fs::write(&file, task.to_string()).unwrap();
+    let output = codesign(&["check", "--task", file.to_str().unwrap(), "--json"]);
+    fails_saying(
+        &output,
+        "transmission.matrix[1] is a linear linkage, whose ratio changes with the pose",
+    );
+    let value: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let screw = &value["linkages"][0];
+    assert_eq!(screw["joints"], serde_json::json!(["elbow"]));
+    // The screw's vector from the upper arm's anchor: (0.15 - 0.1 sin q, 0, 0.1 cos q) in the
+    // upper arm's frame (the elbow turns about -y), so dL/dq = -0.015 cos q / L.
+    for (pose, q) in [(0, -1.543_f64), (1, 1.543)] {
+        let length = ((0.15 - 0.1 * q.sin()).powi(2) + (0.1 * q.cos()).powi(2)).sqrt();
+        let ratio = std::f64::consts::TAU / 0.01 * (-0.015 * q.cos() / length);
+        let reading = &screw["poses"][pose];
+        let found = reading["ratio"][0].as_f64().unwrap();
+        assert!(
+            (found - ratio).abs() < 1e-9 * ratio.abs(),
+            "{found} against {ratio}"
+        );
+        assert!((reading["measure"].as_f64().unwrap() - length).abs() < 1e-12);
+    }
+    let warnings = screw["warnings"].to_string();
+    assert!(warnings.contains("changes sign"), "{warnings}");
+    assert!(
+        warnings.contains("beyond its stroke [0.06, 0.24] m"),
+        "{warnings}"
+    );
+    let text = codesign(&["check", "--task", file.to_str().unwrap()]);
+    let shown = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        shown.contains("motor 2 (row 1): linear linkage over joint(s) elbow"),
+        "{shown}"
+    );
+}

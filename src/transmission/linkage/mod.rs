@@ -175,6 +175,47 @@ impl Linkage {
     }
 }
 
+impl Linkage {
+    /// What the linkage's geometry reads at a pose, as a jet: a screw's length between its
+    /// ends, m, or a crank's angle from its reference, rad.
+    pub fn measure<'s>(
+        &self,
+        dynamics: &Dynamics,
+        data: &mut Workspace,
+        (q, r): (&[f64], &[f64]),
+        variables: &Variables,
+        shape: &'s JetShape,
+    ) -> Result<Jet<'s>, LinkageError> {
+        let at = At {
+            dynamics,
+            q,
+            r,
+            variables,
+            shape,
+        };
+        match self {
+            Linkage::Linear(screw) => screw.length(&at, data),
+            Linkage::CrankRod(crank) => crank.crank_angle(&at, data),
+        }
+    }
+
+    /// The name of what [`Linkage::measure`] reads, with its unit.
+    pub fn measure_name(&self) -> &'static str {
+        match self {
+            Linkage::Linear(_) => "length between its ends (m)",
+            Linkage::CrankRod(_) => "crank angle (rad)",
+        }
+    }
+
+    /// The range a screw's length must keep, m, if given.
+    pub fn stroke(&self) -> Option<[f64; 2]> {
+        match self {
+            Linkage::Linear(screw) => screw.stroke,
+            Linkage::CrankRod(_) => None,
+        }
+    }
+}
+
 /// Where a linkage is evaluated: the model, the pose, the design and the jets' variables.
 struct At<'a, 's> {
     dynamics: &'a Dynamics,
