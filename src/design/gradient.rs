@@ -12,8 +12,7 @@
 //! larger by the weighted slack elsewhere, so that descents from infeasible designs move toward
 //! feasibility.
 
-use super::outcome::DesignOutcome;
-use super::outcome::GradientIterate;
+use super::outcome::{DesignOutcome, GradientIterate, MethodOutcome};
 use super::penalty::{Grading, Penalty};
 use super::score;
 use crate::ipopt::Solution;
@@ -230,14 +229,13 @@ pub fn optimize_gradient(
     Ok(DesignOutcome {
         best_ratios,
         best_cost,
-        best_solution,
-        best_anchor: None,
         costs: evaluator.costs,
         seconds: evaluator.seconds,
-        generations: Vec::new(),
         stop_reason,
-        iterates,
-        replayed: 0,
+        method: MethodOutcome::Gradient {
+            iterates,
+            best_solution,
+        },
     })
 }
 
@@ -493,6 +491,17 @@ mod tests {
         Transmission::from_spec(&testing::task().transmission).unwrap()
     }
 
+    /// The gradient method's own part of an outcome: its iterates and best solution.
+    fn gradient_part(outcome: &DesignOutcome) -> (&[GradientIterate], Option<&Solution>) {
+        match &outcome.method {
+            MethodOutcome::Gradient {
+                iterates,
+                best_solution,
+            } => (iterates, best_solution.as_ref()),
+            MethodOutcome::Cmaes { .. } => panic!("a CMA-ES outcome"),
+        }
+    }
+
     #[test]
     fn descends_from_the_original_design_to_a_stationary_point() {
         // 0.5 kg: a payload the original design holds at rest (up to 0.585 kg).
@@ -511,8 +520,9 @@ mod tests {
             Penalty::PAPER,
         )
         .unwrap();
-        let first = &outcome.iterates[0];
-        let last = outcome.iterates.last().unwrap();
+        let (iterates, _) = gradient_part(&outcome);
+        let first = &iterates[0];
+        let last = iterates.last().unwrap();
         assert!(
             last.cost < 0.5 * first.cost,
             "{} -> {}",
@@ -525,7 +535,7 @@ mod tests {
             .check_design(&outcome.best_ratios)
             .is_ok());
         // Costs fall monotonically along the accepted iterates.
-        assert!(outcome.iterates.windows(2).all(|w| w[1].cost <= w[0].cost));
+        assert!(iterates.windows(2).all(|w| w[1].cost <= w[0].cost));
         // At the end the projected gradient step is short: a stationary point of the design box.
         let set = formulation.transmission().design_space();
         let moved: Vec<f64> = last
@@ -571,17 +581,18 @@ mod tests {
         let graded: Penalty = "graded".parse().unwrap();
         let settings = testing::settings();
         let outcome = optimize_gradient(&formulation, &settings, &descent, graded).unwrap();
-        let first = &outcome.iterates[0];
+        let (iterates, best_solution) = gradient_part(&outcome);
+        let first = &iterates[0];
         let start = solve_design(&formulation, &first.ratios, &settings).unwrap();
         assert!(!start.feasible, "the descent starts infeasible");
         // The merit falls along the accepted iterates, to a feasible design whose elastic solve
         // warm-started from the descent's solution gives the reported cost.
-        assert!(outcome.iterates.windows(2).all(|w| w[1].cost <= w[0].cost));
+        assert!(iterates.windows(2).all(|w| w[1].cost <= w[0].cost));
         let best = solve_design_from(
             &formulation.elastic(),
             &outcome.best_ratios,
             &settings,
-            outcome.best_solution.as_ref(),
+            best_solution,
         );
         let (best, _) = best.unwrap();
         assert!(best.feasible, "{}", best.status);

@@ -1,9 +1,11 @@
 //! The outer, design level: CMA-ES over the design ratios, driven ask/tell so that designs are
-//! evaluated elsewhere (worker processes, or a log replayed on resumption).
+//! evaluated by an [`evaluate::Evaluator`] (worker processes, or threads of this process) or
+//! replayed from a log on resumption, and the gradient method.
 
 pub mod bounds;
 pub mod capacity;
 pub mod cmaes;
+pub mod evaluate;
 pub mod gradient;
 pub mod optimize;
 pub mod outcome;

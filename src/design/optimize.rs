@@ -1,15 +1,15 @@
-//! The co-design loop: CMA-ES over the gear ratios, designs evaluated by worker processes, every
-//! evaluation logged, and finished ones replayed on resume.
+//! The co-design loop: CMA-ES over the gear ratios, designs evaluated by an [`Evaluator`]
+//! (worker processes, or threads of this process), every evaluation logged when a log is given,
+//! and finished ones replayed on resume.
 
 use super::bounds::BoundHandling;
 use super::cmaes::{Cmaes, CmaesError, CmaesSettings};
-use super::outcome::DesignOutcome;
-use super::outcome::GenerationSummary;
+use super::evaluate::{EvaluateError, Evaluator};
+use super::outcome::{DesignOutcome, GenerationSummary, MethodOutcome};
 use super::score::{Evaluation, Status};
 use super::warm::WarmStart;
-use super::workers::{Pool, WorkerError};
 use crate::stats::median;
-use crate::store::{self, StoreError};
+use crate::store;
 use crate::text::number;
 use crate::transmission::DesignSpace;
 use std::fmt;
@@ -25,10 +25,8 @@ pub type Finished = store::log::Finished<Evaluation>;
 pub enum OptimizeError {
     /// CMA-ES refused its settings or a generation's fitness.
     Cmaes(CmaesError),
-    /// The worker pool stopped.
-    Workers(WorkerError),
-    /// An evaluation could not be appended to the evaluation log.
-    Log(StoreError),
+    /// The evaluator stopped (its workers, the log, an interruption).
+    Evaluate(EvaluateError),
     /// No solve judged a design: every evaluation failed for a reason not the design's, or was
     /// of a design outside the design space, which nothing solves.
     NotJudged {
@@ -59,8 +57,7 @@ impl fmt::Display for OptimizeError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             OptimizeError::Cmaes(error) => error.fmt(f),
-            OptimizeError::Log(error) => error.fmt(f),
-            OptimizeError::Workers(error) => error.fmt(f),
+            OptimizeError::Evaluate(error) => error.fmt(f),
             OptimizeError::NotJudged {
                 evaluations,
                 unjudged,
@@ -103,16 +100,24 @@ impl fmt::Display for OptimizeError {
 impl std::error::Error for OptimizeError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
-            OptimizeError::Workers(error) => Some(error),
+            OptimizeError::Evaluate(error) => Some(error),
             _ => None,
         }
     }
 }
 
-impl From<WorkerError> for OptimizeError {
-    fn from(error: WorkerError) -> OptimizeError {
-        OptimizeError::Workers(error)
+impl From<EvaluateError> for OptimizeError {
+    fn from(error: EvaluateError) -> OptimizeError {
+        OptimizeError::Evaluate(error)
     }
+}
+
+/// The evaluation log of a run with the evaluations a resumed one finished before.
+pub struct Logged<'a> {
+    /// The log, open for appending.
+    pub log: &'a mut EvaluationLog,
+    /// Its finished evaluations, replayed where their design matches exactly.
+    pub finished: &'a Finished,
 }
 
 /// What the CMA-ES loop gathers while it runs.
@@ -153,16 +158,15 @@ impl Sampling<'_> {
     }
 }
 
-/// Runs CMA-ES with `settings` in the box of `sampling.space`, evaluating with `pool` the design
-/// `sampling` makes of each sample, logging to `log`, and replaying `finished` evaluations (from
-/// a resumed log) whose design matches exactly. Fails when no evaluation judged a design (see
-/// [`check_evaluations`]).
+/// Runs CMA-ES with `settings` in the box of `sampling.space`, evaluating with `evaluator` the
+/// design `sampling` makes of each sample, logging to `log` when given and replaying its
+/// finished evaluations (from a resumed log) whose design matches exactly. Fails when no
+/// evaluation judged a design (see [`check_evaluations`]).
 pub fn optimize(
     settings: CmaesSettings,
     sampling: Sampling<'_>,
-    pool: &mut Pool,
-    log: &mut EvaluationLog,
-    finished: &Finished,
+    evaluator: &mut dyn Evaluator,
+    mut log: Option<Logged<'_>>,
     progress: &mut dyn Progress,
 ) -> Result<DesignOutcome, OptimizeError> {
     let (space, bounds) = (sampling.space, sampling.bounds);
@@ -178,9 +182,14 @@ pub fn optimize(
     // The anchor of each generation (none for the initial population).
     let mut anchors = vec![None];
     let initial = bounds.designs(space, &cmaes.initial_population());
-    let mut evaluations =
-        evaluate_generation(0, &initial, pool, log, finished, &mut outcome, progress)?;
-    let penalty = pool.penalty().base;
+    let mut evaluations = Generation {
+        index: 0,
+        anchor: None,
+        evaluator,
+        log: log.as_mut(),
+    }
+    .evaluate(&initial, &mut outcome, progress)?;
+    let penalty = evaluator.penalty().base;
     let (fitness, feasible) = record(0, evaluations, penalty, &mut outcome)?;
     cmaes
         .tell_initial(&fitness, &feasible)
@@ -189,17 +198,14 @@ pub fn optimize(
         let generation = cmaes.generation() + 1;
         let designs = bounds.designs(space, &samples);
         let anchor = sampling.anchor(generation, cmaes.mean());
-        pool.set_anchor(anchor.clone());
+        evaluations = Generation {
+            index: generation,
+            anchor: anchor.as_deref(),
+            evaluator,
+            log: log.as_mut(),
+        }
+        .evaluate(&designs, &mut outcome, progress)?;
         anchors.push(anchor);
-        evaluations = evaluate_generation(
-            generation,
-            &designs,
-            pool,
-            log,
-            finished,
-            &mut outcome,
-            progress,
-        )?;
         let (fitness, feasible) = record(generation, evaluations, penalty, &mut outcome)?;
         cmaes
             .tell(&fitness, &feasible)
@@ -231,10 +237,8 @@ fn finish(
         .position(|e| e.ratios == best_ratios && e.cost.to_bits() == cost.to_bits());
     let population = cmaes.settings().population;
     Ok(DesignOutcome {
-        best_anchor: found.and_then(|i| anchors.get(i / population).cloned().flatten()),
         best_ratios,
         best_cost: cost,
-        best_solution: None,
         costs: outcome.evaluations.iter().map(|e| e.cost).collect(),
         seconds: outcome
             .evaluations
@@ -242,12 +246,14 @@ fn finish(
             .filter(|e| e.iterations > 0)
             .map(|e| e.seconds)
             .collect(),
-        generations: outcome.generations,
-        iterates: Vec::new(),
-        replayed: outcome.replayed,
         stop_reason: cmaes
             .stop_reason()
             .map_or_else(|| "stopped".to_owned(), |reason| reason.to_string()),
+        method: MethodOutcome::Cmaes {
+            best_anchor: found.and_then(|i| anchors.get(i / population).cloned().flatten()),
+            generations: outcome.generations,
+            replayed: outcome.replayed,
+        },
     })
 }
 
@@ -306,40 +312,60 @@ fn record(
     Ok((costs, feasible))
 }
 
-fn evaluate_generation(
-    generation: usize,
-    designs: &[Vec<f64>],
-    pool: &mut Pool,
-    log: &mut EvaluationLog,
-    finished: &Finished,
-    outcome: &mut Run,
-    progress: &mut dyn Progress,
-) -> Result<Vec<Evaluation>, OptimizeError> {
-    let mut slots: Vec<Option<Evaluation>> = vec![None; designs.len()];
-    let mut pending = Vec::new();
-    for (index, ratios) in designs.iter().enumerate() {
-        match finished.get(&(generation, index)) {
-            // A worker failure or solver error is no score of the design: solved again.
-            Some(evaluation) if evaluation.ratios == *ratios && evaluation.status.is_judged() => {
-                outcome.best_cost = outcome.best_cost.min(evaluation.cost);
-                outcome.replayed += 1;
-                progress.evaluated(outcome.best_cost);
-                slots[index] = Some(evaluation.clone());
+/// One generation's evaluation: its index, the anchor its designs start from, the evaluator
+/// and the log.
+struct Generation<'g, 'l> {
+    index: usize,
+    anchor: Option<&'g [f64]>,
+    evaluator: &'g mut dyn Evaluator,
+    log: Option<&'g mut Logged<'l>>,
+}
+
+impl Generation<'_, '_> {
+    /// Evaluates `designs`: a finished evaluation of the log whose design matches exactly is
+    /// replayed, the others are evaluated and appended to the log as each finishes.
+    fn evaluate(
+        self,
+        designs: &[Vec<f64>],
+        outcome: &mut Run,
+        progress: &mut dyn Progress,
+    ) -> Result<Vec<Evaluation>, OptimizeError> {
+        let generation = self.index;
+        let mut slots: Vec<Option<Evaluation>> = vec![None; designs.len()];
+        let mut pending = Vec::new();
+        let finished = self.log.as_ref().map(|logged| logged.finished);
+        for (index, ratios) in designs.iter().enumerate() {
+            match finished.and_then(|finished| finished.get(&(generation, index))) {
+                // A worker failure or solver error is no score of the design: solved again.
+                Some(evaluation)
+                    if evaluation.ratios == *ratios && evaluation.status.is_judged() =>
+                {
+                    outcome.best_cost = outcome.best_cost.min(evaluation.cost);
+                    outcome.replayed += 1;
+                    progress.evaluated(outcome.best_cost);
+                    slots[index] = Some(evaluation.clone());
+                }
+                _ => pending.push((index, ratios.clone())),
             }
-            _ => pending.push((index, ratios.clone())),
         }
+        let best = &mut outcome.best_cost;
+        let mut log = self.log;
+        let solved = self
+            .evaluator
+            .evaluate(&pending, self.anchor, &mut |index, evaluation| {
+                *best = best.min(evaluation.cost);
+                progress.evaluated(*best);
+                match log.as_mut() {
+                    Some(logged) => (logged.log.append(generation, index, evaluation))
+                        .map_err(EvaluateError::Log),
+                    None => Ok(()),
+                }
+            })?;
+        for ((index, _), evaluation) in pending.iter().zip(solved) {
+            slots[*index] = Some(evaluation);
+        }
+        Ok(slots.into_iter().flatten().collect())
     }
-    let best = &mut outcome.best_cost;
-    let solved = pool.evaluate_all(&pending, |index, evaluation| {
-        *best = best.min(evaluation.cost);
-        progress.evaluated(*best);
-        log.append(generation, index, evaluation)
-            .map_err(OptimizeError::Log)
-    })?;
-    for ((index, _), evaluation) in pending.iter().zip(solved) {
-        slots[*index] = Some(evaluation);
-    }
-    Ok(slots.into_iter().flatten().collect())
 }
 
 #[cfg(test)]

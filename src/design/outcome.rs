@@ -13,24 +13,64 @@ pub struct DesignOutcome {
     /// Its fitness: the optimal cost J, minus the capacity, or the penalty when nothing
     /// feasible was seen.
     pub best_cost: f64,
-    /// The inner solution behind `best_cost`, where the method keeps one (the gradient method's
-    /// warm-started solves can reach a lower local optimum than a cold solve of the same design).
-    pub best_solution: Option<Solution>,
-    /// The design whose solution the best design's solve started from (CMA-ES with warm
-    /// starts: the anchor of the generation that found it; see `WarmStart`).
-    pub best_anchor: Option<Vec<f64>>,
     /// The fitness of every evaluation, in order.
     pub costs: Vec<f64>,
     /// The wall time of every inner solve that ran, s, in order (replayed ones included).
     pub seconds: Vec<f64>,
-    /// Per-generation statistics (CMA-ES; empty for the gradient method).
-    pub generations: Vec<GenerationSummary>,
-    /// Accepted iterates of every descent (the gradient method; empty for CMA-ES).
-    pub iterates: Vec<GradientIterate>,
-    /// Evaluations replayed from a resumed run's log instead of solved.
-    pub replayed: usize,
     /// Why the method stopped, in words.
     pub stop_reason: String,
+    /// What only the method that ran keeps.
+    pub method: MethodOutcome,
+}
+
+/// The part of an outcome that one method alone keeps.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MethodOutcome {
+    /// CMA-ES's.
+    Cmaes {
+        /// Per-generation statistics.
+        generations: Vec<GenerationSummary>,
+        /// The design whose solution the best design's solve started from (with warm starts:
+        /// the anchor of the generation that found it; see `WarmStart`).
+        best_anchor: Option<Vec<f64>>,
+        /// Evaluations replayed from a resumed run's log instead of solved.
+        replayed: usize,
+    },
+    /// The gradient method's.
+    Gradient {
+        /// Accepted iterates of every descent.
+        iterates: Vec<GradientIterate>,
+        /// The inner solution behind `best_cost` (the method's warm-started solves can reach a
+        /// lower local optimum than a cold solve of the same design).
+        best_solution: Option<Solution>,
+    },
+}
+
+/// Where the solve of an outcome's best design starts, to find the solution behind its cost.
+pub enum BestStart<'a> {
+    /// From this inner solution (the gradient method's own).
+    Solution(&'a Solution),
+    /// From the solution of this anchor (CMA-ES with warm starts).
+    Anchor(&'a [f64]),
+    /// From the standard initial guess.
+    Cold,
+}
+
+impl DesignOutcome {
+    /// Where the solve of the best design starts.
+    pub fn best_start(&self) -> BestStart<'_> {
+        match &self.method {
+            MethodOutcome::Cmaes {
+                best_anchor: Some(anchor),
+                ..
+            } => BestStart::Anchor(anchor),
+            MethodOutcome::Gradient {
+                best_solution: Some(solution),
+                ..
+            } => BestStart::Solution(solution),
+            _ => BestStart::Cold,
+        }
+    }
 }
 
 /// The cost statistics of one CMA-ES generation.

@@ -1,10 +1,22 @@
 //! The experiment of a task (docs/model.md, section 13) as library code: its [`Plan`] of
-//! cases from a [`PlanRequest`], and the [`Layout`] of its results folder, which owns every
-//! path and file name in it. `codesign reproduce` (`cli/reproduce/`) parses the request from
-//! its flags, runs the plan's stages and merges their results through this layout.
+//! cases from a [`PlanRequest`], the [`Layout`] of its results folder, which owns every path
+//! and file name in it, its task ([`ExperimentTask`]), its stages run here and told to an
+//! [`Observer`] (`stages`), the merge of the results its printed commands wrote elsewhere
+//! (`merge`), and the table of a section (`finish`, [`run_experiment`]). `codesign reproduce`
+//! (`cli/reproduce/`) only parses the request from its flags, prints what it is told, and
+//! words the errors with its flags.
 
+mod error;
+mod finish;
 mod layout;
+mod merge;
 mod plan;
+mod stages;
+mod task;
 
+pub use error::{ExperimentError, MergeError};
+pub use finish::{run_experiment, Section};
 pub use layout::{CapacityOf, Layout, RunName, FOLDERS, HOLD_FOLDER};
 pub use plan::{Plan, PlanError, PlanRequest, PlannedRun, SPACES};
+pub use stages::{Event, Observer, Outcomes};
+pub use task::ExperimentTask;

@@ -1,6 +1,7 @@
 //! Why a co-design run failed, by what failed: the case, its inputs, its outputs or the run.
 
 use super::settings::CaseError;
+use crate::design::evaluate::EvaluateError;
 use crate::design::gradient::GradientError;
 use crate::design::optimize::OptimizeError;
 use crate::design::score::ScoreError;
@@ -74,6 +75,12 @@ impl From<WorkerError> for RunError {
 impl From<OptimizeError> for RunError {
     fn from(error: OptimizeError) -> RunError {
         RunError::Cmaes(error)
+    }
+}
+
+impl From<EvaluateError> for RunError {
+    fn from(error: EvaluateError) -> RunError {
+        RunError::Cmaes(OptimizeError::Evaluate(error))
     }
 }
 

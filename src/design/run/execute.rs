@@ -2,16 +2,14 @@
 //! (CMA-ES in worker processes, or the gradient method), and the document of what it found.
 
 use super::case::{Case, Loaded};
-use super::document::{Method, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
+use super::document::{OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
 use super::error::{Output, RunError};
-use super::verify::confirm_best;
-use crate::design::gradient::optimize_gradient;
-use crate::design::optimize::{optimize, EvaluationLog, Finished, Progress, Sampling};
-use crate::design::outcome::DesignOutcome;
+use super::method::{logs_evaluations, run_method, MethodRun};
+use crate::design::optimize::{EvaluationLog, Finished, Progress};
+use crate::design::outcome::{BestStart, DesignOutcome, MethodOutcome};
 use crate::design::penalty::Grading;
 use crate::design::score::Objective;
 use crate::design::score::{anchor_solution, Fitness};
-use crate::design::workers::{Pool, WorkerSetup, MAX_GROUPS};
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;
 use crate::problem::Formulation;
@@ -21,14 +19,14 @@ use crate::store::document::write_document;
 use crate::store::files::{check_output, check_result};
 use crate::store::log::log_beside;
 use std::path::Path;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// Makes the progress display of a CMA-ES run, given its number of evaluations and a label.
 pub type ProgressDisplay<'a> = &'a dyn Fn(u64, String) -> Box<dyn Progress>;
 
-/// Runs one co-design case and writes its document to `out`; returns it. A CMA-ES run holds its
-/// evaluation log, locked, from before the first evaluation until the document is written, and
-/// shows its progress on what `display` makes.
+/// Runs one co-design case and writes its document to `out`; returns it. A method that logs its
+/// evaluations (CMA-ES) holds its evaluation log, locked, from before the first evaluation
+/// until the document is written, and shows its progress on what `display` makes.
 pub fn run_case(
     case: &Case,
     out: &Path,
@@ -39,7 +37,8 @@ pub fn run_case(
     case.problem.configure(&mut loaded.settings);
     let read = case.model.inputs(&loaded.task);
     check_result(out, &read).map_err(RunError::store(Output::Result))?;
-    if case.settings.method == Method::Cmaes {
+    let logged = logs_evaluations(case.settings.method);
+    if logged {
         check_output(&log_beside(out), &read).map_err(RunError::store(Output::Log))?;
     }
     let modes = case.problem.modes(&loaded.task);
@@ -54,32 +53,24 @@ pub fn run_case(
     let formulation = Formulation::new(&task, robot, case.problem.space, modes)
         .map_err(|e| RunError::Load(e.to_string()))?
         .with_hold_tolerance(settings.constraint_tolerance());
-    let mut log = match case.settings.method {
-        Method::Cmaes => Some(open_log(case, out, &inputs)?),
-        Method::Gradient => None,
+    let mut log = match logged {
+        true => Some(open_log(case, out, &inputs)?),
+        false => None,
     };
     let started = Instant::now();
-    let outcome = match log.as_mut() {
-        Some((log, finished)) => {
-            let setup = worker_setup(case, &inputs, &task, &settings, &formulation)?;
-            let run = CmaesRun {
-                case,
-                inputs: &inputs,
-                setup: &setup,
-                formulation: &formulation,
-            };
-            run_cmaes(run, log, finished, display).map(|o| (o, log.earlier_seconds()))
-        }
-        None => optimize_gradient(
-            &formulation,
-            &settings,
-            &case.gradient,
-            case.settings.penalty(),
-        )
-        .map(|o| (o, Some(0.0)))
-        .map_err(RunError::from),
+    let run = MethodRun {
+        case,
+        inputs: &inputs,
+        task: &task,
+        settings: &settings,
+        formulation: &formulation,
     };
-    let result = outcome.and_then(|(outcome, earlier_seconds)| {
+    let outcome = run_method(&run, log.as_mut(), display);
+    // A run without a log has no earlier invocations.
+    let earlier_seconds = log
+        .as_ref()
+        .map_or(Some(0.0), |(log, _)| log.earlier_seconds());
+    let result = outcome.and_then(|outcome| {
         let mut document = document(case, &formulation, &settings, inputs, outcome)?;
         document.earlier_seconds = earlier_seconds;
         document.wall_seconds = started.elapsed().as_secs_f64();
@@ -145,8 +136,6 @@ fn document(
             &elastic
         }
     };
-    let anchored =
-        (outcome.best_anchor.as_ref()).and_then(|anchor| anchor_solution(scored, settings, anchor));
     let (best_result, original_result, payload_costs) = match &case.settings.objective {
         Objective::Range(_) => {
             let fitness = Fitness::new(
@@ -164,14 +153,7 @@ fn document(
         // Started as its evaluation was: from the method's own inner solution or its
         // generation's anchor, so that the reported trajectory is the one behind `best_cost`.
         _ => (
-            solve_design_from(
-                scored,
-                &outcome.best_ratios,
-                settings,
-                outcome.best_solution.as_ref().or(anchored.as_ref()),
-            )
-            .ok()
-            .map(|(result, _)| result),
+            solve_best(scored, settings, &outcome),
             solve_design(scored, &original_ratios, settings).ok(),
             None,
         ),
@@ -183,6 +165,14 @@ fn document(
         }
         _ => case.settings.penalty,
     };
+    let (generations, iterates, replayed) = match outcome.method {
+        MethodOutcome::Cmaes {
+            generations,
+            replayed,
+            ..
+        } => (generations, Vec::new(), replayed),
+        MethodOutcome::Gradient { iterates, .. } => (Vec::new(), iterates, 0),
+    };
     Ok(OptimizeDocument {
         tool: ToolInfo::current(inputs.linear_solver),
         inputs,
@@ -192,11 +182,11 @@ fn document(
         original_ratios,
         original_cost,
         original_result,
-        generations: outcome.generations,
+        generations,
         evaluations: outcome.costs.len(),
         costs: outcome.costs,
-        iterates: outcome.iterates,
-        replayed: outcome.replayed,
+        iterates,
+        replayed,
         solves: outcome.seconds.len(),
         solve_seconds_total: outcome.seconds.iter().sum(),
         median_solve_seconds: median(&outcome.seconds),
@@ -205,6 +195,27 @@ fn document(
         earlier_seconds: None,
         payload_costs,
     })
+}
+
+/// The best design of `outcome` solved in `scored`, started as its evaluation was (None when
+/// the solve fails).
+fn solve_best(
+    scored: &Formulation,
+    settings: &SolveSettings,
+    outcome: &DesignOutcome,
+) -> Option<crate::solve::TrajectoryResult> {
+    let anchored;
+    let start = match outcome.best_start() {
+        BestStart::Solution(solution) => Some(solution),
+        BestStart::Anchor(anchor) => {
+            anchored = anchor_solution(scored, settings, anchor);
+            anchored.as_ref()
+        }
+        BestStart::Cold => None,
+    };
+    solve_design_from(scored, &outcome.best_ratios, settings, start)
+        .ok()
+        .map(|(result, _)| result)
 }
 
 /// `ratios` solved at every payload of a range `fitness` (none when `ratios` is empty: no
@@ -250,102 +261,4 @@ fn probe_solver(
         ))),
         _ => Ok(()),
     }
-}
-/// What the workers of a CMA-ES run are told: the task (its robot's path made absolute), the
-/// solve settings, the problem and how designs are scored.
-fn worker_setup(
-    case: &Case,
-    inputs: &OptimizeInputs,
-    task: &Task,
-    settings: &SolveSettings,
-    formulation: &Formulation,
-) -> Result<WorkerSetup, RunError> {
-    let mut worker_task = task.clone();
-    if let Some(robot) = &task.robot {
-        let absolute = std::fs::canonicalize(robot)
-            .map_err(|e| RunError::Load(format!("robot {}: {e}", robot.display())))?;
-        worker_task.robot = Some(absolute);
-    }
-    Ok(WorkerSetup {
-        objective: inputs.settings.objective.clone(),
-        task: worker_task,
-        solve: settings.clone(),
-        space: case.problem.space,
-        modes: *formulation.modes(),
-        penalty: case.settings.penalty(),
-        robot_hash: inputs.robot_hash.0.clone().unwrap_or_default(),
-    })
-}
-
-/// How many workers a run of `population` starts: the number asked for (default: one per core),
-/// at most one per design of a generation, with a note when it is more than the cores.
-fn worker_count(asked: Option<usize>, population: usize) -> usize {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let workers = asked.unwrap_or(cores).min(population).clamp(1, MAX_GROUPS);
-    if asked.is_some_and(|n| n > population) {
-        note!(
-            "note: --workers {}: a generation has {population} designs, so {population} workers \
-             are started",
-            asked.unwrap_or_default()
-        );
-    }
-    if workers > cores {
-        note!(
-            "note: {workers} workers on {cores} cores here: unless the worker command places them \
-             on other machines, they share the cores"
-        );
-    }
-    workers
-}
-
-/// What a CMA-ES run is: its case, recorded inputs, workers' setup and formulation.
-struct CmaesRun<'a> {
-    case: &'a Case,
-    inputs: &'a OptimizeInputs,
-    setup: &'a WorkerSetup,
-    formulation: &'a Formulation,
-}
-
-/// The CMA-ES run on its open evaluation log (with the `finished` evaluations of a resumed
-/// run): worker pool, progress display.
-fn run_cmaes(
-    run: CmaesRun<'_>,
-    log: &mut EvaluationLog,
-    finished: &Finished,
-    display: ProgressDisplay<'_>,
-) -> Result<DesignOutcome, RunError> {
-    let CmaesRun {
-        case,
-        inputs,
-        setup,
-        formulation,
-    } = run;
-    let workers = worker_count(case.execution.workers, case.settings.cmaes.population);
-    let program = std::env::current_exe()
-        .map_err(|e| RunError::Load(format!("cannot locate the codesign executable: {e}")))?;
-    let timeout = Duration::from_secs_f64(case.execution.solve_timeout_s);
-    let launcher = case.launcher(&program);
-    let mut pool = Pool::new(launcher.clone(), setup, workers, timeout)?;
-    let settings = &case.settings.cmaes;
-    let total = (settings.population * (settings.generations + 1)) as u64;
-    let label = format!(
-        "{} {} kg seed {}",
-        case.problem.space, inputs.payload_kg, settings.seed
-    );
-    let mut progress = display(total, label);
-    let sampling = Sampling {
-        space: formulation.transmission().design_space(),
-        bounds: case.settings.bounds,
-        warm_start: case.settings.warm_start,
-    };
-    let outcome = optimize(
-        settings.clone(),
-        sampling,
-        &mut pool,
-        log,
-        finished,
-        progress.as_mut(),
-    )?;
-    confirm_best(&outcome, setup, &launcher)?;
-    Ok(outcome)
 }

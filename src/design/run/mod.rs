@@ -6,6 +6,7 @@ mod case;
 mod document;
 mod error;
 mod execute;
+mod method;
 mod settings;
 mod verify;
 

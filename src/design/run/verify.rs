@@ -4,7 +4,8 @@
 //! checksum, is caught where it matters: at the design the run would report.
 
 use super::error::RunError;
-use crate::design::outcome::DesignOutcome;
+use crate::design::evaluate::{EvaluateError, Evaluator, InProcess};
+use crate::design::outcome::{BestStart, DesignOutcome};
 use crate::design::workers::{Launcher, WorkerSetup};
 use crate::text::number;
 
@@ -24,9 +25,14 @@ pub(super) fn confirm_best(
     if outcome.best_ratios.is_empty() {
         return Ok(());
     }
-    let fitness = setup.fitness()?;
-    let warm = (outcome.best_anchor.as_ref()).and_then(|anchor| fitness.anchor(anchor));
-    let own = fitness.evaluate_from(&outcome.best_ratios, warm.as_ref());
+    let anchor = match outcome.best_start() {
+        BestStart::Anchor(anchor) => Some(anchor),
+        BestStart::Solution(_) | BestStart::Cold => None,
+    };
+    let mut evaluator = InProcess::new(setup.fitness()?, 1);
+    let design = [(0, outcome.best_ratios.clone())];
+    let evaluations = evaluator.evaluate(&design, anchor, &mut |_, _| Ok(()))?;
+    let own = evaluations.first().ok_or(EvaluateError::Interrupted)?;
     let claimed = outcome.best_cost;
     let tolerance = COST_AGREEMENT * claimed.abs().max(1.0);
     if own.feasible && (own.cost - claimed).abs() <= tolerance {

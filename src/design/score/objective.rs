@@ -134,6 +134,16 @@ impl Fitness {
         })
     }
 
+    /// The penalty the fitness scores with.
+    pub fn penalty(&self) -> Penalty {
+        self.penalty
+    }
+
+    /// The linear solver of its solves.
+    pub fn linear_solver(&self) -> ipopt::LinearSolver {
+        self.solve.linear_solver()
+    }
+
     /// The range's payloads with their formulations (empty for another objective).
     pub fn payloads(&self) -> &[(f64, Formulation)] {
         match &self.scored {

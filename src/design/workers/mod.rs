@@ -2,9 +2,12 @@
 //!
 //! MUMPS is not thread-safe, so parallel evaluation runs in separate processes: `codesign worker`
 //! reads a [`WorkerSetup`] line and then one [`Request`] per line on stdin, and answers each with
-//! one [`Response`] line on stdout. The [`Pool`] feeds them, and replaces a worker that crashes or
-//! exceeds the time limit: its design is retried once on a fresh worker, then penalised with the
-//! reason. One bad design never stops a run, and the results do not depend on the worker count.
+//! one [`Response`] line on stdout. The [`Pool`] feeds them, checks each answer with the check
+//! its owner gives, and replaces a worker that crashes, exceeds the time limit or answers what
+//! the check refuses: its design is retried once on a fresh worker, then answered as failed
+//! with the reason. The pool knows nothing of scoring: its owner
+//! (`design::evaluate::WorkerEvaluator`) turns a failure into a fitness. One bad design never
+//! stops a run, and the results do not depend on the worker count.
 
 mod error;
 mod process;
@@ -14,8 +17,7 @@ pub use error::WorkerError;
 pub use process::{Launcher, MAX_GROUPS};
 pub use protocol::{read_line, serve, Hello, Request, Response, WorkerSetup, MAX_LINE_BYTES};
 
-use super::penalty::Penalty;
-use super::score::{Evaluation, Objective, Score, Verdict};
+use super::score::Evaluation;
 use crate::signals;
 use std::collections::VecDeque;
 use std::io::{BufReader, Write};
@@ -60,16 +62,32 @@ struct Job {
     attempt: u32,
 }
 
+/// What the owner of a pool believes of an answer: None, or what it holds that cannot be (a
+/// phrase that follows "worker answered").
+pub type Check = Box<dyn Fn(&Evaluation) -> Option<String> + Send>;
+
+/// A worker's answer for one design, as the pool gives it back.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Answer {
+    /// The worker's evaluation, for the design asked, believed by the owner's check.
+    Evaluated(Evaluation),
+    /// Its worker failed twice (crashed, hung, answered nonsense); the design was not judged.
+    Failed {
+        /// The design.
+        ratios: Vec<f64>,
+        /// The last failure, in words.
+        reason: String,
+    },
+}
+
 /// A pool of worker processes (see the module documentation).
 pub struct Pool {
     launcher: Launcher,
     setup_line: String,
     /// The hello every worker must send.
     hello: Hello,
-    /// How a design whose worker failed twice is scored.
-    penalty: Penalty,
-    /// Whether a fitness may be negative (minus a capacity, kg); a cost J never is.
-    negative_fitness: bool,
+    /// What an answer must pass to be believed.
+    check: Check,
     timeout: Duration,
     workers: Vec<Worker>,
     sender: Sender<Message>,
@@ -88,17 +106,14 @@ enum Heard {
 }
 
 impl Pool {
-    /// The penalty the workers score with.
-    pub fn penalty(&self) -> &Penalty {
-        &self.penalty
-    }
-
-    /// Starts `count` workers with `launcher`.
+    /// Starts `count` workers with `launcher`, each told `setup`; an answer is believed when
+    /// it is for the design asked and passes `check`.
     pub fn new(
         launcher: Launcher,
         setup: &WorkerSetup,
         count: usize,
         timeout: Duration,
+        check: Check,
     ) -> Result<Pool, WorkerError> {
         if count == 0 {
             return Err(WorkerError::NoWorkers);
@@ -108,8 +123,7 @@ impl Pool {
             launcher,
             setup_line: serde_json::to_string(setup).map_err(WorkerError::Encode)?,
             hello: Hello::expected(setup)?,
-            penalty: setup.penalty,
-            negative_fitness: matches!(setup.objective, Objective::Capacity(_)),
+            check,
             timeout,
             workers: Vec::with_capacity(count),
             sender,
@@ -190,14 +204,14 @@ impl Pool {
         Ok(old.job.take().map(|(job, _)| job))
     }
 
-    /// Evaluates every design, in any order across workers, and returns the evaluations in the
+    /// Evaluates every design, in any order across workers, and returns the answers in the
     /// order given. `done` is called as each one finishes (for logging and progress); its error,
     /// or the pool's, stops the evaluation.
     pub fn evaluate_all<E: From<WorkerError>>(
         &mut self,
         designs: &[(usize, Vec<f64>)],
-        mut done: impl FnMut(usize, &Evaluation) -> Result<(), E>,
-    ) -> Result<Vec<Evaluation>, E> {
+        mut done: impl FnMut(usize, &Answer) -> Result<(), E>,
+    ) -> Result<Vec<Answer>, E> {
         let mut queue: VecDeque<Job> = designs
             .iter()
             .map(|(id, ratios)| Job {
@@ -206,7 +220,7 @@ impl Pool {
                 attempt: 0,
             })
             .collect();
-        let mut results: Vec<Option<Evaluation>> = vec![None; designs.len()];
+        let mut results: Vec<Option<Answer>> = vec![None; designs.len()];
         let position = |id: usize| designs.iter().position(|(d, _)| *d == id);
         let mut remaining = designs.len();
         while remaining > 0 {
@@ -214,15 +228,16 @@ impl Pool {
             let failed = match self.listen()? {
                 Heard::Answer(job, evaluation) => {
                     if let Some(index) = position(job.id) {
-                        done(job.id, &evaluation)?;
-                        results[index] = Some(evaluation);
+                        let answer = Answer::Evaluated(evaluation);
+                        done(job.id, &answer)?;
+                        results[index] = Some(answer);
                         remaining -= 1;
                     }
                     continue;
                 }
                 Heard::Failed(failed) => failed,
             };
-            self.retry_or_penalise(
+            self.retry_or_fail(
                 failed,
                 &mut queue,
                 &mut results,
@@ -303,8 +318,7 @@ impl Pool {
     }
 
     /// The answer `line` of the worker in `slot`, checked against the job it holds: the same
-    /// design, and an evaluation the scoring can write (`Evaluation::implausible`). Anything
-    /// else fails the worker.
+    /// design, and an evaluation the owner's check believes. Anything else fails the worker.
     fn answer(&mut self, slot: usize, line: &str) -> Heard {
         let fail = |why: String| Heard::Failed(vec![(slot, why)]);
         let response = match serde_json::from_str::<Response>(line) {
@@ -321,7 +335,7 @@ impl Pool {
                 "worker answered for r = {:?} when asked for r = {:?}",
                 evaluation.ratios, job.ratios
             )
-        } else if let Some(why) = evaluation.implausible(&self.penalty, self.negative_fitness) {
+        } else if let Some(why) = (self.check)(&evaluation) {
             format!("worker answered {why}")
         } else {
             return Heard::Answer(job, evaluation);
@@ -376,15 +390,16 @@ impl Pool {
         }
     }
 
-    /// Replaces each failed worker; its job goes back to the queue once, then is penalised.
-    fn retry_or_penalise<E: From<WorkerError>>(
+    /// Replaces each failed worker; its job goes back to the queue once, then is answered as
+    /// failed.
+    fn retry_or_fail<E: From<WorkerError>>(
         &mut self,
         failed: Vec<(usize, String)>,
         queue: &mut VecDeque<Job>,
-        results: &mut [Option<Evaluation>],
+        results: &mut [Option<Answer>],
         position: &impl Fn(usize) -> Option<usize>,
         remaining: &mut usize,
-        done: &mut impl FnMut(usize, &Evaluation) -> Result<(), E>,
+        done: &mut impl FnMut(usize, &Answer) -> Result<(), E>,
     ) -> Result<(), E> {
         for (slot, reason) in failed {
             let Some(mut job) = self.replace(slot)? else {
@@ -398,17 +413,12 @@ impl Pool {
                 job.attempt += 1;
                 queue.push_front(job);
             } else if let Some(index) = position(job.id) {
-                let failed = Verdict::WorkerFailed {
-                    message: format!("{reason}, twice"),
+                let answer = Answer::Failed {
+                    ratios: job.ratios,
+                    reason,
                 };
-                let evaluation =
-                    Evaluation::new(&job.ratios, &Score::unsolved(failed), &self.penalty);
-                eprintln!(
-                    "warning: {reason} again on design {:?}; scoring it {}",
-                    job.ratios, evaluation.cost
-                );
-                done(job.id, &evaluation)?;
-                results[index] = Some(evaluation);
+                done(job.id, &answer)?;
+                results[index] = Some(answer);
                 *remaining -= 1;
             }
         }
@@ -447,6 +457,7 @@ fn ended_early(launcher: &str, child: &mut Child) -> WorkerError {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::design::evaluate::{Evaluator, WorkerEvaluator};
     use crate::design::score::{Objective, Status};
     use crate::problem::Space;
     use std::os::unix::fs::PermissionsExt;
@@ -487,8 +498,15 @@ mod tests {
     }
 
     /// A `done` of `Pool::evaluate_all` that does nothing.
-    fn none(_: usize, _: &Evaluation) -> Result<(), WorkerError> {
+    fn none(_: usize, _: &Answer) -> Result<(), WorkerError> {
         Ok(())
+    }
+
+    /// The check of a run on the cost under the paper's penalty.
+    fn check() -> Check {
+        Box::new(|evaluation| {
+            evaluation.implausible(&crate::design::penalty::Penalty::PAPER, false)
+        })
     }
 
     fn designs() -> Vec<(usize, Vec<f64>)> {
@@ -502,13 +520,13 @@ mod tests {
             ("crash", "read request; exit 3", "crashed"),
         ] {
             let launcher = script(name, body);
-            let mut pool =
-                Pool::new(launcher.clone(), &setup(), 2, Duration::from_millis(300)).unwrap();
+            let timeout = Duration::from_millis(300);
+            let mut pool = WorkerEvaluator::new(launcher.clone(), &setup(), 2, timeout).unwrap();
             let mut finished = Vec::new();
             let results = pool
-                .evaluate_all(&designs(), |id, evaluation| {
+                .evaluate(&designs(), None, &mut |id, evaluation| {
                     finished.push((id, evaluation.clone()));
-                    Ok::<(), WorkerError>(())
+                    Ok(())
                 })
                 .unwrap();
             assert_eq!(results.len(), 2);
@@ -537,7 +555,7 @@ mod tests {
         other.codesign = "0.0.1".to_owned();
         let path = script_saying("other", &other, "while read request; do sleep 30; done");
         let launcher = Launcher::Shell(format!("{} worker", path.display()));
-        let mut pool = Pool::new(launcher, &setup(), 1, Duration::from_secs(20)).unwrap();
+        let mut pool = Pool::new(launcher, &setup(), 1, Duration::from_secs(20), check()).unwrap();
         let error = pool.evaluate_all(&designs(), none).unwrap_err().to_string();
         assert!(error.contains("refused the worker started by"), "{error}");
         assert!(error.contains("it is codesign 0.0.1"), "{error}");
@@ -560,9 +578,14 @@ mod tests {
   echo "{\"id\":$id,\"evaluation\":{\"ratios\":$ratios,\"cost\":1$id,\"feasible\":true,\"status\":\"Solve_Succeeded\",\"iterations\":1,\"seconds\":0.1}}"
 done"#;
         let launcher = script("answer", body);
-        let mut pool = Pool::new(launcher.clone(), &setup(), 2, Duration::from_secs(20)).unwrap();
+        let timeout = Duration::from_secs(20);
+        let mut pool = Pool::new(launcher.clone(), &setup(), 2, timeout, check()).unwrap();
         let results = pool.evaluate_all(&designs(), none).unwrap();
-        let costs: Vec<f64> = results.iter().map(|e| e.cost).collect();
+        let cost = |answer: &Answer| match answer {
+            Answer::Evaluated(evaluation) => evaluation.cost,
+            Answer::Failed { .. } => f64::NAN,
+        };
+        let costs: Vec<f64> = results.iter().map(cost).collect();
         assert_eq!(costs, vec![10.0, 11.0]);
         drop(pool);
         remove(launcher);

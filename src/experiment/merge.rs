@@ -1,19 +1,17 @@
-//! `reproduce --from-runs`: the results that the plan's commands wrote (on other machines, by
-//! GNU parallel or a Slurm job array), read back from the output folder.
+//! The merge of an experiment run elsewhere: the results that the plan's commands wrote (on
+//! other machines, by GNU parallel or a Slurm job array), read back from the output folder.
 
-use super::Outcomes;
+use super::{CapacityOf, MergeError, Outcomes, Plan, PlannedRun, SPACES};
 use crate::design::run::OptimizeDocument;
-use crate::experiment::CapacityOf;
-use crate::experiment::{Plan, PlannedRun, SPACES};
 use crate::report::codesign::CapacityDocument;
 use crate::report::table::{check_results, read_result_file, ResultFile};
 use std::path::{Path, PathBuf};
 
 /// Reads every result the plan's commands write; fails naming the first that is missing, of
 /// the wrong kind, or of another task than the plan's (task hash `task_hash`). A gradient run
-/// may be missing: the gradient method fails where it finds no feasible start, and `reproduce`
+/// may be missing: the gradient method fails where it finds no feasible start, and a run here
 /// leaves that case out too.
-pub fn read_all(plan: &Plan, task_hash: &str) -> Result<Outcomes, String> {
+pub fn read_all(plan: &Plan, task_hash: &str) -> Result<Outcomes, MergeError> {
     let read = |path: &Path| read_of_task(path, task_hash);
     let mut originals = Vec::new();
     let payloads = &plan.experiment.original_payloads_kg;
@@ -45,14 +43,9 @@ pub fn read_all(plan: &Plan, task_hash: &str) -> Result<Outcomes, String> {
         paths.push(path.clone());
         files.push(ResultFile::Optimize(Box::new(document.clone())));
     }
-    check_results(&paths, &files).map_err(|why| format!("--from-runs: {why}"))?;
+    check_results(&paths, &files).map_err(MergeError::Check)?;
     let documents =
         |runs: Vec<(PathBuf, OptimizeDocument)>| runs.into_iter().map(|(_, d)| d).collect();
-    let (runs, gradient_runs, beyond_runs) = (
-        documents(runs),
-        documents(gradient_runs),
-        documents(beyond_runs),
-    );
     let original_capacities = SPACES
         .iter()
         .map(|space| {
@@ -62,12 +55,12 @@ pub fn read_all(plan: &Plan, task_hash: &str) -> Result<Outcomes, String> {
                 _ => Err(wrong_kind(&path, "a `capacity` result")),
             }
         })
-        .collect::<Result<Vec<CapacityDocument>, String>>()?;
+        .collect::<Result<Vec<CapacityDocument>, MergeError>>()?;
     Ok(Outcomes {
         originals,
-        runs,
-        gradient_runs,
-        beyond_runs,
+        runs: documents(runs),
+        gradient_runs: documents(gradient_runs),
+        beyond_runs: documents(beyond_runs),
         original_capacities,
     })
 }
@@ -75,17 +68,16 @@ pub fn read_all(plan: &Plan, task_hash: &str) -> Result<Outcomes, String> {
 /// Reads the result of the planned `run` at `path`; fails naming the settings in which it
 /// differs from the plan (a run made with other flags is never merged as the plan's), its task
 /// included (`task_hash`).
-fn planned(path: &Path, run: &PlannedRun, task_hash: &str) -> Result<OptimizeDocument, String> {
+fn planned(path: &Path, run: &PlannedRun, task_hash: &str) -> Result<OptimizeDocument, MergeError> {
     let ResultFile::Optimize(document) = read_of_task(path, task_hash)? else {
         return Err(wrong_kind(path, "an `optimize` result"));
     };
     let differences = run.case.differences(&document.inputs);
     if !differences.is_empty() {
-        return Err(format!(
-            "--from-runs: {} is not the plan's run ({}); run the plan's command for it again",
-            path.display(),
-            differences.join("; ")
-        ));
+        return Err(MergeError::NotPlanned {
+            path: path.to_owned(),
+            differences,
+        });
     }
     Ok(*document)
 }
@@ -95,7 +87,7 @@ fn planned_all(
     plan: &Plan,
     task_hash: &str,
     runs: impl IntoIterator<Item = PlannedRun>,
-) -> Result<Vec<(PathBuf, OptimizeDocument)>, String> {
+) -> Result<Vec<(PathBuf, OptimizeDocument)>, MergeError> {
     runs.into_iter()
         .map(|run| {
             let path = plan.layout.run(&run.name);
@@ -106,31 +98,31 @@ fn planned_all(
 
 /// Reads one result file ([`read`]); fails naming it when it records another task hash than
 /// `task_hash`, the plan's (a file written before the hash was recorded is not checked).
-fn read_of_task(path: &Path, task_hash: &str) -> Result<ResultFile, String> {
+fn read_of_task(path: &Path, task_hash: &str) -> Result<ResultFile, MergeError> {
     let file = read(path)?;
     match file.task(None) {
-        Some(recorded) if recorded != task_hash => Err(format!(
-            "--from-runs: {} is a result of another task (task hash {recorded}, task file {}) \
-             than the plan's (task hash {task_hash}); run the plan's command for it again",
-            path.display(),
-            file.task_file()
-        )),
+        Some(recorded) if recorded != task_hash => Err(MergeError::OtherTask {
+            path: path.to_owned(),
+            recorded,
+            task_file: file.task_file().to_string(),
+            expected: task_hash.to_owned(),
+        }),
         _ => Ok(file),
     }
 }
 
-/// Reads one result file, saying which command of the plan writes it when it is missing.
-fn read(path: &Path) -> Result<ResultFile, String> {
+/// Reads one result file; a missing one is named as such.
+fn read(path: &Path) -> Result<ResultFile, MergeError> {
     if !path.exists() {
-        return Err(format!(
-            "--from-runs: {} is missing; run every command of `codesign reproduce --plan` (with \
-             the same flags) before merging",
-            path.display()
-        ));
+        return Err(MergeError::Missing(path.to_owned()));
     }
-    Ok(read_result_file(path)?)
+    read_result_file(path).map_err(MergeError::Read)
 }
 
-fn wrong_kind(path: &Path, expected: &str) -> String {
-    format!("--from-runs: {} is not {expected}", path.display())
+/// A file of another kind than `expected` at `path`.
+fn wrong_kind(path: &Path, expected: &'static str) -> MergeError {
+    MergeError::WrongKind {
+        path: path.to_owned(),
+        expected,
+    }
 }

@@ -1,0 +1,161 @@
+//! The evaluator in this process: designs scored on threads, each solve with its own IPOPT
+//! problem. The LDLᵀ may solve on several threads at once; MUMPS is not thread-safe, so with it
+//! one thread solves (and `ipopt::solve` serialises its solves process-wide besides).
+
+use super::{Designs, Done, EvaluateError, Evaluator};
+use crate::design::penalty::Penalty;
+use crate::design::score::{Evaluation, Fitness};
+use crate::ipopt::{LinearSolver, Solution};
+use crate::signals;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::mpsc::channel;
+
+/// Designs scored by `threads` threads of this process with one [`Fitness`].
+pub struct InProcess {
+    fitness: Fitness,
+    threads: usize,
+    /// The last anchor and its solution (None when it is invalid or infeasible), solved once
+    /// as a worker does.
+    anchored: Option<(Vec<f64>, Option<Solution>)>,
+}
+
+impl InProcess {
+    /// An evaluator scoring with `fitness` on at most `threads` threads (at least one; one
+    /// when the linear solver is MUMPS).
+    pub fn new(fitness: Fitness, threads: usize) -> InProcess {
+        let threads = match fitness.linear_solver() {
+            LinearSolver::Mumps => 1,
+            LinearSolver::Ldl => threads.max(1),
+        };
+        InProcess {
+            fitness,
+            threads,
+            anchored: None,
+        }
+    }
+
+    /// The warm start of designs sampled around `anchor`: its solution, solved when the anchor
+    /// changed (see [`Fitness::anchor`]).
+    fn warm_start(&mut self, anchor: Option<&[f64]>) -> Option<&Solution> {
+        let anchor = anchor?;
+        if self.anchored.as_ref().is_none_or(|(a, _)| a != anchor) {
+            self.anchored = Some((anchor.to_vec(), self.fitness.anchor(anchor)));
+        }
+        self.anchored.as_ref()?.1.as_ref()
+    }
+}
+
+impl Evaluator for InProcess {
+    fn penalty(&self) -> Penalty {
+        self.fitness.penalty()
+    }
+
+    fn evaluate(
+        &mut self,
+        designs: &Designs,
+        anchor: Option<&[f64]>,
+        done: Done<'_>,
+    ) -> Result<Vec<Evaluation>, EvaluateError> {
+        let threads = self.threads.min(designs.len());
+        let warm = self.warm_start(anchor).cloned();
+        let fitness = &self.fitness;
+        let next = AtomicUsize::new(0);
+        let (sender, receiver) = channel();
+        let mut results: Vec<Option<Evaluation>> = vec![None; designs.len()];
+        std::thread::scope(|scope| -> Result<(), EvaluateError> {
+            for _ in 0..threads {
+                let sender = sender.clone();
+                let (next, warm) = (&next, warm.as_ref());
+                scope.spawn(move || loop {
+                    let index = next.fetch_add(1, Ordering::Relaxed);
+                    let Some((_, ratios)) = designs.get(index) else {
+                        return;
+                    };
+                    if signals::stop_requested() {
+                        return;
+                    }
+                    let evaluation = fitness.evaluate_from(ratios, warm);
+                    if sender.send((index, evaluation)).is_err() {
+                        return;
+                    }
+                });
+            }
+            drop(sender);
+            for (index, evaluation) in receiver.iter() {
+                let stopped = done(designs[index].0, &evaluation);
+                results[index] = Some(evaluation);
+                if let Err(error) = stopped {
+                    // The threads stop at their next design.
+                    next.store(designs.len(), Ordering::Relaxed);
+                    return Err(error);
+                }
+            }
+            Ok(())
+        })?;
+        let evaluated: Option<Vec<Evaluation>> = results.into_iter().collect();
+        evaluated.ok_or(EvaluateError::Interrupted)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::design::score::Objective;
+    use crate::problem::Space;
+
+    fn fitness() -> Fitness {
+        let task = crate::testing::task();
+        let settings = crate::testing::settings();
+        let (space, modes) = (Space::Actuation, task.limit_modes);
+        Fitness::new(
+            &task,
+            &settings,
+            space,
+            modes,
+            &Objective::Cost,
+            Penalty::PAPER,
+        )
+        .unwrap()
+    }
+
+    /// The evaluations with their times zeroed (the only part that differs between runs).
+    fn untimed(evaluations: Vec<Evaluation>) -> Vec<Evaluation> {
+        let zero = |e: Evaluation| Evaluation { seconds: 0.0, ..e };
+        evaluations.into_iter().map(zero).collect()
+    }
+
+    #[test]
+    fn threads_answer_as_one_thread_and_the_scoring_itself_in_the_order_asked() {
+        let designs: Vec<(usize, Vec<f64>)> = [
+            [9.0, 7.7, 3.0, 3.0],
+            [20.0, 7.7, 3.0, 3.0],
+            [8.9, 7.6, 2.9, 2.95],
+        ]
+        .iter()
+        .enumerate()
+        .map(|(id, ratios)| (id + 10, ratios.to_vec()))
+        .collect();
+        let anchor = [9.0, 7.7, 3.0, 3.0];
+        let mut heard = Vec::new();
+        let mut two = InProcess::new(fitness(), 2);
+        let threaded = two
+            .evaluate(&designs, Some(&anchor), &mut |id, _| {
+                heard.push(id);
+                Ok(())
+            })
+            .unwrap();
+        heard.sort_unstable();
+        assert_eq!(heard, vec![10, 11, 12]);
+        let mut one = InProcess::new(fitness(), 1);
+        let single = one
+            .evaluate(&designs, Some(&anchor), &mut |_, _| Ok(()))
+            .unwrap();
+        let own = fitness();
+        let warm = own.anchor(&anchor);
+        let direct: Vec<Evaluation> = (designs.iter())
+            .map(|(_, ratios)| own.evaluate_from(ratios, warm.as_ref()))
+            .collect();
+        assert_eq!(untimed(threaded.clone()), untimed(direct));
+        assert_eq!(untimed(threaded), untimed(single));
+    }
+}
