@@ -2,6 +2,7 @@
 //! radar chart, the table with its notes, and the index page; and the whole experiment, its
 //! sections in order.
 
+use super::index::write_index;
 use super::stages::{capacity_document, run_section};
 use super::{merge, CapacityOf, Event, ExperimentError, ExperimentTask, Observer, Outcomes};
 use super::{Plan, SPACES};
@@ -9,7 +10,6 @@ use crate::design::run::OptimizeDocument;
 use crate::model::experiment::Budget;
 use crate::problem::Space;
 use crate::report::codesign::{cost_evolution_chart, ratio_chart, CapacityDocument};
-use crate::report::index::write_index;
 use crate::report::plots::Figure;
 use crate::report::table::{build_table, PaperTable, ResultFile};
 use crate::report::trajectory::write_plots;

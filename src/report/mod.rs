@@ -4,7 +4,6 @@
 pub mod check;
 pub mod codesign;
 mod error;
-pub mod index;
 pub mod mechanism;
 pub mod plots;
 pub mod poses;

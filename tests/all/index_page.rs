@@ -5,9 +5,9 @@
 
 use crate::support;
 
+use codesign::experiment::write_index;
 use codesign::experiment::Layout;
 use codesign::problem::Space;
-use codesign::report::index::write_index;
 use codesign::report::table::{build_table, read_result_file, PaperTable};
 use serde_json::Value;
 use std::path::Path;

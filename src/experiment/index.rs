@@ -3,12 +3,12 @@
 //! are linked by relative paths, the style is inline, there is no script, and its content
 //! security policy lets it load nothing but images beside it.
 
-use super::poses::{MOTION_FILE, POSES_FILE};
-use super::table::{escape_html, to_html, PaperTable};
-use super::trajectory::{ENVELOPE_PLOT_FILE, PLOT_FILES};
-use super::ReportError;
-use crate::experiment::Layout;
+use super::Layout;
 use crate::problem::Space;
+use crate::report::poses::{MOTION_FILE, POSES_FILE};
+use crate::report::table::{escape_html, to_html, PaperTable};
+use crate::report::trajectory::{ENVELOPE_PLOT_FILE, PLOT_FILES};
+use crate::report::ReportError;
 use crate::store::files::write_atomic;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
