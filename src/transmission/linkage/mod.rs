@@ -13,11 +13,13 @@ mod anchor;
 mod crank_rod;
 mod linear;
 mod resolve;
+mod row;
 
 pub use anchor::Anchor;
 pub use crank_rod::CrankRod;
 pub use linear::LinearActuator;
 pub use resolve::{Problem, ResolveError};
+pub use row::RowDerivatives;
 
 use super::spec::Entry;
 use crate::dynamics::{Dynamics, Workspace};

@@ -322,3 +322,80 @@ fn a_wrong_field_of_a_linkage_row_is_named() {
         assert!(error.starts_with(expected), "{error}");
     }
 }
+
+fn row_at(dynamics: &Dynamics, linkage: &Linkage, q: &[f64]) -> RowDerivatives {
+    let mut data = dynamics.workspace();
+    RowDerivatives::of(linkage, dynamics, &mut data, (q, &design()), 4).unwrap()
+}
+
+fn shifted(q: &[f64], along: &[f64], h: f64) -> Vec<f64> {
+    q.iter().zip(along).map(|(q, d)| q + h * d).collect()
+}
+
+fn assert_close(exact: &nalgebra::DMatrix<f64>, difference: &nalgebra::DMatrix<f64>, what: &str) {
+    let scale = 1.0 + exact.amax();
+    assert!(
+        (exact - difference).amax() < 1e-6 * scale,
+        "{what}: {exact} against {difference}"
+    );
+}
+
+#[test]
+fn a_rows_dense_derivatives_match_central_differences() {
+    let dynamics = dynamics();
+    let (x, y) = ([0.3, -0.8, 0.5], [-0.4, 0.6, 0.9]);
+    let h = 1e-5;
+    for linkage in [screw(&dynamics), crank(&dynamics, Branch::Positive)] {
+        let row = row_at(&dynamics, &linkage, &Q);
+        assert_eq!(row.gradient[0], 0.0, "joint 1 does not move the linkage");
+        let along = |f: &dyn Fn(&RowDerivatives) -> nalgebra::DMatrix<f64>, d: &[f64]| {
+            let plus = f(&row_at(&dynamics, &linkage, &shifted(&Q, d, h)));
+            let minus = f(&row_at(&dynamics, &linkage, &shifted(&Q, d, -h)));
+            (plus - minus) / (2.0 * h)
+        };
+        let gradient =
+            |r: &RowDerivatives| nalgebra::DMatrix::from_column_slice(3, 1, r.gradient.as_slice());
+        for (j, unit) in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+            .iter()
+            .enumerate()
+        {
+            let angle = |r: &RowDerivatives| nalgebra::DMatrix::from_element(1, 1, r.angle);
+            assert_close(
+                &gradient(&row).rows(j, 1).into(),
+                &along(&angle, unit),
+                "gradient",
+            );
+            assert_close(
+                &row.hessian.columns(j, 1).into(),
+                &along(&gradient, unit),
+                "Hessian",
+            );
+        }
+        assert_close(
+            &row.third_along(&x),
+            &along(&|r| r.hessian.clone(), &x),
+            "third",
+        );
+        assert_close(
+            &row.fourth_along(&x, &y),
+            &along(&|r| r.third_along(&x), &y),
+            "fourth",
+        );
+        // Along q(t) = q + x t + y t^2 / 2 the motor's acceleration at t = 0 is G y + x^T H x.
+        let path = |t: f64| {
+            let q: Vec<f64> = (0..3)
+                .map(|k| Q[k] + x[k] * t + 0.5 * y[k] * t * t)
+                .collect();
+            row_at(&dynamics, &linkage, &q).angle
+        };
+        let (step, middle) = (1e-4, path(0.0));
+        let second = (path(step) - 2.0 * middle + path(-step)) / (step * step);
+        let acceleration = row.acceleration(&x, &y);
+        assert!(
+            (acceleration - second).abs() < 1e-5 * (1.0 + acceleration.abs()),
+            "{acceleration} against {second}"
+        );
+        let first = (path(step) - path(-step)) / (2.0 * step);
+        assert!((row.speed(&x) - first).abs() < 1e-7 * (1.0 + first.abs()));
+    }
+}
