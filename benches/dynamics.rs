@@ -8,6 +8,7 @@ use codesign::dynamics::Dynamics;
 use codesign::model::task::Task;
 use codesign::model::Robot;
 use codesign::stats::median;
+use codesign::transmission::linkage::{Linkage, RowDerivatives, RowShape};
 use nalgebra::DMatrix;
 use std::hint::black_box;
 use std::time::Instant;
@@ -155,6 +156,7 @@ fn main() {
             black_box((&out.dtau_dq, &out.hessian, &out.tcp_hessians));
         },
     );
+    linkages(&dynamics, &mut data, &states);
     bench("mass_matrix", |k| {
         dynamics.mass_matrix(&mut data, &state(k).q, &mut out.mass);
         black_box(&out.mass);
@@ -164,4 +166,30 @@ fn main() {
         dynamics.forward_dynamics(&mut data, &s.q, &s.v, &s.a, &mut out.tau);
         black_box(&out.tau);
     });
+}
+
+/// The derivatives one pose-dependent row of G needs per node (docs/model.md, section 17), on
+/// the belt arm: a ball screw across the elbow (one joint) and a crank on the upper arm with a
+/// rod to the forearm (two joints), to the third and the fourth order, at poses within 0.05 rad
+/// of the zero pose, where the rod reaches.
+fn linkages(dynamics: &Dynamics, data: &mut codesign::dynamics::Workspace, states: &[State]) {
+    let screw = r#"{"linear": {"from": {"link": "link_1", "point": [0.25, 0.05, 0]},
+        "to": {"link": "link_2", "point": [0.1, 0.04, 0]}, "lead_m": 0.01}}"#;
+    let crank = r#"{"crank_rod": {"crank": {"link": "link_1", "point": [0.3, 0.06, 0],
+        "axis": [0, 0, 1], "radius_m": 0.03, "ratio": 10}, "rod_m": 0.55,
+        "to": {"link": "link_3", "point": [0.05, 0.02, 0]}}}"#;
+    let original = [1.0; 4];
+    for (name, text) in [("screw, 1 joint", screw), ("crank-rod, 2 joints", crank)] {
+        let spec = serde_json::from_str(text).expect("a linkage row");
+        let linkage = Linkage::resolve(&spec, 0, dynamics, &original).expect("it resolves");
+        for order in [3, 4] {
+            let label = format!("linkage row to order {order} ({name})");
+            let shape = RowShape::new(&linkage, order);
+            bench(&label, |k| {
+                let q: Vec<f64> = states[k % NODES].q.iter().map(|q| q / 60.0).collect();
+                let row = RowDerivatives::of(&linkage, &shape, dynamics, data, (&q, &original));
+                black_box(row.expect("the linkage closes near the zero pose"));
+            });
+        }
+    }
 }

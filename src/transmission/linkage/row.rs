@@ -5,7 +5,7 @@
 
 use super::{Linkage, LinkageError, Variables};
 use crate::dynamics::{Dynamics, Workspace};
-use crate::jet::MAX_ORDER;
+use crate::jet::{JetShape, MAX_ORDER};
 use nalgebra::{DMatrix, DVector};
 use std::ops::Range;
 
@@ -25,33 +25,49 @@ pub struct RowDerivatives {
     fourth: Vec<f64>,
 }
 
-impl RowDerivatives {
-    /// The derivatives of `linkage`'s motor angle at pose `q` and design `r` up to `order`
-    /// (2 to 4), on the chain of `dynamics`.
+/// The symbolic part of a row's derivatives, made once per linkage and order: its jets'
+/// variables (the joints it spans) and their shape.
+#[derive(Clone, Debug)]
+pub struct RowShape {
+    variables: Variables,
+    shape: JetShape,
+}
+
+impl RowShape {
+    /// The shape of `linkage`'s derivatives up to `order` (2 to 4).
     ///
     /// # Panics
     /// If `order` is not 2, 3 or 4.
-    pub fn of(
-        linkage: &Linkage,
-        dynamics: &Dynamics,
-        data: &mut Workspace,
-        (q, r): (&[f64], &[f64]),
-        order: usize,
-    ) -> Result<RowDerivatives, LinkageError> {
+    pub fn new(linkage: &Linkage, order: usize) -> RowShape {
         assert!((2..=MAX_ORDER).contains(&order), "orders 2 to 4");
         let variables = Variables {
             joints: linkage.joints(),
             parameters: Vec::new(),
         };
         let shape = variables.shape(order);
-        let jet = linkage.angle(dynamics, data, q, r, &variables, &shape)?;
+        RowShape { variables, shape }
+    }
+}
+
+impl RowDerivatives {
+    /// The derivatives of `linkage`'s motor angle at pose `q` and design `r` to the order of
+    /// `shape` (made for this linkage), on the chain of `dynamics`.
+    pub fn of(
+        linkage: &Linkage,
+        RowShape { variables, shape }: &RowShape,
+        dynamics: &Dynamics,
+        data: &mut Workspace,
+        (q, r): (&[f64], &[f64]),
+    ) -> Result<RowDerivatives, LinkageError> {
+        let order = shape.order();
+        let jet = linkage.angle(dynamics, data, q, r, variables, shape)?;
         let (n, span) = (q.len(), variables.joints.clone());
         let width = span.len();
         let mut derivatives = RowDerivatives {
             angle: jet.value(),
             gradient: DVector::zeros(n),
             hessian: DMatrix::zeros(n, n),
-            span: span.clone(),
+            span,
             third: vec![0.0; if order >= 3 { width.pow(3) } else { 0 }],
             fourth: vec![0.0; if order >= 4 { width.pow(4) } else { 0 }],
         };

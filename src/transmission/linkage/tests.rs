@@ -325,7 +325,8 @@ fn a_wrong_field_of_a_linkage_row_is_named() {
 
 fn row_at(dynamics: &Dynamics, linkage: &Linkage, q: &[f64]) -> RowDerivatives {
     let mut data = dynamics.workspace();
-    RowDerivatives::of(linkage, dynamics, &mut data, (q, &design()), 4).unwrap()
+    let shape = RowShape::new(linkage, 4);
+    RowDerivatives::of(linkage, &shape, dynamics, &mut data, (q, &design())).unwrap()
 }
 
 fn shifted(q: &[f64], along: &[f64], h: f64) -> Vec<f64> {
