@@ -19,7 +19,7 @@ pub use anchor::Anchor;
 pub use crank_rod::CrankRod;
 pub use linear::LinearActuator;
 pub use resolve::{Problem, ResolveError};
-pub use row::{RowDerivatives, RowShape};
+pub use row::{RowDerivatives, RowSensitivity, RowShape};
 
 use super::spec::Entry;
 use crate::dynamics::{Dynamics, Workspace};

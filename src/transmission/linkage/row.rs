@@ -156,6 +156,68 @@ impl RowDerivatives {
     }
 }
 
+/// The derivatives of a row's angle, G_i and Hessian with respect to its design parameters, at a
+/// pose: what the design sensitivity dJ*/dr needs of a linkage row.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RowSensitivity {
+    /// The design parameters' indices in r, one per entry of the lists below.
+    pub parameters: Vec<usize>,
+    /// d gamma_i / dr_p, rad per unit of r_p.
+    pub angle: Vec<f64>,
+    /// d G_i / dr_p, one vector of n joints each.
+    pub gradient: Vec<DVector<f64>>,
+    /// d (d^2 gamma_i / dq^2) / dr_p, n x n each.
+    pub hessian: Vec<DMatrix<f64>>,
+}
+
+impl RowSensitivity {
+    /// The first derivatives in its design parameters of `linkage`'s angle, row of G and
+    /// Hessian at pose `q` and design `r`.
+    pub fn of(
+        linkage: &Linkage,
+        dynamics: &Dynamics,
+        data: &mut Workspace,
+        (q, r): (&[f64], &[f64]),
+    ) -> Result<RowSensitivity, LinkageError> {
+        let variables = Variables {
+            joints: linkage.joints(),
+            parameters: linkage.parameters(),
+        };
+        let shape = variables.shape(3);
+        let jet = linkage.angle(dynamics, data, q, r, &variables, &shape)?;
+        let (n, span, count) = (
+            q.len(),
+            variables.joints.clone(),
+            variables.parameters.len(),
+        );
+        let mut sensitivity = RowSensitivity {
+            parameters: variables.parameters.clone(),
+            angle: vec![0.0; count],
+            gradient: vec![DVector::zeros(n); count],
+            hessian: vec![DMatrix::zeros(n, n); count],
+        };
+        for (m, monomial) in shape.monomials().iter().enumerate() {
+            let Some((&last, joints)) = monomial.split_last() else {
+                continue;
+            };
+            let Some(p) = last.checked_sub(span.len()) else {
+                continue;
+            };
+            let value = jet.coefficients()[m] * shape.multiplicity_factorial(m);
+            match *joints {
+                [] => sensitivity.angle[p] = value,
+                [i] => sensitivity.gradient[p][span.start + i] = value,
+                [i, j] => {
+                    sensitivity.hessian[p][(span.start + i, span.start + j)] = value;
+                    sensitivity.hessian[p][(span.start + j, span.start + i)] = value;
+                }
+                _ => {}
+            }
+        }
+        Ok(sensitivity)
+    }
+}
+
 /// Every distinct ordering of a sorted multiset of indices.
 fn orderings(sorted: &[usize]) -> Vec<Vec<usize>> {
     let mut all = vec![sorted.to_vec()];

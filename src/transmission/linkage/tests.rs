@@ -400,3 +400,30 @@ fn a_rows_dense_derivatives_match_central_differences() {
         assert!((row.speed(&x) - first).abs() < 1e-7 * (1.0 + first.abs()));
     }
 }
+
+#[test]
+fn a_rows_design_sensitivities_match_central_differences() {
+    let dynamics = dynamics();
+    let h = 1e-6;
+    for linkage in [screw(&dynamics), crank(&dynamics, Branch::Negative)] {
+        let mut data = dynamics.workspace();
+        let sensitivity =
+            RowSensitivity::of(&linkage, &dynamics, &mut data, (&Q, &design())).unwrap();
+        assert_eq!(sensitivity.parameters, linkage.parameters());
+        for (p, &index) in sensitivity.parameters.iter().enumerate() {
+            let mut at = |sign: f64| {
+                let mut r = design();
+                r[index] += sign * h;
+                let shape = RowShape::new(&linkage, 2);
+                RowDerivatives::of(&linkage, &shape, &dynamics, &mut data, (&Q, &r)).unwrap()
+            };
+            let (plus, minus) = (at(1.0), at(-1.0));
+            let angle = (plus.angle - minus.angle) / (2.0 * h);
+            assert!((sensitivity.angle[p] - angle).abs() < 1e-6 * (1.0 + angle.abs()));
+            let gradient = (&plus.gradient - &minus.gradient) / (2.0 * h);
+            assert!((&sensitivity.gradient[p] - &gradient).amax() < 1e-6 * (1.0 + gradient.amax()));
+            let hessian = (&plus.hessian - &minus.hessian) / (2.0 * h);
+            assert_close(&sensitivity.hessian[p], &hessian, "d Hessian / dr");
+        }
+    }
+}
