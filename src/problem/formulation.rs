@@ -10,7 +10,9 @@ use super::nlp::TrajectoryProblem;
 use crate::dynamics::Dynamics;
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;
-use crate::transmission::{DesignError, Envelope, MotorDynamics, Space, Transmission};
+use crate::transmission::{
+    DesignError, Envelope, MotorDynamics, Space, Transmission, TransmissionLoss,
+};
 use nalgebra::DMatrix;
 use std::fmt;
 use std::sync::Arc;
@@ -44,6 +46,8 @@ pub struct Formulation {
     motor_dynamics: Option<MotorDynamics>,
     /// The motors' torque-speed envelope, None without `motors.no_load_speed_rad_s`.
     envelope: Option<Envelope>,
+    /// The transmissions' losses, None without `motors.efficiency`.
+    loss: Option<TransmissionLoss>,
     /// A static-hold margin down to minus this holds, N m: the solver's constraint tolerance.
     hold_tolerance_nm: f64,
     /// The constraint families, in the order of [`FamilyId::ALL`].
@@ -108,6 +112,7 @@ impl Formulation {
             });
         }
         let envelope = Envelope::of(&task.motors, n);
+        let loss = TransmissionLoss::of(&task.motors, n);
         let mut formulation = Formulation {
             task: task.clone(),
             transmission,
@@ -118,11 +123,12 @@ impl Formulation {
             speed_limits: task.motors.speed_limit_rad_s.values(n),
             motor_dynamics: MotorDynamics::of(&task.motors, n),
             envelope,
+            node_hessian: hessian::node_entries(n, loss.is_some()),
+            loss,
             hold_tolerance_nm: DEFAULT_HOLD_TOLERANCE_NM,
             families: Vec::new(),
             layout: Layout::new(n, task.motion.steps, &[], ProblemKind::Hard),
             g_pattern,
-            node_hessian: hessian::node_entries(n),
             jacobian: Vec::new(),
             hessian: Vec::new(),
         };
@@ -269,6 +275,11 @@ impl Formulation {
     /// The motors' torque-speed envelope, None without `motors.no_load_speed_rad_s`.
     pub fn envelope(&self) -> Option<&Envelope> {
         self.envelope.as_ref()
+    }
+
+    /// The transmissions' losses, None without `motors.efficiency`.
+    pub fn transmission_loss(&self) -> Option<&TransmissionLoss> {
+        self.loss.as_ref()
     }
 
     /// The index layout.

@@ -145,6 +145,35 @@ fn rest_formulations() -> Vec<Formulation> {
     .collect()
 }
 
+/// The transmissions' efficiencies of the loss tests, one per motor: lower than real ones, so
+/// that the losses weigh in the derivatives.
+pub(crate) fn efficiencies() -> Vec<f64> {
+    vec![0.7, 0.85, 0.6, 0.9]
+}
+
+/// [`formulation`]s with lossy transmissions: actuation space, and joint space in every torque
+/// mode, speed mode `exact`; and one with every motor term (rotor inertia, friction, envelope)
+/// beside the losses.
+fn loss_formulations() -> Vec<Formulation> {
+    use crate::model::task::PerMotor;
+    let with_loss = |f: Formulation| {
+        let mut task = f.task().clone();
+        task.motors.efficiency = Some(PerMotor::Each(efficiencies()));
+        Formulation::new(&task, f.dynamics().robot().clone(), f.space(), *f.modes()).unwrap()
+    };
+    let mut list: Vec<Formulation> = [
+        (Space::Actuation, LimitMode::Paper),
+        (Space::Joint, LimitMode::Paper),
+        (Space::Joint, LimitMode::Interval),
+        (Space::Joint, LimitMode::Exact),
+    ]
+    .into_iter()
+    .map(|(space, torque)| with_loss(formulation(space, torque, LimitMode::Exact, 1.0)))
+    .collect();
+    list.extend(motor_formulations().into_iter().take(1).map(with_loss));
+    list
+}
+
 fn all_formulations() -> Vec<Formulation> {
     let modes = [LimitMode::Paper, LimitMode::Interval, LimitMode::Exact];
     let mut list = Vec::new();
@@ -158,6 +187,7 @@ fn all_formulations() -> Vec<Formulation> {
     list.extend(motor_formulations());
     list.extend(envelope_formulations());
     list.extend(rest_formulations());
+    list.extend(loss_formulations());
     let elastic: Vec<_> = list.iter().map(Formulation::elastic).collect();
     list.extend(elastic);
     list
@@ -281,12 +311,13 @@ fn ipopt_derivative_checker_finds_nothing() {
             assert_eq!(
                 report.errors,
                 0,
-                "{:?} {} space, modes {:?}, motors {:?} {:?}, {point}: {:?}",
+                "{:?} {} space, modes {:?}, motors {:?} {:?} {:?}, {point}: {:?}",
                 f.kind(),
                 f.space(),
                 f.modes(),
                 f.motor_dynamics(),
                 f.envelope(),
+                f.transmission_loss(),
                 &report.flagged[..report.flagged.len().min(10)]
             );
         }

@@ -109,13 +109,19 @@ pub struct Trajectory {
     /// Joint accelerations per interval, rad/s^2.
     pub a: Vec<Vec<f64>>,
     /// Joint torques the links take per interval, N m: the controls' (G^T u or u) less the
-    /// motors' rotor inertia and friction reflected into the joints, where the task sets them.
+    /// motors' rotor inertia and friction reflected into the joints and the transmissions'
+    /// losses, where the task sets them.
     pub joint_torque: Vec<Vec<f64>>,
     /// Motor torques per interval, N m (G^-T u for a joint-space solution), the rotors' and
     /// the friction's share included.
     pub motor_torque: Vec<Vec<f64>>,
     /// Motor speeds per node, rad/s (G v).
     pub motor_speed: Vec<Vec<f64>>,
+    /// Each motor's transmission loss torque per interval, N m, its share of `motor_torque`
+    /// (docs/model.md, section 3); empty where the transmissions are lossless, and then not
+    /// written.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub transmission_loss: Vec<Vec<f64>>,
     /// TCP world x per node, m (absent in files written before it was recorded).
     #[serde(default)]
     pub tcp_x: Vec<f64>,
@@ -457,9 +463,18 @@ fn read_trajectory(problem: &TrajectoryProblem<'_>, x: &[f64]) -> Trajectory {
             .push(problem.coupling().motor_speeds(&v));
         if k < steps {
             let (u, a) = (slice(layout.u(k, 0)), slice(layout.a(k, 0)));
+            let loss = problem.actuation().loss().map(|_| {
+                let mut tau = vec![0.0; n];
+                dynamics.rnea(&mut data, &q, &v, &a, &mut tau);
+                let loss = problem.actuation().node_loss(&tau, &v);
+                loss.expect("the actuation has losses")
+            });
             trajectory
                 .joint_torque
-                .push(problem.joint_torques(&v, &a, &u));
+                .push(problem.joint_torques((&v, &a), &u, loss.as_ref()));
+            if let Some(loss) = &loss {
+                trajectory.transmission_loss.push(loss.motor_torques());
+            }
             trajectory.a.push(a);
             trajectory.motor_torque.push(problem.motor_torques(&u));
         }
