@@ -566,6 +566,42 @@ mod tests {
         );
     }
 
+    /// The efficiency: optional, not written back when absent; in (0, 1], one number or one per
+    /// motor, each error naming the field and the motor.
+    #[test]
+    fn efficiency_is_a_share_of_one_per_motor() {
+        let limits = json!({"torque_limit_nm": 1.7, "speed_limit_rad_s": 100.0});
+        assert_eq!(motors(limits.clone()).unwrap().efficiency, None);
+        let mut given = limits;
+        given["efficiency"] = json!([0.95, 0.95, 0.9, 1]);
+        let read = motors(given.clone()).unwrap();
+        assert_eq!(read.validate(4), Ok(()));
+        assert_eq!(
+            read.efficiency,
+            Some(PerMotor::Each(vec![0.95, 0.95, 0.9, 1.0]))
+        );
+        for (value, expected) in [
+            (
+                json!(0),
+                "motors.efficiency = 0 must be > 0 and <= 1 (a share",
+            ),
+            (json!(1.01), "motors.efficiency = 1.01 must be > 0 and <= 1"),
+            (
+                json!([0.9, 0.9, 0.9, -0.5]),
+                "motors.efficiency[3] = -0.5 must be > 0",
+            ),
+            (
+                json!(0.001),
+                "motors.efficiency = 0.001 must be at least 0.01",
+            ),
+            (json!([0.9, 0.9]), "motors.efficiency has 2 values"),
+        ] {
+            given["efficiency"] = value;
+            let error = motors(given.clone()).unwrap().validate(4).unwrap_err();
+            assert!(error.to_string().starts_with(expected), "{error}");
+        }
+    }
+
     /// Values that overflow the dynamics (1e308), or that are subnormal (1e-320), are refused
     /// naming the field, the limit and why; the largest and the least values are accepted.
     #[test]

@@ -386,3 +386,76 @@ fn electrical_figures_follow_the_motors_constants() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A task with transmission efficiencies: the result records each motor's loss torque per
+/// interval and the energy lost in the transmissions, per motor and in total; a task without
+/// them records none. An efficiency outside (0, 1], or a list of the wrong length, is refused
+/// naming the field.
+#[test]
+fn transmission_losses_are_reported_and_bad_efficiencies_named() {
+    let dir = scratch("efficiency");
+    let task = task_with(&dir, |task| {
+        task["motors"]["efficiency"] = json!([0.95, 0.95, 0.9, 0.9]);
+    });
+    let out = dir.join("solve.json");
+    let args = [
+        "solve",
+        "--task",
+        task.to_str().unwrap(),
+        "--space",
+        "actuation",
+    ];
+    succeed(&[&args[..], &["--out", out.to_str().unwrap()]].concat());
+    let result = read_json(&out);
+    assert_eq!(
+        result["inputs"]["task"]["motors"]["efficiency"],
+        json!([0.95, 0.95, 0.9, 0.9])
+    );
+    let losses = result["trajectory"]["transmission_loss"]
+        .as_array()
+        .unwrap();
+    assert_eq!(
+        losses.len(),
+        result["trajectory"]["motor_torque"]
+            .as_array()
+            .unwrap()
+            .len()
+    );
+    let figures = &result["figures"];
+    let per_motor: f64 = (figures["motors"].as_array().unwrap().iter())
+        .map(|motor| motor["transmission_loss_j"].as_f64().unwrap())
+        .sum();
+    let total = figures["transmission_loss_j"].as_f64().unwrap();
+    assert!(
+        total > 0.0 && (total - per_motor).abs() <= 1e-12 * total,
+        "{figures}"
+    );
+    let plain = task_with(&dir, |_| {});
+    let plain_out = dir.join("plain.json");
+    let plain_args = [
+        "solve",
+        "--task",
+        plain.to_str().unwrap(),
+        "--space",
+        "actuation",
+    ];
+    succeed(&[&plain_args[..], &["--out", plain_out.to_str().unwrap()]].concat());
+    let plain = read_json(&plain_out);
+    assert!(plain["trajectory"].get("transmission_loss").is_none());
+    assert!(plain["figures"].get("transmission_loss_j").is_none());
+    for (value, expected) in [
+        (json!(1.5), "motors.efficiency = 1.5 must be > 0 and <= 1"),
+        (json!([0.9, 0.9, 0]), "motors.efficiency has 3 values"),
+        (
+            json!([0.9, 0.9, 0.9, 0]),
+            "motors.efficiency[3] = 0 must be > 0",
+        ),
+    ] {
+        let bad = task_with(&dir, |task| task["motors"]["efficiency"] = value.clone());
+        fails_saying(
+            &codesign(&["solve", "--task", bad.to_str().unwrap()]),
+            expected,
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
