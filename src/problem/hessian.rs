@@ -111,9 +111,9 @@ pub(super) struct NodeHessian {
     scratch: DMatrix<f64>,
     /// The cost's q-q block, n x n.
     cost_position: DMatrix<f64>,
-    /// The cost's v-v and u-u diagonals.
+    /// The cost's v-v diagonal and u-u diagonal (per control).
     cost_velocity: f64,
-    cost_control: f64,
+    cost_control: Vec<f64>,
     /// The TCP's Hessians, scratch of the cost's q-q block.
     tcp_hessians: [DMatrix<f64>; 3],
 }
@@ -126,7 +126,7 @@ impl NodeHessian {
             scratch: DMatrix::zeros(3 * n, 3 * n),
             cost_position: DMatrix::zeros(n, n),
             cost_velocity: 0.0,
-            cost_control: 0.0,
+            cost_control: vec![0.0; n],
             tcp_hessians: [
                 DMatrix::zeros(n, n),
                 DMatrix::zeros(n, n),
@@ -170,7 +170,9 @@ impl NodeHessian {
             &mut self.cost_position,
         );
         self.cost_velocity = cost.velocity_hessian();
-        self.cost_control = cost.control_hessian();
+        for (i, value) in self.cost_control.iter_mut().enumerate() {
+            *value = cost.control_hessian(i);
+        }
     }
 
     /// The cost's part of `entry`.
@@ -184,7 +186,7 @@ impl NodeHessian {
             | Block::AccelerationPosition
             | Block::AccelerationVelocity
             | Block::AccelerationAcceleration => 0.0,
-            Block::ControlControl => self.cost_control,
+            Block::ControlControl => self.cost_control[i],
         }
     }
 

@@ -224,7 +224,7 @@ impl Nlp for TrajectoryProblem<'_> {
     fn objective(&mut self, x: &[f64], new_x: bool) -> Result<f64, EvalError> {
         self.evaluate(x, new_x, Level::Values)?;
         let f = self.formulation;
-        let cost = Cost::new(f.task(), f.layout()).value(x, &self.nodes);
+        let cost = Cost::new(f.criterion(), f.task(), f.layout()).value(x, &self.nodes);
         Ok(match f.layout().kind {
             ProblemKind::Hard => cost,
             ProblemKind::Elastic => cost + elastic::penalty(f, x),
@@ -234,7 +234,7 @@ impl Nlp for TrajectoryProblem<'_> {
     fn gradient(&mut self, x: &[f64], new_x: bool, gradient: &mut [f64]) -> Result<(), EvalError> {
         self.evaluate(x, new_x, Level::Derivatives)?;
         let f = self.formulation;
-        Cost::new(f.task(), f.layout()).gradient(x, &self.nodes, gradient);
+        Cost::new(f.criterion(), f.task(), f.layout()).gradient(x, &self.nodes, gradient);
         elastic::penalty_gradient(f, gradient);
         Ok(())
     }
@@ -282,7 +282,7 @@ impl Nlp for TrajectoryProblem<'_> {
         self.evaluate(x, new_x, Level::Derivatives)?;
         let f = self.formulation;
         let layout = f.layout();
-        let cost = Cost::new(f.task(), layout);
+        let cost = Cost::new(f.criterion(), f.task(), layout);
         let per_node = f.node_hessian().len();
         let nodes = self.nodes.iter().zip(&mut self.workspaces);
         for (k, ((node, data), values)) in nodes.zip(values.chunks_mut(per_node)).enumerate() {

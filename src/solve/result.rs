@@ -5,7 +5,7 @@ use super::execute::MotorsExecute;
 use super::figures::PhysicalFigures;
 use crate::ipopt::{LinearSolver, Nlp, Solution};
 use crate::problem::{
-    cost_gradient, relaxation, Formulation, ProblemKind, StaticHold, TrajectoryProblem,
+    cost_gradient, relaxation, Criterion, Formulation, ProblemKind, StaticHold, TrajectoryProblem,
 };
 use serde::{Deserialize, Serialize};
 
@@ -404,7 +404,8 @@ fn infeasibility(
     })
 }
 
-/// J at x by term; the TCP path is the trajectory's.
+/// J at x by term; the TCP path is the trajectory's. Under the copper losses' criterion they
+/// are the control term.
 fn cost_terms(problem: &TrajectoryProblem<'_>, x: &[f64], trajectory: &Trajectory) -> CostTerms {
     let f = problem.formulation();
     let (layout, task) = (f.layout(), f.task());
@@ -434,11 +435,23 @@ fn cost_terms(problem: &TrajectoryProblem<'_>, x: &[f64], trajectory: &Trajector
         }
     }
     let w = &task.weights;
-    CostTerms {
-        position: w.position * squares(crate::problem::Layout::q),
-        velocity: w.velocity * squares(crate::problem::Layout::v),
-        control: w.control * squares(crate::problem::Layout::u),
-        cartesian_box,
+    match f.criterion() {
+        Criterion::Weighted => CostTerms {
+            position: w.position * squares(crate::problem::Layout::q),
+            velocity: w.velocity * squares(crate::problem::Layout::v),
+            control: w.control * squares(crate::problem::Layout::u),
+            cartesian_box,
+        },
+        // The copper losses are the control term.
+        Criterion::CopperLoss(weights) => CostTerms {
+            position: 0.0,
+            velocity: 0.0,
+            control: (0..layout.steps)
+                .flat_map(|k| (0..layout.dof).map(move |i| (k, i)))
+                .map(|(k, i)| weights[i] * x[layout.u(k, i)].powi(2))
+                .sum(),
+            cartesian_box,
+        },
     }
 }
 

@@ -188,7 +188,8 @@ fn beyond_runs(plan: &Plan) -> Result<Vec<OptimizeDocument>, String> {
                 -document.best_cost,
                 document.evaluations
             ),
-            Objective::Cost => say!(
+            // The experiment plans no energy run.
+            Objective::Cost | Objective::Energy => say!(
                 "co-design, {space} space, {} kg, seed {}, penalty {}: {} ({} evaluations)",
                 document.inputs.payload_kg,
                 planned.case.settings.cmaes.seed,
