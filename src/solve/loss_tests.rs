@@ -102,3 +102,50 @@ fn a_result_reports_what_the_transmissions_lose() {
     );
     assert!((ideal.cost - lossless.cost).abs() <= 1e-6 * lossless.cost);
 }
+
+/// Under the energy objective's criterion the optimal cost is the motors' copper losses, J, as
+/// the physical figures compute them from the trajectory, plus the soft box's penalty; and its
+/// dJ*/dr matches central differences of re-solved problems (the copper losses do not depend
+/// on r in the actuation space, so the dynamics rows carry it all).
+#[test]
+fn the_energy_criterion_minimises_the_copper_losses() {
+    let (k_t, r) = crate::problem::tests::electrical();
+    let mut task = with_efficiency(&testing::task(), 1.0, None);
+    task.motors.torque_constant_nm_per_a = Some(PerMotor::Each(k_t));
+    task.motors.resistance_ohm = Some(PerMotor::Each(r));
+    let modes = LimitModes {
+        torque: LimitMode::Paper,
+        speed: LimitMode::Exact,
+    };
+    let robot = Robot::load(&task).unwrap();
+    let formulation = Formulation::new(&task, robot, Space::Actuation, modes)
+        .unwrap()
+        .minimising_copper_loss()
+        .unwrap();
+    let settings = super::SolveSettings {
+        tol: 1e-11,
+        ..testing::settings()
+    };
+    let ratios = [8.0, 5.0, 2.5, 2.5];
+    let result = solve_design(&formulation, &ratios, &settings).unwrap();
+    assert!(result.feasible, "{:?}", result.reason);
+    let figures = result.figures.as_ref().unwrap();
+    let copper = figures.electrical.as_ref().unwrap().copper_loss_j;
+    let terms = result.cost_terms.as_ref().unwrap();
+    assert!(
+        (terms.control - copper).abs() <= 1e-9 * copper,
+        "{terms:?} vs {copper}"
+    );
+    assert_eq!((terms.position, terms.velocity), (0.0, 0.0));
+    let sum = terms.control + terms.cartesian_box;
+    // IPOPT moves x onto the bounds it reached after its last objective, by about 1e-8 N m.
+    assert!(
+        (result.cost - sum).abs() <= 1e-7 * result.cost,
+        "{} vs {sum}",
+        result.cost
+    );
+    let gradient = result.cost_gradient.clone().unwrap();
+    super::tests::assert_matches_differences("energy", &gradient, ratios, |r| {
+        solve_design(&formulation, r, &settings).unwrap().cost
+    });
+}

@@ -459,3 +459,70 @@ fn transmission_losses_are_reported_and_bad_efficiencies_named() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `optimize --objective energy`: the gradient method on the motors' copper losses, recorded
+/// as the objective's kind; the best design's cost is its copper losses (as its figures compute
+/// them) plus the soft box's penalty. Refused in the joint space and without the
+/// motors' constants, each error naming what to give.
+#[test]
+fn the_energy_objective_minimises_the_copper_losses() {
+    let dir = scratch("energy");
+    let task = task_with(&dir, |task| {
+        task["motion"]["steps"] = json!(20);
+        task["motors"]["torque_constant_nm_per_a"] = json!(0.1);
+        task["motors"]["resistance_ohm"] = json!([1.2, 1.2, 2.0, 2.0]);
+    });
+    let out = dir.join("energy.json");
+    let task_arg = task.to_str().unwrap();
+    let args = [
+        "optimize",
+        "--method",
+        "gradient",
+        "--objective",
+        "energy",
+        "--task",
+        task_arg,
+    ];
+    let run = [
+        &args[..],
+        &["--gradient-iterations", "3", "--out", out.to_str().unwrap()],
+    ];
+    succeed(&run.concat());
+    let document = read_json(&out);
+    assert_eq!(document["inputs"]["objective"], json!({"kind": "energy"}));
+    let best = &document["best_result"];
+    let number = |value: &Value| value.as_f64().unwrap();
+    let copper = number(&best["figures"]["electrical"]["copper_loss_j"]);
+    let terms = &best["cost_terms"];
+    assert!(
+        (number(&terms["control"]) - copper).abs() <= 1e-9 * copper,
+        "{terms}"
+    );
+    // The best design solved again from the standard guess: its cost, its figures.
+    let cost = number(&best["cost"]);
+    let sum = copper + number(&terms["cartesian_box"]);
+    assert!((cost - sum).abs() <= 1e-7 * cost, "{cost} vs {sum}");
+    let joint = [
+        &args[..],
+        &["--space", "joint", "--out", out.to_str().unwrap()],
+    ]
+    .concat();
+    fails_saying(
+        &codesign(&[&joint[..], &["--overwrite"]].concat()),
+        "--space actuation",
+    );
+    let plain = task_with(&dir, |_| {});
+    let bare = [
+        "optimize",
+        "--method",
+        "gradient",
+        "--objective",
+        "energy",
+        "--task",
+    ];
+    fails_saying(
+        &codesign(&[&bare[..], &[plain.to_str().unwrap()]].concat()),
+        "motors.torque_constant_nm_per_a and motors.resistance_ohm",
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
