@@ -95,6 +95,7 @@ impl Args {
             ObjectiveKind::Range => Objective::Range(PayloadRange {
                 payloads_kg: self.payloads.clone().unwrap_or_default(),
             }),
+            ObjectiveKind::Energy => Objective::Energy,
         };
         settings.cmaes = CmaesSettings {
             population: self.population,
@@ -150,6 +151,10 @@ pub enum ObjectiveKind {
     Capacity,
     /// The mean cost over the payloads of `--payloads`: one design for the whole range.
     Range,
+    /// The motors' copper losses, J, which the trajectory problem then minimises instead of J
+    /// (actuation space; needs the task's motors.torque_constant_nm_per_a and
+    /// motors.resistance_ohm).
+    Energy,
 }
 
 /// The run's result in one line: the best design and its fitness, or that none was feasible.

@@ -298,6 +298,39 @@ mod tests {
         );
     }
 
+    /// The energy objective is a named choice: `--objective energy` poses it, and the document
+    /// and the log header record it as the objective's kind; a graded penalty is refused with it.
+    #[test]
+    fn the_energy_objective_reaches_the_flags_and_the_document() {
+        let mut case = unusual();
+        case.settings.objective = Objective::Energy;
+        case.settings.grading = Grading::Flat;
+        let flags = case_flags(&case);
+        assert!(
+            flags
+                .windows(2)
+                .any(|pair| pair == ["--objective", "energy"]),
+            "{flags:?}"
+        );
+        let argv = std::iter::once("optimize".to_owned()).chain(flags.iter().cloned());
+        let parsed = Optimize::try_parse_from(argv).unwrap().args.case();
+        assert_eq!(parsed.settings, case.settings);
+        let mut loaded = crate::design::run::ModelChoice::default().load().unwrap();
+        loaded.task.payload.mass_kg = 0.0;
+        let inputs = case.inputs(&loaded, loaded.task.limit_modes);
+        let document = serde_json::to_value(&inputs).unwrap();
+        assert_eq!(document["objective"], serde_json::json!({"kind": "energy"}));
+        let back: OptimizeInputs = serde_json::from_value(document).unwrap();
+        assert_eq!(back.settings.objective, Objective::Energy);
+        case.settings.grading = Grading::Graded;
+        case.execution.start = Start::Fresh;
+        let error = case.validate().unwrap_err();
+        assert!(
+            case_message(&error).starts_with("--penalty graded: the elastic problem's weights"),
+            "{error}"
+        );
+    }
+
     #[test]
     fn errors_name_the_flag() {
         let mut case = unusual();

@@ -136,6 +136,14 @@ const RESISTANCE: Bounds = Bounds {
     why: "from a superconducting winding's 0 to far beyond any motor winding's kilo-ohms; \
           positive ones below 2.2e-308 are subnormal",
 };
+const EFFICIENCY: Bounds = Bounds {
+    zero: false,
+    least: 1e-2,
+    most: 1.0,
+    unit: "",
+    why: "a share of the power the transmission passes on, 1 for a lossless one; below 0.01 \
+          the loss would be a hundred times the torque the links take",
+};
 
 impl fmt::Display for PerMotor {
     /// As written in a task file: `1.7`, or `[1.7, 2, 0.9, 0.9]`.
@@ -213,6 +221,11 @@ pub struct Motors {
     /// R (tau_u / k_t)^2. Given with `torque_constant_nm_per_a`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub resistance_ohm: Option<PerMotor>,
+    /// Efficiency eta of motor i's transmission, in (0, 1]: a Coulomb-like loss proportional to
+    /// the torque it transmits, so that a motor driving its load gives 1/eta times the torque
+    /// (docs/model.md, section 3). Absent: lossless transmissions.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub efficiency: Option<PerMotor>,
     /// The motors' names in plots, motor i's at index i; absent: `motor 1` to `motor m`. Labels
     /// only: no part of the problem or of the task hash.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -231,6 +244,7 @@ impl Motors {
             no_load_speed_rad_s: None,
             torque_constant_nm_per_a: None,
             resistance_ohm: None,
+            efficiency: None,
             names: None,
         }
     }
@@ -251,7 +265,8 @@ impl Motors {
 
     /// Checks every quantity for `motors` motors (the rows of G): one value per motor where a
     /// list is given, each within its bounds: the limits and the no-load speed > 0, the rotor
-    /// inertia and the friction >= 0, none above its largest value or subnormal.
+    /// inertia and the friction >= 0, the efficiency in (0, 1], none above its largest value or
+    /// subnormal.
     pub fn validate(&self, motors: usize) -> Result<(), FieldError> {
         self.torque_limit_nm
             .check("motors.torque_limit_nm", motors, &TORQUE_LIMIT)?;
@@ -279,6 +294,7 @@ impl Motors {
                 TORQUE_CONSTANT,
             ),
             (&self.resistance_ohm, "motors.resistance_ohm", RESISTANCE),
+            (&self.efficiency, "motors.efficiency", EFFICIENCY),
         ];
         optional
             .into_iter()
@@ -548,6 +564,42 @@ mod tests {
             error.starts_with("motors.no_load_speed_rad_s[1] = inf must be > 0"),
             "{error}"
         );
+    }
+
+    /// The efficiency: optional, not written back when absent; in (0, 1], one number or one per
+    /// motor, each error naming the field and the motor.
+    #[test]
+    fn efficiency_is_a_share_of_one_per_motor() {
+        let limits = json!({"torque_limit_nm": 1.7, "speed_limit_rad_s": 100.0});
+        assert_eq!(motors(limits.clone()).unwrap().efficiency, None);
+        let mut given = limits;
+        given["efficiency"] = json!([0.95, 0.95, 0.9, 1]);
+        let read = motors(given.clone()).unwrap();
+        assert_eq!(read.validate(4), Ok(()));
+        assert_eq!(
+            read.efficiency,
+            Some(PerMotor::Each(vec![0.95, 0.95, 0.9, 1.0]))
+        );
+        for (value, expected) in [
+            (
+                json!(0),
+                "motors.efficiency = 0 must be > 0 and <= 1 (a share",
+            ),
+            (json!(1.01), "motors.efficiency = 1.01 must be > 0 and <= 1"),
+            (
+                json!([0.9, 0.9, 0.9, -0.5]),
+                "motors.efficiency[3] = -0.5 must be > 0",
+            ),
+            (
+                json!(0.001),
+                "motors.efficiency = 0.001 must be at least 0.01",
+            ),
+            (json!([0.9, 0.9]), "motors.efficiency has 2 values"),
+        ] {
+            given["efficiency"] = value;
+            let error = motors(given.clone()).unwrap().validate(4).unwrap_err();
+            assert!(error.to_string().starts_with(expected), "{error}");
+        }
     }
 
     /// Values that overflow the dynamics (1e308), or that are subnormal (1e-320), are refused

@@ -1,10 +1,13 @@
 //! The cost J (docs/model.md, section 7) and its first and second derivatives:
 //!
-//!   J = sum_(k < N) [ w_q |q_k|^2 + w_v |v_k|^2 + w_u |u_k|^2 + sum_axis rho c_axis(p(q_k))^2 ],
+//!   J = sum_(k < N) [ w_q |q_k|^2 + w_v |v_k|^2 + sum_i w_u,i u_k,i^2
+//!                     + sum_axis rho c_axis(p(q_k))^2 ],
 //!
-//! with p the TCP's world position and c the soft Cartesian box's violation of one coordinate.
-//! Its Hessian is diagonal in v and u (2 w_v, 2 w_u) and, in q, 2 w_q I plus
-//! 2 rho (J^T J + c s H) per violated axis (J = dp_axis/dq, H its Hessian, s = dc/dp = +-1).
+//! with p the TCP's world position and c the soft Cartesian box's violation of one coordinate;
+//! the weights are the task's ([`Criterion::Weighted`], w_u,i = w_u) or those of the motors'
+//! copper losses ([`Criterion::CopperLoss`]: w_q = w_v = 0, w_u,i = h R_i / k_t,i^2). Its Hessian
+//! is diagonal in v and u (2 w_v, 2 w_u,i) and, in q, 2 w_q I plus 2 rho (J^T J + c s H) per
+//! violated axis (J = dp_axis/dq, H its Hessian, s = dc/dp = +-1).
 
 use super::layout::Layout;
 use super::node::NodeEval;
@@ -31,18 +34,45 @@ fn box_axes(b: &CartesianBox) -> impl Iterator<Item = (usize, [f64; 2], f64)> + 
         .filter_map(|(axis, interval)| interval.as_ref().map(|s| (axis, s.range, s.weight)))
 }
 
-/// The cost of one formulation: the task's `weights` and `cartesian_box` on its layout.
+/// What the trajectory problem minimises besides the soft box (docs/model.md, section 7).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Criterion {
+    /// The task's `weights`: J, the paper's cost.
+    Weighted,
+    /// The motors' copper losses, J: sum_k h sum_i (R_i / k_t,i^2) u_k,i^2, exact for controls
+    /// constant over each interval; the actuation space's controls are the motor torques.
+    /// Holds each motor's h R_i / k_t,i^2, J/(N m)^2.
+    CopperLoss(Vec<f64>),
+}
+
+/// The cost of one formulation: its criterion's weights and the task's `cartesian_box` on its
+/// layout.
 pub(super) struct Cost<'f> {
-    weights: &'f Weights,
+    /// w_q per rad^2 and w_v per (rad/s)^2.
+    position: f64,
+    velocity: f64,
+    /// w_u,i of control i, per (N m)^2.
+    control: Vec<f64>,
     cartesian_box: &'f CartesianBox,
     layout: &'f Layout,
 }
 
 impl<'f> Cost<'f> {
-    /// The cost `task` sets on variables laid out by `layout`.
-    pub(super) fn new(task: &'f Task, layout: &'f Layout) -> Cost<'f> {
+    /// The cost `criterion` and `task` set on variables laid out by `layout`.
+    pub(super) fn new(criterion: &Criterion, task: &'f Task, layout: &'f Layout) -> Cost<'f> {
+        let Weights {
+            position,
+            velocity,
+            control,
+        } = task.weights;
+        let (position, velocity, control) = match criterion {
+            Criterion::Weighted => (position, velocity, vec![control; layout.dof]),
+            Criterion::CopperLoss(weights) => (0.0, 0.0, weights.clone()),
+        };
         Cost {
-            weights: &task.weights,
+            position,
+            velocity,
+            control,
             cartesian_box: &task.cartesian_box,
             layout,
         }
@@ -50,12 +80,12 @@ impl<'f> Cost<'f> {
 
     /// J at x, with the TCP positions of `nodes` (evaluated at x).
     pub(super) fn value(&self, x: &[f64], nodes: &[NodeEval]) -> f64 {
-        let (layout, w) = (self.layout, self.weights);
+        let layout = self.layout;
         let mut cost = 0.0;
         for (k, node) in nodes.iter().enumerate() {
             for i in 0..layout.dof {
                 let (q, v, u) = (x[layout.q(k, i)], x[layout.v(k, i)], x[layout.u(k, i)]);
-                cost += w.position * q * q + w.velocity * v * v + w.control * u * u;
+                cost += self.position * q * q + self.velocity * v * v + self.control[i] * u * u;
             }
             for (axis, range, weight) in box_axes(self.cartesian_box) {
                 let (c, _) = box_violation(range, node.tcp[axis]);
@@ -67,15 +97,15 @@ impl<'f> Cost<'f> {
 
     /// dJ/dx at x into `gradient`, with the TCP positions and Jacobians of `nodes`.
     pub(super) fn gradient(&self, x: &[f64], nodes: &[NodeEval], gradient: &mut [f64]) {
-        let (layout, w) = (self.layout, self.weights);
+        let layout = self.layout;
         let n = layout.dof;
         gradient.fill(0.0);
         for (k, node) in nodes.iter().enumerate() {
             for i in 0..n {
                 let (q, v, u) = (layout.q(k, i), layout.v(k, i), layout.u(k, i));
-                gradient[q] = 2.0 * w.position * x[q];
-                gradient[v] = 2.0 * w.velocity * x[v];
-                gradient[u] = 2.0 * w.control * x[u];
+                gradient[q] = 2.0 * self.position * x[q];
+                gradient[v] = 2.0 * self.velocity * x[v];
+                gradient[u] = 2.0 * self.control[i] * x[u];
             }
             for (axis, range, weight) in box_axes(self.cartesian_box) {
                 let (c, sign) = box_violation(range, node.tcp[axis]);
@@ -101,7 +131,7 @@ impl<'f> Cost<'f> {
         hessian: &mut DMatrix<f64>,
     ) {
         hessian.fill_with_identity();
-        *hessian *= 2.0 * self.weights.position;
+        *hessian *= 2.0 * self.position;
         let mut tcp_hessians_ready = false;
         for (axis, range, weight) in box_axes(self.cartesian_box) {
             let (c, sign) = box_violation(range, node.tcp[axis]);
@@ -124,11 +154,11 @@ impl<'f> Cost<'f> {
 
     /// The diagonal of the v-v block of J's Hessian: 2 w_v.
     pub(super) fn velocity_hessian(&self) -> f64 {
-        2.0 * self.weights.velocity
+        2.0 * self.velocity
     }
 
-    /// The diagonal of the u-u block of J's Hessian: 2 w_u.
-    pub(super) fn control_hessian(&self) -> f64 {
-        2.0 * self.weights.control
+    /// The u-u block of J's Hessian at control i (diagonal): 2 w_u,i.
+    pub(super) fn control_hessian(&self, i: usize) -> f64 {
+        2.0 * self.control[i]
     }
 }

@@ -1,6 +1,7 @@
 //! [`Formulation`]: everything of a trajectory problem except the design, built once with its
 //! constraint families, its layout and its sparsity patterns.
 
+use super::cost::Criterion;
 use super::families::{self, Family, FamilyId, Shape};
 use super::hessian;
 use super::hold::DEFAULT_HOLD_TOLERANCE_NM;
@@ -10,7 +11,9 @@ use super::nlp::TrajectoryProblem;
 use crate::dynamics::Dynamics;
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;
-use crate::transmission::{DesignError, Envelope, MotorDynamics, Space, Transmission};
+use crate::transmission::{
+    DesignError, Envelope, MotorDynamics, Space, Transmission, TransmissionLoss,
+};
 use nalgebra::DMatrix;
 use std::fmt;
 use std::sync::Arc;
@@ -44,8 +47,12 @@ pub struct Formulation {
     motor_dynamics: Option<MotorDynamics>,
     /// The motors' torque-speed envelope, None without `motors.no_load_speed_rad_s`.
     envelope: Option<Envelope>,
+    /// The transmissions' losses, None without `motors.efficiency`.
+    loss: Option<TransmissionLoss>,
     /// A static-hold margin down to minus this holds, N m: the solver's constraint tolerance.
     hold_tolerance_nm: f64,
+    /// What the problem minimises: the task's J or the motors' copper losses.
+    criterion: Criterion,
     /// The constraint families, in the order of [`FamilyId::ALL`].
     families: Vec<(FamilyId, Arc<dyn Family>)>,
     layout: Layout,
@@ -108,6 +115,7 @@ impl Formulation {
             });
         }
         let envelope = Envelope::of(&task.motors, n);
+        let loss = TransmissionLoss::of(&task.motors, n);
         let mut formulation = Formulation {
             task: task.clone(),
             transmission,
@@ -118,11 +126,13 @@ impl Formulation {
             speed_limits: task.motors.speed_limit_rad_s.values(n),
             motor_dynamics: MotorDynamics::of(&task.motors, n),
             envelope,
+            node_hessian: hessian::node_entries(n, loss.is_some()),
+            loss,
             hold_tolerance_nm: DEFAULT_HOLD_TOLERANCE_NM,
+            criterion: Criterion::Weighted,
             families: Vec::new(),
             layout: Layout::new(n, task.motion.steps, &[], ProblemKind::Hard),
             g_pattern,
-            node_hessian: hessian::node_entries(n),
             jacobian: Vec::new(),
             hessian: Vec::new(),
         };
@@ -176,8 +186,9 @@ impl Formulation {
         let mut task = self.task.clone();
         task.payload.mass_kg = payload_kg;
         let robot = self.dynamics.robot().with_payload(payload_kg);
-        let hard = Formulation::new(&task, robot, self.space, self.modes)?
+        let mut hard = Formulation::new(&task, robot, self.space, self.modes)?
             .with_hold_tolerance(self.hold_tolerance_nm);
+        hard.criterion = self.criterion.clone();
         Ok(match self.kind() {
             ProblemKind::Hard => hard,
             ProblemKind::Elastic => hard.elastic(),
@@ -189,6 +200,43 @@ impl Formulation {
     pub fn with_hold_tolerance(mut self, tolerance_nm: f64) -> Formulation {
         self.hold_tolerance_nm = tolerance_nm;
         self
+    }
+
+    /// The same formulation minimising the motors' copper losses, J (docs/model.md, section 7):
+    /// sum_k h sum_i (R_i / k_t,i^2) u_k,i^2 and the soft box, in the actuation space, whose
+    /// controls are the motor torques. An error naming what is missing: the actuation space,
+    /// the task's `motors.torque_constant_nm_per_a` and `motors.resistance_ohm`, a resistance > 0.
+    pub fn minimising_copper_loss(mut self) -> Result<Formulation, FormulationError> {
+        let refuse = |why: &str| Err(FormulationError(format!("the energy objective {why}")));
+        if self.space != Space::Actuation {
+            return refuse(
+                "weighs the motor torques, the controls of the actuation space: use the space \
+                 actuation (--space actuation)",
+            );
+        }
+        let n = self.layout.dof;
+        let Some(constants) = self.task.motors.electrical(n) else {
+            return refuse(
+                "needs the motors' copper losses: give the task's motors.torque_constant_nm_per_a \
+                 and motors.resistance_ohm",
+            );
+        };
+        if let Some(i) = constants.iter().position(|&(_, r)| r <= 0.0) {
+            return refuse(&format!(
+                "needs a winding resistance > 0 for every motor: motors.resistance_ohm of motor \
+                 {} is 0, so its torque would cost nothing",
+                i + 1
+            ));
+        }
+        let h = self.step_s();
+        let weights = constants.iter().map(|(k_t, r)| h * r / (k_t * k_t));
+        self.criterion = Criterion::CopperLoss(weights.collect());
+        Ok(self)
+    }
+
+    /// What the problem minimises.
+    pub fn criterion(&self) -> &Criterion {
+        &self.criterion
     }
 
     /// The tolerance of the static hold's margins, N m ([`Formulation::with_hold_tolerance`]).
@@ -269,6 +317,11 @@ impl Formulation {
     /// The motors' torque-speed envelope, None without `motors.no_load_speed_rad_s`.
     pub fn envelope(&self) -> Option<&Envelope> {
         self.envelope.as_ref()
+    }
+
+    /// The transmissions' losses, None without `motors.efficiency`.
+    pub fn transmission_loss(&self) -> Option<&TransmissionLoss> {
+        self.loss.as_ref()
     }
 
     /// The index layout.

@@ -5,7 +5,8 @@
 //! constraint families' rows, weighted by their multipliers, give q-q, v-q, v-v and a-q (today
 //! the dynamics rows alone: a-v and a-a vanish since RNEA is linear in a with a coefficient free
 //! of v); the cost gives q-q, the v-v diagonal and the u-u diagonal. The integration and limit
-//! rows are linear and add nothing.
+//! rows are linear and add nothing. Transmission losses, a nonlinear function of RNEA and v in
+//! the dynamics rows, add the a-v and a-a blocks, which only their formulations store.
 //!
 //! The entries are stored row by row of the node's lower triangle (a v row holds its v-q part,
 //! then its v-v part); the structure and the values are produced from the same entry list, so
@@ -17,6 +18,7 @@ use super::formulation::Formulation;
 use super::layout::Layout;
 use super::node::NodeEval;
 use crate::dynamics::Workspace;
+use crate::transmission::Actuation;
 use nalgebra::DMatrix;
 
 /// A block of one node's Lagrangian Hessian, by the variables it couples (row, column).
@@ -30,6 +32,10 @@ pub(super) enum Block {
     VelocityVelocity,
     /// d^2/da dq, full: dynamics.
     AccelerationPosition,
+    /// d^2/da dv, full: dynamics with transmission losses.
+    AccelerationVelocity,
+    /// d^2/da da, lower triangle: dynamics with transmission losses.
+    AccelerationAcceleration,
     /// d^2/du du, diagonal: cost (w_u).
     ControlControl,
 }
@@ -51,13 +57,16 @@ impl Entry {
             Block::VelocityPosition => (layout.v(k, i), layout.q(k, j)),
             Block::VelocityVelocity => (layout.v(k, i), layout.v(k, j)),
             Block::AccelerationPosition => (layout.a(k, i), layout.q(k, j)),
+            Block::AccelerationVelocity => (layout.a(k, i), layout.v(k, j)),
+            Block::AccelerationAcceleration => (layout.a(k, i), layout.a(k, j)),
             Block::ControlControl => (layout.u(k, i), layout.u(k, j)),
         }
     }
 }
 
-/// The stored entries of one node's Hessian (n joints), row by row of its lower triangle.
-pub(super) fn node_entries(n: usize) -> Vec<Entry> {
+/// The stored entries of one node's Hessian (n joints), row by row of its lower triangle; the
+/// a rows over v and a only with transmission `losses`.
+pub(super) fn node_entries(n: usize, losses: bool) -> Vec<Entry> {
     let mut entries = Vec::new();
     let mut push = |block, i, j| entries.push(Entry { block, i, j });
     for i in 0..n {
@@ -69,6 +78,10 @@ pub(super) fn node_entries(n: usize) -> Vec<Entry> {
     }
     for i in 0..n {
         (0..n).for_each(|j| push(Block::AccelerationPosition, i, j));
+        if losses {
+            (0..n).for_each(|j| push(Block::AccelerationVelocity, i, j));
+            (0..=i).for_each(|j| push(Block::AccelerationAcceleration, i, j));
+        }
     }
     for i in 0..n {
         push(Block::ControlControl, i, i);
@@ -98,9 +111,9 @@ pub(super) struct NodeHessian {
     scratch: DMatrix<f64>,
     /// The cost's q-q block, n x n.
     cost_position: DMatrix<f64>,
-    /// The cost's v-v and u-u diagonals.
+    /// The cost's v-v diagonal and u-u diagonal (per control).
     cost_velocity: f64,
-    cost_control: f64,
+    cost_control: Vec<f64>,
     /// The TCP's Hessians, scratch of the cost's q-q block.
     tcp_hessians: [DMatrix<f64>; 3],
 }
@@ -113,7 +126,7 @@ impl NodeHessian {
             scratch: DMatrix::zeros(3 * n, 3 * n),
             cost_position: DMatrix::zeros(n, n),
             cost_velocity: 0.0,
-            cost_control: 0.0,
+            cost_control: vec![0.0; n],
             tcp_hessians: [
                 DMatrix::zeros(n, n),
                 DMatrix::zeros(n, n),
@@ -123,13 +136,13 @@ impl NodeHessian {
     }
 
     /// Evaluates the blocks at node k's (q, v, a) of `formulation`, with the node's evaluation
-    /// `node` and every row's multiplier `lambda`.
+    /// `node`, the design's `actuation` and every row's multiplier `lambda`.
     pub(super) fn evaluate(
         &mut self,
         (formulation, k, data): (&Formulation, usize, &mut Workspace),
         cost: &Cost<'_>,
         (q, v, a): (&[f64], &[f64], &[f64]),
-        node: &NodeEval,
+        (node, actuation): (&NodeEval, &Actuation),
         lambda: &[f64],
     ) {
         let (layout, dynamics) = (formulation.layout(), formulation.dynamics());
@@ -140,6 +153,8 @@ impl NodeHessian {
             };
             let terms = NodeSecondOrder {
                 dynamics,
+                node,
+                actuation,
                 data: &mut *data,
                 state: (q, v, a),
                 multipliers: &lambda[row..row + block.per_node],
@@ -155,7 +170,9 @@ impl NodeHessian {
             &mut self.cost_position,
         );
         self.cost_velocity = cost.velocity_hessian();
-        self.cost_control = cost.control_hessian();
+        for (i, value) in self.cost_control.iter_mut().enumerate() {
+            *value = cost.control_hessian(i);
+        }
     }
 
     /// The cost's part of `entry`.
@@ -164,8 +181,12 @@ impl NodeHessian {
         match block {
             Block::PositionPosition => self.cost_position[(i, j)],
             Block::VelocityVelocity if i == j => self.cost_velocity,
-            Block::VelocityPosition | Block::VelocityVelocity | Block::AccelerationPosition => 0.0,
-            Block::ControlControl => self.cost_control,
+            Block::VelocityPosition
+            | Block::VelocityVelocity
+            | Block::AccelerationPosition
+            | Block::AccelerationVelocity
+            | Block::AccelerationAcceleration => 0.0,
+            Block::ControlControl => self.cost_control[i],
         }
     }
 
@@ -178,6 +199,8 @@ impl NodeHessian {
             Block::VelocityPosition => self.dynamics[(n + i, j)],
             Block::VelocityVelocity => self.dynamics[(n + i, n + j)],
             Block::AccelerationPosition => self.dynamics[(2 * n + i, j)],
+            Block::AccelerationVelocity => self.dynamics[(2 * n + i, n + j)],
+            Block::AccelerationAcceleration => self.dynamics[(2 * n + i, 2 * n + j)],
             Block::ControlControl => 0.0,
         }
     }
@@ -211,7 +234,7 @@ mod tests {
             expected.extend((0..n).map(|j| (base + i, base + j)));
         }
         expected.extend((3 * n..4 * n).map(|i| (base + i, base + i)));
-        let entries: Vec<_> = node_entries(n)
+        let entries: Vec<_> = node_entries(n, false)
             .iter()
             .map(|entry| entry.position(&layout, 1))
             .collect();

@@ -20,6 +20,7 @@ mod sensitivity;
 pub(crate) mod tests;
 
 pub use crate::transmission::Space;
+pub use cost::Criterion;
 pub use families::elastic::{penalty_weights, relaxation, PenaltyWeights, Relaxation};
 pub use families::FamilyId;
 pub use formulation::{Formulation, FormulationError};

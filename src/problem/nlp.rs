@@ -11,7 +11,7 @@ use super::kind::ProblemKind;
 use super::node::{Level, NodeEval};
 use crate::dynamics::Workspace;
 use crate::ipopt::{EvalError, Nlp};
-use crate::transmission::{Actuation, Coupling, DesignError, JointLimits, Space};
+use crate::transmission::{Actuation, Coupling, DesignError, JointLimits, NodeLoss, Space};
 
 /// The trajectory NLP of one design (see [`Formulation`]).
 #[derive(Clone, Debug)]
@@ -41,7 +41,8 @@ impl<'a> TrajectoryProblem<'a> {
         Ok(TrajectoryProblem {
             formulation,
             ratios: ratios.to_vec(),
-            actuation: Actuation::new(coupling, formulation.space(), formulation.motor_dynamics()),
+            actuation: Actuation::new(coupling, formulation.space(), formulation.motor_dynamics())
+                .with_loss(formulation.transmission_loss()),
             workspaces: (0..steps)
                 .map(|_| formulation.dynamics().workspace())
                 .collect(),
@@ -94,11 +95,16 @@ impl<'a> TrajectoryProblem<'a> {
         &self.actuation
     }
 
-    /// Joint torques the links take at a node of speeds v and accelerations a under control u:
-    /// G^T u (actuation space) or u (joint space), less the motors' rotor inertia and friction
-    /// reflected into the joints, N m.
-    pub fn joint_torques(&self, v: &[f64], a: &[f64], u: &[f64]) -> Vec<f64> {
-        self.actuation.link_torques(v, a, u)
+    /// Joint torques the links take at a node of speeds v and accelerations a under control u,
+    /// N m: G^T u (actuation space) or u (joint space), less the motors' rotor inertia and
+    /// friction reflected into the joints and the transmissions' losses `loss` there.
+    pub fn joint_torques(
+        &self,
+        (v, a): (&[f64], &[f64]),
+        u: &[f64],
+        loss: Option<&NodeLoss>,
+    ) -> Vec<f64> {
+        self.actuation.link_torques((v, a), u, loss)
     }
 
     /// Motor torques of control u at a node: u (actuation space) or G^-T u (joint space), N m.
@@ -141,10 +147,12 @@ impl<'a> TrajectoryProblem<'a> {
                 x[i]
             )));
         }
-        let f = self.formulation;
+        let (f, actuation) = (self.formulation, &self.actuation);
         let nodes = self.nodes.iter_mut().zip(&mut self.workspaces);
         for (k, (node, data)) in nodes.enumerate() {
-            node.evaluate(f.dynamics(), data, f.layout().node_state(x, k), level);
+            let state = f.layout().node_state(x, k);
+            node.evaluate(f.dynamics(), data, state, level);
+            node.loss = actuation.node_loss(&node.tau, state.1);
         }
         self.level = level;
         Ok(())
@@ -216,7 +224,7 @@ impl Nlp for TrajectoryProblem<'_> {
     fn objective(&mut self, x: &[f64], new_x: bool) -> Result<f64, EvalError> {
         self.evaluate(x, new_x, Level::Values)?;
         let f = self.formulation;
-        let cost = Cost::new(f.task(), f.layout()).value(x, &self.nodes);
+        let cost = Cost::new(f.criterion(), f.task(), f.layout()).value(x, &self.nodes);
         Ok(match f.layout().kind {
             ProblemKind::Hard => cost,
             ProblemKind::Elastic => cost + elastic::penalty(f, x),
@@ -226,7 +234,7 @@ impl Nlp for TrajectoryProblem<'_> {
     fn gradient(&mut self, x: &[f64], new_x: bool, gradient: &mut [f64]) -> Result<(), EvalError> {
         self.evaluate(x, new_x, Level::Derivatives)?;
         let f = self.formulation;
-        Cost::new(f.task(), f.layout()).gradient(x, &self.nodes, gradient);
+        Cost::new(f.criterion(), f.task(), f.layout()).gradient(x, &self.nodes, gradient);
         elastic::penalty_gradient(f, gradient);
         Ok(())
     }
@@ -274,12 +282,13 @@ impl Nlp for TrajectoryProblem<'_> {
         self.evaluate(x, new_x, Level::Derivatives)?;
         let f = self.formulation;
         let layout = f.layout();
-        let cost = Cost::new(f.task(), layout);
+        let cost = Cost::new(f.criterion(), f.task(), layout);
         let per_node = f.node_hessian().len();
         let nodes = self.nodes.iter().zip(&mut self.workspaces);
         for (k, ((node, data), values)) in nodes.zip(values.chunks_mut(per_node)).enumerate() {
+            let state = layout.node_state(x, k);
             self.node_hessian
-                .evaluate((f, k, data), &cost, layout.node_state(x, k), node, lambda);
+                .evaluate((f, k, data), &cost, state, (node, &self.actuation), lambda);
             self.node_hessian
                 .write(f.node_hessian(), obj_factor, values);
         }

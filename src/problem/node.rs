@@ -1,6 +1,7 @@
 //! What the derivatives need at one trajectory node k < N, evaluated once per primal point.
 
 use crate::dynamics::{Dynamics, Workspace};
+use crate::transmission::NodeLoss;
 use nalgebra::{DMatrix, Vector3};
 
 /// How far the primal point's node data are evaluated.
@@ -27,6 +28,8 @@ pub(super) struct NodeEval {
     pub(super) tcp: Vector3<f64>,
     /// d tcp / dq, 3 x n, m/rad.
     pub(super) tcp_jacobian: DMatrix<f64>,
+    /// The transmissions' losses at tau and v_k with their derivatives, None where lossless.
+    pub(super) loss: Option<NodeLoss>,
 }
 
 impl NodeEval {
@@ -39,6 +42,7 @@ impl NodeEval {
             mass: DMatrix::zeros(n, n),
             tcp: Vector3::zeros(),
             tcp_jacobian: DMatrix::zeros(3, n),
+            loss: None,
         }
     }
 

@@ -145,6 +145,60 @@ fn rest_formulations() -> Vec<Formulation> {
     .collect()
 }
 
+/// The transmissions' efficiencies of the loss tests, one per motor: lower than real ones, so
+/// that the losses weigh in the derivatives.
+pub(crate) fn efficiencies() -> Vec<f64> {
+    vec![0.7, 0.85, 0.6, 0.9]
+}
+
+/// [`formulation`]s with lossy transmissions: actuation space, and joint space in every torque
+/// mode, speed mode `exact`; and one with every motor term (rotor inertia, friction, envelope)
+/// beside the losses.
+fn loss_formulations() -> Vec<Formulation> {
+    use crate::model::task::PerMotor;
+    let with_loss = |f: Formulation| {
+        let mut task = f.task().clone();
+        task.motors.efficiency = Some(PerMotor::Each(efficiencies()));
+        Formulation::new(&task, f.dynamics().robot().clone(), f.space(), *f.modes()).unwrap()
+    };
+    let mut list: Vec<Formulation> = [
+        (Space::Actuation, LimitMode::Paper),
+        (Space::Joint, LimitMode::Paper),
+        (Space::Joint, LimitMode::Interval),
+        (Space::Joint, LimitMode::Exact),
+    ]
+    .into_iter()
+    .map(|(space, torque)| with_loss(formulation(space, torque, LimitMode::Exact, 1.0)))
+    .collect();
+    list.extend(motor_formulations().into_iter().take(1).map(with_loss));
+    list
+}
+
+/// The motors' torque constants (N m/A) and winding resistances (ohm) of the copper-loss tests.
+pub(crate) fn electrical() -> (Vec<f64>, Vec<f64>) {
+    (vec![0.05, 0.05, 0.03, 0.04], vec![1.2, 0.8, 2.0, 1.5])
+}
+
+/// [`formulation`]s minimising the motors' copper losses (actuation space), with ideal motors
+/// and with every motor term and lossy transmissions.
+fn copper_loss_formulations() -> Vec<Formulation> {
+    use crate::model::task::PerMotor;
+    let (k_t, r) = electrical();
+    let plain = formulation(Space::Actuation, LimitMode::Paper, LimitMode::Exact, 1.0);
+    let lossy = loss_formulations().pop().unwrap();
+    [plain, lossy]
+        .into_iter()
+        .map(|f| {
+            let mut task = f.task().clone();
+            task.motors.torque_constant_nm_per_a = Some(PerMotor::Each(k_t.clone()));
+            task.motors.resistance_ohm = Some(PerMotor::Each(r.clone()));
+            let robot = f.dynamics().robot().clone();
+            let f = Formulation::new(&task, robot, f.space(), *f.modes()).unwrap();
+            f.minimising_copper_loss().unwrap()
+        })
+        .collect()
+}
+
 fn all_formulations() -> Vec<Formulation> {
     let modes = [LimitMode::Paper, LimitMode::Interval, LimitMode::Exact];
     let mut list = Vec::new();
@@ -158,6 +212,8 @@ fn all_formulations() -> Vec<Formulation> {
     list.extend(motor_formulations());
     list.extend(envelope_formulations());
     list.extend(rest_formulations());
+    list.extend(loss_formulations());
+    list.extend(copper_loss_formulations());
     let elastic: Vec<_> = list.iter().map(Formulation::elastic).collect();
     list.extend(elastic);
     list
@@ -281,12 +337,14 @@ fn ipopt_derivative_checker_finds_nothing() {
             assert_eq!(
                 report.errors,
                 0,
-                "{:?} {} space, modes {:?}, motors {:?} {:?}, {point}: {:?}",
+                "{:?} {} space, modes {:?}, motors {:?} {:?} {:?}, {:?}, {point}: {:?}",
                 f.kind(),
                 f.space(),
                 f.modes(),
                 f.motor_dynamics(),
                 f.envelope(),
+                f.transmission_loss(),
+                f.criterion(),
                 &report.flagged[..report.flagged.len().min(10)]
             );
         }
@@ -575,6 +633,53 @@ fn each_motor_is_bounded_by_its_own_limit() {
             .starts_with("task: motors.torque_limit_nm has 3 values"),
         "{error}"
     );
+}
+
+/// The copper losses' cost weighs control i by h R_i / k_t,i^2 and nothing else but the box;
+/// it is refused in the joint space, without the motors' constants and with a resistance of 0,
+/// each error naming what to give.
+#[test]
+fn the_copper_losses_weigh_each_motor_by_its_constants() {
+    use crate::model::task::PerMotor;
+    let f = copper_loss_formulations().remove(0);
+    let (k_t, r) = electrical();
+    let h = f.step_s();
+    let expected: Vec<f64> = (0..4).map(|i| h * r[i] / (k_t[i] * k_t[i])).collect();
+    assert_eq!(
+        f.criterion(),
+        &super::Criterion::CopperLoss(expected.clone())
+    );
+    let mut problem = f.problem(&[7.0, 4.0, 2.0, 1.5]).unwrap();
+    let mut x = vec![0.0; problem.num_variables()];
+    problem.initial_point(&mut x);
+    let layout = f.layout();
+    for k in 0..layout.steps {
+        for i in 0..4 {
+            x[layout.u(k, i)] = 0.1 * (i + 1) as f64;
+        }
+    }
+    let box_only = {
+        let mut rest = x.clone();
+        (0..layout.steps).for_each(|k| (0..4).for_each(|i| rest[layout.u(k, i)] = 0.0));
+        problem.objective(&rest, true).unwrap()
+    };
+    let copper: f64 = (0..4)
+        .map(|i| expected[i] * (0.1 * (i + 1) as f64).powi(2))
+        .sum();
+    let value = problem.objective(&x, true).unwrap() - box_only;
+    assert!((value - layout.steps as f64 * copper).abs() < 1e-12 * value);
+    let joint = formulation(Space::Joint, LimitMode::Paper, LimitMode::Exact, 1.0);
+    let mut task = joint.task().clone();
+    let refused = |f: Formulation| f.minimising_copper_loss().unwrap_err().0;
+    assert!(refused(joint.clone()).contains("--space actuation"));
+    let actuation = formulation(Space::Actuation, LimitMode::Paper, LimitMode::Exact, 1.0);
+    let error = refused(actuation.clone());
+    assert!(error.contains("motors.torque_constant_nm_per_a and motors.resistance_ohm"));
+    task.motors.torque_constant_nm_per_a = Some(PerMotor::All(0.05));
+    task.motors.resistance_ohm = Some(PerMotor::Each(vec![1.0, 0.0, 1.0, 1.0]));
+    let robot = actuation.dynamics().robot().clone();
+    let zero = Formulation::new(&task, robot, Space::Actuation, *actuation.modes()).unwrap();
+    assert!(refused(zero).contains("motors.resistance_ohm of motor 2 is 0"));
 }
 
 #[test]

@@ -453,6 +453,7 @@ mod tests {
             tcp_x: (0..nodes).map(|k| tcp(s(k))[0]).collect(),
             tcp_y: (0..nodes).map(|k| tcp(s(k))[1]).collect(),
             tcp_z: (0..nodes).map(|k| tcp(s(k))[2]).collect(),
+            ..Trajectory::default()
         }
     }
 

@@ -6,7 +6,8 @@
 //! p = tau w are linear between the nodes k and k + 1. Every integral below is therefore exact on
 //! the discretised trajectory: int tau^2 dt = sum h tau_k^2, the work int p dt = sum h (p_k^- +
 //! p_k^+) / 2, with p_k^- = tau_k w_k and p_k^+ = tau_k w_{k+1}, and the peaks of |p| lie at the
-//! nodes.
+//! nodes. The transmissions' loss torques are constant over each interval too, so their energy
+//! is exact as the work is.
 
 use super::result::Trajectory;
 use serde::{Deserialize, Serialize};
@@ -34,6 +35,10 @@ pub struct MotorFigures {
     /// constant and winding resistance.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub electrical: Option<ElectricalFigures>,
+    /// Energy lost in the transmission, int L w dt with L its loss torque, J: a share of
+    /// `work_j`, where the task gives an efficiency (`motors.efficiency`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transmission_loss_j: Option<f64>,
 }
 
 /// One motor's electrical figures, from its torque constant k_t (N m/A) and winding resistance
@@ -71,6 +76,9 @@ pub struct PhysicalFigures {
     /// gives every motor's torque constant and resistance.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub electrical: Option<ElectricalTotals>,
+    /// Energy lost in all transmissions, J, where the task gives an efficiency.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transmission_loss_j: Option<f64>,
 }
 
 /// The motors' electrical figures summed, J.
@@ -133,6 +141,20 @@ fn electrical(t: &Trajectory, i: usize, (k_t, r): (f64, f64)) -> ElectricalFigur
     figures
 }
 
+/// Motor `i`'s transmission loss over the intervals of `t`, J: its loss torque L_k is constant
+/// over interval k and the speed linear, so int L w dt = sum h L_k (w_k + w_{k+1}) / 2. None
+/// where `t` records no loss.
+fn transmission_loss(t: &Trajectory, i: usize) -> Option<f64> {
+    if t.transmission_loss.len() != t.motor_torque.len() {
+        return None;
+    }
+    let intervals = t.transmission_loss.iter().enumerate();
+    Some(intervals.fold(0.0, |sum, (k, losses)| {
+        let h = t.time[k + 1] - t.time[k];
+        sum + h * losses[i] * (t.motor_speed[k][i] + t.motor_speed[k + 1][i]) / 2.0
+    }))
+}
+
 /// Motor `i`'s figures over the intervals of `t`.
 fn motor(t: &Trajectory, i: usize) -> MotorFigures {
     let mut figures = MotorFigures {
@@ -144,6 +166,7 @@ fn motor(t: &Trajectory, i: usize) -> MotorFigures {
         work_j: 0.0,
         positive_work_j: 0.0,
         electrical: None,
+        transmission_loss_j: transmission_loss(t, i),
     };
     for (k, torques) in t.motor_torque.iter().enumerate() {
         let h = t.time[k + 1] - t.time[k];
@@ -205,6 +228,9 @@ impl PhysicalFigures {
             torque_squared_integral: each.iter().map(|m| m.torque_squared_integral).sum(),
             work_j: each.iter().map(|m| m.work_j).sum(),
             positive_work_j: each.iter().map(|m| m.positive_work_j).sum(),
+            transmission_loss_j: (each.iter())
+                .map(|m| m.transmission_loss_j)
+                .sum::<Option<f64>>(),
             peak_power_w,
             motors: each,
             electrical,
@@ -280,6 +306,32 @@ mod tests {
             .unwrap()
             .electrical
             .is_none());
+    }
+
+    /// Loss torques of 0.2 and 0.1 N m over the two intervals, at speeds 0 -> 4 and 4 -> 2 rad/s:
+    /// 0.5 * 0.2 * 2 + 0.5 * 0.1 * 3 J; none where the trajectory records no loss.
+    #[test]
+    fn transmission_loss_matches_a_hand_computation() {
+        let t = Trajectory {
+            time: vec![0.0, 0.5, 1.0],
+            motor_torque: vec![vec![2.0], vec![-1.0]],
+            motor_speed: vec![vec![0.0], vec![4.0], vec![2.0]],
+            transmission_loss: vec![vec![0.2], vec![0.1]],
+            ..Trajectory::default()
+        };
+        let f = PhysicalFigures::of(&t, None).unwrap();
+        let expected = 0.5 * 0.2 * 2.0 + 0.5 * 0.1 * 3.0;
+        assert!((f.motors[0].transmission_loss_j.unwrap() - expected).abs() < 1e-15);
+        assert_eq!(f.transmission_loss_j, f.motors[0].transmission_loss_j);
+        let lossless = Trajectory {
+            transmission_loss: Vec::new(),
+            ..t
+        };
+        let f = PhysicalFigures::of(&lossless, None).unwrap();
+        assert_eq!(
+            (f.motors[0].transmission_loss_j, f.transmission_loss_j),
+            (None, None)
+        );
     }
 
     /// Power that changes sign within an interval: only the positive triangle counts.

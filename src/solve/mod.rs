@@ -46,4 +46,6 @@ mod certify_tests;
 #[cfg(test)]
 mod envelope_tests;
 #[cfg(test)]
+mod loss_tests;
+#[cfg(test)]
 mod tests;

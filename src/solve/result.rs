@@ -5,7 +5,7 @@ use super::execute::MotorsExecute;
 use super::figures::PhysicalFigures;
 use crate::ipopt::{LinearSolver, Nlp, Solution};
 use crate::problem::{
-    cost_gradient, relaxation, Formulation, ProblemKind, StaticHold, TrajectoryProblem,
+    cost_gradient, relaxation, Criterion, Formulation, ProblemKind, StaticHold, TrajectoryProblem,
 };
 use serde::{Deserialize, Serialize};
 
@@ -109,13 +109,19 @@ pub struct Trajectory {
     /// Joint accelerations per interval, rad/s^2.
     pub a: Vec<Vec<f64>>,
     /// Joint torques the links take per interval, N m: the controls' (G^T u or u) less the
-    /// motors' rotor inertia and friction reflected into the joints, where the task sets them.
+    /// motors' rotor inertia and friction reflected into the joints and the transmissions'
+    /// losses, where the task sets them.
     pub joint_torque: Vec<Vec<f64>>,
     /// Motor torques per interval, N m (G^-T u for a joint-space solution), the rotors' and
     /// the friction's share included.
     pub motor_torque: Vec<Vec<f64>>,
     /// Motor speeds per node, rad/s (G v).
     pub motor_speed: Vec<Vec<f64>>,
+    /// Each motor's transmission loss torque per interval, N m, its share of `motor_torque`
+    /// (docs/model.md, section 3); empty where the transmissions are lossless, and then not
+    /// written.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub transmission_loss: Vec<Vec<f64>>,
     /// TCP world x per node, m (absent in files written before it was recorded).
     #[serde(default)]
     pub tcp_x: Vec<f64>,
@@ -398,7 +404,8 @@ fn infeasibility(
     })
 }
 
-/// J at x by term; the TCP path is the trajectory's.
+/// J at x by term; the TCP path is the trajectory's. Under the copper losses' criterion they
+/// are the control term.
 fn cost_terms(problem: &TrajectoryProblem<'_>, x: &[f64], trajectory: &Trajectory) -> CostTerms {
     let f = problem.formulation();
     let (layout, task) = (f.layout(), f.task());
@@ -428,11 +435,23 @@ fn cost_terms(problem: &TrajectoryProblem<'_>, x: &[f64], trajectory: &Trajector
         }
     }
     let w = &task.weights;
-    CostTerms {
-        position: w.position * squares(crate::problem::Layout::q),
-        velocity: w.velocity * squares(crate::problem::Layout::v),
-        control: w.control * squares(crate::problem::Layout::u),
-        cartesian_box,
+    match f.criterion() {
+        Criterion::Weighted => CostTerms {
+            position: w.position * squares(crate::problem::Layout::q),
+            velocity: w.velocity * squares(crate::problem::Layout::v),
+            control: w.control * squares(crate::problem::Layout::u),
+            cartesian_box,
+        },
+        // The copper losses are the control term.
+        Criterion::CopperLoss(weights) => CostTerms {
+            position: 0.0,
+            velocity: 0.0,
+            control: (0..layout.steps)
+                .flat_map(|k| (0..layout.dof).map(move |i| (k, i)))
+                .map(|(k, i)| weights[i] * x[layout.u(k, i)].powi(2))
+                .sum(),
+            cartesian_box,
+        },
     }
 }
 
@@ -457,9 +476,18 @@ fn read_trajectory(problem: &TrajectoryProblem<'_>, x: &[f64]) -> Trajectory {
             .push(problem.coupling().motor_speeds(&v));
         if k < steps {
             let (u, a) = (slice(layout.u(k, 0)), slice(layout.a(k, 0)));
+            let loss = problem.actuation().loss().map(|_| {
+                let mut tau = vec![0.0; n];
+                dynamics.rnea(&mut data, &q, &v, &a, &mut tau);
+                let loss = problem.actuation().node_loss(&tau, &v);
+                loss.expect("the actuation has losses")
+            });
             trajectory
                 .joint_torque
-                .push(problem.joint_torques(&v, &a, &u));
+                .push(problem.joint_torques((&v, &a), &u, loss.as_ref()));
+            if let Some(loss) = &loss {
+                trajectory.transmission_loss.push(loss.motor_torques());
+            }
             trajectory.a.push(a);
             trajectory.motor_torque.push(problem.motor_torques(&u));
         }

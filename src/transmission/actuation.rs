@@ -17,8 +17,11 @@
 //!   RNEA(q, v, a) + G^T J_m G a + G^T B_m G v - C u = 0,   C = G^T or the identity,
 //!
 //! linear in (v, a, u) for a fixed design: the motors reflect the inertia G^T J_m G and the
-//! damping G^T B_m G into the joints, and add no second derivatives in x.
+//! damping G^T B_m G into the joints, and add no second derivatives in x. Transmissions with an
+//! efficiency ([`TransmissionLoss`]) add their loss torque L to tau_u, and G^T L to the rows,
+//! evaluated per node as a [`NodeLoss`].
 
+use super::loss::{NodeLoss, TransmissionLoss};
 use super::Coupling;
 use crate::model::task::{Motors, PerMotor};
 use nalgebra::{DMatrix, DVector};
@@ -109,6 +112,8 @@ pub struct Actuation {
     motor_of_control: DMatrix<f64>,
     /// None for ideal motors.
     reflected: Option<Reflected>,
+    /// None for lossless transmissions.
+    loss: Option<TransmissionLoss>,
 }
 
 impl Actuation {
@@ -147,7 +152,25 @@ impl Actuation {
             motor_of_joint,
             motor_of_control,
             reflected,
+            loss: None,
         }
+    }
+
+    /// The same actuation with transmissions of losses `loss` (None: lossless).
+    pub fn with_loss(mut self, loss: Option<&TransmissionLoss>) -> Actuation {
+        self.loss = loss.cloned();
+        self
+    }
+
+    /// The transmissions' losses, None where they are lossless.
+    pub fn loss(&self) -> Option<&TransmissionLoss> {
+        self.loss.as_ref()
+    }
+
+    /// The losses at a node whose links take the joint torques `tau` (N m) at speeds `v`
+    /// (rad/s), None for lossless transmissions.
+    pub fn node_loss(&self, tau: &[f64], v: &[f64]) -> Option<NodeLoss> {
+        (self.loss.as_ref()).map(|loss| NodeLoss::new(loss, &self.coupling, tau, v))
     }
 
     /// Joint or actuation space.
@@ -223,21 +246,30 @@ impl Actuation {
     }
 
     /// Joint torques the links take at a node of speeds v (rad/s) and accelerations a
-    /// (rad/s^2) under control u: C u - G^T J_m G a - G^T B_m G v, N m (C u for ideal motors).
-    pub fn link_torques(&self, v: &[f64], a: &[f64], u: &[f64]) -> Vec<f64> {
-        let applied = self.joint_torques(u);
-        match &self.reflected {
-            None => applied,
-            Some(reflected) => {
-                let (v, a) = (DVector::from_column_slice(v), DVector::from_column_slice(a));
-                let motors = &reflected.inertia * a + &reflected.damping * v;
-                applied
-                    .iter()
-                    .zip(motors.iter())
-                    .map(|(t, m)| t - m)
-                    .collect()
-            }
+    /// (rad/s^2) under control u, with the transmissions' losses `loss` there (None where
+    /// lossless): C u - G^T J_m G a - G^T B_m G v - G^T L, N m (C u for ideal motors and
+    /// lossless transmissions).
+    pub fn link_torques(
+        &self,
+        (v, a): (&[f64], &[f64]),
+        u: &[f64],
+        loss: Option<&NodeLoss>,
+    ) -> Vec<f64> {
+        let mut links = self.joint_torques(u);
+        if let Some(reflected) = &self.reflected {
+            let (v, a) = (DVector::from_column_slice(v), DVector::from_column_slice(a));
+            let motors = &reflected.inertia * a + &reflected.damping * v;
+            links
+                .iter_mut()
+                .zip(motors.iter())
+                .for_each(|(t, m)| *t -= m);
         }
+        if let Some(loss) = loss {
+            (links.iter_mut())
+                .zip(loss.joint_torques().iter())
+                .for_each(|(t, l)| *t -= l);
+        }
+        links
     }
 
     /// The dynamics residual of joint i at a node, tau_i + (G^T J_m G a + G^T B_m G v)_i minus
@@ -383,7 +415,7 @@ mod tests {
                 Space::Actuation => tau_u.to_vec(),
                 Space::Joint => coupling.joint_torques(&tau_u),
             };
-            let links = actuation.link_torques(&v, &a, &u);
+            let links = actuation.link_torques((&v, &a), &u, None);
             for i in 0..4 {
                 let residual = actuation.residual(i, &links, (&v, &a), &u);
                 assert!(residual.abs() < 1e-12, "{space} {motors:?} joint {i}");

@@ -11,7 +11,8 @@
 //! - `coupling`: G(r), dG/dr_i, and G with its inverse at one design;
 //! - `limits`: the joint torque and speed limits of each [`LimitMode`](crate::model::task::LimitMode);
 //! - `actuation`: the controls' map to joint and motor torques at one design ([`Actuation`]);
-//! - `envelope`: the motors' linear torque-speed envelope ([`Envelope`]).
+//! - `envelope`: the motors' linear torque-speed envelope ([`Envelope`]);
+//! - `loss`: the transmissions' losses under an efficiency ([`TransmissionLoss`]).
 
 mod active;
 mod actuation;
@@ -20,6 +21,7 @@ mod design_space;
 mod envelope;
 mod limits;
 pub mod linkage;
+mod loss;
 mod spec;
 
 pub use active::{ActiveBound, BoundSide};
@@ -28,6 +30,7 @@ pub use coupling::Coupling;
 pub use design_space::{DesignError, DesignSpace, HalfSpace, OrderConstraint};
 pub use envelope::{Envelope, Side};
 pub use limits::{limit_weights, JointLimits};
+pub use loss::{MotorLoss, NodeLoss, TransmissionLoss, SPEED_SMOOTHING, TORQUE_SMOOTHING};
 pub use spec::SpecError;
 
 use spec::Entry;

@@ -386,3 +386,143 @@ fn electrical_figures_follow_the_motors_constants() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A task with transmission efficiencies: the result records each motor's loss torque per
+/// interval and the energy lost in the transmissions, per motor and in total; a task without
+/// them records none. An efficiency outside (0, 1], or a list of the wrong length, is refused
+/// naming the field.
+#[test]
+fn transmission_losses_are_reported_and_bad_efficiencies_named() {
+    let dir = scratch("efficiency");
+    let task = task_with(&dir, |task| {
+        task["motors"]["efficiency"] = json!([0.95, 0.95, 0.9, 0.9]);
+    });
+    let out = dir.join("solve.json");
+    let args = [
+        "solve",
+        "--task",
+        task.to_str().unwrap(),
+        "--space",
+        "actuation",
+    ];
+    succeed(&[&args[..], &["--out", out.to_str().unwrap()]].concat());
+    let result = read_json(&out);
+    assert_eq!(
+        result["inputs"]["task"]["motors"]["efficiency"],
+        json!([0.95, 0.95, 0.9, 0.9])
+    );
+    let losses = result["trajectory"]["transmission_loss"]
+        .as_array()
+        .unwrap();
+    assert_eq!(
+        losses.len(),
+        result["trajectory"]["motor_torque"]
+            .as_array()
+            .unwrap()
+            .len()
+    );
+    let figures = &result["figures"];
+    let per_motor: f64 = (figures["motors"].as_array().unwrap().iter())
+        .map(|motor| motor["transmission_loss_j"].as_f64().unwrap())
+        .sum();
+    let total = figures["transmission_loss_j"].as_f64().unwrap();
+    assert!(
+        total > 0.0 && (total - per_motor).abs() <= 1e-12 * total,
+        "{figures}"
+    );
+    let plain = task_with(&dir, |_| {});
+    let plain_out = dir.join("plain.json");
+    let plain_args = [
+        "solve",
+        "--task",
+        plain.to_str().unwrap(),
+        "--space",
+        "actuation",
+    ];
+    succeed(&[&plain_args[..], &["--out", plain_out.to_str().unwrap()]].concat());
+    let plain = read_json(&plain_out);
+    assert!(plain["trajectory"].get("transmission_loss").is_none());
+    assert!(plain["figures"].get("transmission_loss_j").is_none());
+    for (value, expected) in [
+        (json!(1.5), "motors.efficiency = 1.5 must be > 0 and <= 1"),
+        (json!([0.9, 0.9, 0]), "motors.efficiency has 3 values"),
+        (
+            json!([0.9, 0.9, 0.9, 0]),
+            "motors.efficiency[3] = 0 must be > 0",
+        ),
+    ] {
+        let bad = task_with(&dir, |task| task["motors"]["efficiency"] = value.clone());
+        fails_saying(
+            &codesign(&["solve", "--task", bad.to_str().unwrap()]),
+            expected,
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `optimize --objective energy`: the gradient method on the motors' copper losses, recorded
+/// as the objective's kind; the best design's cost is its copper losses (as its figures compute
+/// them) plus the soft box's penalty. Refused in the joint space and without the
+/// motors' constants, each error naming what to give.
+#[test]
+fn the_energy_objective_minimises_the_copper_losses() {
+    let dir = scratch("energy");
+    let task = task_with(&dir, |task| {
+        task["motion"]["steps"] = json!(20);
+        task["motors"]["torque_constant_nm_per_a"] = json!(0.1);
+        task["motors"]["resistance_ohm"] = json!([1.2, 1.2, 2.0, 2.0]);
+    });
+    let out = dir.join("energy.json");
+    let task_arg = task.to_str().unwrap();
+    let args = [
+        "optimize",
+        "--method",
+        "gradient",
+        "--objective",
+        "energy",
+        "--task",
+        task_arg,
+    ];
+    let run = [
+        &args[..],
+        &["--gradient-iterations", "3", "--out", out.to_str().unwrap()],
+    ];
+    succeed(&run.concat());
+    let document = read_json(&out);
+    assert_eq!(document["inputs"]["objective"], json!({"kind": "energy"}));
+    let best = &document["best_result"];
+    let number = |value: &Value| value.as_f64().unwrap();
+    let copper = number(&best["figures"]["electrical"]["copper_loss_j"]);
+    let terms = &best["cost_terms"];
+    assert!(
+        (number(&terms["control"]) - copper).abs() <= 1e-9 * copper,
+        "{terms}"
+    );
+    // The best design solved again from the standard guess: its cost, its figures.
+    let cost = number(&best["cost"]);
+    let sum = copper + number(&terms["cartesian_box"]);
+    assert!((cost - sum).abs() <= 1e-7 * cost, "{cost} vs {sum}");
+    let joint = [
+        &args[..],
+        &["--space", "joint", "--out", out.to_str().unwrap()],
+    ]
+    .concat();
+    fails_saying(
+        &codesign(&[&joint[..], &["--overwrite"]].concat()),
+        "--space actuation",
+    );
+    let plain = task_with(&dir, |_| {});
+    let bare = [
+        "optimize",
+        "--method",
+        "gradient",
+        "--objective",
+        "energy",
+        "--task",
+    ];
+    fails_saying(
+        &codesign(&[&bare[..], &[plain.to_str().unwrap()]].concat()),
+        "motors.torque_constant_nm_per_a and motors.resistance_ohm",
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

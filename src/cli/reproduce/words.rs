@@ -116,7 +116,8 @@ fn beyond_run(run: &PlannedRun, document: &OptimizeDocument) {
             -document.best_cost,
             document.evaluations
         ),
-        Objective::Cost => say!(
+        // The experiment plans no energy run.
+        Objective::Cost | Objective::Energy => say!(
             "co-design, {space} space, {} kg, seed {}, penalty {}: {} ({} evaluations)",
             document.inputs.payload_kg,
             run.case.settings.cmaes.seed,

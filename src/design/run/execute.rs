@@ -50,9 +50,7 @@ pub fn run_case(
         settings,
         ..
     } = loaded;
-    let formulation = Formulation::new(&task, robot, case.problem.space, modes)
-        .map_err(|e| RunError::Load(e.to_string()))?
-        .with_hold_tolerance(settings.constraint_tolerance());
+    let formulation = formulate(case, &task, robot, modes, &settings)?;
     let mut log = match logged {
         true => Some(open_log(case, out, &inputs)?),
         false => None,
@@ -239,6 +237,26 @@ fn payload_costs(fitness: &Fitness, settings: &SolveSettings, ratios: &[f64]) ->
         .collect()
 }
 
+/// The hard formulation of `case` for `task` and `robot` under `modes`: minimising the motors'
+/// copper losses for the energy objective, the task's J otherwise.
+fn formulate(
+    case: &Case,
+    task: &Task,
+    robot: Robot,
+    modes: LimitModes,
+    settings: &SolveSettings,
+) -> Result<Formulation, RunError> {
+    let formulation = Formulation::new(task, robot, case.problem.space, modes)
+        .map_err(|e| RunError::Load(e.to_string()))?
+        .with_hold_tolerance(settings.constraint_tolerance());
+    match case.settings.objective {
+        Objective::Energy => formulation
+            .minimising_copper_loss()
+            .map_err(|e| RunError::Load(e.to_string())),
+        _ => Ok(formulation),
+    }
+}
+
 /// Solves the original design once on a 2-interval copy of the problem, so that a solver
 /// option IPOPT rejects (the task file's `solver`) fails the run before its first generation,
 /// with IPOPT's complaint, instead of penalising every design.
@@ -251,9 +269,7 @@ fn probe_solver(
 ) -> Result<(), RunError> {
     let mut small = task.clone();
     small.motion.steps = 2;
-    let formulation = Formulation::new(&small, robot.clone(), case.problem.space, modes)
-        .map_err(|e| RunError::Load(e.to_string()))?
-        .with_hold_tolerance(settings.constraint_tolerance());
+    let formulation = formulate(case, &small, robot.clone(), modes, settings)?;
     match solve_design(&formulation, &small.transmission.original, settings) {
         Err(SolveError::Ipopt(error)) => Err(RunError::Solver(format!(
             "{} solver: {error} (checked by a solve of the original design before the run)",

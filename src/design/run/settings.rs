@@ -126,6 +126,14 @@ impl RunSettings {
                 "the capacity search has no elastic form; use the cost or range objective",
             ));
         }
+        if self.grading == Grading::Graded && self.objective == Objective::Energy {
+            return Err(CaseError::new(
+                "grading",
+                "graded",
+                "the elastic problem's weights are set above the multipliers of J, not of the \
+                 copper losses; use the flat penalty with the energy objective",
+            ));
+        }
         if self.method == Method::Gradient && !self.bounds.is_penalty() {
             return Err(CaseError::new(
                 "bounds",

@@ -25,6 +25,10 @@ pub enum Objective {
     Capacity(CapacitySettings),
     /// The mean of the optimal costs over several payloads: one design for the whole range.
     Range(PayloadRange),
+    /// The least copper losses of the motors over the motion, J, at the task's payload: the
+    /// trajectory problem minimises them instead of J (docs/model.md, section 7), from the
+    /// task's `motors.torque_constant_nm_per_a` and `motors.resistance_ohm`.
+    Energy,
 }
 
 /// The payloads of [`Objective::Range`].
@@ -108,13 +112,17 @@ impl Fitness {
     ) -> Result<Fitness, ScoreError> {
         let hard = Formulation::new(task, Robot::load(task)?, space, modes)?
             .with_hold_tolerance(solve.constraint_tolerance());
+        let hard = match objective {
+            Objective::Energy => hard.minimising_copper_loss()?,
+            _ => hard,
+        };
         let base = match penalty.grading {
             Grading::Flat => hard,
             Grading::Graded => hard.elastic(),
         };
         let formulation = |payload_kg: f64| base.with_payload(payload_kg);
         let scored = match objective {
-            Objective::Cost => Scored::Cost(formulation(task.payload.mass_kg)?),
+            Objective::Cost | Objective::Energy => Scored::Cost(formulation(task.payload.mass_kg)?),
             Objective::Capacity(settings) => {
                 Scored::Capacity(formulation(task.payload.mass_kg)?, *settings)
             }

@@ -1,12 +1,14 @@
 //! The equations of motion at every node k < N, one row per joint:
 //!
-//!   RNEA(q_k, v_k, a_k) + G^T J_m G a_k + G^T B_m G v_k - C u_k = 0,
+//!   RNEA(q_k, v_k, a_k) + G^T J_m G a_k + G^T B_m G v_k + G^T L - C u_k = 0,
 //!
-//! with C = G^T in actuation space and the identity in joint space, and the motors' rotor
-//! inertia J_m and friction B_m reflected into the joints (absent for ideal motors). The
-//! elastic kind shifts each row by its torque deficit s-_k - s+_k. The rows' Jacobian is dense
-//! in (q, v, a) and C's pattern in u; their Hessian is lambda . RNEA's (docs/model.md, section
-//! 8); their design sensitivity is the actuation's residual derivative.
+//! with C = G^T in actuation space and the identity in joint space, the motors' rotor inertia
+//! J_m and friction B_m reflected into the joints (absent for ideal motors), and the
+//! transmissions' loss torques L(G^-T RNEA, G v_k) (absent where lossless). The elastic kind
+//! shifts each row by its torque deficit s-_k - s+_k. The rows' Jacobian is dense in (q, v, a)
+//! and C's pattern in u; their Hessian is lambda . RNEA's, plus the losses' (docs/model.md,
+//! sections 3 and 8); their design sensitivity is the actuation's residual derivative and the
+//! losses'.
 
 use super::{
     emit_slacks, slack_shift, At, DesignDerivative, Emit, Family, FamilyId, NodeSecondOrder, Place,
@@ -17,7 +19,7 @@ use crate::problem::layout::RowBlock;
 use crate::problem::nlp::TrajectoryProblem;
 use crate::problem::node::NodeEval;
 use crate::transmission::Space;
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 use std::sync::Arc;
 
 /// The dynamics rows, with the structural non-zeros of C.
@@ -63,6 +65,9 @@ impl Family for Dynamics {
         let (_, v, a) = layout.node_state(x, k);
         for i in 0..layout.dof {
             g[row + i] = p.actuation().residual(i, &node.tau, (v, a), u);
+            if let Some(loss) = &node.loss {
+                g[row + i] += loss.joint_torques()[i];
+            }
             if let Some(s) = slack_shift(x, layout.slack(FamilyId::Dynamics, k, i)) {
                 g[row + i] += s;
             }
@@ -77,21 +82,22 @@ impl Family for Dynamics {
             At::Design(p) => p.actuation().reflected(),
         };
         let (inertia, damping) = (reflected.map(|r| r.0), reflected.map(|r| r.1));
+        let losses = (node.loss.as_ref())
+            .map(|loss| loss.jacobian_blocks((&node.dtau_dq, &node.dtau_dv, &node.mass)));
+        let [dq, dv, da] = [0, 1, 2].map(|b| losses.as_ref().map(|blocks| &blocks[b]));
         let n = layout.dof;
         for i in 0..n {
             let r = row + i;
             for j in 0..n {
-                emit(r, layout.q(k, j), node.dtau_dq[(i, j)]);
+                emit(r, layout.q(k, j), plus(node.dtau_dq[(i, j)], dq, (i, j)));
             }
             for j in 0..n {
-                emit(
-                    r,
-                    layout.v(k, j),
-                    plus(node.dtau_dv[(i, j)], damping, (i, j)),
-                );
+                let value = plus(node.dtau_dv[(i, j)], damping, (i, j));
+                emit(r, layout.v(k, j), plus(value, dv, (i, j)));
             }
             for j in 0..n {
-                emit(r, layout.a(k, j), plus(node.mass[(i, j)], inertia, (i, j)));
+                let value = plus(node.mass[(i, j)], inertia, (i, j));
+                emit(r, layout.a(k, j), plus(value, da, (i, j)));
             }
             for j in 0..n {
                 if self.control_pattern[(i, j)] != 0.0 {
@@ -102,12 +108,24 @@ impl Family for Dynamics {
         }
     }
 
+    /// lambda . RNEA's Hessian; with losses, RNEA's under the multipliers that carry the
+    /// losses' first derivative in tau, and the losses' own second derivatives.
     fn hessian(&self, node: NodeSecondOrder<'_>, block: &mut DMatrix<f64>) {
         let (q, v, a) = node.state;
         let hessian = node.scratch;
+        let coupling = node.actuation.coupling();
+        let multipliers = match &node.node.loss {
+            None => node.multipliers.to_vec(),
+            Some(loss) => loss.rnea_multipliers(coupling, node.multipliers),
+        };
         node.dynamics
-            .rnea_hessian(node.data, q, v, a, node.multipliers, hessian);
+            .rnea_hessian(node.data, q, v, a, &multipliers, hessian);
         *block += &*hessian;
+        if let Some(loss) = &node.node.loss {
+            let e = node.node;
+            let derivatives = (&e.dtau_dq, &e.dtau_dv, &e.mass);
+            loss.add_hessian(coupling, node.multipliers, derivatives, block);
+        }
     }
 
     fn sensitivity(
@@ -122,8 +140,33 @@ impl Family for Dynamics {
         let x = &solution.x;
         let (_, v, a) = layout.node_state(x, k);
         let u = layout.controls(x, k);
+        let lambda = super::segment(&solution.lambda, row, layout.dof);
         if let Some(d) = p.actuation().residual_derivative(&derivative.dg, (v, a), u) {
-            *total += super::segment(&solution.lambda, row, layout.dof).dot(&d);
+            *total += lambda.dot(&d);
+        }
+        if p.actuation().loss().is_some() {
+            *total += lambda.dot(&loss_derivative(p, x, k, derivative));
         }
     }
+}
+
+/// d/dr_l of the losses' term G^T L of node k's rows at x, N m: RNEA evaluated again at the
+/// node, since the Lagrangian's partial derivative holds x fixed.
+fn loss_derivative(
+    p: &TrajectoryProblem<'_>,
+    x: &[f64],
+    k: usize,
+    derivative: &DesignDerivative,
+) -> DVector<f64> {
+    let f = p.formulation();
+    let (q, v, a) = f.layout().node_state(x, k);
+    let dynamics = f.dynamics();
+    let mut tau = vec![0.0; f.layout().dof];
+    dynamics.rnea(&mut dynamics.workspace(), q, v, a, &mut tau);
+    let actuation = p.actuation();
+    let loss = actuation
+        .node_loss(&tau, v)
+        .expect("the actuation has losses");
+    let d = (&derivative.dg, &derivative.dg_inv);
+    loss.design_derivative(actuation.coupling(), d, &tau, v)
 }

@@ -27,7 +27,7 @@ use super::node::NodeEval;
 use crate::dynamics::{Dynamics, Workspace};
 use crate::ipopt::Solution;
 use crate::model::task::LimitModes;
-use crate::transmission::{Envelope, Space};
+use crate::transmission::{Actuation, Envelope, Space};
 use nalgebra::{DMatrix, DVector};
 use std::fmt;
 use std::sync::Arc;
@@ -168,6 +168,10 @@ pub(super) struct DesignDerivative {
 /// The evaluation of one node's second-order terms.
 pub(super) struct NodeSecondOrder<'a> {
     pub(super) dynamics: &'a Dynamics,
+    /// The node's evaluation (RNEA's derivatives, the transmissions' losses).
+    pub(super) node: &'a NodeEval,
+    /// The design's actuation.
+    pub(super) actuation: &'a Actuation,
     pub(super) data: &'a mut Workspace,
     /// (q_k, v_k, a_k).
     pub(super) state: (&'a [f64], &'a [f64], &'a [f64]),

@@ -121,7 +121,7 @@ fn odd_value(file: &ResultFile) -> Option<String> {
                 None
             }
             Objective::Capacity(_) => cost("best_cost", -d.best_cost),
-            Objective::Cost | Objective::Range(_) => {
+            Objective::Cost | Objective::Range(_) | Objective::Energy => {
                 cost("best_cost", d.best_cost).or_else(|| cost("original_cost", d.original_cost))
             }
         },
