@@ -206,8 +206,8 @@ mod tests {
         );
     }
 
-    /// The committed results (written before the arm's animation): the table, and each case's
-    /// plots that exist, linked relative to the folder.
+    /// The committed quick results: the table, and each case's plots that exist, linked relative
+    /// to the folder, the best design's animation and filmstrip first.
     #[test]
     fn the_page_shows_the_table_and_the_plots_it_finds() {
         let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("results/quick");
@@ -230,10 +230,13 @@ mod tests {
             "plots/cost_evolution-joint-3kg.svg",
             "plots/original-joint-0kg/tcp_path.svg",
             "plots/optimal_ratios.svg",
+            "plots/best-actuation-1kg/motion.svg",
+            "plots/best-actuation-1kg/poses.svg",
         ] {
             assert!(page.contains(&format!("<img src=\"{plot}\"")), "{plot}");
         }
-        assert!(!page.contains("motion.svg"), "{page}");
+        let animation = page.find("best-actuation-1kg/motion.svg").unwrap();
+        assert!(animation < page.find("best-actuation-1kg/joint_torques.svg").unwrap());
         assert!(!page.contains(root.to_str().unwrap()), "{page}");
         assert!(page.contains("<h3>1 kg, joint space</h3>"));
     }
