@@ -114,12 +114,16 @@ impl Family for Dynamics {
         let (q, v, a) = node.state;
         let hessian = node.scratch;
         let coupling = node.actuation.coupling();
+        let through_losses;
         let multipliers = match &node.node.loss {
-            None => node.multipliers.to_vec(),
-            Some(loss) => loss.rnea_multipliers(coupling, node.multipliers),
+            None => node.multipliers,
+            Some(loss) => {
+                through_losses = loss.rnea_multipliers(coupling, node.multipliers);
+                &through_losses[..]
+            }
         };
         node.dynamics
-            .rnea_hessian(node.data, q, v, a, &multipliers, hessian);
+            .rnea_hessian(node.data, q, v, a, multipliers, hessian);
         *block += &*hessian;
         if let Some(loss) = &node.node.loss {
             let e = node.node;
