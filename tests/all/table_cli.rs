@@ -264,7 +264,7 @@ fn impossible_counts_and_capacities_are_refused() {
         "above.json: capacity_kg = 100 is above the search's max_kg",
     );
     let range = edit(capacity, "range.json", &|v| {
-        v["settings"]["max_kg"] = 1e308.into();
+        v["inputs"]["settings"]["max_kg"] = 1e308.into();
     });
     support::fails_saying(&range, "range.json: settings.max_kg = ");
     let run = "runs/actuation-1kg-seed0.json";
