@@ -164,7 +164,7 @@ fn reading(
 ) -> Result<(Vec<f64>, f64), String> {
     let shape = variables.shape(1);
     let angle = linkage
-        .angle(dynamics, data, q, r, variables, &shape)
+        .angle(dynamics, data, (q, r), variables, &shape)
         .map_err(|e| e.to_string())?;
     let measure = linkage
         .measure(dynamics, data, (q, r), variables, &shape)

@@ -129,9 +129,4 @@ impl CrankRod {
         let ratio = at.variables.number(&self.ratio, at.r, at.shape);
         Ok(&self.crank_angle(at, data)? * &ratio)
     }
-
-    /// The crank's unit axis in its body's frame.
-    pub fn axis(&self) -> Vector3<f64> {
-        self.axis
-    }
 }

@@ -28,11 +28,6 @@ impl LinearActuator {
         entries
     }
 
-    /// Its lead at design `r`, m.
-    pub fn lead(&self, r: &[f64]) -> f64 {
-        self.lead.value(r)
-    }
-
     /// The length between its ends, m, as a jet.
     pub(super) fn length<'s>(
         &self,

@@ -153,31 +153,23 @@ impl Linkage {
         parameters
     }
 
-    /// The motor angle gamma(q; r), rad, as a jet in `variables` (of shape `shape`).
+    /// The motor angle gamma(q; r), rad, at pose `q` and design `r`, as a jet in `variables`
+    /// (of shape `shape`).
     pub fn angle<'s>(
         &self,
         dynamics: &Dynamics,
         data: &mut Workspace,
-        q: &[f64],
-        r: &[f64],
+        (q, r): (&[f64], &[f64]),
         variables: &Variables,
         shape: &'s JetShape,
     ) -> Result<Jet<'s>, LinkageError> {
-        let at = At {
-            dynamics,
-            q,
-            r,
-            variables,
-            shape,
-        };
+        let at = At::new(dynamics, (q, r), variables, shape);
         match self {
             Linkage::Linear(screw) => screw.angle(&at, data),
             Linkage::CrankRod(crank) => crank.angle(&at, data),
         }
     }
-}
 
-impl Linkage {
     /// What the linkage's geometry reads at a pose, as a jet: a screw's length between its
     /// ends, m, or a crank's angle from its reference, rad.
     pub fn measure<'s>(
@@ -188,13 +180,7 @@ impl Linkage {
         variables: &Variables,
         shape: &'s JetShape,
     ) -> Result<Jet<'s>, LinkageError> {
-        let at = At {
-            dynamics,
-            q,
-            r,
-            variables,
-            shape,
-        };
+        let at = At::new(dynamics, (q, r), variables, shape);
         match self {
             Linkage::Linear(screw) => screw.length(&at, data),
             Linkage::CrankRod(crank) => crank.crank_angle(&at, data),
@@ -225,6 +211,23 @@ struct At<'a, 's> {
     r: &'a [f64],
     variables: &'a Variables,
     shape: &'s JetShape,
+}
+
+impl<'a, 's> At<'a, 's> {
+    fn new(
+        dynamics: &'a Dynamics,
+        (q, r): (&'a [f64], &'a [f64]),
+        variables: &'a Variables,
+        shape: &'s JetShape,
+    ) -> At<'a, 's> {
+        At {
+            dynamics,
+            q,
+            r,
+            variables,
+            shape,
+        }
+    }
 }
 
 /// The joints between two bodies of the chain (None: the base).

@@ -60,7 +60,7 @@ impl RowDerivatives {
         (q, r): (&[f64], &[f64]),
     ) -> Result<RowDerivatives, LinkageError> {
         let order = shape.order();
-        let jet = linkage.angle(dynamics, data, q, r, variables, shape)?;
+        let jet = linkage.angle(dynamics, data, (q, r), variables, shape)?;
         let (n, span) = (q.len(), variables.joints.clone());
         let width = span.len();
         let mut derivatives = RowDerivatives {
@@ -184,7 +184,7 @@ impl RowSensitivity {
             parameters: linkage.parameters(),
         };
         let shape = variables.shape(3);
-        let jet = linkage.angle(dynamics, data, q, r, &variables, &shape)?;
+        let jet = linkage.angle(dynamics, data, (q, r), &variables, &shape)?;
         let (n, span, count) = (
             q.len(),
             variables.joints.clone(),

@@ -100,7 +100,7 @@ fn jet_at(
     let shape = variables.shape(order);
     let mut data = dynamics.workspace();
     let jet = linkage
-        .angle(dynamics, &mut data, q, r, &variables, &shape)
+        .angle(dynamics, &mut data, (q, r), &variables, &shape)
         .unwrap();
     (variables, jet.coefficients().to_vec())
 }
@@ -258,13 +258,13 @@ fn a_rod_too_short_leaves_the_loop_open() {
     let mut data = dynamics.workspace();
     let mut r = design();
     r[2] = 0.01;
-    match linkage.angle(&dynamics, &mut data, &Q, &r, &variables, &shape) {
+    match linkage.angle(&dynamics, &mut data, (&Q, &r), &variables, &shape) {
         Err(LinkageError::Open { reach }) => assert!(reach > 1.0),
         other => panic!("{other:?}"),
     }
     r[2] = -0.3;
     assert!(matches!(
-        linkage.angle(&dynamics, &mut data, &Q, &r, &variables, &shape),
+        linkage.angle(&dynamics, &mut data, (&Q, &r), &variables, &shape),
         Err(LinkageError::NotPositive {
             what: "rod length",
             ..
