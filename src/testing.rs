@@ -77,3 +77,26 @@ impl Random {
         range.start + ((range.end - range.start) as f64 * self.unit()) as usize
     }
 }
+
+/// The planar two-joint example (`robots/examples/planar_2dof`) with its elbow driven by a
+/// pose-dependent `row` (a linkage object of the task file) as row 1 of G, the elbow moving
+/// between -1 and 1 rad, limit modes `exact`: the fixture of the pose-dependent tests.
+pub fn posed_task(row: &str) -> Task {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/examples/planar_2dof/task.json");
+    let mut task = Task::load(&path).expect("the planar example loads");
+    task.transmission.matrix[1] = serde_json::from_str(row).expect("the linkage row parses");
+    task.motion.start[1] = -1.0;
+    task.motion.goal[1] = 1.0;
+    task
+}
+
+/// A ball screw on the planar example's elbow, its lead the design parameter r2 (in mm): 0.15 m
+/// from the elbow on the upper arm to 0.10 m from it on the forearm.
+pub const SCREW_ROW: &str = r#"{"linear": {"from": {"link": "upper_arm", "point": [0.15, 0, 0]},
+    "to": {"link": "forearm", "point": [0, 0, 0.1]}, "lead_m": "0.001*r2"}}"#;
+
+/// A crank and rod driving the planar example's elbow: a crank of 60 mm on the upper arm, 0.2 m
+/// behind the elbow, through a 10:1 gear, and a 0.2 m rod to a lever of 50 mm on the forearm.
+pub const CRANK_ROW: &str = r#"{"crank_rod": {"crank": {"link": "upper_arm",
+    "point": [0.1, 0, 0], "axis": [0, -1, 0], "radius_m": 0.06, "ratio": 10}, "rod_m": 0.2,
+    "to": {"link": "forearm", "point": [0, 0, 0.05]}}}"#;

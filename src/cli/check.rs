@@ -41,8 +41,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     let source = args.model.source();
     let transmission = match Transmission::from_spec(&task.transmission) {
-        Err(error @ SpecError::PoseDependent { .. }) => {
-            return linkages(&task, robot, args.json, format!("{source}: {error}"))
+        Err(SpecError::PoseDependent { .. }) => {
+            return linkages(&task, robot, args.json, &source.to_string())
         }
         other => other.map_err(|e| format!("{source}: {e}"))?,
     };
@@ -71,11 +71,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     )))
 }
 
-/// Shows the linkage rows of a transmission the trajectory problem cannot yet pose, then fails
-/// with `refusal`, the reason it cannot.
-fn linkages(task: &Task, robot: Robot, json: bool, refusal: String) -> Result<(), Failure> {
+/// Shows the linkage rows of a transmission whose ratio changes with the pose (the constant
+/// rows' inspection is not yet written for such a task); fails listing the linkages' warnings
+/// (dead points, loops open, strokes left), if any.
+fn linkages(task: &Task, robot: Robot, json: bool, source: &str) -> Result<(), Failure> {
     let dynamics = Dynamics::new(robot);
-    let reports = linkage_reports(task, &dynamics).map_err(|e| e.to_string())?;
+    let reports = linkage_reports(task, &dynamics).map_err(|e| format!("{source}: {e}"))?;
     if json {
         let object = serde_json::json!({ "linkages": reports });
         let text = serde_json::to_string_pretty(&object).map_err(|e| e.to_string())?;
@@ -83,7 +84,20 @@ fn linkages(task: &Task, robot: Robot, json: bool, refusal: String) -> Result<()
     } else {
         say_raw!("{}", linkages_text(&reports));
     }
-    Err(Failure::Work(refusal))
+    let warnings: Vec<String> = (reports.iter())
+        .flat_map(|report| {
+            let motor = &report.motor;
+            report.warnings.iter().map(move |w| format!("{motor}: {w}"))
+        })
+        .collect();
+    if warnings.is_empty() {
+        return Ok(());
+    }
+    Err(Failure::Work(format!(
+        "{source}: {} problem(s) found in the linkages: {}",
+        warnings.len(),
+        warnings.join("; ")
+    )))
 }
 
 /// Prints the inspection as text, or as JSON.

@@ -183,7 +183,9 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .map_err(|e| match e {
             SolveError::Design(_) => format!("{source}: {e}"),
             SolveError::Ipopt(_) => format!("{} solver: {e}", args.model.source()),
-            SolveError::Formulation(_) => format!("{}: {e}", args.model.source()),
+            SolveError::Formulation(_) | SolveError::Pose { .. } => {
+                format!("{}: {e}", args.model.source())
+            }
         })?;
     refuse_unwritable(&result, &source)?;
     print_summary(&formulation, &result);

@@ -64,7 +64,9 @@ impl fmt::Display for ExperimentError {
             ExperimentError::Original { source, error } => match error {
                 SolveError::Design(_) => write!(f, "{source} transmission.original: {error}"),
                 SolveError::Ipopt(_) => write!(f, "{source} solver: {error}"),
-                SolveError::Formulation(_) => write!(f, "{source}: {error}"),
+                SolveError::Formulation(_) | SolveError::Pose { .. } => {
+                    write!(f, "{source}: {error}")
+                }
             },
             ExperimentError::Run(error) => error.fmt(f),
             ExperimentError::Capacity(error) => error.fmt(f),

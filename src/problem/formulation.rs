@@ -8,11 +8,13 @@ use super::hold::DEFAULT_HOLD_TOLERANCE_NM;
 use super::kind::ProblemKind;
 use super::layout::{BlockId, Layout, RowBlock};
 use super::nlp::TrajectoryProblem;
+use super::pose_rules;
 use crate::dynamics::Dynamics;
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;
 use crate::transmission::{
-    DesignError, Envelope, MotorDynamics, Space, Transmission, TransmissionLoss,
+    Actuation, Coupling, DesignError, Envelope, MotorDynamics, Space, Transmission,
+    TransmissionLoss,
 };
 use nalgebra::DMatrix;
 use std::fmt;
@@ -29,6 +31,27 @@ impl fmt::Display for FormulationError {
 }
 
 impl std::error::Error for FormulationError {}
+
+/// The structural non-zeros of G (row = motor, column = joint) over the whole design space and
+/// every pose: the entries of G(r) at the original design, those some ratio moves, and a linkage
+/// row's joints.
+fn g_pattern(transmission: &Transmission) -> DMatrix<f64> {
+    let mut pattern = transmission
+        .matrix(transmission.original())
+        .map(|g| f64::from(u8::from(g != 0.0)));
+    for i in 0..transmission.num_ratios() {
+        let derivative = transmission.matrix_derivative(i);
+        pattern.zip_apply(&derivative, |p, d| {
+            if d != 0.0 {
+                *p = 1.0;
+            }
+        });
+    }
+    for row in transmission.linkages() {
+        row.joints().for_each(|j| pattern[(row.motor, j)] = 1.0);
+    }
+    pattern
+}
 
 /// Everything of a trajectory problem except the design: built once, then
 /// [`Formulation::problem`] for each design.
@@ -72,8 +95,10 @@ impl Formulation {
         space: Space,
         modes: LimitModes,
     ) -> Result<Formulation, FormulationError> {
-        let transmission = Transmission::from_spec(&task.transmission)
+        let dynamics = Dynamics::new(robot);
+        let transmission = Transmission::on_chain(&task.transmission, &dynamics)
             .map_err(|message| FormulationError(format!("task: {message}")))?;
+        let robot = dynamics.robot();
         let n = robot.dof();
         if transmission.dof() != n {
             return Err(FormulationError(format!(
@@ -103,30 +128,22 @@ impl Formulation {
                 }
             }
         }
-        let mut g_pattern = transmission
-            .matrix(transmission.original())
-            .map(|g| f64::from(u8::from(g != 0.0)));
-        for i in 0..transmission.num_ratios() {
-            let derivative = transmission.matrix_derivative(i);
-            g_pattern.zip_apply(&derivative, |p, d| {
-                if d != 0.0 {
-                    *p = 1.0;
-                }
-            });
-        }
+        pose_rules::check(&transmission, task, space, &modes)?;
+        let g_pattern = g_pattern(&transmission);
+        let posed = transmission.is_pose_dependent();
         let envelope = Envelope::of(&task.motors, n);
         let loss = TransmissionLoss::of(&task.motors, n);
         let mut formulation = Formulation {
             task: task.clone(),
             transmission,
-            dynamics: Dynamics::new(robot),
+            dynamics,
             space,
             modes,
             torque_limits: task.motors.torque_limit_nm.values(n),
             speed_limits: task.motors.speed_limit_rad_s.values(n),
             motor_dynamics: MotorDynamics::of(&task.motors, n),
             envelope,
-            node_hessian: hessian::node_entries(n, loss.is_some()),
+            node_hessian: hessian::node_entries(n, loss.is_some(), posed),
             loss,
             hold_tolerance_nm: DEFAULT_HOLD_TOLERANCE_NM,
             criterion: Criterion::Weighted,
@@ -171,6 +188,7 @@ impl Formulation {
             kind,
             envelope: self.envelope.as_ref(),
             g_pattern: &self.g_pattern,
+            linkages: self.transmission.linkages(),
         };
         self.families = families::of(&shape);
         let blocks: Vec<(BlockId, RowBlock)> = (self.families.iter())
@@ -272,6 +290,12 @@ impl Formulation {
     /// The problem of design `ratios`, or why the design is not valid.
     pub fn problem(&self, ratios: &[f64]) -> Result<TrajectoryProblem<'_>, DesignError> {
         TrajectoryProblem::new(self, ratios)
+    }
+
+    /// The actuation of `coupling` (G at one design and, for a pose-dependent transmission, one
+    /// pose) in this formulation's space, with its motors and losses.
+    pub(super) fn actuation(&self, coupling: Coupling) -> Actuation {
+        Actuation::new(coupling, self.space, self.motor_dynamics()).with_loss(self.loss.as_ref())
     }
 
     /// The task.

@@ -36,6 +36,8 @@ pub(super) enum Block {
     AccelerationVelocity,
     /// d^2/da da, lower triangle: dynamics with transmission losses.
     AccelerationAcceleration,
+    /// d^2/du dq, full: the rows G(q)^T u and G(q)^-T u of a pose-dependent transmission.
+    ControlPosition,
     /// d^2/du du, diagonal: cost (w_u).
     ControlControl,
 }
@@ -59,14 +61,16 @@ impl Entry {
             Block::AccelerationPosition => (layout.a(k, i), layout.q(k, j)),
             Block::AccelerationVelocity => (layout.a(k, i), layout.v(k, j)),
             Block::AccelerationAcceleration => (layout.a(k, i), layout.a(k, j)),
+            Block::ControlPosition => (layout.u(k, i), layout.q(k, j)),
             Block::ControlControl => (layout.u(k, i), layout.u(k, j)),
         }
     }
 }
 
 /// The stored entries of one node's Hessian (n joints), row by row of its lower triangle; the
-/// a rows over v and a only with transmission `losses`.
-pub(super) fn node_entries(n: usize, losses: bool) -> Vec<Entry> {
+/// a rows over v and a only with transmission `losses`, the u rows over q only where the
+/// transmission depends on the `pose`.
+pub(super) fn node_entries(n: usize, losses: bool, pose: bool) -> Vec<Entry> {
     let mut entries = Vec::new();
     let mut push = |block, i, j| entries.push(Entry { block, i, j });
     for i in 0..n {
@@ -84,6 +88,9 @@ pub(super) fn node_entries(n: usize, losses: bool) -> Vec<Entry> {
         }
     }
     for i in 0..n {
+        if pose {
+            (0..n).for_each(|j| push(Block::ControlPosition, i, j));
+        }
         push(Block::ControlControl, i, i);
     }
     entries
@@ -107,6 +114,8 @@ pub(super) fn pattern(formulation: &Formulation) -> Vec<(usize, usize)> {
 pub(super) struct NodeHessian {
     /// The sum over the node's rows of lambda . their Hessian in (q, v, a), 3n x 3n.
     dynamics: DMatrix<f64>,
+    /// The same sum's u-q block, n x n (row = control, column = joint).
+    mixed: DMatrix<f64>,
     /// Scratch of one family's terms, 3n x 3n.
     scratch: DMatrix<f64>,
     /// The cost's q-q block, n x n.
@@ -123,6 +132,7 @@ impl NodeHessian {
     pub(super) fn zeros(n: usize) -> NodeHessian {
         NodeHessian {
             dynamics: DMatrix::zeros(3 * n, 3 * n),
+            mixed: DMatrix::zeros(n, n),
             scratch: DMatrix::zeros(3 * n, 3 * n),
             cost_position: DMatrix::zeros(n, n),
             cost_velocity: 0.0,
@@ -147,6 +157,7 @@ impl NodeHessian {
     ) {
         let (layout, dynamics) = (formulation.layout(), formulation.dynamics());
         self.dynamics.fill(0.0);
+        self.mixed.fill(0.0);
         for (id, family) in formulation.families() {
             let (Some(row), Some(block)) = (layout.first_row(*id, k), family.rows()) else {
                 continue;
@@ -160,7 +171,7 @@ impl NodeHessian {
                 multipliers: &lambda[row..row + block.per_node],
                 scratch: &mut self.scratch,
             };
-            family.hessian(terms, &mut self.dynamics);
+            family.hessian(terms, (&mut self.dynamics, &mut self.mixed));
         }
         cost.position_hessian(
             (dynamics, data),
@@ -185,12 +196,13 @@ impl NodeHessian {
             | Block::VelocityVelocity
             | Block::AccelerationPosition
             | Block::AccelerationVelocity
-            | Block::AccelerationAcceleration => 0.0,
+            | Block::AccelerationAcceleration
+            | Block::ControlPosition => 0.0,
             Block::ControlControl => self.cost_control[i],
         }
     }
 
-    /// The dynamics rows' part of `entry` (RNEA does not depend on u).
+    /// The constraint rows' part of `entry` (none is quadratic in u).
     fn dynamics(&self, entry: &Entry) -> f64 {
         let Entry { block, i, j } = *entry;
         let n = self.cost_position.nrows();
@@ -201,6 +213,7 @@ impl NodeHessian {
             Block::AccelerationPosition => self.dynamics[(2 * n + i, j)],
             Block::AccelerationVelocity => self.dynamics[(2 * n + i, n + j)],
             Block::AccelerationAcceleration => self.dynamics[(2 * n + i, 2 * n + j)],
+            Block::ControlPosition => self.mixed[(i, j)],
             Block::ControlControl => 0.0,
         }
     }
@@ -234,7 +247,7 @@ mod tests {
             expected.extend((0..n).map(|j| (base + i, base + j)));
         }
         expected.extend((3 * n..4 * n).map(|i| (base + i, base + i)));
-        let entries: Vec<_> = node_entries(n, false)
+        let entries: Vec<_> = node_entries(n, false, false)
             .iter()
             .map(|entry| entry.position(&layout, 1))
             .collect();

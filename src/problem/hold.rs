@@ -248,13 +248,14 @@ impl TrajectoryProblem<'_> {
     /// limits ([`TrajectoryProblem::control_limits`]).
     pub fn static_hold(&self) -> StaticHold {
         let f = self.formulation();
-        let limits = self.control_limits();
         let motion = &f.task().motion;
         let tolerance_nm = f.hold_tolerance_nm();
-        let end = |q: &[f64]| {
+        let [start, goal] = self.end_couplings();
+        let end = |q: &[f64], coupling: &Coupling| {
+            let limits = self.control_limits_with(coupling);
             EndHold::at(
                 f.dynamics(),
-                self.coupling(),
+                coupling,
                 (f.space(), &limits),
                 q,
                 tolerance_nm,
@@ -263,9 +264,9 @@ impl TrajectoryProblem<'_> {
         StaticHold {
             judged: motion.ends.judges_hold(),
             tolerance_nm,
-            rows: HoldRows::of(f.space(), &limits),
-            start: end(&motion.start),
-            goal: end(&motion.goal),
+            rows: HoldRows::of(f.space(), &self.control_limits_with(start)),
+            start: end(&motion.start, start),
+            goal: end(&motion.goal, goal),
         }
     }
 }
@@ -284,19 +285,20 @@ impl Formulation {
     /// and 0 kg. The formulation's own payload is ignored.
     pub fn hold_capacity(&self, ratios: &[f64]) -> Result<Option<f64>, DesignError> {
         let problem = self.problem(ratios)?;
-        let limits = problem.control_limits();
         let robot = self.dynamics().robot();
         let empty = Dynamics::new(robot.with_payload(0.0));
         let unit = Dynamics::new(robot.with_payload(1.0));
-        let rows_at = |dynamics: &Dynamics, q: &[f64]| {
-            let u = control(self.space(), problem.coupling(), &gravity(dynamics, q));
-            limit_rows(&limits, &u)
+        let rows_at = |dynamics: &Dynamics, q: &[f64], coupling: &Coupling| {
+            let u = control(self.space(), coupling, &gravity(dynamics, q));
+            limit_rows(&problem.control_limits_with(coupling), &u)
         };
         let motion = &self.task().motion;
         let mut largest = f64::INFINITY;
-        for q in [&motion.start, &motion.goal] {
-            for ((value, lo, hi), (at_unit, _, _)) in
-                rows_at(&empty, q).into_iter().zip(rows_at(&unit, q))
+        let ends = [&motion.start, &motion.goal].into_iter();
+        for (q, coupling) in ends.zip(problem.end_couplings()) {
+            for ((value, lo, hi), (at_unit, _, _)) in rows_at(&empty, q, coupling)
+                .into_iter()
+                .zip(rows_at(&unit, q, coupling))
             {
                 if (hi - value).min(value - lo) < -self.hold_tolerance_nm() {
                     return Ok(None);

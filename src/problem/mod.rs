@@ -15,6 +15,9 @@ mod kind;
 mod layout;
 mod nlp;
 mod node;
+mod pose_rules;
+#[cfg(test)]
+mod pose_tests;
 mod sensitivity;
 #[cfg(test)]
 pub(crate) mod tests;

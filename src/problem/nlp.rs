@@ -8,18 +8,23 @@ use super::families::{self, elastic, At, Place};
 use super::formulation::Formulation;
 use super::hessian::NodeHessian;
 use super::kind::ProblemKind;
-use super::node::{Level, NodeEval};
+use super::node::{Level, NodeEval, NodePose};
 use crate::dynamics::Workspace;
 use crate::ipopt::{EvalError, Nlp};
-use crate::transmission::{Actuation, Coupling, DesignError, JointLimits, NodeLoss, Space};
+use crate::transmission::{
+    Actuation, Coupling, Depth, DesignError, JointLimits, NodeLoss, PoseError, Space,
+};
 
 /// The trajectory NLP of one design (see [`Formulation`]).
 #[derive(Clone, Debug)]
 pub struct TrajectoryProblem<'a> {
     formulation: &'a Formulation,
     ratios: Vec<f64>,
-    /// G(r), its inverse, and the controls' map to joint and motor torques.
+    /// G(r), its inverse, and the controls' map to joint and motor torques; G at the motion's
+    /// start for a pose-dependent transmission, whose nodes hold their own.
     actuation: Actuation,
+    /// G at the motion's start and goal: the static hold's.
+    ends: [Coupling; 2],
     /// One dynamics workspace per node k < N (all of the formulation's one model), so that each
     /// keeps its node's kinematics cached from one callback to the next (the Hessian reuses what
     /// the Jacobian computed at the same point).
@@ -35,14 +40,18 @@ pub struct TrajectoryProblem<'a> {
 
 impl<'a> TrajectoryProblem<'a> {
     pub(super) fn new(formulation: &'a Formulation, ratios: &[f64]) -> Result<Self, DesignError> {
-        // The coupling checks the design (bounds, order, G(r) invertible) before building G(r).
-        let coupling = formulation.transmission().coupling(ratios)?;
+        // The coupling checks the design (bounds, order, G invertible, the linkages closed at
+        // both ends) before building G.
+        let (transmission, motion) = (formulation.transmission(), &formulation.task().motion);
+        let dynamics = formulation.dynamics();
+        let start = transmission.coupling_at(ratios, (dynamics, &motion.start), "the start")?;
+        let goal = transmission.coupling_at(ratios, (dynamics, &motion.goal), "the goal")?;
         let (n, steps) = (formulation.layout().dof, formulation.layout().steps);
         Ok(TrajectoryProblem {
             formulation,
             ratios: ratios.to_vec(),
-            actuation: Actuation::new(coupling, formulation.space(), formulation.motor_dynamics())
-                .with_loss(formulation.transmission_loss()),
+            actuation: formulation.actuation(start.clone()),
+            ends: [start, goal],
             workspaces: (0..steps)
                 .map(|_| formulation.dynamics().workspace())
                 .collect(),
@@ -90,9 +99,52 @@ impl<'a> TrajectoryProblem<'a> {
         self.actuation.coupling()
     }
 
-    /// The actuation at this design: the controls' map to joint and motor torques.
+    /// The actuation at this design: the controls' map to joint and motor torques (at the
+    /// motion's start for a pose-dependent transmission: see [`TrajectoryProblem::actuation_at`]).
     pub fn actuation(&self) -> &Actuation {
         &self.actuation
+    }
+
+    /// G at the motion's start and goal.
+    pub fn end_couplings(&self) -> &[Coupling; 2] {
+        &self.ends
+    }
+
+    /// The actuation at pose q (rad): this design's for a constant G, G(q) for a
+    /// pose-dependent one, or why its linkages do not close there.
+    pub fn actuation_at(&self, q: &[f64]) -> Result<Actuation, PoseError> {
+        let f = self.formulation;
+        if !f.transmission().is_pose_dependent() {
+            return Ok(self.actuation.clone());
+        }
+        let mut data = f.dynamics().workspace();
+        let at = (f.transmission()).at_pose(
+            &self.ratios,
+            (f.dynamics(), &mut data),
+            q,
+            Depth::Second,
+        )?;
+        Ok(f.actuation(at.coupling))
+    }
+
+    /// The actuation at each node k <= N of the primal point x (see
+    /// [`TrajectoryProblem::actuation_at`]), or the first node whose linkages do not close.
+    pub fn node_actuations(&self, x: &[f64]) -> Result<Vec<Actuation>, (usize, PoseError)> {
+        let layout = self.formulation.layout();
+        (0..=layout.steps)
+            .map(|k| {
+                let q = &x[layout.q(k, 0)..layout.q(k, 0) + layout.dof];
+                self.actuation_at(q).map_err(|error| (k, error))
+            })
+            .collect()
+    }
+
+    /// The actuation at `node`: its own G(q_k) where the transmission depends on the pose,
+    /// this design's otherwise.
+    pub(super) fn actuation_of<'n>(&'n self, node: &'n NodeEval) -> &'n Actuation {
+        node.pose
+            .as_ref()
+            .map_or(&self.actuation, |pose| &pose.actuation)
     }
 
     /// Joint torques the links take at a node of speeds v and accelerations a under control u,
@@ -122,6 +174,11 @@ impl<'a> TrajectoryProblem<'a> {
     /// The box or linear rows that limit the controls u: |u_i| <= motor i's torque limit in
     /// actuation space, the formulation's torque mode in joint space, N m.
     pub fn control_limits(&self) -> JointLimits {
+        self.control_limits_with(self.coupling())
+    }
+
+    /// The same limits through `coupling`, G at some pose of a pose-dependent transmission.
+    pub fn control_limits_with(&self, coupling: &Coupling) -> JointLimits {
         let f = self.formulation;
         let limits = f.motor_torque_limits();
         match f.space() {
@@ -129,7 +186,7 @@ impl<'a> TrajectoryProblem<'a> {
                 lower: limits.iter().map(|limit| -limit).collect(),
                 upper: limits.to_vec(),
             },
-            Space::Joint => self.coupling().torque_limits(f.modes().torque, limits),
+            Space::Joint => coupling.torque_limits(f.modes().torque, limits),
         }
     }
 
@@ -148,11 +205,27 @@ impl<'a> TrajectoryProblem<'a> {
             )));
         }
         let (f, actuation) = (self.formulation, &self.actuation);
+        let depth = match level {
+            Level::Derivatives => Depth::Third,
+            Level::Nothing | Level::Values => Depth::Second,
+        };
         let nodes = self.nodes.iter_mut().zip(&mut self.workspaces);
         for (k, (node, data)) in nodes.enumerate() {
             let state = f.layout().node_state(x, k);
             node.evaluate(f.dynamics(), data, state, level);
-            node.loss = actuation.node_loss(&node.tau, state.1);
+            if f.transmission().is_pose_dependent() {
+                let at = (f.transmission())
+                    .at_pose(&self.ratios, (f.dynamics(), data), state.0, depth)
+                    .map_err(|error| EvalError(format!("node {k}: {error}")))?;
+                node.pose = Some(NodePose {
+                    actuation: f.actuation(at.coupling),
+                    rows: at.rows,
+                    speeds: state.1.to_vec(),
+                    controls: f.layout().controls(x, k).to_vec(),
+                });
+            }
+            let node_actuation = node.pose.as_ref().map_or(actuation, |pose| &pose.actuation);
+            node.loss = node_actuation.node_loss(&node.tau, state.1);
         }
         self.level = level;
         Ok(())
@@ -287,8 +360,12 @@ impl Nlp for TrajectoryProblem<'_> {
         let nodes = self.nodes.iter().zip(&mut self.workspaces);
         for (k, ((node, data), values)) in nodes.zip(values.chunks_mut(per_node)).enumerate() {
             let state = layout.node_state(x, k);
+            let actuation = node
+                .pose
+                .as_ref()
+                .map_or(&self.actuation, |pose| &pose.actuation);
             self.node_hessian
-                .evaluate((f, k, data), &cost, state, (node, &self.actuation), lambda);
+                .evaluate((f, k, data), &cost, state, (node, actuation), lambda);
             self.node_hessian
                 .write(f.node_hessian(), obj_factor, values);
         }

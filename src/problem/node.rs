@@ -1,8 +1,9 @@
 //! What the derivatives need at one trajectory node k < N, evaluated once per primal point.
 
 use crate::dynamics::{Dynamics, Workspace};
-use crate::transmission::NodeLoss;
-use nalgebra::{DMatrix, Vector3};
+use crate::transmission::linkage::RowDerivatives;
+use crate::transmission::{Actuation, NodeLoss};
+use nalgebra::{DMatrix, DVector, Vector3};
 
 /// How far the primal point's node data are evaluated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -30,6 +31,56 @@ pub(super) struct NodeEval {
     pub(super) tcp_jacobian: DMatrix<f64>,
     /// The transmissions' losses at tau and v_k with their derivatives, None where lossless.
     pub(super) loss: Option<NodeLoss>,
+    /// G(q_k) and its linkage rows' derivatives, None for a constant G(r).
+    pub(super) pose: Option<NodePose>,
+}
+
+/// The transmission at a node whose G depends on the pose (docs/model.md, section 17).
+#[derive(Clone, Debug)]
+pub(super) struct NodePose {
+    /// The actuation at q_k: G(q_k), its inverse, the controls' maps.
+    pub(super) actuation: Actuation,
+    /// Each linkage row's motor (row of G) and derivatives in q at q_k.
+    pub(super) rows: Vec<(usize, RowDerivatives)>,
+    /// The node's joint speeds v_k (rad/s) and controls u_k (N m) at the point evaluated.
+    pub(super) speeds: Vec<f64>,
+    pub(super) controls: Vec<f64>,
+}
+
+impl NodePose {
+    /// sum_i w_i d^2 gamma_i/dq^2 over the linkage rows, n x n: the derivative in q of G^T w.
+    pub(super) fn curvature(&self, w: &[f64]) -> DMatrix<f64> {
+        let n = w.len();
+        let mut sum = DMatrix::zeros(n, n);
+        for (motor, row) in &self.rows {
+            sum += &row.hessian * w[*motor];
+        }
+        sum
+    }
+
+    /// sum_i w_i d^3 gamma_i/dq^3 [x] over the linkage rows, n x n.
+    pub(super) fn third_along(&self, w: &[f64], x: &[f64]) -> DMatrix<f64> {
+        let n = w.len();
+        let mut sum = DMatrix::zeros(n, n);
+        for (motor, row) in &self.rows {
+            if w[*motor] != 0.0 {
+                sum += row.third_along(x) * w[*motor];
+            }
+        }
+        sum
+    }
+
+    /// d(G x)/dq at fixed x, n x n (row = motor): row i is (d^2 gamma_i/dq^2 x)^T for a
+    /// linkage row, zero for a constant one.
+    pub(super) fn derivative_along(&self, x: &[f64]) -> DMatrix<f64> {
+        let n = x.len();
+        let x = DVector::from_column_slice(x);
+        let mut derivative = DMatrix::zeros(n, n);
+        for (motor, row) in &self.rows {
+            derivative.set_row(*motor, &(&row.hessian * &x).transpose());
+        }
+        derivative
+    }
 }
 
 impl NodeEval {
@@ -43,6 +94,7 @@ impl NodeEval {
             tcp: Vector3::zeros(),
             tcp_jacobian: DMatrix::zeros(3, n),
             loss: None,
+            pose: None,
         }
     }
 

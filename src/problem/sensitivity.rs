@@ -12,38 +12,79 @@
 //! The result holds where the active set does not change with r; at a kink of an absolute
 //! value (a bound that is exactly 0, such as joint 4's torque under the `paper` mode) the
 //! one-sided derivatives differ and 0 is used.
+//!
+//! Where G depends on the pose (docs/model.md, section 17), each node's terms take dG/dr_l at
+//! that node's q_k.
 
 use super::families::{DesignDerivative, Place};
 use super::nlp::TrajectoryProblem;
 use crate::ipopt::Solution;
+use crate::transmission::{Depth, PoseError};
+use nalgebra::DMatrix;
 
 /// dJ*/dr at `solution`, a solution of `problem` (one entry per ratio). For the elastic kind
 /// (docs/model.md, section 14) the derivative of its optimal penalised objective: its slacks
 /// and their penalty do not depend on r, and the box speed limits it holds as rows enter
-/// through their bounds.
-pub fn cost_gradient(problem: &TrajectoryProblem<'_>, solution: &Solution) -> Vec<f64> {
+/// through their bounds. Where G depends on the pose, dG/dr_l is taken at each node's q_k; the
+/// error says where a linkage does not close on the solution's trajectory.
+pub fn cost_gradient(
+    problem: &TrajectoryProblem<'_>,
+    solution: &Solution,
+) -> Result<Vec<f64>, PoseError> {
     let f = problem.formulation();
     let layout = f.layout();
-    (0..f.transmission().num_ratios())
+    let per_node = node_derivatives(problem, solution)?;
+    let gradient = (0..f.transmission().num_ratios())
         .map(|l| {
             let dg = f.transmission().matrix_derivative(l);
-            let derivative = DesignDerivative {
+            let design = DesignDerivative {
                 dg_inv: problem.actuation().inverse_derivative(&dg),
                 dg,
             };
             let mut total = 0.0;
             for k in 0..layout.steps {
+                let derivative = per_node.as_ref().map_or(&design, |nodes| &nodes[k][l]);
                 for (id, family) in f.families() {
                     if let Some(row) = layout.first_row(*id, k) {
                         let place = Place { k, row };
-                        family.sensitivity(problem, solution, &derivative, place, &mut total);
+                        family.sensitivity(problem, solution, derivative, place, &mut total);
                     }
                 }
             }
             for (_, family) in f.families() {
-                family.bound_sensitivity(problem, solution, &derivative, &mut total);
+                family.bound_sensitivity(problem, solution, &design, &mut total);
             }
             total
         })
-        .collect()
+        .collect();
+    Ok(gradient)
+}
+
+/// For a pose-dependent transmission, dG/dr_l and d(G^-1)/dr_l at each node k < N of the
+/// solution (indexed [k][l]); None for a constant G(r).
+fn node_derivatives(
+    problem: &TrajectoryProblem<'_>,
+    solution: &Solution,
+) -> Result<Option<Vec<Vec<DesignDerivative>>>, PoseError> {
+    let f = problem.formulation();
+    let transmission = f.transmission();
+    if !transmission.is_pose_dependent() {
+        return Ok(None);
+    }
+    let (dynamics, layout) = (f.dynamics(), f.layout());
+    let mut data = dynamics.workspace();
+    let r = problem.ratios();
+    let mut nodes = Vec::with_capacity(layout.steps);
+    for k in 0..layout.steps {
+        let (q, _, _) = layout.node_state(&solution.x, k);
+        let at = transmission.at_pose(r, (dynamics, &mut data), q, Depth::Second)?;
+        let g_inv = at.coupling.inverse();
+        let derivatives = transmission.design_derivatives_at(r, (dynamics, &mut data), q)?;
+        let derivative = |dg: DMatrix<f64>| DesignDerivative {
+            dg_inv: -(g_inv * &dg * g_inv),
+            dg,
+        };
+        nodes.push(derivatives.into_iter().map(derivative).collect());
+    }
+    Ok(Some(nodes))
 }

@@ -238,81 +238,87 @@ fn random_point(problem: &TrajectoryProblem<'_>, seed: u64) -> Vec<f64> {
 #[test]
 fn sparse_derivatives_match_finite_differences() {
     for f in all_formulations() {
-        let mut problem = f.problem(&[7.0, 4.0, 2.0, 1.5]).unwrap();
-        let (n, m) = (problem.num_variables(), problem.num_constraints());
-        let x = random_point(&problem, 7);
-        let lambda: Vec<f64> = {
-            let mut rng = Random::new(11);
-            (0..m).map(|_| rng.unit() - 0.5).collect()
-        };
-        let obj_factor = 0.7;
-        let mut gradient = vec![0.0; n];
-        problem.gradient(&x, true, &mut gradient).unwrap();
-        let mut jacobian = vec![0.0; f.jacobian_nonzeros()];
-        problem.jacobian_values(&x, false, &mut jacobian).unwrap();
-        let mut hessian = vec![0.0; f.hessian_nonzeros()];
-        problem
-            .hessian_values(&x, false, obj_factor, &lambda, &mut hessian)
-            .unwrap();
-        let mut dense_jacobian = DMatrix::<f64>::zeros(m, n);
-        for (&(r, c), &value) in f.jacobian().iter().zip(&jacobian) {
-            dense_jacobian[(r, c)] += value;
+        assert_derivatives_match(&f, &[7.0, 4.0, 2.0, 1.5]);
+    }
+}
+
+/// The gradient, the Jacobian and the Hessian of `f`'s problem at design `ratios` against
+/// central differences at a point near the initial guess.
+pub(super) fn assert_derivatives_match(f: &Formulation, ratios: &[f64]) {
+    let mut problem = f.problem(ratios).unwrap();
+    let (n, m) = (problem.num_variables(), problem.num_constraints());
+    let x = random_point(&problem, 7);
+    let lambda: Vec<f64> = {
+        let mut rng = Random::new(11);
+        (0..m).map(|_| rng.unit() - 0.5).collect()
+    };
+    let obj_factor = 0.7;
+    let mut gradient = vec![0.0; n];
+    problem.gradient(&x, true, &mut gradient).unwrap();
+    let mut jacobian = vec![0.0; f.jacobian_nonzeros()];
+    problem.jacobian_values(&x, false, &mut jacobian).unwrap();
+    let mut hessian = vec![0.0; f.hessian_nonzeros()];
+    problem
+        .hessian_values(&x, false, obj_factor, &lambda, &mut hessian)
+        .unwrap();
+    let mut dense_jacobian = DMatrix::<f64>::zeros(m, n);
+    for (&(r, c), &value) in f.jacobian().iter().zip(&jacobian) {
+        dense_jacobian[(r, c)] += value;
+    }
+    let mut dense_hessian = DMatrix::<f64>::zeros(n, n);
+    for (&(r, c), &value) in f.hessian().iter().zip(&hessian) {
+        dense_hessian[(r, c)] += value;
+        if r != c {
+            dense_hessian[(c, r)] += value;
         }
-        let mut dense_hessian = DMatrix::<f64>::zeros(n, n);
-        for (&(r, c), &value) in f.hessian().iter().zip(&hessian) {
-            dense_hessian[(r, c)] += value;
-            if r != c {
-                dense_hessian[(c, r)] += value;
-            }
+    }
+    // Central differences of the objective/constraints and of the Lagrangian's gradient.
+    let lagrangian_gradient = |problem: &mut TrajectoryProblem<'_>, x: &[f64]| {
+        let mut grad = vec![0.0; n];
+        problem.gradient(x, true, &mut grad).unwrap();
+        let mut values = vec![0.0; f.jacobian_nonzeros()];
+        problem.jacobian_values(x, false, &mut values).unwrap();
+        let mut out: Vec<f64> = grad.iter().map(|g| obj_factor * g).collect();
+        for (&(r, c), &value) in f.jacobian().iter().zip(&values) {
+            out[c] += lambda[r] * value;
         }
-        // Central differences of the objective/constraints and of the Lagrangian's gradient.
-        let lagrangian_gradient = |problem: &mut TrajectoryProblem<'_>, x: &[f64]| {
-            let mut grad = vec![0.0; n];
-            problem.gradient(x, true, &mut grad).unwrap();
-            let mut values = vec![0.0; f.jacobian_nonzeros()];
-            problem.jacobian_values(x, false, &mut values).unwrap();
-            let mut out: Vec<f64> = grad.iter().map(|g| obj_factor * g).collect();
-            for (&(r, c), &value) in f.jacobian().iter().zip(&values) {
-                out[c] += lambda[r] * value;
-            }
-            out
-        };
-        let step = 1e-6;
-        for j in 0..n {
-            let (mut plus, mut minus) = (x.clone(), x.clone());
-            plus[j] += step;
-            minus[j] -= step;
-            let fd = (problem.objective(&plus, true).unwrap()
-                - problem.objective(&minus, true).unwrap())
-                / (2.0 * step);
+        out
+    };
+    let step = 1e-6;
+    for j in 0..n {
+        let (mut plus, mut minus) = (x.clone(), x.clone());
+        plus[j] += step;
+        minus[j] -= step;
+        let fd = (problem.objective(&plus, true).unwrap()
+            - problem.objective(&minus, true).unwrap())
+            / (2.0 * step);
+        assert!(
+            (fd - gradient[j]).abs() <= 1e-5 * (1.0 + fd.abs()),
+            "gradient[{j}]: {} vs fd {fd}",
+            gradient[j]
+        );
+        let (mut g_plus, mut g_minus) = (vec![0.0; m], vec![0.0; m]);
+        problem.constraints(&plus, true, &mut g_plus).unwrap();
+        problem.constraints(&minus, true, &mut g_minus).unwrap();
+        for i in 0..m {
+            let fd = (g_plus[i] - g_minus[i]) / (2.0 * step);
+            let exact = dense_jacobian[(i, j)];
             assert!(
-                (fd - gradient[j]).abs() <= 1e-5 * (1.0 + fd.abs()),
-                "gradient[{j}]: {} vs fd {fd}",
-                gradient[j]
+                (fd - exact).abs() <= 1e-5 * (1.0 + fd.abs()),
+                "jacobian ({i}, {j}): {exact} vs fd {fd}"
             );
-            let (mut g_plus, mut g_minus) = (vec![0.0; m], vec![0.0; m]);
-            problem.constraints(&plus, true, &mut g_plus).unwrap();
-            problem.constraints(&minus, true, &mut g_minus).unwrap();
-            for i in 0..m {
-                let fd = (g_plus[i] - g_minus[i]) / (2.0 * step);
-                let exact = dense_jacobian[(i, j)];
-                assert!(
-                    (fd - exact).abs() <= 1e-5 * (1.0 + fd.abs()),
-                    "jacobian ({i}, {j}): {exact} vs fd {fd}"
-                );
-            }
-            let (l_plus, l_minus) = (
-                lagrangian_gradient(&mut problem, &plus),
-                lagrangian_gradient(&mut problem, &minus),
+        }
+        let (l_plus, l_minus) = (
+            lagrangian_gradient(&mut problem, &plus),
+            lagrangian_gradient(&mut problem, &minus),
+        );
+        for i in 0..n {
+            let fd = (l_plus[i] - l_minus[i]) / (2.0 * step);
+            let exact = dense_hessian[(i, j)];
+            assert!(
+                (fd - exact).abs() <= 1e-5 * (1.0 + fd.abs()),
+                "hessian ({i}, {j}): {exact} vs fd {fd}"
             );
-            for i in 0..n {
-                let fd = (l_plus[i] - l_minus[i]) / (2.0 * step);
-                let exact = dense_hessian[(i, j)];
-                assert!(
-                    (fd - exact).abs() <= 1e-5 * (1.0 + fd.abs()),
-                    "hessian ({i}, {j}): {exact} vs fd {fd}"
-                );
-            }
         }
     }
 }
@@ -320,34 +326,39 @@ fn sparse_derivatives_match_finite_differences() {
 #[test]
 fn ipopt_derivative_checker_finds_nothing() {
     for f in all_formulations() {
-        // IPOPT's random point moves the slacks too (see `random_point`): the elastic kind is
-        // checked at the initial guess, where they are 0.
-        let points = match f.kind() {
-            ProblemKind::Hard => &[("initial guess", 0.0), ("random interior point", 0.05)][..],
-            ProblemKind::Elastic => &[("initial guess", 0.0)][..],
-        };
-        for &(point, radius) in points {
-            let mut problem = f.problem(&[6.0, 3.0, 1.0, 1.0]).unwrap();
-            let options = Options::new()
-                .num("point_perturbation_radius", radius)
-                .num("derivative_test_perturbation", 1e-7)
-                .num("derivative_test_tol", 1e-4);
-            let report =
-                check_derivatives(&mut problem, &options, DerivativeOrder::Second).unwrap();
-            assert_eq!(
-                report.errors,
-                0,
-                "{:?} {} space, modes {:?}, motors {:?} {:?} {:?}, {:?}, {point}: {:?}",
-                f.kind(),
-                f.space(),
-                f.modes(),
-                f.motor_dynamics(),
-                f.envelope(),
-                f.transmission_loss(),
-                f.criterion(),
-                &report.flagged[..report.flagged.len().min(10)]
-            );
-        }
+        assert_checker_finds_nothing(&f, &[6.0, 3.0, 1.0, 1.0]);
+    }
+}
+
+/// IPOPT's derivative checker on `f`'s problem at design `ratios`: at the initial guess and
+/// (hard kind) at a random interior point.
+pub(super) fn assert_checker_finds_nothing(f: &Formulation, ratios: &[f64]) {
+    // IPOPT's random point moves the slacks too (see `random_point`): the elastic kind is
+    // checked at the initial guess, where they are 0.
+    let points = match f.kind() {
+        ProblemKind::Hard => &[("initial guess", 0.0), ("random interior point", 0.05)][..],
+        ProblemKind::Elastic => &[("initial guess", 0.0)][..],
+    };
+    for &(point, radius) in points {
+        let mut problem = f.problem(ratios).unwrap();
+        let options = Options::new()
+            .num("point_perturbation_radius", radius)
+            .num("derivative_test_perturbation", 1e-7)
+            .num("derivative_test_tol", 1e-4);
+        let report = check_derivatives(&mut problem, &options, DerivativeOrder::Second).unwrap();
+        assert_eq!(
+            report.errors,
+            0,
+            "{:?} {} space, modes {:?}, motors {:?} {:?} {:?}, {:?}, {point}: {:?}",
+            f.kind(),
+            f.space(),
+            f.modes(),
+            f.motor_dynamics(),
+            f.envelope(),
+            f.transmission_loss(),
+            f.criterion(),
+            &report.flagged[..report.flagged.len().min(10)]
+        );
     }
 }
 

@@ -149,7 +149,7 @@ fn elastic_objective_gradient_with_the_envelope_matches_differences() {
         assert!(measures.speed_excess > 1e-3, "{speed:?}: {measures:?}");
         let gradient = measures.objective_gradient.clone().unwrap();
         let label = format!("{speed:?} elastic with the envelope");
-        assert_matches_differences(&label, &gradient, ratios, |r| {
+        assert_matches_differences(&label, &gradient, &ratios, |r| {
             solve(r, Some(&solution)).0.elastic.unwrap().objective
         });
     }

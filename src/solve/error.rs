@@ -2,7 +2,7 @@
 
 use crate::ipopt;
 use crate::problem::FormulationError;
-use crate::transmission::DesignError;
+use crate::transmission::{DesignError, PoseError};
 use std::fmt;
 
 /// Why a design could not be solved at all. (A design that is valid but infeasible is not an
@@ -15,6 +15,13 @@ pub enum SolveError {
     Ipopt(ipopt::Error),
     /// The problem could not be formulated at a payload of the payload continuation.
     Formulation(FormulationError),
+    /// A linkage of the transmission does not close at a node of the solution read back.
+    Pose {
+        /// The node k.
+        node: usize,
+        /// Which linkage, and what it lacks.
+        error: PoseError,
+    },
 }
 
 impl fmt::Display for SolveError {
@@ -23,6 +30,9 @@ impl fmt::Display for SolveError {
             SolveError::Design(error) => write!(f, "invalid design: {error}"),
             SolveError::Ipopt(error) => write!(f, "{error}"),
             SolveError::Formulation(error) => write!(f, "payload continuation: {error}"),
+            SolveError::Pose { node, error } => {
+                write!(f, "at node {node} of the solution: {error}")
+            }
         }
     }
 }

@@ -145,7 +145,7 @@ fn the_energy_criterion_minimises_the_copper_losses() {
         result.cost
     );
     let gradient = result.cost_gradient.clone().unwrap();
-    super::tests::assert_matches_differences("energy", &gradient, ratios, |r| {
+    super::tests::assert_matches_differences("energy", &gradient, &ratios, |r| {
         solve_design(&formulation, r, &settings).unwrap().cost
     });
 }

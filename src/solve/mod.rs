@@ -46,6 +46,8 @@ mod certify_tests;
 #[cfg(test)]
 mod envelope_tests;
 #[cfg(test)]
+mod linkage_tests;
+#[cfg(test)]
 mod loss_tests;
 #[cfg(test)]
 mod tests;

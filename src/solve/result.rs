@@ -3,10 +3,12 @@
 
 use super::execute::MotorsExecute;
 use super::figures::PhysicalFigures;
+use super::SolveError;
 use crate::ipopt::{LinearSolver, Nlp, Solution};
 use crate::problem::{
     cost_gradient, relaxation, Criterion, Formulation, ProblemKind, StaticHold, TrajectoryProblem,
 };
+use crate::transmission::Actuation;
 use serde::{Deserialize, Serialize};
 
 /// Which program and solver produced a result file.
@@ -288,8 +290,10 @@ pub(super) fn read_result(
     problem: &mut TrajectoryProblem<'_>,
     solution: &Solution,
     tol: f64,
-) -> TrajectoryResult {
-    let trajectory = read_trajectory(problem, &solution.x);
+) -> Result<TrajectoryResult, SolveError> {
+    let actuations = (problem.node_actuations(&solution.x))
+        .map_err(|(node, error)| SolveError::Pose { node, error })?;
+    let trajectory = read_trajectory(problem, &solution.x, &actuations);
     let violations = Violations::of(problem, &solution.x, &trajectory);
     let (cost, elastic) = cost_and_measures(problem, solution);
     let f = problem.formulation();
@@ -305,7 +309,7 @@ pub(super) fn read_result(
     let reason = (!feasible).then(|| reasons.join("; "));
     let electrical =
         (f.task().motors).electrical(trajectory.motor_torque.first().map_or(0, Vec::len));
-    TrajectoryResult {
+    Ok(TrajectoryResult {
         ratios: problem.ratios().to_vec(),
         status: solution.status.name(),
         feasible,
@@ -342,7 +346,7 @@ pub(super) fn read_result(
         cost_gradient: feasible
             .then(|| match &elastic {
                 Some(measures) => measures.objective_gradient.clone(),
-                None => Some(cost_gradient(problem, solution)),
+                None => cost_gradient(problem, solution).ok(),
             })
             .flatten(),
         static_hold: Some(static_hold),
@@ -351,7 +355,7 @@ pub(super) fn read_result(
         joints: f.dynamics().robot().joint_names().to_vec(),
         figures: PhysicalFigures::of(&trajectory, electrical.as_deref()),
         trajectory,
-    }
+    })
 }
 
 /// The cost J at `solution` and, for an elastic problem, what its slacks relax. IPOPT's objective
@@ -375,7 +379,8 @@ fn cost_and_measures(
         objective_gradient: solution
             .status
             .is_success()
-            .then(|| cost_gradient(problem, solution)),
+            .then(|| cost_gradient(problem, solution).ok())
+            .flatten(),
     };
     (objective - relaxed.penalty, Some(measures))
 }
@@ -455,8 +460,13 @@ fn cost_terms(problem: &TrajectoryProblem<'_>, x: &[f64], trajectory: &Trajector
     }
 }
 
-/// The trajectory of `problem`'s primal point x: states, torques, motor speeds, the TCP's path.
-fn read_trajectory(problem: &TrajectoryProblem<'_>, x: &[f64]) -> Trajectory {
+/// The trajectory of `problem`'s primal point x, whose nodes k <= N have the actuations
+/// `actuations`: states, torques, motor speeds, the TCP's path.
+fn read_trajectory(
+    problem: &TrajectoryProblem<'_>,
+    x: &[f64],
+    actuations: &[Actuation],
+) -> Trajectory {
     let f = problem.formulation();
     let layout = f.layout();
     let (n, steps, h) = (layout.dof, layout.steps, f.step_s());
@@ -471,25 +481,26 @@ fn read_trajectory(problem: &TrajectoryProblem<'_>, x: &[f64]) -> Trajectory {
         trajectory.tcp_x.push(tcp[0]);
         trajectory.tcp_y.push(tcp[1]);
         trajectory.tcp_z.push(tcp[2]);
+        let actuation = &actuations[k];
         trajectory
             .motor_speed
-            .push(problem.coupling().motor_speeds(&v));
+            .push(actuation.coupling().motor_speeds(&v));
         if k < steps {
             let (u, a) = (slice(layout.u(k, 0)), slice(layout.a(k, 0)));
-            let loss = problem.actuation().loss().map(|_| {
+            let loss = actuation.loss().map(|_| {
                 let mut tau = vec![0.0; n];
                 dynamics.rnea(&mut data, &q, &v, &a, &mut tau);
-                let loss = problem.actuation().node_loss(&tau, &v);
+                let loss = actuation.node_loss(&tau, &v);
                 loss.expect("the actuation has losses")
             });
             trajectory
                 .joint_torque
-                .push(problem.joint_torques((&v, &a), &u, loss.as_ref()));
+                .push(actuation.link_torques((&v, &a), &u, loss.as_ref()));
             if let Some(loss) = &loss {
                 trajectory.transmission_loss.push(loss.motor_torques());
             }
             trajectory.a.push(a);
-            trajectory.motor_torque.push(problem.motor_torques(&u));
+            trajectory.motor_torque.push(actuation.motor_torques(&u));
         }
         trajectory.q.push(q);
         trajectory.v.push(v);

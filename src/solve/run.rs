@@ -51,7 +51,10 @@ pub(super) fn solve_once(
         );
     }
     let solution = ipopt::solve_from(&mut problem, &options, warm)?;
-    Ok((read_result(&mut problem, &solution, settings.tol), solution))
+    Ok((
+        read_result(&mut problem, &solution, settings.tol)?,
+        solution,
+    ))
 }
 
 /// IPOPT's default `nlp_scaling_max_gradient`: its gradient-based scaling scales the objective

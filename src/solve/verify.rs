@@ -30,6 +30,13 @@ impl Violations {
         let limits = f.dynamics().robot().position_limits();
         let speed = problem.speed_limits();
         let control = problem.control_limits();
+        // Through G(q_k) at each node: the motor speeds and torques the trajectory records.
+        let posed = f.transmission().is_pose_dependent();
+        let motor_limits = |values: &[Vec<f64>], limits: &[f64]| {
+            (values.iter().flat_map(|row| row.iter().zip(limits)))
+                .map(|(&value, &limit)| outside(value, -limit, limit))
+                .fold(0.0, f64::max)
+        };
         Violations {
             dynamics: dynamics_residual(problem, trajectory),
             integration: integration_residual(h, trajectory),
@@ -43,14 +50,18 @@ impl Violations {
                         .map(|(&q, &(lo, hi))| outside(q, lo, hi))
                 })
                 .fold(0.0, f64::max),
-            speed_limits: trajectory
-                .v
-                .iter()
-                .map(|v| limit_violation(&speed, v))
-                .fold(0.0, f64::max),
-            control_limits: (0..layout.steps)
-                .map(|k| limit_violation(&control, &x[layout.u(k, 0)..layout.u(k, 0) + n]))
-                .fold(0.0, f64::max),
+            speed_limits: match posed {
+                true => motor_limits(&trajectory.motor_speed, f.motor_speed_limits()),
+                false => (trajectory.v.iter())
+                    .map(|v| limit_violation(&speed, v))
+                    .fold(0.0, f64::max),
+            },
+            control_limits: match posed {
+                true => motor_limits(&trajectory.motor_torque, f.motor_torque_limits()),
+                false => (0..layout.steps)
+                    .map(|k| limit_violation(&control, &x[layout.u(k, 0)..layout.u(k, 0) + n]))
+                    .fold(0.0, f64::max),
+            },
             cartesian_box: box_violation(problem, trajectory),
             motor_envelope: least_envelope_margin(f, trajectory)
                 .map(|least| (-least.margin_nm).max(0.0)),

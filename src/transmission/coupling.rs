@@ -42,11 +42,9 @@ impl Transmission {
     /// The coupling at a valid design: G(r) and its inverse, computed once.
     pub fn coupling(&self, r: &[f64]) -> Result<Coupling, DesignError> {
         self.check_design(r)?;
-        let matrix = self.matrix(r);
-        let inverse = matrix.clone().try_inverse().ok_or_else(|| {
+        Coupling::new(self.matrix(r)).ok_or_else(|| {
             DesignError::new("G(r) is not invertible: its LU factorisation failed".to_owned())
-        })?;
-        Ok(Coupling { matrix, inverse })
+        })
     }
 }
 
@@ -58,6 +56,12 @@ pub struct Coupling {
 }
 
 impl Coupling {
+    /// G with its inverse, None where G is singular.
+    pub fn new(matrix: DMatrix<f64>) -> Option<Coupling> {
+        let inverse = matrix.clone().try_inverse()?;
+        Some(Coupling { matrix, inverse })
+    }
+
     /// G (row = motor, column = joint).
     pub fn matrix(&self) -> &DMatrix<f64> {
         &self.matrix

@@ -12,7 +12,9 @@
 //! - `limits`: the joint torque and speed limits of each [`LimitMode`](crate::model::task::LimitMode);
 //! - `actuation`: the controls' map to joint and motor torques at one design ([`Actuation`]);
 //! - `envelope`: the motors' linear torque-speed envelope ([`Envelope`]);
-//! - `loss`: the transmissions' losses under an efficiency ([`TransmissionLoss`]).
+//! - `loss`: the transmissions' losses under an efficiency ([`TransmissionLoss`]);
+//! - `linkage`: rows whose motor angle depends on the pose, as geometry;
+//! - `pose`: G(q; r) of a transmission with such rows ([`PoseCoupling`]).
 
 mod active;
 mod actuation;
@@ -22,6 +24,7 @@ mod envelope;
 mod limits;
 pub mod linkage;
 mod loss;
+mod pose;
 mod spec;
 
 pub use active::{ActiveBound, BoundSide};
@@ -31,6 +34,7 @@ pub use design_space::{DesignError, DesignSpace, HalfSpace, OrderConstraint};
 pub use envelope::{Envelope, Side};
 pub use limits::{limit_weights, JointLimits};
 pub use loss::{MotorLoss, NodeLoss, TransmissionLoss, SPEED_SMOOTHING, TORQUE_SMOOTHING};
+pub use pose::{Depth, PoseCoupling, PoseError, PoseRow};
 pub use spec::SpecError;
 
 use spec::Entry;
@@ -39,8 +43,10 @@ use spec::Entry;
 #[derive(Clone, Debug)]
 pub struct Transmission {
     dof: usize,
-    /// Row-major entries of G.
+    /// Row-major entries of G (0 in a linkage row).
     entries: Vec<Entry>,
+    /// The rows that depend on the pose, in the order of their motors.
+    linkages: Vec<PoseRow>,
     space: DesignSpace,
 }
 

@@ -3,7 +3,10 @@
 //! naming the field at fault.
 
 use super::design_space::{DesignSpace, OrderConstraint};
-use super::Transmission;
+use super::linkage::{Linkage, ResolveError};
+use super::{PoseRow, Transmission};
+use crate::dynamics::Dynamics;
+use crate::model::matrix_row::LinkageSpec;
 use crate::model::task::{MatrixEntry, MatrixRow, TransmissionSpec};
 use crate::text::number;
 use std::fmt;
@@ -94,15 +97,16 @@ pub enum SpecError {
         /// The number of ratios.
         ratios: usize,
     },
-    /// `transmission.matrix[row]` is a linkage, whose ratio changes with the pose: read and
-    /// checked ([`super::linkage::Linkage::resolve`]), but not yet posed by the trajectory
-    /// problem.
+    /// `transmission.matrix[row]` is a linkage, whose ratio changes with the pose, read where
+    /// the robot is unknown ([`Transmission::from_spec`]; [`Transmission::on_chain`] reads it).
     PoseDependent {
         /// Row of G (motor).
         row: usize,
         /// The linkage's key: `linear` or `crank_rod`.
         kind: &'static str,
     },
+    /// A linkage row that cannot be resolved on the robot.
+    Linkage(ResolveError),
     /// `transmission.order[index]` compares a ratio with itself.
     OrderWithItself {
         /// Which constraint.
@@ -168,9 +172,9 @@ impl fmt::Display for SpecError {
             SpecError::PoseDependent { row, kind } => write!(
                 f,
                 "transmission.matrix[{row}] is a {kind} linkage, whose ratio changes with the \
-                 pose: this version reads such rows but cannot yet pose them in the trajectory \
-                 problem; give the row as constant entries, one per joint"
+                 pose: it needs the robot's geometry, which this reading of the task lacks"
             ),
+            SpecError::Linkage(error) => error.fmt(f),
             SpecError::OrderWithItself { index, text } => write!(
                 f,
                 "transmission.order[{index}] = {text:?} compares a ratio with itself"
@@ -268,8 +272,13 @@ fn check_bounds(spec: &TransmissionSpec) -> Result<(), SpecError> {
     }
 }
 
-/// The row-major entries of the square matrix, with the matrix's size.
-fn parse_matrix(matrix: &[MatrixRow], count: usize) -> Result<(usize, Vec<Entry>), SpecError> {
+/// The row-major entries of the square matrix, with the matrix's size; a linkage row is given
+/// to `linkage` with its index and has zero entries.
+fn parse_matrix(
+    matrix: &[MatrixRow],
+    count: usize,
+    linkage: &mut dyn FnMut(usize, &LinkageSpec) -> Result<(), SpecError>,
+) -> Result<(usize, Vec<Entry>), SpecError> {
     let dof = matrix.len();
     if dof == 0 {
         return Err(SpecError::EmptyMatrix);
@@ -278,11 +287,10 @@ fn parse_matrix(matrix: &[MatrixRow], count: usize) -> Result<(usize, Vec<Entry>
     for (row, values) in matrix.iter().enumerate() {
         let values = match values {
             MatrixRow::Entries(values) => values,
-            MatrixRow::Linkage(linkage) => {
-                return Err(SpecError::PoseDependent {
-                    row,
-                    kind: linkage.kind(),
-                })
+            MatrixRow::Linkage(spec) => {
+                linkage(row, spec)?;
+                entries.extend((0..dof).map(|_| Entry::Constant(0.0)));
+                continue;
             }
         };
         if values.len() != dof {
@@ -331,14 +339,47 @@ impl Transmission {
     /// `r<i> <= r<j>` or `r<i> < r<j>` with i != j. Errors name the field, e.g.
     /// `transmission.matrix[2][1]` (0-based indices). The original design is not held to the
     /// design space here: [`Transmission::check_design`] does that.
+    /// A linkage row is refused ([`SpecError::PoseDependent`]): it needs the robot
+    /// ([`Transmission::on_chain`]).
     pub fn from_spec(spec: &TransmissionSpec) -> Result<Transmission, SpecError> {
+        Transmission::parse(spec, &mut |row, linkage| {
+            Err(SpecError::PoseDependent {
+                row,
+                kind: linkage.kind(),
+            })
+        })
+    }
+
+    /// Parses and checks the spec as [`Transmission::from_spec`] does, and resolves its linkage
+    /// rows on the chain of `dynamics` (docs/model.md, section 17).
+    pub fn on_chain(
+        spec: &TransmissionSpec,
+        dynamics: &Dynamics,
+    ) -> Result<Transmission, SpecError> {
+        let mut linkages = Vec::new();
+        let mut transmission = Transmission::parse(spec, &mut |row, linkage| {
+            let resolved = Linkage::resolve(linkage, row, dynamics, &spec.original)
+                .map_err(SpecError::Linkage)?;
+            linkages.push(PoseRow::new(row, resolved));
+            Ok(())
+        })?;
+        transmission.linkages = linkages;
+        Ok(transmission)
+    }
+
+    /// The transmission of `spec`, each linkage row handed to `linkage`.
+    fn parse(
+        spec: &TransmissionSpec,
+        linkage: &mut dyn FnMut(usize, &LinkageSpec) -> Result<(), SpecError>,
+    ) -> Result<Transmission, SpecError> {
         check_bounds(spec)?;
         let count = spec.bounds.len();
-        let (dof, entries) = parse_matrix(&spec.matrix, count)?;
+        let (dof, entries) = parse_matrix(&spec.matrix, count, linkage)?;
         let order = parse_orders(&spec.order, count)?;
         Ok(Transmission {
             dof,
             entries,
+            linkages: Vec::new(),
             space: DesignSpace::new(spec.original.clone(), spec.bounds.clone(), order),
         })
     }

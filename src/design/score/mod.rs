@@ -185,9 +185,11 @@ pub fn solve(
 ) -> Result<(TrajectoryResult, Solution), Verdict> {
     solve_design_from(formulation, ratios, settings, warm).map_err(|error| match error {
         SolveError::Design(error) => invalid(formulation.transmission(), ratios, &error),
-        SolveError::Ipopt(_) | SolveError::Formulation(_) => Verdict::SolverError {
-            message: error.to_string(),
-        },
+        SolveError::Ipopt(_) | SolveError::Formulation(_) | SolveError::Pose { .. } => {
+            Verdict::SolverError {
+                message: error.to_string(),
+            }
+        }
     })
 }
 

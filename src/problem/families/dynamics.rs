@@ -9,10 +9,14 @@
 //! and C's pattern in u; their Hessian is lambda . RNEA's, plus the losses' (docs/model.md,
 //! sections 3 and 8); their design sensitivity is the actuation's residual derivative and the
 //! losses'.
+//!
+//! Where G depends on the pose (docs/model.md, section 17), C = G(q)^T in actuation space adds
+//! -sum_i u_i d^2 gamma_i/dq^2 to the q columns, and the Hessian's q-q block
+//! -sum_i u_i d^3 gamma_i/dq^3 [lambda] and u-q block -d^2 gamma_i/dq^2 lambda (row i).
 
 use super::{
-    emit_slacks, slack_shift, At, DesignDerivative, Emit, Family, FamilyId, NodeSecondOrder, Place,
-    Shape,
+    emit_slacks, slack_shift, At, Blocks, DesignDerivative, Emit, Family, FamilyId,
+    NodeSecondOrder, Place, Shape,
 };
 use crate::ipopt::Solution;
 use crate::problem::layout::RowBlock;
@@ -27,6 +31,8 @@ use std::sync::Arc;
 struct Dynamics {
     /// The pattern of d(tau_i)/d(u_j): G^T's in actuation space, the identity's in joint space.
     control_pattern: DMatrix<f64>,
+    /// Whether C = G(q)^T depends on the pose (actuation space, a linkage row).
+    posed: bool,
 }
 
 /// Every formulation has them.
@@ -35,7 +41,11 @@ pub(super) fn of(shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
         Space::Actuation => shape.g_pattern.transpose(),
         Space::Joint => DMatrix::identity(shape.dof, shape.dof),
     };
-    Some(Arc::new(Dynamics { control_pattern }))
+    let posed = shape.space == Space::Actuation && !shape.linkages.is_empty();
+    Some(Arc::new(Dynamics {
+        control_pattern,
+        posed,
+    }))
 }
 
 /// value + m[(i, j)], or value itself without m (no rounding where there is nothing to add).
@@ -63,8 +73,9 @@ impl Family for Dynamics {
         let layout = p.formulation().layout();
         let u = layout.controls(x, k);
         let (_, v, a) = layout.node_state(x, k);
+        let actuation = p.actuation_of(node);
         for i in 0..layout.dof {
-            g[row + i] = p.actuation().residual(i, &node.tau, (v, a), u);
+            g[row + i] = actuation.residual(i, &node.tau, (v, a), u);
             if let Some(loss) = &node.loss {
                 g[row + i] += loss.joint_torques()[i];
             }
@@ -76,12 +87,15 @@ impl Family for Dynamics {
 
     fn jacobian(&self, at: &At<'_>, node: &NodeEval, Place { k, row }: Place, emit: &mut Emit<'_>) {
         let layout = at.formulation().layout();
-        let control = at.pick(|p| p.actuation().control_map(), &self.control_pattern);
-        let reflected = match at {
-            At::Structure(_) => None,
-            At::Design(p) => p.actuation().reflected(),
-        };
+        let actuation = at.actuation(node);
+        let control = actuation.map_or(&self.control_pattern, |a| a.control_map());
+        let reflected = actuation.and_then(|a| a.reflected());
         let (inertia, damping) = (reflected.map(|r| r.0), reflected.map(|r| r.1));
+        // d(G(q)^T u)/dq, subtracted from the q columns.
+        let curvature = match (&node.pose, actuation) {
+            (Some(pose), Some(_)) if self.posed => Some(-pose.curvature(&pose.controls)),
+            _ => None,
+        };
         let losses = (node.loss.as_ref())
             .map(|loss| loss.jacobian_blocks((&node.dtau_dq, &node.dtau_dv, &node.mass)));
         let [dq, dv, da] = [0, 1, 2].map(|b| losses.as_ref().map(|blocks| &blocks[b]));
@@ -89,7 +103,8 @@ impl Family for Dynamics {
         for i in 0..n {
             let r = row + i;
             for j in 0..n {
-                emit(r, layout.q(k, j), plus(node.dtau_dq[(i, j)], dq, (i, j)));
+                let value = plus(node.dtau_dq[(i, j)], curvature.as_ref(), (i, j));
+                emit(r, layout.q(k, j), plus(value, dq, (i, j)));
             }
             for j in 0..n {
                 let value = plus(node.dtau_dv[(i, j)], damping, (i, j));
@@ -110,7 +125,19 @@ impl Family for Dynamics {
 
     /// lambda . RNEA's Hessian; with losses, RNEA's under the multipliers that carry the
     /// losses' first derivative in tau, and the losses' own second derivatives.
-    fn hessian(&self, node: NodeSecondOrder<'_>, block: &mut DMatrix<f64>) {
+    fn hessian(&self, node: NodeSecondOrder<'_>, (block, mixed): Blocks<'_>) {
+        if self.posed {
+            if let Some(pose) = &node.node.pose {
+                let n = mixed.nrows();
+                let third = pose.third_along(&pose.controls, node.multipliers);
+                for j in 0..n {
+                    for i in 0..n {
+                        block[(i, j)] -= third[(i, j)];
+                    }
+                }
+                *mixed -= pose.derivative_along(node.multipliers);
+            }
+        }
         let (q, v, a) = node.state;
         let hessian = node.scratch;
         let coupling = node.actuation.coupling();

@@ -27,7 +27,7 @@ use super::node::NodeEval;
 use crate::dynamics::{Dynamics, Workspace};
 use crate::ipopt::Solution;
 use crate::model::task::LimitModes;
-use crate::transmission::{Actuation, Envelope, Space};
+use crate::transmission::{Actuation, Envelope, PoseRow, Space};
 use nalgebra::{DMatrix, DVector};
 use std::fmt;
 use std::sync::Arc;
@@ -101,8 +101,10 @@ pub(super) struct Shape<'a> {
     pub(super) modes: LimitModes,
     pub(super) kind: ProblemKind,
     pub(super) envelope: Option<&'a Envelope>,
-    /// Structural non-zeros of G over the whole design space.
+    /// Structural non-zeros of G over the whole design space (and every pose).
     pub(super) g_pattern: &'a DMatrix<f64>,
+    /// The rows of G that depend on the pose; empty for a constant G(r).
+    pub(super) linkages: &'a [PoseRow],
 }
 
 /// The families of `shape`, in order, with their ids.
@@ -137,6 +139,15 @@ impl At<'_> {
         match self {
             At::Structure(formulation) => formulation,
             At::Design(problem) => problem.formulation(),
+        }
+    }
+
+    /// The actuation at `node` (its own G(q_k) where G depends on the pose), None for the
+    /// structure.
+    pub(super) fn actuation<'n>(&'n self, node: &'n NodeEval) -> Option<&'n Actuation> {
+        match self {
+            At::Structure(_) => None,
+            At::Design(problem) => Some(problem.actuation_of(node)),
         }
     }
 
@@ -181,6 +192,9 @@ pub(super) struct NodeSecondOrder<'a> {
     pub(super) scratch: &'a mut DMatrix<f64>,
 }
 
+/// A node's Hessian blocks a family adds to: (q, v, a) x (q, v, a), 3n x 3n, and u x q, n x n.
+pub(super) type Blocks<'b> = (&'b mut DMatrix<f64>, &'b mut DMatrix<f64>);
+
 /// One family of constraints (see the module's documentation). Every method has a default
 /// that adds nothing, for the families that have no such part.
 pub(super) trait Family: fmt::Debug + Send + Sync {
@@ -217,9 +231,10 @@ pub(super) trait Family: fmt::Debug + Send + Sync {
     /// Visits its rows' Jacobian entries at `place` in their fixed order.
     fn jacobian(&self, _at: &At<'_>, _node: &NodeEval, _place: Place, _emit: &mut Emit<'_>) {}
 
-    /// Adds lambda . its rows' second derivatives in (q, v, a) at a node into `block` (3n x
-    /// 3n, lower triangle used); linear families add nothing.
-    fn hessian(&self, _node: NodeSecondOrder<'_>, _block: &mut DMatrix<f64>) {}
+    /// Adds lambda . its rows' second derivatives at a node: in (q, v, a) into `block` (3n x
+    /// 3n, lower triangle used), in u and q into `mixed` (n x n, row = control, column =
+    /// joint); linear families add nothing.
+    fn hessian(&self, _node: NodeSecondOrder<'_>, _blocks: Blocks<'_>) {}
 
     /// Adds lambda . d(rows)/dr_l at `place` to `total`, at `solution`.
     fn sensitivity(

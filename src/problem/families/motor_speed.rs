@@ -4,13 +4,17 @@
 //! - the elastic kind in the box modes `paper` and `interval`: the joint speeds v_k within the
 //!   mode's box, as rows instead of variable bounds, so that a slack can relax them.
 //!
-//! The elastic kind shifts each row by its speed excess e-_k - e+_k. Linear in v: no Hessian.
+//! The elastic kind shifts each row by its speed excess e-_k - e+_k. Linear in v: no Hessian,
+//! except where G depends on the pose (docs/model.md, section 17): a linkage row's G_i(q) v has
+//! the q columns (d^2 gamma_i/dq^2 v)^T, and the Hessian's q-q block
+//! sum_i lambda_i d^3 gamma_i/dq^3 [v] and v-q block sum_i lambda_i d^2 gamma_i/dq^2.
 //! The design enters through G (mode `exact`: lambda . dG_l v) or through the box's bounds (the
 //! active bound's term -|lambda| . db/dr_l).
 
 use super::joint_limits::box_bound_derivative;
 use super::{
-    emit_slacks, segment, slack_shift, At, DesignDerivative, Emit, Family, FamilyId, Place, Shape,
+    emit_slacks, segment, slack_shift, At, Blocks, DesignDerivative, Emit, Family, FamilyId,
+    NodeSecondOrder, Place, Shape,
 };
 use crate::ipopt::Solution;
 use crate::model::task::LimitMode;
@@ -20,6 +24,7 @@ use crate::problem::nlp::TrajectoryProblem;
 use crate::problem::node::NodeEval;
 use crate::transmission::JointLimits;
 use nalgebra::{DMatrix, DVector};
+use std::ops::Range;
 use std::sync::Arc;
 
 /// The speed rows A v_k: A = G (mode `exact`) or the identity (the elastic kind's box rows).
@@ -29,6 +34,8 @@ struct MotorSpeed {
     boxed: bool,
     /// A's structural non-zeros: G's, or the identity's.
     pattern: DMatrix<f64>,
+    /// The linkage rows of G(q) (mode `exact`): each motor and the joints it spans.
+    linkages: Vec<(usize, Range<usize>)>,
 }
 
 /// Rows in speed mode `exact`, and in every mode of the elastic kind.
@@ -37,22 +44,35 @@ pub(super) fn of(shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
     if boxed && shape.kind == ProblemKind::Hard {
         return None;
     }
-    let pattern = if boxed {
-        DMatrix::identity(shape.dof, shape.dof)
+    let (pattern, linkages) = if boxed {
+        (DMatrix::identity(shape.dof, shape.dof), Vec::new())
     } else {
-        shape.g_pattern.clone()
+        let linkages = shape.linkages.iter();
+        let spans = linkages.map(|row| (row.motor, row.joints())).collect();
+        (shape.g_pattern.clone(), spans)
     };
-    Some(Arc::new(MotorSpeed { boxed, pattern }))
+    Some(Arc::new(MotorSpeed {
+        boxed,
+        pattern,
+        linkages,
+    }))
 }
 
 impl MotorSpeed {
-    /// A at the problem's design.
-    fn matrix<'m>(&'m self, p: &'m TrajectoryProblem<'_>) -> &'m DMatrix<f64> {
+    /// A at the problem's design and `node`'s pose.
+    fn matrix<'m>(&'m self, p: &'m TrajectoryProblem<'_>, node: &'m NodeEval) -> &'m DMatrix<f64> {
         if self.boxed {
             &self.pattern
         } else {
-            p.coupling().matrix()
+            p.actuation_of(node).coupling().matrix()
         }
+    }
+
+    /// The joints whose q columns row i has: those its linkage spans, if it is one.
+    fn posed_columns(&self, i: usize) -> Range<usize> {
+        (self.linkages.iter())
+            .find(|(motor, _)| *motor == i)
+            .map_or(0..0, |(_, joints)| joints.clone())
     }
 }
 
@@ -85,12 +105,12 @@ impl Family for MotorSpeed {
         &self,
         p: &TrajectoryProblem<'_>,
         x: &[f64],
-        _node: &NodeEval,
+        node: &NodeEval,
         Place { k, row }: Place,
         g: &mut [f64],
     ) {
         let layout = p.formulation().layout();
-        let a = self.matrix(p);
+        let a = self.matrix(p, node);
         let n = layout.dof;
         for i in 0..n {
             g[row + i] = (0..n).map(|j| a[(i, j)] * x[layout.v(k, j)]).sum();
@@ -100,15 +120,17 @@ impl Family for MotorSpeed {
         }
     }
 
-    fn jacobian(
-        &self,
-        at: &At<'_>,
-        _node: &NodeEval,
-        Place { k, row }: Place,
-        emit: &mut Emit<'_>,
-    ) {
+    fn jacobian(&self, at: &At<'_>, node: &NodeEval, Place { k, row }: Place, emit: &mut Emit<'_>) {
         let layout = at.formulation().layout();
-        let a = at.pick(|p| self.matrix(p), &self.pattern);
+        let a = match at {
+            At::Structure(_) => &self.pattern,
+            At::Design(p) => self.matrix(p, node),
+        };
+        // d(G(q) v)/dq at the node, for the linkage rows.
+        let along = match (at, &node.pose) {
+            (At::Design(_), Some(pose)) => Some(pose.derivative_along(&pose.speeds)),
+            _ => None,
+        };
         let n = layout.dof;
         for i in 0..n {
             for j in 0..n {
@@ -116,7 +138,29 @@ impl Family for MotorSpeed {
                     emit(row + i, layout.v(k, j), a[(i, j)]);
                 }
             }
+            for j in self.posed_columns(i) {
+                emit(
+                    row + i,
+                    layout.q(k, j),
+                    along.as_ref().map_or(0.0, |d| d[(i, j)]),
+                );
+            }
             emit_slacks(row + i, layout.slack(FamilyId::MotorSpeed, k, i), emit);
+        }
+    }
+
+    fn hessian(&self, node: NodeSecondOrder<'_>, (block, _): Blocks<'_>) {
+        let Some(pose) = node.node.pose.as_ref().filter(|_| !self.boxed) else {
+            return;
+        };
+        let n = pose.speeds.len();
+        let third = pose.third_along(node.multipliers, &pose.speeds);
+        let curvature = pose.curvature(node.multipliers);
+        for j in 0..n {
+            for i in 0..n {
+                block[(i, j)] += third[(i, j)];
+                block[(n + i, j)] += curvature[(i, j)];
+            }
         }
     }
 

@@ -6,15 +6,20 @@
 //!
 //! The joint-space boxes of the modes `paper` and `interval` are joint limits
 //! (`joint_limits.rs`).
+//!
+//! Where G depends on the pose (docs/model.md, section 17), the rows tau_u = G(q)^-T u have the
+//! q columns -G^-T W, W = sum_i tau_u,i d^2 gamma_i/dq^2; with w = G^-1 lambda and D the matrix
+//! whose row i is (d^2 gamma_i/dq^2 w)^T, lambda . tau_u has the q-q block
+//! D^T G^-T W + W G^-1 D - sum_i tau_u,i d^3 gamma_i/dq^3 [w] and the u-q block -G^-1 D.
 
-use super::{segment, At, DesignDerivative, Emit, Family, Place, Shape};
+use super::{segment, At, Blocks, DesignDerivative, Emit, Family, NodeSecondOrder, Place, Shape};
 use crate::ipopt::Solution;
 use crate::model::task::LimitMode;
 use crate::problem::layout::RowBlock;
 use crate::problem::nlp::TrajectoryProblem;
 use crate::problem::node::NodeEval;
 use crate::transmission::{JointLimits, Space};
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 use std::sync::Arc;
 
 /// The motor torque limits of one space.
@@ -22,8 +27,9 @@ use std::sync::Arc;
 enum MotorTorque {
     /// Actuation space: bounds on u.
     Bounds,
-    /// Joint space, mode `exact`: rows G^-T u, whose pattern is dense.
-    Rows { pattern: DMatrix<f64> },
+    /// Joint space, mode `exact`: rows G^-T u, whose pattern is dense, and dense in q too
+    /// where G depends on the pose (`posed`).
+    Rows { pattern: DMatrix<f64>, posed: bool },
 }
 
 /// Bounds in actuation space, rows in joint space under torque mode `exact`.
@@ -33,6 +39,7 @@ pub(super) fn of(shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
         (Space::Actuation, _) => Some(Arc::new(MotorTorque::Bounds)),
         (Space::Joint, LimitMode::Exact) => Some(Arc::new(MotorTorque::Rows {
             pattern: DMatrix::from_element(n, n, 1.0),
+            posed: !shape.linkages.is_empty(),
         })),
         (Space::Joint, LimitMode::Paper | LimitMode::Interval) => None,
     }
@@ -42,7 +49,7 @@ impl Family for MotorTorque {
     fn rows(&self) -> Option<RowBlock> {
         match self {
             MotorTorque::Bounds => None,
-            MotorTorque::Rows { pattern } => Some(RowBlock {
+            MotorTorque::Rows { pattern, .. } => Some(RowBlock {
                 per_node: pattern.nrows(),
                 inner_only: false,
                 relaxed: false,
@@ -83,35 +90,68 @@ impl Family for MotorTorque {
         &self,
         p: &TrajectoryProblem<'_>,
         x: &[f64],
-        _node: &NodeEval,
+        node: &NodeEval,
         Place { k, row }: Place,
         g: &mut [f64],
     ) {
         let layout = p.formulation().layout();
         let u = layout.controls(x, k);
-        let motor_of_joint = p.actuation().motor_of_joint();
+        let motor_of_joint = p.actuation_of(node).motor_of_joint();
         for i in 0..layout.dof {
             g[row + i] = (0..layout.dof).map(|j| motor_of_joint[(i, j)] * u[j]).sum();
         }
     }
 
-    fn jacobian(
-        &self,
-        at: &At<'_>,
-        _node: &NodeEval,
-        Place { k, row }: Place,
-        emit: &mut Emit<'_>,
-    ) {
-        let MotorTorque::Rows { pattern } = self else {
+    fn jacobian(&self, at: &At<'_>, node: &NodeEval, Place { k, row }: Place, emit: &mut Emit<'_>) {
+        let MotorTorque::Rows { pattern, posed } = self else {
             return;
         };
         let layout = at.formulation().layout();
-        let motor_of_joint = at.pick(|p| p.actuation().motor_of_joint(), pattern);
+        let actuation = at.actuation(node);
+        let motor_of_joint = actuation.map_or(pattern, |a| a.motor_of_joint());
+        // d(G(q)^-T u)/dq = -G^-T W at the node.
+        let position = match (actuation, &node.pose) {
+            (Some(actuation), Some(pose)) => {
+                let torques = actuation.motor_torques(&pose.controls);
+                Some(-(actuation.motor_of_joint() * pose.curvature(&torques)))
+            }
+            _ => None,
+        };
         for i in 0..layout.dof {
+            if *posed {
+                for j in 0..layout.dof {
+                    emit(
+                        row + i,
+                        layout.q(k, j),
+                        position.as_ref().map_or(0.0, |d| d[(i, j)]),
+                    );
+                }
+            }
             for j in 0..layout.dof {
                 emit(row + i, layout.u(k, j), motor_of_joint[(i, j)]);
             }
         }
+    }
+
+    fn hessian(&self, node: NodeSecondOrder<'_>, (block, mixed): Blocks<'_>) {
+        let Some(pose) = &node.node.pose else {
+            return;
+        };
+        let coupling = node.actuation.coupling();
+        let g_inv = coupling.inverse();
+        let torques = node.actuation.motor_torques(&pose.controls);
+        let w = g_inv * DVector::from_column_slice(node.multipliers);
+        let d = pose.derivative_along(w.as_slice());
+        let curvature = pose.curvature(&torques);
+        let through = d.tr_mul(&g_inv.transpose()) * &curvature;
+        let third = pose.third_along(&torques, w.as_slice());
+        let n = mixed.nrows();
+        for j in 0..n {
+            for i in 0..n {
+                block[(i, j)] += through[(i, j)] + through[(j, i)] - third[(i, j)];
+            }
+        }
+        *mixed -= g_inv * d;
     }
 
     fn sensitivity(

@@ -187,6 +187,14 @@ impl Linkage {
         }
     }
 
+    /// Its key in the task file: `linear` or `crank_rod`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Linkage::Linear(_) => "linear",
+            Linkage::CrankRod(_) => "crank_rod",
+        }
+    }
+
     /// The name of what [`Linkage::measure`] reads, with its unit.
     pub fn measure_name(&self) -> &'static str {
         match self {

@@ -1,0 +1,124 @@
+//! Solves where G depends on the pose (docs/model.md, section 17), on the planar example with a
+//! ball screw or a crank and rod at its elbow: the trajectory read back against the screw's
+//! geometry computed here independently, the power balance through G(q) at every node, dJ*/dr
+//! against differences of re-solved problems, and a linkage that cannot close named.
+
+use super::tests::assert_matches_differences;
+use super::{solve_design, solve_design_from, SolveSettings, TrajectoryResult};
+use crate::model::task::{LimitMode, LimitModes};
+use crate::model::Robot;
+use crate::problem::{Formulation, Space};
+use crate::testing::{self, posed_task, CRANK_ROW, SCREW_ROW};
+use std::f64::consts::TAU;
+
+/// The formulation of linkage `row` on the planar example's elbow in `space`, modes `exact`.
+fn formulation(row: &str, space: Space) -> Formulation {
+    let task = posed_task(row);
+    let robot = Robot::load(&task).unwrap();
+    let modes = LimitModes {
+        torque: LimitMode::Exact,
+        speed: LimitMode::Exact,
+    };
+    Formulation::new(&task, robot, space, modes).unwrap()
+}
+
+/// The ratio d(motor angle)/dq of the screw of [`SCREW_ROW`] at elbow angle q (rad) with lead
+/// `lead` (m), from the planar example's geometry: the anchors 0.15 m behind the elbow on the
+/// upper arm and 0.10 m across it on the forearm (about -y) are (0.15 - 0.1 sin q, 0, 0.1 cos q)
+/// apart, so L^2 = 0.0325 - 0.03 sin q and dL/dq = -0.015 cos q / L.
+fn screw_ratio(q: f64, lead: f64) -> f64 {
+    let length = (0.0325 - 0.03 * q.sin()).sqrt();
+    TAU / lead * (-0.015 * q.cos() / length)
+}
+
+/// sum_i tau_u,i qd_u,i = sum_j tau_j qd_j at every node k < N of `result`, to 1e-8 of the
+/// larger power: the motor torques, motor speeds and joint torques read back share G(q_k).
+fn assert_power_balances(result: &TrajectoryResult) {
+    let t = &result.trajectory;
+    for k in 0..t.motor_torque.len() {
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        let motors = dot(&t.motor_torque[k], &t.motor_speed[k]);
+        let joints = dot(&t.joint_torque[k], &t.v[k]);
+        let scale = motors.abs().max(joints.abs()).max(1e-300);
+        assert!(
+            (motors - joints).abs() <= 1e-8 * scale,
+            "node {k}: motors {motors} W, joints {joints} W"
+        );
+    }
+}
+
+#[test]
+fn a_screw_drives_the_elbow_as_its_geometry_says_and_balances_power() {
+    for space in [Space::Actuation, Space::Joint] {
+        let f = formulation(SCREW_ROW, space);
+        let result = solve_design(&f, &[50.0, 12.0], &testing::settings()).unwrap();
+        assert!(
+            result.feasible,
+            "{space}: {} {:?}",
+            result.status, result.reason
+        );
+        assert_power_balances(&result);
+        let t = &result.trajectory;
+        for (k, (q, v)) in t.q.iter().zip(&t.v).enumerate() {
+            let speeds = &t.motor_speed[k];
+            let screw = screw_ratio(q[1], 0.012) * v[1];
+            assert!((speeds[0] - 50.0 * v[0]).abs() <= 1e-12 * (1.0 + speeds[0].abs()));
+            assert!(
+                (speeds[1] - screw).abs() <= 1e-9 * (1.0 + screw.abs()),
+                "{space} node {k}: {} rad/s against {screw} from the geometry",
+                speeds[1]
+            );
+        }
+        let peak = result.max_motor_speed;
+        assert!(peak <= 250.0 * (1.0 + 1e-6), "{space}: {peak} rad/s");
+    }
+}
+
+#[test]
+fn a_crank_rod_solve_balances_power() {
+    for space in [Space::Actuation, Space::Joint] {
+        let f = formulation(CRANK_ROW, space);
+        let result = solve_design(&f, &[50.0, 12.0], &testing::settings()).unwrap();
+        assert!(
+            result.feasible,
+            "{space}: {} {:?}",
+            result.status, result.reason
+        );
+        assert_power_balances(&result);
+    }
+}
+
+/// dJ*/dr with respect to the first motor's ratio and the screw's lead, against central
+/// differences of problems re-solved from the optimum (the joint-space problem has other local
+/// optima nearby, which a cold start may reach), in both spaces.
+#[test]
+fn a_screws_cost_gradient_matches_differences() {
+    let settings = SolveSettings {
+        tol: 1e-11,
+        ..testing::settings()
+    };
+    for space in [Space::Actuation, Space::Joint] {
+        let f = formulation(SCREW_ROW, space);
+        let ratios = [40.0, 14.0];
+        let (result, solution) = solve_design_from(&f, &ratios, &settings, None).unwrap();
+        assert!(result.feasible, "{space}: {}", result.status);
+        let gradient = result.cost_gradient.clone().unwrap();
+        assert_matches_differences(&format!("{space} screw"), &gradient, &ratios, |r| {
+            let (near, _) = solve_design_from(&f, r, &settings, Some(&solution)).unwrap();
+            near.cost
+        });
+    }
+}
+
+/// A rod too short to reach the crank pin at the motion's start: the design is refused,
+/// naming the motor, its row and what its loop lacks.
+#[test]
+fn a_rod_that_cannot_close_is_named() {
+    let short = CRANK_ROW.replace("\"rod_m\": 0.2", "\"rod_m\": 0.05");
+    let f = formulation(&short, Space::Actuation);
+    let error = f.problem(&[50.0, 12.0]).unwrap_err().to_string();
+    assert!(
+        error.starts_with("at the start, the linkage of motor 2 (transmission.matrix[1]): its rod"),
+        "{error}"
+    );
+}

@@ -1,0 +1,177 @@
+//! Transmissions with pose-dependent rows (docs/model.md, section 17): G(q; r), whose linkage
+//! rows are the gradients G_i(q) of their motor angles gamma_i(q), and whose constant rows are
+//! those of G(r). The trajectory problem reads G with each linkage row's derivatives at every
+//! node ([`PoseCoupling`]), and dG/dr_l there for the design sensitivity.
+
+use super::design_space::invertible;
+use super::linkage::{Linkage, LinkageError, RowDerivatives, RowSensitivity, RowShape};
+use super::{Coupling, DesignError, Transmission};
+use crate::dynamics::{Dynamics, Workspace};
+use nalgebra::DMatrix;
+use std::fmt;
+use std::ops::Range;
+
+/// A linkage row of G with the symbolic parts of its derivatives.
+#[derive(Clone, Debug)]
+pub struct PoseRow {
+    /// The row of G (motor), 0-based.
+    pub motor: usize,
+    /// The linkage that drives the motor.
+    pub linkage: Linkage,
+    /// Its derivatives to the second order (G_i and its Hessian) and to the third.
+    second: RowShape,
+    third: RowShape,
+}
+
+impl PoseRow {
+    /// Row `motor` of G, driven by `linkage`.
+    pub fn new(motor: usize, linkage: Linkage) -> PoseRow {
+        PoseRow {
+            motor,
+            second: RowShape::new(&linkage, 2),
+            third: RowShape::new(&linkage, 3),
+            linkage,
+        }
+    }
+
+    /// The joints it spans: the only non-zero columns of its row of G.
+    pub fn joints(&self) -> Range<usize> {
+        self.linkage.joints()
+    }
+}
+
+/// How far the rows' derivatives are taken at a pose.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Depth {
+    /// gamma_i, G_i and its Hessian: values and Jacobians.
+    Second,
+    /// Also the third derivatives: the Lagrangian's Hessian.
+    Third,
+}
+
+/// G at one pose and design, with its inverse and each linkage row's derivatives.
+#[derive(Clone, Debug)]
+pub struct PoseCoupling {
+    /// G(q; r) and G^-1.
+    pub coupling: Coupling,
+    /// Each linkage row's motor (row of G) and derivatives in q.
+    pub rows: Vec<(usize, RowDerivatives)>,
+}
+
+/// Why a transmission has no G at a pose.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PoseError {
+    /// A linkage does not close (or a number of it is not positive) at the pose.
+    Linkage {
+        /// The motor (row of G), 0-based.
+        motor: usize,
+        /// What its geometry lacks.
+        error: LinkageError,
+    },
+    /// G(q) is singular at the pose: some joint motion turns no motor.
+    Singular,
+}
+
+impl fmt::Display for PoseError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PoseError::Linkage { motor, error } => {
+                write!(
+                    f,
+                    "the linkage of motor {} (transmission.matrix[{motor}]): {error}",
+                    motor + 1
+                )
+            }
+            PoseError::Singular => f.write_str("G(q) is singular: its LU factorisation failed"),
+        }
+    }
+}
+
+impl std::error::Error for PoseError {}
+
+impl Transmission {
+    /// The linkage rows, in the order of their motors; empty for a constant G(r).
+    pub fn linkages(&self) -> &[PoseRow] {
+        &self.linkages
+    }
+
+    /// Whether some row of G depends on the pose.
+    pub fn is_pose_dependent(&self) -> bool {
+        !self.linkages.is_empty()
+    }
+
+    /// G(q; r) with its inverse and the linkage rows' derivatives to `depth`, at pose `q` (rad)
+    /// and design `r` (not checked), on the chain of `dynamics`.
+    pub fn at_pose(
+        &self,
+        r: &[f64],
+        (dynamics, data): (&Dynamics, &mut Workspace),
+        q: &[f64],
+        depth: Depth,
+    ) -> Result<PoseCoupling, PoseError> {
+        let mut matrix = self.matrix(r);
+        let mut rows = Vec::with_capacity(self.linkages.len());
+        for row in &self.linkages {
+            let shape = match depth {
+                Depth::Second => &row.second,
+                Depth::Third => &row.third,
+            };
+            let derivatives = RowDerivatives::of(&row.linkage, shape, dynamics, data, (q, r))
+                .map_err(|error| PoseError::Linkage {
+                    motor: row.motor,
+                    error,
+                })?;
+            matrix.set_row(row.motor, &derivatives.gradient.transpose());
+            rows.push((row.motor, derivatives));
+        }
+        let coupling = Coupling::new(matrix).ok_or(PoseError::Singular)?;
+        Ok(PoseCoupling { coupling, rows })
+    }
+
+    /// dG/dr_l at pose `q` and design `r` for every design parameter l: the constant rows'
+    /// derivatives and the linkage rows' sensitivities there.
+    pub fn design_derivatives_at(
+        &self,
+        r: &[f64],
+        (dynamics, data): (&Dynamics, &mut Workspace),
+        q: &[f64],
+    ) -> Result<Vec<DMatrix<f64>>, PoseError> {
+        let mut derivatives: Vec<DMatrix<f64>> = (0..self.num_ratios())
+            .map(|l| self.matrix_derivative(l))
+            .collect();
+        for row in &self.linkages {
+            let sensitivity =
+                RowSensitivity::of(&row.linkage, dynamics, data, (q, r)).map_err(|error| {
+                    PoseError::Linkage {
+                        motor: row.motor,
+                        error,
+                    }
+                })?;
+            for (&l, gradient) in sensitivity.parameters.iter().zip(&sensitivity.gradient) {
+                derivatives[l].set_row(row.motor, &gradient.transpose());
+            }
+        }
+        Ok(derivatives)
+    }
+
+    /// The coupling at a valid design `r` and pose `q`: G(r) itself for a constant
+    /// transmission, G(q; r) for a pose-dependent one; the error names the motor whose linkage
+    /// does not close, at `pose` (words such as "the motion's start").
+    pub fn coupling_at(
+        &self,
+        r: &[f64],
+        (dynamics, q): (&Dynamics, &[f64]),
+        pose: &str,
+    ) -> Result<Coupling, DesignError> {
+        if !self.is_pose_dependent() {
+            return self.coupling(r);
+        }
+        self.check_design(r)?;
+        let mut data = dynamics.workspace();
+        let at = self
+            .at_pose(r, (dynamics, &mut data), q, Depth::Second)
+            .map_err(|error| DesignError::new(format!("at {pose}, {error}")))?;
+        invertible(at.coupling.matrix(), &format!("G(q) at {pose}"))?;
+        Ok(at.coupling)
+    }
+}
