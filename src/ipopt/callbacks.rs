@@ -15,10 +15,13 @@ pub(super) struct Context<'a, P: Nlp> {
     pub(super) callback_time: Duration,
     pub(super) iterations: sys::Index,
     pub(super) error: Option<Error>,
+    /// The last point outside the problem's domain, with why (see [`EvalError`]).
+    pub(super) outside_domain: Option<String>,
 }
 
 /// Runs one callback body with the problem: times it, and turns an `Err` or a panic into a stored
-/// error and `FALSE`, so that nothing unwinds into C. Once an error is stored every later callback
+/// error and `FALSE`, so that nothing unwinds into C; a point outside the domain only returns
+/// `FALSE`, remembered. Once an error is stored every later callback
 /// returns `FALSE` at once and the intermediate callback stops IPOPT.
 ///
 /// # Safety
@@ -37,7 +40,12 @@ unsafe fn guarded<P: Nlp>(
     context.callback_time += start.elapsed();
     let message = match outcome {
         Ok(Ok(())) => return 1,
-        Ok(Err(error)) => error.0,
+        // IPOPT cuts its step back from a point it cannot evaluate.
+        Ok(Err(error)) if error.outside_domain => {
+            context.outside_domain = Some(error.message);
+            return 0;
+        }
+        Ok(Err(error)) => error.message,
         Err(payload) => {
             let text = payload
                 .downcast_ref::<&str>()

@@ -4,6 +4,8 @@
 
 mod callbacks;
 mod check;
+#[cfg(test)]
+mod domain_tests;
 mod error;
 mod hs071;
 mod nlp;

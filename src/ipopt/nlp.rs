@@ -2,13 +2,31 @@
 
 use std::fmt;
 
-/// A failure inside a callback, reported back to the caller of the solve.
+/// A failure inside a callback: an error reported back to the caller of the solve, or a point
+/// outside the problem's domain, which IPOPT is told it cannot evaluate so that it cuts its step
+/// back.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct EvalError(pub String);
+pub struct EvalError {
+    /// What failed.
+    pub message: String,
+    /// The point lies outside the problem's domain (a linkage that does not close there): not
+    /// an error of the solve, as long as IPOPT finds points inside.
+    pub outside_domain: bool,
+}
+
+impl EvalError {
+    /// The point lies outside the problem's domain, for `message`'s reason.
+    pub fn outside_domain(message: String) -> EvalError {
+        EvalError {
+            message,
+            outside_domain: true,
+        }
+    }
+}
 
 impl fmt::Display for EvalError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
+        f.write_str(&self.message)
     }
 }
 
@@ -16,13 +34,16 @@ impl std::error::Error for EvalError {}
 
 impl From<String> for EvalError {
     fn from(message: String) -> EvalError {
-        EvalError(message)
+        EvalError {
+            message,
+            outside_domain: false,
+        }
     }
 }
 
 impl From<&str> for EvalError {
     fn from(message: &str) -> EvalError {
-        EvalError(message.to_owned())
+        EvalError::from(message.to_owned())
     }
 }
 

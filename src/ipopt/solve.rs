@@ -48,6 +48,9 @@ pub struct Solution {
     pub iterations: usize,
     /// Where the time went.
     pub timing: Timing,
+    /// Why the last point IPOPT could not evaluate lay outside the problem's domain (a linkage
+    /// that does not close there), None if it evaluated every point it tried.
+    pub outside_domain: Option<String>,
 }
 
 /// Solves `problem` with `options`, starting from [`Nlp::initial_point`].
@@ -86,6 +89,7 @@ pub fn solve_from<P: Nlp>(
         callback_time: Duration::ZERO,
         iterations: 0,
         error: None,
+        outside_domain: None,
     };
     let mut g = vec![0.0; shape.m];
     let mut objective = f64::NAN;
@@ -128,6 +132,7 @@ pub fn solve_from<P: Nlp>(
             callbacks: context.callback_time,
             ipopt: total.saturating_sub(context.callback_time),
         },
+        outside_domain: context.outside_domain,
     })
 }
 

@@ -199,7 +199,7 @@ impl<'a> TrajectoryProblem<'a> {
             return Ok(());
         }
         if let Some(i) = x.iter().position(|value| !value.is_finite()) {
-            return Err(EvalError(format!(
+            return Err(EvalError::from(format!(
                 "variable {i} is {} at the evaluation point",
                 x[i]
             )));
@@ -216,7 +216,7 @@ impl<'a> TrajectoryProblem<'a> {
             if f.transmission().is_pose_dependent() {
                 let at = (f.transmission())
                     .at_pose(&self.ratios, (f.dynamics(), data), state.0, depth)
-                    .map_err(|error| EvalError(format!("node {k}: {error}")))?;
+                    .map_err(|error| EvalError::outside_domain(format!("node {k}: {error}")))?;
                 node.pose = Some(NodePose {
                     actuation: f.actuation(at.coupling),
                     rows: at.rows,

@@ -395,7 +395,13 @@ fn infeasibility(
     tol: f64,
 ) -> Option<String> {
     if !solution.status.is_success() {
-        return Some(format!("IPOPT returned {}", solution.status.name()));
+        let status = solution.status.name();
+        return Some(match &solution.outside_domain {
+            None => format!("IPOPT returned {status}"),
+            Some(why) => {
+                format!("IPOPT returned {status} (the last point it could not evaluate: {why})")
+            }
+        });
     }
     let limits = match formulation.envelope() {
         Some(_) => "the speed limit or the torque-speed envelope",
@@ -474,14 +480,13 @@ fn read_trajectory(
     let dynamics = f.dynamics();
     let mut data = dynamics.workspace();
     let mut trajectory = Trajectory::default();
-    for k in 0..=steps {
+    for (k, actuation) in actuations.iter().enumerate().take(steps + 1) {
         let (q, v) = (slice(layout.q(k, 0)), slice(layout.v(k, 0)));
         let tcp = dynamics.tcp_position(&mut data, &q);
         trajectory.time.push(k as f64 * h);
         trajectory.tcp_x.push(tcp[0]);
         trajectory.tcp_y.push(tcp[1]);
         trajectory.tcp_z.push(tcp[2]);
-        let actuation = &actuations[k];
         trajectory
             .motor_speed
             .push(actuation.coupling().motor_speeds(&v));

@@ -71,6 +71,7 @@ impl StartPoint {
             objective: f64::NAN,
             iterations: 0,
             timing: Timing::default(),
+            outside_domain: None,
         }
     }
 
@@ -331,6 +332,7 @@ mod tests {
             objective: 1.0,
             iterations: 12,
             timing: Timing::default(),
+            outside_domain: None,
         };
         StartPoint::from_solution(&solution, formulation, "0123456789abcdef")
     }
