@@ -127,16 +127,11 @@ impl<'a> TrajectoryProblem<'a> {
         Ok(f.actuation(at.coupling))
     }
 
-    /// The actuation at each node k <= N of the primal point x (see
-    /// [`TrajectoryProblem::actuation_at`]), or the first node whose linkages do not close.
-    pub fn node_actuations(&self, x: &[f64]) -> Result<Vec<Actuation>, (usize, PoseError)> {
-        let layout = self.formulation.layout();
-        (0..=layout.steps)
-            .map(|k| {
-                let q = &x[layout.q(k, 0)..layout.q(k, 0) + layout.dof];
-                self.actuation_at(q).map_err(|error| (k, error))
-            })
-            .collect()
+    /// Each motor's angle at pose q, rad: gamma_i(q) for a linkage row, G_i q for a constant one.
+    pub fn motor_angles(&self, q: &[f64]) -> Result<Vec<f64>, PoseError> {
+        let f = self.formulation;
+        let mut data = f.dynamics().workspace();
+        (f.transmission()).motor_angles(&self.ratios, (f.dynamics(), &mut data), q)
     }
 
     /// The actuation at `node`: its own G(q_k) where the transmission depends on the pose,

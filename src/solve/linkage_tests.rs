@@ -1,6 +1,6 @@
 //! Solves where G depends on the pose (docs/model.md, section 17), on the planar example with a
-//! ball screw or a crank and rod at its elbow: the trajectory read back against the screw's
-//! geometry computed here independently, the power balance through G(q) at every node, dJ*/dr
+//! ball screw or a crank and rod at its elbow: the trajectory read back (motor positions, ratios
+//! and speeds) against the screw's geometry computed here independently, the power balance through G(q) at every node, dJ*/dr
 //! against differences of re-solved problems, and a linkage that cannot close named.
 
 use super::tests::assert_matches_differences;
@@ -60,6 +60,17 @@ fn a_screw_drives_the_elbow_as_its_geometry_says_and_balances_power() {
         assert_power_balances(&result);
         let t = &result.trajectory;
         for (k, (q, v)) in t.q.iter().zip(&t.v).enumerate() {
+            let length = (0.0325 - 0.03 * q[1].sin()).sqrt();
+            let angle = TAU * length / 0.012;
+            let position = t.motor_position[k][1];
+            assert!(
+                (position - angle).abs() <= 1e-12 * angle,
+                "{position} against {angle}"
+            );
+            assert_eq!(t.motor_position[k][0], 50.0 * q[0]);
+            assert_eq!(t.ratio[k][0], [50.0, 0.0]);
+            let ratio = screw_ratio(q[1], 0.012);
+            assert!((t.ratio[k][1][1] - ratio).abs() <= 1e-9 * ratio.abs());
             let speeds = &t.motor_speed[k];
             let screw = screw_ratio(q[1], 0.012) * v[1];
             assert!((speeds[0] - 50.0 * v[0]).abs() <= 1e-12 * (1.0 + speeds[0].abs()));

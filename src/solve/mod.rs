@@ -10,7 +10,7 @@
 //! solution, and reports how much torque and speed the design lacks.
 //!
 //! The rooms: `settings` (IPOPT's settings, read from a task file's `solver` section), `run`
-//! (one IPOPT solve), `certify` (the rule, over several solves), `continuation` (its payload continuation), `result` (the result and its file schema), `result_checks` (whether it judges its design and
+//! (one IPOPT solve), `certify` (the rule, over several solves), `continuation` (its payload continuation), `result` (the result and its file schema), `readback` (a primal point read back as a trajectory), `result_checks` (whether it judges its design and
 //! holds finite numbers only), `verify` (the constraint residuals
 //! evaluated again on the trajectory), `start` (a solve's raw solution kept to warm-start another
 //! solve from, [`StartPoint`], with the checks that it fits), `error`.
@@ -20,6 +20,7 @@ mod continuation;
 mod error;
 mod execute;
 mod figures;
+mod readback;
 mod result;
 mod result_checks;
 mod run;

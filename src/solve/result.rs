@@ -3,12 +3,12 @@
 
 use super::execute::MotorsExecute;
 use super::figures::PhysicalFigures;
+use super::readback::read_trajectory;
 use super::SolveError;
 use crate::ipopt::{LinearSolver, Nlp, Solution};
 use crate::problem::{
     cost_gradient, relaxation, Criterion, Formulation, ProblemKind, StaticHold, TrajectoryProblem,
 };
-use crate::transmission::Actuation;
 use serde::{Deserialize, Serialize};
 
 /// Which program and solver produced a result file.
@@ -119,6 +119,15 @@ pub struct Trajectory {
     pub motor_torque: Vec<Vec<f64>>,
     /// Motor speeds per node, rad/s (G v).
     pub motor_speed: Vec<Vec<f64>>,
+    /// Each motor's angle per node, rad: gamma_i(q) for a linkage row, G_i q for a constant one
+    /// (docs/model.md, section 17); written only for a transmission whose ratio changes with the
+    /// pose.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub motor_position: Vec<Vec<f64>>,
+    /// G(q) per node (row = motor, column = joint), the ratios dq_u/dq; written only for a
+    /// transmission whose ratio changes with the pose.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ratio: Vec<Vec<Vec<f64>>>,
     /// Each motor's transmission loss torque per interval, N m, its share of `motor_torque`
     /// (docs/model.md, section 3); empty where the transmissions are lossless, and then not
     /// written.
@@ -291,9 +300,8 @@ pub(super) fn read_result(
     solution: &Solution,
     tol: f64,
 ) -> Result<TrajectoryResult, SolveError> {
-    let actuations = (problem.node_actuations(&solution.x))
+    let trajectory = read_trajectory(problem, &solution.x)
         .map_err(|(node, error)| SolveError::Pose { node, error })?;
-    let trajectory = read_trajectory(problem, &solution.x, &actuations);
     let violations = Violations::of(problem, &solution.x, &trajectory);
     let (cost, elastic) = cost_and_measures(problem, solution);
     let f = problem.formulation();
@@ -464,51 +472,4 @@ fn cost_terms(problem: &TrajectoryProblem<'_>, x: &[f64], trajectory: &Trajector
             cartesian_box,
         },
     }
-}
-
-/// The trajectory of `problem`'s primal point x, whose nodes k <= N have the actuations
-/// `actuations`: states, torques, motor speeds, the TCP's path.
-fn read_trajectory(
-    problem: &TrajectoryProblem<'_>,
-    x: &[f64],
-    actuations: &[Actuation],
-) -> Trajectory {
-    let f = problem.formulation();
-    let layout = f.layout();
-    let (n, steps, h) = (layout.dof, layout.steps, f.step_s());
-    let slice = |start: usize| x[start..start + n].to_vec();
-    let dynamics = f.dynamics();
-    let mut data = dynamics.workspace();
-    let mut trajectory = Trajectory::default();
-    for (k, actuation) in actuations.iter().enumerate().take(steps + 1) {
-        let (q, v) = (slice(layout.q(k, 0)), slice(layout.v(k, 0)));
-        let tcp = dynamics.tcp_position(&mut data, &q);
-        trajectory.time.push(k as f64 * h);
-        trajectory.tcp_x.push(tcp[0]);
-        trajectory.tcp_y.push(tcp[1]);
-        trajectory.tcp_z.push(tcp[2]);
-        trajectory
-            .motor_speed
-            .push(actuation.coupling().motor_speeds(&v));
-        if k < steps {
-            let (u, a) = (slice(layout.u(k, 0)), slice(layout.a(k, 0)));
-            let loss = actuation.loss().map(|_| {
-                let mut tau = vec![0.0; n];
-                dynamics.rnea(&mut data, &q, &v, &a, &mut tau);
-                let loss = actuation.node_loss(&tau, &v);
-                loss.expect("the actuation has losses")
-            });
-            trajectory
-                .joint_torque
-                .push(actuation.link_torques((&v, &a), &u, loss.as_ref()));
-            if let Some(loss) = &loss {
-                trajectory.transmission_loss.push(loss.motor_torques());
-            }
-            trajectory.a.push(a);
-            trajectory.motor_torque.push(actuation.motor_torques(&u));
-        }
-        trajectory.q.push(q);
-        trajectory.v.push(v);
-    }
-    trajectory
 }

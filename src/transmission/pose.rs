@@ -128,6 +128,25 @@ impl Transmission {
         Ok(PoseCoupling { coupling, rows })
     }
 
+    /// Each motor's angle at pose `q` (rad) and design `r`: gamma_i(q) for a linkage row, G_i q
+    /// for a constant one (zero at q = 0).
+    pub fn motor_angles(
+        &self,
+        r: &[f64],
+        (dynamics, data): (&Dynamics, &mut Workspace),
+        q: &[f64],
+    ) -> Result<Vec<f64>, PoseError> {
+        let mut angles: Vec<f64> = (self.matrix(r) * nalgebra::DVector::from_column_slice(q))
+            .iter()
+            .copied()
+            .collect();
+        let at = self.at_pose(r, (dynamics, data), q, Depth::Second)?;
+        for (motor, row) in at.rows {
+            angles[motor] = row.angle;
+        }
+        Ok(angles)
+    }
+
     /// dG/dr_l at pose `q` and design `r` for every design parameter l: the constant rows'
     /// derivatives and the linkage rows' sensitivities there.
     pub fn design_derivatives_at(
