@@ -71,10 +71,7 @@ impl Dynamics {
                     turned
                 }
             } else {
-                let rest = shape
-                    .monomial(tail)
-                    .expect("a kept monomial's tail is kept");
-                axis.ang.cross(&derivatives[rest])
+                axis.ang.cross(&derivatives[shape.tail(m)])
             };
             derivatives[m] = inner;
             let factor = shape.multiplicity_factorial(m);

@@ -13,6 +13,7 @@
 //! q of every order are nested cross products, and the trajectory problem needs its derivatives
 //! to the fourth order in q and the first in the design parameters.
 
+mod coefficients;
 mod functions;
 mod shape;
 mod vector;
@@ -20,19 +21,20 @@ mod vector;
 pub use shape::{JetShape, MAX_ORDER};
 pub use vector::JetVector;
 
+use coefficients::Coefficients;
 use std::ops::{Add, Mul, Neg, Sub};
 
 /// A truncated Taylor polynomial of shape `shape`: its coefficients, one per monomial.
 #[derive(Clone, Debug)]
 pub struct Jet<'s> {
     shape: &'s JetShape,
-    coefficients: Vec<f64>,
+    coefficients: Coefficients,
 }
 
 impl<'s> Jet<'s> {
     /// The constant `value` (all derivatives zero).
     pub fn constant(shape: &'s JetShape, value: f64) -> Jet<'s> {
-        let mut coefficients = vec![0.0; shape.len()];
+        let mut coefficients = Coefficients::zeros(shape.len());
         coefficients[0] = value;
         Jet {
             shape,
@@ -69,7 +71,7 @@ impl<'s> Jet<'s> {
         );
         Jet {
             shape,
-            coefficients,
+            coefficients: Coefficients::of(coefficients),
         }
     }
 
@@ -108,21 +110,21 @@ impl<'s> Jet<'s> {
     fn map(&self, f: impl Fn(f64) -> f64) -> Jet<'s> {
         Jet {
             shape: self.shape,
-            coefficients: self.coefficients.iter().map(|&c| f(c)).collect(),
+            coefficients: Coefficients::mapped(&self.coefficients, f),
         }
     }
 
     /// The jet with `f` applied to the coefficients of `self` and `other`, pairwise.
     fn zip(&self, other: &Jet<'s>, f: impl Fn(f64, f64) -> f64) -> Jet<'s> {
         self.expect_same_shape(other);
+        let mut coefficients = Coefficients::zeros(self.coefficients.len());
+        let pairs = self.coefficients.iter().zip(other.coefficients.iter());
+        for (c, (&a, &b)) in coefficients.iter_mut().zip(pairs) {
+            *c = f(a, b);
+        }
         Jet {
             shape: self.shape,
-            coefficients: self
-                .coefficients
-                .iter()
-                .zip(&other.coefficients)
-                .map(|(&a, &b)| f(a, b))
-                .collect(),
+            coefficients,
         }
     }
 
@@ -160,7 +162,7 @@ impl<'s> Mul for &Jet<'s> {
     /// The product, truncated to the shape.
     fn mul(self, other: &Jet<'s>) -> Jet<'s> {
         self.expect_same_shape(other);
-        let mut coefficients = vec![0.0; self.shape.len()];
+        let mut coefficients = Coefficients::zeros(self.shape.len());
         for &(a, b, c) in self.shape.products() {
             coefficients[c as usize] +=
                 self.coefficients[a as usize] * other.coefficients[b as usize];

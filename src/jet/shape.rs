@@ -22,6 +22,10 @@ pub struct JetShape {
     products: Vec<(u32, u32, u32)>,
     /// The monomial of each multiset.
     index: HashMap<Vec<usize>, usize>,
+    /// Each monomial's tail (its variables but the first), as a monomial; 0 for the constant.
+    tails: Vec<usize>,
+    /// Each monomial's product of the factorials of its multiplicities.
+    factorials: Vec<f64>,
 }
 
 impl JetShape {
@@ -63,6 +67,15 @@ impl JetShape {
                 }
             }
         }
+        let tails = (monomials.iter())
+            .map(|m| {
+                m.get(1..)
+                    .and_then(|tail| index.get(tail))
+                    .copied()
+                    .unwrap_or(0)
+            })
+            .collect();
+        let factorials = monomials.iter().map(|m| factorial_of(m)).collect();
         JetShape {
             primary,
             linear,
@@ -70,6 +83,8 @@ impl JetShape {
             monomials,
             products,
             index,
+            tails,
+            factorials,
         }
     }
 
@@ -116,19 +131,29 @@ impl JetShape {
     /// The product of the factorials of a monomial's multiplicities: the factor from its Taylor
     /// coefficient to its partial derivative.
     pub fn multiplicity_factorial(&self, monomial: usize) -> f64 {
-        let variables = &self.monomials[monomial];
-        let mut factor = 1.0;
-        let mut run = 0.0;
-        for (k, variable) in variables.iter().enumerate() {
-            run = if k > 0 && variables[k - 1] == *variable {
-                run + 1.0
-            } else {
-                1.0
-            };
-            factor *= run;
-        }
-        factor
+        self.factorials[monomial]
     }
+
+    /// The monomial of `monomial`'s variables but its first (the constant for a monomial of one
+    /// variable or none).
+    pub fn tail(&self, monomial: usize) -> usize {
+        self.tails[monomial]
+    }
+}
+
+/// The product of the factorials of the multiplicities of the sorted `variables`.
+fn factorial_of(variables: &[usize]) -> f64 {
+    let mut factor = 1.0;
+    let mut run = 0.0;
+    for (k, variable) in variables.iter().enumerate() {
+        run = if k > 0 && variables[k - 1] == *variable {
+            run + 1.0
+        } else {
+            1.0
+        };
+        factor *= run;
+    }
+    factor
 }
 
 #[cfg(test)]

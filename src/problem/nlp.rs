@@ -118,12 +118,8 @@ impl<'a> TrajectoryProblem<'a> {
             return Ok(self.actuation.clone());
         }
         let mut data = f.dynamics().workspace();
-        let at = (f.transmission()).at_pose(
-            &self.ratios,
-            (f.dynamics(), &mut data),
-            q,
-            Depth::Second,
-        )?;
+        let at =
+            (f.transmission()).at_pose(&self.ratios, (f.dynamics(), &mut data), q, Depth::First)?;
         Ok(f.actuation(at.coupling))
     }
 
@@ -202,7 +198,7 @@ impl<'a> TrajectoryProblem<'a> {
         let (f, actuation) = (self.formulation, &self.actuation);
         let depth = match level {
             Level::Derivatives => Depth::Third,
-            Level::Nothing | Level::Values => Depth::Second,
+            Level::Nothing | Level::Values => Depth::First,
         };
         let nodes = self.nodes.iter_mut().zip(&mut self.workspaces);
         for (k, (node, data)) in nodes.enumerate() {

@@ -77,7 +77,7 @@ fn node_derivatives(
     let mut nodes = Vec::with_capacity(layout.steps);
     for k in 0..layout.steps {
         let (q, _, _) = layout.node_state(&solution.x, k);
-        let at = transmission.at_pose(r, (dynamics, &mut data), q, Depth::Second)?;
+        let at = transmission.at_pose(r, (dynamics, &mut data), q, Depth::First)?;
         let g_inv = at.coupling.inverse();
         let derivatives = transmission.design_derivatives_at(r, (dynamics, &mut data), q)?;
         let derivative = |dg: DMatrix<f64>| DesignDerivative {

@@ -18,8 +18,8 @@ pub struct PoseRow {
     pub motor: usize,
     /// The linkage that drives the motor.
     pub linkage: Linkage,
-    /// Its derivatives to the second order (G_i and its Hessian) and to the third.
-    second: RowShape,
+    /// Its derivatives to the first order (G_i) and to the third.
+    first: RowShape,
     third: RowShape,
 }
 
@@ -28,7 +28,7 @@ impl PoseRow {
     pub fn new(motor: usize, linkage: Linkage) -> PoseRow {
         PoseRow {
             motor,
-            second: RowShape::new(&linkage, 2),
+            first: RowShape::new(&linkage, 1),
             third: RowShape::new(&linkage, 3),
             linkage,
         }
@@ -43,9 +43,10 @@ impl PoseRow {
 /// How far the rows' derivatives are taken at a pose.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Depth {
-    /// gamma_i, G_i and its Hessian: values and Jacobians.
-    Second,
-    /// Also the third derivatives: the Lagrangian's Hessian.
+    /// gamma_i and G_i: values.
+    First,
+    /// Also the Hessian of gamma_i and its third derivatives: the Jacobians and the
+    /// Lagrangian's Hessian.
     Third,
 }
 
@@ -113,7 +114,7 @@ impl Transmission {
         let mut rows = Vec::with_capacity(self.linkages.len());
         for row in &self.linkages {
             let shape = match depth {
-                Depth::Second => &row.second,
+                Depth::First => &row.first,
                 Depth::Third => &row.third,
             };
             let derivatives = RowDerivatives::of(&row.linkage, shape, dynamics, data, (q, r))
@@ -140,7 +141,7 @@ impl Transmission {
             .iter()
             .copied()
             .collect();
-        let at = self.at_pose(r, (dynamics, data), q, Depth::Second)?;
+        let at = self.at_pose(r, (dynamics, data), q, Depth::First)?;
         for (motor, row) in at.rows {
             angles[motor] = row.angle;
         }
@@ -188,7 +189,7 @@ impl Transmission {
         self.check_design(r)?;
         let mut data = dynamics.workspace();
         let at = self
-            .at_pose(r, (dynamics, &mut data), q, Depth::Second)
+            .at_pose(r, (dynamics, &mut data), q, Depth::First)
             .map_err(|error| DesignError::new(format!("at {pose}, {error}")))?;
         invertible(at.coupling.matrix(), &format!("G(q) at {pose}"))?;
         Ok(at.coupling)

@@ -31,21 +31,37 @@ pub struct RowDerivatives {
 pub struct RowShape {
     variables: Variables,
     shape: JetShape,
+    /// For each monomial of three or four joints, the indices of the dense tensor its
+    /// derivative fills: every ordering of its joints.
+    placements: Vec<Vec<usize>>,
 }
 
 impl RowShape {
-    /// The shape of `linkage`'s derivatives up to `order` (2 to 4).
+    /// The shape of `linkage`'s derivatives up to `order` (1 to 4; the Hessian is zero below 2).
     ///
     /// # Panics
-    /// If `order` is not 2, 3 or 4.
+    /// If `order` is not 1, 2, 3 or 4.
     pub fn new(linkage: &Linkage, order: usize) -> RowShape {
-        assert!((2..=MAX_ORDER).contains(&order), "orders 2 to 4");
+        assert!((1..=MAX_ORDER).contains(&order), "orders 1 to 4");
         let variables = Variables {
             joints: linkage.joints(),
             parameters: Vec::new(),
         };
         let shape = variables.shape(order);
-        RowShape { variables, shape }
+        let width = variables.joints.len();
+        let placements = (shape.monomials().iter())
+            .map(|monomial| match monomial.len() {
+                3 | 4 => (orderings(monomial).iter())
+                    .map(|ordering| ordering.iter().rev().fold(0, |acc, &i| acc * width + i))
+                    .collect(),
+                _ => Vec::new(),
+            })
+            .collect();
+        RowShape {
+            variables,
+            shape,
+            placements,
+        }
     }
 }
 
@@ -54,7 +70,11 @@ impl RowDerivatives {
     /// `shape` (made for this linkage), on the chain of `dynamics`.
     pub fn of(
         linkage: &Linkage,
-        RowShape { variables, shape }: &RowShape,
+        RowShape {
+            variables,
+            shape,
+            placements,
+        }: &RowShape,
         dynamics: &Dynamics,
         data: &mut Workspace,
         (q, r): (&[f64], &[f64]),
@@ -73,14 +93,15 @@ impl RowDerivatives {
         };
         for (m, monomial) in shape.monomials().iter().enumerate() {
             let value = jet.coefficients()[m] * shape.multiplicity_factorial(m);
-            derivatives.place(monomial, value);
+            derivatives.place(monomial, &placements[m], value);
         }
         Ok(derivatives)
     }
 
-    /// Puts the derivative of sorted local joints `monomial` at every ordering of its indices.
-    fn place(&mut self, monomial: &[usize], value: f64) {
-        let (start, width) = (self.span.start, self.span.len());
+    /// Puts the derivative of sorted local joints `monomial` at every ordering of its indices
+    /// (`placements` in the dense tensors of three or four joints).
+    fn place(&mut self, monomial: &[usize], placements: &[usize], value: f64) {
+        let start = self.span.start;
         match *monomial {
             [i] => self.gradient[start + i] = value,
             [i, j] => {
@@ -93,8 +114,7 @@ impl RowDerivatives {
                 } else {
                     &mut self.fourth
                 };
-                for ordering in orderings(monomial) {
-                    let index = ordering.iter().rev().fold(0, |acc, &i| acc * width + i);
+                for &index in placements {
                     tensor[index] = value;
                 }
             }
