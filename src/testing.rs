@@ -95,6 +95,12 @@ pub fn posed_task(row: &str) -> Task {
 pub const SCREW_ROW: &str = r#"{"linear": {"from": {"link": "upper_arm", "point": [0.15, 0, 0]},
     "to": {"link": "forearm", "point": [0, 0, 0.1]}, "lead_m": "0.001*r2"}}"#;
 
+/// [`SCREW_ROW`] with a stroke of [0.08, 0.25] m: the motion's ends (0.24 m at -1 rad, 0.085 m
+/// at 1 rad) lie within it, and the stroke binds where the free motion swings the elbow past
+/// the goal.
+pub const STROKED_SCREW_ROW: &str = r#"{"linear": {"from": {"link": "upper_arm", "point": [0.15, 0, 0]},
+    "to": {"link": "forearm", "point": [0, 0, 0.1]}, "lead_m": "0.001*r2", "stroke_m": [0.08, 0.25]}}"#;
+
 /// A crank and rod driving the planar example's elbow: a crank of 60 mm on the upper arm, 0.2 m
 /// behind the elbow, through a 10:1 gear, and a 0.2 m rod to a lever of 50 mm on the forearm.
 pub const CRANK_ROW: &str = r#"{"crank_rod": {"crank": {"link": "upper_arm",

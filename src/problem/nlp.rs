@@ -208,9 +208,15 @@ impl<'a> TrajectoryProblem<'a> {
                 let at = (f.transmission())
                     .at_pose(&self.ratios, (f.dynamics(), data), state.0, depth)
                     .map_err(|error| EvalError::outside_domain(format!("node {k}: {error}")))?;
+                let screws = (f.transmission().linkages().iter())
+                    .filter_map(|row| {
+                        Some((row.motor, row.linkage.length_per_angle(&self.ratios)?.0))
+                    })
+                    .collect();
                 node.pose = Some(NodePose {
                     actuation: f.actuation(at.coupling),
                     rows: at.rows,
+                    screws,
                     speeds: state.1.to_vec(),
                     controls: f.layout().controls(x, k).to_vec(),
                 });

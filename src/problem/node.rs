@@ -42,6 +42,8 @@ pub(super) struct NodePose {
     pub(super) actuation: Actuation,
     /// Each linkage row's motor (row of G) and derivatives in q at q_k.
     pub(super) rows: Vec<(usize, RowDerivatives)>,
+    /// Each screw's motor and length per motor radian l / 2 pi at the design, m/rad.
+    pub(super) screws: Vec<(usize, f64)>,
     /// The node's joint speeds v_k (rad/s) and controls u_k (N m) at the point evaluated.
     pub(super) speeds: Vec<f64>,
     pub(super) controls: Vec<f64>,

@@ -1,12 +1,12 @@
 //! Tests of the trajectory NLP where G depends on the pose (docs/model.md, section 17): its
 //! derivatives against finite differences and IPOPT's checker, for a ball screw and a crank and
-//! rod, in both spaces and both kinds.
+//! rod, in both spaces and both kinds, and for a screw whose stroke is held.
 
 use super::tests::{assert_checker_finds_nothing, assert_derivatives_match};
 use super::*;
 use crate::model::task::{LimitMode, LimitModes};
 use crate::model::Robot;
-use crate::testing::{posed_task, CRANK_ROW, SCREW_ROW};
+use crate::testing::{posed_task, CRANK_ROW, SCREW_ROW, STROKED_SCREW_ROW};
 
 /// The formulations of a linkage `row` on the planar example's elbow: both spaces, 5 steps,
 /// modes `exact`, with 0.5 kg in the gripper, in the hard and the elastic kind.
@@ -36,6 +36,13 @@ fn a_screws_derivatives_match_finite_differences() {
 }
 
 #[test]
+fn a_stroked_screws_derivatives_match_finite_differences() {
+    for f in posed_formulations(STROKED_SCREW_ROW) {
+        assert_derivatives_match(&f, &[50.0, 12.0]);
+    }
+}
+
+#[test]
 fn a_crank_rods_derivatives_match_finite_differences() {
     for f in posed_formulations(CRANK_ROW) {
         assert_derivatives_match(&f, &[50.0, 12.0]);
@@ -44,7 +51,7 @@ fn a_crank_rods_derivatives_match_finite_differences() {
 
 #[test]
 fn ipopt_derivative_checker_finds_nothing_with_linkages() {
-    for row in [SCREW_ROW, CRANK_ROW] {
+    for row in [SCREW_ROW, STROKED_SCREW_ROW, CRANK_ROW] {
         for f in posed_formulations(row) {
             assert_checker_finds_nothing(&f, &[50.0, 12.0]);
         }

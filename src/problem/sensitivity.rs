@@ -20,7 +20,7 @@ use super::families::{DesignDerivative, Place};
 use super::nlp::TrajectoryProblem;
 use crate::ipopt::Solution;
 use crate::transmission::{Depth, PoseError};
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 
 /// dJ*/dr at `solution`, a solution of `problem` (one entry per ratio). For the elastic kind
 /// (docs/model.md, section 14) the derivative of its optimal penalised objective: its slacks
@@ -40,6 +40,8 @@ pub fn cost_gradient(
             let design = DesignDerivative {
                 dg_inv: problem.actuation().inverse_derivative(&dg),
                 dg,
+                parameter: l,
+                angle: DVector::zeros(layout.dof),
             };
             let mut total = 0.0;
             for k in 0..layout.steps {
@@ -80,11 +82,20 @@ fn node_derivatives(
         let at = transmission.at_pose(r, (dynamics, &mut data), q, Depth::First)?;
         let g_inv = at.coupling.inverse();
         let derivatives = transmission.design_derivatives_at(r, (dynamics, &mut data), q)?;
-        let derivative = |dg: DMatrix<f64>| DesignDerivative {
-            dg_inv: -(g_inv * &dg * g_inv),
-            dg,
-        };
-        nodes.push(derivatives.into_iter().map(derivative).collect());
+        let derivative =
+            |(l, (dg, angle)): (usize, (DMatrix<f64>, DVector<f64>))| DesignDerivative {
+                dg_inv: -(g_inv * &dg * g_inv),
+                dg,
+                parameter: l,
+                angle,
+            };
+        nodes.push(
+            derivatives
+                .into_iter()
+                .enumerate()
+                .map(derivative)
+                .collect(),
+        );
     }
     Ok(Some(nodes))
 }

@@ -1,5 +1,6 @@
 //! The linkages of a transmission as `codesign check` shows them: each one's ratio dq_u/dq at the
-//! start and the goal and over the joint range, its length or crank angle, and where it reaches
+//! start and the goal and over the joint range, its length or crank angle, its motor's static
+//! torque at the start and the goal through G(q), and where it reaches
 //! a dead point, leaves its stroke or cannot close (docs/model.md, section 17).
 
 use crate::dynamics::{Dynamics, Workspace};
@@ -7,6 +8,7 @@ use crate::model::matrix_row::MatrixRow;
 use crate::model::task::Task;
 use crate::text::rounded as number;
 use crate::transmission::linkage::{Linkage, ResolveError, Variables};
+use crate::transmission::Transmission;
 use serde::Serialize;
 use std::f64::consts::PI;
 use std::fmt::Write as _;
@@ -28,6 +30,9 @@ pub struct PoseReading {
     pub ratio: Option<Vec<f64>>,
     /// Its length (m) or crank angle (rad).
     pub measure: Option<f64>,
+    /// The motor's torque holding the robot (with the task's payload) at rest there at the
+    /// original design, G(q)^-T g(q), N m; None where G(q) has no inverse there.
+    pub static_torque_nm: Option<f64>,
     /// Why it has no reading, if so.
     pub error: Option<String>,
 }
@@ -83,6 +88,7 @@ pub fn linkage_reports(
 ) -> Result<Vec<LinkageReport>, ResolveError> {
     let mut reports = Vec::new();
     let original = &task.transmission.original;
+    let transmission = Transmission::on_chain(&task.transmission, dynamics).ok();
     for (row, written) in task.transmission.matrix.iter().enumerate() {
         let MatrixRow::Linkage(spec) = written else {
             continue;
@@ -94,9 +100,36 @@ pub fn linkage_reports(
             .as_ref()
             .and_then(|names| names.get(row).cloned())
             .unwrap_or_else(|| format!("motor {}", row + 1));
-        reports.push(read(task, dynamics, &linkage, (row, motor, spec.kind())));
+        let mut report = read(task, dynamics, &linkage, (row, motor, spec.kind()));
+        if let Some(transmission) = &transmission {
+            for (reading, q) in report
+                .poses
+                .iter_mut()
+                .zip([&task.motion.start, &task.motion.goal])
+            {
+                reading.static_torque_nm = static_torque(transmission, (task, dynamics), q, row);
+            }
+        }
+        reports.push(report);
     }
     Ok(reports)
+}
+
+/// Motor `row`'s torque holding the robot at rest at pose q through G(q) at the task's original
+/// design, N m; None where the design or G(q) does not allow it.
+fn static_torque(
+    transmission: &Transmission,
+    (task, dynamics): (&Task, &Dynamics),
+    q: &[f64],
+    row: usize,
+) -> Option<f64> {
+    let original = &task.transmission.original;
+    let coupling = transmission
+        .coupling_at(original, (dynamics, q), "the pose")
+        .ok()?;
+    let mut gravity = vec![0.0; dynamics.dof()];
+    dynamics.gravity_torques(&mut dynamics.workspace(), q, &mut gravity);
+    coupling.motor_torques(&gravity).get(row).copied()
 }
 
 /// Reads one linkage at the ends and over the range.
@@ -127,12 +160,14 @@ fn read(
                     pose: pose.into(),
                     ratio: Some(ratio),
                     measure: Some(measure),
+                    static_torque_nm: None,
                     error: None,
                 },
                 Err(error) => PoseReading {
                     pose: pose.into(),
                     ratio: None,
                     measure: None,
+                    static_torque_nm: None,
                     error: Some(error),
                 },
             }
@@ -294,7 +329,7 @@ pub fn linkages_text(reports: &[LinkageReport]) -> String {
             let _ = match (&pose.ratio, pose.measure, &pose.error) {
                 (Some(ratio), Some(measure), _) => writeln!(
                     text,
-                    "  at the {}: ratio dq_u/dq {}; {} {}",
+                    "  at the {}: ratio dq_u/dq {}; {} {}{}",
                     pose.pose,
                     ratio
                         .iter()
@@ -302,7 +337,10 @@ pub fn linkages_text(reports: &[LinkageReport]) -> String {
                         .collect::<Vec<_>>()
                         .join(", "),
                     report.measure,
-                    number(measure)
+                    number(measure),
+                    pose.static_torque_nm
+                        .map(|t| format!("; static torque {} N m", number(t)))
+                        .unwrap_or_default()
                 ),
                 (_, _, error) => writeln!(
                     text,

@@ -8,7 +8,7 @@ use super::{solve_design, solve_design_from, SolveSettings, TrajectoryResult};
 use crate::model::task::{LimitMode, LimitModes};
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
-use crate::testing::{self, posed_task, CRANK_ROW, SCREW_ROW};
+use crate::testing::{self, posed_task, CRANK_ROW, SCREW_ROW, STROKED_SCREW_ROW};
 use std::f64::consts::TAU;
 
 /// The formulation of linkage `row` on the planar example's elbow in `space`, modes `exact`.
@@ -115,6 +115,39 @@ fn a_screws_cost_gradient_matches_differences() {
         assert!(result.feasible, "{space}: {}", result.status);
         let gradient = result.cost_gradient.clone().unwrap();
         assert_matches_differences(&format!("{space} screw"), &gradient, &ratios, |r| {
+            let (near, _) = solve_design_from(&f, r, &settings, Some(&solution)).unwrap();
+            near.cost
+        });
+    }
+}
+
+/// A screw's stroke held at every node: the free motion swings the elbow past the goal to a
+/// screw of 0.055 m; with the stroke [0.08, 0.25] m it keeps within, binding, and dJ*/dr still
+/// matches differences of re-solved problems (the lead, a design parameter, scales the length
+/// the row holds).
+#[test]
+fn a_screws_stroke_is_held_and_its_cost_gradient_matches_differences() {
+    let settings = SolveSettings {
+        tol: 1e-11,
+        ..testing::settings()
+    };
+    for space in [Space::Actuation, Space::Joint] {
+        let f = formulation(STROKED_SCREW_ROW, space);
+        let ratios = [60.0, 10.0];
+        let (result, solution) = solve_design_from(&f, &ratios, &settings, None).unwrap();
+        assert!(result.feasible, "{space}: {}", result.status);
+        let lengths = result
+            .trajectory
+            .motor_position
+            .iter()
+            .map(|p| p[1] * 0.010 / TAU);
+        let shortest = lengths.fold(f64::INFINITY, f64::min);
+        assert!(
+            (shortest - 0.08).abs() < 1e-6,
+            "{space}: the stroke binds at 0.08 m, not {shortest}"
+        );
+        let gradient = result.cost_gradient.clone().unwrap();
+        assert_matches_differences(&format!("{space} stroked screw"), &gradient, &ratios, |r| {
             let (near, _) = solve_design_from(&f, r, &settings, Some(&solution)).unwrap();
             near.cost
         });

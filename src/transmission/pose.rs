@@ -7,7 +7,7 @@ use super::design_space::invertible;
 use super::linkage::{Linkage, LinkageError, RowDerivatives, RowSensitivity, RowShape};
 use super::{Coupling, DesignError, Transmission};
 use crate::dynamics::{Dynamics, Workspace};
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 use std::fmt;
 use std::ops::Range;
 
@@ -149,15 +149,16 @@ impl Transmission {
     }
 
     /// dG/dr_l at pose `q` and design `r` for every design parameter l: the constant rows'
-    /// derivatives and the linkage rows' sensitivities there.
+    /// derivatives and the linkage rows' sensitivities there; with each linkage row's
+    /// d gamma_i/dr_l (zero for the constant rows).
     pub fn design_derivatives_at(
         &self,
         r: &[f64],
         (dynamics, data): (&Dynamics, &mut Workspace),
         q: &[f64],
-    ) -> Result<Vec<DMatrix<f64>>, PoseError> {
-        let mut derivatives: Vec<DMatrix<f64>> = (0..self.num_ratios())
-            .map(|l| self.matrix_derivative(l))
+    ) -> Result<Vec<(DMatrix<f64>, DVector<f64>)>, PoseError> {
+        let mut derivatives: Vec<(DMatrix<f64>, DVector<f64>)> = (0..self.num_ratios())
+            .map(|l| (self.matrix_derivative(l), DVector::zeros(self.dof)))
             .collect();
         for row in &self.linkages {
             let sensitivity =
@@ -167,8 +168,12 @@ impl Transmission {
                         error,
                     }
                 })?;
-            for (&l, gradient) in sensitivity.parameters.iter().zip(&sensitivity.gradient) {
-                derivatives[l].set_row(row.motor, &gradient.transpose());
+            let parameters = sensitivity.parameters.iter().enumerate();
+            for (p, &l) in parameters {
+                derivatives[l]
+                    .0
+                    .set_row(row.motor, &sensitivity.gradient[p].transpose());
+                derivatives[l].1[row.motor] = sensitivity.angle[p];
             }
         }
         Ok(derivatives)
@@ -176,7 +181,7 @@ impl Transmission {
 
     /// The coupling at a valid design `r` and pose `q`: G(r) itself for a constant
     /// transmission, G(q; r) for a pose-dependent one; the error names the motor whose linkage
-    /// does not close, at `pose` (words such as "the motion's start").
+    /// does not close or whose screw leaves its stroke, at `pose` (words such as "the start").
     pub fn coupling_at(
         &self,
         r: &[f64],
@@ -192,6 +197,25 @@ impl Transmission {
             .at_pose(r, (dynamics, &mut data), q, Depth::First)
             .map_err(|error| DesignError::new(format!("at {pose}, {error}")))?;
         invertible(at.coupling.matrix(), &format!("G(q) at {pose}"))?;
+        for (motor, row) in &at.rows {
+            let linkage = &self.linkages.iter().find(|l| l.motor == *motor);
+            let Some(linkage) = linkage.map(|l| &l.linkage) else {
+                continue;
+            };
+            let (Some([min, max]), Some((scale, _))) =
+                (linkage.stroke(), linkage.length_per_angle(r))
+            else {
+                continue;
+            };
+            let length = row.angle * scale;
+            if !(min..=max).contains(&length) {
+                return Err(DesignError::new(format!(
+                    "at {pose}, the screw of motor {} (transmission.matrix[{motor}]) is {length:.6} m \
+                     long, outside its stroke [{min}, {max}] m",
+                    motor + 1
+                )));
+            }
+        }
         Ok(at.coupling)
     }
 }

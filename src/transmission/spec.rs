@@ -436,7 +436,7 @@ mod tests {
     }
 
     #[test]
-    fn a_linkage_row_is_refused_by_name_until_the_problem_poses_it() {
+    fn a_linkage_row_is_refused_where_the_robot_is_unknown() {
         let mut spec = pick_place().transmission;
         spec.matrix[2] = serde_json::from_str(
             r#"{"linear": {"from": {"link": "link_1", "point": [0, 0, 0]},

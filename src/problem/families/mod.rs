@@ -18,6 +18,7 @@ mod integration;
 mod joint_limits;
 mod motor_speed;
 mod motor_torque;
+mod strokes;
 
 use super::formulation::Formulation;
 use super::kind::ProblemKind;
@@ -52,13 +53,15 @@ pub enum FamilyId {
     JointLimits,
     /// What the motion asks at its ends (`motion.ends`).
     Ends,
+    /// The strokes of the linear actuators that give one.
+    Strokes,
     /// The elastic kind's slacks, non-negative and penalised.
     Slacks,
 }
 
 impl FamilyId {
     /// Every family, in order.
-    pub const ALL: [FamilyId; 8] = [
+    pub const ALL: [FamilyId; 9] = [
         FamilyId::Dynamics,
         FamilyId::Integration,
         FamilyId::MotorSpeed,
@@ -66,6 +69,7 @@ impl FamilyId {
         FamilyId::Envelope,
         FamilyId::JointLimits,
         FamilyId::Ends,
+        FamilyId::Strokes,
         FamilyId::Slacks,
     ];
 
@@ -82,6 +86,7 @@ impl FamilyId {
             FamilyId::Envelope => envelope::of(shape),
             FamilyId::JointLimits => joint_limits::of(shape),
             FamilyId::Ends => ends::of(shape),
+            FamilyId::Strokes => strokes::of(shape),
             FamilyId::Slacks => elastic::of(shape),
         }
     }
@@ -174,6 +179,11 @@ pub(super) struct DesignDerivative {
     pub(super) dg: DMatrix<f64>,
     /// d(G^-1)/dr_l = -G^-1 dG_l G^-1.
     pub(super) dg_inv: DMatrix<f64>,
+    /// The design parameter l (0-based).
+    pub(super) parameter: usize,
+    /// d gamma_i/dr_l of each linkage row at the node (zero for constant rows and a constant
+    /// transmission), rad per unit of r_l.
+    pub(super) angle: DVector<f64>,
 }
 
 /// The evaluation of one node's second-order terms.

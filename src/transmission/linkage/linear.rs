@@ -29,6 +29,19 @@ impl LinearActuator {
     }
 
     /// The length between its ends, m, as a jet.
+    /// The screw's length per motor radian at design `r`, l / 2 pi, m/rad.
+    pub(super) fn length_per_angle(&self, r: &[f64]) -> f64 {
+        self.lead.value(r) / TAU
+    }
+
+    /// d(l / 2 pi)/dr_p, m/rad per unit of r_p: non-zero where the lead is k r_p.
+    pub(super) fn length_per_angle_derivative(&self, parameter: usize) -> f64 {
+        match self.lead {
+            Entry::Ratio { index, scale } if index == parameter => scale / TAU,
+            _ => 0.0,
+        }
+    }
+
     pub(super) fn length<'s>(
         &self,
         at: &At<'_, 's>,

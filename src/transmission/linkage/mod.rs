@@ -203,6 +203,20 @@ impl Linkage {
         }
     }
 
+    /// A screw's length per motor radian at design `r`, l / 2 pi (m/rad), with its derivative
+    /// in each design parameter: its length is its motor angle times it. None for a crank.
+    pub fn length_per_angle(&self, r: &[f64]) -> Option<(f64, Vec<f64>)> {
+        match self {
+            Linkage::Linear(screw) => Some((
+                screw.length_per_angle(r),
+                (0..r.len())
+                    .map(|p| screw.length_per_angle_derivative(p))
+                    .collect(),
+            )),
+            Linkage::CrankRod(_) => None,
+        }
+    }
+
     /// The range a screw's length must keep, m, if given.
     pub fn stroke(&self) -> Option<[f64; 2]> {
         match self {

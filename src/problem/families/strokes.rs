@@ -1,0 +1,133 @@
+//! The strokes of the linear actuators that give one (`stroke_m`, docs/model.md, section 17):
+//! each such screw's length L(q_k) = gamma_i(q_k) l / 2 pi within [min, max] at every node
+//! k < N (q_N is the goal, checked with the design). Its row differentiates as the motor angle
+//! does, times l / 2 pi: G_i's entries in q, the Hessian lambda l / 2 pi d^2 gamma_i/dq^2; its
+//! design sensitivity is lambda (l / 2 pi d gamma_i/dr_l + gamma_i d(l / 2 pi)/dr_l).
+
+use super::{segment, At, Blocks, DesignDerivative, Emit, Family, NodeSecondOrder, Place, Shape};
+use crate::ipopt::Solution;
+use crate::problem::layout::RowBlock;
+use crate::problem::nlp::TrajectoryProblem;
+use crate::problem::node::NodeEval;
+use crate::transmission::linkage::RowDerivatives;
+use std::ops::Range;
+use std::sync::Arc;
+
+/// One row per screw with a stroke.
+#[derive(Debug)]
+struct Strokes {
+    /// Each screw's motor (row of G), the joints it spans and its stroke [min, max], m.
+    screws: Vec<(usize, Range<usize>, [f64; 2])>,
+}
+
+/// Rows where some linkage is a screw with a stroke.
+pub(super) fn of(shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
+    let screws: Vec<_> = (shape.linkages.iter())
+        .filter_map(|row| Some((row.motor, row.joints(), row.linkage.stroke()?)))
+        .collect();
+    (!screws.is_empty()).then(|| Arc::new(Strokes { screws }) as Arc<dyn Family>)
+}
+
+/// Motor `motor`'s row derivatives at `node`, with its screw's length per motor radian l / 2 pi
+/// at the problem's design (m/rad).
+fn screw_row(node: &NodeEval, motor: usize) -> Option<(&RowDerivatives, f64)> {
+    let pose = node.pose.as_ref()?;
+    let (_, row) = pose.rows.iter().find(|(m, _)| *m == motor)?;
+    let (_, scale) = pose.screws.iter().find(|(m, _)| *m == motor)?;
+    Some((row, *scale))
+}
+
+/// Motor `motor`'s screw length per motor radian at `p`'s design, with its design derivatives.
+fn length_per_angle(p: &TrajectoryProblem<'_>, motor: usize) -> Option<(f64, Vec<f64>)> {
+    let linkages = p.formulation().transmission().linkages();
+    let row = linkages.iter().find(|row| row.motor == motor)?;
+    row.linkage.length_per_angle(p.ratios())
+}
+
+impl Family for Strokes {
+    fn rows(&self) -> Option<RowBlock> {
+        Some(RowBlock {
+            per_node: self.screws.len(),
+            inner_only: false,
+            relaxed: false,
+        })
+    }
+
+    fn row_bounds(
+        &self,
+        _p: &TrajectoryProblem<'_>,
+        Place { row, .. }: Place,
+        lower: &mut [f64],
+        upper: &mut [f64],
+    ) {
+        for (s, (_, _, [min, max])) in self.screws.iter().enumerate() {
+            (lower[row + s], upper[row + s]) = (*min, *max);
+        }
+    }
+
+    fn values(
+        &self,
+        _p: &TrajectoryProblem<'_>,
+        _x: &[f64],
+        node: &NodeEval,
+        Place { row, .. }: Place,
+        g: &mut [f64],
+    ) {
+        for (s, (motor, _, _)) in self.screws.iter().enumerate() {
+            if let Some((derivatives, scale)) = screw_row(node, *motor) {
+                g[row + s] = derivatives.angle * scale;
+            }
+        }
+    }
+
+    fn jacobian(&self, at: &At<'_>, node: &NodeEval, Place { k, row }: Place, emit: &mut Emit<'_>) {
+        let layout = at.formulation().layout();
+        for (s, (motor, joints, _)) in self.screws.iter().enumerate() {
+            let found = match at {
+                At::Structure(_) => None,
+                At::Design(_) => screw_row(node, *motor),
+            };
+            for j in joints.clone() {
+                let value = found.map_or(0.0, |(d, scale)| d.gradient[j] * scale);
+                emit(row + s, layout.q(k, j), value);
+            }
+        }
+    }
+
+    fn hessian(&self, node: NodeSecondOrder<'_>, (block, _): Blocks<'_>) {
+        for (s, (motor, joints, _)) in self.screws.iter().enumerate() {
+            let Some((derivatives, scale)) = screw_row(node.node, *motor) else {
+                continue;
+            };
+            let weight = node.multipliers[s] * scale;
+            for i in joints.clone() {
+                for j in joints.clone() {
+                    block[(i, j)] += weight * derivatives.hessian[(i, j)];
+                }
+            }
+        }
+    }
+
+    fn sensitivity(
+        &self,
+        p: &TrajectoryProblem<'_>,
+        solution: &Solution,
+        derivative: &DesignDerivative,
+        Place { k, row }: Place,
+        total: &mut f64,
+    ) {
+        let layout = p.formulation().layout();
+        let q = segment(&solution.x, layout.q(k, 0), layout.dof);
+        let Ok(angles) = p.motor_angles(q.as_slice()) else {
+            return;
+        };
+        let l = derivative.parameter;
+        for (s, (motor, _, _)) in self.screws.iter().enumerate() {
+            let Some((scale, scale_derivatives)) = length_per_angle(p, *motor) else {
+                continue;
+            };
+            let d = scale * derivative.angle[*motor] + angles[*motor] * scale_derivatives[l];
+            *total += solution.lambda[row + s] * d;
+        }
+    }
+}
