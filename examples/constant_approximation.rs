@@ -24,29 +24,25 @@ fn peaks(torques: &[Vec<f64>], speeds: &[Vec<f64>]) -> (f64, f64) {
     (peak(torques), peak(speeds))
 }
 
-/// The elbow motor's torques and speeds along `result`'s trajectory through the true G(q_k) of
-/// `screw`: tau_u = G^-T tau and qd_u = G v.
+/// The elbow motor's peak |torque| (N m) and |speed| (rad/s) along `result`'s trajectory
+/// through the true G(q_k) of `screw`: tau_u = G^-T tau and qd_u = G v.
 fn through_screw(
     screw: &Formulation,
     result: &TrajectoryResult,
-) -> Result<(Vec<Vec<f64>>, Vec<Vec<f64>>), Box<dyn Error>> {
+) -> Result<(f64, f64), Box<dyn Error>> {
     let transmission = Transmission::on_chain(&screw.task().transmission, screw.dynamics())?;
     let mut data = screw.dynamics().workspace();
     let (mut torques, mut speeds) = (Vec::new(), Vec::new());
     let t = &result.trajectory;
     for (k, (q, v)) in t.q.iter().zip(&t.v).enumerate() {
-        let at = (dynamics_of(screw), &mut data);
+        let at = (screw.dynamics(), &mut data);
         let pose = transmission.at_pose(&result.ratios, at, q, Depth::First)?;
         speeds.push(pose.coupling.motor_speeds(v));
         if let Some(tau) = t.joint_torque.get(k) {
             torques.push(pose.coupling.motor_torques(tau));
         }
     }
-    Ok((torques, speeds))
-}
-
-fn dynamics_of(f: &Formulation) -> &codesign::dynamics::Dynamics {
-    f.dynamics()
+    Ok(peaks(&torques, &speeds))
 }
 
 fn main() -> Result<(), Box<dyn Error>> {
@@ -78,8 +74,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         &approximate.trajectory.motor_torque,
         &approximate.trajectory.motor_speed,
     );
-    let (torques, speeds) = through_screw(&screw, &approximate)?;
-    let true_peaks = peaks(&torques, &speeds);
+    let true_peaks = through_screw(&screw, &approximate)?;
     let exact = solve_design(&screw, &design, &settings)?;
     let exact_peaks = peaks(
         &exact.trajectory.motor_torque,

@@ -90,6 +90,12 @@ pub fn posed_task(row: &str) -> Task {
     task
 }
 
+/// The two-axis ankle example (`robots/examples/ankle_2dof`), driven by two crank-rods.
+pub fn ankle_task() -> Task {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/examples/ankle_2dof/task.json");
+    Task::load(&path).expect("the ankle example loads")
+}
+
 /// A ball screw on the planar example's elbow, its lead the design parameter r2 (in mm): 0.15 m
 /// from the elbow on the upper arm to 0.10 m from it on the forearm.
 pub const SCREW_ROW: &str = r#"{"linear": {"from": {"link": "upper_arm", "point": [0.15, 0, 0]},

@@ -1,12 +1,13 @@
 //! Tests of the trajectory NLP where G depends on the pose (docs/model.md, section 17): its
 //! derivatives against finite differences and IPOPT's checker, for a ball screw and a crank and
-//! rod, in both spaces and both kinds, and for a screw whose stroke is held.
+//! rod, in both spaces and both kinds, for a screw whose stroke is held, and for the ankle
+//! example's two crank-rods over two joints.
 
 use super::tests::{assert_checker_finds_nothing, assert_derivatives_match};
 use super::*;
 use crate::model::task::{LimitMode, LimitModes};
 use crate::model::Robot;
-use crate::testing::{posed_task, CRANK_ROW, SCREW_ROW, STROKED_SCREW_ROW};
+use crate::testing::{ankle_task, posed_task, CRANK_ROW, SCREW_ROW, STROKED_SCREW_ROW};
 
 /// The formulations of a linkage `row` on the planar example's elbow: both spaces, 5 steps,
 /// modes `exact`, with 0.5 kg in the gripper, in the hard and the elastic kind.
@@ -26,6 +27,28 @@ fn posed_formulations(row: &str) -> Vec<Formulation> {
         list.push(f);
     }
     list
+}
+
+/// The ankle example's formulations (two crank-rods, each over both joints): 5 steps, both spaces,
+/// both kinds.
+fn ankle_formulations() -> Vec<Formulation> {
+    let mut list = Vec::new();
+    for space in [Space::Actuation, Space::Joint] {
+        let mut task = ankle_task();
+        task.motion.steps = 5;
+        let robot = Robot::load(&task).unwrap();
+        let f = Formulation::new(&task, robot, space, task.limit_modes).unwrap();
+        list.push(f.elastic());
+        list.push(f);
+    }
+    list
+}
+
+#[test]
+fn an_ankles_derivatives_match_finite_differences() {
+    for f in ankle_formulations() {
+        assert_derivatives_match(&f, &[55.0, 65.0, 12.0]);
+    }
 }
 
 #[test]
@@ -55,5 +78,8 @@ fn ipopt_derivative_checker_finds_nothing_with_linkages() {
         for f in posed_formulations(row) {
             assert_checker_finds_nothing(&f, &[50.0, 12.0]);
         }
+    }
+    for f in ankle_formulations() {
+        assert_checker_finds_nothing(&f, &[60.0, 60.0, 15.0]);
     }
 }

@@ -19,8 +19,8 @@
 use super::families::{DesignDerivative, Place};
 use super::nlp::TrajectoryProblem;
 use crate::ipopt::Solution;
-use crate::transmission::{Depth, PoseError};
-use nalgebra::{DMatrix, DVector};
+use crate::transmission::{Depth, DesignDerivativeAt, PoseError};
+use nalgebra::DVector;
 
 /// dJ*/dr at `solution`, a solution of `problem` (one entry per ratio). For the elastic kind
 /// (docs/model.md, section 14) the derivative of its optimal penalised objective: its slacks
@@ -82,13 +82,12 @@ fn node_derivatives(
         let at = transmission.at_pose(r, (dynamics, &mut data), q, Depth::First)?;
         let g_inv = at.coupling.inverse();
         let derivatives = transmission.design_derivatives_at(r, (dynamics, &mut data), q)?;
-        let derivative =
-            |(l, (dg, angle)): (usize, (DMatrix<f64>, DVector<f64>))| DesignDerivative {
-                dg_inv: -(g_inv * &dg * g_inv),
-                dg,
-                parameter: l,
-                angle,
-            };
+        let derivative = |(l, at): (usize, DesignDerivativeAt)| DesignDerivative {
+            dg_inv: -(g_inv * &at.matrix * g_inv),
+            dg: at.matrix,
+            parameter: l,
+            angle: at.angles,
+        };
         nodes.push(
             derivatives
                 .into_iter()

@@ -8,7 +8,7 @@ use super::{solve_design, solve_design_from, SolveSettings, TrajectoryResult};
 use crate::model::task::{LimitMode, LimitModes};
 use crate::model::Robot;
 use crate::problem::{Formulation, Space};
-use crate::testing::{self, posed_task, CRANK_ROW, SCREW_ROW, STROKED_SCREW_ROW};
+use crate::testing::{self, ankle_task, posed_task, CRANK_ROW, SCREW_ROW, STROKED_SCREW_ROW};
 use std::f64::consts::TAU;
 
 /// The formulation of linkage `row` on the planar example's elbow in `space`, modes `exact`.
@@ -148,6 +148,41 @@ fn a_screws_stroke_is_held_and_its_cost_gradient_matches_differences() {
         );
         let gradient = result.cost_gradient.clone().unwrap();
         assert_matches_differences(&format!("{space} stroked screw"), &gradient, &ratios, |r| {
+            let (near, _) = solve_design_from(&f, r, &settings, Some(&solution)).unwrap();
+            near.cost
+        });
+    }
+}
+
+/// The ankle example (two crank-rods over the pitch and the roll): solved in both spaces with the
+/// power balanced at every node, and dJ*/dr in actuation space against differences of re-solved
+/// problems at three interior designs (crank radius, rod attachment, crank reduction).
+#[test]
+fn an_ankles_cost_gradient_matches_differences() {
+    let settings = SolveSettings {
+        tol: 1e-11,
+        ..testing::settings()
+    };
+    let task = ankle_task();
+    for space in [Space::Actuation, Space::Joint] {
+        let f =
+            Formulation::new(&task, Robot::load(&task).unwrap(), space, task.limit_modes).unwrap();
+        let result = solve_design(&f, &task.transmission.original, &settings).unwrap();
+        assert!(result.feasible, "{space}: {}", result.status);
+        assert_power_balances(&result);
+    }
+    let f = Formulation::new(
+        &task,
+        Robot::load(&task).unwrap(),
+        Space::Actuation,
+        task.limit_modes,
+    )
+    .unwrap();
+    for ratios in [[60.0, 60.0, 15.0], [45.0, 75.0, 8.0], [70.0, 50.0, 25.0]] {
+        let (result, solution) = solve_design_from(&f, &ratios, &settings, None).unwrap();
+        assert!(result.feasible, "{ratios:?}: {}", result.status);
+        let gradient = result.cost_gradient.clone().unwrap();
+        assert_matches_differences("ankle", &gradient, &ratios, |r| {
             let (near, _) = solve_design_from(&f, r, &settings, Some(&solution)).unwrap();
             near.cost
         });

@@ -59,6 +59,15 @@ pub struct PoseCoupling {
     pub rows: Vec<(usize, RowDerivatives)>,
 }
 
+/// The derivatives of a transmission at a pose with respect to one design parameter r_l.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DesignDerivativeAt {
+    /// dG/dr_l (row = motor, column = joint).
+    pub matrix: DMatrix<f64>,
+    /// d gamma_i/dr_l of each linkage row, zero for the constant rows, rad per unit of r_l.
+    pub angles: DVector<f64>,
+}
+
 /// Why a transmission has no G at a pose.
 #[derive(Clone, Debug, PartialEq)]
 pub enum PoseError {
@@ -156,9 +165,12 @@ impl Transmission {
         r: &[f64],
         (dynamics, data): (&Dynamics, &mut Workspace),
         q: &[f64],
-    ) -> Result<Vec<(DMatrix<f64>, DVector<f64>)>, PoseError> {
-        let mut derivatives: Vec<(DMatrix<f64>, DVector<f64>)> = (0..self.num_ratios())
-            .map(|l| (self.matrix_derivative(l), DVector::zeros(self.dof)))
+    ) -> Result<Vec<DesignDerivativeAt>, PoseError> {
+        let mut derivatives: Vec<DesignDerivativeAt> = (0..self.num_ratios())
+            .map(|l| DesignDerivativeAt {
+                matrix: self.matrix_derivative(l),
+                angles: DVector::zeros(self.dof),
+            })
             .collect();
         for row in &self.linkages {
             let sensitivity =
@@ -170,10 +182,9 @@ impl Transmission {
                 })?;
             let parameters = sensitivity.parameters.iter().enumerate();
             for (p, &l) in parameters {
-                derivatives[l]
-                    .0
-                    .set_row(row.motor, &sensitivity.gradient[p].transpose());
-                derivatives[l].1[row.motor] = sensitivity.angle[p];
+                let derivative = &mut derivatives[l];
+                (derivative.matrix).set_row(row.motor, &sensitivity.gradient[p].transpose());
+                derivative.angles[row.motor] = sensitivity.angle[p];
             }
         }
         Ok(derivatives)
