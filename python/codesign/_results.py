@@ -70,6 +70,15 @@ class Solution:
         """Motor speeds per node, rad/s, shape (N+1, m)."""
         self.tcp: np.ndarray = tcp
         """TCP position in the world frame per node, m, shape (N+1, 3)."""
+        linkage = native.linkage_arrays()
+        self.motor_position: Optional[np.ndarray] = None
+        """Each motor's angle per node, rad, shape (N+1, m), where a row of G is a linkage
+        (gamma_i(q); G_i q for a constant row); None for a constant transmission."""
+        self.ratio: Optional[np.ndarray] = None
+        """G(q) per node, shape (N+1, m, n), where a row of G is a linkage; None otherwise."""
+        if linkage is not None:
+            self.motor_position, flat = linkage
+            self.ratio = flat.reshape(len(t), motor_speed.shape[1], q.shape[1])
         status, iterations, ratios, payload, space, task_hash = native.summary()
         self.status: str = status
         """IPOPT's return status of the solve that gave the verdict."""

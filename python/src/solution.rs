@@ -85,6 +85,19 @@ impl NativeSolution {
         )
     }
 
+    /// For a transmission whose ratio changes with the pose: each motor's angle per node
+    /// (N+1, m) and G(q) per node, flat ((N+1) m n values, motor-major within a node); None for
+    /// a constant one.
+    fn linkage_arrays<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> Option<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>)> {
+        let t = &self.document.result.trajectory;
+        let m = t.motor_position.first()?.len();
+        let flat: Vec<f64> = t.ratio.iter().flatten().flatten().copied().collect();
+        Some((rows(py, &t.motor_position, m), PyArray1::from_vec(py, flat)))
+    }
+
     /// The trajectory as arrays: t (N+1), q, v (N+1, n), a, tau (N, n), tau_u (N, m),
     /// motor_speed (N+1, m), tcp (N+1, 3).
     #[allow(clippy::type_complexity)]

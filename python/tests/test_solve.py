@@ -96,6 +96,27 @@ def test_a_solve_gives_arrays_of_documented_shapes(planar):
     # The task's G(r) = [[r1, 0], [r2, 2 r2]]: motor speeds are G v at every node.
     G = np.array([[50.0, 0.0], [12.0, 24.0]])
     np.testing.assert_allclose(sol.motor_speed, sol.v @ G.T, rtol=1e-12, atol=1e-12)
+    assert sol.motor_position is None and sol.ratio is None
+
+
+def test_a_ball_screws_motor_follows_its_geometry():
+    screw = cd.Task.load(ROOT / "robots" / "examples" / "planar_2dof" / "ball_screw.json")
+    sol = screw.solve(space="actuation", ratios=[50, 12])
+    assert sol.feasible
+    steps = screw.to_dict()["motion"]["steps"]
+    assert sol.motor_position.shape == (steps + 1, 2)
+    assert sol.ratio.shape == (steps + 1, 2, 2)
+    # The screw's length from the planar arm's geometry (robots/README.md): L^2 = 0.0325 -
+    # 0.03 sin q; its motor turns 2 pi per 12 mm of it.
+    elbow = sol.q[:, 1]
+    length = np.sqrt(0.0325 - 0.03 * np.sin(elbow))
+    np.testing.assert_allclose(sol.motor_position[:, 1], 2 * np.pi * length / 0.012, rtol=1e-12)
+    ratio = -2 * np.pi / 0.012 * 0.015 * np.cos(elbow) / length
+    np.testing.assert_allclose(sol.ratio[:, 1, 1], ratio, rtol=1e-9)
+    np.testing.assert_allclose(sol.ratio[:, 1, 0], 0.0, atol=0.0)
+    # Motor speeds are G(q) v, node by node.
+    speeds = np.einsum("kij,kj->ki", sol.ratio, sol.v)
+    np.testing.assert_allclose(sol.motor_speed, speeds, rtol=1e-12, atol=1e-12)
 
 
 def test_a_solve_is_the_command_lines_to_the_last_bit(planar, binary, tmp_path):
