@@ -88,6 +88,7 @@ impl NativeSolution {
     /// For a transmission whose ratio changes with the pose: each motor's angle per node
     /// (N+1, m) and G(q) per node, flat ((N+1) m n values, motor-major within a node); None for
     /// a constant one.
+    #[allow(clippy::type_complexity)]
     fn linkage_arrays<'py>(
         &self,
         py: Python<'py>,

@@ -246,7 +246,7 @@ impl SolveRequest {
         let warm = warm.as_ref();
         let (result, solution) = solve_design_from(&formulation, &ratios, &loaded.settings, warm)
             .map_err(|e| match e {
-            SolveError::Design(_) | SolveError::Formulation(_) => {
+            SolveError::Design(_) | SolveError::Formulation(_) | SolveError::Pose { .. } => {
                 Failure::input(format!("{}: {e}", self.posed.model.source()))
             }
             SolveError::Ipopt(_) => Failure::solver(format!("solver: {e}")),
