@@ -189,6 +189,31 @@ fn an_ankles_cost_gradient_matches_differences() {
     }
 }
 
+/// The four-bar example (`four_bar.json`: crank radius and reduction as design parameters): dJ*/dr
+/// in actuation space against differences of re-solved problems at three interior designs.
+#[test]
+fn a_four_bars_cost_gradient_matches_differences() {
+    let settings = SolveSettings {
+        tol: 1e-11,
+        ..testing::settings()
+    };
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("robots/examples/planar_2dof/four_bar.json");
+    let task = crate::model::task::Task::load(&path).unwrap();
+    let robot = Robot::load(&task).unwrap();
+    let f = Formulation::new(&task, robot, Space::Actuation, task.limit_modes).unwrap();
+    for ratios in [[50.0, 60.0, 10.0], [40.0, 70.0, 15.0], [60.0, 55.0, 8.0]] {
+        let (result, solution) = solve_design_from(&f, &ratios, &settings, None).unwrap();
+        assert!(result.feasible, "{ratios:?}: {}", result.status);
+        assert_power_balances(&result);
+        let gradient = result.cost_gradient.clone().unwrap();
+        assert_matches_differences("four-bar", &gradient, &ratios, |r| {
+            let (near, _) = solve_design_from(&f, r, &settings, Some(&solution)).unwrap();
+            near.cost
+        });
+    }
+}
+
 /// A rod too short to reach the crank pin at the motion's start: the design is refused,
 /// naming the motor, its row and what its loop lacks.
 #[test]
