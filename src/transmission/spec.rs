@@ -367,6 +367,18 @@ impl Transmission {
         Ok(transmission)
     }
 
+    /// The design space of `spec` alone (bounds, order constraints, the original design),
+    /// checked as [`Transmission::from_spec`] checks them, whatever its rows are.
+    pub fn design_space_of(spec: &TransmissionSpec) -> Result<DesignSpace, SpecError> {
+        check_bounds(spec)?;
+        let order = parse_orders(&spec.order, spec.bounds.len())?;
+        Ok(DesignSpace::new(
+            spec.original.clone(),
+            spec.bounds.clone(),
+            order,
+        ))
+    }
+
     /// The transmission of `spec`, each linkage row handed to `linkage`.
     fn parse(
         spec: &TransmissionSpec,

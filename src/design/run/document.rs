@@ -174,7 +174,8 @@ impl OptimizeDocument {
     /// The bounds of the run's design space that its best design sits on, with dJ*/dr_i from
     /// the best design's result where it has one; none when no design was found.
     pub fn best_at_bounds(&self) -> Vec<ActiveBound> {
-        let Ok(transmission) = Transmission::from_spec(&self.inputs.task.task.transmission) else {
+        let spec = &self.inputs.task.task.transmission;
+        let Ok(space) = Transmission::design_space_of(spec) else {
             return Vec::new();
         };
         if self.best_ratios.is_empty() {
@@ -184,9 +185,7 @@ impl OptimizeDocument {
             .best_result
             .as_ref()
             .and_then(|r| r.cost_gradient.as_deref());
-        transmission
-            .design_space()
-            .active_bounds(&self.best_ratios, gradient)
+        space.active_bounds(&self.best_ratios, gradient)
     }
 }
 
@@ -263,5 +262,19 @@ mod tests {
         value["median_solve_seconds"] = serde_json::Value::Null;
         let document: OptimizeDocument = serde_json::from_value(value).unwrap();
         assert!(document.median_solve_seconds.is_nan());
+    }
+
+    /// A run whose transmission has linkage rows lists its bounds too: the four-bar's best
+    /// design has its crank radius on the lower bound and its reduction on the upper one.
+    #[test]
+    fn a_linkage_runs_best_design_lists_its_bounds() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("results/linkage/four_bar-actuation-gradient.json");
+        let text = std::fs::read_to_string(path).unwrap();
+        let document: OptimizeDocument = serde_json::from_str(&text).unwrap();
+        let bounds: Vec<(usize, f64)> = (document.best_at_bounds().iter())
+            .map(|bound| (bound.index, bound.bound))
+            .collect();
+        assert_eq!(bounds, [(1, 52.0), (2, 40.0)]);
     }
 }
