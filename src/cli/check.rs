@@ -3,11 +3,9 @@
 use super::common::{finite_ratio, ModelArgs};
 use super::failure::Failure;
 use crate::dynamics::Dynamics;
-use crate::model::task::Task;
-use crate::model::Robot;
 use crate::report::check::Inspection;
-use crate::report::mechanism::{linkage_reports, linkages_text};
-use crate::transmission::{SpecError, Transmission};
+use crate::report::mechanism::{linkage_reports, linkages_text, LinkageReport};
+use crate::transmission::Transmission;
 
 /// Flags of `codesign check`.
 #[derive(Debug, clap::Args)]
@@ -36,16 +34,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let (task, robot, settings, alone) = args.model.load_robot()?;
     if alone {
         let inspection = Inspection::of_robot(&robot);
-        print(&inspection, args.json)?;
+        print(&inspection, &[], args.json)?;
         return Ok(());
     }
     let source = args.model.source();
-    let transmission = match Transmission::from_spec(&task.transmission) {
-        Err(SpecError::PoseDependent { .. }) => {
-            return linkages(&task, robot, args.json, &source.to_string())
-        }
-        other => other.map_err(|e| format!("{source}: {e}"))?,
-    };
+    let dynamics = Dynamics::new(robot.clone());
+    let transmission = Transmission::on_chain(&task.transmission, &dynamics)
+        .map_err(|e| format!("{source}: {e}"))?;
     if transmission.dof() != robot.dof() {
         return Err(Failure::Work(format!(
             "{source}: transmission.matrix is {0}x{0} but the robot has {1} moving joints",
@@ -59,8 +54,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .unwrap_or_else(|| task.transmission.original.clone());
     let tolerance = settings.constraint_tolerance();
     let inspection = Inspection::of(&task, &robot, (&transmission, &ratios), tolerance);
-    print(&inspection, args.json)?;
-    let problems = inspection.problems();
+    let reports = linkage_reports(&task, &dynamics).map_err(|e| format!("{source}: {e}"))?;
+    print(&inspection, &reports, args.json)?;
+    let mut problems = inspection.problems();
+    for report in &reports {
+        let motor = &report.motor;
+        problems.extend(report.warnings.iter().map(|w| format!("{motor}: {w}")));
+    }
     if problems.is_empty() {
         return Ok(());
     }
@@ -71,42 +71,22 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     )))
 }
 
-/// Shows the linkage rows of a transmission whose ratio changes with the pose (the constant
-/// rows' inspection is not yet written for such a task); fails listing the linkages' warnings
-/// (dead points, loops open, strokes left), if any.
-fn linkages(task: &Task, robot: Robot, json: bool, source: &str) -> Result<(), Failure> {
-    let dynamics = Dynamics::new(robot);
-    let reports = linkage_reports(task, &dynamics).map_err(|e| format!("{source}: {e}"))?;
+/// Prints the inspection, and the linkages' readings where the transmission has linkage rows
+/// (docs/model.md, section 17), as text, or as one JSON object (the linkages under `linkages`).
+fn print(inspection: &Inspection, linkages: &[LinkageReport], json: bool) -> Result<(), String> {
     if json {
-        let object = serde_json::json!({ "linkages": reports });
-        let text = serde_json::to_string_pretty(&object).map_err(|e| e.to_string())?;
-        say!("{text}");
-    } else {
-        say_raw!("{}", linkages_text(&reports));
-    }
-    let warnings: Vec<String> = (reports.iter())
-        .flat_map(|report| {
-            let motor = &report.motor;
-            report.warnings.iter().map(move |w| format!("{motor}: {w}"))
-        })
-        .collect();
-    if warnings.is_empty() {
-        return Ok(());
-    }
-    Err(Failure::Work(format!(
-        "{source}: {} problem(s) found in the linkages: {}",
-        warnings.len(),
-        warnings.join("; ")
-    )))
-}
-
-/// Prints the inspection as text, or as JSON.
-fn print(inspection: &Inspection, json: bool) -> Result<(), String> {
-    if json {
-        let text = serde_json::to_string_pretty(inspection).map_err(|e| e.to_string())?;
+        let mut value = serde_json::to_value(inspection).map_err(|e| e.to_string())?;
+        if let (Some(object), false) = (value.as_object_mut(), linkages.is_empty()) {
+            let readings = serde_json::to_value(linkages).map_err(|e| e.to_string())?;
+            object.insert("linkages".into(), readings);
+        }
+        let text = serde_json::to_string_pretty(&value).map_err(|e| e.to_string())?;
         say!("{text}");
     } else {
         say_raw!("{}", inspection.to_text());
+        if !linkages.is_empty() {
+            say_raw!("{}", linkages_text(linkages));
+        }
     }
     Ok(())
 }

@@ -307,32 +307,56 @@ impl Inspection {
         (t, ratios): (&Transmission, &[f64]),
         hold_tolerance_nm: f64,
     ) {
-        let coupling = match t.coupling(ratios) {
-            Ok(coupling) => coupling,
+        let dof = robot.dof();
+        let poses_fit = task.motion.start.len() == dof && task.motion.goal.len() == dof;
+        let dynamics = Dynamics::new(robot.clone());
+        let mut data = dynamics.workspace();
+        // G(r) for a constant transmission; G(q) at the start for a pose-dependent one.
+        let start = &task.motion.start;
+        let coupling = match (t.is_pose_dependent(), poses_fit) {
+            (false, _) => t.coupling(ratios).map(Some),
+            (true, true) => (t.coupling_at(ratios, (&dynamics, start), "the start")).map(Some),
+            // No pose to take G(q) at: the design space alone.
+            (true, false) => t.check_design(ratios).map(|()| None),
+        };
+        let coupling = match coupling {
+            Ok(Some(coupling)) => coupling,
+            Ok(None) => {
+                self.verdict("design", None, "inside the design space".into());
+                return;
+            }
             Err(error) => {
                 self.verdict("design", Some(error.to_string()), String::new());
                 return;
             }
         };
-        self.verdict(
-            "design",
-            None,
-            "inside the design space, G invertible".into(),
-        );
+        let fine = match t.is_pose_dependent() {
+            true => "inside the design space, G(q) invertible at the start",
+            false => "inside the design space, G invertible",
+        };
+        self.verdict("design", None, fine.into());
         self.g = Some(rows(coupling.matrix()));
         self.g_inverse = Some(rows(coupling.inverse()));
-        let dof = robot.dof();
-        if task.motion.start.len() != dof || task.motion.goal.len() != dof {
+        if !poses_fit {
             return;
         }
-        let dynamics = Dynamics::new(robot.clone());
-        let mut data = dynamics.workspace();
         // The motors' own limits: the actuation space's control limits.
         let limits = JointLimits::Box {
             lower: self.torque_limits_nm.iter().map(|l| -l).collect(),
             upper: self.torque_limits_nm.clone(),
         };
         for (pose, q) in [("start", &task.motion.start), ("goal", &task.motion.goal)] {
+            let coupling = match t.coupling_at(ratios, (&dynamics, q), &format!("the {pose}")) {
+                Ok(coupling) => coupling,
+                Err(error) => {
+                    self.verdict(
+                        &format!("hold at {pose}"),
+                        Some(error.to_string()),
+                        String::new(),
+                    );
+                    continue;
+                }
+            };
             let end = EndHold::at(
                 &dynamics,
                 &coupling,

@@ -41,6 +41,12 @@ const UR5: Example = Example {
     payload: "5",
 };
 
+const ANKLE: Example = Example {
+    name: "ankle_2dof",
+    joints: &["ankle_pitch", "ankle_roll"],
+    payload: "2",
+};
+
 impl Example {
     fn task(&self) -> PathBuf {
         support::root()
@@ -186,4 +192,9 @@ fn the_arm_with_a_differential_wrist_runs_end_to_end() {
 #[test]
 fn the_ur5_class_arm_runs_end_to_end() {
     UR5.runs_end_to_end();
+}
+
+#[test]
+fn the_ankle_on_two_crank_rods_runs_end_to_end() {
+    ANKLE.runs_end_to_end();
 }
