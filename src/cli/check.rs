@@ -54,7 +54,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .unwrap_or_else(|| task.transmission.original.clone());
     let tolerance = settings.constraint_tolerance();
     let inspection = Inspection::of(&task, &robot, (&transmission, &ratios), tolerance);
-    let reports = linkage_reports(&task, &dynamics).map_err(|e| format!("{source}: {e}"))?;
+    // The linkages at the design inspected where it is valid (the inspection names it otherwise).
+    let original = &task.transmission.original;
+    let design = match transmission.check_design(&ratios) {
+        Ok(()) => &ratios,
+        Err(_) => original,
+    };
+    let reports =
+        linkage_reports(&task, &dynamics, design).map_err(|e| format!("{source}: {e}"))?;
     print(&inspection, &reports, args.json)?;
     let mut problems = inspection.problems();
     for report in &reports {

@@ -66,9 +66,10 @@ pub struct Inspection {
     pub bounds: Vec<[f64; 2]>,
     /// The order constraints, as written.
     pub order: Vec<String>,
-    /// G at the design (row = motor), when it is invertible.
+    /// G at the design (row = motor), when it is invertible; G(q) at the motion's start where a
+    /// row is a linkage (the linkages' readings give it elsewhere).
     pub g: Option<Vec<Vec<f64>>>,
-    /// G^-1 at the design.
+    /// G^-1 at the design (at the start where G depends on the pose).
     pub g_inverse: Option<Vec<Vec<f64>>>,
     /// The static torques at the start and the goal.
     pub holds: Vec<HoldReport>,

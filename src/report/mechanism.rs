@@ -31,7 +31,7 @@ pub struct PoseReading {
     /// Its length (m) or crank angle (rad).
     pub measure: Option<f64>,
     /// The motor's torque holding the robot (with the task's payload) at rest there at the
-    /// original design, G(q)^-T g(q), N m; None where G(q) has no inverse there.
+    /// design read, G(q)^-T g(q), N m; None where G(q) has no inverse there.
     pub static_torque_nm: Option<f64>,
     /// Why it has no reading, if so.
     pub error: Option<String>,
@@ -81,10 +81,11 @@ pub struct LinkageReport {
 }
 
 /// The linkage rows of a task's transmission, resolved on its robot and read; empty when every
-/// row is constant.
+/// row is constant; read at `design` (one value per design parameter, within the design space).
 pub fn linkage_reports(
     task: &Task,
     dynamics: &Dynamics,
+    design: &[f64],
 ) -> Result<Vec<LinkageReport>, ResolveError> {
     let mut reports = Vec::new();
     let original = &task.transmission.original;
@@ -100,14 +101,18 @@ pub fn linkage_reports(
             .as_ref()
             .and_then(|names| names.get(row).cloned())
             .unwrap_or_else(|| format!("motor {}", row + 1));
-        let mut report = read(task, dynamics, &linkage, (row, motor, spec.kind()));
+        let mut report = read(
+            (task, dynamics, design),
+            &linkage,
+            (row, motor, spec.kind()),
+        );
         if let Some(transmission) = &transmission {
             for (reading, q) in report
                 .poses
                 .iter_mut()
                 .zip([&task.motion.start, &task.motion.goal])
             {
-                reading.static_torque_nm = static_torque(transmission, (task, dynamics), q, row);
+                reading.static_torque_nm = static_torque(transmission, (dynamics, design), q, row);
             }
         }
         reports.push(report);
@@ -115,17 +120,16 @@ pub fn linkage_reports(
     Ok(reports)
 }
 
-/// Motor `row`'s torque holding the robot at rest at pose q through G(q) at the task's original
-/// design, N m; None where the design or G(q) does not allow it.
+/// Motor `row`'s torque holding the robot at rest at pose q through G(q) at `design`, N m; None
+/// where the design or G(q) does not allow it.
 fn static_torque(
     transmission: &Transmission,
-    (task, dynamics): (&Task, &Dynamics),
+    (dynamics, design): (&Dynamics, &[f64]),
     q: &[f64],
     row: usize,
 ) -> Option<f64> {
-    let original = &task.transmission.original;
     let coupling = transmission
-        .coupling_at(original, (dynamics, q), "the pose")
+        .coupling_at(design, (dynamics, q), "the pose")
         .ok()?;
     let mut gravity = vec![0.0; dynamics.dof()];
     dynamics.gravity_torques(&mut dynamics.workspace(), q, &mut gravity);
@@ -134,8 +138,7 @@ fn static_torque(
 
 /// Reads one linkage at the ends and over the range.
 fn read(
-    task: &Task,
-    dynamics: &Dynamics,
+    (task, dynamics, design): (&Task, &Dynamics, &[f64]),
     linkage: &Linkage,
     (row, motor, kind): (usize, String, &'static str),
 ) -> LinkageReport {
@@ -147,14 +150,7 @@ fn read(
     let mut data = dynamics.workspace();
     let poses = [("start", &task.motion.start), ("goal", &task.motion.goal)]
         .map(|(pose, q)| {
-            let reading = reading(
-                dynamics,
-                &mut data,
-                linkage,
-                q,
-                &task.transmission.original,
-                &variables,
-            );
+            let reading = reading(dynamics, &mut data, linkage, q, design, &variables);
             match reading {
                 Ok((ratio, measure)) => PoseReading {
                     pose: pose.into(),
@@ -173,7 +169,7 @@ fn read(
             }
         })
         .to_vec();
-    let range = over_range(task, dynamics, &mut data, linkage, &variables);
+    let range = over_range((task, dynamics, design), &mut data, linkage, &variables);
     let joints: Vec<String> = variables.joints.clone().map(|j| names[j].clone()).collect();
     let warnings = warnings(linkage, &range, &joints);
     LinkageReport {
@@ -213,8 +209,7 @@ fn reading(
 /// The readings over a grid within the spanned joints' limits (a continuous joint: one turn),
 /// the other joints at the start (they do not move the linkage).
 fn over_range(
-    task: &Task,
-    dynamics: &Dynamics,
+    (task, dynamics, design): (&Task, &Dynamics, &[f64]),
     data: &mut Workspace,
     linkage: &Linkage,
     variables: &Variables,
@@ -243,14 +238,7 @@ fn over_range(
             q[joint] = low + (high - low) * (rest % per_joint) as f64 / (per_joint - 1) as f64;
             rest /= per_joint;
         }
-        match reading(
-            dynamics,
-            data,
-            linkage,
-            &q,
-            &task.transmission.original,
-            variables,
-        ) {
+        match reading(dynamics, data, linkage, &q, design, variables) {
             Ok((ratio, measure)) => {
                 for (k, value) in ratio.iter().enumerate() {
                     range.ratio_min[k] = range.ratio_min[k].min(*value);

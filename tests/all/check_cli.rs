@@ -233,3 +233,29 @@ fn check_shows_a_ball_screws_ratio_length_and_dead_points() {
         "{shown}"
     );
 }
+
+/// `check --ratios` reads the linkages at the design given: the ball-screw example's lead as
+/// r2 = 8 mm gives the screw's ratio at the start, -(2 pi / 0.008) 0.015 cos(-1) / L(-1) with
+/// L(-1)^2 = 0.0325 + 0.03 sin 1 (robots/README.md).
+#[test]
+fn check_reads_the_linkages_at_the_design_given() {
+    let task = support::root().join("robots/examples/planar_2dof/ball_screw.json");
+    let output = codesign(&[
+        "check",
+        "--task",
+        task.to_str().unwrap(),
+        "--ratios",
+        "50,8",
+        "--json",
+    ]);
+    let value: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let found = value["linkages"][0]["poses"][0]["ratio"][0]
+        .as_f64()
+        .unwrap();
+    let length = (0.0325 + 0.03 * 1f64.sin()).sqrt();
+    let ratio = -std::f64::consts::TAU / 0.008 * 0.015 * 1f64.cos() / length;
+    assert!(
+        (found - ratio).abs() < 1e-9 * ratio.abs(),
+        "{found} against {ratio}"
+    );
+}
