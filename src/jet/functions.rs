@@ -1,7 +1,7 @@
 //! Smooth functions of jets: a function of one variable composes through its derivatives at the
 //! jet's value, f(x0 + h) = sum_k f^(k)(x0) h^k / k!, truncated at the shape's order.
 
-use super::Jet;
+use super::{Jet, MAX_ORDER};
 
 impl<'s> Jet<'s> {
     /// f(self) for a function f whose derivatives at `self.value()` are `derivatives` (f, f',
@@ -39,25 +39,38 @@ impl<'s> Jet<'s> {
     /// integer.
     pub fn power(&self, exponent: f64) -> Jet<'s> {
         let x = self.value();
-        let mut derivatives = Vec::with_capacity(self.shape.order() + 1);
-        let mut factor = 1.0;
-        for k in 0..=self.shape.order() {
-            derivatives.push(factor * x.powf(exponent - k as f64));
+        let order = self.shape.order();
+        // x^(e - k) from x^e by repeated division (one powf per jet, not one per order); at
+        // x = 0 (an integer exponent) each power on its own.
+        let mut derivatives = [0.0; MAX_ORDER + 1];
+        let (mut factor, mut value) = (1.0, x.powf(exponent));
+        for (k, derivative) in derivatives.iter_mut().enumerate().take(order + 1) {
+            let power = if x == 0.0 {
+                x.powf(exponent - k as f64)
+            } else {
+                value
+            };
+            *derivative = factor * power;
             factor *= exponent - k as f64;
+            value /= x;
         }
-        self.compose(&derivatives)
+        self.compose(&derivatives[..=order])
     }
 
     /// acos(self); the value must lie strictly inside (-1, 1).
     pub fn acos(&self) -> Jet<'s> {
         let y = self.value();
         let s = 1.0 - y * y;
+        // s^(-1/2 - k) from one square root.
+        let r1 = s.sqrt().recip();
+        let r3 = r1 / s;
+        let (r5, r7) = (r3 / s, r3 / (s * s));
         self.compose(&[
             y.acos(),
-            -s.powf(-0.5),
-            -y * s.powf(-1.5),
-            -(1.0 + 2.0 * y * y) * s.powf(-2.5),
-            -(9.0 * y + 6.0 * y.powi(3)) * s.powf(-3.5),
+            -r1,
+            -y * r3,
+            -(1.0 + 2.0 * y * y) * r5,
+            -(9.0 * y + 6.0 * y.powi(3)) * r7,
         ])
     }
 
