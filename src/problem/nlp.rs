@@ -25,6 +25,8 @@ pub struct TrajectoryProblem<'a> {
     actuation: Actuation,
     /// G at the motion's start and goal: the static hold's.
     ends: [Coupling; 2],
+    /// Each screw's motor and length per motor radian l / 2 pi at this design, m/rad.
+    screws: Vec<(usize, f64)>,
     /// One dynamics workspace per node k < N (all of the formulation's one model), so that each
     /// keeps its node's kinematics cached from one callback to the next (the Hessian reuses what
     /// the Jacobian computed at the same point).
@@ -52,6 +54,9 @@ impl<'a> TrajectoryProblem<'a> {
             ratios: ratios.to_vec(),
             actuation: formulation.actuation(start.clone()),
             ends: [start, goal],
+            screws: (transmission.linkages().iter())
+                .filter_map(|row| Some((row.motor, row.linkage.length_per_angle(ratios)?)))
+                .collect(),
             workspaces: (0..steps)
                 .map(|_| formulation.dynamics().workspace())
                 .collect(),
@@ -208,15 +213,10 @@ impl<'a> TrajectoryProblem<'a> {
                 let at = (f.transmission())
                     .at_pose(&self.ratios, (f.dynamics(), data), state.0, depth)
                     .map_err(|error| EvalError::outside_domain(format!("node {k}: {error}")))?;
-                let screws = (f.transmission().linkages().iter())
-                    .filter_map(|row| {
-                        Some((row.motor, row.linkage.length_per_angle(&self.ratios)?.0))
-                    })
-                    .collect();
                 node.pose = Some(NodePose {
                     actuation: f.actuation(at.coupling),
                     rows: at.rows,
-                    screws,
+                    screws: self.screws.clone(),
                     speeds: state.1.to_vec(),
                     controls: f.layout().controls(x, k).to_vec(),
                 });

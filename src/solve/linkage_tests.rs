@@ -99,25 +99,31 @@ fn a_crank_rod_solve_balances_power() {
     }
 }
 
-/// dJ*/dr with respect to the first motor's ratio and the screw's lead, against central
-/// differences of problems re-solved from the optimum (the joint-space problem has other local
-/// optima nearby, which a cold start may reach), in both spaces.
-#[test]
-fn a_screws_cost_gradient_matches_differences() {
+/// Solves `f` at `ratios` (tol 1e-11), asserts a feasible result whose dJ*/dr matches central
+/// differences of problems re-solved from its optimum (a non-convex problem has other local
+/// optima nearby, which a cold start may reach), and returns the result.
+fn assert_cost_gradient_at(f: &Formulation, ratios: &[f64], label: &str) -> TrajectoryResult {
     let settings = SolveSettings {
         tol: 1e-11,
         ..testing::settings()
     };
+    let (result, solution) = solve_design_from(f, ratios, &settings, None).unwrap();
+    assert!(result.feasible, "{label} {ratios:?}: {}", result.status);
+    let gradient = result.cost_gradient.clone().unwrap();
+    assert_matches_differences(label, &gradient, ratios, |r| {
+        let (near, _) = solve_design_from(f, r, &settings, Some(&solution)).unwrap();
+        near.cost
+    });
+    result
+}
+
+/// dJ*/dr with respect to the first motor's ratio and the screw's lead, against central
+/// differences of problems re-solved from the optimum, in both spaces.
+#[test]
+fn a_screws_cost_gradient_matches_differences() {
     for space in [Space::Actuation, Space::Joint] {
         let f = formulation(SCREW_ROW, space);
-        let ratios = [40.0, 14.0];
-        let (result, solution) = solve_design_from(&f, &ratios, &settings, None).unwrap();
-        assert!(result.feasible, "{space}: {}", result.status);
-        let gradient = result.cost_gradient.clone().unwrap();
-        assert_matches_differences(&format!("{space} screw"), &gradient, &ratios, |r| {
-            let (near, _) = solve_design_from(&f, r, &settings, Some(&solution)).unwrap();
-            near.cost
-        });
+        assert_cost_gradient_at(&f, &[40.0, 14.0], &format!("{space} screw"));
     }
 }
 
@@ -127,15 +133,10 @@ fn a_screws_cost_gradient_matches_differences() {
 /// the row holds).
 #[test]
 fn a_screws_stroke_is_held_and_its_cost_gradient_matches_differences() {
-    let settings = SolveSettings {
-        tol: 1e-11,
-        ..testing::settings()
-    };
     for space in [Space::Actuation, Space::Joint] {
         let f = formulation(STROKED_SCREW_ROW, space);
-        let ratios = [60.0, 10.0];
-        let (result, solution) = solve_design_from(&f, &ratios, &settings, None).unwrap();
-        assert!(result.feasible, "{space}: {}", result.status);
+        let label = format!("{space} stroked screw");
+        let result = assert_cost_gradient_at(&f, &[60.0, 10.0], &label);
         let lengths = result
             .trajectory
             .motor_position
@@ -146,11 +147,6 @@ fn a_screws_stroke_is_held_and_its_cost_gradient_matches_differences() {
             (shortest - 0.08).abs() < 1e-6,
             "{space}: the stroke binds at 0.08 m, not {shortest}"
         );
-        let gradient = result.cost_gradient.clone().unwrap();
-        assert_matches_differences(&format!("{space} stroked screw"), &gradient, &ratios, |r| {
-            let (near, _) = solve_design_from(&f, r, &settings, Some(&solution)).unwrap();
-            near.cost
-        });
     }
 }
 
@@ -179,13 +175,7 @@ fn an_ankles_cost_gradient_matches_differences() {
     )
     .unwrap();
     for ratios in [[60.0, 60.0, 15.0], [45.0, 75.0, 8.0], [70.0, 50.0, 25.0]] {
-        let (result, solution) = solve_design_from(&f, &ratios, &settings, None).unwrap();
-        assert!(result.feasible, "{ratios:?}: {}", result.status);
-        let gradient = result.cost_gradient.clone().unwrap();
-        assert_matches_differences("ankle", &gradient, &ratios, |r| {
-            let (near, _) = solve_design_from(&f, r, &settings, Some(&solution)).unwrap();
-            near.cost
-        });
+        assert_cost_gradient_at(&f, &ratios, "ankle");
     }
 }
 
@@ -193,24 +183,13 @@ fn an_ankles_cost_gradient_matches_differences() {
 /// in actuation space against differences of re-solved problems at three interior designs.
 #[test]
 fn a_four_bars_cost_gradient_matches_differences() {
-    let settings = SolveSettings {
-        tol: 1e-11,
-        ..testing::settings()
-    };
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("robots/examples/planar_2dof/four_bar.json");
     let task = crate::model::task::Task::load(&path).unwrap();
     let robot = Robot::load(&task).unwrap();
     let f = Formulation::new(&task, robot, Space::Actuation, task.limit_modes).unwrap();
     for ratios in [[50.0, 60.0, 10.0], [40.0, 70.0, 15.0], [60.0, 55.0, 8.0]] {
-        let (result, solution) = solve_design_from(&f, &ratios, &settings, None).unwrap();
-        assert!(result.feasible, "{ratios:?}: {}", result.status);
-        assert_power_balances(&result);
-        let gradient = result.cost_gradient.clone().unwrap();
-        assert_matches_differences("four-bar", &gradient, &ratios, |r| {
-            let (near, _) = solve_design_from(&f, r, &settings, Some(&solution)).unwrap();
-            near.cost
-        });
+        assert_power_balances(&assert_cost_gradient_at(&f, &ratios, "four-bar"));
     }
 }
 

@@ -213,8 +213,7 @@ impl Transmission {
             let Some(linkage) = linkage.map(|l| &l.linkage) else {
                 continue;
             };
-            let (Some([min, max]), Some((scale, _))) =
-                (linkage.stroke(), linkage.length_per_angle(r))
+            let (Some([min, max]), Some(scale)) = (linkage.stroke(), linkage.length_per_angle(r))
             else {
                 continue;
             };

@@ -9,7 +9,7 @@ use crate::ipopt::Solution;
 use crate::problem::layout::RowBlock;
 use crate::problem::nlp::TrajectoryProblem;
 use crate::problem::node::NodeEval;
-use crate::transmission::linkage::RowDerivatives;
+use crate::transmission::linkage::{Linkage, RowDerivatives};
 use std::ops::Range;
 use std::sync::Arc;
 
@@ -37,11 +37,10 @@ fn screw_row(node: &NodeEval, motor: usize) -> Option<(&RowDerivatives, f64)> {
     Some((row, *scale))
 }
 
-/// Motor `motor`'s screw length per motor radian at `p`'s design, with its design derivatives.
-fn length_per_angle(p: &TrajectoryProblem<'_>, motor: usize) -> Option<(f64, Vec<f64>)> {
+/// Motor `motor`'s linkage in `p`'s transmission.
+fn linkage<'p>(p: &'p TrajectoryProblem<'_>, motor: usize) -> Option<&'p Linkage> {
     let linkages = p.formulation().transmission().linkages();
-    let row = linkages.iter().find(|row| row.motor == motor)?;
-    row.linkage.length_per_angle(p.ratios())
+    Some(&linkages.iter().find(|row| row.motor == motor)?.linkage)
 }
 
 impl Family for Strokes {
@@ -123,10 +122,14 @@ impl Family for Strokes {
         };
         let l = derivative.parameter;
         for (s, (motor, _, _)) in self.screws.iter().enumerate() {
-            let Some((scale, scale_derivatives)) = length_per_angle(p, *motor) else {
+            let Some(screw) = linkage(p, *motor) else {
                 continue;
             };
-            let d = scale * derivative.angle[*motor] + angles[*motor] * scale_derivatives[l];
+            let Some(scale) = screw.length_per_angle(p.ratios()) else {
+                continue;
+            };
+            let scale_derivative = screw.length_per_angle_derivative(l);
+            let d = scale * derivative.angle[*motor] + angles[*motor] * scale_derivative;
             *total += solution.lambda[row + s] * d;
         }
     }

@@ -203,17 +203,21 @@ impl Linkage {
         }
     }
 
-    /// A screw's length per motor radian at design `r`, l / 2 pi (m/rad), with its derivative
-    /// in each design parameter: its length is its motor angle times it. None for a crank.
-    pub fn length_per_angle(&self, r: &[f64]) -> Option<(f64, Vec<f64>)> {
+    /// A screw's length per motor radian at design `r`, l / 2 pi (m/rad): its length is its
+    /// motor angle times it. None for a crank.
+    pub fn length_per_angle(&self, r: &[f64]) -> Option<f64> {
         match self {
-            Linkage::Linear(screw) => Some((
-                screw.length_per_angle(r),
-                (0..r.len())
-                    .map(|p| screw.length_per_angle_derivative(p))
-                    .collect(),
-            )),
+            Linkage::Linear(screw) => Some(screw.length_per_angle(r)),
             Linkage::CrankRod(_) => None,
+        }
+    }
+
+    /// d(l / 2 pi)/dr_p of a screw (m/rad per unit of r_p): non-zero where its lead is k r_p;
+    /// 0 for a crank.
+    pub fn length_per_angle_derivative(&self, parameter: usize) -> f64 {
+        match self {
+            Linkage::Linear(screw) => screw.length_per_angle_derivative(parameter),
+            Linkage::CrankRod(_) => 0.0,
         }
     }
 
