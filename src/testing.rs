@@ -112,3 +112,29 @@ pub const STROKED_SCREW_ROW: &str = r#"{"linear": {"from": {"link": "upper_arm",
 pub const CRANK_ROW: &str = r#"{"crank_rod": {"crank": {"link": "upper_arm",
     "point": [0.1, 0, 0], "axis": [0, -1, 0], "radius_m": 0.06, "ratio": 10}, "rod_m": 0.2,
     "to": {"link": "forearm", "point": [0, 0, 0.05]}}}"#;
+
+/// The SCARA example (`robots/examples/scara_3dof`): two turning arms and a vertical quill, a
+/// prismatic joint driven by a constant row in rad/m; `quill` replaces that row when given, its
+/// parameter r3 then a lead in mm (10, within [2.5, 40]).
+pub fn scara_task(quill: Option<&str>) -> Task {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/examples/scara_3dof/task.json");
+    let mut task = Task::load(&path).expect("the SCARA example loads");
+    if let Some(row) = quill {
+        let transmission = &mut task.transmission;
+        transmission.matrix[2] = serde_json::from_str(row).expect("the quill row parses");
+        transmission.original[2] = 10.0;
+        transmission.bounds[2] = [2.5, 40.0];
+    }
+    task
+}
+
+/// A ball screw along the SCARA's quill, its lead the design parameter r3 (in mm): from 0.05 m
+/// above the quill's joint frame on the outer arm down to that frame, (0.05 + q) m apart, so
+/// that q_u = 2 pi (0.05 + q) / lead: the constant ratio 2 pi / lead.
+pub const QUILL_SCREW_ROW: &str = r#"{"linear": {"from": {"link": "outer_arm", "point": [0.175, 0, 0.05]},
+    "to": {"link": "quill", "point": [0, 0, 0]}, "lead_m": "0.001*r3"}}"#;
+
+/// A screw driving the SCARA's quill at a slant, from 75 mm beside its axis on the outer arm:
+/// a ratio that changes with the quill's position.
+pub const SLANTED_QUILL_ROW: &str = r#"{"linear": {"from": {"link": "outer_arm", "point": [0.1, 0, 0.05]},
+    "to": {"link": "quill", "point": [0, 0, 0]}, "lead_m": "0.001*r3"}}"#;

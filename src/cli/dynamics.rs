@@ -13,7 +13,7 @@ pub struct Args {
     /// The task (URDF, gravity, tool point, payload point), the robot and the payload.
     #[command(flatten)]
     model: ModelArgs,
-    /// Joint positions, rad, one per joint, comma-separated.
+    /// Joint positions, rad (m for a prismatic joint), one per joint, comma-separated.
     #[arg(
         long,
         value_name = "Q1,Q2,..",
@@ -23,7 +23,7 @@ pub struct Args {
         required = true
     )]
     q: Vec<f64>,
-    /// Joint velocities, rad/s [default: 0].
+    /// Joint velocities, rad/s (m/s for a prismatic joint) [default: 0].
     #[arg(
         long,
         value_name = "V1,V2,..",
@@ -32,7 +32,7 @@ pub struct Args {
         value_parser = listed_number
     )]
     v: Option<Vec<f64>>,
-    /// Joint accelerations, rad/s^2 [default: 0].
+    /// Joint accelerations, rad/s^2 (m/s^2 for a prismatic joint) [default: 0].
     #[arg(
         long,
         value_name = "A1,A2,..",

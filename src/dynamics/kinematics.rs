@@ -2,13 +2,14 @@
 //! point: its world position, its Jacobian and the Hessians of its coordinates.
 //!
 //! With S_j = (u_j, p_j x u_j) the world motion vector of joint j (unit axis u_j through p_j), the
-//! TCP's velocity due to joint j <= b (b its body) is J_j = u_j x P + p_j x u_j = u_j x (P - p_j).
-//! As du_i/dq_j = u_j x u_i for j <= i, the second derivatives are
-//! d^2 P / dq_i dq_j = u_min(i,j) x J_max(i,j) (zero beyond the TCP's body).
+//! TCP's velocity due to joint j <= b (b its body) is J_j = u_j x P + p_j x u_j = u_j x (P - p_j);
+//! a prismatic joint's S_j = (0, u_j) gives J_j = u_j. As du_i/dq_j = u_j x u_i for j <= i (zero
+//! for a prismatic j), the second derivatives are d^2 P / dq_i dq_j = w_min(i,j) x J_max(i,j), w
+//! the angular part of S (zero beyond the TCP's body).
 
 use super::spatial::Motion;
 use super::{remember, same_state, shape, Dynamics, Workspace};
-use crate::model::chain::Placement;
+use crate::model::chain::{JointKind, Placement};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 
 impl Dynamics {
@@ -22,16 +23,27 @@ impl Dynamics {
         let mut parent = Placement::identity();
         for ((frame, model), &angle) in data.frames.iter_mut().zip(&self.bodies).zip(q) {
             let joint = parent.then(&model.joint_placement);
-            let (sin, cos) = angle.sin_cos();
-            let turn = Matrix3::identity()
-                + model.axis_cross * sin
-                + model.axis_cross_squared * (1.0 - cos);
-            frame.pose = Placement {
-                rotation: joint.rotation * turn,
-                translation: joint.translation,
-            };
             let axis = joint.rotation * model.axis;
-            frame.s = Motion::new(axis, joint.translation.cross(&axis));
+            match model.kind {
+                JointKind::Revolute => {
+                    let (sin, cos) = angle.sin_cos();
+                    let turn = Matrix3::identity()
+                        + model.axis_cross * sin
+                        + model.axis_cross_squared * (1.0 - cos);
+                    frame.pose = Placement {
+                        rotation: joint.rotation * turn,
+                        translation: joint.translation,
+                    };
+                    frame.s = Motion::new(axis, joint.translation.cross(&axis));
+                }
+                JointKind::Prismatic => {
+                    frame.pose = Placement {
+                        rotation: joint.rotation,
+                        translation: joint.translation + axis * angle,
+                    };
+                    frame.s = Motion::new(Vector3::zeros(), axis);
+                }
+            }
             frame.inertia = model.inertia.transformed(&frame.pose);
             parent = frame.pose;
         }

@@ -11,7 +11,11 @@
 //! (the robot, its per-body constants, gravity, the TCP) and is shared; a [`Workspace`], made by
 //! [`Dynamics::workspace`], holds the per-state caches and is passed `&mut` to every evaluation.
 //!
-//! Units: q in rad, v in rad/s, a in rad/s^2, torques in N m, positions in m. Joint vectors are in
+//! A prismatic joint's motion vector is a pure translation S_j = (0, u_j); the same rule holds for
+//! it (its S_j x S_i is the translation of S_i's axis), so every recursion serves both kinds.
+//!
+//! Units: q in rad, v in rad/s, a in rad/s^2, torques in N m, positions in m (for a prismatic
+//! joint: q in m, v in m/s, a in m/s^2, its effort in N). Joint vectors are in
 //! the chain's joint order (base outward). Every method takes slices of length `dof()` and writes
 //! into caller-owned outputs; nothing is allocated per call once the outputs have their shapes.
 //! Results at the same q (and v, a) are reused between calls on one workspace, so evaluating
@@ -26,7 +30,7 @@ mod spatial;
 
 pub use point_jet::Fixed;
 
-use crate::model::chain::{Placement, PointOnBody};
+use crate::model::chain::{JointKind, Placement, PointOnBody};
 use crate::model::Robot;
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use spatial::{Force, Inertia, Motion};
@@ -77,6 +81,8 @@ pub struct Workspace {
 #[derive(Clone, Debug)]
 struct BodyModel {
     joint_placement: Placement,
+    /// How the joint moves the body.
+    kind: JointKind,
     /// The joint's unit axis, with [axis x] and [axis x]^2 (Rodrigues' formula), in the body frame.
     axis: Vector3<f64>,
     axis_cross: Matrix3<f64>,
@@ -154,6 +160,7 @@ impl Dynamics {
                 let axis_cross = body.axis.cross_matrix();
                 BodyModel {
                     joint_placement: body.joint_placement,
+                    kind: body.kind,
                     axis: body.axis,
                     axis_cross,
                     axis_cross_squared: axis_cross * axis_cross,

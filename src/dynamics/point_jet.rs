@@ -7,9 +7,11 @@
 //!
 //!   d^k x / dq_i1 ... dq_ik = u_i1 x (u_i2 x ( ... (u_ik x (x - p_ik)))),
 //!
-//! (the innermost term u_ik x x for a direction), and zero when a joint lies beyond b. The
-//! Taylor coefficient of a monomial is that derivative over the factorials of its
-//! multiplicities.
+//! (the innermost term u_ik x x for a direction), and zero when a joint lies beyond b. With the
+//! world motion vector S_j = (w_j, l_j) the innermost term is w_ik x x + l_ik, which also serves a
+//! prismatic joint (w = 0, l = u: it slides a point and turns nothing, so it contributes only as
+//! the innermost joint). The Taylor coefficient of a monomial is that derivative over the
+//! factorials of its multiplicities.
 
 use super::{Dynamics, Workspace};
 use crate::jet::{Jet, JetShape, JetVector};

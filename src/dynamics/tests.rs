@@ -1,8 +1,10 @@
 //! Checks of the dynamics: the reference vectors of `tests/data/dynamics_vectors.json`
 //! (Pinocchio and an independent symbolic RNEA) for the belt arm, and central finite differences
-//! of this module's own functions for the belt arm and a random 6-joint chain with skew axes.
+//! of this module's own functions for the belt arm and random 6-joint chains with skew axes (one
+//! with two prismatic joints).
 
 use super::Dynamics;
+use crate::model::chain::JointKind;
 use crate::model::task::Task;
 use crate::model::Robot;
 use crate::testing::{self, Random};
@@ -165,9 +167,30 @@ fn every_field_of_every_reference_sample_agrees() {
 // ---------------------------------------------------------------------------------------------
 // Finite differences
 
-/// A random 6-joint chain: skew axes, rotated joint frames, random full inertias, a fixed joint
-/// in the middle of a body and a continuous joint.
-fn random_chain_urdf(random: &mut Random) -> String {
+/// The joint types of the random chain: revolute, with a continuous joint.
+const TURNING: [&str; 6] = [
+    "revolute",
+    "revolute",
+    "revolute",
+    "continuous",
+    "revolute",
+    "revolute",
+];
+
+/// The random chain with two prismatic joints: one inside the chain (its slide moves the axes of
+/// the joints after it) and the last (it moves only the TCP's body).
+const SLIDING: [&str; 6] = [
+    "revolute",
+    "prismatic",
+    "revolute",
+    "continuous",
+    "revolute",
+    "prismatic",
+];
+
+/// A random 6-joint chain of the joint types `kinds`: skew axes, rotated joint frames, random
+/// full inertias, a fixed joint in the middle of a body.
+fn random_chain_urdf(random: &mut Random, kinds: [&str; 6]) -> String {
     let mut text = String::from("<robot name=\"random\">\n");
     let link = |name: &str, random: &mut Random| {
         // Principal moments meeting the triangle inequality (any two of [0.03, 0.05] add up to
@@ -225,8 +248,7 @@ fn random_chain_urdf(random: &mut Random) -> String {
     for k in 1..=6 {
         let child = format!("l{k}");
         text += &link(&child, random);
-        let kind = if k == 4 { "continuous" } else { "revolute" };
-        text += &joint(&format!("j{k}"), kind, &parent, &child, random);
+        text += &joint(&format!("j{k}"), kinds[k - 1], &parent, &child, random);
         parent = child;
         if k == 3 {
             text += &link("l3b", random);
@@ -238,8 +260,12 @@ fn random_chain_urdf(random: &mut Random) -> String {
 }
 
 fn random_chain(payload_kg: f64) -> Dynamics {
+    random_chain_of(payload_kg, TURNING)
+}
+
+fn random_chain_of(payload_kg: f64, kinds: [&str; 6]) -> Dynamics {
     let mut random = Random::new(7);
-    let urdf = random_chain_urdf(&mut random);
+    let urdf = random_chain_urdf(&mut random, kinds);
     let mut task = default_task();
     task.gravity = [1.2, -3.4, -8.7];
     task.tcp.link = "l6".into();
@@ -417,6 +443,73 @@ fn random_six_joint_chain_derivatives_match_finite_differences() {
 }
 
 #[test]
+fn random_chain_with_prismatic_joints_derivatives_match_finite_differences() {
+    let dynamics = random_chain_of(0.7, SLIDING);
+    for j in [1, 5] {
+        assert_eq!(dynamics.robot().joint_kind(j), JointKind::Prismatic);
+    }
+    check_against_differences(dynamics, 29);
+}
+
+#[test]
+fn a_prismatic_joint_slides_its_body_along_its_axis() {
+    let dynamics = random_chain_of(0.0, SLIDING);
+    let mut data = dynamics.workspace();
+    let q = [0.3, 0.2, -0.4, 1.0, 0.5, -0.3];
+    let mut slid = q;
+    slid[1] += 0.25;
+    let before = dynamics.body_pose(&mut data, &q, Some(1));
+    let after = dynamics.body_pose(&mut data, &slid, Some(1));
+    let axis = before.rotation * dynamics.bodies[1].axis;
+    assert!((after.rotation - before.rotation).amax() < 1e-15);
+    assert!((after.translation - before.translation - axis * 0.25).amax() < 1e-14);
+}
+
+/// A polar (RP) arm in the horizontal x-y plane, gravity along -y: a revolute joint about z,
+/// then a prismatic joint along the turning x axis; each link's centre of mass on that axis.
+const POLAR_ARM: &str = r#"<robot name="polar">
+  <link name="base"/>
+  <link name="l1"><inertial><origin xyz="0.2 0 0"/><mass value="1.5"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.03" iyz="0" izz="0.03"/></inertial></link>
+  <link name="l2"><inertial><origin xyz="0.1 0 0"/><mass value="0.8"/>
+    <inertia ixx="0.004" ixy="0" ixz="0" iyy="0.005" iyz="0" izz="0.005"/></inertial></link>
+  <joint name="turn" type="revolute"><parent link="base"/><child link="l1"/>
+    <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="10" velocity="5"/></joint>
+  <joint name="slide" type="prismatic"><parent link="l1"/><child link="l2"/>
+    <axis xyz="1 0 0"/><limit lower="-0.5" upper="0.8" effort="50" velocity="1"/></joint>
+</robot>"#;
+
+#[test]
+fn a_polar_arm_follows_its_lagrange_equations() {
+    let mut task = default_task();
+    task.gravity = [0.0, -9.81, 0.0];
+    task.tcp.link = "l2".into();
+    task.payload.at.link = "l2".into();
+    task.payload.mass_kg = 0.0;
+    let dynamics = Dynamics::new(Robot::from_urdf_str(POLAR_ARM, "polar.urdf", &task).unwrap());
+    assert_eq!(dynamics.robot().joint_kind(1), JointKind::Prismatic);
+    let (m1, d, i1, m2, c, i2, g) = (1.5, 0.2, 0.03, 0.8, 0.1, 0.005, 9.81);
+    let mut data = dynamics.workspace();
+    let mut tau = [0.0; 2];
+    let mut random = Random::new(5);
+    for _ in 0..5 {
+        let q = random.vector(2, 1.0);
+        let v = random.vector(2, 2.0);
+        let a = random.vector(2, 3.0);
+        dynamics.rnea(&mut data, &q, &v, &a, &mut tau);
+        let (theta, rho) = (q[0], q[1] + c);
+        // T = (I1 + m1 d^2 + I2 + m2 rho^2) thetadot^2 / 2 + m2 rdot^2 / 2,
+        // V = (m1 d + m2 rho) g sin(theta).
+        let turn = (i1 + m1 * d * d + i2 + m2 * rho * rho) * a[0]
+            + 2.0 * m2 * rho * v[1] * v[0]
+            + (m1 * d + m2 * rho) * g * theta.cos();
+        let push = m2 * a[1] - m2 * rho * v[0] * v[0] + m2 * g * theta.sin();
+        assert!((tau[0] - turn).abs() < 1e-12, "{} against {turn}", tau[0]);
+        assert!((tau[1] - push).abs() < 1e-12, "{} against {push}", tau[1]);
+    }
+}
+
+#[test]
 #[should_panic(expected = "did not make it")]
 fn a_workspace_of_another_model_is_refused() {
     let (one, other) = (belt_arm(0.0), belt_arm(1.0));
@@ -460,6 +553,15 @@ fn pose_by_jets<'s>(
         } else {
             constant(q[k])
         };
+        if model.kind == JointKind::Prismatic {
+            translation = [0, 1, 2].map(|i| {
+                (0..3).fold(translation[i].clone(), |sum, j| {
+                    &sum + &(&(&joint[i][j] * model.axis[j]) * &angle)
+                })
+            });
+            rotation = joint;
+            continue;
+        }
         let (sin, cos) = angle.sin_cos();
         let versine = cos.scaled(-1.0, 1.0);
         let turn = [0, 1, 2].map(|i| {
@@ -480,15 +582,20 @@ fn pose_by_jets<'s>(
 
 #[test]
 fn point_and_direction_jets_match_forward_kinematics_in_jets() {
+    for kinds in [TURNING, SLIDING] {
+        jets_match_forward_kinematics_in_jets(&random_chain_of(0.0, kinds));
+    }
+}
+
+fn jets_match_forward_kinematics_in_jets(dynamics: &Dynamics) {
     use super::Fixed;
     use crate::jet::JetShape;
-    let dynamics = random_chain(0.0);
     let q = [0.3, -0.7, 1.1, 0.4, -1.3, 0.9];
     let mut data = dynamics.workspace();
     let local = nalgebra::Vector3::new(0.12, -0.3, 0.07);
     for (joints, body, order) in [(0..6, 5, 4), (2..5, 4, 4), (1..3, 4, 3), (0..4, 1, 4)] {
         let shape = JetShape::new(joints.len(), 1, order);
-        let (rotation, translation) = pose_by_jets(&dynamics, &q, body, joints.clone(), &shape);
+        let (rotation, translation) = pose_by_jets(dynamics, &q, body, joints.clone(), &shape);
         for vector in [Fixed::Point(local), Fixed::Direction(local)] {
             let jet = dynamics.fixed_jet(&mut data, &q, Some(body), vector, joints.clone(), &shape);
             for i in 0..3 {

@@ -1,9 +1,10 @@
-//! A serial kinematic chain of rigid bodies joined by revolute joints: the model the dynamics use.
+//! A serial kinematic chain of rigid bodies joined by revolute and prismatic joints: the model the
+//! dynamics use.
 //!
 //! Body 0 hangs from the fixed base (the URDF's root link, whose frame is the world frame); body
 //! i + 1 hangs from body i. A body is the child link of a moving joint together with every link
 //! fixed to it; its frame is that child link's frame, which URDF places on the joint axis. Units: m,
-//! kg, kg m^2, rad.
+//! kg, kg m^2; a revolute joint's coordinate in rad, a prismatic joint's in m.
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -96,13 +97,45 @@ impl MassProperties {
     }
 }
 
+/// How a joint moves its body along its axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum JointKind {
+    /// A turn about the axis through the joint frame's origin: q in rad, its effort in N m
+    /// (URDF `revolute` and `continuous`).
+    Revolute,
+    /// A slide along the axis: q in m, its effort in N (URDF `prismatic`).
+    Prismatic,
+}
+
+impl JointKind {
+    /// The unit of the joint's coordinate: "rad" or "m".
+    pub fn unit(self) -> &'static str {
+        match self {
+            JointKind::Revolute => "rad",
+            JointKind::Prismatic => "m",
+        }
+    }
+
+    /// The unit of the joint's effort: "N m" or "N".
+    pub fn effort_unit(self) -> &'static str {
+        match self {
+            JointKind::Revolute => "N m",
+            JointKind::Prismatic => "N",
+        }
+    }
+}
+
 /// One moving body of the chain with the joint that moves it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Body {
     /// The joint frame (= this body's frame at q = 0) in the parent body's frame (body i - 1, or
     /// the world for body 0).
     pub joint_placement: Placement,
-    /// The joint's unit axis in this body's frame; positive q turns the body about it.
+    /// How the joint moves the body.
+    pub kind: JointKind,
+    /// The joint's unit axis in this body's frame; positive q turns the body about it (revolute)
+    /// or slides it along it (prismatic).
     pub axis: Vector3<f64>,
     /// The body's mass properties (all its links) in its own frame, without any payload.
     pub mass: MassProperties,
@@ -135,7 +168,7 @@ pub struct Chain {
     pub bodies: Vec<Body>,
     /// The name of each body's joint.
     pub joint_names: Vec<String>,
-    /// Position limits (lower, upper) of each joint, rad; infinite for continuous joints.
+    /// Position limits (lower, upper) of each joint, rad or m; infinite for continuous joints.
     pub limits: Vec<(f64, f64)>,
     /// Every link of the URDF.
     pub links: Vec<LinkFrame>,

@@ -1,6 +1,6 @@
 //! The robot of a task: the URDF's serial chain with the task's gravity, tool point and payload.
 
-use super::chain::{Chain, PointOnBody};
+use super::chain::{Chain, JointKind, PointOnBody};
 use super::error::ModelError;
 use super::task::{PointOnLink, Task};
 use super::urdf::{read_chain, tip_link};
@@ -117,9 +117,18 @@ impl Robot {
         &self.chain.joint_names
     }
 
-    /// Position limits (lower, upper) per joint, rad; infinite for continuous joints.
+    /// Position limits (lower, upper) per joint, rad (m for a prismatic joint); infinite for
+    /// continuous joints.
     pub fn position_limits(&self) -> &[(f64, f64)] {
         &self.chain.limits
+    }
+
+    /// How joint `j` moves (revolute or prismatic), which gives its units.
+    ///
+    /// # Panics
+    /// If `j` is not a joint of the chain.
+    pub fn joint_kind(&self, j: usize) -> JointKind {
+        self.chain.bodies[j].kind
     }
 
     /// What reading the URDF changed, one sentence each naming the joint or link (joints locked,

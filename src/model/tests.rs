@@ -1,7 +1,7 @@
 //! Checks of URDF loading: the belt arm of robots/README.md, fixed-joint merging, and the
 //! errors for malformed descriptions, each naming the element at fault.
 
-use super::chain::MassProperties;
+use super::chain::{JointKind, MassProperties};
 use super::task::Task;
 use super::urdf::read_chain;
 use super::{ModelError, Robot};
@@ -235,7 +235,6 @@ fn unsupported_joints_are_named() {
             &["joint 'joint_arm_3'", kind],
         )
     };
-    swap("prismatic");
     swap("floating");
     swap("planar");
     assert_fails(
@@ -297,7 +296,7 @@ fn unknown_task_links_and_unreadable_files_are_named() {
         .unwrap_err()
         .to_string();
     assert!(
-        message.contains("no revolute or continuous joint"),
+        message.contains("no revolute, continuous or prismatic joint"),
         "{message}"
     );
 }
@@ -326,6 +325,35 @@ fn assert_same_bodies(got: &Robot, want: &Robot) {
 #[test]
 fn the_belt_arm_has_no_notes() {
     assert!(Robot::load(&task()).unwrap().notes().is_empty());
+}
+
+#[test]
+fn a_prismatic_joint_with_lower_equal_to_upper_is_locked_at_that_length() {
+    let text = idiom("prismatic_on_chain.urdf");
+    let locked = text.replacen(
+        "<limit lower=\"0\" upper=\"0.3\"",
+        "<limit lower=\"0.25\" upper=\"0.25\"",
+        1,
+    );
+    let robot = load(&locked).unwrap();
+    assert_eq!(robot.joint_names(), ["joint_1", "joint_2"]);
+    assert_eq!(
+        robot.notes(),
+        ["joint 'slider' has lower = upper = 0.25: locked at 0.25 m (treated as fixed)"]
+    );
+    // The same as a fixed joint 0.25 m further along its axis (z).
+    let fixed = text
+        .replacen(
+            "<joint name=\"slider\" type=\"prismatic\">",
+            "<joint name=\"slider\" type=\"fixed\">",
+            1,
+        )
+        .replacen(
+            "<origin xyz=\"0 0 0.2\"/><axis xyz=\"0 0 1\"/>",
+            "<origin xyz=\"0 0 0.45\"/>",
+            1,
+        );
+    assert_same_bodies(&robot, &load(&fixed).unwrap());
 }
 
 #[test]
@@ -396,17 +424,12 @@ fn a_massless_link_with_an_inertia_is_taken_with_a_note() {
 }
 
 #[test]
-fn a_prismatic_joint_on_the_chain_and_a_second_limit_are_named() {
-    let message = load(&idiom("prismatic_on_chain.urdf"))
-        .unwrap_err()
-        .to_string();
-    assert!(
-        message.starts_with(
-            "test.urdf: joint 'slider': is prismatic: only revolute and continuous joints move \
-             in codesign's chains"
-        ),
-        "{message}"
-    );
+fn a_prismatic_joint_on_the_chain_moves_and_a_second_limit_is_named() {
+    let robot = load(&idiom("prismatic_on_chain.urdf")).unwrap();
+    assert_eq!(robot.dof(), 3);
+    assert_eq!(robot.joint_names()[1], "slider");
+    assert_eq!(robot.joint_kind(1), JointKind::Prismatic);
+    assert_eq!(robot.position_limits()[1], (0.0, 0.3));
     let message = load(&idiom("duplicate_limit.urdf"))
         .unwrap_err()
         .to_string();

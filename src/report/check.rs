@@ -3,6 +3,7 @@
 //! both ends against each motor's own torque limit, the design space, and a verdict per check.
 
 use crate::dynamics::Dynamics;
+use crate::model::chain::JointKind;
 use crate::model::task::{Ends, Task};
 use crate::model::Robot;
 use crate::problem::{EndHold, HoldRows, Space};
@@ -17,7 +18,9 @@ use std::fmt::Write as _;
 pub struct JointReport {
     /// The joint's name in the URDF.
     pub name: String,
-    /// Its position limits (lower, upper), rad; infinite for a continuous joint.
+    /// How it moves: `revolute` (q in rad, its effort in N m) or `prismatic` (m, N).
+    pub kind: JointKind,
+    /// Its position limits (lower, upper), rad or m; infinite for a continuous joint.
     pub limits: (f64, f64),
     /// The mass it carries: its body and every body outboard, with the payload, kg.
     pub carries_kg: f64,
@@ -28,11 +31,11 @@ pub struct JointReport {
 pub struct HoldReport {
     /// The pose, `start` or `goal`.
     pub pose: String,
-    /// Joint angles, rad.
+    /// Joint positions, rad (m for a prismatic joint).
     pub q: Vec<f64>,
     /// The TCP's position in the world, m.
     pub tcp_m: [f64; 3],
-    /// Gravity torques g(q) at the joints, with the payload, N m.
+    /// Gravity torques g(q) at the joints, with the payload, N m (N at a prismatic joint).
     pub joint_torques_nm: Vec<f64>,
     /// The motor torques G^-T g(q) that hold the arm still, N m.
     pub motor_torques_nm: Vec<f64>,
@@ -71,6 +74,8 @@ pub struct Inspection {
     pub g: Option<Vec<Vec<f64>>>,
     /// G^-1 at the design (at the start where G depends on the pose).
     pub g_inverse: Option<Vec<Vec<f64>>>,
+    /// Whether G depends on the pose (a row is a linkage): `g` is then G(q) at the start.
+    pub g_at_start: bool,
     /// The static torques at the start and the goal.
     pub holds: Vec<HoldReport>,
     /// What the task's motion asks at its ends (`motion.ends`): under `paper` the hold is
@@ -117,8 +122,10 @@ fn joints(robot: &Robot) -> Vec<JointReport> {
         .iter()
         .zip(robot.position_limits())
         .zip(carried(robot))
-        .map(|((name, &limits), carries_kg)| JointReport {
+        .enumerate()
+        .map(|(j, ((name, &limits), carries_kg))| JointReport {
             name: name.clone(),
+            kind: robot.joint_kind(j),
             limits,
             carries_kg,
         })
@@ -187,6 +194,7 @@ impl Inspection {
                 .collect(),
             g: None,
             g_inverse: None,
+            g_at_start: false,
             holds: Vec::new(),
             ends: Some(task.motion.ends),
             torque_limits_nm: task.motors.torque_limit_nm.values(transmission.dof()),
@@ -217,6 +225,7 @@ impl Inspection {
             order: Vec::new(),
             g: None,
             g_inverse: None,
+            g_at_start: false,
             holds: Vec::new(),
             ends: None,
             torque_limits_nm: Vec::new(),
@@ -285,7 +294,8 @@ impl Inspection {
             for (i, (&angle, &(lo, hi))) in q.iter().zip(limits).enumerate() {
                 if !(lo..=hi).contains(&angle) {
                     problems.push(format!(
-                        "motion.{pose}[{i}] = {angle} rad is outside joint '{}' [{lo}, {hi}]",
+                        "motion.{pose}[{i}] = {angle} {} is outside joint '{}' [{lo}, {hi}]",
+                        robot.joint_kind(i).unit(),
                         robot.joint_names()[i]
                     ));
                 }
@@ -336,6 +346,7 @@ impl Inspection {
             false => "inside the design space, G invertible",
         };
         self.verdict("design", None, fine.into());
+        self.g_at_start = t.is_pose_dependent();
         self.g = Some(rows(coupling.matrix()));
         self.g_inverse = Some(rows(coupling.inverse()));
         if !poses_fit {
@@ -389,6 +400,17 @@ impl Inspection {
             .collect()
     }
 
+    /// The unit of the joints' gravity loads: "N m" when every joint turns, else one per joint
+    /// ("(N m, N m, N)").
+    fn effort_units(&self) -> String {
+        let units: Vec<&str> = self.joints.iter().map(|j| j.kind.effort_unit()).collect();
+        if units.iter().all(|&unit| unit == "N m") {
+            "N m".into()
+        } else {
+            format!("({})", units.join(", "))
+        }
+    }
+
     /// The inspection as text, for a terminal.
     pub fn to_text(&self) -> String {
         let list = |values: &[f64]| {
@@ -407,9 +429,10 @@ impl Inspection {
             let (lo, hi) = joint.limits;
             let _ = writeln!(
                 text,
-                "  joint {} '{}': limits [{lo:.4}, {hi:.4}] rad, carries {:.3} kg",
+                "  joint {} '{}': limits [{lo:.4}, {hi:.4}] {}, carries {:.3} kg",
                 i + 1,
                 shown(&joint.name),
+                joint.kind.unit(),
                 joint.carries_kg
             );
         }
@@ -429,7 +452,11 @@ impl Inspection {
                 }
             );
         }
-        for (name, matrix) in [("G", &self.g), ("G^-1", &self.g_inverse)] {
+        let names = match self.g_at_start {
+            true => ["G(q) at the start", "G(q)^-1 at the start"],
+            false => ["G", "G^-1"],
+        };
+        for (name, matrix) in names.into_iter().zip([&self.g, &self.g_inverse]) {
             if let Some(matrix) = matrix {
                 let _ = writeln!(text, "{name}:");
                 for row in matrix {
@@ -453,10 +480,11 @@ impl Inspection {
         for hold in &self.holds {
             let _ = writeln!(
                 text,
-                "{}: TCP ({}) m; gravity torques at the joints ({}) N m, at the motors ({}) N m",
+                "{}: TCP ({}) m; gravity torques at the joints ({}) {}, at the motors ({}) N m",
                 hold.pose,
                 list(&hold.tcp_m),
                 list(&hold.joint_torques_nm),
+                self.effort_units(),
                 list(&hold.motor_torques_nm)
             );
         }

@@ -33,7 +33,7 @@ fn screw_ratio(q: f64, lead: f64) -> f64 {
 
 /// sum_i tau_u,i qd_u,i = sum_j tau_j qd_j at every node k < N of `result`, to 1e-8 of the
 /// larger power: the motor torques, motor speeds and joint torques read back share G(q_k).
-fn assert_power_balances(result: &TrajectoryResult) {
+pub(super) fn assert_power_balances(result: &TrajectoryResult) {
     let t = &result.trajectory;
     for k in 0..t.motor_torque.len() {
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
@@ -102,7 +102,11 @@ fn a_crank_rod_solve_balances_power() {
 /// Solves `f` at `ratios` (tol 1e-11), asserts a feasible result whose dJ*/dr matches central
 /// differences of problems re-solved from its optimum (a non-convex problem has other local
 /// optima nearby, which a cold start may reach), and returns the result.
-fn assert_cost_gradient_at(f: &Formulation, ratios: &[f64], label: &str) -> TrajectoryResult {
+pub(super) fn assert_cost_gradient_at(
+    f: &Formulation,
+    ratios: &[f64],
+    label: &str,
+) -> TrajectoryResult {
     let settings = SolveSettings {
         tol: 1e-11,
         ..testing::settings()

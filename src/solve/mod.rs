@@ -51,4 +51,6 @@ mod linkage_tests;
 #[cfg(test)]
 mod loss_tests;
 #[cfg(test)]
+mod prismatic_tests;
+#[cfg(test)]
 mod tests;

@@ -47,6 +47,12 @@ const ANKLE: Example = Example {
     payload: "2",
 };
 
+const SCARA: Example = Example {
+    name: "scara_3dof",
+    joints: &["shoulder", "elbow", "quill"],
+    payload: "1",
+};
+
 impl Example {
     fn task(&self) -> PathBuf {
         support::root()
@@ -197,4 +203,9 @@ fn the_ur5_class_arm_runs_end_to_end() {
 #[test]
 fn the_ankle_on_two_crank_rods_runs_end_to_end() {
     ANKLE.runs_end_to_end();
+}
+
+#[test]
+fn the_scara_with_a_prismatic_quill_runs_end_to_end() {
+    SCARA.runs_end_to_end();
 }

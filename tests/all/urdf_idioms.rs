@@ -1,7 +1,8 @@
 //! End to end: `codesign dynamics --robot FILE` on URDFs written as users have them
 //! (tests/data/urdf/): locked joints, a gripper beside the TCP link and a massless flange load with
 //! as many joints as move on the chain to the TCP link (`link_4`, the task's); a prismatic joint
-//! on that chain and a joint with two `<limit>`s are refused, naming the joint.
+//! on that chain moves (it carries its links' weight along its axis); a joint with two
+//! `<limit>`s is refused, naming the joint.
 
 use crate::support;
 
@@ -48,11 +49,14 @@ fn locked_joints_and_tool_links_leave_the_chain_to_the_tcp() {
 }
 
 #[test]
-fn a_prismatic_joint_on_the_chain_and_a_second_limit_are_named() {
-    fails_saying(
-        &dynamics("prismatic_on_chain.urdf", "0,0"),
-        "joint 'slider': is prismatic: only revolute and continuous joints move",
-    );
+fn a_prismatic_joint_on_the_chain_moves_and_a_second_limit_is_named() {
+    has_dof("prismatic_on_chain.urdf", 3);
+    // The vertical slider carries link_2 and link_4 (1 kg each) whatever the angles: its static
+    // force is their weight, N.
+    let output = dynamics("prismatic_on_chain.urdf", "0.4,0.1,-0.7");
+    let printed: Value = serde_json::from_slice(&output.stdout).unwrap();
+    let gravity = printed["gravity"][1].as_f64().unwrap();
+    assert!((gravity - 2.0 * 9.81).abs() < 1e-9, "{gravity}");
     fails_saying(
         &dynamics("duplicate_limit.urdf", "0,0"),
         "joint 'joint_2' <limit>: has 2 <limit> elements",

@@ -1,9 +1,10 @@
 //! Reading a URDF (through `urdf-rs`) into a serial [`Chain`], with every check the dynamics rely on.
 //!
 //! Supported: one tree of links. The joints from the root link to the TCP link (the task's
-//! `tcp.link`) form the chain: its revolute and continuous joints move; its fixed joints, and its
-//! revolute joints with `lower == upper` (locked at that angle), merge their child links into the
-//! body they hang from (mass, centre of mass and inertia combined). Joints on branches that do
+//! `tcp.link`) form the chain: its revolute, continuous and prismatic joints move (a prismatic
+//! joint's coordinate in m); its fixed joints, and its revolute and prismatic joints with
+//! `lower == upper` (locked at that angle or length), merge their child links into the body they
+//! hang from (mass, centre of mass and inertia combined). Joints on branches that do
 //! not lead to the TCP link (gripper fingers, sensors) are locked at q = 0 and merged likewise,
 //! whatever their type (prismatic, mimic, ...). Without a TCP link every non-fixed joint must lie
 //! on one serial chain. A link of mass 0 that carries an inertia (a flange, `tool0`) has its
@@ -11,9 +12,9 @@
 //!
 //! Refused with an error naming the joint or link: unreadable XML (a joint or link with two
 //! elements of one kind, e.g. two `<limit>`s, is named), duplicate names, joints naming unknown
-//! links, kinematic loops, several root links, branching chains (without a TCP link), prismatic,
-//! floating and planar joints on the chain, mimic joints on the chain, revolute joints without
-//! `<limit>` or with lower > upper, zero or non-finite axes, non-finite origins, negative masses,
+//! links, kinematic loops, several root links, branching chains (without a TCP link), floating
+//! and planar joints on the chain, mimic joints on the chain, revolute and prismatic joints
+//! without `<limit>` or with lower > upper, zero or non-finite axes, non-finite origins, negative masses,
 //! inertias of massive links that are not positive definite or break the triangle inequality of
 //! principal moments (ixx > iyy + izz), and moving bodies without mass. Links of the fixed base
 //! never move, so their mass properties are only checked, not used.
@@ -88,7 +89,8 @@ pub const TOOL_FRAMES: [&str; 6] = ["tcp", "tool0", "tool", "ee_link", "end_effe
 /// end of the longest such chain (a link fixed after it counts as further out), where the
 /// longest chains part (a gripper's two fingers) the link where they part, and from there the
 /// one link fixed to it, if it has exactly one. Branches through other joints (prismatic
-/// fingers, mimic joints) are not followed. `file` names the URDF in errors.
+/// fingers, mimic joints) are not followed: a chain with a prismatic joint names its TCP link
+/// in the task. `file` names the URDF in errors.
 pub fn tip_link(urdf: &str, file: &str) -> Result<String, ModelError> {
     let robot = parse(urdf, file)?;
     let parent: std::collections::HashMap<&str, &urdf_rs::Joint> = robot

@@ -4,7 +4,7 @@
 use super::checks::{mass_properties, not_finite, pose};
 use super::tree::Tree;
 use super::xml::Element;
-use crate::model::chain::{Body, Chain, LinkFrame, MassProperties, Placement};
+use crate::model::chain::{Body, Chain, JointKind, LinkFrame, MassProperties, Placement};
 use crate::model::error::ModelError;
 use nalgebra::{Rotation3, Unit, Vector3};
 use std::collections::HashSet;
@@ -104,10 +104,11 @@ impl Walk<'_> {
         let name = &joint.name;
         let kind = format!("{:?}", joint.joint_type).to_lowercase();
         let (lower, upper) = (joint.limit.lower, joint.limit.upper);
-        let locked_at_limit = joint.joint_type == JointType::Revolute
-            && !self.unlimited.contains(name.as_str())
-            && lower.is_finite()
-            && lower == upper;
+        let locked_at_limit =
+            matches!(joint.joint_type, JointType::Revolute | JointType::Prismatic)
+                && !self.unlimited.contains(name.as_str())
+                && lower.is_finite()
+                && lower == upper;
         if joint.joint_type == JointType::Fixed {
             Ok(Role::Fixed {
                 at: Placement::identity(),
@@ -115,15 +116,24 @@ impl Walk<'_> {
             })
         } else if locked_at_limit {
             let axis = self.axis(joint)?;
-            Ok(Role::Fixed {
-                at: Placement {
+            let kind = joint_kind(&joint.joint_type);
+            let at = match kind {
+                JointKind::Revolute => Placement {
                     rotation: Rotation3::from_axis_angle(&Unit::new_normalize(axis), lower)
                         .into_inner(),
                     translation: Vector3::zeros(),
                 },
+                JointKind::Prismatic => Placement {
+                    rotation: nalgebra::Matrix3::identity(),
+                    translation: axis * lower,
+                },
+            };
+            Ok(Role::Fixed {
+                at,
                 note: Some(format!(
-                    "joint '{name}' has lower = upper = {lower}: locked at {lower} rad (treated \
-                     as fixed)"
+                    "joint '{name}' has lower = upper = {lower}: locked at {lower} {} (treated \
+                     as fixed)",
+                    kind.unit()
                 )),
             })
         } else if !self.may_move[j] {
@@ -137,7 +147,7 @@ impl Walk<'_> {
             })
         } else if matches!(
             joint.joint_type,
-            JointType::Revolute | JointType::Continuous
+            JointType::Revolute | JointType::Continuous | JointType::Prismatic
         ) {
             Ok(Role::Moving)
         } else {
@@ -148,7 +158,8 @@ impl Walk<'_> {
             Err(self.tree.error(
                 format!("joint '{name}'"),
                 format!(
-                    "is {kind}: only revolute and continuous joints move in codesign's chains{on}"
+                    "is {kind}: only revolute, continuous and prismatic joints move in codesign's \
+                     chains{on}"
                 ),
             ))
         }
@@ -200,7 +211,7 @@ impl Walk<'_> {
                 .unwrap_or_default();
             return Err(self.tree.error(
                 "robot".into(),
-                format!("has no revolute or continuous joint{to}"),
+                format!("has no revolute, continuous or prismatic joint{to}"),
             ));
         }
         for (i, body) in chain.bodies.iter().enumerate() {
@@ -239,8 +250,8 @@ impl Walk<'_> {
                     format!("{element} <limit>"),
                     format!(
                         "lower = {lower} must be below upper = {upper}, both finite (a revolute \
-                         joint needs both; a joint without limits is of type continuous, one \
-                         with lower = upper is locked)"
+                         or prismatic joint needs both; a joint without limits is of type \
+                         continuous, one with lower = upper is locked)"
                     ),
                 ));
             }
@@ -248,6 +259,7 @@ impl Walk<'_> {
         };
         chain.bodies.push(Body {
             joint_placement: at_joint,
+            kind: joint_kind(&joint.joint_type),
             axis,
             mass: MassProperties::zero(),
         });
@@ -276,5 +288,13 @@ impl Walk<'_> {
             placement,
         });
         Ok(())
+    }
+}
+
+/// How a joint of a type that moves in the chain moves its body.
+fn joint_kind(joint_type: &JointType) -> JointKind {
+    match joint_type {
+        JointType::Prismatic => JointKind::Prismatic,
+        _ => JointKind::Revolute,
     }
 }
