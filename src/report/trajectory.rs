@@ -4,6 +4,7 @@ use super::plots::{Chart, Figure, Guide, Line, Series};
 use super::start::StartRecord;
 use super::ReportError;
 use crate::design::run::RecordedHash;
+use crate::model::chain::JointKind;
 use crate::model::task::{LimitModes, SoftInterval, Task};
 use crate::problem::{Formulation, Space};
 use crate::solve::{SolveSettings, StartPoint, TaskRecord, ToolInfo, Trajectory, TrajectoryResult};
@@ -124,6 +125,25 @@ fn joint_labels(formulation: &Formulation, result: &TrajectoryResult) -> Vec<Str
     }
 }
 
+/// The label of a chart of joint quantities `symbol`, in `turning` units, and in `sliding` units
+/// for the prismatic joints, named: "q [rad]", or "q [rad; m: quill]".
+fn joint_axis_label(
+    formulation: &Formulation,
+    symbol: &str,
+    turning: &str,
+    sliding: &str,
+) -> String {
+    let robot = formulation.dynamics().robot();
+    let prismatic: Vec<&str> = (0..robot.dof())
+        .filter(|&j| robot.joint_kind(j) == JointKind::Prismatic)
+        .map(|j| robot.joint_names()[j].as_str())
+        .collect();
+    match prismatic.is_empty() {
+        true => format!("{symbol} [{turning}]"),
+        false => format!("{symbol} [{turning}; {sliding}: {}]", prismatic.join(", ")),
+    }
+}
+
 /// The names of `motors` motors (row i of G drives motor i): the task's `motors.names`, else
 /// `motor 1` to `motor m`.
 fn motor_labels(task: &Task, motors: usize) -> Vec<String> {
@@ -226,15 +246,16 @@ fn joint_positions(
     Chart {
         title: format!("Joint positions: {title}"),
         x_label: "time [s]".into(),
-        y_label: "q [rad]".into(),
+        y_label: joint_axis_label(formulation, "q", "rad", "m"),
         series: per_column(&t.time, &t.q, joints),
         guides: limit_guides(limits.iter().copied(), joints),
         log_y: false,
     }
 }
 
-/// Joint torques over the control intervals, N m, with the joint-space problem's torque box
-/// (none for linear limits or the actuation-space problem).
+/// Joint torques over the control intervals, N m (N at a prismatic joint), with the joint-space
+/// problem's torque box (none for linear limits, a G that changes with the pose, or the
+/// actuation-space problem).
 fn joint_torques(
     formulation: &Formulation,
     result: &TrajectoryResult,
@@ -242,8 +263,9 @@ fn joint_torques(
     title: &str,
 ) -> Result<Chart, ReportError> {
     let t = &result.trajectory;
+    let constant = !formulation.transmission().is_pose_dependent();
     let guides = match formulation.space() {
-        Space::Joint => {
+        Space::Joint if constant => {
             let coupling = formulation.transmission().coupling(&result.ratios)?;
             let limits = formulation.motor_torque_limits();
             match coupling.torque_limits(formulation.modes().torque, limits) {
@@ -253,12 +275,12 @@ fn joint_torques(
                 JointLimits::Linear { .. } => Vec::new(),
             }
         }
-        Space::Actuation => Vec::new(),
+        Space::Joint | Space::Actuation => Vec::new(),
     };
     Ok(Chart {
         title: format!("Joint torques: {title}"),
         x_label: "time [s]".into(),
-        y_label: "tau [N m]".into(),
+        y_label: joint_axis_label(formulation, "tau", "N m", "N"),
         series: per_column(&t.time[..t.joint_torque.len()], &t.joint_torque, joints),
         guides,
         log_y: false,

@@ -1,6 +1,6 @@
 //! `codesign solve --plot` end to end on robots of other shapes than the built-in arm: the plots
-//! name the joints as the URDF does and the motors by number, and draw the TCP's path in the
-//! world plane it moves in.
+//! name the joints as the URDF does and the motors by number, draw the TCP's path in the world
+//! plane it moves in, and give a prismatic joint's units.
 
 use crate::support;
 
@@ -51,11 +51,16 @@ fn planar_task(dir: &Path) -> std::path::PathBuf {
     })
 }
 
-/// Solves `task` (the built-in one when `None`) with `--plot`, and reads the plots back by
-/// name.
+/// Solves `task` (the built-in one when `None`) in the actuation space with `--plot`, and reads
+/// the plots back by name.
 fn plots(dir: &Path, task: Option<&Path>) -> impl Fn(&str) -> String {
+    plots_in(dir, task, "actuation")
+}
+
+/// [`plots`] in `space`.
+fn plots_in(dir: &Path, task: Option<&Path>, space: &str) -> impl Fn(&str) -> String {
     let folder = dir.join("plots");
-    let mut args = vec!["solve", "--space", "actuation", "--payload", "0.2"];
+    let mut args = vec!["solve", "--space", space, "--payload", "0.2"];
     if let Some(task) = task {
         args.extend(["--task", task.to_str().unwrap()]);
     }
@@ -125,5 +130,21 @@ fn the_built_in_arm_keeps_its_path_in_y_z() {
     }
     let path = plot("tcp_path.svg");
     assert!(path.contains("world y [m]") && path.contains("world z [m]"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The joint space's plots where G changes with the pose (no torque box to draw), and a
+/// prismatic joint's units named on the joint charts.
+#[test]
+fn linkages_and_prismatic_joints_are_plotted_in_the_joint_space() {
+    let dir = scratch("linkages");
+    let examples = support::root().join("robots/examples");
+    let screw = examples.join("planar_2dof/ball_screw.json");
+    let plot = plots_in(&dir, Some(&screw), "joint");
+    assert!(plot("joint_torques.svg").contains("tau [N m]"));
+    let scara = examples.join("scara_3dof/task.json");
+    let plot = plots_in(&dir, Some(&scara), "joint");
+    assert!(plot("joint_positions.svg").contains("q [rad; m: quill]"));
+    assert!(plot("joint_torques.svg").contains("tau [N m; N: quill]"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
