@@ -6,6 +6,11 @@
 //! approximation (its ratio at the middle of the motion, q = 0), in both spaces, 30 solves after
 //! 3 warm-up solves each. The problems differ, so their iteration counts differ: the medians are
 //! given per solve and per iteration, with the ratios to the constant rows.
+//!
+//! Then one problem written both ways: the SCARA example (`robots/examples/scara_3dof`) with its
+//! quill's ball screw as its constant row 2 pi / lead and as a linear actuator along the quill,
+//! whose ratio is that constant. Both take the same iterations to the same optimum, so their ratio
+//! is the cost of evaluating a linkage row itself.
 
 use codesign::model::task::{MatrixRow, Task, TaskFile};
 use codesign::model::Robot;
@@ -22,11 +27,38 @@ const CRANK: &str = r#"{"crank_rod": {"crank": {"link": "upper_arm", "point": [0
 /// The screw's ratio at q = 0: 2 pi / lead (-0.015 / 0.18), lead 12 mm.
 const SCREW_AT_MIDDLE: f64 = -43.633_231;
 
+/// The task file whose solver section every solve takes.
+const SETTINGS_FROM: &str = "robots/examples/planar_2dof/ball_screw.json";
+
+/// The SCARA's quill screw as a linear actuator along the quill, its lead r3 in mm.
+const QUILL_SCREW: &str = r#"{"linear": {"from": {"link": "outer_arm", "point": [0.175, 0, 0.05]},
+    "to": {"link": "quill", "point": [0, 0, 0]}, "lead_m": "0.001*r3"}}"#;
+
+/// The SCARA with its quill on a constant row and on the same screw as a linear actuator, in
+/// both spaces.
+fn one_problem_both_ways() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/examples/scara_3dof/task.json");
+    let constant = Task::load(&path).expect("the SCARA example loads");
+    let mut screw = constant.clone();
+    screw.transmission.matrix[2] = serde_json::from_str(QUILL_SCREW).expect("the row parses");
+    screw.transmission.original[2] =
+        1000.0 * std::f64::consts::TAU / constant.transmission.original[2];
+    screw.transmission.bounds[2] = [2.5, 40.0];
+    for space in [Space::Actuation, Space::Joint] {
+        let base = measure("SCARA, quill on its constant row", &constant, space, 3, 30);
+        let posed = measure("SCARA, quill on a linear actuator", &screw, space, 3, 30);
+        println!(
+            "  the same problem through a linkage row, {space} space: {:.2}x per solve, {:.2}x per iteration",
+            posed.0 / base.0,
+            posed.1 / base.1
+        );
+    }
+}
+
 /// Median total and per-iteration seconds of `runs` solves of `task` in `space` (after
 /// `warm_up`), printed under `label`.
 fn measure(label: &str, task: &Task, space: Space, warm_up: usize, runs: usize) -> (f64, f64) {
-    let path =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/examples/planar_2dof/ball_screw.json");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(SETTINGS_FROM);
     let section = TaskFile::load(&path).expect("the example loads").solver;
     let settings = SolveSettings::from_section(section.as_ref()).expect("valid settings");
     let robot = Robot::load(task).expect("the robot loads");
@@ -95,4 +127,5 @@ fn main() {
             );
         }
     }
+    one_problem_both_ways();
 }

@@ -1,11 +1,13 @@
 //! A jet's coefficients, held inline up to [`INLINE`] monomials (a linkage over one or two joints
-//! to the fourth order) so that the arithmetic of small jets allocates nothing, and on the heap
-//! beyond.
+//! to the third order, as the trajectory problem reads them) so that the arithmetic of small jets
+//! allocates nothing, and on the heap beyond (the design sensitivities, once per solve). Every
+//! operation moves the whole inline array: ten values keep those moves short (sixteen made them a
+//! quarter of a crank-rod solve's time, `perf`).
 
 use std::ops::{Deref, DerefMut};
 
 /// The most coefficients held inline.
-const INLINE: usize = 16;
+const INLINE: usize = 10;
 
 /// The coefficients of one jet, one per monomial of its shape.
 #[derive(Clone, Debug)]

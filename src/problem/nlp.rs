@@ -201,17 +201,18 @@ impl<'a> TrajectoryProblem<'a> {
             )));
         }
         let (f, actuation) = (self.formulation, &self.actuation);
-        let depth = match level {
-            Level::Derivatives => Depth::Third,
-            Level::Nothing | Level::Values => Depth::First,
-        };
+        // The linkage rows are taken to the third order at once: IPOPT asks for the derivatives
+        // at nearly every point whose values it asked for (each accepted step), and the jets
+        // cost about as much to the third order as to the first. At the values' x they are
+        // then current.
+        let poses_current = self.level >= Level::Values;
         let nodes = self.nodes.iter_mut().zip(&mut self.workspaces);
         for (k, (node, data)) in nodes.enumerate() {
             let state = f.layout().node_state(x, k);
             node.evaluate(f.dynamics(), data, state, level);
-            if f.transmission().is_pose_dependent() {
+            if f.transmission().is_pose_dependent() && !poses_current {
                 let at = (f.transmission())
-                    .at_pose(&self.ratios, (f.dynamics(), data), state.0, depth)
+                    .at_pose(&self.ratios, (f.dynamics(), data), state.0, Depth::Third)
                     .map_err(|error| EvalError::outside_domain(format!("node {k}: {error}")))?;
                 node.pose = Some(NodePose {
                     actuation: f.actuation(at.coupling),
