@@ -189,6 +189,7 @@ impl Formulation {
             envelope: self.envelope.as_ref(),
             g_pattern: &self.g_pattern,
             linkages: self.transmission.linkages(),
+            motors: self.motor_dynamics.as_ref(),
         };
         self.families = families::of(&shape);
         let blocks: Vec<(BlockId, RowBlock)> = (self.families.iter())

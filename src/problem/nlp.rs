@@ -14,6 +14,7 @@ use crate::ipopt::{EvalError, Nlp};
 use crate::transmission::{
     Actuation, Coupling, Depth, DesignError, JointLimits, NodeLoss, PoseError, Space,
 };
+use nalgebra::DVector;
 
 /// The trajectory NLP of one design (see [`Formulation`]).
 #[derive(Clone, Debug)]
@@ -128,6 +129,33 @@ impl<'a> TrajectoryProblem<'a> {
         Ok(f.actuation(at.coupling))
     }
 
+    /// The joint torques G(q)^T J_m h the motors' rotor inertia takes through the speed term
+    /// h_i = v^T (d^2 gamma_i/dq^2) v of each linkage row (rad/s^2) at pose q and joint speeds
+    /// v, N m: zero for a constant G or ideal motors.
+    pub fn speed_term_torques(&self, q: &[f64], v: &[f64]) -> Result<Vec<f64>, PoseError> {
+        let f = self.formulation;
+        let (Some(motors), true) = (f.motor_dynamics(), f.transmission().is_pose_dependent())
+        else {
+            return Ok(vec![0.0; q.len()]);
+        };
+        let mut data = f.dynamics().workspace();
+        let at =
+            (f.transmission()).at_pose(&self.ratios, (f.dynamics(), &mut data), q, Depth::Third)?;
+        let mut scaled = DVector::zeros(q.len());
+        let speeds = DVector::from_column_slice(v);
+        for (motor, row) in &at.rows {
+            let h = speeds.dot(&(&row.hessian * &speeds));
+            scaled[*motor] = motors.rotor_inertia[*motor] * h;
+        }
+        Ok(at
+            .coupling
+            .matrix()
+            .tr_mul(&scaled)
+            .iter()
+            .copied()
+            .collect())
+    }
+
     /// Each motor's angle at pose q, rad: gamma_i(q) for a linkage row, G_i q for a constant one.
     pub fn motor_angles(&self, q: &[f64]) -> Result<Vec<f64>, PoseError> {
         let f = self.formulation;
@@ -206,19 +234,25 @@ impl<'a> TrajectoryProblem<'a> {
         // cost about as much to the third order as to the first. At the values' x they are
         // then current.
         let poses_current = self.level >= Level::Values;
+        // The rotor inertia's speed term v^T (d^2 gamma/dq^2) v takes the Hessian to the fourth.
+        let depth = match f.motor_dynamics() {
+            Some(_) => Depth::Fourth,
+            None => Depth::Third,
+        };
         let nodes = self.nodes.iter_mut().zip(&mut self.workspaces);
         for (k, (node, data)) in nodes.enumerate() {
             let state = f.layout().node_state(x, k);
             node.evaluate(f.dynamics(), data, state, level);
             if f.transmission().is_pose_dependent() && !poses_current {
                 let at = (f.transmission())
-                    .at_pose(&self.ratios, (f.dynamics(), data), state.0, Depth::Third)
+                    .at_pose(&self.ratios, (f.dynamics(), data), state.0, depth)
                     .map_err(|error| EvalError::outside_domain(format!("node {k}: {error}")))?;
                 node.pose = Some(NodePose {
                     actuation: f.actuation(at.coupling),
                     rows: at.rows,
                     screws: self.screws.clone(),
                     speeds: state.1.to_vec(),
+                    accelerations: state.2.to_vec(),
                     controls: f.layout().controls(x, k).to_vec(),
                 });
             }

@@ -44,8 +44,10 @@ pub(super) struct NodePose {
     pub(super) rows: Vec<(usize, RowDerivatives)>,
     /// Each screw's motor and length per motor radian l / 2 pi at the design, m/rad.
     pub(super) screws: Vec<(usize, f64)>,
-    /// The node's joint speeds v_k (rad/s) and controls u_k (N m) at the point evaluated.
+    /// The node's joint speeds v_k (rad/s), accelerations a_k (rad/s^2) and controls u_k (N m)
+    /// at the point evaluated.
     pub(super) speeds: Vec<f64>,
+    pub(super) accelerations: Vec<f64>,
     pub(super) controls: Vec<f64>,
 }
 

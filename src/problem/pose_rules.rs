@@ -4,8 +4,9 @@
 //! The box modes `paper` and `interval` carry the motor limits to fixed boxes on the joints
 //! through one constant G; with G(q) no box is the motors' limit, so such a task must use the
 //! mode `exact`, whose rows hold each motor's own limit at every node. The motors' rotor
-//! inertia, their torque-speed envelope and the transmissions' losses are not yet posed with a
-//! pose-dependent G.
+//! inertia and friction are posed through G(q) (their speed term dG/dt v included); their
+//! torque-speed envelope and the transmissions' losses are not yet posed with a pose-dependent
+//! G.
 
 use super::formulation::FormulationError;
 use crate::model::task::{LimitMode, LimitModes, Task};
@@ -44,14 +45,6 @@ pub(super) fn check(
     }
     let motors = &task.motors;
     let unposed = [
-        (
-            motors.rotor_inertia_kgm2.is_some(),
-            "motors.rotor_inertia_kgm2",
-        ),
-        (
-            motors.viscous_friction_nm_s_per_rad.is_some(),
-            "motors.viscous_friction_nm_s_per_rad",
-        ),
         (
             motors.no_load_speed_rad_s.is_some(),
             "motors.no_load_speed_rad_s",

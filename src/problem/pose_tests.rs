@@ -2,11 +2,12 @@
 //! derivatives against finite differences and IPOPT's checker, for a ball screw and a crank and
 //! rod, in both spaces and both kinds, for a screw whose stroke is held, for the ankle
 //! example's two crank-rods over two joints, and for the SCARA example's quill (a prismatic
-//! joint) driven by a constant row and by a slanted screw.
+//! joint) driven by a constant row and by a slanted screw; each linkage also with motors of rotor
+//! inertia and friction, whose speed term dG/dt v brings in the fourth derivatives.
 
 use super::tests::{assert_checker_finds_nothing, assert_derivatives_match};
 use super::*;
-use crate::model::task::{LimitMode, LimitModes};
+use crate::model::task::{LimitMode, LimitModes, PerMotor, Task};
 use crate::model::Robot;
 use crate::testing::{
     ankle_task, posed_task, scara_task, CRANK_ROW, SCREW_ROW, SLANTED_QUILL_ROW, STROKED_SCREW_ROW,
@@ -30,6 +31,72 @@ fn posed_formulations(row: &str) -> Vec<Formulation> {
         list.push(f);
     }
     list
+}
+
+/// Gives the task's motors a rotor inertia (kg m^2) and a viscous friction (N m s/rad) of a
+/// small servo motor, a little different per motor.
+fn with_motor_dynamics(task: &mut Task) {
+    let count = task.transmission.matrix.len();
+    let each =
+        |base: f64| PerMotor::Each((0..count).map(|i| base * (1.0 + 0.3 * i as f64)).collect());
+    task.motors.rotor_inertia_kgm2 = Some(each(2e-5));
+    task.motors.viscous_friction_nm_s_per_rad = Some(each(1e-4));
+}
+
+/// The formulations of `task` with motor dynamics (5 steps, modes as the task's, exact for the
+/// planar example's), both spaces, both kinds.
+fn with_motors(mut task: Task) -> Vec<Formulation> {
+    with_motor_dynamics(&mut task);
+    task.motion.steps = 5;
+    let mut list = Vec::new();
+    for space in [Space::Actuation, Space::Joint] {
+        let robot = Robot::load(&task).unwrap();
+        let modes = LimitModes {
+            torque: LimitMode::Exact,
+            speed: LimitMode::Exact,
+        };
+        let f = Formulation::new(&task, robot, space, modes).unwrap();
+        list.push(f.elastic());
+        list.push(f);
+    }
+    list
+}
+
+/// Every linkage example with motors of rotor inertia and friction, and the design each is
+/// evaluated at.
+fn linkages_with_motors() -> Vec<(Formulation, Vec<f64>)> {
+    let mut all = Vec::new();
+    for row in [SCREW_ROW, CRANK_ROW] {
+        let mut task = posed_task(row);
+        task.payload.mass_kg = 0.5;
+        all.extend(with_motors(task).into_iter().map(|f| (f, vec![50.0, 12.0])));
+    }
+    all.extend(
+        with_motors(ankle_task())
+            .into_iter()
+            .map(|f| (f, vec![55.0, 65.0, 12.0])),
+    );
+    let scara = scara_task(Some(SLANTED_QUILL_ROW));
+    all.extend(
+        with_motors(scara)
+            .into_iter()
+            .map(|f| (f, vec![60.0, 30.0, 10.0])),
+    );
+    all
+}
+
+#[test]
+fn motor_dynamics_through_linkages_match_finite_differences() {
+    for (f, design) in linkages_with_motors() {
+        assert_derivatives_match(&f, &design);
+    }
+}
+
+#[test]
+fn ipopt_derivative_checker_finds_nothing_with_motor_dynamics_through_linkages() {
+    for (f, design) in linkages_with_motors() {
+        assert_checker_finds_nothing(&f, &design);
+    }
 }
 
 /// The ankle example's formulations (two crank-rods, each over both joints): 5 steps, both spaces,

@@ -16,11 +16,11 @@
 //! Where G depends on the pose (docs/model.md, section 17), each node's terms take dG/dr_l at
 //! that node's q_k.
 
-use super::families::{DesignDerivative, Place};
+use super::families::{DesignDerivative, LoadDerivative, Place};
 use super::nlp::TrajectoryProblem;
 use crate::ipopt::Solution;
-use crate::transmission::{Depth, DesignDerivativeAt, PoseError};
-use nalgebra::DVector;
+use crate::transmission::{Depth, DesignDerivativeAt, MotorDynamics, PoseCoupling, PoseError};
+use nalgebra::{DMatrix, DVector};
 
 /// dJ*/dr at `solution`, a solution of `problem` (one entry per ratio). For the elastic kind
 /// (docs/model.md, section 14) the derivative of its optimal penalised objective: its slacks
@@ -42,6 +42,7 @@ pub fn cost_gradient(
                 dg,
                 parameter: l,
                 angle: DVector::zeros(layout.dof),
+                load: None,
             };
             let mut total = 0.0;
             for k in 0..layout.steps {
@@ -78,11 +79,16 @@ fn node_derivatives(
     let r = problem.ratios();
     let mut nodes = Vec::with_capacity(layout.steps);
     for k in 0..layout.steps {
-        let (q, _, _) = layout.node_state(&solution.x, k);
-        let at = transmission.at_pose(r, (dynamics, &mut data), q, Depth::First)?;
+        let (q, v, a) = layout.node_state(&solution.x, k);
+        let at = transmission.at_pose(r, (dynamics, &mut data), q, Depth::Third)?;
         let g_inv = at.coupling.inverse();
         let derivatives = transmission.design_derivatives_at(r, (dynamics, &mut data), q)?;
+        let load = |at_l: &DesignDerivativeAt| {
+            let motors = f.motor_dynamics()?;
+            Some(load_derivative(motors, (&at, at_l), (v, a)))
+        };
         let derivative = |(l, at): (usize, DesignDerivativeAt)| DesignDerivative {
+            load: load(&at),
             dg_inv: -(g_inv * &at.matrix * g_inv),
             dg: at.matrix,
             parameter: l,
@@ -97,4 +103,37 @@ fn node_derivatives(
         );
     }
     Ok(Some(nodes))
+}
+
+/// The motors' own torques m = J_m (G a + h) + B_m G v at a node of speeds `v` and
+/// accelerations `a`, with G and the rows' Hessians of `at`, and their derivative in one design
+/// parameter, whose dG and d(Hessian) are `derivative`'s (docs/model.md, section 17).
+fn load_derivative(
+    motors: &MotorDynamics,
+    (at, derivative): (&PoseCoupling, &DesignDerivativeAt),
+    (v, a): (&[f64], &[f64]),
+) -> LoadDerivative {
+    let (v, a) = (DVector::from_column_slice(v), DVector::from_column_slice(a));
+    let g = at.coupling.matrix();
+    let bias = |hessians: &mut dyn Iterator<Item = (usize, &DMatrix<f64>)>| {
+        let mut h = DVector::zeros(v.len());
+        for (motor, hessian) in hessians {
+            h[motor] = v.dot(&(hessian * &v));
+        }
+        h
+    };
+    let h = bias(&mut at.rows.iter().map(|(motor, row)| (*motor, &row.hessian)));
+    let dh = bias(&mut derivative.hessians.iter().map(|(motor, d)| (*motor, d)));
+    let own = |speeds: DVector<f64>, accelerations: DVector<f64>| {
+        let (inertia, friction) = (&motors.rotor_inertia, &motors.viscous_friction);
+        DVector::from_fn(speeds.len(), |i, _| {
+            inertia[i] * accelerations[i] + friction[i] * speeds[i]
+        })
+    };
+    let dg = &derivative.matrix;
+    LoadDerivative {
+        g: g.clone(),
+        own: own(g * &v, g * &a + h),
+        own_derivative: own(dg * &v, dg * &a + dh),
+    }
 }

@@ -209,3 +209,56 @@ fn a_rod_that_cannot_close_is_named() {
         "{error}"
     );
 }
+
+/// The planar example with its elbow on the ball screw and motors of rotor inertia and friction,
+/// in `space`.
+fn screw_with_motor_dynamics(space: Space) -> Formulation {
+    use crate::model::task::PerMotor;
+    let mut task = posed_task(SCREW_ROW);
+    task.motors.rotor_inertia_kgm2 = Some(PerMotor::Each(vec![2e-5, 3e-5]));
+    task.motors.viscous_friction_nm_s_per_rad = Some(PerMotor::Each(vec![1e-4, 2e-4]));
+    let robot = Robot::load(&task).unwrap();
+    let modes = LimitModes {
+        torque: LimitMode::Exact,
+        speed: LimitMode::Exact,
+    };
+    Formulation::new(&task, robot, space, modes).unwrap()
+}
+
+/// With rotor inertia, the joint torques read back are what the links take: the inverse
+/// dynamics of the trajectory, the motors' G(q)^T (J_m (G a + dG/dt v) + B_m G v) taken off the
+/// controls' torques at every node (to the solver's tolerance).
+#[test]
+fn a_screw_with_rotor_inertia_reads_back_the_links_torques() {
+    for space in [Space::Actuation, Space::Joint] {
+        let f = screw_with_motor_dynamics(space);
+        let settings = SolveSettings {
+            tol: 1e-10,
+            ..testing::settings()
+        };
+        let result = solve_design(&f, &[50.0, 12.0], &settings).unwrap();
+        assert!(result.feasible, "{space}: {}", result.status);
+        let t = &result.trajectory;
+        let dynamics = f.dynamics();
+        let mut data = dynamics.workspace();
+        let mut tau = vec![0.0; 2];
+        for k in 0..t.joint_torque.len() {
+            dynamics.rnea(&mut data, &t.q[k], &t.v[k], &t.a[k], &mut tau);
+            for (read, rnea) in t.joint_torque[k].iter().zip(&tau) {
+                assert!(
+                    (read - rnea).abs() <= 1e-7 * (1.0 + rnea.abs()),
+                    "{space} node {k}: {read} N m read back, {rnea} N m by RNEA"
+                );
+            }
+        }
+    }
+}
+
+/// dJ*/dr with rotor inertia and friction through the screw, against differences.
+#[test]
+fn a_screws_cost_gradient_with_motor_dynamics_matches_differences() {
+    for space in [Space::Actuation, Space::Joint] {
+        let f = screw_with_motor_dynamics(space);
+        assert_cost_gradient_at(&f, &[40.0, 14.0], &format!("{space} screw with motors"));
+    }
+}

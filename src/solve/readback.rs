@@ -1,5 +1,6 @@
 //! Reading a primal point back as a trajectory: states, torques and motor speeds through G at
-//! each node (G(q_k) where the transmission depends on the pose), the TCP's path.
+//! each node (G(q_k) where the transmission depends on the pose, with the rotor inertia's speed
+//! term dG/dt v), the TCP's path.
 
 use super::result::Trajectory;
 use crate::problem::TrajectoryProblem;
@@ -45,9 +46,13 @@ pub(super) fn read_trajectory(
                 let loss = actuation.node_loss(&tau, &v);
                 loss.expect("the actuation has losses")
             });
-            trajectory
-                .joint_torque
-                .push(actuation.link_torques((&v, &a), &u, loss.as_ref()));
+            let mut links = actuation.link_torques((&v, &a), &u, loss.as_ref());
+            if posed {
+                let speed_term = problem.speed_term_torques(&q, &v);
+                let speed_term = speed_term.map_err(|error| (k, error))?;
+                links.iter_mut().zip(speed_term).for_each(|(t, s)| *t -= s);
+            }
+            trajectory.joint_torque.push(links);
             if let Some(loss) = &loss {
                 trajectory.transmission_loss.push(loss.motor_torques());
             }

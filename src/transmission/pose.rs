@@ -18,9 +18,10 @@ pub struct PoseRow {
     pub motor: usize,
     /// The linkage that drives the motor.
     pub linkage: Linkage,
-    /// Its derivatives to the first order (G_i) and to the third.
+    /// Its derivatives to the first order (G_i), the third and the fourth.
     first: RowShape,
     third: RowShape,
+    fourth: RowShape,
 }
 
 impl PoseRow {
@@ -30,6 +31,7 @@ impl PoseRow {
             motor,
             first: RowShape::new(&linkage, 1),
             third: RowShape::new(&linkage, 3),
+            fourth: RowShape::new(&linkage, 4),
             linkage,
         }
     }
@@ -48,6 +50,9 @@ pub enum Depth {
     /// Also the Hessian of gamma_i and its third derivatives: the Jacobians and the
     /// Lagrangian's Hessian.
     Third,
+    /// Also the fourth derivatives: the Lagrangian's Hessian where the motors' rotor inertia
+    /// takes the speed term dG/dt v = v^T (d^2 gamma_i/dq^2) v.
+    Fourth,
 }
 
 /// G at one pose and design, with its inverse and each linkage row's derivatives.
@@ -66,6 +71,8 @@ pub struct DesignDerivativeAt {
     pub matrix: DMatrix<f64>,
     /// d gamma_i/dr_l of each linkage row, zero for the constant rows, rad per unit of r_l.
     pub angles: DVector<f64>,
+    /// d(d^2 gamma_i/dq^2)/dr_l of each linkage row that depends on r_l, with its motor.
+    pub hessians: Vec<(usize, DMatrix<f64>)>,
 }
 
 /// Why a transmission has no G at a pose.
@@ -125,6 +132,7 @@ impl Transmission {
             let shape = match depth {
                 Depth::First => &row.first,
                 Depth::Third => &row.third,
+                Depth::Fourth => &row.fourth,
             };
             let derivatives = RowDerivatives::of(&row.linkage, shape, dynamics, data, (q, r))
                 .map_err(|error| PoseError::Linkage {
@@ -170,6 +178,7 @@ impl Transmission {
             .map(|l| DesignDerivativeAt {
                 matrix: self.matrix_derivative(l),
                 angles: DVector::zeros(self.dof),
+                hessians: Vec::new(),
             })
             .collect();
         for row in &self.linkages {
@@ -185,6 +194,7 @@ impl Transmission {
                 let derivative = &mut derivatives[l];
                 (derivative.matrix).set_row(row.motor, &sensitivity.gradient[p].transpose());
                 derivative.angles[row.motor] = sensitivity.angle[p];
+                (derivative.hessians).push((row.motor, sensitivity.hessian[p].clone()));
             }
         }
         Ok(derivatives)

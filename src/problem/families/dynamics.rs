@@ -12,8 +12,11 @@
 //!
 //! Where G depends on the pose (docs/model.md, section 17), C = G(q)^T in actuation space adds
 //! -sum_i u_i d^2 gamma_i/dq^2 to the q columns, and the Hessian's q-q block
-//! -sum_i u_i d^3 gamma_i/dq^3 [lambda] and u-q block -d^2 gamma_i/dq^2 lambda (row i).
+//! -sum_i u_i d^3 gamma_i/dq^3 [lambda] and u-q block -d^2 gamma_i/dq^2 lambda (row i). The
+//! motors' own torques G(q)^T (J_m qdd_u + B_m qd_u), with qdd_u = G a + dG/dt v, add the terms
+//! of `motor_load.rs`.
 
+use super::motor_load::MotorLoad;
 use super::{
     emit_slacks, slack_shift, At, Blocks, DesignDerivative, Emit, Family, FamilyId,
     NodeSecondOrder, Place, Shape,
@@ -22,7 +25,7 @@ use crate::ipopt::Solution;
 use crate::problem::layout::RowBlock;
 use crate::problem::nlp::TrajectoryProblem;
 use crate::problem::node::NodeEval;
-use crate::transmission::Space;
+use crate::transmission::{MotorDynamics, Space};
 use nalgebra::{DMatrix, DVector};
 use std::sync::Arc;
 
@@ -33,6 +36,8 @@ struct Dynamics {
     control_pattern: DMatrix<f64>,
     /// Whether C = G(q)^T depends on the pose (actuation space, a linkage row).
     posed: bool,
+    /// The motors' rotor inertia and friction where G depends on the pose (both spaces).
+    motors: Option<MotorDynamics>,
 }
 
 /// Every formulation has them.
@@ -42,15 +47,25 @@ pub(super) fn of(shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
         Space::Joint => DMatrix::identity(shape.dof, shape.dof),
     };
     let posed = shape.space == Space::Actuation && !shape.linkages.is_empty();
+    let motors = shape.motors.filter(|_| !shape.linkages.is_empty()).cloned();
     Some(Arc::new(Dynamics {
         control_pattern,
         posed,
+        motors,
     }))
 }
 
 /// value + m[(i, j)], or value itself without m (no rounding where there is nothing to add).
 fn plus(value: f64, m: Option<&DMatrix<f64>>, (i, j): (usize, usize)) -> f64 {
     m.map_or(value, |m| value + m[(i, j)])
+}
+
+impl Dynamics {
+    /// The motors' own torques at `node` where G depends on the pose and the motors have
+    /// inertia or friction.
+    fn load<'a>(&'a self, node: &'a NodeEval) -> Option<MotorLoad<'a>> {
+        Some(MotorLoad::new(node.pose.as_ref()?, self.motors.as_ref()?))
+    }
 }
 
 impl Family for Dynamics {
@@ -74,8 +89,12 @@ impl Family for Dynamics {
         let u = layout.controls(x, k);
         let (_, v, a) = layout.node_state(x, k);
         let actuation = p.actuation_of(node);
+        let load = self.load(node).map(|load| load.values());
         for i in 0..layout.dof {
             g[row + i] = actuation.residual(i, &node.tau, (v, a), u);
+            if let Some(load) = &load {
+                g[row + i] += load[i];
+            }
             if let Some(loss) = &node.loss {
                 g[row + i] += loss.joint_torques()[i];
             }
@@ -92,9 +111,17 @@ impl Family for Dynamics {
         let reflected = actuation.and_then(|a| a.reflected());
         let (inertia, damping) = (reflected.map(|r| r.0), reflected.map(|r| r.1));
         // d(G(q)^T u)/dq, subtracted from the q columns.
-        let curvature = match (&node.pose, actuation) {
+        let mut curvature = match (&node.pose, actuation) {
             (Some(pose), Some(_)) if self.posed => Some(-pose.curvature(&pose.controls)),
             _ => None,
+        };
+        let load = self.load(node).map(|load| load.jacobian());
+        if let Some((by_q, _)) = &load {
+            curvature = Some(curvature.map_or_else(|| by_q.clone(), |c| c + by_q));
+        }
+        let damping = match (&load, damping) {
+            (Some((_, by_v)), Some(damping)) => Some(damping + by_v),
+            _ => damping.cloned(),
         };
         let losses = (node.loss.as_ref())
             .map(|loss| loss.jacobian_blocks((&node.dtau_dq, &node.dtau_dv, &node.mass)));
@@ -107,7 +134,7 @@ impl Family for Dynamics {
                 emit(r, layout.q(k, j), plus(value, dq, (i, j)));
             }
             for j in 0..n {
-                let value = plus(node.dtau_dv[(i, j)], damping, (i, j));
+                let value = plus(node.dtau_dv[(i, j)], damping.as_ref(), (i, j));
                 emit(r, layout.v(k, j), plus(value, dv, (i, j)));
             }
             for j in 0..n {
@@ -137,6 +164,9 @@ impl Family for Dynamics {
                 }
                 *mixed -= pose.derivative_along(node.multipliers);
             }
+        }
+        if let Some(load) = self.load(node.node) {
+            load.add_hessian(node.multipliers, block);
         }
         let (q, v, a) = node.state;
         let hessian = node.scratch;
@@ -172,7 +202,15 @@ impl Family for Dynamics {
         let (_, v, a) = layout.node_state(x, k);
         let u = layout.controls(x, k);
         let lambda = super::segment(&solution.lambda, row, layout.dof);
-        if let Some(d) = p.actuation().residual_derivative(&derivative.dg, (v, a), u) {
+        if let Some(load) = &derivative.load {
+            // d/dr_l of G^T (m - u) (actuation space) or G^T m (joint space) at G(q_k).
+            let mut own = load.own.clone();
+            if self.posed {
+                own -= DVector::from_column_slice(u);
+            }
+            let d = derivative.dg.tr_mul(&own) + load.g.tr_mul(&load.own_derivative);
+            *total += lambda.dot(&d);
+        } else if let Some(d) = p.actuation().residual_derivative(&derivative.dg, (v, a), u) {
             *total += lambda.dot(&d);
         }
         if p.actuation().loss().is_some() {

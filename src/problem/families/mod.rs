@@ -16,6 +16,7 @@ mod ends;
 mod envelope;
 mod integration;
 mod joint_limits;
+mod motor_load;
 mod motor_speed;
 mod motor_torque;
 mod strokes;
@@ -28,7 +29,7 @@ use super::node::NodeEval;
 use crate::dynamics::{Dynamics, Workspace};
 use crate::ipopt::Solution;
 use crate::model::task::LimitModes;
-use crate::transmission::{Actuation, Envelope, PoseRow, Space};
+use crate::transmission::{Actuation, Envelope, MotorDynamics, PoseRow, Space};
 use nalgebra::{DMatrix, DVector};
 use std::fmt;
 use std::sync::Arc;
@@ -110,6 +111,8 @@ pub(super) struct Shape<'a> {
     pub(super) g_pattern: &'a DMatrix<f64>,
     /// The rows of G that depend on the pose; empty for a constant G(r).
     pub(super) linkages: &'a [PoseRow],
+    /// The motors' rotor inertia and friction, None for ideal motors.
+    pub(super) motors: Option<&'a MotorDynamics>,
 }
 
 /// The families of `shape`, in order, with their ids.
@@ -184,6 +187,19 @@ pub(super) struct DesignDerivative {
     /// d gamma_i/dr_l of each linkage row at the node (zero for constant rows and a constant
     /// transmission), rad per unit of r_l.
     pub(super) angle: DVector<f64>,
+    /// The motors' own torques at the node where G depends on the pose, None otherwise.
+    pub(super) load: Option<LoadDerivative>,
+}
+
+/// The motors' own torques m = J_m (G a + h) + B_m G v at a node where G depends on the pose
+/// (`motor_load.rs`), and their derivative in one design parameter.
+pub(super) struct LoadDerivative {
+    /// G(q_k).
+    pub(super) g: DMatrix<f64>,
+    /// m, N m per motor.
+    pub(super) own: DVector<f64>,
+    /// dm/dr_l = J_m (dG_l a + dh_l) + B_m dG_l v, per motor.
+    pub(super) own_derivative: DVector<f64>,
 }
 
 /// The evaluation of one node's second-order terms.
