@@ -163,9 +163,14 @@ impl<'s> Mul for &Jet<'s> {
     fn mul(self, other: &Jet<'s>) -> Jet<'s> {
         self.expect_same_shape(other);
         let mut coefficients = Coefficients::zeros(self.shape.len());
+        // The slices once, not through the enum at every product.
+        let (left, right, product) = (
+            &*self.coefficients,
+            &*other.coefficients,
+            &mut *coefficients,
+        );
         for &(a, b, c) in self.shape.products() {
-            coefficients[c as usize] +=
-                self.coefficients[a as usize] * other.coefficients[b as usize];
+            product[c as usize] += left[a as usize] * right[b as usize];
         }
         Jet {
             shape: self.shape,

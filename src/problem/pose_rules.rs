@@ -4,9 +4,8 @@
 //! The box modes `paper` and `interval` carry the motor limits to fixed boxes on the joints
 //! through one constant G; with G(q) no box is the motors' limit, so such a task must use the
 //! mode `exact`, whose rows hold each motor's own limit at every node. The motors' rotor
-//! inertia and friction are posed through G(q) (their speed term dG/dt v included); their
-//! torque-speed envelope and the transmissions' losses are not yet posed with a pose-dependent
-//! G.
+//! inertia and friction (their speed term dG/dt v included) and their torque-speed envelope are
+//! posed through G(q); the transmissions' losses are not yet.
 
 use super::formulation::FormulationError;
 use crate::model::task::{LimitMode, LimitModes, Task};
@@ -43,18 +42,12 @@ pub(super) fn check(
     if space == Space::Joint && modes.torque != LimitMode::Exact {
         return refuse(boxed(modes.torque, "torque"));
     }
-    let motors = &task.motors;
-    let unposed = [
-        (
-            motors.no_load_speed_rad_s.is_some(),
-            "motors.no_load_speed_rad_s",
+    match task.motors.efficiency.is_some() {
+        true => refuse(
+            "this version does not yet pose motors.efficiency with a pose-dependent G; leave it \
+             out"
+            .into(),
         ),
-        (motors.efficiency.is_some(), "motors.efficiency"),
-    ];
-    match unposed.into_iter().find(|(given, _)| *given) {
-        Some((_, field)) => refuse(format!(
-            "this version does not yet pose {field} with a pose-dependent G; leave it out"
-        )),
-        None => Ok(()),
+        false => Ok(()),
     }
 }

@@ -3,7 +3,8 @@
 //! rod, in both spaces and both kinds, for a screw whose stroke is held, for the ankle
 //! example's two crank-rods over two joints, and for the SCARA example's quill (a prismatic
 //! joint) driven by a constant row and by a slanted screw; each linkage also with motors of rotor
-//! inertia and friction, whose speed term dG/dt v brings in the fourth derivatives.
+//! inertia and friction, whose speed term dG/dt v brings in the fourth derivatives, and a
+//! torque-speed envelope.
 
 use super::tests::{assert_checker_finds_nothing, assert_derivatives_match};
 use super::*;
@@ -33,14 +34,16 @@ fn posed_formulations(row: &str) -> Vec<Formulation> {
     list
 }
 
-/// Gives the task's motors a rotor inertia (kg m^2) and a viscous friction (N m s/rad) of a
-/// small servo motor, a little different per motor.
+/// Gives the task's motors a rotor inertia (kg m^2), a viscous friction (N m s/rad) and a
+/// no-load speed (rad/s: a torque-speed envelope) of a small servo motor, a little different
+/// per motor.
 fn with_motor_dynamics(task: &mut Task) {
     let count = task.transmission.matrix.len();
     let each =
         |base: f64| PerMotor::Each((0..count).map(|i| base * (1.0 + 0.3 * i as f64)).collect());
     task.motors.rotor_inertia_kgm2 = Some(each(2e-5));
     task.motors.viscous_friction_nm_s_per_rad = Some(each(1e-4));
+    task.motors.no_load_speed_rad_s = Some(each(400.0));
 }
 
 /// The formulations of `task` with motor dynamics (5 steps, modes as the task's, exact for the

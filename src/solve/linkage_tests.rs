@@ -210,13 +210,14 @@ fn a_rod_that_cannot_close_is_named() {
     );
 }
 
-/// The planar example with its elbow on the ball screw and motors of rotor inertia and friction,
-/// in `space`.
+/// The planar example with its elbow on the ball screw and motors of rotor inertia, friction
+/// and a torque-speed envelope (no-load speed 400 rad/s), in `space`.
 fn screw_with_motor_dynamics(space: Space) -> Formulation {
     use crate::model::task::PerMotor;
     let mut task = posed_task(SCREW_ROW);
     task.motors.rotor_inertia_kgm2 = Some(PerMotor::Each(vec![2e-5, 3e-5]));
     task.motors.viscous_friction_nm_s_per_rad = Some(PerMotor::Each(vec![1e-4, 2e-4]));
+    task.motors.no_load_speed_rad_s = Some(PerMotor::Each(vec![400.0, 400.0]));
     let robot = Robot::load(&task).unwrap();
     let modes = LimitModes {
         torque: LimitMode::Exact,
@@ -254,7 +255,7 @@ fn a_screw_with_rotor_inertia_reads_back_the_links_torques() {
     }
 }
 
-/// dJ*/dr with rotor inertia and friction through the screw, against differences.
+/// dJ*/dr with rotor inertia, friction and the envelope through the screw, against differences.
 #[test]
 fn a_screws_cost_gradient_with_motor_dynamics_matches_differences() {
     for space in [Space::Actuation, Space::Joint] {

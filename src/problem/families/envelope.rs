@@ -8,14 +8,24 @@
 //! to motor speeds (the identity in speed mode `exact`, G in the box modes). At node 0, where
 //! v_0 = 0, the rows would be the torque limit itself. The rows are linear: entries
 //! d(tau_u)/du in u, +-c_i G_ij in v and -+c_i B_ij, +-c_i B_ij in the node's slacks e+, e-.
+//!
+//! Where G depends on the pose (docs/model.md, section 17; speed mode `exact`, so B = I), the
+//! rows read tau_u and G at the node's G(q_k) and gain q columns: +-c_i (H_i v)^T, and in joint
+//! space the motor torque rows' -G^-T W(tau_u). Their Hessian is the motor torque rows' under the
+//! multipliers lambda_P + lambda_M and the motor speed rows' under c (lambda_P - lambda_M).
 
-use super::{segment, slack_shift, At, DesignDerivative, Emit, Family, FamilyId, Place, Shape};
+use super::motor_speed::posed_speed_hessian;
+use super::motor_torque::posed_torque_hessian;
+use super::{
+    segment, slack_shift, At, Blocks, DesignDerivative, Emit, Family, FamilyId, NodeSecondOrder,
+    Place, Shape,
+};
 use crate::ipopt::Solution;
 use crate::model::task::LimitMode;
 use crate::problem::layout::{Layout, RowBlock};
 use crate::problem::nlp::TrajectoryProblem;
 use crate::problem::node::NodeEval;
-use crate::transmission::{Side, Space};
+use crate::transmission::{Actuation, Side, Space};
 use nalgebra::{DMatrix, DVector};
 use std::sync::Arc;
 
@@ -32,11 +42,15 @@ struct Envelope {
     slack_pattern: DMatrix<f64>,
     /// The identity, B in speed mode `exact`.
     identity: DMatrix<f64>,
+    /// Whether G depends on the pose: the rows are then dense in q.
+    posed: bool,
+    /// The motors' envelope (its slopes for the Hessian).
+    envelope: crate::transmission::Envelope,
 }
 
 /// Rows where the motors have an envelope (`motors.no_load_speed_rad_s`).
 pub(super) fn of(shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
-    shape.envelope?;
+    let envelope = shape.envelope?.clone();
     let n = shape.dof;
     let slack_through_g = shape.modes.speed != LimitMode::Exact;
     Some(Arc::new(Envelope {
@@ -52,6 +66,8 @@ pub(super) fn of(shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
             DMatrix::identity(n, n)
         },
         identity: DMatrix::identity(n, n),
+        posed: !shape.linkages.is_empty(),
+        envelope,
     }))
 }
 
@@ -79,14 +95,40 @@ impl Envelope {
     }
 
     /// The motor speeds node k's rows see at x: G v_k, and in the elastic kind G v_k + B d_k,
-    /// rad/s.
-    fn speeds(&self, p: &TrajectoryProblem<'_>, x: &[f64], k: usize) -> DVector<f64> {
+    /// rad/s (G at the node's pose where it depends on the pose).
+    fn speeds(
+        &self,
+        p: &TrajectoryProblem<'_>,
+        x: &[f64],
+        node: &NodeEval,
+        k: usize,
+    ) -> DVector<f64> {
         let layout = p.formulation().layout();
-        let speeds = p.coupling().matrix() * segment(x, layout.v(k, 0), layout.dof);
+        let g = p.actuation_of(node).coupling().matrix();
+        let speeds = g * segment(x, layout.v(k, 0), layout.dof);
         match speed_relaxation(layout, x, k) {
             Some(d) => speeds + self.slack_map(p) * d,
             None => speeds,
         }
+    }
+}
+
+impl Envelope {
+    /// Where G depends on the pose, the rows' q columns at the node: d(tau_u)/dq (joint space:
+    /// -G^-T W(tau_u); None in actuation space) and d(G v)/dq = D(v); None for the structure.
+    fn position_columns(
+        &self,
+        actuation: Option<&Actuation>,
+        node: &NodeEval,
+    ) -> (Option<DMatrix<f64>>, Option<DMatrix<f64>>) {
+        let (Some(actuation), Some(pose)) = (actuation, &node.pose) else {
+            return (None, None);
+        };
+        let torque = (actuation.space() == Space::Joint).then(|| {
+            let torques = actuation.motor_torques(&pose.controls);
+            -(actuation.motor_of_joint() * pose.curvature(&torques))
+        });
+        (torque, Some(pose.derivative_along(&pose.speeds)))
     }
 }
 
@@ -127,7 +169,7 @@ impl Family for Envelope {
         &self,
         p: &TrajectoryProblem<'_>,
         x: &[f64],
-        _node: &NodeEval,
+        node: &NodeEval,
         Place { k, row }: Place,
         g: &mut [f64],
     ) {
@@ -135,8 +177,8 @@ impl Family for Envelope {
         let (layout, Some(envelope)) = (f.layout(), f.envelope()) else {
             return;
         };
-        let torques = p.motor_torques(layout.controls(x, k));
-        let speeds = self.speeds(p, x, k);
+        let torques = p.actuation_of(node).motor_torques(layout.controls(x, k));
+        let speeds = self.speeds(p, x, node, k);
         for i in 0..layout.dof {
             for side in Side::BOTH {
                 g[side_row(row, layout.dof, i, side)] =
@@ -145,25 +187,28 @@ impl Family for Envelope {
         }
     }
 
-    fn jacobian(
-        &self,
-        at: &At<'_>,
-        _node: &NodeEval,
-        Place { k, row }: Place,
-        emit: &mut Emit<'_>,
-    ) {
+    fn jacobian(&self, at: &At<'_>, node: &NodeEval, Place { k, row }: Place, emit: &mut Emit<'_>) {
         let f = at.formulation();
         let (layout, Some(envelope)) = (f.layout(), f.envelope()) else {
             return;
         };
-        let torque = at.pick(|p| p.actuation().motor_of_control(), &self.torque_pattern);
-        let g = at.pick(|p| p.coupling().matrix(), &self.speed_pattern);
+        let actuation = at.actuation(node);
+        let torque = actuation.map_or(&self.torque_pattern, |a| a.motor_of_control());
+        let g = actuation.map_or(&self.speed_pattern, |a| a.coupling().matrix());
         let slack = at.pick(|p| self.slack_map(p), &self.slack_pattern);
+        let (torque_q, speed_q) = self.position_columns(actuation, node);
         let n = layout.dof;
         for side in Side::BOTH {
             for i in 0..n {
                 let r = side_row(row, n, i, side);
                 let slope = side.sign() * envelope.slope(i);
+                if self.posed {
+                    for j in 0..n {
+                        let torque = torque_q.as_ref().map_or(0.0, |d| d[(i, j)]);
+                        let speed = speed_q.as_ref().map_or(0.0, |d| d[(i, j)]);
+                        emit(r, layout.q(k, j), torque + slope * speed);
+                    }
+                }
                 for j in (0..n).filter(|&j| self.torque_pattern[(i, j)] != 0.0) {
                     emit(r, layout.u(k, j), torque[(i, j)]);
                 }
@@ -179,6 +224,24 @@ impl Family for Envelope {
                 }
             }
         }
+    }
+
+    /// Where G depends on the pose: the motor torque rows' Hessian under lambda_P + lambda_M
+    /// (joint space) and the motor speed rows' under c (lambda_P - lambda_M).
+    fn hessian(&self, node: NodeSecondOrder<'_>, (block, mixed): Blocks<'_>) {
+        let (Some(pose), envelope) = (&node.node.pose, &self.envelope) else {
+            return;
+        };
+        let n = pose.speeds.len();
+        let (plus, minus) = node.multipliers.split_at(n);
+        if node.actuation.space() == Space::Joint {
+            let both: Vec<f64> = plus.iter().zip(minus).map(|(p, m)| p + m).collect();
+            posed_torque_hessian(pose, node.actuation, &both, (&mut *block, mixed));
+        }
+        let sloped: Vec<f64> = (0..n)
+            .map(|i| envelope.slope(i) * (plus[i] - minus[i]))
+            .collect();
+        posed_speed_hessian(pose, &sloped, block);
     }
 
     /// With lambda_P and lambda_M the rows' multipliers:
@@ -207,8 +270,13 @@ impl Family for Envelope {
         if let (Some(d), true) = (speed_relaxation(layout, x, k), self.slack_through_g) {
             speed_derivative += dg * d;
         }
-        let u = layout.controls(x, k);
-        let torque_derivative = p.actuation().motor_torque_derivative(dg, u);
+        // d(G^-T u)/dr_l = dG_inv^T u in joint space (at the node's G where it depends on the
+        // pose); u itself in actuation space.
+        let u = segment(x, layout.u(k, 0), n);
+        let torque_derivative = match f.space() {
+            Space::Joint => Some(derivative.dg_inv.tr_mul(&u)),
+            Space::Actuation => None,
+        };
         *total += (0..n)
             .map(|i| {
                 let torque = torque_derivative.as_ref().map_or(0.0, |d| d[i]);

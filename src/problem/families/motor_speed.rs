@@ -21,7 +21,7 @@ use crate::model::task::LimitMode;
 use crate::problem::kind::ProblemKind;
 use crate::problem::layout::RowBlock;
 use crate::problem::nlp::TrajectoryProblem;
-use crate::problem::node::NodeEval;
+use crate::problem::node::{NodeEval, NodePose};
 use crate::transmission::JointLimits;
 use nalgebra::{DMatrix, DVector};
 use std::ops::Range;
@@ -150,17 +150,8 @@ impl Family for MotorSpeed {
     }
 
     fn hessian(&self, node: NodeSecondOrder<'_>, (block, _): Blocks<'_>) {
-        let Some(pose) = node.node.pose.as_ref().filter(|_| !self.boxed) else {
-            return;
-        };
-        let n = pose.speeds.len();
-        let third = pose.third_along(node.multipliers, &pose.speeds);
-        let curvature = pose.curvature(node.multipliers);
-        for j in 0..n {
-            for i in 0..n {
-                block[(i, j)] += third[(i, j)];
-                block[(n + i, j)] += curvature[(i, j)];
-            }
+        if let Some(pose) = node.node.pose.as_ref().filter(|_| !self.boxed) {
+            posed_speed_hessian(pose, node.multipliers, block);
         }
     }
 
@@ -187,6 +178,20 @@ impl Family for MotorSpeed {
             // Rows v within [-b(r), b(r)] (the elastic kind's box modes): the active bound's
             // term -lambda . d(bound)/dr is -|lambda| . db/dr.
             Some(db) => *total += -multipliers.abs().dot(&DVector::from_column_slice(&db)),
+        }
+    }
+}
+
+/// Adds the Hessian of `multipliers` . G(q) v at a node whose G depends on the pose to its
+/// (q, v, a) block: sum_i lambda_i T_i[v] in q-q, W(lambda) in v-q.
+pub(super) fn posed_speed_hessian(pose: &NodePose, multipliers: &[f64], block: &mut DMatrix<f64>) {
+    let n = pose.speeds.len();
+    let third = pose.third_along(multipliers, &pose.speeds);
+    let curvature = pose.curvature(multipliers);
+    for j in 0..n {
+        for i in 0..n {
+            block[(i, j)] += third[(i, j)];
+            block[(n + i, j)] += curvature[(i, j)];
         }
     }
 }

@@ -17,8 +17,8 @@ use crate::ipopt::Solution;
 use crate::model::task::LimitMode;
 use crate::problem::layout::RowBlock;
 use crate::problem::nlp::TrajectoryProblem;
-use crate::problem::node::NodeEval;
-use crate::transmission::{JointLimits, Space};
+use crate::problem::node::{NodeEval, NodePose};
+use crate::transmission::{Actuation, JointLimits, Space};
 use nalgebra::{DMatrix, DVector};
 use std::sync::Arc;
 
@@ -133,25 +133,10 @@ impl Family for MotorTorque {
         }
     }
 
-    fn hessian(&self, node: NodeSecondOrder<'_>, (block, mixed): Blocks<'_>) {
-        let Some(pose) = &node.node.pose else {
-            return;
-        };
-        let coupling = node.actuation.coupling();
-        let g_inv = coupling.inverse();
-        let torques = node.actuation.motor_torques(&pose.controls);
-        let w = g_inv * DVector::from_column_slice(node.multipliers);
-        let d = pose.derivative_along(w.as_slice());
-        let curvature = pose.curvature(&torques);
-        let through = d.tr_mul(&g_inv.transpose()) * &curvature;
-        let third = pose.third_along(&torques, w.as_slice());
-        let n = mixed.nrows();
-        for j in 0..n {
-            for i in 0..n {
-                block[(i, j)] += through[(i, j)] + through[(j, i)] - third[(i, j)];
-            }
+    fn hessian(&self, node: NodeSecondOrder<'_>, blocks: Blocks<'_>) {
+        if let Some(pose) = &node.node.pose {
+            posed_torque_hessian(pose, node.actuation, node.multipliers, blocks);
         }
-        *mixed -= g_inv * d;
     }
 
     fn sensitivity(
@@ -167,4 +152,28 @@ impl Family for MotorTorque {
         // G^-T u differentiates to -G^-T dG^T G^-T u = dG_inv^T u.
         *total += segment(&solution.lambda, row, n).dot(&derivative.dg_inv.tr_mul(&u));
     }
+}
+
+/// Adds the Hessian of `multipliers` . G(q)^-T u at a node whose G depends on the pose (in
+/// joint space; see the module's documentation) to the node's blocks.
+pub(super) fn posed_torque_hessian(
+    pose: &NodePose,
+    actuation: &Actuation,
+    multipliers: &[f64],
+    (block, mixed): Blocks<'_>,
+) {
+    let g_inv = actuation.coupling().inverse();
+    let torques = actuation.motor_torques(&pose.controls);
+    let w = g_inv * DVector::from_column_slice(multipliers);
+    let d = pose.derivative_along(w.as_slice());
+    let curvature = pose.curvature(&torques);
+    let through = d.tr_mul(&g_inv.transpose()) * &curvature;
+    let third = pose.third_along(&torques, w.as_slice());
+    let n = mixed.nrows();
+    for j in 0..n {
+        for i in 0..n {
+            block[(i, j)] += through[(i, j)] + through[(j, i)] - third[(i, j)];
+        }
+    }
+    *mixed -= g_inv * d;
 }
