@@ -122,12 +122,14 @@ pub(super) fn assert_cost_gradient_at(
 }
 
 /// dJ*/dr with respect to the first motor's ratio and the screw's lead, against central
-/// differences of problems re-solved from the optimum, in both spaces.
+/// differences of problems re-solved from the optimum, at three interior designs in both spaces.
 #[test]
 fn a_screws_cost_gradient_matches_differences() {
     for space in [Space::Actuation, Space::Joint] {
         let f = formulation(SCREW_ROW, space);
-        assert_cost_gradient_at(&f, &[40.0, 14.0], &format!("{space} screw"));
+        for design in [[40.0, 14.0], [70.0, 9.0], [25.0, 20.0]] {
+            assert_cost_gradient_at(&f, &design, &format!("{space} screw"));
+        }
     }
 }
 
