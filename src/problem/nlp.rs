@@ -141,19 +141,10 @@ impl<'a> TrajectoryProblem<'a> {
         let mut data = f.dynamics().workspace();
         let at =
             (f.transmission()).at_pose(&self.ratios, (f.dynamics(), &mut data), q, Depth::Third)?;
-        let mut scaled = DVector::zeros(q.len());
-        let speeds = DVector::from_column_slice(v);
-        for (motor, row) in &at.rows {
-            let h = speeds.dot(&(&row.hessian * &speeds));
-            scaled[*motor] = motors.rotor_inertia[*motor] * h;
-        }
-        Ok(at
-            .coupling
-            .matrix()
-            .tr_mul(&scaled)
-            .iter()
-            .copied()
-            .collect())
+        let rows = at.rows.iter().map(|(motor, row)| (*motor, &row.hessian));
+        let h = families::speed_terms(rows, &DVector::from_column_slice(v));
+        let torques = families::speed_term_torques(at.coupling.matrix(), motors, &h);
+        Ok(torques.iter().copied().collect())
     }
 
     /// Each motor's angle at pose q, rad: gamma_i(q) for a linkage row, G_i q for a constant one.

@@ -46,8 +46,8 @@ fn with_motor_dynamics(task: &mut Task) {
     task.motors.no_load_speed_rad_s = Some(each(400.0));
 }
 
-/// The formulations of `task` with motor dynamics (5 steps, modes as the task's, exact for the
-/// planar example's), both spaces, both kinds.
+/// The formulations of `task` with motor dynamics: 5 steps, modes `exact`, both spaces, both
+/// kinds.
 fn with_motors(mut task: Task) -> Vec<Formulation> {
     with_motor_dynamics(&mut task);
     task.motion.steps = 5;

@@ -16,11 +16,11 @@
 //! Where G depends on the pose (docs/model.md, section 17), each node's terms take dG/dr_l at
 //! that node's q_k.
 
-use super::families::{DesignDerivative, LoadDerivative, Place};
+use super::families::{own_torques, speed_terms, DesignDerivative, LoadDerivative, Place};
 use super::nlp::TrajectoryProblem;
 use crate::ipopt::Solution;
 use crate::transmission::{Depth, DesignDerivativeAt, MotorDynamics, PoseCoupling, PoseError};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 
 /// dJ*/dr at `solution`, a solution of `problem` (one entry per ratio). For the elastic kind
 /// (docs/model.md, section 14) the derivative of its optimal penalised objective: its slacks
@@ -80,7 +80,12 @@ fn node_derivatives(
     let mut nodes = Vec::with_capacity(layout.steps);
     for k in 0..layout.steps {
         let (q, v, a) = layout.node_state(&solution.x, k);
-        let at = transmission.at_pose(r, (dynamics, &mut data), q, Depth::Third)?;
+        // The motors' speed terms need the rows' Hessians.
+        let depth = match f.motor_dynamics() {
+            Some(_) => Depth::Third,
+            None => Depth::First,
+        };
+        let at = transmission.at_pose(r, (dynamics, &mut data), q, depth)?;
         let g_inv = at.coupling.inverse();
         let derivatives = transmission.design_derivatives_at(r, (dynamics, &mut data), q)?;
         let load = |at_l: &DesignDerivativeAt| {
@@ -115,25 +120,15 @@ fn load_derivative(
 ) -> LoadDerivative {
     let (v, a) = (DVector::from_column_slice(v), DVector::from_column_slice(a));
     let g = at.coupling.matrix();
-    let bias = |hessians: &mut dyn Iterator<Item = (usize, &DMatrix<f64>)>| {
-        let mut h = DVector::zeros(v.len());
-        for (motor, hessian) in hessians {
-            h[motor] = v.dot(&(hessian * &v));
-        }
-        h
-    };
-    let h = bias(&mut at.rows.iter().map(|(motor, row)| (*motor, &row.hessian)));
-    let dh = bias(&mut derivative.hessians.iter().map(|(motor, d)| (*motor, d)));
-    let own = |speeds: DVector<f64>, accelerations: DVector<f64>| {
-        let (inertia, friction) = (&motors.rotor_inertia, &motors.viscous_friction);
-        DVector::from_fn(speeds.len(), |i, _| {
-            inertia[i] * accelerations[i] + friction[i] * speeds[i]
-        })
-    };
+    let h = speed_terms(
+        at.rows.iter().map(|(motor, row)| (*motor, &row.hessian)),
+        &v,
+    );
+    let dh = speed_terms(derivative.hessians.iter().map(|(motor, d)| (*motor, d)), &v);
     let dg = &derivative.matrix;
     LoadDerivative {
         g: g.clone(),
-        own: own(g * &v, g * &a + h),
-        own_derivative: own(dg * &v, dg * &a + dh),
+        own: own_torques(motors, &(g * &v), &(g * &a + h)),
+        own_derivative: own_torques(motors, &(dg * &v), &(dg * &a + dh)),
     }
 }

@@ -411,14 +411,24 @@ impl Inspection {
         }
     }
 
+    /// Writes G and G^-1, one row a line ("G(q) at the start" where G depends on the pose).
+    fn write_coupling(&self, text: &mut String) {
+        let names = match self.g_at_start {
+            true => ["G(q) at the start", "G(q)^-1 at the start"],
+            false => ["G", "G^-1"],
+        };
+        for (name, matrix) in names.into_iter().zip([&self.g, &self.g_inverse]) {
+            if let Some(matrix) = matrix {
+                let _ = writeln!(text, "{name}:");
+                for row in matrix {
+                    let _ = writeln!(text, "  [{}]", four_places(row));
+                }
+            }
+        }
+    }
+
     /// The inspection as text, for a terminal.
     pub fn to_text(&self) -> String {
-        let list = |values: &[f64]| {
-            // A value that rounds to zero is written 0, never -0.
-            let shown = |v: f64| if v.abs() < 5e-5 { 0.0 } else { v };
-            let texts: Vec<String> = values.iter().map(|&v| format!("{:.4}", shown(v))).collect();
-            texts.join(", ")
-        };
         let mut text = format!(
             "{} moving joints, TCP on link '{}', payload {} kg\n",
             self.joints.len(),
@@ -443,7 +453,7 @@ impl Inspection {
             let _ = writeln!(
                 text,
                 "design r = ({}); bounds {:?}; order {}",
-                list(&self.ratios),
+                four_places(&self.ratios),
                 self.bounds,
                 if self.order.is_empty() {
                     "none".to_owned()
@@ -452,18 +462,7 @@ impl Inspection {
                 }
             );
         }
-        let names = match self.g_at_start {
-            true => ["G(q) at the start", "G(q)^-1 at the start"],
-            false => ["G", "G^-1"],
-        };
-        for (name, matrix) in names.into_iter().zip([&self.g, &self.g_inverse]) {
-            if let Some(matrix) = matrix {
-                let _ = writeln!(text, "{name}:");
-                for row in matrix {
-                    let _ = writeln!(text, "  [{}]", list(row));
-                }
-            }
-        }
+        self.write_coupling(&mut text);
         if !self.torque_limits_nm.is_empty() {
             let _ = write!(
                 text,
@@ -482,10 +481,10 @@ impl Inspection {
                 text,
                 "{}: TCP ({}) m; gravity torques at the joints ({}) {}, at the motors ({}) N m",
                 hold.pose,
-                list(&hold.tcp_m),
-                list(&hold.joint_torques_nm),
+                four_places(&hold.tcp_m),
+                four_places(&hold.joint_torques_nm),
                 self.effort_units(),
-                list(&hold.motor_torques_nm)
+                four_places(&hold.motor_torques_nm)
             );
         }
         for verdict in &self.verdicts {
@@ -494,6 +493,14 @@ impl Inspection {
         }
         text
     }
+}
+
+/// `values` with four decimals, comma-separated; a value that rounds to zero is written 0,
+/// never -0.
+fn four_places(values: &[f64]) -> String {
+    let shown = |v: f64| if v.abs() < 5e-5 { 0.0 } else { v };
+    let texts: Vec<String> = values.iter().map(|&v| format!("{:.4}", shown(v))).collect();
+    texts.join(", ")
 }
 
 #[cfg(test)]

@@ -111,18 +111,12 @@ impl Family for Dynamics {
         let reflected = actuation.and_then(|a| a.reflected());
         let (inertia, damping) = (reflected.map(|r| r.0), reflected.map(|r| r.1));
         // d(G(q)^T u)/dq, subtracted from the q columns.
-        let mut curvature = match (&node.pose, actuation) {
+        let curvature = match (&node.pose, actuation) {
             (Some(pose), Some(_)) if self.posed => Some(-pose.curvature(&pose.controls)),
             _ => None,
         };
-        let load = self.load(node).map(|load| load.jacobian());
-        if let Some((by_q, _)) = &load {
-            curvature = Some(curvature.map_or_else(|| by_q.clone(), |c| c + by_q));
-        }
-        let damping = match (&load, damping) {
-            (Some((_, by_v)), Some(damping)) => Some(damping + by_v),
-            _ => damping.cloned(),
-        };
+        // The motors' own torques through G(q): their q columns and their speed term's v ones.
+        let (load_q, load_v) = self.load(node).map(|load| load.jacobian()).unzip();
         let losses = (node.loss.as_ref())
             .map(|loss| loss.jacobian_blocks((&node.dtau_dq, &node.dtau_dv, &node.mass)));
         let [dq, dv, da] = [0, 1, 2].map(|b| losses.as_ref().map(|blocks| &blocks[b]));
@@ -131,10 +125,12 @@ impl Family for Dynamics {
             let r = row + i;
             for j in 0..n {
                 let value = plus(node.dtau_dq[(i, j)], curvature.as_ref(), (i, j));
+                let value = plus(value, load_q.as_ref(), (i, j));
                 emit(r, layout.q(k, j), plus(value, dq, (i, j)));
             }
             for j in 0..n {
-                let value = plus(node.dtau_dv[(i, j)], damping.as_ref(), (i, j));
+                let value = plus(node.dtau_dv[(i, j)], damping, (i, j));
+                let value = plus(value, load_v.as_ref(), (i, j));
                 emit(r, layout.v(k, j), plus(value, dv, (i, j)));
             }
             for j in 0..n {

@@ -15,7 +15,7 @@
 //! multipliers lambda_P + lambda_M and the motor speed rows' under c (lambda_P - lambda_M).
 
 use super::motor_speed::posed_speed_hessian;
-use super::motor_torque::posed_torque_hessian;
+use super::motor_torque::{posed_torque_columns, posed_torque_hessian};
 use super::{
     segment, slack_shift, At, Blocks, DesignDerivative, Emit, Family, FamilyId, NodeSecondOrder,
     Place, Shape,
@@ -111,9 +111,7 @@ impl Envelope {
             None => speeds,
         }
     }
-}
 
-impl Envelope {
     /// Where G depends on the pose, the rows' q columns at the node: d(tau_u)/dq (joint space:
     /// -G^-T W(tau_u); None in actuation space) and d(G v)/dq = D(v); None for the structure.
     fn position_columns(
@@ -124,10 +122,8 @@ impl Envelope {
         let (Some(actuation), Some(pose)) = (actuation, &node.pose) else {
             return (None, None);
         };
-        let torque = (actuation.space() == Space::Joint).then(|| {
-            let torques = actuation.motor_torques(&pose.controls);
-            -(actuation.motor_of_joint() * pose.curvature(&torques))
-        });
+        let torque =
+            (actuation.space() == Space::Joint).then(|| posed_torque_columns(pose, actuation));
         (torque, Some(pose.derivative_along(&pose.speeds)))
     }
 }

@@ -17,6 +17,7 @@ mod envelope;
 mod integration;
 mod joint_limits;
 mod motor_load;
+pub(super) use motor_load::{own_torques, speed_term_torques, speed_terms};
 mod motor_speed;
 mod motor_torque;
 mod strokes;

@@ -30,12 +30,11 @@ impl<'a> MotorLoad<'a> {
 
     /// h_i = v^T H_i v per motor, rad/s^2 (zero for constant rows).
     fn speed_terms(&self) -> DVector<f64> {
-        let v = DVector::from_column_slice(&self.pose.speeds);
-        let mut h = DVector::zeros(v.len());
-        for (motor, row) in &self.pose.rows {
-            h[*motor] = v.dot(&(&row.hessian * &v));
-        }
-        h
+        let rows = self.pose.rows.iter();
+        speed_terms(
+            rows.map(|(motor, row)| (*motor, &row.hessian)),
+            &self.vector(&self.pose.speeds),
+        )
     }
 
     /// m = J_m (G a + h) + B_m G v per motor, N m.
@@ -44,11 +43,8 @@ impl<'a> MotorLoad<'a> {
             self.vector(&self.pose.speeds),
             self.vector(&self.pose.accelerations),
         );
-        let (speeds, accelerations) = (self.g() * v, self.g() * a + self.speed_terms());
-        let (inertia, friction) = (&self.motors.rotor_inertia, &self.motors.viscous_friction);
-        DVector::from_fn(speeds.len(), |i, _| {
-            inertia[i] * accelerations[i] + friction[i] * speeds[i]
-        })
+        let accelerations = self.g() * a + self.speed_terms();
+        own_torques(self.motors, &(self.g() * v), &accelerations)
     }
 
     fn vector(&self, values: &[f64]) -> DVector<f64> {
@@ -57,10 +53,7 @@ impl<'a> MotorLoad<'a> {
 
     /// What the rows add to `Actuation::residual`'s motor terms: G^T J_m h, N m per joint.
     pub(super) fn values(&self) -> DVector<f64> {
-        let h = self.speed_terms();
-        let inertia = &self.motors.rotor_inertia;
-        let scaled = DVector::from_fn(h.len(), |i, _| inertia[i] * h[i]);
-        self.g().tr_mul(&scaled)
+        speed_term_torques(self.g(), self.motors, &self.speed_terms())
     }
 
     /// d(G^T m)/dq and d(G^T J_m h)/dv, n x n each (row = joint): sum_i m_i H_i + G^T M_q and
@@ -129,4 +122,39 @@ fn add(block: &mut DMatrix<f64>, (row, column): (usize, usize), part: &DMatrix<f
     let (rows, columns) = part.shape();
     let mut view = block.view_mut((row, column), (rows, columns));
     view += part;
+}
+
+/// h_i = v^T H_i v, rad/s^2, for each (motor i, H_i) of `hessians`; zero for the other motors.
+pub(in crate::problem) fn speed_terms<'h>(
+    hessians: impl IntoIterator<Item = (usize, &'h DMatrix<f64>)>,
+    v: &DVector<f64>,
+) -> DVector<f64> {
+    let mut h = DVector::zeros(v.len());
+    for (motor, hessian) in hessians {
+        h[motor] = v.dot(&(hessian * v));
+    }
+    h
+}
+
+/// m_i = J_i accelerations_i + B_i speeds_i per motor of `motors`, N m (motor speeds in rad/s,
+/// accelerations in rad/s^2).
+pub(in crate::problem) fn own_torques(
+    motors: &MotorDynamics,
+    speeds: &DVector<f64>,
+    accelerations: &DVector<f64>,
+) -> DVector<f64> {
+    let (inertia, friction) = (&motors.rotor_inertia, &motors.viscous_friction);
+    DVector::from_fn(speeds.len(), |i, _| {
+        inertia[i] * accelerations[i] + friction[i] * speeds[i]
+    })
+}
+
+/// G^T J_m h: the joint torques the rotors take through the speed terms `h` (rad/s^2), N m.
+pub(in crate::problem) fn speed_term_torques(
+    g: &DMatrix<f64>,
+    motors: &MotorDynamics,
+    h: &DVector<f64>,
+) -> DVector<f64> {
+    let scaled = DVector::from_fn(h.len(), |i, _| motors.rotor_inertia[i] * h[i]);
+    g.tr_mul(&scaled)
 }

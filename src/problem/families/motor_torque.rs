@@ -109,12 +109,8 @@ impl Family for MotorTorque {
         let layout = at.formulation().layout();
         let actuation = at.actuation(node);
         let motor_of_joint = actuation.map_or(pattern, |a| a.motor_of_joint());
-        // d(G(q)^-T u)/dq = -G^-T W at the node.
         let position = match (actuation, &node.pose) {
-            (Some(actuation), Some(pose)) => {
-                let torques = actuation.motor_torques(&pose.controls);
-                Some(-(actuation.motor_of_joint() * pose.curvature(&torques)))
-            }
+            (Some(actuation), Some(pose)) => Some(posed_torque_columns(pose, actuation)),
             _ => None,
         };
         for i in 0..layout.dof {
@@ -152,6 +148,13 @@ impl Family for MotorTorque {
         // G^-T u differentiates to -G^-T dG^T G^-T u = dG_inv^T u.
         *total += segment(&solution.lambda, row, n).dot(&derivative.dg_inv.tr_mul(&u));
     }
+}
+
+/// d(G(q)^-T u)/dq = -G^-T W(tau_u) at a node whose G depends on the pose (joint space), n x n
+/// (row = motor).
+pub(super) fn posed_torque_columns(pose: &NodePose, actuation: &Actuation) -> DMatrix<f64> {
+    let torques = actuation.motor_torques(&pose.controls);
+    -(actuation.motor_of_joint() * pose.curvature(&torques))
 }
 
 /// Adds the Hessian of `multipliers` . G(q)^-T u at a node whose G depends on the pose (in
