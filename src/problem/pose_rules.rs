@@ -4,18 +4,17 @@
 //! The box modes `paper` and `interval` carry the motor limits to fixed boxes on the joints
 //! through one constant G; with G(q) no box is the motors' limit, so such a task must use the
 //! mode `exact`, whose rows hold each motor's own limit at every node. The motors' rotor
-//! inertia and friction (their speed term dG/dt v included) and their torque-speed envelope are
-//! posed through G(q); the transmissions' losses are not yet.
+//! inertia and friction (their speed term dG/dt v included), their torque-speed envelope and
+//! the transmissions' losses are posed through G(q).
 
 use super::formulation::FormulationError;
-use crate::model::task::{LimitMode, LimitModes, Task};
+use crate::model::task::{LimitMode, LimitModes};
 use crate::transmission::{Space, Transmission};
 
-/// Ok where `transmission` is constant, or where the task and the problem's space and modes
-/// pose its pose-dependent rows; otherwise the error naming the field.
+/// Ok where `transmission` is constant, or where the problem's space and modes pose its
+/// pose-dependent rows; otherwise the error naming the field.
 pub(super) fn check(
     transmission: &Transmission,
-    task: &Task,
     space: Space,
     modes: &LimitModes,
 ) -> Result<(), FormulationError> {
@@ -42,12 +41,5 @@ pub(super) fn check(
     if space == Space::Joint && modes.torque != LimitMode::Exact {
         return refuse(boxed(modes.torque, "torque"));
     }
-    match task.motors.efficiency.is_some() {
-        true => refuse(
-            "this version does not yet pose motors.efficiency with a pose-dependent G; leave it \
-             out"
-            .into(),
-        ),
-        false => Ok(()),
-    }
+    Ok(())
 }

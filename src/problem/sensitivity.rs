@@ -42,6 +42,7 @@ pub fn cost_gradient(
                 dg,
                 parameter: l,
                 angle: DVector::zeros(layout.dof),
+                coupling: None,
                 load: None,
             };
             let mut total = 0.0;
@@ -92,12 +93,13 @@ fn node_derivatives(
             let motors = f.motor_dynamics()?;
             Some(load_derivative(motors, (&at, at_l), (v, a)))
         };
-        let derivative = |(l, at): (usize, DesignDerivativeAt)| DesignDerivative {
-            load: load(&at),
-            dg_inv: -(g_inv * &at.matrix * g_inv),
-            dg: at.matrix,
+        let derivative = |(l, at_l): (usize, DesignDerivativeAt)| DesignDerivative {
+            load: load(&at_l),
+            coupling: Some(at.coupling.clone()),
+            dg_inv: -(g_inv * &at_l.matrix * g_inv),
+            dg: at_l.matrix,
             parameter: l,
-            angle: at.angles,
+            angle: at_l.angles,
         };
         nodes.push(
             derivatives
@@ -127,7 +129,6 @@ fn load_derivative(
     let dh = speed_terms(derivative.hessians.iter().map(|(motor, d)| (*motor, d)), &v);
     let dg = &derivative.matrix;
     LoadDerivative {
-        g: g.clone(),
         own: own_torques(motors, &(g * &v), &(g * &a + h)),
         own_derivative: own_torques(motors, &(dg * &v), &(dg * &a + dh)),
     }

@@ -2,7 +2,7 @@
 //! checker, its patterns, the elastic kind against the hard one, and its bounds.
 
 use super::*;
-use crate::ipopt::{check_derivatives, DerivativeOrder, Nlp, Options};
+use crate::ipopt::{check_derivatives, DerivativeOrder, Nlp, Options, Solution, Status, Timing};
 use crate::model::task::{LimitMode, LimitModes, Task};
 use crate::model::Robot;
 use crate::problem::penalty_weights;
@@ -323,6 +323,77 @@ pub(super) fn assert_derivatives_match(f: &Formulation, ratios: &[f64]) {
     }
 }
 
+/// The sensitivity's partial derivative in r of the Lagrangian f(x) + lambda . g(x; r) -
+/// z_L . (x - x_L(r)) + z_U . (x - x_U(r)), at a fixed point x near the initial guess and random
+/// multipliers, against central differences in r: every family's design terms, its rows' and
+/// its bounds', at once and without a solve.
+pub(super) fn assert_design_partials_match(f: &Formulation, design: &[f64]) {
+    let problem = f.problem(design).unwrap();
+    let (n, m) = (problem.num_variables(), problem.num_constraints());
+    let x = random_point(&problem, 5);
+    let mut rng = Random::new(13);
+    let lambda: Vec<f64> = (0..m).map(|_| rng.unit() - 0.5).collect();
+    let (z_lower, z_upper): (Vec<f64>, Vec<f64>) = (0..n).map(|_| (rng.unit(), rng.unit())).unzip();
+    let solution = Solution {
+        status: Status::SolveSucceeded,
+        x: x.clone(),
+        g: vec![0.0; m],
+        lambda: lambda.clone(),
+        z_lower: z_lower.clone(),
+        z_upper: z_upper.clone(),
+        objective: 0.0,
+        iterations: 0,
+        timing: Timing::default(),
+        outside_domain: None,
+    };
+    let exact = cost_gradient(&problem, &solution).unwrap();
+    // f + lambda . (g - b): b the bound each multiplier's sign makes active (IPOPT's sign
+    // convention: lambda > 0 at an upper bound), for the bounds that depend on r; an infinite
+    // one contributes nothing.
+    let lagrangian = |r: &[f64]| {
+        let mut problem = f.problem(r).unwrap();
+        let (mut g, mut lower, mut upper) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
+        problem.constraints(&x, true, &mut g).unwrap();
+        problem.constraint_bounds(&mut lower, &mut upper);
+        let active = |i: usize| match lambda[i] > 0.0 {
+            true => upper[i],
+            false => lower[i],
+        };
+        let finite = |b: f64| if b.is_finite() { b } else { 0.0 };
+        let constraints: f64 = (0..m).map(|i| lambda[i] * (g[i] - finite(active(i)))).sum();
+        let (mut x_lower, mut x_upper) = (vec![0.0; n], vec![0.0; n]);
+        problem.variable_bounds(&mut x_lower, &mut x_upper);
+        let bound = |z: &[f64], x_bound: &[f64], j: usize| z[j] * (x[j] - finite(x_bound[j]));
+        let bounds: f64 = (0..n)
+            .map(|j| bound(&z_upper, &x_upper, j) - bound(&z_lower, &x_lower, j))
+            .sum();
+        problem.objective(&x, false).unwrap() + constraints + bounds
+    };
+    for l in 0..design.len() {
+        let step = 1e-5 * design[l].abs().max(1.0);
+        let (mut plus, mut minus) = (design.to_vec(), design.to_vec());
+        plus[l] += step;
+        minus[l] -= step;
+        let fd = (lagrangian(&plus) - lagrangian(&minus)) / (2.0 * step);
+        assert!(
+            (fd - exact[l]).abs() <= 1e-6 * (1.0 + fd.abs()),
+            "{:?} {} space, modes {:?}, r{}: {} vs fd {fd}",
+            f.kind(),
+            f.space(),
+            f.modes(),
+            l + 1,
+            exact[l]
+        );
+    }
+}
+
+#[test]
+fn design_partials_match_finite_differences() {
+    for f in all_formulations() {
+        assert_design_partials_match(&f, &[7.0, 4.0, 2.0, 1.5]);
+    }
+}
+
 #[test]
 fn ipopt_derivative_checker_finds_nothing() {
     for f in all_formulations() {
@@ -331,8 +402,17 @@ fn ipopt_derivative_checker_finds_nothing() {
 }
 
 /// IPOPT's derivative checker on `f`'s problem at design `ratios`: at the initial guess and
-/// (hard kind) at a random interior point.
+/// (hard kind) at a random interior point, with forward differences of step 1e-7.
 pub(super) fn assert_checker_finds_nothing(f: &Formulation, ratios: &[f64]) {
+    assert_checker_finds_nothing_at_step(f, ratios, 1e-7);
+}
+
+/// [`assert_checker_finds_nothing`] with the checker's relative step `perturbation`.
+pub(super) fn assert_checker_finds_nothing_at_step(
+    f: &Formulation,
+    ratios: &[f64],
+    perturbation: f64,
+) {
     // IPOPT's random point moves the slacks too (see `random_point`): the elastic kind is
     // checked at the initial guess, where they are 0.
     let points = match f.kind() {
@@ -343,7 +423,7 @@ pub(super) fn assert_checker_finds_nothing(f: &Formulation, ratios: &[f64]) {
         let mut problem = f.problem(ratios).unwrap();
         let options = Options::new()
             .num("point_perturbation_radius", radius)
-            .num("derivative_test_perturbation", 1e-7)
+            .num("derivative_test_perturbation", perturbation)
             .num("derivative_test_tol", 1e-4);
         let report = check_derivatives(&mut problem, &options, DerivativeOrder::Second).unwrap();
         assert_eq!(

@@ -95,6 +95,8 @@ impl TransmissionLoss {
 #[derive(Clone, Debug)]
 pub struct NodeLoss {
     motors: Vec<MotorLoss>,
+    /// t = G^-T tau, the torques the transmissions pass, N m per motor.
+    transmitted: DVector<f64>,
     /// G^T L, N m (row = joint).
     joint: DVector<f64>,
     /// G^T diag(dL/dt) G^-T, dimensionless: the rows' derivative through tau.
@@ -117,6 +119,7 @@ impl NodeLoss {
         let damping = g.tr_mul(&(DMatrix::from_diagonal(&column(|m| m.w)) * g));
         NodeLoss {
             motors,
+            transmitted: t,
             joint,
             torque_map,
             damping,
@@ -126,6 +129,16 @@ impl NodeLoss {
     /// Each motor's loss torque L_i, N m.
     pub fn motor_torques(&self) -> Vec<f64> {
         self.motors.iter().map(|m| m.value).collect()
+    }
+
+    /// Motor i's loss and its derivatives at this node.
+    pub fn motor(&self, i: usize) -> &MotorLoss {
+        &self.motors[i]
+    }
+
+    /// t = G^-T tau, the torques the transmissions pass, N m per motor.
+    pub fn transmitted(&self) -> &DVector<f64> {
+        &self.transmitted
     }
 
     /// G^T L, the losses' share of the joint torques, N m (row = joint).
@@ -157,9 +170,8 @@ impl NodeLoss {
     }
 
     /// Adds the rest of lambda . the rows' Hessian in (q, v, a) to `block` (3n x 3n), with the
-    /// RNEA's derivatives (`dq`, `dv`, `mass`): with T = G^-T [dq dv mass] and W = [0 G 0] the
-    /// derivatives of t and w, sum_i mu_i (L_tt T_i^T T_i + L_tw (T_i^T W_i + W_i^T T_i) + L_ww
-    /// W_i^T W_i).
+    /// RNEA's derivatives (`dq`, `dv`, `mass`): [`NodeLoss::add_second_order`] with T = G^-T
+    /// [dq dv mass] and W = [0 G 0], the derivatives of t and w under a constant G.
     pub fn add_hessian(
         &self,
         coupling: &Coupling,
@@ -167,24 +179,38 @@ impl NodeLoss {
         (dq, dv, mass): (&DMatrix<f64>, &DMatrix<f64>, &DMatrix<f64>),
         block: &mut DMatrix<f64>,
     ) {
-        let (g, g_inv) = (coupling.matrix(), coupling.inverse());
+        let g = coupling.matrix();
         let n = g.nrows();
-        let mu = g * DVector::from_column_slice(lambda);
         let mut derivatives = DMatrix::zeros(n, 3 * n);
         derivatives.columns_mut(0, n).copy_from(dq);
         derivatives.columns_mut(n, n).copy_from(dv);
         derivatives.columns_mut(2 * n, n).copy_from(mass);
-        let t = g_inv.tr_mul(&derivatives);
+        let t = coupling.inverse().tr_mul(&derivatives);
         let mut w = DMatrix::zeros(n, 3 * n);
         w.columns_mut(n, n).copy_from(g);
+        let mu = g * DVector::from_column_slice(lambda);
+        self.add_second_order(&mu, (&t, &w), block);
+    }
+
+    /// Adds sum_i mu_i (L_tt T_i^T T_i + L_tw (T_i^T W_i + W_i^T T_i) + L_ww W_i^T W_i) to
+    /// `block` (3n x 3n): the losses' second derivatives in (t, w) under the multipliers `mu`
+    /// seen at the motors, with T and W (n x 3n, row = motor) the derivatives of t and w in
+    /// (q, v, a).
+    pub fn add_second_order(
+        &self,
+        mu: &DVector<f64>,
+        (t, w): (&DMatrix<f64>, &DMatrix<f64>),
+        block: &mut DMatrix<f64>,
+    ) {
+        let n = mu.len();
         let weights = |of: fn(&MotorLoss) -> f64| {
             DMatrix::from_diagonal(&DVector::from_fn(n, |i, _| mu[i] * of(&self.motors[i])))
         };
-        let cross = t.tr_mul(&(weights(|m| m.tw) * &w));
-        *block += t.tr_mul(&(weights(|m| m.tt) * &t))
+        let cross = t.tr_mul(&(weights(|m| m.tw) * w));
+        *block += t.tr_mul(&(weights(|m| m.tt) * t))
             + &cross
             + cross.transpose()
-            + w.tr_mul(&(weights(|m| m.ww) * &w));
+            + w.tr_mul(&(weights(|m| m.ww) * w));
     }
 
     /// d/dr_l of the rows' term G^T L at fixed (tau, v), for `dg` = dG/dr_l and `dg_inv` =

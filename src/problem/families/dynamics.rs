@@ -17,6 +17,7 @@
 //! of `motor_load.rs`.
 
 use super::motor_load::MotorLoad;
+use super::posed_loss::PosedLoss;
 use super::{
     emit_slacks, slack_shift, At, Blocks, DesignDerivative, Emit, Family, FamilyId,
     NodeSecondOrder, Place, Shape,
@@ -117,8 +118,13 @@ impl Family for Dynamics {
         };
         // The motors' own torques through G(q): their q columns and their speed term's v ones.
         let (load_q, load_v) = self.load(node).map(|load| load.jacobian()).unzip();
-        let losses = (node.loss.as_ref())
-            .map(|loss| loss.jacobian_blocks((&node.dtau_dq, &node.dtau_dv, &node.mass)));
+        let losses = node.loss.as_ref().map(|loss| {
+            let rnea = (&node.dtau_dq, &node.dtau_dv, &node.mass);
+            match &node.pose {
+                Some(pose) => PosedLoss::new(pose, loss).jacobian(rnea),
+                None => loss.jacobian_blocks(rnea),
+            }
+        });
         let [dq, dv, da] = [0, 1, 2].map(|b| losses.as_ref().map(|blocks| &blocks[b]));
         let n = layout.dof;
         for i in 0..n {
@@ -181,7 +187,12 @@ impl Family for Dynamics {
         if let Some(loss) = &node.node.loss {
             let e = node.node;
             let derivatives = (&e.dtau_dq, &e.dtau_dv, &e.mass);
-            loss.add_hessian(coupling, node.multipliers, derivatives, block);
+            match &e.pose {
+                Some(pose) => {
+                    PosedLoss::new(pose, loss).add_hessian(node.multipliers, derivatives, block)
+                }
+                None => loss.add_hessian(coupling, node.multipliers, derivatives, block),
+            }
         }
     }
 
@@ -198,13 +209,13 @@ impl Family for Dynamics {
         let (_, v, a) = layout.node_state(x, k);
         let u = layout.controls(x, k);
         let lambda = super::segment(&solution.lambda, row, layout.dof);
-        if let Some(load) = &derivative.load {
+        if let (Some(load), Some(at)) = (&derivative.load, &derivative.coupling) {
             // d/dr_l of G^T (m - u) (actuation space) or G^T m (joint space) at G(q_k).
             let mut own = load.own.clone();
             if self.posed {
                 own -= DVector::from_column_slice(u);
             }
-            let d = derivative.dg.tr_mul(&own) + load.g.tr_mul(&load.own_derivative);
+            let d = derivative.dg.tr_mul(&own) + at.matrix().tr_mul(&load.own_derivative);
             *total += lambda.dot(&d);
         } else if let Some(d) = p.actuation().residual_derivative(&derivative.dg, (v, a), u) {
             *total += lambda.dot(&d);
@@ -216,7 +227,8 @@ impl Family for Dynamics {
 }
 
 /// d/dr_l of the losses' term G^T L of node k's rows at x, N m: RNEA evaluated again at the
-/// node, since the Lagrangian's partial derivative holds x fixed.
+/// node, since the Lagrangian's partial derivative holds x fixed; at G(q_k) where G depends on
+/// the pose.
 fn loss_derivative(
     p: &TrajectoryProblem<'_>,
     x: &[f64],
@@ -228,7 +240,14 @@ fn loss_derivative(
     let dynamics = f.dynamics();
     let mut tau = vec![0.0; f.layout().dof];
     dynamics.rnea(&mut dynamics.workspace(), q, v, a, &mut tau);
-    let actuation = p.actuation();
+    let posed;
+    let actuation = match &derivative.coupling {
+        Some(at) => {
+            posed = f.actuation(at.clone());
+            &posed
+        }
+        None => p.actuation(),
+    };
     let loss = actuation
         .node_loss(&tau, v)
         .expect("the actuation has losses");

@@ -20,6 +20,7 @@ mod motor_load;
 pub(super) use motor_load::{own_torques, speed_term_torques, speed_terms};
 mod motor_speed;
 mod motor_torque;
+mod posed_loss;
 mod strokes;
 
 use super::formulation::Formulation;
@@ -30,7 +31,7 @@ use super::node::NodeEval;
 use crate::dynamics::{Dynamics, Workspace};
 use crate::ipopt::Solution;
 use crate::model::task::LimitModes;
-use crate::transmission::{Actuation, Envelope, MotorDynamics, PoseRow, Space};
+use crate::transmission::{Actuation, Coupling, Envelope, MotorDynamics, PoseRow, Space};
 use nalgebra::{DMatrix, DVector};
 use std::fmt;
 use std::sync::Arc;
@@ -188,6 +189,8 @@ pub(super) struct DesignDerivative {
     /// d gamma_i/dr_l of each linkage row at the node (zero for constant rows and a constant
     /// transmission), rad per unit of r_l.
     pub(super) angle: DVector<f64>,
+    /// G(q_k) and its inverse where G depends on the pose, None for a constant G(r).
+    pub(super) coupling: Option<Coupling>,
     /// The motors' own torques at the node where G depends on the pose, None otherwise.
     pub(super) load: Option<LoadDerivative>,
 }
@@ -195,8 +198,6 @@ pub(super) struct DesignDerivative {
 /// The motors' own torques m = J_m (G a + h) + B_m G v at a node where G depends on the pose
 /// (`motor_load.rs`), and their derivative in one design parameter.
 pub(super) struct LoadDerivative {
-    /// G(q_k).
-    pub(super) g: DMatrix<f64>,
     /// m, N m per motor.
     pub(super) own: DVector<f64>,
     /// dm/dr_l = J_m (dG_l a + dh_l) + B_m dG_l v, per motor.
