@@ -290,16 +290,22 @@ mod tests {
     use crate::problem::Space;
     use crate::testing;
 
-    #[test]
-    fn brackets_the_capacity_of_the_original_design_to_the_resolution() {
-        let formulation = testing::held_formulation(0.0, Space::Actuation);
-        let settings = CapacitySettings {
+    /// The searches' settings: 0.05 kg resolution, a first step of 1 kg, up to 16 kg.
+    fn settings() -> CapacitySettings {
+        CapacitySettings {
             resolution_kg: 0.05,
             first_step_kg: 1.0,
             max_kg: 16.0,
-        };
-        // The original design's motors hold at most 0.585 kg at rest: its capacity is that
-        // bound, reached without a search above it (it moves 1.9 kg without the hold).
+        }
+    }
+
+    /// The original design's motors hold at most 0.585 kg at rest: its capacity is that
+    /// bound, reached without a search above it (it moves 1.9 kg without the hold). Bad
+    /// settings are refused.
+    #[test]
+    fn the_hold_bounds_the_capacity_of_the_original_design() {
+        let formulation = testing::held_formulation(0.0, Space::Actuation);
+        let settings = settings();
         let original = formulation.transmission().original().to_vec();
         let capacity =
             payload_capacity(&formulation, &testing::settings(), &original, &settings).unwrap();
@@ -309,18 +315,42 @@ mod tests {
         assert_eq!(capacity.first_infeasible_kg, None);
         assert_eq!(capacity.limited_by, Some(CapacityLimit::Hold));
         assert!(capacity.probes.iter().all(|p| p.payload_kg <= hold));
-        // Under the paper's ends the hold bounds nothing: the capacity is the dynamic one,
-        // above the load held at rest, which is reported the same.
+        let bad = CapacitySettings {
+            resolution_kg: 0.0,
+            ..settings
+        };
+        let error = payload_capacity(&formulation, &testing::settings(), &original, &bad);
+        assert_eq!(error, Err(CapacityError::Settings(bad)));
+        assert!(error
+            .unwrap_err()
+            .to_string()
+            .starts_with("capacity settings must be positive numbers of kg, the resolution at least 0.000001 kg: resolution 0,"));
+    }
+
+    /// Under the paper's ends the hold bounds nothing: the original design's capacity is the
+    /// dynamic one, above the load held at rest, which is reported the same.
+    #[test]
+    fn under_the_papers_ends_the_trajectory_bounds_the_capacity() {
+        let original = testing::task().transmission.original;
         let paper = testing::formulation(0.0, Space::Actuation);
-        let dynamic = payload_capacity(&paper, &testing::settings(), &original, &settings).unwrap();
-        assert_eq!(dynamic.hold_kg, Some(hold));
+        let dynamic =
+            payload_capacity(&paper, &testing::settings(), &original, &settings()).unwrap();
+        let held = testing::held_formulation(0.0, Space::Actuation);
+        assert_eq!(dynamic.hold_kg, held.hold_capacity(&original).unwrap());
         assert_eq!(dynamic.limited_by, Some(CapacityLimit::Trajectory));
         assert!(
             dynamic.capacity_kg.is_some_and(|kg| kg > 1.0),
             "{dynamic:?}"
         );
-        // A design that holds 3.19 kg: the trajectory bounds its capacity, bracketed to the
-        // resolution between 1 and 3 kg.
+    }
+
+    /// A design that holds 3.19 kg: the trajectory bounds its capacity, bracketed to the
+    /// resolution between 1 and 3 kg, and `solve` gives the probes' verdicts at the capacity
+    /// and just above it.
+    #[test]
+    fn brackets_a_trajectory_bounded_capacity_to_the_resolution() {
+        let formulation = testing::held_formulation(0.0, Space::Actuation);
+        let settings = settings();
         let held = [9.0, 8.99, 3.0, 3.0];
         let capacity =
             payload_capacity(&formulation, &testing::settings(), &held, &settings).unwrap();
@@ -342,21 +372,10 @@ mod tests {
                     .any(|p| p.payload_kg == probe.payload_kg && p.feasible));
             }
         }
-        // `solve` gives the probes' verdicts at the capacity and just above it.
         for (payload, feasible) in [(low, true), (high, false)] {
             let at = formulation.with_payload(payload).unwrap();
             let result = crate::solve::solve_design(&at, &held, &testing::settings()).unwrap();
             assert_eq!(result.feasible, feasible, "{payload} kg: {result:?}");
         }
-        let bad = CapacitySettings {
-            resolution_kg: 0.0,
-            ..settings
-        };
-        let error = payload_capacity(&formulation, &testing::settings(), &original, &bad);
-        assert_eq!(error, Err(CapacityError::Settings(bad)));
-        assert!(error
-            .unwrap_err()
-            .to_string()
-            .starts_with("capacity settings must be positive numbers of kg, the resolution at least 0.000001 kg: resolution 0,"));
     }
 }

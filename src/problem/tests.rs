@@ -199,24 +199,40 @@ fn copper_loss_formulations() -> Vec<Formulation> {
         .collect()
 }
 
-fn all_formulations() -> Vec<Formulation> {
+/// Every torque mode in both spaces under the speed modes `speeds`, with the default motors.
+fn mode_formulations(speeds: &[LimitMode]) -> Vec<Formulation> {
     let modes = [LimitMode::Paper, LimitMode::Interval, LimitMode::Exact];
     let mut list = Vec::new();
-    for speed in modes {
+    for &speed in speeds {
         list.push(formulation(Space::Actuation, LimitMode::Paper, speed, 1.0));
         for torque in modes {
             list.push(formulation(Space::Joint, torque, speed, 1.0));
         }
     }
-    list.extend(scaled_formulations());
-    list.extend(motor_formulations());
-    list.extend(envelope_formulations());
-    list.extend(rest_formulations());
-    list.extend(loss_formulations());
-    list.extend(copper_loss_formulations());
-    let elastic: Vec<_> = list.iter().map(Formulation::elastic).collect();
-    list.extend(elastic);
     list
+}
+
+/// The test formulations in groups of about equal checking time: the box speed modes; the
+/// speed mode `exact`; scaled entries and motor dynamics; the envelope and the ends held at
+/// rest; the losses; the copper-loss criterion. Each group in the hard kind, then the elastic.
+fn formulation_groups() -> [Vec<Formulation>; 6] {
+    let join = |a: Vec<Formulation>, b: Vec<Formulation>| a.into_iter().chain(b).collect();
+    [
+        mode_formulations(&[LimitMode::Paper, LimitMode::Interval]),
+        mode_formulations(&[LimitMode::Exact]),
+        join(scaled_formulations(), motor_formulations()),
+        join(envelope_formulations(), rest_formulations()),
+        loss_formulations(),
+        copper_loss_formulations(),
+    ]
+    .map(|hard: Vec<Formulation>| {
+        let elastic: Vec<_> = hard.iter().map(Formulation::elastic).collect();
+        join(hard, elastic)
+    })
+}
+
+fn all_formulations() -> Vec<Formulation> {
+    formulation_groups().into_iter().flatten().collect()
 }
 
 /// A point near the initial guess with every trajectory variable moved: the TCP leaves the
@@ -394,11 +410,42 @@ fn design_partials_match_finite_differences() {
     }
 }
 
-#[test]
-fn ipopt_derivative_checker_finds_nothing() {
-    for f in all_formulations() {
+/// IPOPT's derivative checker on every test formulation, a group per test (each group takes a
+/// few seconds; all of them in one test took 35 s).
+fn assert_checker_finds_nothing_in_group(group: usize) {
+    for f in formulation_groups().into_iter().nth(group).unwrap() {
         assert_checker_finds_nothing(&f, &[6.0, 3.0, 1.0, 1.0]);
     }
+}
+
+#[test]
+fn ipopt_derivative_checker_finds_nothing_under_the_box_speed_modes() {
+    assert_checker_finds_nothing_in_group(0);
+}
+
+#[test]
+fn ipopt_derivative_checker_finds_nothing_under_the_exact_speed_mode() {
+    assert_checker_finds_nothing_in_group(1);
+}
+
+#[test]
+fn ipopt_derivative_checker_finds_nothing_with_scaled_entries_and_motor_dynamics() {
+    assert_checker_finds_nothing_in_group(2);
+}
+
+#[test]
+fn ipopt_derivative_checker_finds_nothing_with_the_envelope_and_the_hold() {
+    assert_checker_finds_nothing_in_group(3);
+}
+
+#[test]
+fn ipopt_derivative_checker_finds_nothing_with_losses() {
+    assert_checker_finds_nothing_in_group(4);
+}
+
+#[test]
+fn ipopt_derivative_checker_finds_nothing_with_the_energy_criterion() {
+    assert_checker_finds_nothing_in_group(5);
 }
 
 /// IPOPT's derivative checker on `f`'s problem at design `ratios`: at the initial guess and
