@@ -201,6 +201,9 @@ fn light_experiment(dir: &Path) -> PathBuf {
     })
 }
 
+/// A reproduction run whole and the same plan run by GNU parallel and merged give the same
+/// tables and runs. The longest test (about 45 s on 2 cores): it needs every kind of stage of
+/// the experiment, each solved twice, to show that the plan and the merge cover them all.
 #[test]
 fn the_plan_run_by_gnu_parallel_and_merged_matches_one_reproduction() {
     let dir = scratch("plan");

@@ -8,24 +8,29 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 use support::{codesign, scratch};
 
-/// One example: its folder under `robots/examples/`, its moving joints by URDF name, and the
-/// payload its co-design is run at, kg.
+/// One example: its folder under `robots/examples/`, its moving joints by URDF name, the
+/// payload its co-design is run at, kg, and the seed of its small co-design.
 struct Example {
     name: &'static str,
     joints: &'static [&'static str],
     payload: &'static str,
+    seed: &'static str,
 }
 
 const PLANAR: Example = Example {
     name: "planar_2dof",
     joints: &["shoulder", "elbow"],
     payload: "1",
+    seed: "0",
 };
 
 const WRIST: Example = Example {
     name: "wrist_3dof",
     joints: &["shoulder", "wrist_pitch", "wrist_roll"],
     payload: "1",
+    // Seed 0's clipped run samples (37.9, 80, 15.7), whose speed excess the rule's starts
+    // confirm in 4171 iterations: 8 s of the test.
+    seed: "1",
 };
 
 const UR5: Example = Example {
@@ -39,18 +44,23 @@ const UR5: Example = Example {
         "wrist_3_joint",
     ],
     payload: "5",
+    seed: "0",
 };
 
 const ANKLE: Example = Example {
     name: "ankle_2dof",
     joints: &["ankle_pitch", "ankle_roll"],
     payload: "2",
+    // Seed 0's clipped run samples the design (35, 76.7, 27.1) at the border of feasibility,
+    // where three of the rule's starts each run to IPOPT's 3000 iterations: 62 s of the test.
+    seed: "1",
 };
 
 const SCARA: Example = Example {
     name: "scara_3dof",
     joints: &["shoulder", "elbow", "quill"],
     payload: "1",
+    seed: "0",
 };
 
 impl Example {
@@ -142,7 +152,7 @@ impl Example {
             "--payload",
             self.payload,
             "--seed",
-            "0",
+            self.seed,
             "--population",
             "6",
             "--generations",
