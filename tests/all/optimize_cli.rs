@@ -156,12 +156,16 @@ fn run_to_completion(args: &[&str], out: &Path) -> Value {
     read_json(out)
 }
 
+/// The capacity objective in a small CMA-ES run on two workers (the built-in task at 8 steps).
 #[test]
-fn capacity_objective_and_gradient_method_run_end_to_end() {
-    let dir = scratch("objectives");
+fn the_capacity_objective_runs_end_to_end() {
+    let dir = scratch("capacity-objective");
+    let task = support::task_with(&dir, |task| task["motion"]["steps"] = 8.into());
     let capacity = run_to_completion(
         &[
             "optimize",
+            "--task",
+            task.to_str().unwrap(),
             "--objective",
             "capacity",
             "--space",
@@ -185,10 +189,20 @@ fn capacity_objective_and_gradient_method_run_end_to_end() {
         "{}",
         capacity["best_cost"]
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
 
+/// The gradient method for three iterations (the built-in task at 8 steps): it lowers the
+/// original design's cost and keeps no evaluation log.
+#[test]
+fn the_gradient_method_runs_end_to_end() {
+    let dir = scratch("gradient-method");
+    let task = support::task_with(&dir, |task| task["motion"]["steps"] = 8.into());
     let gradient = run_to_completion(
         &[
             "optimize",
+            "--task",
+            task.to_str().unwrap(),
             "--method",
             "gradient",
             "--space",
