@@ -15,12 +15,14 @@
 use super::outcome::{DesignOutcome, GradientIterate, MethodOutcome};
 use super::penalty::{Grading, Penalty};
 use super::score;
-use crate::ipopt::Solution;
+use crate::ipopt::{LinearSolver, Solution};
 use crate::problem::{Formulation, ProblemKind};
 use crate::solve::SolveSettings;
 use crate::transmission::{DesignSpace, Transmission};
 use std::fmt;
 use std::ops::Range;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
 
 /// Settings of a gradient-based run; `Default` gives the values `optimize` and `reproduce` use.
 #[derive(Clone, Debug, PartialEq)]
@@ -93,39 +95,94 @@ struct Evaluator<'a> {
     best: Option<Point>,
 }
 
+/// One solve of the gradient method, not yet recorded: its fitness, its solve time (None when
+/// no solve ran) and the point when the descent can use it.
+struct Attempt {
+    fitness: f64,
+    seconds: Option<f64>,
+    point: Option<Point>,
+}
+
 impl Evaluator<'_> {
-    /// Solves `ratios` (warm-started from `warm`) and records its fitness; the point when the
-    /// descent can use it.
-    fn solve(&mut self, ratios: &[f64], warm: Option<&Solution>) -> Option<Point> {
+    /// Solves `ratios` (warm-started from `warm`) without recording it. It reads the evaluator
+    /// only, so that several threads can attempt designs at once.
+    fn attempt(&self, ratios: &[f64], warm: Option<&Solution>) -> Attempt {
         let solved = score::validate(self.formulation.transmission(), ratios)
             .and_then(|()| score::solve(self.formulation, &self.solve_settings, ratios, warm));
         let (result, solution) = match solved {
             Ok(solved) => solved,
             Err(verdict) => {
-                self.costs.push(verdict.fitness(&self.penalty));
-                return None;
+                return Attempt {
+                    fitness: verdict.fitness(&self.penalty),
+                    seconds: None,
+                    point: None,
+                }
             }
         };
-        self.seconds.push(result.solve_seconds.total);
         let verdict = score::judge(self.formulation, &result);
-        self.costs.push(verdict.fitness(&self.penalty));
+        let mut attempt = Attempt {
+            fitness: verdict.fitness(&self.penalty),
+            seconds: Some(result.solve_seconds.total),
+            point: None,
+        };
         // The flat penalty descends on feasible designs only: the elastic result the rule
         // reports for an infeasible design of the hard problem is not its objective.
         let flat = self.formulation.kind() == ProblemKind::Hard;
         if flat && !result.feasible {
-            return None;
+            return attempt;
         }
-        let (cost, gradient) = match result.elastic {
-            Some(measures) => (measures.objective, measures.objective_gradient?),
-            None => (result.cost, result.cost_gradient?),
+        let merit = match result.elastic {
+            Some(measures) => measures.objective_gradient.map(|g| (measures.objective, g)),
+            None => result.cost_gradient.map(|g| (result.cost, g)),
         };
-        Some(Point {
+        attempt.point = merit.map(|(cost, gradient)| Point {
             ratios: ratios.to_vec(),
             cost,
             gradient,
             solution,
             feasible_cost: result.feasible.then_some(result.cost),
-        })
+        });
+        attempt
+    }
+
+    /// Records `attempt`'s fitness and time, in the order of the solves; its point.
+    fn record(&mut self, attempt: Attempt) -> Option<Point> {
+        self.seconds.extend(attempt.seconds);
+        self.costs.push(attempt.fitness);
+        attempt.point
+    }
+
+    /// Solves `ratios` (warm-started from `warm`) and records its fitness; the point when the
+    /// descent can use it.
+    fn solve(&mut self, ratios: &[f64], warm: Option<&Solution>) -> Option<Point> {
+        let attempt = self.attempt(ratios, warm);
+        self.record(attempt)
+    }
+
+    /// Attempts every design of `designs` cold on up to `threads` threads of this process,
+    /// returning the attempts in order; each thread stops taking designs once the host asks
+    /// the run to stop (the attempts it did not make are missing from the end).
+    fn attempt_all(&self, designs: &[Vec<f64>], threads: usize) -> Vec<Attempt> {
+        let next = AtomicUsize::new(0);
+        let mut attempts: Vec<Option<Attempt>> = Vec::new();
+        attempts.resize_with(designs.len(), || None);
+        let made = Mutex::new(attempts);
+        std::thread::scope(|scope| {
+            for _ in 0..threads.clamp(1, designs.len().max(1)) {
+                scope.spawn(|| loop {
+                    let index = next.fetch_add(1, Ordering::Relaxed);
+                    if index >= designs.len() || crate::signals::stop_requested() {
+                        return;
+                    }
+                    let attempt = self.attempt(&designs[index], None);
+                    if let Ok(mut made) = made.lock() {
+                        made[index] = Some(attempt);
+                    }
+                });
+            }
+        });
+        let made = made.into_inner().unwrap_or_default();
+        made.into_iter().map_while(|attempt| attempt).collect()
     }
 
     /// Keeps `point` as the best if it is feasible and cheaper than the best so far.
@@ -179,6 +236,7 @@ pub fn optimize_gradient(
     solve: &SolveSettings,
     settings: &GradientSettings,
     penalty: Penalty,
+    threads: usize,
 ) -> Result<DesignOutcome, GradientError> {
     let set = formulation.transmission().design_space();
     let elastic;
@@ -197,7 +255,7 @@ pub fn optimize_gradient(
         best: None,
     };
     let interrupted = || crate::signals::stop_requested();
-    let (candidates, solved) = descent_starts(set, settings, &mut evaluator);
+    let (candidates, solved) = descent_starts(set, settings, &mut evaluator, threads);
     if interrupted() {
         return Err(GradientError::Interrupted);
     }
@@ -242,10 +300,14 @@ pub fn optimize_gradient(
 /// Solves the candidate starts cold (the fallbacks only while fewer than `descents` usable
 /// ones are known: feasible ones with a flat penalty, every solved one with a graded); returns
 /// the best `descents` usable ones with their start indices, and how many candidates were solved.
+/// The solves run on up to `threads` threads, the fallbacks a batch of `threads` at a time; the
+/// record keeps the solves the one-at-a-time order makes, and drops a batch's solves beyond the
+/// candidate that made enough, so that it does not depend on `threads`.
 fn descent_starts(
     set: &DesignSpace,
     settings: &GradientSettings,
     evaluator: &mut Evaluator<'_>,
+    threads: usize,
 ) -> (Vec<(usize, Point)>, usize) {
     let transmission = evaluator.formulation.transmission();
     let starts = default_starts(transmission, settings.spread);
@@ -254,16 +316,39 @@ fn descent_starts(
         transmission,
         first_fallback..first_fallback + settings.fallbacks,
     );
-    let mut candidates = Vec::new();
-    let mut solved = 0;
-    for (index, start) in starts.iter().chain(&fallbacks).enumerate() {
-        let enough = index >= starts.len() && candidates.len() >= settings.descents;
-        if enough || crate::signals::stop_requested() {
-            break;
+    let batch = match evaluator.solve_settings.linear_solver() {
+        LinearSolver::Mumps => 1,
+        LinearSolver::Ldl => threads.max(1),
+    };
+    let designs: Vec<Vec<f64>> = starts
+        .iter()
+        .chain(&fallbacks)
+        .map(|design| set.project(design))
+        .collect();
+    let enough = |candidates: &Vec<(usize, Point)>, index: usize| {
+        index >= starts.len() && candidates.len() >= settings.descents
+    };
+    let (mut candidates, mut solved, mut index) = (Vec::new(), 0, 0);
+    'batches: while index < designs.len() && !enough(&candidates, index) {
+        // The starts at once; then the fallbacks a batch at a time.
+        let end = match index < starts.len() {
+            true => starts.len(),
+            false => (index + batch).min(designs.len()),
+        };
+        let attempts = evaluator.attempt_all(&designs[index..end], batch);
+        let complete = attempts.len() == end - index;
+        for attempt in attempts {
+            if enough(&candidates, index) || crate::signals::stop_requested() {
+                break 'batches;
+            }
+            solved += 1;
+            if let Some(point) = evaluator.record(attempt) {
+                candidates.push((index, point));
+            }
+            index += 1;
         }
-        solved += 1;
-        if let Some(point) = evaluator.solve(&set.project(start), None) {
-            candidates.push((index, point));
+        if !complete {
+            break;
         }
     }
     candidates.sort_by(|a, b| a.1.cost.total_cmp(&b.1.cost));
@@ -502,6 +587,44 @@ mod tests {
         }
     }
 
+    /// The candidate starts and the fallbacks solved on 1, 2 or 3 threads give the same
+    /// record: the same solves in the same order, the same descents, the same best design.
+    #[test]
+    fn the_outcome_does_not_depend_on_the_threads() {
+        // 1 kg held at rest at the ends: the designs whose motors cannot hold it are
+        // infeasible at once, so that fallbacks are solved, in batches.
+        let formulation = testing::held_formulation(1.0, Space::Actuation);
+        let settings = GradientSettings {
+            spread: 3,
+            fallbacks: 8,
+            descents: 3,
+            // The starts alone: what the threads change.
+            max_iterations: 0,
+            ..GradientSettings::default()
+        };
+        let run = |threads: usize| {
+            let solve = testing::settings();
+            optimize_gradient(&formulation, &solve, &settings, Penalty::PAPER, threads).unwrap()
+        };
+        let one = run(1);
+        // Two of the four starts are infeasible: one fallback is solved (and, on more threads,
+        // the rest of its batch dropped).
+        // Five of the first eight candidates cannot hold the load: four fallbacks are solved
+        // (on 3 threads, in batches whose last two attempts are dropped).
+        assert!(
+            one.stop_reason.starts_with("8 candidate starts solved"),
+            "{one:?}"
+        );
+        for threads in [2, 3] {
+            let other = run(threads);
+            assert_eq!(other.costs, one.costs, "{threads} threads");
+            assert_eq!(other.stop_reason, one.stop_reason, "{threads} threads");
+            assert_eq!(other.best_ratios, one.best_ratios, "{threads} threads");
+            assert_eq!(other.best_cost, one.best_cost, "{threads} threads");
+            assert_eq!(gradient_part(&other).0, gradient_part(&one).0);
+        }
+    }
+
     #[test]
     fn descends_from_the_original_design_to_a_stationary_point() {
         // 0.5 kg: a payload the original design holds at rest (up to 0.585 kg).
@@ -518,6 +641,7 @@ mod tests {
             &testing::settings(),
             &settings,
             Penalty::PAPER,
+            1,
         )
         .unwrap();
         let (iterates, _) = gradient_part(&outcome);
@@ -575,12 +699,18 @@ mod tests {
             descents: 1,
             ..GradientSettings::default()
         };
-        let flat = optimize_gradient(&formulation, &testing::settings(), &descent, Penalty::PAPER);
+        let flat = optimize_gradient(
+            &formulation,
+            &testing::settings(),
+            &descent,
+            Penalty::PAPER,
+            2,
+        );
         let none = GradientError::NoFeasibleStart { solved: 4 };
         assert_eq!(flat, Err(none), "no start is feasible");
         let graded: Penalty = "graded".parse().unwrap();
         let settings = testing::settings();
-        let outcome = optimize_gradient(&formulation, &settings, &descent, graded).unwrap();
+        let outcome = optimize_gradient(&formulation, &settings, &descent, graded, 2).unwrap();
         let (iterates, best_solution) = gradient_part(&outcome);
         let first = &iterates[0];
         let start = solve_design(&formulation, &first.ratios, &settings).unwrap();

@@ -56,6 +56,7 @@ pub(super) fn run_method(
             run.settings,
             &case.gradient,
             case.settings.penalty(),
+            thread_count(case.execution.workers),
         )?),
     }
 }
@@ -79,6 +80,13 @@ fn worker_setup(run: &MethodRun<'_>) -> Result<WorkerSetup, RunError> {
         penalty: case.settings.penalty(),
         robot_hash: run.inputs.robot_hash.0.clone().unwrap_or_default(),
     })
+}
+
+/// How many threads the gradient method solves its candidate starts on: the workers asked for
+/// (default: one per core).
+fn thread_count(asked: Option<usize>) -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    asked.unwrap_or(cores).max(1)
 }
 
 /// How many workers a run of `population` starts: the number asked for (default: one per core),
