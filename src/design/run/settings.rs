@@ -226,7 +226,8 @@ pub const MIN_SOLVE_TIMEOUT_S: f64 = 1.0;
 /// How a run's evaluations run: nothing here changes its result.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Execution {
-    /// Worker processes (None: one per core).
+    /// Worker processes of CMA-ES, threads of the gradient method's candidate starts (None:
+    /// one per core).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub workers: Option<usize>,
     /// A solve taking longer than this counts as a hung worker, s.
