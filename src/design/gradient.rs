@@ -607,8 +607,6 @@ mod tests {
             optimize_gradient(&formulation, &solve, &settings, Penalty::PAPER, threads).unwrap()
         };
         let one = run(1);
-        // Two of the four starts are infeasible: one fallback is solved (and, on more threads,
-        // the rest of its batch dropped).
         // Five of the first eight candidates cannot hold the load: four fallbacks are solved
         // (on 3 threads, in batches whose last two attempts are dropped).
         assert!(
