@@ -21,21 +21,9 @@ use crate::testing::{
 /// The formulations of a linkage `row` on the planar example's elbow: both spaces, 5 steps,
 /// modes `exact`, with 0.5 kg in the gripper, in the hard and the elastic kind.
 fn posed_formulations(row: &str) -> Vec<Formulation> {
-    let mut list = Vec::new();
-    for space in [Space::Actuation, Space::Joint] {
-        let mut task = posed_task(row);
-        task.motion.steps = 5;
-        task.payload.mass_kg = 0.5;
-        let robot = Robot::load(&task).unwrap();
-        let modes = LimitModes {
-            torque: LimitMode::Exact,
-            speed: LimitMode::Exact,
-        };
-        let f = Formulation::new(&task, robot, space, modes).unwrap();
-        list.push(f.elastic());
-        list.push(f);
-    }
-    list
+    let mut task = posed_task(row);
+    task.payload.mass_kg = 0.5;
+    exact_formulations(task, |_| {})
 }
 
 /// Gives the task's motors a rotor inertia (kg m^2), a viscous friction (N m s/rad) and a
@@ -59,7 +47,7 @@ fn with_efficiency(task: &mut Task) {
 
 /// The formulations of `task` with what `give` adds to its motors: 5 steps, modes `exact`, both
 /// spaces, both kinds.
-fn with_motors(mut task: Task, give: fn(&mut Task)) -> Vec<Formulation> {
+fn exact_formulations(mut task: Task, give: fn(&mut Task)) -> Vec<Formulation> {
     give(&mut task);
     task.motion.steps = 5;
     let mut list = Vec::new();
@@ -84,19 +72,19 @@ fn linkages_with(give: fn(&mut Task), quill_lead_mm: f64) -> Vec<(Formulation, V
         let mut task = posed_task(row);
         task.payload.mass_kg = 0.5;
         all.extend(
-            with_motors(task, give)
+            exact_formulations(task, give)
                 .into_iter()
                 .map(|f| (f, vec![50.0, 12.0])),
         );
     }
     all.extend(
-        with_motors(ankle_task(), give)
+        exact_formulations(ankle_task(), give)
             .into_iter()
             .map(|f| (f, vec![55.0, 65.0, 12.0])),
     );
     let scara = scara_task(Some(SLANTED_QUILL_ROW));
     all.extend(
-        with_motors(scara, give)
+        exact_formulations(scara, give)
             .into_iter()
             .map(|f| (f, vec![60.0, 30.0, quill_lead_mm])),
     );

@@ -14,13 +14,17 @@ use std::f64::consts::TAU;
 
 /// The formulation of linkage `row` on the planar example's elbow in `space`, modes `exact`.
 fn formulation(row: &str, space: Space) -> Formulation {
-    let task = posed_task(row);
-    let robot = Robot::load(&task).unwrap();
+    exact_formulation(&posed_task(row), space)
+}
+
+/// The formulation of `task` in `space`, modes `exact`.
+fn exact_formulation(task: &Task, space: Space) -> Formulation {
+    let robot = Robot::load(task).unwrap();
     let modes = LimitModes {
         torque: LimitMode::Exact,
         speed: LimitMode::Exact,
     };
-    Formulation::new(&task, robot, space, modes).unwrap()
+    Formulation::new(task, robot, space, modes).unwrap()
 }
 
 /// The ratio d(motor angle)/dq of the screw of [`SCREW_ROW`] at elbow angle q (rad) with lead
@@ -222,17 +226,7 @@ fn screw_with_motor_dynamics(space: Space, efficiency: Option<[f64; 2]>) -> Form
     task.motors.viscous_friction_nm_s_per_rad = Some(PerMotor::Each(vec![1e-4, 2e-4]));
     task.motors.no_load_speed_rad_s = Some(PerMotor::Each(vec![400.0, 400.0]));
     task.motors.efficiency = efficiency.map(|each| PerMotor::Each(each.to_vec()));
-    screw_formulation(&task, space)
-}
-
-/// The formulation of `task` in `space`, modes `exact`.
-fn screw_formulation(task: &Task, space: Space) -> Formulation {
-    let robot = Robot::load(task).unwrap();
-    let modes = LimitModes {
-        torque: LimitMode::Exact,
-        speed: LimitMode::Exact,
-    };
-    Formulation::new(task, robot, space, modes).unwrap()
+    exact_formulation(&task, space)
 }
 
 /// With rotor inertia and losses, the joint torques read back are what the links take: the
@@ -286,7 +280,7 @@ fn a_screws_cost_gradient_with_losses_matches_differences() {
     for space in [Space::Actuation, Space::Joint] {
         let mut task = posed_task(SCREW_ROW);
         task.motors.efficiency = Some(PerMotor::Each(efficiency.to_vec()));
-        let f = screw_formulation(&task, space);
+        let f = exact_formulation(&task, space);
         let label = format!("{space} lossy screw");
         assert_cost_gradient_at(&f, &[25.0, 20.0], &label);
         let result = assert_cost_gradient_at(&f, &[40.0, 12.0], &label);

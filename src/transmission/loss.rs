@@ -170,25 +170,20 @@ impl NodeLoss {
     }
 
     /// Adds the rest of lambda . the rows' Hessian in (q, v, a) to `block` (3n x 3n), with the
-    /// RNEA's derivatives (`dq`, `dv`, `mass`): [`NodeLoss::add_second_order`] with T = G^-T
-    /// [dq dv mass] and W = [0 G 0], the derivatives of t and w under a constant G.
+    /// RNEA's derivatives (`dq`, `dv`, `mass`): [`NodeLoss::add_second_order`] with T and W of a
+    /// constant G ([`transmitted_derivatives`], [`speed_derivatives`]).
     pub fn add_hessian(
         &self,
         coupling: &Coupling,
         lambda: &[f64],
-        (dq, dv, mass): (&DMatrix<f64>, &DMatrix<f64>, &DMatrix<f64>),
+        rnea: (&DMatrix<f64>, &DMatrix<f64>, &DMatrix<f64>),
         block: &mut DMatrix<f64>,
     ) {
-        let g = coupling.matrix();
-        let n = g.nrows();
-        let mut derivatives = DMatrix::zeros(n, 3 * n);
-        derivatives.columns_mut(0, n).copy_from(dq);
-        derivatives.columns_mut(n, n).copy_from(dv);
-        derivatives.columns_mut(2 * n, n).copy_from(mass);
-        let t = coupling.inverse().tr_mul(&derivatives);
-        let mut w = DMatrix::zeros(n, 3 * n);
-        w.columns_mut(n, n).copy_from(g);
-        let mu = g * DVector::from_column_slice(lambda);
+        let (t, w) = (
+            transmitted_derivatives(coupling, rnea),
+            speed_derivatives(coupling, None),
+        );
+        let mu = coupling.matrix() * DVector::from_column_slice(lambda);
         self.add_second_order(&mu, (&t, &w), block);
     }
 
@@ -230,6 +225,33 @@ impl NodeLoss {
         });
         dg.tr_mul(&value) + coupling.matrix().tr_mul(&inner)
     }
+}
+
+/// T = G^-T [dq dv mass], the derivatives of the transmitted torques t = G^-T tau in (q, v, a)
+/// from tau's (`dq`, `dv`, `mass`, n x n each), n x 3n (row = motor).
+pub fn transmitted_derivatives(
+    coupling: &Coupling,
+    (dq, dv, mass): (&DMatrix<f64>, &DMatrix<f64>, &DMatrix<f64>),
+) -> DMatrix<f64> {
+    let n = dq.nrows();
+    let mut derivatives = DMatrix::zeros(n, 3 * n);
+    derivatives.columns_mut(0, n).copy_from(dq);
+    derivatives.columns_mut(n, n).copy_from(dv);
+    derivatives.columns_mut(2 * n, n).copy_from(mass);
+    coupling.inverse().tr_mul(&derivatives)
+}
+
+/// W = [by_q G 0], the derivatives of the motor speeds w = G v in (q, v, a), n x 3n (row =
+/// motor): `by_q` = d(G v)/dq where G depends on the pose, zero without.
+pub fn speed_derivatives(coupling: &Coupling, by_q: Option<&DMatrix<f64>>) -> DMatrix<f64> {
+    let g = coupling.matrix();
+    let n = g.nrows();
+    let mut w = DMatrix::zeros(n, 3 * n);
+    if let Some(by_q) = by_q {
+        w.columns_mut(0, n).copy_from(by_q);
+    }
+    w.columns_mut(n, n).copy_from(g);
+    w
 }
 
 #[cfg(test)]

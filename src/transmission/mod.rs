@@ -33,7 +33,10 @@ pub use coupling::Coupling;
 pub use design_space::{DesignError, DesignSpace, HalfSpace, OrderConstraint};
 pub use envelope::{Envelope, Side};
 pub use limits::{limit_weights, JointLimits};
-pub use loss::{MotorLoss, NodeLoss, TransmissionLoss, SPEED_SMOOTHING, TORQUE_SMOOTHING};
+pub use loss::{
+    speed_derivatives, transmitted_derivatives, MotorLoss, NodeLoss, TransmissionLoss,
+    SPEED_SMOOTHING, TORQUE_SMOOTHING,
+};
 pub use pose::{Depth, DesignDerivativeAt, PoseCoupling, PoseError, PoseRow};
 pub use spec::SpecError;
 

@@ -19,7 +19,7 @@
 //! G^T t = RNEA twice differentiated.
 
 use crate::problem::node::NodePose;
-use crate::transmission::{MotorLoss, NodeLoss};
+use crate::transmission::{speed_derivatives, transmitted_derivatives, MotorLoss, NodeLoss};
 use nalgebra::{DMatrix, DVector};
 
 /// The losses at one node whose G depends on the pose.
@@ -76,15 +76,8 @@ impl<'a> PosedLoss<'a> {
         let rho = coupling.inverse() * mu.component_mul(&by_t);
         let speed_weights = mu.component_mul(&by_w);
         let v = &self.pose.speeds[..];
-        let mut t = DMatrix::zeros(n, 3 * n);
-        t.columns_mut(0, n).copy_from(&self.position_derivative(dq));
-        t.columns_mut(n, n).copy_from(dv);
-        t.columns_mut(2 * n, n).copy_from(mass);
-        let t = coupling.inverse().tr_mul(&t);
-        let mut w = DMatrix::zeros(n, 3 * n);
-        w.columns_mut(0, n)
-            .copy_from(&self.pose.derivative_along(v));
-        w.columns_mut(n, n).copy_from(g);
+        let t = transmitted_derivatives(coupling, (&self.position_derivative(dq), dv, mass));
+        let w = speed_derivatives(coupling, Some(&self.pose.derivative_along(v)));
         let values = self.column(|m| m.value);
         let qq = self.pose.third_along(values.as_slice(), lambda)
             + self.pose.third_along(speed_weights.as_slice(), v)
