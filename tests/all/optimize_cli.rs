@@ -193,13 +193,14 @@ fn the_capacity_objective_runs_end_to_end() {
 }
 
 /// The gradient method for three iterations (the built-in task at 8 steps): it lowers the
-/// original design's cost and keeps no evaluation log.
+/// original design's cost and keeps no evaluation log; on worker processes (a worker command),
+/// which carry each solve's warm start and merit, it makes the same solves to the bit.
 #[test]
 fn the_gradient_method_runs_end_to_end() {
     let dir = scratch("gradient-method");
     let task = support::task_with(&dir, |task| task["motion"]["steps"] = 8.into());
-    let gradient = run_to_completion(
-        &[
+    let run = |name: &str, extra: &[&str]| {
+        let mut args = vec![
             "optimize",
             "--task",
             task.to_str().unwrap(),
@@ -211,14 +212,27 @@ fn the_gradient_method_runs_end_to_end() {
             "1",
             "--gradient-iterations",
             "3",
-        ],
-        &dir.join("gradient.json"),
-    );
+        ];
+        args.extend(extra);
+        run_to_completion(&args, &dir.join(name))
+    };
+    let gradient = run("gradient.json", &[]);
     assert_eq!(gradient["inputs"]["method"], "gradient");
     let best = gradient["best_cost"].as_f64().unwrap();
     assert!(best < gradient["original_cost"].as_f64().unwrap(), "{best}");
     assert!(!gradient["iterates"].as_array().unwrap().is_empty());
     assert!(!dir.join("gradient.log.jsonl").exists());
+    let workers = ["--workers", "2", "--worker-command", "{} worker"];
+    let pooled = run("pooled.json", &workers);
+    for key in [
+        "costs",
+        "iterates",
+        "best_ratios",
+        "best_cost",
+        "stop_reason",
+    ] {
+        assert_eq!(pooled[key], gradient[key], "{key}");
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

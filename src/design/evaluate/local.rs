@@ -4,9 +4,10 @@
 
 use super::{Designs, Done, EvaluateError, Evaluator};
 use crate::design::penalty::Penalty;
-use crate::design::score::{Evaluation, Fitness};
+use crate::design::score::{Descent, Evaluation, Fitness};
 use crate::ipopt::{LinearSolver, Solution};
 use crate::signals;
+use crate::solve::StartPoint;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc::channel;
 
@@ -45,6 +46,51 @@ impl InProcess {
     }
 }
 
+impl InProcess {
+    /// Runs `work` on every index below `count` on the evaluator's threads, in any order, and
+    /// returns the results in index order; `heard` hears each as it finishes, and its error
+    /// stops the threads at their next index. A host's request to stop ends the work
+    /// unfinished: [`EvaluateError::Interrupted`].
+    fn on_threads<T: Send>(
+        &self,
+        count: usize,
+        work: impl Fn(usize) -> T + Sync,
+        mut heard: impl FnMut(usize, &T) -> Result<(), EvaluateError>,
+    ) -> Result<Vec<T>, EvaluateError> {
+        let next = AtomicUsize::new(0);
+        let (sender, receiver) = channel();
+        let mut results: Vec<Option<T>> = Vec::new();
+        results.resize_with(count, || None);
+        std::thread::scope(|scope| -> Result<(), EvaluateError> {
+            for _ in 0..self.threads.min(count) {
+                let sender = sender.clone();
+                let (next, work) = (&next, &work);
+                scope.spawn(move || loop {
+                    let index = next.fetch_add(1, Ordering::Relaxed);
+                    if index >= count || signals::stop_requested() {
+                        return;
+                    }
+                    if sender.send((index, work(index))).is_err() {
+                        return;
+                    }
+                });
+            }
+            drop(sender);
+            for (index, result) in receiver.iter() {
+                let stopped = heard(index, &result);
+                results[index] = Some(result);
+                if let Err(error) = stopped {
+                    next.store(count, Ordering::Relaxed);
+                    return Err(error);
+                }
+            }
+            Ok(())
+        })?;
+        let finished: Option<Vec<T>> = results.into_iter().collect();
+        finished.ok_or(EvaluateError::Interrupted)
+    }
+}
+
 impl Evaluator for InProcess {
     fn penalty(&self) -> Penalty {
         self.fitness.penalty()
@@ -56,44 +102,30 @@ impl Evaluator for InProcess {
         anchor: Option<&[f64]>,
         done: Done<'_>,
     ) -> Result<Vec<Evaluation>, EvaluateError> {
-        let threads = self.threads.min(designs.len());
         let warm = self.warm_start(anchor).cloned();
         let fitness = &self.fitness;
-        let next = AtomicUsize::new(0);
-        let (sender, receiver) = channel();
-        let mut results: Vec<Option<Evaluation>> = vec![None; designs.len()];
-        std::thread::scope(|scope| -> Result<(), EvaluateError> {
-            for _ in 0..threads {
-                let sender = sender.clone();
-                let (next, warm) = (&next, warm.as_ref());
-                scope.spawn(move || loop {
-                    let index = next.fetch_add(1, Ordering::Relaxed);
-                    let Some((_, ratios)) = designs.get(index) else {
-                        return;
-                    };
-                    if signals::stop_requested() {
-                        return;
-                    }
-                    let evaluation = fitness.evaluate_from(ratios, warm);
-                    if sender.send((index, evaluation)).is_err() {
-                        return;
-                    }
-                });
-            }
-            drop(sender);
-            for (index, evaluation) in receiver.iter() {
-                let stopped = done(designs[index].0, &evaluation);
-                results[index] = Some(evaluation);
-                if let Err(error) = stopped {
-                    // The threads stop at their next design.
-                    next.store(designs.len(), Ordering::Relaxed);
-                    return Err(error);
-                }
-            }
-            Ok(())
-        })?;
-        let evaluated: Option<Vec<Evaluation>> = results.into_iter().collect();
-        evaluated.ok_or(EvaluateError::Interrupted)
+        self.on_threads(
+            designs.len(),
+            |index| fitness.evaluate_from(&designs[index].1, warm.as_ref()),
+            |index, evaluation| done(designs[index].0, evaluation),
+        )
+    }
+
+    fn descend(
+        &mut self,
+        designs: &Designs,
+        start: Option<&StartPoint>,
+    ) -> Result<Vec<Descent>, EvaluateError> {
+        let fitness = &self.fitness;
+        self.on_threads(
+            designs.len(),
+            |index| fitness.descend_from(&designs[index].1, start),
+            |_, _| Ok(()),
+        )
+    }
+
+    fn parallelism(&self) -> usize {
+        self.threads
     }
 }
 

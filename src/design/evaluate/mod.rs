@@ -2,7 +2,9 @@
 //! [`Evaluator`] trait that the outer methods take, with two implementations, worker processes
 //! ([`WorkerEvaluator`], over the worker pool) and threads of this process ([`InProcess`]).
 //! Both score on this side: the workers' answers are checked like any input, and a design
-//! whose worker failed twice is penalised here.
+//! whose worker failed twice is penalised here. CMA-ES asks for evaluations
+//! ([`Evaluator::evaluate`]), the gradient method for evaluations with their merits
+//! ([`Evaluator::descend`]).
 
 mod local;
 mod process;
@@ -11,8 +13,9 @@ pub use local::InProcess;
 pub use process::WorkerEvaluator;
 
 use super::penalty::Penalty;
-use super::score::Evaluation;
+use super::score::{Descent, Evaluation};
 use super::workers::WorkerError;
+use crate::solve::StartPoint;
 use crate::store::StoreError;
 use std::fmt;
 
@@ -37,6 +40,18 @@ pub trait Evaluator {
         anchor: Option<&[f64]>,
         done: Done<'_>,
     ) -> Result<Vec<Evaluation>, EvaluateError>;
+
+    /// Scores every design of `designs` for a gradient descent (`Fitness::descend_from`), each
+    /// solved from `start` (a merit's start; None: the standard guess), and returns them in the
+    /// order given.
+    fn descend(
+        &mut self,
+        designs: &Designs,
+        start: Option<&StartPoint>,
+    ) -> Result<Vec<Descent>, EvaluateError>;
+
+    /// How many designs it solves at once.
+    fn parallelism(&self) -> usize;
 }
 
 /// Why a batch of evaluations stopped.

@@ -3,8 +3,9 @@
 
 use super::{Designs, Done, EvaluateError, Evaluator};
 use crate::design::penalty::Penalty;
-use crate::design::score::{Evaluation, Objective, Score, Verdict};
-use crate::design::workers::{Answer, Launcher, Pool, WorkerError, WorkerSetup};
+use crate::design::score::{Descent, Evaluation, Objective, Score, Verdict};
+use crate::design::workers::{Answer, DescentRequest, Launcher, Pool, WorkerError, WorkerSetup};
+use crate::solve::StartPoint;
 use std::time::Duration;
 
 /// Designs evaluated by a pool of worker processes (see `design::workers`).
@@ -17,7 +18,9 @@ impl WorkerEvaluator {
     /// Starts `count` workers with `launcher`, each told `setup`; an evaluation may take
     /// `timeout` before its worker counts as hung. An answer is believed only when it is an
     /// evaluation the scoring can write under the setup's penalty and objective
-    /// ([`Evaluation::implausible`]).
+    /// ([`Evaluation::implausible`]), with a merit that fits the setup's problem
+    /// ([`Fitness::implausible_merit`](crate::design::score::Fitness::implausible_merit), for
+    /// which this side builds the setup's fitness).
     pub fn new(
         launcher: Launcher,
         setup: &WorkerSetup,
@@ -26,8 +29,12 @@ impl WorkerEvaluator {
     ) -> Result<WorkerEvaluator, WorkerError> {
         let penalty = setup.penalty;
         let negative_fitness = matches!(setup.objective, Objective::Capacity(_));
-        let check =
-            move |evaluation: &Evaluation| evaluation.implausible(&penalty, negative_fitness);
+        let fitness = setup.fitness()?;
+        let check = move |evaluation: &Evaluation, merit: Option<&_>| {
+            evaluation
+                .implausible(&penalty, negative_fitness)
+                .or_else(|| merit.and_then(|m| fitness.implausible_merit(evaluation, m)))
+        };
         let pool = Pool::new(launcher, setup, count, timeout, Box::new(check))?;
         Ok(WorkerEvaluator { pool, penalty })
     }
@@ -49,22 +56,60 @@ impl Evaluator for WorkerEvaluator {
         anchor: Option<&[f64]>,
         done: Done<'_>,
     ) -> Result<Vec<Evaluation>, EvaluateError> {
-        self.pool.set_anchor(anchor.map(<[f64]>::to_vec));
+        self.pool.set_start(anchor.map(<[f64]>::to_vec), None);
         let penalty = self.penalty;
         let answers = self.pool.evaluate_all(designs, |id, answer| {
-            let evaluation = scored(answer, &penalty);
-            if let Answer::Failed { ratios, reason } = answer {
-                eprintln!(
-                    "warning: {reason} again on design {ratios:?}; scoring it {}",
-                    evaluation.cost
-                );
-            }
-            done(id, &evaluation)
+            warn_failed(answer, &penalty);
+            done(id, &scored(answer, &penalty))
         })?;
         Ok(answers
             .iter()
             .map(|answer| scored(answer, &penalty))
             .collect())
+    }
+
+    fn descend(
+        &mut self,
+        designs: &Designs,
+        start: Option<&StartPoint>,
+    ) -> Result<Vec<Descent>, EvaluateError> {
+        let descent = DescentRequest {
+            start: start.cloned(),
+        };
+        self.pool.set_start(None, Some(descent));
+        let penalty = self.penalty;
+        let answers = self.pool.evaluate_all(designs, |_, answer| {
+            warn_failed(answer, &penalty);
+            Ok::<(), EvaluateError>(())
+        })?;
+        Ok(answers
+            .into_iter()
+            .map(|answer| match answer {
+                Answer::Evaluated { evaluation, merit } => Descent {
+                    evaluation,
+                    merit: merit.map(|merit| *merit),
+                },
+                failed => Descent {
+                    evaluation: scored(&failed, &penalty),
+                    merit: None,
+                },
+            })
+            .collect())
+    }
+
+    fn parallelism(&self) -> usize {
+        self.pool.worker_ids().len()
+    }
+}
+
+/// Says on stderr that `answer`'s design is penalised when its worker failed twice.
+fn warn_failed(answer: &Answer, penalty: &Penalty) {
+    if let Answer::Failed { ratios, reason } = answer {
+        let evaluation = scored(answer, penalty);
+        eprintln!(
+            "warning: {reason} again on design {ratios:?}; scoring it {}",
+            evaluation.cost
+        );
     }
 }
 
@@ -72,7 +117,7 @@ impl Evaluator for WorkerEvaluator {
 /// failed twice.
 fn scored(answer: &Answer, penalty: &Penalty) -> Evaluation {
     match answer {
-        Answer::Evaluated(evaluation) => evaluation.clone(),
+        Answer::Evaluated { evaluation, .. } => evaluation.clone(),
         Answer::Failed { ratios, reason } => {
             let failed = Verdict::WorkerFailed {
                 message: format!("{reason}, twice"),

@@ -39,9 +39,10 @@ pub enum RunError {
     Workers(WorkerError),
     /// The CMA-ES run failed: its workers, its log, or no evaluation judged a design.
     Cmaes(OptimizeError),
-    /// The gradient method failed (no feasible start).
+    /// The gradient method failed (no feasible start, its workers stopped).
     Gradient(GradientError),
-    /// The payload range's formulations for the document could not be built.
+    /// A fitness could not be built: the gradient method's, or the payload range's
+    /// formulations for the document.
     Score(ScoreError),
     /// This process's own evaluation of the best design disagrees with the answer behind it
     /// (a worker's, or a resumed log's); names the worker command.

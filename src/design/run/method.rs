@@ -1,13 +1,13 @@
 //! The outer method of a run on what it needs: CMA-ES on an evaluator of worker processes with
-//! the run's evaluation log, the gradient method in this process; each gives the one
-//! [`DesignOutcome`].
+//! the run's evaluation log; the gradient method on one of threads of this process, or of
+//! worker processes when the run names a worker command; each gives the one [`DesignOutcome`].
 
 use super::case::Case;
 use super::document::{Method, OptimizeInputs};
 use super::error::RunError;
 use super::execute::ProgressDisplay;
 use super::verify::confirm_best;
-use crate::design::evaluate::WorkerEvaluator;
+use crate::design::evaluate::{Evaluator, InProcess, WorkerEvaluator};
 use crate::design::gradient::optimize_gradient;
 use crate::design::optimize::{optimize, EvaluationLog, Finished, Logged, Sampling};
 use crate::design::outcome::DesignOutcome;
@@ -51,14 +51,37 @@ pub(super) fn run_method(
     let case = run.case;
     match case.settings.method {
         Method::Cmaes => run_cmaes(run, log, display),
-        Method::Gradient => Ok(optimize_gradient(
-            run.formulation,
-            run.settings,
-            &case.gradient,
-            case.settings.penalty(),
-            thread_count(case.execution.workers),
-        )?),
+        Method::Gradient => run_gradient(run),
     }
+}
+
+/// The gradient method on threads of this process (one with MUMPS, which is not thread-safe),
+/// or on worker processes when the case names a worker command (a cluster's).
+fn run_gradient(run: &MethodRun<'_>) -> Result<DesignOutcome, RunError> {
+    let case = run.case;
+    let setup = worker_setup(run)?;
+    let count = thread_count(case.execution.workers);
+    let mut evaluator: Box<dyn Evaluator> = match &case.execution.worker_command {
+        None => Box::new(InProcess::new(setup.fitness()?, count)),
+        Some(_) => {
+            let timeout = Duration::from_secs_f64(case.execution.solve_timeout_s);
+            let launcher = case.launcher(&program()?);
+            let count = count.min(MAX_GROUPS);
+            Box::new(WorkerEvaluator::new(launcher, &setup, count, timeout)?)
+        }
+    };
+    let transmission = run.formulation.transmission();
+    Ok(optimize_gradient(
+        transmission,
+        evaluator.as_mut(),
+        &case.gradient,
+    )?)
+}
+
+/// This program, which the workers run.
+fn program() -> Result<std::path::PathBuf, RunError> {
+    std::env::current_exe()
+        .map_err(|e| RunError::Load(format!("cannot locate the codesign executable: {e}")))
 }
 
 /// What the workers of a CMA-ES run are told: the task (its robot's path made absolute), the
@@ -82,8 +105,8 @@ fn worker_setup(run: &MethodRun<'_>) -> Result<WorkerSetup, RunError> {
     })
 }
 
-/// How many threads the gradient method solves its candidate starts on: the workers asked for
-/// (default: one per core).
+/// How many threads or workers the gradient method solves its candidate starts on: the workers
+/// asked for (default: one per core).
 fn thread_count(asked: Option<usize>) -> usize {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     asked.unwrap_or(cores).max(1)
@@ -120,8 +143,7 @@ fn run_cmaes(
     let case = run.case;
     let setup = worker_setup(run)?;
     let workers = worker_count(case.execution.workers, case.settings.cmaes.population);
-    let program = std::env::current_exe()
-        .map_err(|e| RunError::Load(format!("cannot locate the codesign executable: {e}")))?;
+    let program = program()?;
     let timeout = Duration::from_secs_f64(case.execution.solve_timeout_s);
     let launcher = case.launcher(&program);
     let mut evaluator = WorkerEvaluator::new(launcher.clone(), &setup, workers, timeout)?;

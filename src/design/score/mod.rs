@@ -9,12 +9,14 @@
 //! per design: the cost, a range's mean cost, the payload capacity, elastic solves for a graded
 //! penalty), `record` (the evaluation record and its status texts).
 
+mod descent;
 mod objective;
 mod plausible;
 mod record;
 #[cfg(test)]
 mod tests;
 
+pub use descent::{Descent, Merit};
 pub use objective::{anchor_solution, Fitness, Objective, PayloadRange, ScoreError};
 pub use plausible::MAX_REASON_BYTES;
 pub use record::{Evaluation, SolveStatus, Status};

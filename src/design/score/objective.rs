@@ -6,6 +6,7 @@ use super::{judge, shortfall_of, solve, validate, Evaluation, Score, SolveStatus
 use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::design::penalty::{Grading, Penalty};
 use crate::ipopt::{self, Solution};
+use crate::model::identity::task_hash;
 use crate::model::task::{LimitModes, Task};
 use crate::model::{ModelError, Robot};
 use crate::problem::{Formulation, FormulationError, Space, StaticHold};
@@ -80,16 +81,18 @@ impl From<FormulationError> for ScoreError {
 /// The formulations of an objective and the penalty of a run: what a worker scores designs with.
 #[derive(Debug)]
 pub struct Fitness {
-    scored: Scored,
+    pub(super) scored: Scored,
     /// The design space every design is validated against.
-    transmission: Transmission,
-    penalty: Penalty,
-    solve: SolveSettings,
+    pub(super) transmission: Transmission,
+    pub(super) penalty: Penalty,
+    pub(super) solve: SolveSettings,
+    /// The task hash of the problems solved, which the warm starts of descents carry.
+    pub(super) task_hash: String,
 }
 
 /// What is solved per design.
 #[derive(Debug)]
-enum Scored {
+pub(super) enum Scored {
     /// The cost at one payload.
     Cost(Formulation),
     /// Minus the capacity; the formulation's payload is ignored.
@@ -110,7 +113,9 @@ impl Fitness {
         objective: &Objective,
         penalty: Penalty,
     ) -> Result<Fitness, ScoreError> {
-        let hard = Formulation::new(task, Robot::load(task)?, space, modes)?
+        let robot = Robot::load(task)?;
+        let task_hash = task_hash(task, robot.urdf_hash());
+        let hard = Formulation::new(task, robot, space, modes)?
             .with_hold_tolerance(solve.constraint_tolerance());
         let hard = match objective {
             Objective::Energy => hard.minimising_copper_loss()?,
@@ -139,6 +144,7 @@ impl Fitness {
             transmission: base.transmission().clone(),
             penalty,
             solve: solve.clone(),
+            task_hash,
         })
     }
 

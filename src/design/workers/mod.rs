@@ -15,9 +15,11 @@ mod protocol;
 
 pub use error::WorkerError;
 pub use process::{Launcher, MAX_GROUPS};
-pub use protocol::{read_line, serve, Hello, Request, Response, WorkerSetup, MAX_LINE_BYTES};
+pub use protocol::{
+    read_line, serve, DescentRequest, Hello, Request, Response, WorkerSetup, MAX_LINE_BYTES,
+};
 
-use super::score::Evaluation;
+use super::score::{Evaluation, Merit};
 use crate::signals;
 use std::collections::VecDeque;
 use std::io::{BufReader, Write};
@@ -62,15 +64,21 @@ struct Job {
     attempt: u32,
 }
 
-/// What the owner of a pool believes of an answer: None, or what it holds that cannot be (a
-/// phrase that follows "worker answered").
-pub type Check = Box<dyn Fn(&Evaluation) -> Option<String> + Send>;
+/// What the owner of a pool believes of an answer, an evaluation with its merit when it has one:
+/// None, or what it holds that cannot be (a phrase that follows "worker answered").
+pub type Check = Box<dyn Fn(&Evaluation, Option<&Merit>) -> Option<String> + Send>;
 
 /// A worker's answer for one design, as the pool gives it back.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Answer {
-    /// The worker's evaluation, for the design asked, believed by the owner's check.
-    Evaluated(Evaluation),
+    /// The worker's evaluation, for the design asked, with its merit when it has one (a
+    /// descent's), believed by the owner's check.
+    Evaluated {
+        /// The evaluation.
+        evaluation: Evaluation,
+        /// The merit.
+        merit: Option<Box<Merit>>,
+    },
     /// Its worker failed twice (crashed, hung, answered nonsense); the design was not judged.
     Failed {
         /// The design.
@@ -95,12 +103,14 @@ pub struct Pool {
     incarnations: u64,
     /// The anchor every request carries (see [`Request::anchor`]).
     anchor: Option<Vec<f64>>,
+    /// What every request of the gradient method carries (see [`Request::descent`]).
+    descent: Option<DescentRequest>,
 }
 
 /// What the pool heard from its workers while it waited.
 enum Heard {
     /// A worker answered the job it held.
-    Answer(Job, Evaluation),
+    Answer(Job, Response),
     /// These workers failed, with the reason (possibly none).
     Failed(Vec<(usize, String)>),
 }
@@ -130,6 +140,7 @@ impl Pool {
             receiver,
             incarnations: 0,
             anchor: None,
+            descent: None,
         };
         for slot in 0..count {
             let worker = pool.spawn(slot)?;
@@ -138,10 +149,12 @@ impl Pool {
         Ok(pool)
     }
 
-    /// Starts the designs of the next evaluations from the solution of `anchor` (see
-    /// [`Request::anchor`]), or from the standard guess when None.
-    pub fn set_anchor(&mut self, anchor: Option<Vec<f64>>) {
+    /// What the next requests carry: the designs start from the solution of `anchor` (see
+    /// [`Request::anchor`]; the standard guess when None), or with `descent` they are scored for
+    /// the gradient method (see [`Request::descent`]).
+    pub fn set_start(&mut self, anchor: Option<Vec<f64>>, descent: Option<DescentRequest>) {
         self.anchor = anchor;
+        self.descent = descent;
     }
 
     /// Process ids of the running workers (for monitoring).
@@ -226,9 +239,12 @@ impl Pool {
         while remaining > 0 {
             self.dispatch(&mut queue)?;
             let failed = match self.listen()? {
-                Heard::Answer(job, evaluation) => {
+                Heard::Answer(job, response) => {
                     if let Some(index) = position(job.id) {
-                        let answer = Answer::Evaluated(evaluation);
+                        let answer = Answer::Evaluated {
+                            evaluation: response.evaluation,
+                            merit: response.merit,
+                        };
                         done(job.id, &answer)?;
                         results[index] = Some(answer);
                         remaining -= 1;
@@ -260,6 +276,7 @@ impl Pool {
                 id: job.id,
                 ratios: job.ratios.clone(),
                 anchor: self.anchor.clone(),
+                descent: self.descent.clone(),
             })
             .map_err(WorkerError::Encode)?;
             let deadline = Instant::now() + self.timeout;
@@ -329,16 +346,16 @@ impl Pool {
         let Some((job, _)) = worker.job.take_if(|(job, _)| job.id == response.id) else {
             return fail("worker answered a design it was not given".to_owned());
         };
-        let evaluation = response.evaluation;
+        let evaluation = &response.evaluation;
         let why = if evaluation.ratios != job.ratios {
             format!(
                 "worker answered for r = {:?} when asked for r = {:?}",
                 evaluation.ratios, job.ratios
             )
-        } else if let Some(why) = (self.check)(&evaluation) {
+        } else if let Some(why) = (self.check)(evaluation, response.merit.as_deref()) {
             format!("worker answered {why}")
         } else {
-            return Heard::Answer(job, evaluation);
+            return Heard::Answer(job, response);
         };
         worker.job = Some((job, Instant::now() + self.timeout));
         fail(why)
@@ -460,6 +477,7 @@ mod tests {
     use crate::design::evaluate::{Evaluator, WorkerEvaluator};
     use crate::design::score::{Objective, Status};
     use crate::problem::Space;
+    use crate::solve::StartPoint;
     use std::os::unix::fs::PermissionsExt;
     use std::path::PathBuf;
 
@@ -504,7 +522,7 @@ mod tests {
 
     /// The check of a run on the cost under the paper's penalty.
     fn check() -> Check {
-        Box::new(|evaluation| {
+        Box::new(|evaluation, _| {
             evaluation.implausible(&crate::design::penalty::Penalty::PAPER, false)
         })
     }
@@ -582,7 +600,7 @@ done"#;
         let mut pool = Pool::new(launcher.clone(), &setup(), 2, timeout, check()).unwrap();
         let results = pool.evaluate_all(&designs(), none).unwrap();
         let cost = |answer: &Answer| match answer {
-            Answer::Evaluated(evaluation) => evaluation.cost,
+            Answer::Evaluated { evaluation, .. } => evaluation.cost,
             Answer::Failed { .. } => f64::NAN,
         };
         let costs: Vec<f64> = results.iter().map(cost).collect();
@@ -605,6 +623,14 @@ done"#;
 
     /// The answers of a worker (run in-process) to `requests`, in order.
     fn served(requests: &[Request]) -> Vec<Evaluation> {
+        responses(requests)
+            .into_iter()
+            .map(|r| r.evaluation)
+            .collect()
+    }
+
+    /// The responses of a worker (run in-process) to `requests`, in order.
+    fn responses(requests: &[Request]) -> Vec<Response> {
         let mut input = serde_json::to_string(&setup()).unwrap();
         for request in requests {
             input.push('\n');
@@ -616,7 +642,63 @@ done"#;
         let text = String::from_utf8(output).unwrap();
         let lines: Vec<&str> = text.lines().skip(1).collect();
         let answers = lines.iter().map(|line| serde_json::from_str(line).unwrap());
-        answers.map(|answer: Response| answer.evaluation).collect()
+        answers.collect()
+    }
+
+    /// A descent's requests answered by a worker: the evaluations and merits of this process's
+    /// fitness to the bit (the warm start carried as JSON included), which the parent's check
+    /// believes; a merit changed in any part it checks is refused.
+    #[test]
+    fn descents_are_answered_with_the_merits_of_this_process() {
+        let fitness = setup().fitness().unwrap();
+        let design = vec![9.0, 7.7, 3.0, 3.0];
+        let start = fitness.descend_from(&design, None).merit.unwrap().start;
+        let request = |id: usize, ratios: &[f64], start: Option<&StartPoint>| Request {
+            id,
+            ratios: ratios.to_vec(),
+            anchor: None,
+            descent: Some(DescentRequest {
+                start: start.cloned(),
+            }),
+        };
+        let near = [8.9, 7.6, 2.9, 2.95];
+        let answered = responses(&[
+            request(0, &design, None),
+            request(1, &near, Some(&start)),
+            request(2, &[20.0, 7.7, 3.0, 3.0], Some(&start)),
+        ]);
+        let own = [
+            fitness.descend_from(&design, None),
+            fitness.descend_from(&near, Some(&start)),
+            fitness.descend_from(&[20.0, 7.7, 3.0, 3.0], Some(&start)),
+        ];
+        let untimed = |e: &Evaluation| Evaluation {
+            seconds: 0.0,
+            ..e.clone()
+        };
+        for (response, own) in answered.iter().zip(&own) {
+            assert_eq!(untimed(&response.evaluation), untimed(&own.evaluation));
+            assert_eq!(response.merit.as_deref(), own.merit.as_ref());
+        }
+        assert!(
+            answered[2].merit.is_none(),
+            "an invalid design has no merit"
+        );
+        let (evaluation, merit) = (&answered[1].evaluation, *answered[1].merit.clone().unwrap());
+        assert_eq!(fitness.implausible_merit(evaluation, &merit), None);
+        let mut lies = Vec::new();
+        for change in 0..5 {
+            let mut lie = merit.clone();
+            match change {
+                0 => lie.value = f64::NAN,
+                1 => lie.gradient.truncate(3),
+                2 => lie.feasible_cost = lie.feasible_cost.map(|c| c + 1.0),
+                3 => lie.start.x.truncate(1),
+                _ => lie.start.z_lower[0] = -1.0,
+            }
+            lies.push(fitness.implausible_merit(evaluation, &lie));
+        }
+        assert!(lies.iter().all(Option::is_some), "{lies:?}");
     }
 
     #[test]
@@ -634,6 +716,7 @@ done"#;
                 id,
                 ratios: ratios.to_vec(),
                 anchor: anchor.cloned(),
+                descent: None,
             })
             .collect()
         };

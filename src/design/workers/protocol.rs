@@ -3,18 +3,19 @@
 
 use super::WorkerError;
 use crate::design::penalty::Penalty;
-use crate::design::score::{Evaluation, Fitness, Objective, ScoreError};
+use crate::design::score::{Evaluation, Fitness, Merit, Objective, ScoreError};
 use crate::hash::fnv1a;
 use crate::ipopt::{LinearSolver, Solution, IPOPT_VERSION};
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;
 use crate::problem::Space;
-use crate::solve::SolveSettings;
+use crate::solve::{SolveSettings, StartPoint};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::io::{self, BufRead, Read, Write};
 
-/// The longest line of the protocol, bytes: a setup is a few kB, an answer a few hundred bytes.
+/// The longest line of the protocol, bytes: a setup is a few kB, an answer a few hundred bytes,
+/// a descent's start and merit a few hundred kB (x, lambda and z of one solve).
 pub const MAX_LINE_BYTES: usize = 16 << 20;
 
 /// Reads one line of the protocol, without its end, at most [`MAX_LINE_BYTES`] long (a longer
@@ -140,6 +141,20 @@ pub struct Request {
     /// for every request with the same anchor. None: the standard guess.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub anchor: Option<Vec<f64>>,
+    /// Set when the gradient method asks: the design is scored for a descent
+    /// (`Fitness::descend_from`), from this start rather than the anchor's, and answered with
+    /// its merit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub descent: Option<DescentRequest>,
+}
+
+/// What a request of the gradient method adds (see [`Request::descent`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DescentRequest {
+    /// The solution the design's solve starts from (a nearby design's merit's); None: the
+    /// standard guess.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start: Option<StartPoint>,
 }
 
 /// A worker's solution of the last anchor it was sent (see [`Request::anchor`]).
@@ -176,6 +191,9 @@ pub struct Response {
     pub id: usize,
     /// Its evaluation.
     pub evaluation: Evaluation,
+    /// Its merit, for a request of the gradient method whose design has one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub merit: Option<Box<Merit>>,
 }
 
 /// The worker's side: reads the setup and requests from `input`, writes responses to `output`,
@@ -198,10 +216,23 @@ pub fn serve(mut input: impl BufRead, mut output: impl Write) -> Result<(), Work
     while let Some(line) = read_line(&mut input).map_err(WorkerError::ReadRequest)? {
         let request: Request =
             serde_json::from_str(&line).map_err(WorkerError::MalformedRequest)?;
-        let warm = Anchored::warm_start(&mut anchored, &fitness, &request);
-        let response = Response {
-            id: request.id,
-            evaluation: fitness.evaluate_from(&request.ratios, warm),
+        let response = match &request.descent {
+            Some(descent) => {
+                let scored = fitness.descend_from(&request.ratios, descent.start.as_ref());
+                Response {
+                    id: request.id,
+                    evaluation: scored.evaluation,
+                    merit: scored.merit.map(Box::new),
+                }
+            }
+            None => {
+                let warm = Anchored::warm_start(&mut anchored, &fitness, &request);
+                Response {
+                    id: request.id,
+                    evaluation: fitness.evaluate_from(&request.ratios, warm),
+                    merit: None,
+                }
+            }
         };
         let text = serde_json::to_string(&response).map_err(WorkerError::EncodeAnswer)?;
         if !answer(&mut output, &text)? {
