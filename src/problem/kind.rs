@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
-/// Hard or elastic: which trajectory problem a [`Formulation`](super::Formulation) builds.
+/// Hard or elastic: which trajectory problem a [`Formulation`](super::formulation::Formulation) builds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ProblemKind {

@@ -42,7 +42,8 @@ pub fn read_line(input: &mut impl BufRead) -> io::Result<Option<String>> {
         .map_err(|_| io::Error::new(io::ErrorKind::InvalidData, "a line that is not UTF-8"))
 }
 
-/// Everything a worker needs to build its [`Formulation`], sent as its first line.
+/// Everything a worker needs to build its [`Formulation`](crate::problem::Formulation), sent as
+/// its first line.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WorkerSetup {
     /// The task with every override applied (its robot path absolute or relative to the

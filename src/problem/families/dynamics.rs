@@ -16,12 +16,12 @@
 //! motors' own torques G(q)^T (J_m qdd_u + B_m qd_u), with qdd_u = G a + dG/dt v, add the terms
 //! of `motor_load.rs`.
 
-use super::motor_load::MotorLoad;
-use super::posed_loss::PosedLoss;
-use super::{
+use super::family::{
     emit_slacks, slack_shift, At, Blocks, DesignDerivative, Emit, Family, FamilyId,
     NodeSecondOrder, Place, Shape,
 };
+use super::motor_load::MotorLoad;
+use super::posed_loss::PosedLoss;
 use crate::ipopt::Solution;
 use crate::problem::layout::RowBlock;
 use crate::problem::nlp::TrajectoryProblem;
@@ -208,7 +208,7 @@ impl Family for Dynamics {
         let x = &solution.x;
         let (_, v, a) = layout.node_state(x, k);
         let u = layout.controls(x, k);
-        let lambda = super::segment(&solution.lambda, row, layout.dof);
+        let lambda = super::family::segment(&solution.lambda, row, layout.dof);
         if let (Some(load), Some(at)) = (&derivative.load, &derivative.coupling) {
             // d/dr_l of G^T (m - u) (actuation space) or G^T m (joint space) at G(q_k).
             let mut own = load.own.clone();

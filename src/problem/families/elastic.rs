@@ -11,7 +11,7 @@
 //! `Formulation::new`) held at the goal for the last interval meets the integration rows, the
 //! boundary values and the position bounds.
 
-use super::{Family, FamilyId, Shape};
+use super::family::{Family, FamilyId, Shape};
 use crate::problem::formulation::Formulation;
 use crate::problem::kind::ProblemKind;
 use crate::problem::layout::Layout;

@@ -4,7 +4,7 @@
 //! acceleration (its interval ends at q_N, v_N). The static hold of `hold` and `rest` is no
 //! bound of the NLP but a check before it (`../hold.rs`).
 
-use super::{Family, Shape};
+use super::family::{Family, Shape};
 use crate::problem::nlp::TrajectoryProblem;
 use std::sync::Arc;
 

@@ -14,12 +14,12 @@
 //! space the motor torque rows' -G^-T W(tau_u). Their Hessian is the motor torque rows' under the
 //! multipliers lambda_P + lambda_M and the motor speed rows' under c (lambda_P - lambda_M).
 
-use super::motor_speed::posed_speed_hessian;
-use super::motor_torque::{posed_torque_columns, posed_torque_hessian};
-use super::{
+use super::family::{
     segment, slack_shift, At, Blocks, DesignDerivative, Emit, Family, FamilyId, NodeSecondOrder,
     Place, Shape,
 };
+use super::motor_speed::posed_speed_hessian;
+use super::motor_torque::{posed_torque_columns, posed_torque_hessian};
 use crate::ipopt::Solution;
 use crate::model::task::LimitMode;
 use crate::problem::layout::{Layout, RowBlock};

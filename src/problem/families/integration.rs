@@ -3,7 +3,7 @@
 //! Euler, q_{k+1} - q_k - h v_{k+1} = 0. Linear with constant entries: no Hessian, no design
 //! sensitivity.
 
-use super::{At, Emit, Family, Place, Shape};
+use super::family::{At, Emit, Family, Place, Shape};
 use crate::problem::layout::RowBlock;
 use crate::problem::nlp::TrajectoryProblem;
 use crate::problem::node::NodeEval;

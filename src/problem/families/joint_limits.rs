@@ -9,7 +9,7 @@
 //! `interval`, with A = G^-1 for speeds and G^T for torques and l each motor's own limit. Their
 //! sensitivity is the active bound's, -(z_L + z_U) . db/dr_l.
 
-use super::{DesignDerivative, Family, FamilyId, Shape};
+use super::family::{DesignDerivative, Family, FamilyId, Shape};
 use crate::ipopt::Solution;
 use crate::model::task::LimitMode;
 use crate::problem::nlp::TrajectoryProblem;

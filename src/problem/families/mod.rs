@@ -6,7 +6,9 @@
 //! Lagrangian's Hessian and its terms of the design sensitivity dJ*/dr. The NLP adapter
 //! (`nlp.rs`) and the sensitivity (`sensitivity.rs`) only walk the formulation's families, in
 //! the order of [`FamilyId::ALL`]: the order of their rows within a node, of their Jacobian
-//! entries and of their terms. Adding a family is a new file here and its entry in that list.
+//! entries and of their terms. Adding a family is a new file here and its entry in that list
+//! (and in `build` below). What the families share, the [`Family`] trait and what its visits
+//! read, is in `family.rs`, which they import; nothing here is imported back.
 //!
 //! The static hold at the ends is no row of the NLP but a check before it (`../hold.rs`).
 
@@ -14,6 +16,7 @@ mod dynamics;
 pub(super) mod elastic;
 mod ends;
 mod envelope;
+mod family;
 mod integration;
 mod joint_limits;
 mod motor_load;
@@ -23,312 +26,34 @@ mod motor_torque;
 mod posed_loss;
 mod strokes;
 
-use super::formulation::Formulation;
-use super::kind::ProblemKind;
-use super::layout::{BlockId, RowBlock};
-use super::nlp::TrajectoryProblem;
-use super::node::NodeEval;
-use crate::dynamics::{Dynamics, Workspace};
-use crate::ipopt::Solution;
-use crate::model::task::LimitModes;
-use crate::transmission::{Actuation, Coupling, Envelope, MotorDynamics, PoseRow, Space};
-use nalgebra::{DMatrix, DVector};
-use std::fmt;
+pub use family::FamilyId;
+pub(super) use family::{
+    jacobian_pattern, visit_jacobian, At, DesignDerivative, Family, LoadDerivative,
+    NodeSecondOrder, Place, Shape,
+};
+
 use std::sync::Arc;
 
-/// The constraint families, in the order their rows sit within a node and their terms are
-/// visited.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum FamilyId {
-    /// The equations of motion: inverse dynamics against the controls' joint torques.
-    Dynamics,
-    /// The integration of speeds and positions from node to node.
-    Integration,
-    /// The motor speed rows G v of speed mode `exact` (and the elastic kind's speed rows).
-    MotorSpeed,
-    /// The motors' torque limits: a box on u in actuation space, rows G^-T u in joint space
-    /// under torque mode `exact`.
-    MotorTorque,
-    /// The motors' torque-speed envelope.
-    Envelope,
-    /// The joints' limits as boxes: positions (URDF), and speeds and joint-space torques under
-    /// the box modes `paper` and `interval`.
-    JointLimits,
-    /// What the motion asks at its ends (`motion.ends`).
-    Ends,
-    /// The strokes of the linear actuators that give one.
-    Strokes,
-    /// The elastic kind's slacks, non-negative and penalised.
-    Slacks,
-}
-
-impl FamilyId {
-    /// Every family, in order.
-    pub const ALL: [FamilyId; 9] = [
-        FamilyId::Dynamics,
-        FamilyId::Integration,
-        FamilyId::MotorSpeed,
-        FamilyId::MotorTorque,
-        FamilyId::Envelope,
-        FamilyId::JointLimits,
-        FamilyId::Ends,
-        FamilyId::Strokes,
-        FamilyId::Slacks,
-    ];
-
-    /// Number of families.
-    pub const COUNT: usize = FamilyId::ALL.len();
-
-    /// The family of this kind for `shape`, None where the shape has none.
-    fn build(self, shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
-        match self {
-            FamilyId::Dynamics => dynamics::of(shape),
-            FamilyId::Integration => integration::of(shape),
-            FamilyId::MotorSpeed => motor_speed::of(shape),
-            FamilyId::MotorTorque => motor_torque::of(shape),
-            FamilyId::Envelope => envelope::of(shape),
-            FamilyId::JointLimits => joint_limits::of(shape),
-            FamilyId::Ends => ends::of(shape),
-            FamilyId::Strokes => strokes::of(shape),
-            FamilyId::Slacks => elastic::of(shape),
-        }
+/// The family `id` for `shape`, None where the shape has none: with [`FamilyId::ALL`], the list
+/// a new family joins.
+fn build(id: FamilyId, shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
+    match id {
+        FamilyId::Dynamics => dynamics::of(shape),
+        FamilyId::Integration => integration::of(shape),
+        FamilyId::MotorSpeed => motor_speed::of(shape),
+        FamilyId::MotorTorque => motor_torque::of(shape),
+        FamilyId::Envelope => envelope::of(shape),
+        FamilyId::JointLimits => joint_limits::of(shape),
+        FamilyId::Ends => ends::of(shape),
+        FamilyId::Strokes => strokes::of(shape),
+        FamilyId::Slacks => elastic::of(shape),
     }
-}
-
-impl From<FamilyId> for BlockId {
-    fn from(id: FamilyId) -> BlockId {
-        BlockId(id as usize)
-    }
-}
-
-/// What decides which families a formulation has and their structure.
-pub(super) struct Shape<'a> {
-    /// Degrees of freedom n.
-    pub(super) dof: usize,
-    pub(super) space: Space,
-    pub(super) modes: LimitModes,
-    pub(super) kind: ProblemKind,
-    pub(super) envelope: Option<&'a Envelope>,
-    /// Structural non-zeros of G over the whole design space (and every pose).
-    pub(super) g_pattern: &'a DMatrix<f64>,
-    /// The rows of G that depend on the pose; empty for a constant G(r).
-    pub(super) linkages: &'a [PoseRow],
-    /// The motors' rotor inertia and friction, None for ideal motors.
-    pub(super) motors: Option<&'a MotorDynamics>,
 }
 
 /// The families of `shape`, in order, with their ids.
 pub(super) fn of(shape: &Shape<'_>) -> Vec<(FamilyId, Arc<dyn Family>)> {
     FamilyId::ALL
         .into_iter()
-        .filter_map(|id| id.build(shape).map(|family| (id, family)))
+        .filter_map(|id| build(id, shape).map(|family| (id, family)))
         .collect()
-}
-
-/// Where a family's rows sit at one node.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Place {
-    /// The node k < N.
-    pub(super) k: usize,
-    /// The family's first row at the node.
-    pub(super) row: usize,
-}
-
-/// What a Jacobian visit reads its values from.
-pub(super) enum At<'a> {
-    /// The structure: every entry that some design of the space makes non-zero; the values
-    /// given are not meaningful.
-    Structure(&'a Formulation),
-    /// The values at one design and the nodes evaluated at the current point.
-    Design(&'a TrajectoryProblem<'a>),
-}
-
-impl At<'_> {
-    /// The formulation.
-    pub(super) fn formulation(&self) -> &Formulation {
-        match self {
-            At::Structure(formulation) => formulation,
-            At::Design(problem) => problem.formulation(),
-        }
-    }
-
-    /// The actuation at `node` (its own G(q_k) where G depends on the pose), None for the
-    /// structure.
-    pub(super) fn actuation<'n>(&'n self, node: &'n NodeEval) -> Option<&'n Actuation> {
-        match self {
-            At::Structure(_) => None,
-            At::Design(problem) => Some(problem.actuation_of(node)),
-        }
-    }
-
-    /// `value` at a design, `pattern` itself for the structure: the matrix whose entries at
-    /// the pattern's non-zeros are emitted.
-    pub(super) fn pick<'m>(
-        &'m self,
-        value: impl FnOnce(&'m TrajectoryProblem<'m>) -> &'m DMatrix<f64>,
-        pattern: &'m DMatrix<f64>,
-    ) -> &'m DMatrix<f64> {
-        match self {
-            At::Structure(_) => pattern,
-            At::Design(problem) => value(problem),
-        }
-    }
-}
-
-/// Receives the Jacobian's entries (row, column, value) in their fixed order.
-pub(super) type Emit<'e> = dyn FnMut(usize, usize, f64) + 'e;
-
-/// The derivatives of G with respect to one design parameter r_l.
-pub(super) struct DesignDerivative {
-    /// dG/dr_l.
-    pub(super) dg: DMatrix<f64>,
-    /// d(G^-1)/dr_l = -G^-1 dG_l G^-1.
-    pub(super) dg_inv: DMatrix<f64>,
-    /// The design parameter l (0-based).
-    pub(super) parameter: usize,
-    /// d gamma_i/dr_l of each linkage row at the node (zero for constant rows and a constant
-    /// transmission), rad per unit of r_l.
-    pub(super) angle: DVector<f64>,
-    /// G(q_k) and its inverse where G depends on the pose, None for a constant G(r).
-    pub(super) coupling: Option<Coupling>,
-    /// The motors' own torques at the node where G depends on the pose, None otherwise.
-    pub(super) load: Option<LoadDerivative>,
-}
-
-/// The motors' own torques m = J_m (G a + h) + B_m G v at a node where G depends on the pose
-/// (`motor_load.rs`), and their derivative in one design parameter.
-pub(super) struct LoadDerivative {
-    /// m, N m per motor.
-    pub(super) own: DVector<f64>,
-    /// dm/dr_l = J_m (dG_l a + dh_l) + B_m dG_l v, per motor.
-    pub(super) own_derivative: DVector<f64>,
-}
-
-/// The evaluation of one node's second-order terms.
-pub(super) struct NodeSecondOrder<'a> {
-    pub(super) dynamics: &'a Dynamics,
-    /// The node's evaluation (RNEA's derivatives, the transmissions' losses).
-    pub(super) node: &'a NodeEval,
-    /// The design's actuation.
-    pub(super) actuation: &'a Actuation,
-    pub(super) data: &'a mut Workspace,
-    /// (q_k, v_k, a_k).
-    pub(super) state: (&'a [f64], &'a [f64], &'a [f64]),
-    /// The multipliers of the family's rows at the node.
-    pub(super) multipliers: &'a [f64],
-    /// Scratch of 3n x 3n.
-    pub(super) scratch: &'a mut DMatrix<f64>,
-}
-
-/// A node's Hessian blocks a family adds to: (q, v, a) x (q, v, a), 3n x 3n, and u x q, n x n.
-pub(super) type Blocks<'b> = (&'b mut DMatrix<f64>, &'b mut DMatrix<f64>);
-
-/// One family of constraints (see the module's documentation). Every method has a default
-/// that adds nothing, for the families that have no such part.
-pub(super) trait Family: fmt::Debug + Send + Sync {
-    /// Its rows at a node, None for a family of variable bounds alone.
-    fn rows(&self) -> Option<RowBlock> {
-        None
-    }
-
-    /// Sets the bounds it puts on variables (after the earlier families', which it may
-    /// override).
-    fn variable_bounds(&self, _p: &TrajectoryProblem<'_>, _lower: &mut [f64], _upper: &mut [f64]) {}
-
-    /// Sets its rows' bounds at `place`.
-    fn row_bounds(
-        &self,
-        _p: &TrajectoryProblem<'_>,
-        _place: Place,
-        _lower: &mut [f64],
-        _upper: &mut [f64],
-    ) {
-    }
-
-    /// Writes its rows' values at `place` for the primal point x, with the node's evaluation.
-    fn values(
-        &self,
-        _p: &TrajectoryProblem<'_>,
-        _x: &[f64],
-        _node: &NodeEval,
-        _place: Place,
-        _g: &mut [f64],
-    ) {
-    }
-
-    /// Visits its rows' Jacobian entries at `place` in their fixed order.
-    fn jacobian(&self, _at: &At<'_>, _node: &NodeEval, _place: Place, _emit: &mut Emit<'_>) {}
-
-    /// Adds lambda . its rows' second derivatives at a node: in (q, v, a) into `block` (3n x
-    /// 3n, lower triangle used), in u and q into `mixed` (n x n, row = control, column =
-    /// joint); linear families add nothing.
-    fn hessian(&self, _node: NodeSecondOrder<'_>, _blocks: Blocks<'_>) {}
-
-    /// Adds lambda . d(rows)/dr_l at `place` to `total`, at `solution`.
-    fn sensitivity(
-        &self,
-        _p: &TrajectoryProblem<'_>,
-        _solution: &Solution,
-        _derivative: &DesignDerivative,
-        _place: Place,
-        _total: &mut f64,
-    ) {
-    }
-
-    /// Adds the terms of its design-dependent variable bounds to `total`, after every node's
-    /// row terms: -(z_L + z_U) . d(bound)/dr_l.
-    fn bound_sensitivity(
-        &self,
-        _p: &TrajectoryProblem<'_>,
-        _solution: &Solution,
-        _derivative: &DesignDerivative,
-        _total: &mut f64,
-    ) {
-    }
-}
-
-/// The entries of a row's slack pair [plus, minus], if it has one: -1 and +1 (the row's value
-/// is shifted by minus - plus).
-pub(super) fn emit_slacks(row: usize, slacks: Option<[usize; 2]>, emit: &mut Emit<'_>) {
-    if let Some([plus, minus]) = slacks {
-        emit(row, plus, -1.0);
-        emit(row, minus, 1.0);
-    }
-}
-
-/// The shift minus - plus of a row's slack pair at x, if it has one.
-pub(super) fn slack_shift(x: &[f64], slacks: Option<[usize; 2]>) -> Option<f64> {
-    slacks.map(|[plus, minus]| x[minus] - x[plus])
-}
-
-/// The n values of x from column `start`, as a vector.
-pub(super) fn segment(x: &[f64], start: usize, n: usize) -> DVector<f64> {
-    DVector::from_column_slice(&x[start..start + n])
-}
-
-/// The structure of `formulation`'s Jacobian: one visit of zero nodes.
-pub(super) fn jacobian_pattern(formulation: &Formulation) -> Vec<(usize, usize)> {
-    let mut entries = Vec::new();
-    let zeros = NodeEval::zeros(formulation.layout().dof);
-    let at = At::Structure(formulation);
-    visit_jacobian(&at, |_| &zeros, &mut |row, col, _| entries.push((row, col)));
-    entries
-}
-
-/// Visits the Jacobian's entries node by node, each node's families in order, with node k's
-/// evaluation `node(k)`.
-pub(super) fn visit_jacobian<'n>(
-    at: &At<'_>,
-    node: impl Fn(usize) -> &'n NodeEval,
-    emit: &mut Emit<'_>,
-) {
-    let f = at.formulation();
-    let layout = f.layout();
-    for k in 0..layout.steps {
-        for (id, family) in f.families() {
-            if let Some(row) = layout.first_row(*id, k) {
-                family.jacobian(at, node(k), Place { k, row }, emit);
-            }
-        }
-    }
 }

@@ -11,11 +11,11 @@
 //! The design enters through G (mode `exact`: lambda . dG_l v) or through the box's bounds (the
 //! active bound's term -|lambda| . db/dr_l).
 
-use super::joint_limits::box_bound_derivative;
-use super::{
+use super::family::{
     emit_slacks, segment, slack_shift, At, Blocks, DesignDerivative, Emit, Family, FamilyId,
     NodeSecondOrder, Place, Shape,
 };
+use super::joint_limits::box_bound_derivative;
 use crate::ipopt::Solution;
 use crate::model::task::LimitMode;
 use crate::problem::kind::ProblemKind;

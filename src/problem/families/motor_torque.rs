@@ -12,7 +12,9 @@
 //! whose row i is (d^2 gamma_i/dq^2 w)^T, lambda . tau_u has the q-q block
 //! D^T G^-T W + W G^-1 D - sum_i tau_u,i d^3 gamma_i/dq^3 [w] and the u-q block -G^-1 D.
 
-use super::{segment, At, Blocks, DesignDerivative, Emit, Family, NodeSecondOrder, Place, Shape};
+use super::family::{
+    segment, At, Blocks, DesignDerivative, Emit, Family, NodeSecondOrder, Place, Shape,
+};
 use crate::ipopt::Solution;
 use crate::model::task::LimitMode;
 use crate::problem::layout::RowBlock;

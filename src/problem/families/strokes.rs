@@ -4,7 +4,9 @@
 //! does, times l / 2 pi: G_i's entries in q, the Hessian lambda l / 2 pi d^2 gamma_i/dq^2; its
 //! design sensitivity is lambda (l / 2 pi d gamma_i/dr_l + gamma_i d(l / 2 pi)/dr_l).
 
-use super::{segment, At, Blocks, DesignDerivative, Emit, Family, NodeSecondOrder, Place, Shape};
+use super::family::{
+    segment, At, Blocks, DesignDerivative, Emit, Family, NodeSecondOrder, Place, Shape,
+};
 use crate::ipopt::Solution;
 use crate::problem::layout::RowBlock;
 use crate::problem::nlp::TrajectoryProblem;
