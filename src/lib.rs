@@ -33,6 +33,7 @@ pub mod jet;
 pub mod json_keys;
 pub mod ldl;
 pub mod model;
+pub mod parallel;
 pub mod problem;
 pub mod report;
 pub mod signals;

@@ -3,7 +3,7 @@
 //! sections in order.
 
 use super::index::write_index;
-use super::stages::{capacity_document, run_section};
+use super::stages::{capacity_documents, run_section, CapacityJob};
 use super::{merge, CapacityOf, Event, ExperimentError, ExperimentTask, Observer, Outcomes};
 use super::{Plan, SPACES};
 use crate::design::run::OptimizeDocument;
@@ -190,20 +190,19 @@ fn best_capacities(
     observer: &mut dyn Observer,
 ) -> Result<Vec<CapacityDocument>, ExperimentError> {
     let (plan, task) = (section.plan, section.task);
-    let mut capacities = Vec::new();
+    let mut jobs = Vec::new();
     for &payload in &plan.experiment.codesign_payloads_kg {
         for space in SPACES {
             let of = CapacityOf::Best(space, payload);
             if let Some(best) = best_of(runs, payload, space) {
                 let ratios = best.ratios.clone();
-                let document = capacity_document(plan, task, space, ratios, of, observer)?;
-                capacities.push(document);
+                jobs.push(CapacityJob { of, space, ratios });
             } else {
                 remove_stale_output(&plan.layout.capacity(of), observer)?;
             }
         }
     }
-    Ok(capacities)
+    capacity_documents(plan, task, &jobs, observer)
 }
 
 /// Removes an output an earlier reproduction wrote for a case that has no feasible design now

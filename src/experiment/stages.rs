@@ -3,9 +3,10 @@
 //! to an [`Observer`] (the command line prints them).
 
 use super::{CapacityOf, ExperimentError, ExperimentTask, Plan, PlannedRun, SPACES};
-use crate::design::capacity::{payload_capacity, CapacitySettings};
+use crate::design::capacity::{payload_capacity, Capacity, CapacitySettings};
 use crate::design::optimize::Progress;
 use crate::design::run::{run_case, task_source, OptimizeDocument, RecordedHash, RunError};
+use crate::parallel::{in_order, solve_threads};
 use crate::problem::Space;
 use crate::report::codesign::{CapacityDocument, CapacityInputs};
 use crate::report::table::{PaperTable, ResultFile};
@@ -14,6 +15,7 @@ use crate::solve::{solve_design, ToolInfo, TrajectoryResult};
 use crate::store::document::write_document;
 use crate::store::files::create_folder;
 use crate::store::log::{Start, LOG_EXTENSION};
+use std::convert::Infallible;
 use std::path::{Path, PathBuf};
 
 /// What the experiment's independent stages produced, in this process or by the plan's
@@ -113,14 +115,15 @@ pub fn run_section(
         runs: cost_runs(plan, observer)?,
         gradient_runs: gradient_runs(plan, observer),
         beyond_runs: beyond_runs(plan, observer)?,
-        original_capacities: SPACES
-            .iter()
-            .map(|&space| {
-                let ratios = task.task.transmission.original.clone();
-                let of = CapacityOf::Original(space);
-                capacity_document(plan, task, space, ratios, of, observer)
-            })
-            .collect::<Result<_, _>>()?,
+        original_capacities: {
+            let original = |space| CapacityJob {
+                of: CapacityOf::Original(space),
+                space,
+                ratios: task.task.transmission.original.clone(),
+            };
+            let jobs: Vec<CapacityJob> = SPACES.into_iter().map(original).collect();
+            capacity_documents(plan, task, &jobs, observer)?
+        },
     })
 }
 
@@ -227,37 +230,66 @@ fn beyond_runs(
     Ok(documents)
 }
 
-/// Searches the payload capacity of `ratios` in `space` and writes it as `capacity/NAME.json`.
-pub fn capacity_document(
+/// A payload capacity the experiment searches: of which design, in which space, its ratios.
+pub struct CapacityJob {
+    /// Of which design.
+    pub of: CapacityOf,
+    /// Joint or actuation space.
+    pub space: Space,
+    /// The design r.
+    pub ratios: Vec<f64>,
+}
+
+/// Searches the payload capacity of every job, side by side on the plan's workers' count of
+/// threads (default one per core; one with MUMPS, which is not thread-safe: each search is one
+/// design's sequence of solves), then tells each and writes it as `capacity/NAME.json`, in the
+/// order given. A search's numbers do not depend on the threads.
+pub fn capacity_documents(
     plan: &Plan,
     task: &ExperimentTask,
-    space: Space,
-    ratios: Vec<f64>,
-    of: CapacityOf,
+    jobs: &[CapacityJob],
     observer: &mut dyn Observer,
-) -> Result<CapacityDocument, ExperimentError> {
+) -> Result<Vec<CapacityDocument>, ExperimentError> {
     let settings = CapacitySettings::default();
-    let formulation = task.formulation_at(task.task.payload.mass_kg, space)?;
-    let capacity = payload_capacity(&formulation, &task.solver, &ratios, &settings)?;
-    observer.event(Event::Capacity {
-        of,
-        capacity_kg: capacity.capacity_kg,
-    });
-    let document = CapacityDocument {
-        tool: ToolInfo::current(task.solver.linear_solver()),
-        inputs: CapacityInputs {
-            task_file: task_source(plan.task.as_ref()).label(),
-            task_hash: RecordedHash(Some(task.hash.clone())),
-            space,
-            ratios,
-            limit_modes: task.task.limit_modes,
-            ends: task.task.motion.ends,
-            settings,
-        },
-        capacity,
+    let search = |index: usize| -> Result<Capacity, ExperimentError> {
+        let job = &jobs[index];
+        let formulation = task.formulation_at(task.task.payload.mass_kg, job.space)?;
+        Ok(payload_capacity(
+            &formulation,
+            &task.solver,
+            &job.ratios,
+            &settings,
+        )?)
     };
-    write_document(&plan.layout.capacity(of), &document)?;
-    Ok(document)
+    let threads = solve_threads(plan.execution.workers, task.solver.linear_solver());
+    let heard = |_: usize, _: &_| Ok::<(), Infallible>(());
+    let Ok(searched) = in_order(jobs.len(), threads, || false, search, heard);
+    let mut documents = Vec::new();
+    for (job, capacity) in jobs.iter().zip(searched) {
+        // Nothing stops the threads early: every job was searched.
+        let Some(capacity) = capacity else { continue };
+        let capacity = capacity?;
+        observer.event(Event::Capacity {
+            of: job.of,
+            capacity_kg: capacity.capacity_kg,
+        });
+        let document = CapacityDocument {
+            tool: ToolInfo::current(task.solver.linear_solver()),
+            inputs: CapacityInputs {
+                task_file: task_source(plan.task.as_ref()).label(),
+                task_hash: RecordedHash(Some(task.hash.clone())),
+                space: job.space,
+                ratios: job.ratios.clone(),
+                limit_modes: task.task.limit_modes,
+                ends: task.task.motion.ends,
+                settings,
+            },
+            capacity,
+        };
+        write_document(&plan.layout.capacity(job.of), &document)?;
+        documents.push(document);
+    }
+    Ok(documents)
 }
 
 /// Fails, naming a log, when `runs` holds evaluation logs of an earlier reproduction (a

@@ -261,6 +261,29 @@ fn the_plan_run_by_gnu_parallel_and_merged_matches_one_reproduction() {
             assert_eq!(a[key], b[key], "{run}: {key}");
         }
     }
+    // The capacities, searched side by side in one process and one a command elsewhere, make
+    // the same probes.
+    for space in ["joint", "actuation"] {
+        let file = format!("capacity/{space}-original.json");
+        let (a, b) = (read_json(&whole.join(&file)), read_json(&split.join(&file)));
+        let probes = |document: &Value| -> Vec<(Value, Value, Value)> {
+            let probes = document["probes"].as_array().unwrap();
+            let each = probes.iter();
+            each.map(|p| {
+                (
+                    p["payload_kg"].clone(),
+                    p["feasible"].clone(),
+                    p["cost"].clone(),
+                )
+            })
+            .collect()
+        };
+        assert_eq!(
+            a["capacity"]["capacity_kg"], b["capacity"]["capacity_kg"],
+            "{file}"
+        );
+        assert_eq!(probes(&a), probes(&b), "{file}");
+    }
     // The merge's inputs are no outputs: a table linked to a run's result is refused before
     // anything is written, and the run's result is kept.
     let run = split.join("runs/actuation-1kg-seed0.json");

@@ -5,11 +5,10 @@
 use super::{Designs, Done, EvaluateError, Evaluator};
 use crate::design::penalty::Penalty;
 use crate::design::score::{Descent, Evaluation, Fitness};
-use crate::ipopt::{LinearSolver, Solution};
+use crate::ipopt::Solution;
+use crate::parallel;
 use crate::signals;
 use crate::solve::StartPoint;
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::mpsc::channel;
 
 /// Designs scored by `threads` threads of this process with one [`Fitness`].
 pub struct InProcess {
@@ -24,10 +23,7 @@ impl InProcess {
     /// An evaluator scoring with `fitness` on at most `threads` threads (at least one; one
     /// when the linear solver is MUMPS).
     pub fn new(fitness: Fitness, threads: usize) -> InProcess {
-        let threads = match fitness.linear_solver() {
-            LinearSolver::Mumps => 1,
-            LinearSolver::Ldl => threads.max(1),
-        };
+        let threads = parallel::solve_threads(Some(threads), fitness.linear_solver());
         InProcess {
             fitness,
             threads,
@@ -47,45 +43,17 @@ impl InProcess {
 }
 
 impl InProcess {
-    /// Runs `work` on every index below `count` on the evaluator's threads, in any order, and
-    /// returns the results in index order; `heard` hears each as it finishes, and its error
-    /// stops the threads at their next index. A host's request to stop ends the work
-    /// unfinished: [`EvaluateError::Interrupted`].
+    /// Runs `work` on every index below `count` on the evaluator's threads
+    /// ([`parallel::in_order`]); `heard` hears each result as it finishes. A host's request to
+    /// stop ends the work unfinished: [`EvaluateError::Interrupted`].
     fn on_threads<T: Send>(
         &self,
         count: usize,
         work: impl Fn(usize) -> T + Sync,
-        mut heard: impl FnMut(usize, &T) -> Result<(), EvaluateError>,
+        heard: impl FnMut(usize, &T) -> Result<(), EvaluateError>,
     ) -> Result<Vec<T>, EvaluateError> {
-        let next = AtomicUsize::new(0);
-        let (sender, receiver) = channel();
-        let mut results: Vec<Option<T>> = Vec::new();
-        results.resize_with(count, || None);
-        std::thread::scope(|scope| -> Result<(), EvaluateError> {
-            for _ in 0..self.threads.min(count) {
-                let sender = sender.clone();
-                let (next, work) = (&next, &work);
-                scope.spawn(move || loop {
-                    let index = next.fetch_add(1, Ordering::Relaxed);
-                    if index >= count || signals::stop_requested() {
-                        return;
-                    }
-                    if sender.send((index, work(index))).is_err() {
-                        return;
-                    }
-                });
-            }
-            drop(sender);
-            for (index, result) in receiver.iter() {
-                let stopped = heard(index, &result);
-                results[index] = Some(result);
-                if let Err(error) = stopped {
-                    next.store(count, Ordering::Relaxed);
-                    return Err(error);
-                }
-            }
-            Ok(())
-        })?;
+        let results =
+            parallel::in_order(count, self.threads, signals::stop_requested, work, heard)?;
         let finished: Option<Vec<T>> = results.into_iter().collect();
         finished.ok_or(EvaluateError::Interrupted)
     }
