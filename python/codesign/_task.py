@@ -228,7 +228,7 @@ class Task:
     ) -> Run:
         """A co-design run (``codesign optimize``): CMA-ES (``method="cmaes"``, its designs
         solved by ``workers`` worker processes) or the gradient method on dJ*/dr (its
-        candidate starts solved on ``workers`` threads).
+        candidate starts and its descents solved on ``workers`` threads).
 
         The result is written to ``out`` and a CMA-ES run's evaluation log to ``log``
         (``NAME.log.jsonl`` beside ``NAME.json``; give either); ``resume=True`` continues an

@@ -26,8 +26,9 @@ pub struct RunArgs {
     /// starts every design from the standard guess (the paper's).
     #[arg(long, value_enum, default_value_t = WarmStart::default())]
     pub warm_start: WarmStart,
-    /// Worker processes of CMA-ES; threads of the gradient method's candidate starts (default:
-    /// one per core).
+    /// Worker processes of CMA-ES; threads of the gradient method's candidate starts and
+    /// descents (its worker processes with --worker-command) and of `reproduce`'s capacity
+    /// searches (default: one per core).
     #[arg(long, value_name = "N")]
     pub workers: Option<usize>,
     /// A solve taking longer than this (s) counts as a hung worker.

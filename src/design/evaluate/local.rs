@@ -80,7 +80,7 @@ impl Evaluator for InProcess {
     }
 
     fn descend(
-        &mut self,
+        &self,
         designs: &Designs,
         start: Option<&StartPoint>,
     ) -> Result<Vec<Descent>, EvaluateError> {

@@ -26,8 +26,9 @@ pub type Designs = [(usize, Vec<f64>)];
 /// batch.
 pub type Done<'a> = &'a mut dyn FnMut(usize, &Evaluation) -> Result<(), EvaluateError>;
 
-/// Something that evaluates designs under a run's penalty.
-pub trait Evaluator {
+/// Something that evaluates designs under a run's penalty. It is shared by the gradient
+/// method's descents, which ask for their trials side by side.
+pub trait Evaluator: Sync {
     /// The penalty the evaluations are scored under.
     fn penalty(&self) -> Penalty;
 
@@ -45,7 +46,7 @@ pub trait Evaluator {
     /// solved from `start` (a merit's start; None: the standard guess), and returns them in the
     /// order given.
     fn descend(
-        &mut self,
+        &self,
         designs: &Designs,
         start: Option<&StartPoint>,
     ) -> Result<Vec<Descent>, EvaluateError>;

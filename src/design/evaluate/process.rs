@@ -6,11 +6,13 @@ use crate::design::penalty::Penalty;
 use crate::design::score::{Descent, Evaluation, Objective, Score, Verdict};
 use crate::design::workers::{Answer, DescentRequest, Launcher, Pool, WorkerError, WorkerSetup};
 use crate::solve::StartPoint;
+use std::sync::{Mutex, MutexGuard, PoisonError};
 use std::time::Duration;
 
 /// Designs evaluated by a pool of worker processes (see `design::workers`).
 pub struct WorkerEvaluator {
-    pool: Pool,
+    /// The pool, one batch at a time (the gradient method's descents share the evaluator).
+    pool: Mutex<Pool>,
     penalty: Penalty,
 }
 
@@ -36,12 +38,21 @@ impl WorkerEvaluator {
                 .or_else(|| merit.and_then(|m| fitness.implausible_merit(evaluation, m)))
         };
         let pool = Pool::new(launcher, setup, count, timeout, Box::new(check))?;
-        Ok(WorkerEvaluator { pool, penalty })
+        Ok(WorkerEvaluator {
+            pool: Mutex::new(pool),
+            penalty,
+        })
     }
 
     /// Process ids of the running workers (for monitoring).
     pub fn worker_ids(&self) -> Vec<u32> {
-        self.pool.worker_ids()
+        self.pool().worker_ids()
+    }
+
+    /// The pool, held until the guard drops (a batch that panicked leaves it usable: a batch
+    /// holds no state beyond its own call).
+    fn pool(&self) -> MutexGuard<'_, Pool> {
+        self.pool.lock().unwrap_or_else(PoisonError::into_inner)
     }
 }
 
@@ -56,9 +67,10 @@ impl Evaluator for WorkerEvaluator {
         anchor: Option<&[f64]>,
         done: Done<'_>,
     ) -> Result<Vec<Evaluation>, EvaluateError> {
-        self.pool.set_start(anchor.map(<[f64]>::to_vec), None);
         let penalty = self.penalty;
-        let answers = self.pool.evaluate_all(designs, |id, answer| {
+        let pool = self.pool.get_mut().unwrap_or_else(PoisonError::into_inner);
+        pool.set_start(anchor.map(<[f64]>::to_vec), None);
+        let answers = pool.evaluate_all(designs, |id, answer| {
             warn_failed(answer, &penalty);
             done(id, &scored(answer, &penalty))
         })?;
@@ -69,16 +81,17 @@ impl Evaluator for WorkerEvaluator {
     }
 
     fn descend(
-        &mut self,
+        &self,
         designs: &Designs,
         start: Option<&StartPoint>,
     ) -> Result<Vec<Descent>, EvaluateError> {
         let descent = DescentRequest {
             start: start.cloned(),
         };
-        self.pool.set_start(None, Some(descent));
         let penalty = self.penalty;
-        let answers = self.pool.evaluate_all(designs, |_, answer| {
+        let mut pool = self.pool();
+        pool.set_start(None, Some(descent));
+        let answers = pool.evaluate_all(designs, |_, answer| {
             warn_failed(answer, &penalty);
             Ok::<(), EvaluateError>(())
         })?;
@@ -98,7 +111,7 @@ impl Evaluator for WorkerEvaluator {
     }
 
     fn parallelism(&self) -> usize {
-        self.pool.worker_ids().len()
+        self.pool().worker_ids().len()
     }
 }
 

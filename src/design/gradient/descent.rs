@@ -3,6 +3,8 @@
 
 use super::{GradientError, GradientSettings, Point, Solves};
 use crate::design::outcome::GradientIterate;
+use crate::parallel;
+use crate::signals;
 use crate::transmission::DesignSpace;
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -131,10 +133,50 @@ fn line_search(
     Ok(None)
 }
 
+/// The descents from `candidates` (start index and point), side by side on as many threads as
+/// the evaluator's parallelism, each recording its own solves; appends their solves to `solves`
+/// in the order of the candidates, as one descent after the other would have made them, and
+/// returns their accepted iterates in that order.
+pub(super) fn descend_all(
+    candidates: &[(usize, Point)],
+    set: &DesignSpace,
+    settings: &GradientSettings,
+    solves: &mut Solves<'_>,
+) -> Result<Vec<GradientIterate>, GradientError> {
+    let evaluator = solves.evaluator;
+    type Made<'e> = Result<(Solves<'e>, Vec<GradientIterate>), GradientError>;
+    let one = |index: usize| -> Made<'_> {
+        let (start, point) = candidates[index].clone();
+        let mut own = Solves::new(evaluator);
+        let mut iterates = Vec::new();
+        descend(start, point, set, settings, &mut own, &mut iterates)?;
+        Ok((own, iterates))
+    };
+    let threads = evaluator.parallelism();
+    let heard = |_: usize, _: &_| Ok::<(), std::convert::Infallible>(());
+    let Ok(descents) = parallel::in_order(
+        candidates.len(),
+        threads,
+        signals::stop_requested,
+        one,
+        heard,
+    );
+    let mut iterates = Vec::new();
+    for descent in descents {
+        let (own, accepted) = descent.ok_or(GradientError::Interrupted)??;
+        solves.append(own);
+        iterates.extend(accepted);
+        if signals::stop_requested() {
+            return Err(GradientError::Interrupted);
+        }
+    }
+    Ok(iterates)
+}
+
 /// One descent from a candidate: quasi-Newton steps with line search until the projected
 /// gradient step or the decrease is under the tolerance; appends its accepted iterates and offers
 /// each to the run's best.
-pub(super) fn descend(
+fn descend(
     start: usize,
     mut point: Point,
     set: &DesignSpace,
@@ -152,7 +194,7 @@ pub(super) fn descend(
             .max(1e-12);
     let mut h = InverseHessian::scaled_identity(point.ratios.len(), scale);
     for _ in 0..settings.max_iterations {
-        if is_stationary(set, &point, settings.tolerance) || crate::signals::stop_requested() {
+        if is_stationary(set, &point, settings.tolerance) || signals::stop_requested() {
             break;
         }
         let held = held_at_bounds(set, &point.ratios, &point.merit.gradient);

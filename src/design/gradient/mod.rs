@@ -80,16 +80,36 @@ impl Point {
     }
 }
 
-/// The solves of a run on its evaluator, with the fitness and time of each recorded in order,
-/// and the best feasible point accepted so far.
+/// The solves of a run (or of one descent) on its evaluator, with the fitness and time of each
+/// recorded in order, and the best feasible point accepted so far.
 struct Solves<'a> {
-    evaluator: &'a mut dyn Evaluator,
+    evaluator: &'a dyn Evaluator,
     costs: Vec<f64>,
     seconds: Vec<f64>,
     best: Option<Point>,
 }
 
-impl Solves<'_> {
+impl<'a> Solves<'a> {
+    /// No solve yet.
+    fn new(evaluator: &'a dyn Evaluator) -> Solves<'a> {
+        Solves {
+            evaluator,
+            costs: Vec::new(),
+            seconds: Vec::new(),
+            best: None,
+        }
+    }
+
+    /// Appends `later`'s solves, which came after these, and keeps its best as
+    /// [`Solves::keep`] would have kept each of its points in turn.
+    fn append(&mut self, later: Solves<'_>) {
+        self.costs.extend(later.costs);
+        self.seconds.extend(later.seconds);
+        if let Some(best) = &later.best {
+            self.keep(best);
+        }
+    }
+
     /// Records `descent`'s fitness and, when a solve ran, its time; its point when the descent
     /// can use it.
     fn record(&mut self, descent: Descent) -> Option<Point> {
@@ -178,7 +198,8 @@ impl From<EvaluateError> for GradientError {
 
 /// Runs the projected quasi-Newton method on the designs of `transmission` from the best
 /// candidate starts (the original design and Halton-spread designs, see [`default_starts`]),
-/// every solve by `evaluator`. With its flat penalty the descents start from feasible
+/// every solve by `evaluator`, the descents side by side (as many as its parallelism; each
+/// descent's solves are recorded after the last one's). With its flat penalty the descents start from feasible
 /// candidates and lower J*, and the run fails when no candidate is feasible; with a graded one
 /// they lower the elastic problem's optimal objective from any candidate, moving infeasible
 /// designs toward feasibility (docs/model.md, section 14). Each solve is recorded with its
@@ -186,17 +207,12 @@ impl From<EvaluateError> for GradientError {
 /// the result.
 pub fn optimize_gradient(
     transmission: &Transmission,
-    evaluator: &mut dyn Evaluator,
+    evaluator: &dyn Evaluator,
     settings: &GradientSettings,
 ) -> Result<DesignOutcome, GradientError> {
     let set = transmission.design_space();
     let penalty = evaluator.penalty();
-    let mut solves = Solves {
-        evaluator,
-        costs: Vec::new(),
-        seconds: Vec::new(),
-        best: None,
-    };
+    let mut solves = Solves::new(evaluator);
     let interrupted = || crate::signals::stop_requested();
     let (candidates, solved) = starts::descent_starts(transmission, settings, &mut solves)?;
     if interrupted() {
@@ -205,13 +221,7 @@ pub fn optimize_gradient(
     if candidates.is_empty() {
         return Err(GradientError::NoFeasibleStart { solved });
     }
-    let mut iterates = Vec::new();
-    for (start, point) in candidates {
-        descent::descend(start, point, set, settings, &mut solves, &mut iterates)?;
-        if interrupted() {
-            return Err(GradientError::Interrupted);
-        }
-    }
+    let iterates = descent::descend_all(&candidates, set, settings, &mut solves)?;
     let count = solves.costs.len();
     let stop_reason = format!(
         "{solved} candidate starts solved, {} descents, {} iterates, {count} solves",

@@ -27,9 +27,9 @@ fn run(
     let (space, modes) = (Space::Actuation, task.limit_modes);
     let solve = testing::settings();
     let fitness = Fitness::new(task, &solve, space, modes, &Objective::Cost, penalty).unwrap();
-    let mut evaluator = InProcess::new(fitness, threads);
+    let evaluator = InProcess::new(fitness, threads);
     let transmission = Transmission::from_spec(&task.transmission).unwrap();
-    optimize_gradient(&transmission, &mut evaluator, settings)
+    optimize_gradient(&transmission, &evaluator, settings)
 }
 
 /// The hard problem the fitness of [`run`] solves.
@@ -56,8 +56,9 @@ fn gradient_part(outcome: &DesignOutcome) -> (&[GradientIterate], Option<&Soluti
     }
 }
 
-/// The candidate starts and the fallbacks solved on 1, 2 or 3 threads give the same
-/// record: the same solves in the same order, the same descents, the same best design.
+/// The candidate starts and the fallbacks solved on 1, 2 or 3 threads, and the descents side by
+/// side on as many, give the same record: the same solves in the same order, the same
+/// descents, the same best design.
 #[test]
 fn the_outcome_does_not_depend_on_the_threads() {
     // 1 kg held at rest at the ends: the designs whose motors cannot hold it are
@@ -67,8 +68,8 @@ fn the_outcome_does_not_depend_on_the_threads() {
         spread: 3,
         fallbacks: 8,
         descents: 3,
-        // The starts alone: what the threads change.
-        max_iterations: 0,
+        // Two quasi-Newton iterations of each descent, with their line searches.
+        max_iterations: 2,
         ..GradientSettings::default()
     };
     let on = |threads: usize| run(&task, &settings, Penalty::PAPER, threads).unwrap();
@@ -78,6 +79,19 @@ fn the_outcome_does_not_depend_on_the_threads() {
     assert!(
         one.stop_reason.starts_with("8 candidate starts solved"),
         "{one:?}"
+    );
+    // Each descent's iterates, its start and up to two accepted steps, one descent after the
+    // other, from the best candidate to the worst.
+    let iterates = gradient_part(&one).0;
+    assert!(iterates.len() > 3, "{iterates:?}");
+    let firsts: Vec<&GradientIterate> = (iterates.iter().enumerate())
+        .filter(|(i, it)| *i == 0 || iterates[i - 1].start != it.start)
+        .map(|(_, it)| it)
+        .collect();
+    assert_eq!(firsts.len(), settings.descents, "{iterates:?}");
+    assert!(
+        firsts.windows(2).all(|w| w[0].cost <= w[1].cost),
+        "{firsts:?}"
     );
     for threads in [2, 3] {
         let other = on(threads);

@@ -61,7 +61,7 @@ fn run_gradient(run: &MethodRun<'_>) -> Result<DesignOutcome, RunError> {
     let case = run.case;
     let setup = worker_setup(run)?;
     let count = thread_count(case.execution.workers);
-    let mut evaluator: Box<dyn Evaluator> = match &case.execution.worker_command {
+    let evaluator: Box<dyn Evaluator> = match &case.execution.worker_command {
         None => Box::new(InProcess::new(setup.fitness()?, count)),
         Some(_) => {
             let timeout = Duration::from_secs_f64(case.execution.solve_timeout_s);
@@ -73,7 +73,7 @@ fn run_gradient(run: &MethodRun<'_>) -> Result<DesignOutcome, RunError> {
     let transmission = run.formulation.transmission();
     Ok(optimize_gradient(
         transmission,
-        evaluator.as_mut(),
+        evaluator.as_ref(),
         &case.gradient,
     )?)
 }

@@ -226,8 +226,9 @@ pub const MIN_SOLVE_TIMEOUT_S: f64 = 1.0;
 /// How a run's evaluations run: nothing here changes its result.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Execution {
-    /// Worker processes of CMA-ES, threads of the gradient method's candidate starts (None:
-    /// one per core).
+    /// Worker processes of CMA-ES; threads of the gradient method's candidate starts and
+    /// descents (its worker processes with a worker command) and of an experiment's capacity
+    /// searches (None: one per core).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub workers: Option<usize>,
     /// A solve taking longer than this counts as a hung worker, s.
