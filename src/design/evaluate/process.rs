@@ -13,6 +13,8 @@ use std::time::Duration;
 pub struct WorkerEvaluator {
     /// The pool, one batch at a time (the gradient method's descents share the evaluator).
     pool: Mutex<Pool>,
+    /// How many workers it keeps running.
+    workers: usize,
     penalty: Penalty,
 }
 
@@ -40,6 +42,7 @@ impl WorkerEvaluator {
         let pool = Pool::new(launcher, setup, count, timeout, Box::new(check))?;
         Ok(WorkerEvaluator {
             pool: Mutex::new(pool),
+            workers: count,
             penalty,
         })
     }
@@ -49,8 +52,8 @@ impl WorkerEvaluator {
         self.pool().worker_ids()
     }
 
-    /// The pool, held until the guard drops (a batch that panicked leaves it usable: a batch
-    /// holds no state beyond its own call).
+    /// The pool, held until the guard drops. Nothing in a batch panics by design; were one to,
+    /// the next batch still finds the workers, and replaces any that misbehave.
     fn pool(&self) -> MutexGuard<'_, Pool> {
         self.pool.lock().unwrap_or_else(PoisonError::into_inner)
     }
@@ -111,7 +114,7 @@ impl Evaluator for WorkerEvaluator {
     }
 
     fn parallelism(&self) -> usize {
-        self.pool().worker_ids().len()
+        self.workers
     }
 }
 
