@@ -3,7 +3,7 @@
 //! the solves near the design. It is what [`Fitness::descend_from`] gives, in this process or in
 //! a worker, and what the worker protocol carries back.
 
-use super::objective::Scored;
+use super::objective::{unheld, Scored};
 use super::{judge, solve, validate, Evaluation, Fitness, Score, Verdict};
 use crate::problem::ProblemKind;
 use crate::solve::StartPoint;
@@ -37,10 +37,12 @@ pub struct Descent {
 impl Fitness {
     /// Scores `ratios` for a descent: validated, solved under the one rule from `start` (a nearby
     /// design's merit's start; None: the standard guess) and judged, with the merit of the
-    /// solve. Every design is solved, those whose motors cannot hold the load included: the
-    /// graded penalty's merit moves them toward feasibility. Only the cost and energy objectives
-    /// have a merit (one payload's optimal cost); the others score as [`Fitness::evaluate`]
-    /// does, with none. A start that does not fit the problem is a solver error.
+    /// solve. Its verdict is the one [`Fitness::evaluate`] gives: a design whose motors cannot
+    /// hold the load at rest is infeasible by the hold's deficit alone. With the flat penalty it
+    /// is then not solved; with the graded one it is, for the elastic merit that moves the
+    /// descent toward designs that hold it. Only the cost and energy objectives have a merit
+    /// (one payload's optimal cost); the others score as [`Fitness::evaluate`] does, with none.
+    /// A start that does not fit the problem is a solver error.
     pub fn descend_from(&self, ratios: &[f64], start: Option<&StartPoint>) -> Descent {
         let unsolved = |verdict: Verdict| Descent {
             evaluation: Evaluation::new(ratios, &Score::unsolved(verdict), &self.penalty),
@@ -57,22 +59,28 @@ impl Fitness {
                 message: format!("warm start: {error}"),
             });
         }
+        if let Err(verdict) = validate(&self.transmission, ratios) {
+            return unsolved(verdict);
+        }
+        let hard = formulation.kind() == ProblemKind::Hard;
+        let unheld = unheld(&[(0.0, formulation)], ratios);
+        if let (Some(verdict), true) = (&unheld, hard) {
+            return unsolved(verdict.clone());
+        }
         let warm = start.map(StartPoint::to_solution);
-        let solved = validate(&self.transmission, ratios)
-            .and_then(|()| solve(formulation, &self.solve, ratios, warm.as_ref()));
-        let (result, solution) = match solved {
+        let (result, solution) = match solve(formulation, &self.solve, ratios, warm.as_ref()) {
             Ok(solved) => solved,
             Err(verdict) => return unsolved(verdict),
         };
         let score = Score {
-            verdict: judge(formulation, &result),
+            verdict: unheld.unwrap_or_else(|| judge(formulation, &result)),
             iterations: result.iterations,
             seconds: result.solve_seconds.total,
         };
         let evaluation = Evaluation::new(ratios, &score, &self.penalty);
         // The flat penalty descends on feasible designs only: the elastic result the rule
         // reports for an infeasible design of the hard problem is not its objective.
-        if formulation.kind() == ProblemKind::Hard && !result.feasible {
+        if hard && !result.feasible {
             return Descent {
                 evaluation,
                 merit: None,

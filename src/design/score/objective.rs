@@ -248,7 +248,7 @@ pub fn anchor_solution(
 /// payload of `formulations` (named when there are several): infeasible whatever IPOPT would
 /// say, so nothing is solved. Its shortfall is the hold's deficit alone, summed over the
 /// payloads (docs/model.md, section 10). None when every payload is held.
-fn unheld(formulations: &[(f64, &Formulation)], ratios: &[f64]) -> Option<Verdict> {
+pub(super) fn unheld(formulations: &[(f64, &Formulation)], ratios: &[f64]) -> Option<Verdict> {
     let (mut short, mut reasons) = (0.0, Vec::new());
     for (payload_kg, formulation) in formulations {
         // A design whose problem cannot be built is judged by its solve.

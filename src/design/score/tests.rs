@@ -163,6 +163,33 @@ fn a_design_that_cannot_hold_its_load_is_not_solved_under_either_penalty() {
     );
 }
 
+/// The gradient method's scoring gives such a design CMA-ES's verdict: with the flat penalty
+/// without a solve and without a merit, with the graded one after the elastic solve whose merit
+/// leads the descent toward designs that hold the load.
+#[test]
+fn a_descent_judges_a_design_that_cannot_hold_as_an_evaluation_does() {
+    for penalty in ["flat", "graded"] {
+        let fitness = fitness(3.0, Space::Actuation, penalty);
+        let evaluation = fitness.evaluate(&original());
+        let descent = fitness.descend_from(&original(), None);
+        let solved = descent.evaluation.iterations > 0;
+        let work = Evaluation {
+            iterations: 0,
+            seconds: 0.0,
+            ..descent.evaluation.clone()
+        };
+        assert_eq!(work, evaluation, "{penalty}");
+        match penalty {
+            "flat" => assert!(!solved && descent.merit.is_none(), "{descent:?}"),
+            _ => {
+                let merit = descent.merit.as_ref().expect("an elastic merit");
+                assert!(solved && merit.feasible_cost.is_none(), "{descent:?}");
+                assert_eq!(fitness.implausible_merit(&descent.evaluation, merit), None);
+            }
+        }
+    }
+}
+
 #[test]
 fn a_range_or_a_joint_space_design_that_cannot_hold_is_not_solved() {
     // A range names the payloads not held and sums their deficits; the 0 kg one is held.
