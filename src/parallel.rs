@@ -2,6 +2,7 @@
 //! in-process evaluator and the experiment's capacity searches share. Whoever calls it keeps
 //! MUMPS, which is not thread-safe, to one thread.
 
+use crate::ipopt::LinearSolver;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc::channel;
 
@@ -49,15 +50,17 @@ pub fn in_order<T: Send, E>(
     Ok(results)
 }
 
-/// How many threads a process's independent solves run on: `asked`, else one per core; one
-/// with MUMPS.
-pub fn solve_threads(asked: Option<usize>, linear_solver: crate::ipopt::LinearSolver) -> usize {
+/// How many threads (or worker processes) to run on: `asked`, else one per core; at least one.
+pub fn threads(asked: Option<usize>) -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    asked.unwrap_or(cores).max(1)
+}
+
+/// How many threads a process's independent solves run on: [`threads`], but one with MUMPS.
+pub fn solve_threads(asked: Option<usize>, linear_solver: LinearSolver) -> usize {
     match linear_solver {
-        crate::ipopt::LinearSolver::Mumps => 1,
-        crate::ipopt::LinearSolver::Ldl => {
-            let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-            asked.unwrap_or(cores).max(1)
-        }
+        LinearSolver::Mumps => 1,
+        LinearSolver::Ldl => threads(asked),
     }
 }
 

@@ -196,7 +196,7 @@ fn best_capacities(
             let of = CapacityOf::Best(space, payload);
             if let Some(best) = best_of(runs, payload, space) {
                 let ratios = best.ratios.clone();
-                jobs.push(CapacityJob { of, space, ratios });
+                jobs.push(CapacityJob { of, ratios });
             } else {
                 remove_stale_output(&plan.layout.capacity(of), observer)?;
             }

@@ -110,6 +110,15 @@ pub enum CapacityOf {
     Best(Space, f64),
 }
 
+impl CapacityOf {
+    /// The space the capacity is searched in.
+    pub fn space(self) -> Space {
+        match self {
+            CapacityOf::Original(space) | CapacityOf::Best(space, _) => space,
+        }
+    }
+}
+
 impl fmt::Display for CapacityOf {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {

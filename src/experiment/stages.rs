@@ -118,7 +118,6 @@ pub fn run_section(
         original_capacities: {
             let original = |space| CapacityJob {
                 of: CapacityOf::Original(space),
-                space,
                 ratios: task.task.transmission.original.clone(),
             };
             let jobs: Vec<CapacityJob> = SPACES.into_iter().map(original).collect();
@@ -230,12 +229,10 @@ fn beyond_runs(
     Ok(documents)
 }
 
-/// A payload capacity the experiment searches: of which design, in which space, its ratios.
+/// A payload capacity the experiment searches: of which design (in which space), its ratios.
 pub struct CapacityJob {
     /// Of which design.
     pub of: CapacityOf,
-    /// Joint or actuation space.
-    pub space: Space,
     /// The design r.
     pub ratios: Vec<f64>,
 }
@@ -253,7 +250,7 @@ pub fn capacity_documents(
     let settings = CapacitySettings::default();
     let search = |index: usize| -> Result<Capacity, ExperimentError> {
         let job = &jobs[index];
-        let formulation = task.formulation_at(task.task.payload.mass_kg, job.space)?;
+        let formulation = task.formulation_at(task.task.payload.mass_kg, job.of.space())?;
         Ok(payload_capacity(
             &formulation,
             &task.solver,
@@ -278,7 +275,7 @@ pub fn capacity_documents(
             inputs: CapacityInputs {
                 task_file: task_source(plan.task.as_ref()).label(),
                 task_hash: RecordedHash(Some(task.hash.clone())),
-                space: job.space,
+                space: job.of.space(),
                 ratios: job.ratios.clone(),
                 limit_modes: task.task.limit_modes,
                 ends: task.task.motion.ends,

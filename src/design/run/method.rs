@@ -13,6 +13,7 @@ use crate::design::optimize::{optimize, EvaluationLog, Finished, Logged, Samplin
 use crate::design::outcome::DesignOutcome;
 use crate::design::workers::{WorkerSetup, MAX_GROUPS};
 use crate::model::task::Task;
+use crate::parallel;
 use crate::problem::Formulation;
 use crate::solve::SolveSettings;
 use std::time::Duration;
@@ -60,7 +61,8 @@ pub(super) fn run_method(
 fn run_gradient(run: &MethodRun<'_>) -> Result<DesignOutcome, RunError> {
     let case = run.case;
     let setup = worker_setup(run)?;
-    let count = thread_count(case.execution.workers);
+    // The workers asked for (default: one per core).
+    let count = parallel::threads(case.execution.workers);
     let evaluator: Box<dyn Evaluator> = match &case.execution.worker_command {
         None => Box::new(InProcess::new(setup.fitness()?, count)),
         Some(_) => {
@@ -103,13 +105,6 @@ fn worker_setup(run: &MethodRun<'_>) -> Result<WorkerSetup, RunError> {
         penalty: case.settings.penalty(),
         robot_hash: run.inputs.robot_hash.0.clone().unwrap_or_default(),
     })
-}
-
-/// How many threads or workers the gradient method solves its candidate starts on: the workers
-/// asked for (default: one per core).
-fn thread_count(asked: Option<usize>) -> usize {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    asked.unwrap_or(cores).max(1)
 }
 
 /// How many workers a run of `population` starts: the number asked for (default: one per core),

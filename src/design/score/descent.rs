@@ -3,8 +3,8 @@
 //! the solves near the design. It is what [`Fitness::descend_from`] gives, in this process or in
 //! a worker, and what the worker protocol carries back.
 
-use super::objective::{unheld, Scored};
-use super::{judge, solve, validate, Evaluation, Fitness, Score, Verdict};
+use super::objective::{solved, unheld, Scored};
+use super::{validate, Evaluation, Fitness, Score, Verdict};
 use crate::problem::ProblemKind;
 use crate::solve::StartPoint;
 use serde::{Deserialize, Serialize};
@@ -68,15 +68,13 @@ impl Fitness {
             return unsolved(verdict.clone());
         }
         let warm = start.map(StartPoint::to_solution);
-        let (result, solution) = match solve(formulation, &self.solve, ratios, warm.as_ref()) {
-            Ok(solved) => solved,
-            Err(verdict) => return unsolved(verdict),
+        let (mut score, ran) = solved(formulation, &self.solve, ratios, warm.as_ref());
+        let Some((result, solution)) = ran else {
+            return unsolved(score.verdict);
         };
-        let score = Score {
-            verdict: unheld.unwrap_or_else(|| judge(formulation, &result)),
-            iterations: result.iterations,
-            seconds: result.solve_seconds.total,
-        };
+        if let Some(verdict) = unheld {
+            score.verdict = verdict;
+        }
         let evaluation = Evaluation::new(ratios, &score, &self.penalty);
         // The flat penalty descends on feasible designs only: the elastic result the rule
         // reports for an infeasible design of the hard problem is not its objective.

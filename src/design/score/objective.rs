@@ -10,7 +10,7 @@ use crate::model::identity::task_hash;
 use crate::model::task::{LimitModes, Task};
 use crate::model::{ModelError, Robot};
 use crate::problem::{Formulation, FormulationError, Space, StaticHold};
-use crate::solve::SolveSettings;
+use crate::solve::{SolveSettings, TrajectoryResult};
 use crate::transmission::Transmission;
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -277,13 +277,27 @@ fn cost(
     ratios: &[f64],
     warm: Option<&Solution>,
 ) -> Score {
+    solved(formulation, settings, ratios, warm).0
+}
+
+/// [`cost`]'s score with, when the solve ran, its result and raw solution (what a descent's
+/// merit is made of).
+pub(super) fn solved(
+    formulation: &Formulation,
+    settings: &SolveSettings,
+    ratios: &[f64],
+    warm: Option<&Solution>,
+) -> (Score, Option<(TrajectoryResult, Solution)>) {
     match solve(formulation, settings, ratios, warm) {
-        Ok((result, _)) => Score {
-            verdict: judge(formulation, &result),
-            iterations: result.iterations,
-            seconds: result.solve_seconds.total,
-        },
-        Err(verdict) => Score::unsolved(verdict),
+        Ok((result, solution)) => {
+            let score = Score {
+                verdict: judge(formulation, &result),
+                iterations: result.iterations,
+                seconds: result.solve_seconds.total,
+            };
+            (score, Some((result, solution)))
+        }
+        Err(verdict) => (Score::unsolved(verdict), None),
     }
 }
 
