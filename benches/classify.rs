@@ -14,11 +14,11 @@
 //! and iterations on the designs both call infeasible, with the median per-design time ratio.
 
 use codesign::design::gradient::spread_designs;
-use codesign::model::task::{Task, TaskFile};
-use codesign::model::Robot;
-use codesign::problem::{Formulation, Space};
-use codesign::solve::{solve_design, SolveSettings, TrajectoryResult};
 use codesign::stats::median;
+use codesign_core::model::task::{Task, TaskFile};
+use codesign_core::model::Robot;
+use codesign_core::problem::{Formulation, Space};
+use codesign_core::solve::{solve_design, SolveSettings, TrajectoryResult};
 
 /// Best designs of the 3 kg actuation-space runs (results/quick, results/runs).
 const CENTRES: [[f64; 4]; 3] = [

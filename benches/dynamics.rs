@@ -4,11 +4,11 @@
 //! the 51 nodes of a trajectory), so results cached for the previous state are never reused; the
 //! per-node set evaluates everything one node needs at one state, reusing what the calls share.
 
-use codesign::dynamics::Dynamics;
-use codesign::model::task::Task;
-use codesign::model::Robot;
 use codesign::stats::median;
-use codesign::transmission::linkage::{Linkage, RowDerivatives, RowShape};
+use codesign_core::dynamics::Dynamics;
+use codesign_core::model::task::Task;
+use codesign_core::model::Robot;
+use codesign_core::transmission::linkage::{Linkage, RowDerivatives, RowShape};
 use nalgebra::DMatrix;
 use std::hint::black_box;
 use std::time::Instant;
@@ -172,7 +172,7 @@ fn main() {
 /// the belt arm: a ball screw across the elbow (one joint) and a crank on the upper arm with a
 /// rod to the forearm (two joints), to the third and the fourth order, at poses within 0.05 rad
 /// of the zero pose, where the rod reaches.
-fn linkages(dynamics: &Dynamics, data: &mut codesign::dynamics::Workspace, states: &[State]) {
+fn linkages(dynamics: &Dynamics, data: &mut codesign_core::dynamics::Workspace, states: &[State]) {
     let screw = r#"{"linear": {"from": {"link": "link_1", "point": [0.25, 0.05, 0]},
         "to": {"link": "link_2", "point": [0.1, 0.04, 0]}, "lead_m": 0.01}}"#;
     let crank = r#"{"crank_rod": {"crank": {"link": "link_1", "point": [0.3, 0.06, 0],

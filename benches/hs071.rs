@@ -2,8 +2,8 @@
 //!
 //! `cargo bench --bench hs071` (100 solves after 10 warm-up solves).
 
-use codesign::ipopt::{solve, Hs071, Options};
 use codesign::stats::median;
+use codesign_core::ipopt::{solve, Hs071, Options};
 use std::time::Duration;
 
 /// The median of `samples`, us.

@@ -7,12 +7,12 @@
 //! problem's exact Hessian and Jacobian at its initial guess (multipliers 1, Σ = I). MUMPS has no
 //! entry point outside IPOPT: `cargo bench --bench solve` compares the two inside whole solves.
 
-use codesign::ipopt::Nlp;
-use codesign::ldl::{AnalysisCache, Numeric, UpperCsr, KEPT_ANALYSES};
-use codesign::model::task::Task;
-use codesign::model::Robot;
-use codesign::problem::{Formulation, Space};
 use codesign::stats::median;
+use codesign_core::ipopt::Nlp;
+use codesign_core::ldl::{AnalysisCache, Numeric, UpperCsr, KEPT_ANALYSES};
+use codesign_core::model::task::Task;
+use codesign_core::model::Robot;
+use codesign_core::problem::{Formulation, Space};
 use std::collections::BTreeMap;
 use std::hint::black_box;
 use std::time::Instant;

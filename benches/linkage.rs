@@ -12,11 +12,11 @@
 //! whose ratio is that constant. Both take the same iterations to the same optimum, so their ratio
 //! is the cost of evaluating a linkage row itself.
 
-use codesign::model::task::{MatrixRow, Task, TaskFile};
-use codesign::model::Robot;
-use codesign::problem::{Formulation, Space};
-use codesign::solve::{solve_design, SolveSettings};
 use codesign::stats::median;
+use codesign_core::model::task::{MatrixRow, Task, TaskFile};
+use codesign_core::model::Robot;
+use codesign_core::problem::{Formulation, Space};
+use codesign_core::solve::{solve_design, SolveSettings};
 use std::path::Path;
 
 /// The crank and rod of the tests on the planar example's elbow.

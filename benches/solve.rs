@@ -10,12 +10,12 @@
 //! the paper's stack solves the default problem in actuation space 30 times after 3 warm-up
 //! solves (`benches/paper_stack/bench.py --quick`), and the ratio of the medians is printed.
 
-use codesign::ipopt::LinearSolver;
-use codesign::model::task::{Task, TaskFile};
-use codesign::model::Robot;
-use codesign::problem::{Formulation, ProblemKind, Space};
-use codesign::solve::{solve_design, SolveSeconds, SolveSettings};
 use codesign::stats::median;
+use codesign_core::ipopt::LinearSolver;
+use codesign_core::model::task::{Task, TaskFile};
+use codesign_core::model::Robot;
+use codesign_core::problem::{Formulation, ProblemKind, Space};
+use codesign_core::solve::{solve_design, SolveSeconds, SolveSettings};
 use std::path::Path;
 use std::process::Command;
 

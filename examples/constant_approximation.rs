@@ -7,11 +7,11 @@
 //! prints (Markdown) the elbow motor's peak torque and speed as the constant model reports them
 //! and as the screw gives them, beside the limits; then the true model solved at the same design.
 
-use codesign::model::task::{MatrixRow, Task};
-use codesign::model::Robot;
-use codesign::problem::{Formulation, Space};
-use codesign::solve::{solve_design, SolveSettings, TrajectoryResult};
-use codesign::transmission::{Depth, Transmission};
+use codesign_core::model::task::{MatrixRow, Task};
+use codesign_core::model::Robot;
+use codesign_core::problem::{Formulation, Space};
+use codesign_core::solve::{solve_design, SolveSettings, TrajectoryResult};
+use codesign_core::transmission::{Depth, Transmission};
 use std::error::Error;
 use std::path::Path;
 

@@ -2,7 +2,7 @@
 //! in-process evaluator and the experiment's capacity searches share. Whoever calls it keeps
 //! MUMPS, which is not thread-safe, to one thread.
 
-use crate::ipopt::LinearSolver;
+use codesign_core::ipopt::LinearSolver;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc::channel;
 

@@ -4,7 +4,7 @@
 //! before its next evaluation, its log kept), waits for it, and raises the signal's exception.
 
 use crate::errors::{Failure, Outcome};
-use codesign::signals;
+use codesign_core::signals;
 use pyo3::prelude::*;
 use std::sync::mpsc::{channel, RecvTimeoutError, Sender};
 use std::time::Duration;

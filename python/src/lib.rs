@@ -5,7 +5,7 @@
 //! The Python half (`python/codesign/`) turns the documents into objects with numpy arrays and
 //! the errors into its exception classes. Every solve runs on a thread of its own with the GIL
 //! released; the calling thread waits for it, looking every 100 ms whether Python has a signal
-//! to raise (Ctrl-C), and then asks the work to stop (`codesign::signals::request_stop`).
+//! to raise (Ctrl-C), and then asks the work to stop (`codesign_core::signals::request_stop`).
 
 mod errors;
 mod interrupt;
@@ -33,7 +33,7 @@ fn serve_worker(py: Python<'_>) -> PyResult<()> {
 fn versions() -> (String, String) {
     (
         env!("CARGO_PKG_VERSION").to_owned(),
-        codesign::ipopt::IPOPT_VERSION.to_owned(),
+        codesign_core::ipopt::IPOPT_VERSION.to_owned(),
     )
 }
 
@@ -42,7 +42,7 @@ fn versions() -> (String, String) {
 fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     // The interpreter owns INT: a Ctrl-C reaches the waiting thread as KeyboardInterrupt, which
     // then stops the work (see `interrupt`).
-    codesign::signals::leave_signals_to_host();
+    codesign_core::signals::leave_signals_to_host();
     module.add_class::<task::NativeTask>()?;
     module.add_class::<solution::NativeSolution>()?;
     module.add_function(wrap_pyfunction!(serve_worker, module)?)?;

@@ -2,32 +2,28 @@
 //! comes from with its payload and ends, and the space, limit modes and linear solver.
 
 use crate::errors::{Failure, Outcome};
-use clap::ValueEnum;
 use codesign::design::run::{Loaded, ModelChoice, ProblemChoice};
-use codesign::ipopt::LinearSolver;
-use codesign::model::task::{Ends, LimitMode, TaskFile, TaskSource};
-use codesign::model::Robot;
-use codesign::problem::{Formulation, Space};
-use codesign::text::number;
+use codesign_core::choice::Choice;
+use codesign_core::ipopt::LinearSolver;
+use codesign_core::model::task::{Ends, LimitMode, TaskFile, TaskSource};
+use codesign_core::model::Robot;
+use codesign_core::problem::{Formulation, Space};
+use codesign_core::text::number;
 use std::sync::Arc;
 
 /// The value of keyword `name` among the values of `T` (the command line's names), or an error
 /// listing them.
-pub fn choice<T: ValueEnum>(name: &str, text: &str) -> Outcome<T> {
-    T::from_str(text, false).map_err(|_| {
-        let names: Vec<String> = T::value_variants()
-            .iter()
-            .filter_map(|v| v.to_possible_value().map(|p| p.get_name().to_owned()))
-            .collect();
+pub fn choice<T: Choice>(name: &str, text: &str) -> Outcome<T> {
+    T::from_name(text).ok_or_else(|| {
         Failure::input(format!(
             "{name}={text:?}: must be one of {}",
-            names.join(", ")
+            T::names().join(", ")
         ))
     })
 }
 
 /// `choice` of an optional keyword.
-pub fn optional<T: ValueEnum>(name: &str, text: Option<&str>) -> Outcome<Option<T>> {
+pub fn optional<T: Choice>(name: &str, text: Option<&str>) -> Outcome<Option<T>> {
     text.map(|text| choice(name, text)).transpose()
 }
 
@@ -94,7 +90,7 @@ impl Posed {
             ends: optional::<Ends>("ends", keywords.ends)?,
         };
         if let Some(payload) = keywords.payload {
-            codesign::model::task::check_payload(payload)
+            codesign_core::model::task::check_payload(payload)
                 .map_err(|why| Failure::input(format!("payload={}: {why}", number(payload))))?;
         }
         let problem = ProblemChoice {

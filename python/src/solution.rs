@@ -4,8 +4,8 @@
 
 use crate::errors::Failure;
 use codesign::report::trajectory::SolveDocument;
-use codesign::solve::StartPoint;
 use codesign::store::document::document_json;
+use codesign_core::solve::StartPoint;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 

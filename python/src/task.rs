@@ -7,15 +7,15 @@ use crate::options::{Keywords, Posed, ReadTask};
 use crate::solution::NativeSolution;
 use codesign::design::capacity::{payload_capacity, CapacitySettings};
 use codesign::design::run::RecordedHash;
-use codesign::model::task::BUILT_IN_TASK;
-use codesign::model::task::{check_horizon, check_steps, GivenTask, TaskFile, TaskSource};
 use codesign::report::check::Inspection;
 use codesign::report::codesign::{CapacityDocument, CapacityInputs};
 use codesign::report::start::StartRecord;
 use codesign::report::trajectory::SolveDocument;
-use codesign::solve::{solve_design_from, SolveError, StartPoint, ToolInfo};
 use codesign::store::document::{document_json, Document};
-use codesign::text::number;
+use codesign_core::model::task::BUILT_IN_TASK;
+use codesign_core::model::task::{check_horizon, check_steps, GivenTask, TaskFile, TaskSource};
+use codesign_core::solve::{solve_design_from, SolveError, StartPoint, ToolInfo};
+use codesign_core::text::number;
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -54,7 +54,7 @@ pub fn task_text(py: Python<'_>, path: Option<PathBuf>) -> PyResult<String> {
         };
         return built_in().map_err(|e| Failure::solver(e.to_string()).into_py(py));
     };
-    codesign::input::read_text(&path, codesign::input::MAX_TASK_BYTES)
+    codesign_core::input::read_text(&path, codesign_core::input::MAX_TASK_BYTES)
         .map_err(|e| Failure::input(format!("task file {}: {e}", path.display())).into_py(py))
 }
 

@@ -7,12 +7,12 @@ use crate::design::capacity::{
     payload_capacity, Capacity, CapacityLimit, CapacitySettings, MIN_RESOLUTION_KG,
 };
 use crate::design::run::{Loaded, RecordedHash};
-use crate::model::task::MAX_PAYLOAD_KG;
-use crate::problem::Formulation;
 use crate::report::codesign::{CapacityDocument, CapacityInputs};
-use crate::solve::ToolInfo;
 use crate::store::document::write_document;
-use crate::text::number;
+use codesign_core::model::task::MAX_PAYLOAD_KG;
+use codesign_core::problem::Formulation;
+use codesign_core::solve::ToolInfo;
+use codesign_core::text::number;
 use std::path::PathBuf;
 
 /// Flags of `codesign capacity`.

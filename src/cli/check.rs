@@ -2,10 +2,10 @@
 
 use super::common::{finite_ratio, ModelArgs};
 use super::failure::Failure;
-use crate::dynamics::Dynamics;
 use crate::report::check::Inspection;
 use crate::report::mechanism::{linkage_reports, linkages_text, LinkageReport};
-use crate::transmission::Transmission;
+use codesign_core::dynamics::Dynamics;
+use codesign_core::transmission::Transmission;
 
 /// Flags of `codesign check`.
 #[derive(Debug, clap::Args)]

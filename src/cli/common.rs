@@ -3,12 +3,13 @@
 
 use super::failure::Failure;
 use super::run_flags::{case_error, case_message};
+use crate::cli::choice::choice;
 use crate::design::run::{task_source, Loaded, ModelChoice, ProblemChoice};
-use crate::ipopt::LinearSolver;
-use crate::model::task::{Ends, LimitMode, LimitModes, Task, TaskSource};
-use crate::model::Robot;
-use crate::problem::Space;
-use crate::solve::SolveSettings;
+use codesign_core::ipopt::LinearSolver;
+use codesign_core::model::task::{Ends, LimitMode, LimitModes, Task, TaskSource};
+use codesign_core::model::Robot;
+use codesign_core::problem::Space;
+use codesign_core::solve::SolveSettings;
 use std::path::PathBuf;
 
 /// Reads one gear ratio of `--ratios`: a finite number, so that NaN and inf are usage errors
@@ -48,7 +49,7 @@ pub struct ModelArgs {
     /// `paper` nothing (the paper's formulation), `hold` the load held at rest there within the
     /// control limits, `rest` that and zero acceleration at the first and last interval;
     /// overrides the task's `motion.ends` [default: the task's; a task without it: hold].
-    #[arg(long, value_enum, value_name = "ENDS")]
+    #[arg(long, value_parser = choice::<Ends>(), value_name = "ENDS")]
     pub ends: Option<Ends>,
 }
 
@@ -105,18 +106,22 @@ impl ModelArgs {
 /// The space and limit modes of the trajectory problem.
 #[derive(Debug, Clone, clap::Args)]
 pub struct ProblemArgs {
-    /// Joint torques (baseline) or motor torques (the paper's method) as controls.
-    #[arg(long, value_enum, default_value = "actuation")]
+    /// The controls: `joint` torques (the baseline, actuator limits mapped to joint space) or
+    /// `actuation`, the motor torques, tau = G^T tau_u (the paper's method).
+    #[arg(long, value_parser = choice::<Space>(), default_value = "actuation")]
     pub space: Space,
-    /// Joint torque limit mode of the joint-space problem; default: the task's.
-    #[arg(long, value_enum, value_name = "MODE")]
+    /// Joint torque limit mode of the joint-space problem: `paper`, G^T applied elementwise to
+    /// the bounds as the paper prints; `interval`, the tightest symmetric box holding the true
+    /// polytope; `exact`, the true limits as linear constraints; default: the task's.
+    #[arg(long, value_parser = choice::<LimitMode>(), value_name = "MODE")]
     pub torque_mode: Option<LimitMode>,
-    /// Joint speed limit mode; default: the task's.
-    #[arg(long, value_enum, value_name = "MODE")]
+    /// Joint speed limit mode, as `--torque-mode` with G^-1 (`paper`, `interval`, `exact`);
+    /// default: the task's.
+    #[arg(long, value_parser = choice::<LimitMode>(), value_name = "MODE")]
     pub speed_mode: Option<LimitMode>,
     /// Linear solver inside IPOPT: codesign's sparse LDLᵀ or MUMPS; default: the task's
     /// `solver.linear_solver`, else ldl.
-    #[arg(long, value_enum, value_name = "SOLVER")]
+    #[arg(long, value_parser = choice::<LinearSolver>(), value_name = "SOLVER")]
     pub linear_solver: Option<LinearSolver>,
 }
 

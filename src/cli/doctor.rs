@@ -1,6 +1,6 @@
 //! `codesign doctor`: proves that the IPOPT this binary links works, end to end.
 
-use crate::ipopt::{
+use codesign_core::ipopt::{
     check_derivatives, solve, DerivativeOrder, Hs071, Options, HS071_OPTIMUM, IPOPT_VERSION,
 };
 

@@ -3,7 +3,7 @@
 
 use super::common::{listed_number, ModelArgs};
 use super::failure::Failure;
-use crate::dynamics::Dynamics;
+use codesign_core::dynamics::Dynamics;
 use nalgebra::DMatrix;
 use serde::Serialize;
 

@@ -59,6 +59,7 @@ fn stdout_failure() -> Option<String> {
 
 mod capacity;
 mod check;
+mod choice;
 mod common;
 mod doctor;
 mod dynamics;

@@ -5,6 +5,7 @@ use super::common::{listed_number, ModelArgs, ProblemArgs};
 use super::failure::Failure;
 use super::run_flags::{case_error, RunArgs};
 use super::store_hints::run_error;
+use crate::cli::choice::choice;
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::gradient::GradientSettings;
@@ -21,8 +22,9 @@ use std::path::PathBuf;
 pub struct Args {
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Outer-level method: CMA-ES (the paper's) or projected quasi-Newton on dJ*/dr.
-    #[arg(long, value_enum, default_value = "cmaes")]
+    /// Outer-level method: `cmaes`, CMA-ES as in pagmo (the paper's), or `gradient`, projected
+    /// quasi-Newton on the exact dJ*/dr with warm-started inner solves.
+    #[arg(long, value_parser = choice::<Method>(), default_value = "cmaes")]
     pub method: Method,
     /// What to minimise: the trajectory cost at the payload, or minus the payload capacity
     /// (each evaluation then bisects the payload: about 10 solves).

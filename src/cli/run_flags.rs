@@ -5,12 +5,13 @@
 //! `-`, unless [`RENAMED`] says otherwise.
 
 use super::failure::Failure;
+use crate::cli::choice::choice;
 use crate::design::bounds::BoundHandling;
 use crate::design::run::{shell_quote, Case, CaseError, Execution, Method, RunSettings};
 use crate::design::warm::WarmStart;
 use crate::design::workers::SOLVE_TIMEOUT_S;
-use crate::model::task::TaskSource;
 use crate::store::log::Start;
+use codesign_core::model::task::TaskSource;
 use serde_json::{Map, Value};
 
 /// The flags of CMA-ES runs and their workers that `optimize` and `reproduce` share.
@@ -19,12 +20,12 @@ pub struct RunArgs {
     /// What CMA-ES does with a sample outside the design space (bounds, order constraints):
     /// `penalty` evaluates it as drawn, so it scores the penalty (the paper's rule); `clip`
     /// evaluates and logs its Euclidean projection onto the space instead (pagmo's force_bounds).
-    #[arg(long, value_enum, default_value_t = BoundHandling::Penalty)]
+    #[arg(long, value_parser = choice::<BoundHandling>(), default_value_t = BoundHandling::Penalty)]
     pub bounds: BoundHandling,
     /// Whether CMA-ES starts the designs of each generation from a solution of the generation's
     /// mean (cost objective only), falling back to the standard guess where that fails; `off`
     /// starts every design from the standard guess (the paper's).
-    #[arg(long, value_enum, default_value_t = WarmStart::default())]
+    #[arg(long, value_parser = choice::<WarmStart>(), default_value_t = WarmStart::default())]
     pub warm_start: WarmStart,
     /// Worker processes of CMA-ES; threads of the gradient method's candidate starts and
     /// descents (its worker processes with --worker-command) and of `reproduce`'s capacity

@@ -4,18 +4,18 @@ use super::common::{finite_ratio, ModelArgs, ProblemArgs};
 use super::failure::{Failure, INFEASIBLE_EXIT};
 use super::store_hints::check_output;
 use crate::design::run::Loaded;
-use crate::ipopt::{check_derivatives, DerivativeOrder};
-use crate::model::task::{check_horizon, check_steps, PerMotor, Task};
-use crate::problem::{EndHold, Formulation, Space, StaticHold};
 use crate::report::start::{read_start, StartFile, StartRecord};
 use crate::report::trajectory::{every_plot_file, write_plots, SolveDocument};
-use crate::solve::{
+use crate::store::document::write_document;
+use crate::store::files::check_folder;
+use codesign_core::ipopt::{check_derivatives, DerivativeOrder};
+use codesign_core::model::task::{check_horizon, check_steps, PerMotor, Task};
+use codesign_core::problem::{EndHold, Formulation, Space, StaticHold};
+use codesign_core::solve::{
     least_envelope_margin, solve_design_from, ElasticMeasures, SolveError, SolveSettings,
     StartPoint, TrajectoryResult,
 };
-use crate::store::document::write_document;
-use crate::store::files::check_folder;
-use crate::text::{number, rounded};
+use codesign_core::text::{number, rounded};
 use std::path::PathBuf;
 
 /// Flags of `codesign solve`.

@@ -1,7 +1,7 @@
 //! `codesign task`: prints the built-in task, or the built-in robot, as a starting point.
 
-use crate::model::task::BUILT_IN_TASK;
-use crate::model::BUILT_IN_URDF;
+use codesign_core::model::task::BUILT_IN_TASK;
+use codesign_core::model::BUILT_IN_URDF;
 
 /// Flags of `codesign task`.
 #[derive(Debug, clap::Args)]
@@ -32,7 +32,7 @@ pub fn run(args: &Args) -> Result<(), String> {
 
 #[cfg(test)]
 mod tests {
-    use crate::model::task::{Ends, Task};
+    use codesign_core::model::task::{Ends, Task};
 
     #[test]
     fn the_template_is_the_built_in_task_holding_its_load() {

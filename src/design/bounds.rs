@@ -2,12 +2,13 @@
 //! paper's rule), or projected onto the space before they are evaluated (pagmo's `force_bounds`,
 //! extended to the order constraints).
 
-use crate::transmission::DesignSpace;
+use codesign_core::choice::Choice;
+use codesign_core::transmission::DesignSpace;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
 /// What becomes of a sample that breaks a bound or an order constraint.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum BoundHandling {
     /// Evaluated as drawn: such a design scores the penalty (the paper's rule).
@@ -17,6 +18,17 @@ pub enum BoundHandling {
     /// before it is evaluated and logged; CMA-ES keeps its own sample and is told the fitness of
     /// the projected design, as pagmo's `force_bounds` does with the bounds alone.
     Clip,
+}
+
+impl Choice for BoundHandling {
+    const ALL: &'static [BoundHandling] = &[BoundHandling::Penalty, BoundHandling::Clip];
+
+    fn name(self) -> &'static str {
+        match self {
+            BoundHandling::Penalty => "penalty",
+            BoundHandling::Clip => "clip",
+        }
+    }
 }
 
 impl BoundHandling {
@@ -43,10 +55,7 @@ impl BoundHandling {
 impl fmt::Display for BoundHandling {
     /// The flag's value: `penalty` or `clip`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            BoundHandling::Penalty => "penalty",
-            BoundHandling::Clip => "clip",
-        })
+        f.write_str(self.name())
     }
 }
 
@@ -54,11 +63,13 @@ impl fmt::Display for BoundHandling {
 mod tests {
     use super::BoundHandling;
     use crate::design::cmaes::{Cmaes, CmaesSettings};
-    use crate::transmission::Transmission;
+    use codesign_core::choice::Choice;
+    use codesign_core::transmission::Transmission;
 
     #[test]
     fn clipped_samples_lie_in_the_design_space() {
-        let transmission = Transmission::from_spec(&crate::testing::task().transmission).unwrap();
+        let transmission =
+            Transmission::from_spec(&codesign_core::testing::task().transmission).unwrap();
         let space = transmission.design_space();
         let settings = CmaesSettings {
             population: 16,
@@ -94,7 +105,7 @@ mod tests {
     fn the_flag_reads_and_prints_alike() {
         for handling in [BoundHandling::Penalty, BoundHandling::Clip] {
             let text = handling.to_string();
-            let parsed = <BoundHandling as clap::ValueEnum>::from_str(&text, false).unwrap();
+            let parsed = BoundHandling::from_name(&text).unwrap();
             assert_eq!(parsed, handling);
             assert_eq!(serde_json::to_value(handling).unwrap(), text.as_str());
         }

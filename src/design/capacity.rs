@@ -10,8 +10,8 @@
 //! goes beyond the largest payload the motors hold at rest at both ends, which is known in
 //! closed form ([`Formulation::hold_capacity`]), so no capacity exceeds it.
 
-use crate::problem::{Formulation, FormulationError};
-use crate::solve::{
+use codesign_core::problem::{Formulation, FormulationError};
+use codesign_core::solve::{
     solve_design_along, PayloadChain, SolveError, SolveSettings, VerdictBy, CONTINUATION_STEP_KG,
 };
 use serde::{Deserialize, Serialize};
@@ -287,8 +287,8 @@ fn bracket(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::problem::Space;
-    use crate::testing;
+    use codesign_core::problem::Space;
+    use codesign_core::testing;
 
     /// The searches' settings: 0.05 kg resolution, a first step of 1 kg, up to 16 kg.
     fn settings() -> CapacitySettings {
@@ -353,10 +353,14 @@ mod tests {
         let mut task = testing::held_task();
         task.payload.mass_kg = 0.0;
         task.motion.steps = 20;
-        let robot = crate::model::Robot::load(&task).unwrap();
-        let formulation =
-            crate::problem::Formulation::new(&task, robot, Space::Actuation, task.limit_modes)
-                .unwrap();
+        let robot = codesign_core::model::Robot::load(&task).unwrap();
+        let formulation = codesign_core::problem::Formulation::new(
+            &task,
+            robot,
+            Space::Actuation,
+            task.limit_modes,
+        )
+        .unwrap();
         let settings = settings();
         let held = [9.0, 8.99, 3.0, 3.0];
         let capacity =
@@ -381,7 +385,8 @@ mod tests {
         }
         for (payload, feasible) in [(low, true), (high, false)] {
             let at = formulation.with_payload(payload).unwrap();
-            let result = crate::solve::solve_design(&at, &held, &testing::settings()).unwrap();
+            let result =
+                codesign_core::solve::solve_design(&at, &held, &testing::settings()).unwrap();
             assert_eq!(result.feasible, feasible, "{payload} kg: {result:?}");
         }
     }

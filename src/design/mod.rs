@@ -10,7 +10,6 @@ pub mod gradient;
 pub mod optimize;
 pub mod outcome;
 pub mod penalty;
-pub mod rng;
 pub mod run;
 pub mod score;
 pub mod warm;

@@ -10,8 +10,8 @@ use super::score::{Evaluation, Status};
 use super::warm::WarmStart;
 use crate::stats::median;
 use crate::store;
-use crate::text::number;
-use crate::transmission::DesignSpace;
+use codesign_core::text::number;
+use codesign_core::transmission::DesignSpace;
 use std::fmt;
 
 /// The evaluation log of a co-design run: one entry per evaluation (see [`store::log`]).

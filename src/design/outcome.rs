@@ -1,7 +1,7 @@
 //! What an outer method found, in one type for CMA-ES and the gradient method, with the
 //! progress records each keeps.
 
-use crate::ipopt::Solution;
+use codesign_core::ipopt::Solution;
 use serde::{Deserialize, Serialize};
 
 /// The result of a co-design run, whichever method made it.

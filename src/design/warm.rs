@@ -1,11 +1,12 @@
 //! Whether the designs of a CMA-ES generation start from a solution of that generation's mean
 //! (docs/model.md, section 10) or from the standard initial guess.
 
+use codesign_core::choice::Choice;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
 /// How the inner solves of a CMA-ES run start.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum WarmStart {
     /// Each generation's mean, projected onto the design space, is solved once (per worker);
@@ -19,6 +20,17 @@ pub enum WarmStart {
     /// Every design from the standard initial guess (the paper's; every run logged before warm
     /// starts existed).
     Off,
+}
+
+impl Choice for WarmStart {
+    const ALL: &'static [WarmStart] = &[WarmStart::On, WarmStart::Off];
+
+    fn name(self) -> &'static str {
+        match self {
+            WarmStart::On => "on",
+            WarmStart::Off => "off",
+        }
+    }
 }
 
 impl WarmStart {
@@ -41,9 +53,6 @@ impl WarmStart {
 impl fmt::Display for WarmStart {
     /// The flag's value: `on` or `off`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            WarmStart::On => "on",
-            WarmStart::Off => "off",
-        })
+        f.write_str(self.name())
     }
 }

@@ -3,12 +3,12 @@
 
 use crate::design::capacity::CapacityError;
 use crate::design::run::RunError;
-use crate::model::task::TaskSource;
-use crate::model::ModelError;
-use crate::problem::FormulationError;
 use crate::report::ReportError;
-use crate::solve::{SettingsError, SolveError};
 use crate::store::StoreError;
+use codesign_core::model::task::TaskSource;
+use codesign_core::model::ModelError;
+use codesign_core::problem::FormulationError;
+use codesign_core::solve::{SettingsError, SolveError};
 use std::fmt;
 use std::path::PathBuf;
 

@@ -7,15 +7,15 @@ use super::stages::{capacity_documents, run_section, CapacityJob};
 use super::{merge, CapacityOf, Event, ExperimentError, ExperimentTask, Observer, Outcomes};
 use super::{Plan, SPACES};
 use crate::design::run::OptimizeDocument;
-use crate::model::experiment::Budget;
-use crate::problem::Space;
 use crate::report::codesign::{cost_evolution_chart, ratio_chart, CapacityDocument};
 use crate::report::plots::Figure;
 use crate::report::table::{build_table, PaperTable, ResultFile};
 use crate::report::trajectory::write_plots;
-use crate::solve::TrajectoryResult;
 use crate::store::document::write_document;
 use crate::store::files::{create_folder, remove_stale, write_atomic};
+use codesign_core::model::experiment::Budget;
+use codesign_core::problem::Space;
+use codesign_core::solve::TrajectoryResult;
 use std::path::Path;
 use std::time::Instant;
 

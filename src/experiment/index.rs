@@ -4,12 +4,12 @@
 //! security policy lets it load nothing but images beside it.
 
 use super::Layout;
-use crate::problem::Space;
 use crate::report::poses::{MOTION_FILE, POSES_FILE};
 use crate::report::table::{escape_html, to_html, PaperTable};
 use crate::report::trajectory::{ENVELOPE_PLOT_FILE, PLOT_FILES};
 use crate::report::ReportError;
 use crate::store::files::write_atomic;
+use codesign_core::problem::Space;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 

@@ -13,7 +13,7 @@
 //! OUT_DIR/hold/                                the hold section, laid out the same way
 //! ```
 
-use crate::problem::Space;
+use codesign_core::problem::Space;
 use std::fmt;
 use std::path::{Path, PathBuf};
 

@@ -9,12 +9,12 @@ use crate::design::run::{
     task_source, Case, CaseError, Execution, Method, ModelChoice, ProblemChoice, RunSettings,
 };
 use crate::design::score::{Objective, PayloadRange};
-use crate::ipopt::LinearSolver;
-use crate::model::experiment::{Budget, Experiment, MAX_SEEDS};
-use crate::model::task::Ends;
-use crate::problem::Space;
 use crate::report::trajectory::every_plot_file;
 use crate::store::log::Start;
+use codesign_core::ipopt::LinearSolver;
+use codesign_core::model::experiment::{Budget, Experiment, MAX_SEEDS};
+use codesign_core::model::task::Ends;
+use codesign_core::problem::Space;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -445,8 +445,8 @@ impl Plan {
 mod tests {
     use super::{Plan, PlanError, PlanRequest};
     use crate::design::run::{Execution, Method, RunSettings};
-    use crate::model::experiment::{Budget, Experiment};
-    use crate::model::task::Ends;
+    use codesign_core::model::experiment::{Budget, Experiment};
+    use codesign_core::model::task::Ends;
 
     /// The request of a reproduction with every value the experiment's.
     fn request() -> PlanRequest {

@@ -7,14 +7,14 @@ use crate::design::capacity::{payload_capacity, Capacity, CapacitySettings};
 use crate::design::optimize::Progress;
 use crate::design::run::{run_case, task_source, OptimizeDocument, RecordedHash, RunError};
 use crate::parallel::{in_order, solve_threads};
-use crate::problem::Space;
 use crate::report::codesign::{CapacityDocument, CapacityInputs};
 use crate::report::table::{PaperTable, ResultFile};
 use crate::report::trajectory::{write_plots, SolveDocument};
-use crate::solve::{solve_design, ToolInfo, TrajectoryResult};
 use crate::store::document::write_document;
 use crate::store::files::create_folder;
 use crate::store::log::{Start, LOG_EXTENSION};
+use codesign_core::problem::Space;
+use codesign_core::solve::{solve_design, ToolInfo, TrajectoryResult};
 use std::convert::Infallible;
 use std::path::{Path, PathBuf};
 

@@ -3,11 +3,11 @@
 
 use super::{ExperimentError, Plan};
 use crate::design::run::task_source;
-use crate::model::identity::task_hash;
-use crate::model::task::{Task, TaskFile};
-use crate::model::Robot;
-use crate::problem::{Formulation, Space};
-use crate::solve::SolveSettings;
+use codesign_core::model::identity::task_hash;
+use codesign_core::model::task::{Task, TaskFile};
+use codesign_core::model::Robot;
+use codesign_core::problem::{Formulation, Space};
+use codesign_core::solve::SolveSettings;
 
 /// The experiment's task, checked with its robot.
 pub struct ExperimentTask {

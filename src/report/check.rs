@@ -2,13 +2,13 @@
 //! TCP at the start and the goal, G at a design and its inverse, the static gravity torques at
 //! both ends against each motor's own torque limit, the design space, and a verdict per check.
 
-use crate::dynamics::Dynamics;
-use crate::model::chain::JointKind;
-use crate::model::task::{Ends, Task};
-use crate::model::Robot;
-use crate::problem::{EndHold, HoldRows, Space};
-use crate::text::{number, numbers, shown};
-use crate::transmission::{JointLimits, Transmission};
+use codesign_core::dynamics::Dynamics;
+use codesign_core::model::chain::JointKind;
+use codesign_core::model::task::{Ends, Task};
+use codesign_core::model::Robot;
+use codesign_core::problem::{EndHold, HoldRows, Space};
+use codesign_core::text::{number, numbers, shown};
+use codesign_core::transmission::{JointLimits, Transmission};
 use nalgebra::DMatrix;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -506,8 +506,8 @@ fn four_places(values: &[f64]) -> String {
 #[cfg(test)]
 mod tests {
     use super::Inspection;
-    use crate::model::task::Task;
-    use crate::model::Robot;
+    use codesign_core::model::task::Task;
+    use codesign_core::model::Robot;
 
     /// Without a task the TCP is on the URDF's tip link, and the inspection names that link,
     /// not another merged into the same body (a gripper's finger), wherever the URDF lists it.

@@ -5,9 +5,9 @@
 use super::plots::{Bars, CostEvolution, CostRun, DrawResult, Figure, Radar};
 use crate::design::capacity::{Capacity, CapacitySettings};
 use crate::design::run::{OptimizeDocument, RecordedHash};
-use crate::model::task::{Ends, LimitModes};
-use crate::problem::Space;
-use crate::solve::ToolInfo;
+use codesign_core::model::task::{Ends, LimitModes};
+use codesign_core::problem::Space;
+use codesign_core::solve::ToolInfo;
 use serde::{Deserialize, Serialize};
 
 /// What defined a capacity search: the task, the space, the design and the search's settings

@@ -1,10 +1,10 @@
 //! Why a report could not be made: a chart not drawn, a file not written, a result file not
 //! read, or results that make no table together.
 
-use crate::input::InputError;
 use crate::store::document::EnvelopeError;
 use crate::store::StoreError;
-use crate::transmission::DesignError;
+use codesign_core::input::InputError;
+use codesign_core::transmission::DesignError;
 use std::fmt;
 use std::path::PathBuf;
 

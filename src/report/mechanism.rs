@@ -3,12 +3,12 @@
 //! torque at the start and the goal through G(q), and where it reaches
 //! a dead point, leaves its stroke or cannot close (docs/model.md, section 17).
 
-use crate::dynamics::{Dynamics, Workspace};
-use crate::model::matrix_row::MatrixRow;
-use crate::model::task::Task;
-use crate::text::rounded as number;
-use crate::transmission::linkage::{Linkage, ResolveError, Variables};
-use crate::transmission::Transmission;
+use codesign_core::dynamics::{Dynamics, Workspace};
+use codesign_core::model::matrix_row::MatrixRow;
+use codesign_core::model::task::Task;
+use codesign_core::text::rounded as number;
+use codesign_core::transmission::linkage::{Linkage, ResolveError, Variables};
+use codesign_core::transmission::Transmission;
 use serde::Serialize;
 use std::f64::consts::PI;
 use std::fmt::Write as _;

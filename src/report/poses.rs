@@ -8,9 +8,9 @@
 
 use super::trajectory::{path_plane, plot_title, WorldAxis};
 use super::ReportError;
-use crate::problem::Formulation;
-use crate::solve::TrajectoryResult;
 use crate::store::files::write_atomic;
+use codesign_core::problem::Formulation;
+use codesign_core::solve::TrajectoryResult;
 use nalgebra::Vector3;
 use std::fmt::Write;
 use std::path::Path;

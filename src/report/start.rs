@@ -4,8 +4,8 @@
 
 use super::table::{read_result_file, ResultFile};
 use super::{ReadFailure, ReportError};
-use crate::problem::Formulation;
-use crate::solve::{StartError, StartPoint};
+use codesign_core::problem::Formulation;
+use codesign_core::solve::{StartError, StartPoint};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::path::{Path, PathBuf};

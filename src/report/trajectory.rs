@@ -4,11 +4,13 @@ use super::plots::{Chart, Figure, Guide, Line, Series};
 use super::start::StartRecord;
 use super::ReportError;
 use crate::design::run::RecordedHash;
-use crate::model::chain::JointKind;
-use crate::model::task::{LimitModes, SoftInterval, Task};
-use crate::problem::{Formulation, Space};
-use crate::solve::{SolveSettings, StartPoint, TaskRecord, ToolInfo, Trajectory, TrajectoryResult};
-use crate::transmission::{Envelope, JointLimits};
+use codesign_core::model::chain::JointKind;
+use codesign_core::model::task::{LimitModes, SoftInterval, Task};
+use codesign_core::problem::{Formulation, Space};
+use codesign_core::solve::{
+    SolveSettings, StartPoint, TaskRecord, ToolInfo, Trajectory, TrajectoryResult,
+};
+use codesign_core::transmission::{Envelope, JointLimits};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -457,7 +459,7 @@ fn tcp_path(task: &Task, t: &Trajectory, title: &str) -> Chart {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::testing;
+    use codesign_core::testing;
 
     /// A trajectory of `nodes` nodes whose TCP runs through `tcp(s)`, s from 0 to 1, with
     /// `joints` joints and motors.
@@ -587,7 +589,7 @@ mod tests {
 
     #[test]
     fn the_torque_speed_plot_draws_each_motor_inside_its_envelope() {
-        use crate::model::task::{Motors, PerMotor};
+        use codesign_core::model::task::{Motors, PerMotor};
         let mut motors = Motors::ideal(PerMotor::Each(vec![1.7, 1.0]), PerMotor::All(100.0));
         motors.no_load_speed_rad_s = Some(PerMotor::All(50.0));
         let envelope = Envelope::of(&motors, 2).unwrap();

@@ -6,7 +6,7 @@
 //! replaced keeps its permission bits. Temporary files never open what is already at their name.
 
 use super::{Action, FileKind, Refusal, StoreError};
-use crate::signals;
+use codesign_core::signals;
 use std::ffi::{CString, OsStr};
 use std::fs::{File, Metadata, OpenOptions, Permissions};
 use std::io::{Read, Write};

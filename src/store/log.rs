@@ -19,7 +19,7 @@ use super::files::{resolved, same_file};
 use super::lines::{next_line, Line};
 use super::lock::lock_file;
 use super::{Action, Damage, StoreError, Thing};
-use crate::hash::fnv1a;
+use codesign_core::hash::fnv1a;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;

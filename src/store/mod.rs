@@ -1,9 +1,9 @@
-//! The storage room, on the ground floor: result files written whole or not at all
+//! The result store: result files written whole or not at all
 //! ([`files`]), the evaluation log of a co-design run ([`log`]), and the advisory locks that keep
 //! two runs off one output ([`lock`]).
 //!
-//! The store imports nothing from the rest of the crate but the ground-floor hash
-//! ([`crate::hash`], its log's checksums). Its errors are typed ([`StoreError`])
+//! The store imports nothing from the rest of the crate, and of the core only the hash
+//! ([`codesign_core::hash`], its log's checksums). Its errors are typed ([`StoreError`])
 //! and name paths, never command-line flags: the command line adds the flags that lead on.
 
 pub mod document;

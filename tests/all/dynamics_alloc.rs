@@ -1,9 +1,9 @@
 //! The dynamics allocate nothing per call once the outputs have their shapes: counted by a global
 //! allocator, on this thread only.
 
-use codesign::dynamics::Dynamics;
-use codesign::model::task::Task;
-use codesign::model::Robot;
+use codesign_core::dynamics::Dynamics;
+use codesign_core::model::task::Task;
+use codesign_core::model::Robot;
 use nalgebra::DMatrix;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;

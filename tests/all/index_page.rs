@@ -7,8 +7,8 @@ use crate::support;
 
 use codesign::experiment::write_index;
 use codesign::experiment::Layout;
-use codesign::problem::Space;
 use codesign::report::table::{build_table, read_result_file, PaperTable};
+use codesign_core::problem::Space;
 use serde_json::Value;
 use std::path::Path;
 use std::time::Duration;

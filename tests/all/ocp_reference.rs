@@ -2,11 +2,11 @@
 //! IPOPT 3.14 implementation) reproduce their optimal cost to 1e-6 relative, with either linear
 //! solver inside IPOPT.
 
-use codesign::ipopt::LinearSolver;
-use codesign::model::task::{Ends, Task};
-use codesign::model::Robot;
-use codesign::problem::{Formulation, Space};
-use codesign::solve::{solve_design, solve_design_from, solve_elastic, SolveSettings};
+use codesign_core::ipopt::LinearSolver;
+use codesign_core::model::task::{Ends, Task};
+use codesign_core::model::Robot;
+use codesign_core::problem::{Formulation, Space};
+use codesign_core::solve::{solve_design, solve_design_from, solve_elastic, SolveSettings};
 
 use crate::support;
 

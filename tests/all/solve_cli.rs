@@ -53,7 +53,7 @@ fn writes_the_result_file_and_plots() {
     assert_eq!(result["inputs"]["space"], "joint");
     assert_eq!(
         result["tool"]["ipopt_version"],
-        codesign::ipopt::IPOPT_VERSION
+        codesign_core::ipopt::IPOPT_VERSION
     );
     for key in ["total", "callbacks", "ipopt"] {
         assert!(result["solve_seconds"][key].as_f64().unwrap() >= 0.0);

@@ -20,9 +20,12 @@ pub fn task_path() -> PathBuf {
 }
 
 /// The solve settings of the task file's `solver` section, with `linear_solver`.
-pub fn settings(linear_solver: codesign::ipopt::LinearSolver) -> codesign::solve::SolveSettings {
-    let file = codesign::model::task::TaskFile::load(&task_path()).expect("the task file loads");
-    let mut settings = codesign::solve::SolveSettings::from_section(file.solver.as_ref())
+pub fn settings(
+    linear_solver: codesign_core::ipopt::LinearSolver,
+) -> codesign_core::solve::SolveSettings {
+    let file =
+        codesign_core::model::task::TaskFile::load(&task_path()).expect("the task file loads");
+    let mut settings = codesign_core::solve::SolveSettings::from_section(file.solver.as_ref())
         .expect("its solver section is valid");
     settings.linear_solver = Some(linear_solver);
     settings

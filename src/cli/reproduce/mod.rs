@@ -6,16 +6,17 @@ mod words;
 
 use super::failure::Failure;
 use super::store_hints::{check_output, hint};
+use crate::cli::choice::choice;
 use crate::cli::run_flags::{case_error, RunArgs};
 use crate::design::run::task_source;
 use crate::design::run::{Method, RunSettings};
 use crate::experiment::{run_experiment, ExperimentTask, Section};
 use crate::experiment::{Plan, PlanError, PlanRequest};
-use crate::ipopt::LinearSolver;
-use crate::model::task::Ends;
 use crate::store::files::create_folder;
 use crate::store::lock::lock_folder;
 use crate::store::log::Start;
+use codesign_core::ipopt::LinearSolver;
+use codesign_core::model::task::Ends;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use words::experiment_error;
@@ -48,7 +49,7 @@ pub struct Args {
     #[arg(long, value_name = "FILE")]
     task: Option<PathBuf>,
     /// Linear solver inside IPOPT; default: the task's `solver.linear_solver`, else ldl.
-    #[arg(long, value_enum, value_name = "SOLVER")]
+    #[arg(long, value_parser = choice::<LinearSolver>(), value_name = "SOLVER")]
     linear_solver: Option<LinearSolver>,
     /// The CMA-ES runs' bound handling and warm starts, and their workers (as `optimize`'s).
     #[command(flatten)]
@@ -56,7 +57,7 @@ pub struct Args {
     /// What the motion asks at its ends in every run (see `solve --ends`); default: the task's
     /// `motion.ends` (the built-in task's: paper). Under `paper`, Table II's cases are solved
     /// under `hold` as well, in OUT_DIR/hold/, for the table's section on holding the load.
-    #[arg(long, value_enum, value_name = "ENDS")]
+    #[arg(long, value_parser = choice::<Ends>(), value_name = "ENDS")]
     ends: Option<Ends>,
     /// Continue an interrupted reproduction from its evaluation logs.
     #[arg(long)]

@@ -21,7 +21,7 @@
 //! random numbers come from [`DesignRng`], the logarithms, exponentials and powers from `libm`,
 //! and no product goes through a CPU-dependent matrix kernel.
 
-use super::rng::DesignRng;
+use codesign_core::rng::DesignRng;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use std::cmp::Ordering;
 

@@ -1,6 +1,6 @@
 //! The settings of a CMA-ES run, their defaults and ranges, and why a run stops.
 
-use crate::model::experiment::Budget;
+use codesign_core::model::experiment::Budget;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 

@@ -5,10 +5,10 @@
 use super::{Designs, Done, EvaluateError, Evaluator};
 use crate::design::penalty::Penalty;
 use crate::design::score::{Descent, Evaluation, Fitness};
-use crate::ipopt::Solution;
 use crate::parallel;
-use crate::signals;
-use crate::solve::StartPoint;
+use codesign_core::ipopt::Solution;
+use codesign_core::signals;
+use codesign_core::solve::StartPoint;
 
 /// Designs scored by `threads` threads of this process with one [`Fitness`].
 pub struct InProcess {
@@ -101,11 +101,11 @@ impl Evaluator for InProcess {
 mod tests {
     use super::*;
     use crate::design::score::Objective;
-    use crate::problem::Space;
+    use codesign_core::problem::Space;
 
     fn fitness() -> Fitness {
-        let task = crate::testing::task();
-        let settings = crate::testing::settings();
+        let task = codesign_core::testing::task();
+        let settings = codesign_core::testing::settings();
         let (space, modes) = (Space::Actuation, task.limit_modes);
         Fitness::new(
             &task,

@@ -15,8 +15,8 @@ pub use process::WorkerEvaluator;
 use super::penalty::Penalty;
 use super::score::{Descent, Evaluation};
 use super::workers::WorkerError;
-use crate::solve::StartPoint;
 use crate::store::StoreError;
+use codesign_core::solve::StartPoint;
 use std::fmt;
 
 /// Designs to evaluate, each with the caller's identifier (echoed to `done`).

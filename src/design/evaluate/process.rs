@@ -5,7 +5,7 @@ use super::{Designs, Done, EvaluateError, Evaluator};
 use crate::design::penalty::Penalty;
 use crate::design::score::{Descent, Evaluation, Objective, Score, Verdict};
 use crate::design::workers::{Answer, DescentRequest, Launcher, Pool, WorkerError, WorkerSetup};
-use crate::solve::StartPoint;
+use codesign_core::solve::StartPoint;
 use std::sync::{Mutex, MutexGuard, PoisonError};
 use std::time::Duration;
 

@@ -4,8 +4,8 @@
 use super::{GradientError, GradientSettings, Point, Solves};
 use crate::design::outcome::GradientIterate;
 use crate::parallel;
-use crate::signals;
-use crate::transmission::DesignSpace;
+use codesign_core::signals;
+use codesign_core::transmission::DesignSpace;
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()

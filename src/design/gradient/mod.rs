@@ -14,7 +14,7 @@
 
 //!
 //! Every solve goes through an [`Evaluator`] (`Evaluator::descend`), in this process or on
-//! worker processes; the rooms: `starts` (the candidate starts), `descent` (the quasi-Newton
+//! worker processes; its modules: `starts` (the candidate starts), `descent` (the quasi-Newton
 //! descent and its line search).
 
 mod descent;
@@ -28,8 +28,8 @@ use super::evaluate::{EvaluateError, Evaluator};
 use super::outcome::{DesignOutcome, GradientIterate, MethodOutcome};
 use super::score::{Descent, Merit};
 use super::workers::WorkerError;
-use crate::solve::StartPoint;
-use crate::transmission::Transmission;
+use codesign_core::solve::StartPoint;
+use codesign_core::transmission::Transmission;
 use std::fmt;
 
 /// Settings of a gradient-based run; `Default` gives the values `optimize` and `reproduce` use.
@@ -213,7 +213,7 @@ pub fn optimize_gradient(
     let set = transmission.design_space();
     let penalty = evaluator.penalty();
     let mut solves = Solves::new(evaluator);
-    let interrupted = || crate::signals::stop_requested();
+    let interrupted = || codesign_core::signals::stop_requested();
     let (candidates, solved) = starts::descent_starts(transmission, settings, &mut solves)?;
     if interrupted() {
         return Err(GradientError::Interrupted);

@@ -2,7 +2,7 @@
 //! the box by the Halton sequence, solved cold, with fallbacks while too few are usable.
 
 use super::{GradientError, GradientSettings, Point, Solves};
-use crate::transmission::Transmission;
+use codesign_core::transmission::Transmission;
 use std::ops::Range;
 
 /// Solves the candidate starts cold (the fallbacks only while fewer than `descents` usable
@@ -41,7 +41,7 @@ pub(super) fn descent_starts(
             false => (index + batch).min(designs.len()),
         };
         for descent in solves.evaluator.descend(&designs[index..end], None)? {
-            if enough(&candidates, index) || crate::signals::stop_requested() {
+            if enough(&candidates, index) || codesign_core::signals::stop_requested() {
                 break 'batches;
             }
             solved += 1;

@@ -4,11 +4,11 @@ use super::*;
 use crate::design::evaluate::InProcess;
 use crate::design::penalty::Penalty;
 use crate::design::score::{Fitness, Objective};
-use crate::ipopt::Solution;
-use crate::model::task::Task;
-use crate::problem::{Formulation, Space};
-use crate::solve::{solve_design, solve_design_from};
-use crate::testing;
+use codesign_core::ipopt::Solution;
+use codesign_core::model::task::Task;
+use codesign_core::problem::{Formulation, Space};
+use codesign_core::solve::{solve_design, solve_design_from};
+use codesign_core::testing;
 
 /// `task` carrying `payload_kg`.
 fn at(mut task: Task, payload_kg: f64) -> Task {
@@ -34,7 +34,7 @@ fn run(
 
 /// The hard problem the fitness of [`run`] solves.
 fn formulation(task: &Task) -> Formulation {
-    let robot = crate::model::Robot::load(task).unwrap();
+    let robot = codesign_core::model::Robot::load(task).unwrap();
     let tolerance = testing::settings().constraint_tolerance();
     Formulation::new(task, robot, Space::Actuation, task.limit_modes)
         .unwrap()

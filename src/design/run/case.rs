@@ -2,17 +2,20 @@
 //! plans, with every check of the settings in one place. Its errors name the flag of
 //! `codesign optimize` that sets each value, since a case is what those flags pose.
 
-use super::document::{Method, OptimizeInputs, RecordedHash, VerdictRule};
+use super::document::{OptimizeInputs, RecordedHash, VerdictRule};
+use super::settings::Method;
 use super::settings::{CaseError, Execution, RunSettings};
 use crate::design::gradient::GradientSettings;
 use crate::design::workers::Launcher;
-use crate::ipopt::LinearSolver;
-use crate::model::identity::task_hash;
-use crate::model::task::{check_payload, Ends, LimitMode, LimitModes, Task, TaskFile, TaskSource};
-use crate::model::Robot;
-use crate::problem::Space;
-use crate::solve::{SolveSettings, TaskRecord};
-use crate::text::number;
+use codesign_core::ipopt::LinearSolver;
+use codesign_core::model::identity::task_hash;
+use codesign_core::model::task::{
+    check_payload, Ends, LimitMode, LimitModes, Task, TaskFile, TaskSource,
+};
+use codesign_core::model::Robot;
+use codesign_core::problem::Space;
+use codesign_core::solve::{SolveSettings, TaskRecord};
+use codesign_core::text::number;
 use std::path::{Path, PathBuf};
 
 /// Where the task and robot of a run come from, and its payload (`--task`, `--robot`,
@@ -206,7 +209,7 @@ impl Case {
     /// space, and its payload where the case gives one. The task is not compared: the case
     /// names it by path only.
     pub fn differences(&self, inputs: &OptimizeInputs) -> Vec<String> {
-        let mut found = self.settings.differences(inputs);
+        let mut found = self.settings.differences(&inputs.settings);
         if inputs.space != self.problem.space {
             found.push(format!(
                 "space: recorded {}, planned {}",
@@ -252,12 +255,12 @@ mod tests {
     use super::{Case, Method, ModelChoice, ProblemChoice};
     use crate::design::bounds::BoundHandling;
     use crate::design::score::Objective;
-    use crate::problem::Space;
     use crate::store::log::Start;
+    use codesign_core::problem::Space;
 
     fn case(method: Method) -> Case {
         let model = ModelChoice {
-            task: crate::model::task::TaskSource::BuiltIn,
+            task: codesign_core::model::task::TaskSource::BuiltIn,
             robot: None,
             payload: Some(1.0),
             ends: None,

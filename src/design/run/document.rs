@@ -4,24 +4,13 @@
 use super::settings::RunSettings;
 use crate::design::outcome::GenerationSummary;
 use crate::design::outcome::GradientIterate;
-use crate::ipopt::LinearSolver;
-use crate::model::task::LimitModes;
-use crate::problem::Space;
-use crate::solve::{TaskRecord, ToolInfo, TrajectoryResult};
 use crate::store::log::LoggedRun;
-use crate::transmission::{ActiveBound, Transmission};
+use codesign_core::ipopt::LinearSolver;
+use codesign_core::model::task::LimitModes;
+use codesign_core::problem::Space;
+use codesign_core::solve::{TaskRecord, ToolInfo, TrajectoryResult};
+use codesign_core::transmission::{ActiveBound, Transmission};
 use serde::{Deserialize, Serialize};
-
-/// The outer-level method of a co-design run.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "lowercase")]
-pub enum Method {
-    /// CMA-ES as in pagmo (the paper's method), designs evaluated by worker processes.
-    #[default]
-    Cmaes,
-    /// Projected quasi-Newton with the exact sensitivity dJ*/dr, warm-started inner solves.
-    Gradient,
-}
 
 /// Everything that defines a co-design run; two runs with equal inputs give equal results.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -4,25 +4,22 @@
 use super::case::{Case, Loaded};
 use super::document::{OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
 use super::error::{Output, RunError};
-use super::method::{logs_evaluations, run_method, MethodRun};
-use crate::design::optimize::{EvaluationLog, Finished, Progress};
+use super::method::{logs_evaluations, run_method, MethodRun, ProgressDisplay};
+use crate::design::optimize::{EvaluationLog, Finished};
 use crate::design::outcome::{BestStart, DesignOutcome, MethodOutcome};
 use crate::design::penalty::Grading;
 use crate::design::score::Objective;
 use crate::design::score::{anchor_solution, Fitness};
-use crate::model::task::{LimitModes, Task};
-use crate::model::Robot;
-use crate::problem::Formulation;
-use crate::solve::{solve_design, solve_design_from, SolveError, SolveSettings, ToolInfo};
 use crate::stats::median;
 use crate::store::document::write_document;
 use crate::store::files::{check_output, check_result};
 use crate::store::log::log_beside;
+use codesign_core::model::task::{LimitModes, Task};
+use codesign_core::model::Robot;
+use codesign_core::problem::Formulation;
+use codesign_core::solve::{solve_design, solve_design_from, SolveError, SolveSettings, ToolInfo};
 use std::path::Path;
 use std::time::Instant;
-
-/// Makes the progress display of a CMA-ES run, given its number of evaluations and a label.
-pub type ProgressDisplay<'a> = &'a dyn Fn(u64, String) -> Box<dyn Progress>;
 
 /// Runs one co-design case and writes its document to `out`; returns it. A method that logs its
 /// evaluations (CMA-ES) holds its evaluation log, locked, from before the first evaluation
@@ -201,7 +198,7 @@ fn solve_best(
     scored: &Formulation,
     settings: &SolveSettings,
     outcome: &DesignOutcome,
-) -> Option<crate::solve::TrajectoryResult> {
+) -> Option<codesign_core::solve::TrajectoryResult> {
     let anchored;
     let start = match outcome.best_start() {
         BestStart::Solution(solution) => Some(solution),

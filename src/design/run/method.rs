@@ -3,20 +3,23 @@
 //! worker processes when the run names a worker command; each gives the one [`DesignOutcome`].
 
 use super::case::Case;
-use super::document::{Method, OptimizeInputs};
+use super::document::OptimizeInputs;
 use super::error::RunError;
-use super::execute::ProgressDisplay;
+use super::settings::Method;
 use super::verify::confirm_best;
 use crate::design::evaluate::{Evaluator, InProcess, WorkerEvaluator};
 use crate::design::gradient::optimize_gradient;
-use crate::design::optimize::{optimize, EvaluationLog, Finished, Logged, Sampling};
+use crate::design::optimize::{optimize, EvaluationLog, Finished, Logged, Progress, Sampling};
 use crate::design::outcome::DesignOutcome;
 use crate::design::workers::{WorkerSetup, MAX_GROUPS};
-use crate::model::task::Task;
 use crate::parallel;
-use crate::problem::Formulation;
-use crate::solve::SolveSettings;
+use codesign_core::model::task::Task;
+use codesign_core::problem::Formulation;
+use codesign_core::solve::SolveSettings;
 use std::time::Duration;
+
+/// Makes the progress display of a CMA-ES run, given its number of evaluations and a label.
+pub type ProgressDisplay<'a> = &'a dyn Fn(u64, String) -> Box<dyn Progress>;
 
 /// What a run's method works on: its case, recorded inputs, task, solve settings and
 /// formulation.

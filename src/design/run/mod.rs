@@ -11,9 +11,10 @@ mod settings;
 mod verify;
 
 pub use case::{shell_quote, task_source, Case, Loaded, ModelChoice, ProblemChoice};
-pub use document::{
-    Method, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts, RecordedHash,
-};
+pub use document::{OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts, RecordedHash};
 pub use error::{Output, RunError};
-pub use execute::{run_case, ProgressDisplay};
-pub use settings::{CaseError, Execution, RunSettings, MAX_SOLVE_TIMEOUT_S, MIN_SOLVE_TIMEOUT_S};
+pub use execute::run_case;
+pub use method::ProgressDisplay;
+pub use settings::{
+    CaseError, Execution, Method, RunSettings, MAX_SOLVE_TIMEOUT_S, MIN_SOLVE_TIMEOUT_S,
+};

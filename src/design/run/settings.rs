@@ -1,10 +1,9 @@
 //! The settings of a co-design run, each written once: [`RunSettings`], what decides its result
-//! and what its document and log header record (flattened into [`OptimizeInputs`]), and
+//! and what its document and log header record (flattened into `OptimizeInputs`), and
 //! [`Execution`], how its evaluations run, which changes no result. Every check of them is
 //! here, and its [`CaseError`] names the setting by its key in the document; the command line
 //! words it as a flag, Python as a keyword.
 
-use super::document::{Method, OptimizeInputs};
 use crate::design::bounds::BoundHandling;
 use crate::design::capacity::{CapacitySettings, MIN_RESOLUTION_KG};
 use crate::design::cmaes::CmaesSettings;
@@ -12,12 +11,35 @@ use crate::design::penalty::{Grading, Penalty, PENALTY};
 use crate::design::score::{Objective, PayloadRange};
 use crate::design::warm::WarmStart;
 use crate::design::workers::SOLVE_TIMEOUT_S;
-use crate::model::task::check_payload;
 use crate::store::log::Start;
-use crate::text::number;
+use codesign_core::choice::Choice;
+use codesign_core::model::task::check_payload;
+use codesign_core::text::number;
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 use std::fmt;
+
+/// The outer-level method of a co-design run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// CMA-ES as in pagmo (the paper's method), designs evaluated by worker processes.
+    #[default]
+    Cmaes,
+    /// Projected quasi-Newton with the exact sensitivity dJ*/dr, warm-started inner solves.
+    Gradient,
+}
+
+impl Choice for Method {
+    const ALL: &'static [Method] = &[Method::Cmaes, Method::Gradient];
+
+    fn name(self) -> &'static str {
+        match self {
+            Method::Cmaes => "cmaes",
+            Method::Gradient => "gradient",
+        }
+    }
+}
 
 /// The settings that decide a co-design run's result, as its document records them (their
 /// keys are the document's). Two runs with equal settings, problem and task give equal results.
@@ -96,10 +118,10 @@ impl RunSettings {
         }
     }
 
-    /// The settings in which `recorded` (a run's document or log header) differs from these,
-    /// as `key: recorded X, planned Y`, compared key by key as the document writes them.
-    pub fn differences(&self, recorded: &OptimizeInputs) -> Vec<String> {
-        let (planned, recorded) = (self.recorded().to_map(), recorded.settings.to_map());
+    /// The settings in which `recorded` (those of a run's document or log header) differ from
+    /// these, as `key: recorded X, planned Y`, compared key by key as the document writes them.
+    pub fn differences(&self, recorded: &RunSettings) -> Vec<String> {
+        let (planned, recorded) = (self.recorded().to_map(), recorded.to_map());
         let mut keys: Vec<&String> = planned.keys().chain(recorded.keys()).collect();
         keys.sort();
         keys.dedup();

@@ -7,7 +7,7 @@ use super::error::RunError;
 use crate::design::evaluate::{EvaluateError, Evaluator, InProcess};
 use crate::design::outcome::{BestStart, DesignOutcome};
 use crate::design::workers::{Launcher, WorkerSetup};
-use crate::text::number;
+use codesign_core::text::number;
 
 /// The relative difference of two costs of one design beyond which two evaluations disagree:
 /// far above the last digits a solve's rounding can move, far below any design's difference

@@ -5,8 +5,8 @@
 
 use super::objective::{solved, unheld, Scored};
 use super::{validate, Evaluation, Fitness, Score, Verdict};
-use crate::problem::ProblemKind;
-use crate::solve::StartPoint;
+use codesign_core::problem::ProblemKind;
+use codesign_core::solve::StartPoint;
 use serde::{Deserialize, Serialize};
 
 /// What a descent uses of one design's solve (docs/model.md, section 12).

@@ -5,7 +5,7 @@
 //! A [`Verdict`] says what a design is: feasible with its cost, infeasible by a shortfall,
 //! invalid at a distance from the design space, or not judged (a solver error, a failed worker).
 //! [`Verdict::fitness`] is the one rule turning it into a number; [`Evaluation`] is its record as
-//! the evaluation log and the worker protocol write it. The rooms: `objective` (what is solved
+//! the evaluation log and the worker protocol write it. Its modules: `objective` (what is solved
 //! per design: the cost, a range's mean cost, the payload capacity, elastic solves for a graded
 //! penalty), `record` (the evaluation record and its status texts).
 
@@ -22,10 +22,10 @@ pub use plausible::MAX_REASON_BYTES;
 pub use record::{Evaluation, SolveStatus, Status};
 
 use super::penalty::Penalty;
-use crate::ipopt::Solution;
-use crate::problem::{Formulation, StaticHold};
-use crate::solve::{solve_design_from, SolveError, SolveSettings, TrajectoryResult};
-use crate::transmission::{DesignError, Transmission};
+use codesign_core::ipopt::Solution;
+use codesign_core::problem::{Formulation, StaticHold};
+use codesign_core::solve::{solve_design_from, SolveError, SolveSettings, TrajectoryResult};
+use codesign_core::transmission::{DesignError, Transmission};
 
 /// What scoring one design found.
 #[derive(Clone, Debug, PartialEq)]

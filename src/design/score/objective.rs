@@ -5,13 +5,13 @@
 use super::{judge, shortfall_of, solve, validate, Evaluation, Score, SolveStatus, Verdict};
 use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::design::penalty::{Grading, Penalty};
-use crate::ipopt::{self, Solution};
-use crate::model::identity::task_hash;
-use crate::model::task::{LimitModes, Task};
-use crate::model::{ModelError, Robot};
-use crate::problem::{Formulation, FormulationError, Space, StaticHold};
-use crate::solve::{SolveSettings, TrajectoryResult};
-use crate::transmission::Transmission;
+use codesign_core::ipopt::{self, Solution};
+use codesign_core::model::identity::task_hash;
+use codesign_core::model::task::{LimitModes, Task};
+use codesign_core::model::{ModelError, Robot};
+use codesign_core::problem::{Formulation, FormulationError, Space, StaticHold};
+use codesign_core::solve::{SolveSettings, TrajectoryResult};
+use codesign_core::transmission::Transmission;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 

@@ -3,8 +3,8 @@
 
 use super::record::{Evaluation, SolveStatus, Status};
 use crate::design::penalty::Penalty;
-use crate::ipopt;
-use crate::text::number;
+use codesign_core::ipopt;
+use codesign_core::text::number;
 
 /// The longest reason the scoring writes, bytes: a few lines naming ends, motors and limits.
 pub const MAX_REASON_BYTES: usize = 4096;

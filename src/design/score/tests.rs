@@ -2,8 +2,8 @@
 //! graded penalties, and their records against the committed evaluation logs.
 
 use super::*;
-use crate::problem::Space;
-use crate::testing;
+use codesign_core::problem::Space;
+use codesign_core::testing;
 use serde_json::Value;
 use std::path::Path;
 

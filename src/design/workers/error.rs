@@ -2,7 +2,7 @@
 
 use super::protocol::Hello;
 use crate::design::score::ScoreError;
-use crate::model::ModelError;
+use codesign_core::model::ModelError;
 use std::fmt;
 use std::io;
 

@@ -20,7 +20,7 @@ pub use protocol::{
 };
 
 use super::score::{Evaluation, Merit};
-use crate::signals;
+use codesign_core::signals;
 use std::collections::VecDeque;
 use std::io::{BufReader, Write};
 use std::process::{Child, ChildStdin, Stdio};
@@ -476,8 +476,8 @@ mod tests {
     use super::*;
     use crate::design::evaluate::{Evaluator, WorkerEvaluator};
     use crate::design::score::{Objective, Status};
-    use crate::problem::Space;
-    use crate::solve::StartPoint;
+    use codesign_core::problem::Space;
+    use codesign_core::solve::StartPoint;
     use std::os::unix::fs::PermissionsExt;
     use std::path::PathBuf;
 
@@ -503,15 +503,15 @@ mod tests {
     }
 
     fn setup() -> WorkerSetup {
-        let task = crate::testing::task();
+        let task = codesign_core::testing::task();
         WorkerSetup {
             modes: task.limit_modes,
             task,
-            solve: crate::testing::settings(),
+            solve: codesign_core::testing::settings(),
             space: Space::Actuation,
             penalty: crate::design::penalty::Penalty::PAPER,
             objective: Objective::Cost,
-            robot_hash: crate::hash::fnv1a(crate::model::BUILT_IN_URDF.as_bytes()),
+            robot_hash: codesign_core::hash::fnv1a(codesign_core::model::BUILT_IN_URDF.as_bytes()),
         }
     }
 

@@ -4,13 +4,13 @@
 //! TERM or HUP, and by a watchdog in each group when the run's process dies any other way
 //! (SIGKILL, a crash).
 
-use crate::signals;
+use codesign_core::signals;
 use std::os::unix::process::CommandExt;
 use std::path::PathBuf;
 use std::process::{Child, Command};
 use std::sync::OnceLock;
 
-pub use crate::signals::MAX_GROUPS;
+pub use codesign_core::signals::MAX_GROUPS;
 
 /// How a worker process is started.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -4,12 +4,12 @@
 use super::WorkerError;
 use crate::design::penalty::Penalty;
 use crate::design::score::{Evaluation, Fitness, Merit, Objective, ScoreError};
-use crate::hash::fnv1a;
-use crate::ipopt::{LinearSolver, Solution, IPOPT_VERSION};
-use crate::model::task::{LimitModes, Task};
-use crate::model::Robot;
-use crate::problem::Space;
-use crate::solve::{SolveSettings, StartPoint};
+use codesign_core::hash::fnv1a;
+use codesign_core::ipopt::{LinearSolver, Solution, IPOPT_VERSION};
+use codesign_core::model::task::{LimitModes, Task};
+use codesign_core::model::Robot;
+use codesign_core::problem::Space;
+use codesign_core::solve::{SolveSettings, StartPoint};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::io::{self, BufRead, Read, Write};
@@ -42,7 +42,7 @@ pub fn read_line(input: &mut impl BufRead) -> io::Result<Option<String>> {
         .map_err(|_| io::Error::new(io::ErrorKind::InvalidData, "a line that is not UTF-8"))
 }
 
-/// Everything a worker needs to build its [`Formulation`](crate::problem::Formulation), sent as
+/// Everything a worker needs to build its [`Formulation`](codesign_core::problem::Formulation), sent as
 /// its first line.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WorkerSetup {

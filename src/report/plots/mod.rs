@@ -12,7 +12,7 @@ pub use guide::{Guide, Line};
 pub use ratios::{Bars, Radar};
 
 use super::ReportError;
-use crate::text::{number, rounded};
+use codesign_core::text::{number, rounded};
 use guide::draw_dashes;
 use legend::{Key, Legend};
 use plotters::coord::ranged1d::ValueFormatter;

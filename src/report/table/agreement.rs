@@ -2,7 +2,7 @@
 //! and after it, and improved by co-design or not; and, where a cell does not, why.
 
 use super::{DesignCell, PaperTable, TableRow};
-use crate::problem::Space;
+use codesign_core::problem::Space;
 
 /// What a cell says, in kind.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -8,14 +8,14 @@ use super::{
 use crate::design::penalty::Grading;
 use crate::design::run::{Method, OptimizeDocument};
 use crate::design::score::Objective;
-use crate::ipopt::LinearSolver;
-use crate::model::identity::built_in_task_hash;
-use crate::model::task::{Motors, PerMotor, Task};
-use crate::problem::Space;
-use crate::solve::ToolInfo;
-use crate::solve::{envelope_margins, TrajectoryResult};
 use crate::stats::median;
-use crate::transmission::Envelope;
+use codesign_core::ipopt::LinearSolver;
+use codesign_core::model::identity::built_in_task_hash;
+use codesign_core::model::task::{Motors, PerMotor, Task};
+use codesign_core::problem::Space;
+use codesign_core::solve::ToolInfo;
+use codesign_core::solve::{envelope_margins, TrajectoryResult};
+use codesign_core::transmission::Envelope;
 
 /// Builds the table from result files: solves of the original design give "before"; co-design
 /// runs give "after" (the best over their seeds) and, if no solve did, "before" too. The
@@ -416,7 +416,7 @@ fn linear_solvers(files: &[ResultFile]) -> Vec<LinearSolver> {
 mod tests {
     use super::cell;
     use crate::design::run::OptimizeDocument;
-    use crate::model::task::PerMotor;
+    use codesign_core::model::task::PerMotor;
 
     #[test]
     fn motors_execute_a_design_only_inside_their_torque_speed_envelope() {

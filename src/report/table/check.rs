@@ -3,11 +3,11 @@
 
 use super::ResultFile;
 use crate::design::score::Objective;
-use crate::model::identity::built_in_task_hash;
-use crate::model::task::MAX_PAYLOAD_KG;
 use crate::report::codesign::CapacityDocument;
 use crate::report::ReportError;
-use crate::text::number;
+use codesign_core::model::identity::built_in_task_hash;
+use codesign_core::model::task::MAX_PAYLOAD_KG;
+use codesign_core::text::number;
 use std::path::PathBuf;
 
 /// Fails, naming the files, when two results are of different tasks (their task hashes differ;
@@ -72,7 +72,7 @@ pub(super) fn motion(file: &ResultFile) -> Option<(f64, usize)> {
 }
 
 /// The table row of a solve of the original design: (payload kg, space).
-fn row(file: &ResultFile) -> Option<(f64, crate::problem::Space)> {
+fn row(file: &ResultFile) -> Option<(f64, codesign_core::problem::Space)> {
     match file {
         ResultFile::Solve(d) if d.result.ratios == d.inputs.task.task.transmission.original => {
             Some((d.inputs.payload_kg, d.inputs.space))

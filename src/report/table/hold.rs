@@ -5,7 +5,7 @@
 use super::blocks::Block;
 use super::markdown::{design_text, ratios_text};
 use super::{DesignCell, PaperTable, TableRow};
-use crate::problem::Space;
+use codesign_core::problem::Space;
 use serde::{Deserialize, Serialize};
 
 /// One case of Table II under `hold`, beside the same case under the paper's ends.

@@ -4,9 +4,9 @@
 
 use super::blocks::{to_markdown, Block};
 use super::{AfterCell, DesignCell, PaperTable, RangeRow, TableRow};
-use crate::ipopt::LinearSolver;
-use crate::model::task::Ends;
-use crate::problem::Space;
+use codesign_core::ipopt::LinearSolver;
+use codesign_core::model::task::Ends;
+use codesign_core::problem::Space;
 
 /// What the table's formulation asks at the ends, under the paper's ends.
 const PAPER_ENDS_NOTE: &str = "The paper's formulation (`--ends paper`): q and v are fixed at the first and \

@@ -20,12 +20,12 @@ use super::codesign::{upgrade_capacity, CapacityDocument};
 use super::trajectory::SolveDocument;
 use super::{ReadFailure, ReportError};
 use crate::design::run::{OptimizeDocument, PayloadCost};
-use crate::input::{read_text, MAX_RESULT_BYTES};
-use crate::ipopt::LinearSolver;
-use crate::model::task::{Ends, TaskSource};
-use crate::problem::Space;
-use crate::solve::ToolInfo;
 use crate::store::document::{self, Schema, Tagged};
+use codesign_core::input::{read_text, MAX_RESULT_BYTES};
+use codesign_core::ipopt::LinearSolver;
+use codesign_core::model::task::{Ends, TaskSource};
+use codesign_core::problem::Space;
+use codesign_core::solve::ToolInfo;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 

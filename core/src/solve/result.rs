@@ -1,0 +1,409 @@
+//! The result of a trajectory solve, as result files record it (their schema), and how it is
+//! read from IPOPT's solution.
+
+use super::execute::MotorsExecute;
+use super::figures::PhysicalFigures;
+use super::readback::read_trajectory;
+use super::trajectory::Trajectory;
+use super::SolveError;
+use crate::ipopt::{LinearSolver, Nlp, Solution};
+use crate::problem::{
+    cost_gradient, relaxation, Criterion, Formulation, ProblemKind, StaticHold, TrajectoryProblem,
+};
+use serde::{Deserialize, Serialize};
+
+/// Which program and solver produced a result file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ToolInfo {
+    /// Always `codesign`.
+    pub name: String,
+    /// The codesign version.
+    pub version: String,
+    /// The IPOPT version linked.
+    pub ipopt_version: String,
+    /// The linear solver IPOPT factorised with. Files written before it was recorded were all
+    /// solved with MUMPS.
+    #[serde(default = "LinearSolver::before_ldl")]
+    pub linear_solver: LinearSolver,
+}
+
+impl ToolInfo {
+    /// This binary, solving with `linear_solver`.
+    pub fn current(linear_solver: LinearSolver) -> ToolInfo {
+        ToolInfo {
+            name: env!("CARGO_PKG_NAME").to_owned(),
+            version: env!("CARGO_PKG_VERSION").to_owned(),
+            ipopt_version: crate::ipopt::IPOPT_VERSION.to_owned(),
+            linear_solver,
+        }
+    }
+}
+
+/// Which solve of the one rule of feasibility (docs/model.md, section 8) gave a result's
+/// verdict. A feasible result is that solve's optimum; an infeasible one is the elastic solve,
+/// which measures the shortfall, or the hard solve when the motors cannot hold the load at rest.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VerdictBy {
+    /// The hard problem, from the standard initial guess or a warm start.
+    Hard,
+    /// The elastic problem, from the standard initial guess or a warm start.
+    Elastic,
+    /// The hard problem started from the elastic problem's trajectory.
+    HardFromElastic,
+    /// The hard problem carried up from the unloaded arm by payload continuation.
+    PayloadContinuation,
+}
+
+impl VerdictBy {
+    /// In plain words, for a reader without docs/model.md: how the verdict was reached, to
+    /// follow `feasible` or `infeasible`.
+    pub fn describe(self, feasible: bool) -> &'static str {
+        match (self, feasible) {
+            (VerdictBy::Hard, _) => "judged by solving the trajectory problem directly",
+            (VerdictBy::Elastic, true) => {
+                "judged by the relaxed problem, whose limits may give way: none had to, the \
+                 motors need no extra torque or speed"
+            }
+            (VerdictBy::Elastic, false) => {
+                "judged by the relaxed problem, whose limits may give way: the least extra \
+                 torque and speed the motors would need is above zero"
+            }
+            (VerdictBy::HardFromElastic, _) => {
+                "judged by solving the trajectory problem from the relaxed problem's trajectory"
+            }
+            (VerdictBy::PayloadContinuation, _) => {
+                "judged by solving the trajectory problem step by step up from the unloaded arm"
+            }
+        }
+    }
+
+    /// The name result files give it.
+    pub fn name(self) -> &'static str {
+        match self {
+            VerdictBy::Hard => "hard",
+            VerdictBy::Elastic => "elastic",
+            VerdictBy::HardFromElastic => "hard_from_elastic",
+            VerdictBy::PayloadContinuation => "payload_continuation",
+        }
+    }
+}
+
+/// Wall time of a solve, s.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SolveSeconds {
+    /// The whole IPOPT call.
+    pub total: f64,
+    /// Inside the problem's callbacks (dynamics and derivatives).
+    pub callbacks: f64,
+    /// In IPOPT itself (`total - callbacks`).
+    pub ipopt: f64,
+}
+
+/// The cost J by term (docs/model.md, section 7), so that a user sees which one dominates; they
+/// sum to J.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct CostTerms {
+    /// w_q sum_(k<N) |q_k|^2.
+    pub position: f64,
+    /// w_v sum_(k<N) |v_k|^2.
+    pub velocity: f64,
+    /// w_u sum_(k<N) |u_k|^2 (u: joint torques in joint space, motor torques in actuation
+    /// space).
+    pub control: f64,
+    /// sum_(k<N) sum_axis rho c_axis(p_k)^2: the soft Cartesian box.
+    pub cartesian_box: f64,
+}
+
+/// What an elastic solve's slacks relax (docs/model.md, section 14).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ElasticMeasures {
+    /// The joint torque the motors lack, |RNEA - tau| summed over joints and integrated over
+    /// the horizon (times the step h), N m s.
+    pub torque_deficit: f64,
+    /// The speed above the limit (motor speeds in mode `exact`, joint speeds else), summed over
+    /// rows and integrated over the horizon, rad; where the motors have a torque-speed envelope,
+    /// the speed its rows are relieved of as well (docs/model.md, section 14).
+    pub speed_excess: f64,
+    /// The largest single slack, N m or rad/s; the design is feasible when it is at most the
+    /// solve settings' `tol`.
+    pub largest_slack: f64,
+    /// The penalised objective IPOPT minimised: the cost J plus the slacks' penalty.
+    pub objective: f64,
+    /// Its exact sensitivity to each ratio (envelope theorem, `problem::cost_gradient`), when
+    /// IPOPT found an optimum; dJ*/dr where the design is feasible.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub objective_gradient: Option<Vec<f64>>,
+}
+
+/// The largest violation of each constraint family at the returned point (0 when satisfied).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Violations {
+    /// |RNEA(q, v, a) - tau|, N m.
+    pub dynamics: f64,
+    /// Semi-implicit Euler residuals, rad/s or rad.
+    pub integration: f64,
+    /// Start and goal states, rad or rad/s.
+    pub boundary: f64,
+    /// Joint position limits, rad.
+    pub joint_position: f64,
+    /// The problem's speed limits in its speed mode, rad/s.
+    pub speed_limits: f64,
+    /// The problem's control bounds in its torque mode, N m.
+    pub control_limits: f64,
+    /// The soft Cartesian box (penalised, not enforced), m.
+    pub cartesian_box: f64,
+    /// The motors' torque-speed envelope at the nodes 0 < k < N, N m: |tau_u,i| + c_i |w_i|
+    /// above tau_max,i (docs/model.md, section 5). Absent without `motors.no_load_speed_rad_s`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motor_envelope: Option<f64>,
+}
+
+/// The result of one trajectory solve.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrajectoryResult {
+    /// The design r.
+    pub ratios: Vec<f64>,
+    /// IPOPT's name for its return status.
+    pub status: String,
+    /// Whether IPOPT reported an optimum (strict or acceptable), for an elastic solve every
+    /// slack is at most the solve settings' `tol` (N m or rad/s), and, where the task's
+    /// `motion.ends` judges it (`hold`, `rest`), the motors hold the load at rest at both ends
+    /// (`static_hold`).
+    pub feasible: bool,
+    /// Why the result is infeasible, when it is: the end and the motors that cannot hold the
+    /// load at rest first, then IPOPT's or the elastic solve's reason; null when feasible
+    /// (files of version 1 and before leave it out then).
+    #[serde(default)]
+    pub reason: Option<String>,
+    /// Which solve gave the verdict (docs/model.md, section 8): the hard problem, the elastic
+    /// one, or the hard one started from the elastic trajectory. Absent in files written before
+    /// the rule was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub verdict_by: Option<VerdictBy>,
+    /// The optimal cost J (of an elastic solve: without the slacks' penalty).
+    pub cost: f64,
+    /// IPOPT iterations.
+    pub iterations: usize,
+    /// Wall time.
+    pub solve_seconds: SolveSeconds,
+    /// Largest |motor torque| the trajectory needs, N m.
+    pub max_motor_torque: f64,
+    /// Largest |motor speed|, rad/s.
+    pub max_motor_speed: f64,
+    /// Largest violation per constraint family.
+    pub violations: Violations,
+    /// Whether the motors can execute the trajectory: the motor torques and speeds recovered
+    /// through G against each motor's own limits, with what each exceeds by. A joint-space
+    /// problem under the limit modes `paper` and `interval` bounds the joints, not the motors
+    /// (absent in files written before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motors_execute: Option<MotorsExecute>,
+    /// dJ*/dr, the exact sensitivity of the optimal cost to each ratio (envelope theorem; see
+    /// `problem::cost_gradient`), wherever the result is feasible (of an elastic solve: its
+    /// objective's, whose slacks are then within tol).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cost_gradient: Option<Vec<f64>>,
+    /// The static torques at the start and the goal against the problem's control limits
+    /// (docs/model.md, section 6), computed without IPOPT (absent in files written before it
+    /// was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub static_hold: Option<StaticHold>,
+    /// The torque deficit and speed excess, for an elastic solve.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub elastic: Option<ElasticMeasures>,
+    /// J by term (absent in files written before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cost_terms: Option<CostTerms>,
+    /// The moving joints' names in the URDF, from the base outward (the order of every
+    /// per-joint vector; empty in files written before it was recorded).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joints: Vec<String>,
+    /// Per motor and in total: int tau_u^2 dt, RMS and peak torque, peak speed, peak power and
+    /// work (`solve::PhysicalFigures`; absent in files of version 1 and before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub figures: Option<PhysicalFigures>,
+    /// The trajectory.
+    pub trajectory: Trajectory,
+}
+
+/// The result of `solution`, a solution of `problem`; an elastic solution is feasible when its
+/// largest slack is at most `tol` (the settings' `tol`, N m or rad/s).
+pub(super) fn read_result(
+    problem: &mut TrajectoryProblem<'_>,
+    solution: &Solution,
+    tol: f64,
+) -> Result<TrajectoryResult, SolveError> {
+    let trajectory = read_trajectory(problem, &solution.x)
+        .map_err(|(node, error)| SolveError::Pose { node, error })?;
+    let violations = Violations::of(problem, &solution.x, &trajectory);
+    let (cost, elastic) = cost_and_measures(problem, solution);
+    let f = problem.formulation();
+    let static_hold = problem.static_hold();
+    let reasons: Vec<String> = [
+        static_hold.failure(),
+        infeasibility(f, solution, elastic.as_ref(), tol),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    let feasible = reasons.is_empty();
+    let reason = (!feasible).then(|| reasons.join("; "));
+    let electrical =
+        (f.task().motors).electrical(trajectory.motor_torque.first().map_or(0, Vec::len));
+    Ok(TrajectoryResult {
+        ratios: problem.ratios().to_vec(),
+        status: solution.status.name(),
+        feasible,
+        reason,
+        verdict_by: Some(match f.kind() {
+            ProblemKind::Hard => VerdictBy::Hard,
+            ProblemKind::Elastic => VerdictBy::Elastic,
+        }),
+        cost,
+        iterations: solution.iterations,
+        solve_seconds: SolveSeconds {
+            total: solution.timing.total.as_secs_f64(),
+            callbacks: solution.timing.callbacks.as_secs_f64(),
+            ipopt: solution.timing.ipopt.as_secs_f64(),
+        },
+        max_motor_torque: trajectory
+            .motor_torque_peaks()
+            .into_iter()
+            .fold(0.0, f64::max),
+        max_motor_speed: trajectory
+            .motor_speed_peaks()
+            .into_iter()
+            .fold(0.0, f64::max),
+        violations,
+        motors_execute: Some(MotorsExecute::of(
+            (
+                &trajectory.motor_torque_peaks(),
+                &trajectory.motor_speed_peaks(),
+            ),
+            (f.motor_torque_limits(), f.motor_speed_limits()),
+        )),
+        // A feasible elastic solution has no slack beyond tol: the gradient of its objective
+        // is dJ*/dr (section 9), and it is the one measured.
+        cost_gradient: feasible
+            .then(|| match &elastic {
+                Some(measures) => measures.objective_gradient.clone(),
+                None => cost_gradient(problem, solution).ok(),
+            })
+            .flatten(),
+        static_hold: Some(static_hold),
+        elastic,
+        cost_terms: Some(cost_terms(problem, &solution.x, &trajectory)),
+        joints: f.dynamics().robot().joint_names().to_vec(),
+        figures: PhysicalFigures::of(&trajectory, electrical.as_deref()),
+        trajectory,
+    })
+}
+
+/// The cost J at `solution` and, for an elastic problem, what its slacks relax. IPOPT's objective
+/// of an elastic problem comes from its own iterate, whose slacks its bound relaxation lets go to
+/// about -tol each (worth a penalty of -tol times the weight per slack, far above tol), so the
+/// elastic J and objective are evaluated again at the returned point, whose slacks are >= 0.
+fn cost_and_measures(
+    problem: &mut TrajectoryProblem<'_>,
+    solution: &Solution,
+) -> (f64, Option<ElasticMeasures>) {
+    let f = problem.formulation();
+    let Some(relaxed) = relaxation(f, &solution.x) else {
+        return (solution.objective, None);
+    };
+    let objective = problem.objective(&solution.x, true).unwrap_or(f64::NAN);
+    let measures = ElasticMeasures {
+        torque_deficit: relaxed.torque_deficit,
+        speed_excess: relaxed.speed_excess,
+        largest_slack: relaxed.largest,
+        objective,
+        objective_gradient: solution
+            .status
+            .is_success()
+            .then(|| cost_gradient(problem, solution).ok())
+            .flatten(),
+    };
+    (objective - relaxed.penalty, Some(measures))
+}
+
+/// Why `solution`, a solution of a problem of `formulation`, is infeasible, if it is: IPOPT
+/// found no optimum, or (elastic) a slack exceeds `tol` (the solve settings' `tol`, N m or
+/// rad/s). The speed excess relaxes the torque-speed envelope too, where the motors have one.
+fn infeasibility(
+    formulation: &Formulation,
+    solution: &Solution,
+    elastic: Option<&ElasticMeasures>,
+    tol: f64,
+) -> Option<String> {
+    if !solution.status.is_success() {
+        let status = solution.status.name();
+        return Some(match &solution.outside_domain {
+            None => format!("IPOPT returned {status}"),
+            Some(why) => {
+                format!("IPOPT returned {status} (the last point it could not evaluate: {why})")
+            }
+        });
+    }
+    let limits = match formulation.envelope() {
+        Some(_) => "the speed limit or the torque-speed envelope",
+        None => "the speed limit",
+    };
+    elastic.filter(|e| e.largest_slack > tol).map(|e| {
+        format!(
+            "the design lacks {:.3e} N m s of torque and exceeds {limits} by {:.3e} rad",
+            e.torque_deficit, e.speed_excess
+        )
+    })
+}
+
+/// J at x by term; the TCP path is the trajectory's. Under the copper losses' criterion they
+/// are the control term.
+fn cost_terms(problem: &TrajectoryProblem<'_>, x: &[f64], trajectory: &Trajectory) -> CostTerms {
+    let f = problem.formulation();
+    let (layout, task) = (f.layout(), f.task());
+    let squares = |index: fn(&crate::problem::Layout, usize, usize) -> usize| {
+        let mut sum = 0.0;
+        for k in 0..layout.steps {
+            for i in 0..layout.dof {
+                sum += x[index(layout, k, i)].powi(2);
+            }
+        }
+        sum
+    };
+    let b = &task.cartesian_box;
+    let mut cartesian_box = 0.0;
+    for k in 0..layout.steps {
+        let p = [
+            trajectory.tcp_x[k],
+            trajectory.tcp_y[k],
+            trajectory.tcp_z[k],
+        ];
+        for (axis, interval) in [&b.x, &b.y, &b.z].into_iter().enumerate() {
+            if let Some(interval) = interval {
+                let [lo, hi] = interval.range;
+                let c = (lo - p[axis]).max(0.0) + (p[axis] - hi).max(0.0);
+                cartesian_box += interval.weight * c * c;
+            }
+        }
+    }
+    let w = &task.weights;
+    match f.criterion() {
+        Criterion::Weighted => CostTerms {
+            position: w.position * squares(crate::problem::Layout::q),
+            velocity: w.velocity * squares(crate::problem::Layout::v),
+            control: w.control * squares(crate::problem::Layout::u),
+            cartesian_box,
+        },
+        // The copper losses are the control term.
+        Criterion::CopperLoss(weights) => CostTerms {
+            position: 0.0,
+            velocity: 0.0,
+            control: (0..layout.steps)
+                .flat_map(|k| (0..layout.dof).map(move |i| (k, i)))
+                .map(|(k, i)| weights[i] * x[layout.u(k, i)].powi(2))
+                .sum(),
+            cartesian_box,
+        },
+    }
+}
