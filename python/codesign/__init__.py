@@ -11,9 +11,11 @@ every failure raises a :class:`codesign.Error` (:class:`InputError` for a bad in
 ``ValueError``; :class:`SolverError` when the work fails, a ``RuntimeError``).
 """
 
+from codesign._choices import Ends, LimitMode, LinearSolver, Method, Space
 from codesign._errors import Error, InputError, SolverError
 from codesign._native import versions as _versions
 from codesign._results import Capacity, CheckReport, Run, Solution
+from codesign._robot import Robot, Transmission
 from codesign._task import Task
 
 __version__, IPOPT_VERSION = _versions()
@@ -21,12 +23,19 @@ __version__, IPOPT_VERSION = _versions()
 __all__ = [
     "Capacity",
     "CheckReport",
+    "Ends",
     "Error",
     "InputError",
     "IPOPT_VERSION",
+    "LimitMode",
+    "LinearSolver",
+    "Method",
+    "Robot",
     "Run",
     "Solution",
     "SolverError",
+    "Space",
     "Task",
+    "Transmission",
     "__version__",
 ]

@@ -13,6 +13,7 @@ from typing import Any, Callable, Dict, Optional, Sequence, Union
 from codesign import _native
 from codesign._errors import InputError
 from codesign._results import Capacity, CheckReport, Run, Solution
+from codesign._robot import Robot, Transmission
 
 #: The suffix of an evaluation log, beside its result ``NAME.json``.
 LOG_SUFFIX = ".log.jsonl"
@@ -104,6 +105,16 @@ class Task:
     def label(self) -> str:
         """How results name this task: its file, ``built-in``, or what it was changed from."""
         return self._native.label()
+
+    def robot(self, payload: Optional[float] = None) -> Robot:
+        """The task's robot (its URDF, gravity, TCP and payload; ``payload`` kg instead where
+        given), with its dynamics."""
+        return Robot(_native.NativeRobot.of_task(self._native, payload))
+
+    @property
+    def transmission(self) -> Transmission:
+        """The task's transmission: its design space and G at a design and a pose."""
+        return Transmission(_native.NativeRobot.of_task(self._native, None))
 
     def to_dict(self) -> Dict[str, Any]:
         """The task as the dict of its JSON file (a copy)."""

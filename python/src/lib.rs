@@ -1,6 +1,7 @@
 //! The native half of the `codesign` Python package: a task (`NativeTask`) and what it does
 //! (check, solve, capacity, optimize), each returning the same JSON document as the command
-//! line, and `serve_worker`, the worker process of co-design runs started from Python.
+//! line; a robot with its dynamics and transmission (`NativeRobot`), mirrored from the core; and
+//! `serve_worker`, the worker process of co-design runs started from Python.
 //!
 //! The Python half (`python/codesign/`) turns the documents into objects with numpy arrays and
 //! the errors into its exception classes. Every solve runs on a thread of its own with the GIL
@@ -10,6 +11,7 @@
 mod errors;
 mod interrupt;
 mod options;
+mod robot;
 mod runs;
 mod solution;
 mod task;
@@ -45,6 +47,7 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     codesign_core::signals::leave_signals_to_host();
     module.add_class::<task::NativeTask>()?;
     module.add_class::<solution::NativeSolution>()?;
+    module.add_class::<robot::NativeRobot>()?;
     module.add_function(wrap_pyfunction!(serve_worker, module)?)?;
     module.add_function(wrap_pyfunction!(versions, module)?)?;
     module.add_function(wrap_pyfunction!(task::task_text, module)?)?;

@@ -7,6 +7,7 @@
 #[path = "../support/mod.rs"]
 mod support;
 
+mod added_terms;
 mod built_in_task;
 mod check_cli;
 mod cluster_cli;

@@ -54,7 +54,8 @@ fn reference_costs_are_reproduced() {
             result.cost
         );
         assert!(
-            result.violations.dynamics < 1e-6 && result.violations.integration < 1e-6,
+            result.violations.get("dynamics").unwrap() < 1e-6
+                && result.violations.get("integration").unwrap() < 1e-6,
             "{:?}",
             result.violations
         );

@@ -2,13 +2,14 @@
 //! constraint families, its layout and its sparsity patterns.
 
 use super::cost::Criterion;
-use super::families::{self, Family, FamilyId, Shape};
+use super::families::{self, added::Added, Family, FamilyId, Shape};
 use super::hessian;
 use super::hold::DEFAULT_HOLD_TOLERANCE_NM;
 use super::kind::ProblemKind;
 use super::layout::{BlockId, Layout, RowBlock};
 use super::nlp::TrajectoryProblem;
 use super::pose_rules;
+use super::terms::{AddedTerms, NodeConstraint, NodeCost};
 use crate::dynamics::Dynamics;
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;
@@ -76,8 +77,10 @@ pub struct Formulation {
     hold_tolerance_nm: f64,
     /// What the problem minimises: the task's J or the motors' copper losses.
     criterion: Criterion,
-    /// The constraint families, in the order of [`FamilyId::ALL`].
-    families: Vec<(FamilyId, Arc<dyn Family>)>,
+    /// The constraint families, in the order of [`FamilyId::ALL`], then the added constraints.
+    families: Vec<(BlockId, Arc<dyn Family>)>,
+    /// The constraints and cost terms added from outside the core, in the order added.
+    added: AddedTerms,
     layout: Layout,
     /// Structural non-zeros of G (row = motor, column = joint) over the whole design space.
     g_pattern: DMatrix<f64>,
@@ -143,11 +146,12 @@ impl Formulation {
             speed_limits: task.motors.speed_limit_rad_s.values(n),
             motor_dynamics: MotorDynamics::of(&task.motors, n),
             envelope,
-            node_hessian: hessian::node_entries(n, loss.is_some(), posed),
+            node_hessian: hessian::node_entries(n, loss.is_some(), posed, false),
             loss,
             hold_tolerance_nm: DEFAULT_HOLD_TOLERANCE_NM,
             criterion: Criterion::Weighted,
             families: Vec::new(),
+            added: AddedTerms::default(),
             layout: Layout::new(n, task.motion.steps, &[], ProblemKind::Hard),
             g_pattern,
             jacobian: Vec::new(),
@@ -192,8 +196,12 @@ impl Formulation {
             motors: self.motor_dynamics.as_ref(),
         };
         self.families = families::of(&shape);
+        for (i, constraint) in self.added.constraints.iter().enumerate() {
+            let family: Arc<dyn Family> = Arc::new(Added(constraint.clone()));
+            self.families.push((BlockId(FamilyId::COUNT + i), family));
+        }
         let blocks: Vec<(BlockId, RowBlock)> = (self.families.iter())
-            .filter_map(|(id, family)| family.rows().map(|rows| ((*id).into(), rows)))
+            .filter_map(|(id, family)| family.rows().map(|rows| (*id, rows)))
             .collect();
         self.layout = Layout::new(self.layout.dof, self.layout.steps, &blocks, kind);
         self.jacobian = families::jacobian_pattern(self);
@@ -208,6 +216,10 @@ impl Formulation {
         let mut hard = Formulation::new(&task, robot, self.space, self.modes)?
             .with_hold_tolerance(self.hold_tolerance_nm);
         hard.criterion = self.criterion.clone();
+        if self.has_added_terms() {
+            hard.added = self.added.clone();
+            hard = hard.rebuild();
+        }
         Ok(match self.kind() {
             ProblemKind::Hard => hard,
             ProblemKind::Elastic => hard.elastic(),
@@ -269,8 +281,48 @@ impl Formulation {
     }
 
     /// The constraint families, in order.
-    pub(super) fn families(&self) -> &[(FamilyId, Arc<dyn Family>)] {
+    pub(super) fn families(&self) -> &[(BlockId, Arc<dyn Family>)] {
         &self.families
+    }
+
+    /// The same formulation with `constraint`'s rows at every node k < N, after every family's
+    /// (see [`NodeConstraint`]).
+    pub fn with_constraint(mut self, constraint: Arc<dyn NodeConstraint>) -> Formulation {
+        self.added.constraints.push(constraint);
+        self.rebuild()
+    }
+
+    /// The same formulation with `term` added to its cost (see [`NodeCost`]).
+    pub fn with_cost(mut self, term: Arc<dyn NodeCost>) -> Formulation {
+        self.added.costs.push(term);
+        self.rebuild()
+    }
+
+    /// The constraints added from outside the core, in order.
+    pub fn added_constraints(&self) -> &[Arc<dyn NodeConstraint>] {
+        &self.added.constraints
+    }
+
+    /// The cost terms added from outside the core, in order.
+    pub fn added_costs(&self) -> &[Arc<dyn NodeCost>] {
+        &self.added.costs
+    }
+
+    /// Whether terms were added from outside the core: their second derivatives then fill each
+    /// node's whole Hessian block.
+    pub(super) fn has_added_terms(&self) -> bool {
+        !self.added.is_empty()
+    }
+
+    /// The families, layout and patterns built again after a term was added.
+    fn rebuild(mut self) -> Formulation {
+        let n = self.layout.dof;
+        let full = self.has_added_terms();
+        let (losses, posed) = (self.loss.is_some(), self.transmission.is_pose_dependent());
+        self.node_hessian = hessian::node_entries(n, losses, posed, full);
+        self.build(self.kind());
+        self.hessian = hessian::pattern(&self);
+        self
     }
 
     /// The per-node entries of the Lagrangian's Hessian, in their order.

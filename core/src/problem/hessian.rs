@@ -13,10 +13,12 @@
 //! they always agree.
 
 use super::cost::Cost;
+use super::families::FamilyId;
 use super::families::NodeSecondOrder;
 use super::formulation::Formulation;
 use super::layout::Layout;
 use super::node::NodeEval;
+use super::terms::NodeContext;
 use crate::dynamics::Workspace;
 use crate::transmission::Actuation;
 use nalgebra::DMatrix;
@@ -38,7 +40,11 @@ pub(super) enum Block {
     AccelerationAcceleration,
     /// d^2/du dq, full: the rows G(q)^T u and G(q)^-T u of a pose-dependent transmission.
     ControlPosition,
-    /// d^2/du du, diagonal: cost (w_u).
+    /// d^2/du dv, full: terms added from outside the core.
+    ControlVelocity,
+    /// d^2/du da, full: terms added from outside the core.
+    ControlAcceleration,
+    /// d^2/du du: cost (w_u) on the diagonal, the lower triangle with added terms.
     ControlControl,
 }
 
@@ -62,15 +68,37 @@ impl Entry {
             Block::AccelerationVelocity => (layout.a(k, i), layout.v(k, j)),
             Block::AccelerationAcceleration => (layout.a(k, i), layout.a(k, j)),
             Block::ControlPosition => (layout.u(k, i), layout.q(k, j)),
+            Block::ControlVelocity => (layout.u(k, i), layout.v(k, j)),
+            Block::ControlAcceleration => (layout.u(k, i), layout.a(k, j)),
             Block::ControlControl => (layout.u(k, i), layout.u(k, j)),
         }
+    }
+
+    /// The entry's (row, column) within the node's variables [q, v, a, u] (4n).
+    fn in_node(&self, n: usize) -> (usize, usize) {
+        let Entry { block, i, j } = *self;
+        let (row, column) = match block {
+            Block::PositionPosition => (0, 0),
+            Block::VelocityPosition => (n, 0),
+            Block::VelocityVelocity => (n, n),
+            Block::AccelerationPosition => (2 * n, 0),
+            Block::AccelerationVelocity => (2 * n, n),
+            Block::AccelerationAcceleration => (2 * n, 2 * n),
+            Block::ControlPosition => (3 * n, 0),
+            Block::ControlVelocity => (3 * n, n),
+            Block::ControlAcceleration => (3 * n, 2 * n),
+            Block::ControlControl => (3 * n, 3 * n),
+        };
+        (row + i, column + j)
     }
 }
 
 /// The stored entries of one node's Hessian (n joints), row by row of its lower triangle; the
 /// a rows over v and a only with transmission `losses`, the u rows over q only where the
-/// transmission depends on the `pose`.
-pub(super) fn node_entries(n: usize, losses: bool, pose: bool) -> Vec<Entry> {
+/// transmission depends on the `pose`; with `full` (terms added from outside the core), every
+/// entry of the lower triangle.
+pub(super) fn node_entries(n: usize, losses: bool, pose: bool, full: bool) -> Vec<Entry> {
+    let (losses, pose) = (losses || full, pose || full);
     let mut entries = Vec::new();
     let mut push = |block, i, j| entries.push(Entry { block, i, j });
     for i in 0..n {
@@ -91,6 +119,11 @@ pub(super) fn node_entries(n: usize, losses: bool, pose: bool) -> Vec<Entry> {
         if pose {
             (0..n).for_each(|j| push(Block::ControlPosition, i, j));
         }
+        if full {
+            (0..n).for_each(|j| push(Block::ControlVelocity, i, j));
+            (0..n).for_each(|j| push(Block::ControlAcceleration, i, j));
+            (0..i).for_each(|j| push(Block::ControlControl, i, j));
+        }
         push(Block::ControlControl, i, i);
     }
     entries
@@ -109,6 +142,9 @@ pub(super) fn pattern(formulation: &Formulation) -> Vec<(usize, usize)> {
         .collect()
 }
 
+/// A node's variables: (q_k, v_k, a_k) and u_k.
+pub(super) type NodeVariables<'x> = ((&'x [f64], &'x [f64], &'x [f64]), &'x [f64]);
+
 /// The blocks of one node's Hessian, evaluated: the cost's and the constraint rows'.
 #[derive(Clone, Debug)]
 pub(super) struct NodeHessian {
@@ -125,6 +161,9 @@ pub(super) struct NodeHessian {
     cost_control: Vec<f64>,
     /// The TCP's Hessians, scratch of the cost's q-q block.
     tcp_hessians: [DMatrix<f64>; 3],
+    /// The added constraints' terms (under their multipliers) and the added cost terms', over
+    /// the node's [q, v, a, u], 4n x 4n; None without added terms.
+    added: Option<(DMatrix<f64>, DMatrix<f64>)>,
 }
 
 impl NodeHessian {
@@ -142,6 +181,7 @@ impl NodeHessian {
                 DMatrix::zeros(n, n),
                 DMatrix::zeros(n, n),
             ],
+            added: None,
         }
     }
 
@@ -151,7 +191,7 @@ impl NodeHessian {
         &mut self,
         (formulation, k, data): (&Formulation, usize, &mut Workspace),
         cost: &Cost<'_>,
-        (q, v, a): (&[f64], &[f64], &[f64]),
+        ((q, v, a), u): NodeVariables<'_>,
         (node, actuation): (&NodeEval, &Actuation),
         lambda: &[f64],
     ) {
@@ -184,9 +224,23 @@ impl NodeHessian {
         for (i, value) in self.cost_control.iter_mut().enumerate() {
             *value = cost.control_hessian(i);
         }
+        if formulation.has_added_terms() {
+            let mut node = NodeContext {
+                k,
+                steps: layout.steps,
+                step_s: formulation.step_s(),
+                q,
+                v,
+                a,
+                u,
+                dynamics,
+                workspace: data,
+            };
+            self.added = Some(added_terms(formulation, &mut node, lambda));
+        }
     }
 
-    /// The cost's part of `entry`.
+    /// The cost's part of `entry` (the added terms' aside).
     fn cost(&self, entry: &Entry) -> f64 {
         let Entry { block, i, j } = *entry;
         match block {
@@ -197,8 +251,11 @@ impl NodeHessian {
             | Block::AccelerationPosition
             | Block::AccelerationVelocity
             | Block::AccelerationAcceleration
-            | Block::ControlPosition => 0.0,
-            Block::ControlControl => self.cost_control[i],
+            | Block::ControlPosition
+            | Block::ControlVelocity
+            | Block::ControlAcceleration => 0.0,
+            Block::ControlControl if i == j => self.cost_control[i],
+            Block::ControlControl => 0.0,
         }
     }
 
@@ -214,17 +271,48 @@ impl NodeHessian {
             Block::AccelerationVelocity => self.dynamics[(2 * n + i, n + j)],
             Block::AccelerationAcceleration => self.dynamics[(2 * n + i, 2 * n + j)],
             Block::ControlPosition => self.mixed[(i, j)],
-            Block::ControlControl => 0.0,
+            Block::ControlVelocity | Block::ControlAcceleration | Block::ControlControl => 0.0,
         }
     }
 
     /// Writes the Lagrangian's value of each of `entries`, obj_factor * cost + dynamics, into
     /// `values` in order.
     pub(super) fn write(&self, entries: &[Entry], obj_factor: f64, values: &mut [f64]) {
+        let n = self.cost_position.nrows();
         for (value, entry) in values.iter_mut().zip(entries) {
             *value = obj_factor * self.cost(entry) + self.dynamics(entry);
+            if let Some((rows, cost)) = &self.added {
+                let at = entry.in_node(n);
+                *value += obj_factor * cost[at] + rows[at];
+            }
         }
     }
+}
+
+/// The added constraints' terms at `node` under their multipliers in `lambda`, and the added
+/// cost terms', 4n x 4n each (lower triangles).
+fn added_terms(
+    formulation: &Formulation,
+    node: &mut NodeContext<'_>,
+    lambda: &[f64],
+) -> (DMatrix<f64>, DMatrix<f64>) {
+    let size = 4 * formulation.layout().dof;
+    let (mut rows, mut cost) = (DMatrix::zeros(size, size), DMatrix::zeros(size, size));
+    for (id, family) in formulation.families() {
+        let added = formulation.added_constraints();
+        let Some(constraint) = id.0.checked_sub(FamilyId::COUNT).and_then(|i| added.get(i)) else {
+            continue;
+        };
+        if let (Some(row), Some(block)) =
+            (formulation.layout().first_row(*id, node.k), family.rows())
+        {
+            constraint.hessian(node, &lambda[row..row + block.per_node], &mut rows);
+        }
+    }
+    for term in formulation.added_costs() {
+        term.hessian(node, &mut cost);
+    }
+    (rows, cost)
 }
 
 #[cfg(test)]
@@ -247,7 +335,7 @@ mod tests {
             expected.extend((0..n).map(|j| (base + i, base + j)));
         }
         expected.extend((3 * n..4 * n).map(|i| (base + i, base + i)));
-        let entries: Vec<_> = node_entries(n, false, false)
+        let entries: Vec<_> = node_entries(n, false, false, false)
             .iter()
             .map(|entry| entry.position(&layout, 1))
             .collect();

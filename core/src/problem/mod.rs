@@ -4,7 +4,9 @@
 //! modes, and with them the problem's constraint families (`families/`, one file each), its
 //! [`Layout`] and its sparsity patterns, built once. Its [`Formulation::problem`] gives the
 //! [`TrajectoryProblem`] of one design r, which implements [`crate::ipopt::Nlp`] with exact,
-//! hand-derived sparse derivatives by walking the families node by node.
+//! hand-derived sparse derivatives by walking the families node by node. Constraints and cost
+//! terms on one node's variables may be added from outside the core ([`NodeConstraint`],
+//! [`NodeCost`], `terms.rs`).
 
 mod cost;
 mod families;
@@ -19,6 +21,7 @@ mod pose_rules;
 #[cfg(test)]
 mod pose_tests;
 mod sensitivity;
+mod terms;
 #[cfg(test)]
 pub(crate) mod tests;
 
@@ -32,3 +35,4 @@ pub use kind::ProblemKind;
 pub use layout::{BlockId, Layout, RowBlock};
 pub use nlp::TrajectoryProblem;
 pub use sensitivity::cost_gradient;
+pub use terms::{NodeConstraint, NodeContext, NodeCost};

@@ -9,8 +9,10 @@ use super::formulation::Formulation;
 use super::hessian::NodeHessian;
 use super::kind::ProblemKind;
 use super::node::{Level, NodeEval, NodePose};
+use super::terms;
 use crate::dynamics::Workspace;
 use crate::ipopt::{EvalError, Nlp};
+use crate::solve::Keyed;
 use crate::transmission::{
     Actuation, Coupling, Depth, DesignError, JointLimits, NodeLoss, PoseError, Space,
 };
@@ -39,6 +41,9 @@ pub struct TrajectoryProblem<'a> {
     /// The trajectory IPOPT starts from instead of the standard guess (see
     /// [`TrajectoryProblem::start_at`]).
     start: Option<Vec<f64>>,
+    /// The primal point evaluated last, kept where terms were added from outside the core
+    /// (whose Jacobians read it).
+    point: Vec<f64>,
 }
 
 impl<'a> TrajectoryProblem<'a> {
@@ -65,6 +70,7 @@ impl<'a> TrajectoryProblem<'a> {
             level: Level::Nothing,
             node_hessian: NodeHessian::zeros(n),
             start: None,
+            point: Vec::new(),
         })
     }
 
@@ -88,6 +94,22 @@ impl<'a> TrajectoryProblem<'a> {
         }
         self.start = Some(own.to_vec());
         Ok(())
+    }
+
+    /// The primal point evaluated last, where terms were added from outside the core (else
+    /// empty).
+    pub(super) fn point(&self) -> &[f64] {
+        &self.point
+    }
+
+    /// Each constraint added from outside the core's largest violation at x, by name.
+    pub fn added_violations(&self, x: &[f64]) -> Keyed {
+        terms::violations(self.formulation, x)
+    }
+
+    /// Each cost term added from outside the core at x, summed over the nodes, by name.
+    pub fn added_costs(&self, x: &[f64]) -> Keyed {
+        terms::costs(self.formulation, x)
     }
 
     /// The formulation this problem belongs to.
@@ -210,6 +232,10 @@ impl<'a> TrajectoryProblem<'a> {
         if new_x {
             self.level = Level::Nothing;
         }
+        if self.level == Level::Nothing && self.formulation.has_added_terms() {
+            self.point.clear();
+            self.point.extend_from_slice(x);
+        }
         if self.level >= level {
             return Ok(());
         }
@@ -320,7 +346,10 @@ impl Nlp for TrajectoryProblem<'_> {
     fn objective(&mut self, x: &[f64], new_x: bool) -> Result<f64, EvalError> {
         self.evaluate(x, new_x, Level::Values)?;
         let f = self.formulation;
-        let cost = Cost::new(f.criterion(), f.task(), f.layout()).value(x, &self.nodes);
+        let mut cost = Cost::new(f.criterion(), f.task(), f.layout()).value(x, &self.nodes);
+        if f.has_added_terms() {
+            cost += terms::cost(f, x);
+        }
         Ok(match f.layout().kind {
             ProblemKind::Hard => cost,
             ProblemKind::Elastic => cost + elastic::penalty(f, x),
@@ -331,6 +360,7 @@ impl Nlp for TrajectoryProblem<'_> {
         self.evaluate(x, new_x, Level::Derivatives)?;
         let f = self.formulation;
         Cost::new(f.criterion(), f.task(), f.layout()).gradient(x, &self.nodes, gradient);
+        terms::add_cost_gradient(f, x, gradient);
         elastic::penalty_gradient(f, gradient);
         Ok(())
     }
@@ -382,7 +412,7 @@ impl Nlp for TrajectoryProblem<'_> {
         let per_node = f.node_hessian().len();
         let nodes = self.nodes.iter().zip(&mut self.workspaces);
         for (k, ((node, data), values)) in nodes.zip(values.chunks_mut(per_node)).enumerate() {
-            let state = layout.node_state(x, k);
+            let state = (layout.node_state(x, k), layout.controls(x, k));
             let actuation = node
                 .pose
                 .as_ref()

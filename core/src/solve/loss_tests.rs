@@ -78,7 +78,11 @@ fn a_result_reports_what_the_transmissions_lose() {
         &ratios,
     );
     assert!(lossless.feasible && lossy.feasible, "{:?}", lossy.reason);
-    assert!(lossy.violations.dynamics < 1e-6, "{:?}", lossy.violations);
+    assert!(
+        lossy.violations.get("dynamics").unwrap() < 1e-6,
+        "{:?}",
+        lossy.violations
+    );
     let t = &lossy.trajectory;
     assert_eq!(t.transmission_loss.len(), t.motor_torque.len());
     let figures = lossy.figures.as_ref().unwrap();

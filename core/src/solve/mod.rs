@@ -14,7 +14,8 @@
 //! continuation), `result` (the result and its file schema), `trajectory` (the solution node by
 //! node), `figures` (its physical figures), `readback` (a primal point read back as a
 //! trajectory), `result_checks` (whether it judges its design and holds finite numbers only),
-//! `verify` (the constraint residuals evaluated again on the trajectory), `execute` (whether the
+//! `verify` (the constraint residuals evaluated again on the trajectory), `keyed` (their
+//! largest values, keyed by family), `execute` (whether the
 //! motors can execute it), `start` (a solve's raw solution kept to warm-start another solve from,
 //! [`StartPoint`], with the checks that it fits), `error`.
 
@@ -23,6 +24,7 @@ mod continuation;
 mod error;
 mod execute;
 mod figures;
+mod keyed;
 mod readback;
 mod result;
 mod result_checks;
@@ -37,9 +39,8 @@ pub use continuation::{PayloadChain, CONTINUATION_STEP_KG};
 pub use error::SolveError;
 pub use execute::MotorsExecute;
 pub use figures::{MotorFigures, PhysicalFigures};
-pub use result::{
-    CostTerms, ElasticMeasures, SolveSeconds, ToolInfo, TrajectoryResult, VerdictBy, Violations,
-};
+pub use keyed::{Keyed, Violations};
+pub use result::{CostTerms, ElasticMeasures, SolveSeconds, ToolInfo, TrajectoryResult, VerdictBy};
 pub use run::WARM_MAX_ITER;
 pub use settings::{SettingsError, SolveSettings, TaskRecord, DEFAULT_MAX_ITER, DEFAULT_TOL};
 pub use start::{StartError, StartPart, StartPoint};

@@ -3,6 +3,7 @@
 
 use super::execute::MotorsExecute;
 use super::figures::PhysicalFigures;
+use super::keyed::{Keyed, Violations};
 use super::readback::read_trajectory;
 use super::trajectory::Trajectory;
 use super::SolveError;
@@ -102,7 +103,7 @@ pub struct SolveSeconds {
 
 /// The cost J by term (docs/model.md, section 7), so that a user sees which one dominates; they
 /// sum to J.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct CostTerms {
     /// w_q sum_(k<N) |q_k|^2.
     pub position: f64,
@@ -113,6 +114,9 @@ pub struct CostTerms {
     pub control: f64,
     /// sum_(k<N) sum_axis rho c_axis(p_k)^2: the soft Cartesian box.
     pub cartesian_box: f64,
+    /// The terms a formulation adds (`Formulation::with_cost`), each under its name.
+    #[serde(flatten, skip_serializing_if = "Keyed::is_empty")]
+    pub added: Keyed,
 }
 
 /// What an elastic solve's slacks relax (docs/model.md, section 14).
@@ -134,29 +138,6 @@ pub struct ElasticMeasures {
     /// IPOPT found an optimum; dJ*/dr where the design is feasible.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub objective_gradient: Option<Vec<f64>>,
-}
-
-/// The largest violation of each constraint family at the returned point (0 when satisfied).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct Violations {
-    /// |RNEA(q, v, a) - tau|, N m.
-    pub dynamics: f64,
-    /// Semi-implicit Euler residuals, rad/s or rad.
-    pub integration: f64,
-    /// Start and goal states, rad or rad/s.
-    pub boundary: f64,
-    /// Joint position limits, rad.
-    pub joint_position: f64,
-    /// The problem's speed limits in its speed mode, rad/s.
-    pub speed_limits: f64,
-    /// The problem's control bounds in its torque mode, N m.
-    pub control_limits: f64,
-    /// The soft Cartesian box (penalised, not enforced), m.
-    pub cartesian_box: f64,
-    /// The motors' torque-speed envelope at the nodes 0 < k < N, N m: |tau_u,i| + c_i |w_i|
-    /// above tau_max,i (docs/model.md, section 5). Absent without `motors.no_load_speed_rad_s`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub motor_envelope: Option<f64>,
 }
 
 /// The result of one trajectory solve.
@@ -387,6 +368,7 @@ fn cost_terms(problem: &TrajectoryProblem<'_>, x: &[f64], trajectory: &Trajector
             }
         }
     }
+    let added = problem.added_costs(x);
     let w = &task.weights;
     match f.criterion() {
         Criterion::Weighted => CostTerms {
@@ -394,6 +376,7 @@ fn cost_terms(problem: &TrajectoryProblem<'_>, x: &[f64], trajectory: &Trajector
             velocity: w.velocity * squares(crate::problem::Layout::v),
             control: w.control * squares(crate::problem::Layout::u),
             cartesian_box,
+            added,
         },
         // The copper losses are the control term.
         Criterion::CopperLoss(weights) => CostTerms {
@@ -404,6 +387,7 @@ fn cost_terms(problem: &TrajectoryProblem<'_>, x: &[f64], trajectory: &Trajector
                 .map(|(k, i)| weights[i] * x[layout.u(k, i)].powi(2))
                 .sum(),
             cartesian_box,
+            added,
         },
     }
 }

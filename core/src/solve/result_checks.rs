@@ -51,9 +51,10 @@ impl TrajectoryResult {
             ];
             finite(&measures) && some(&e.objective_gradient)
         });
-        let terms = self
-            .cost_terms
-            .is_none_or(|c| finite(&[c.position, c.velocity, c.control, c.cartesian_box]));
+        let terms = self.cost_terms.as_ref().is_none_or(|c| {
+            finite(&[c.position, c.velocity, c.control, c.cartesian_box])
+                && c.added.iter().all(|(_, value)| value.is_finite())
+        });
         let execute = self
             .motors_execute
             .as_ref()
@@ -65,16 +66,7 @@ impl TrajectoryResult {
                     && finite(&end.margins_nm)
             })
         });
-        let violations = [
-            v.dynamics,
-            v.integration,
-            v.boundary,
-            v.joint_position,
-            v.speed_limits,
-            v.control_limits,
-            v.cartesian_box,
-            v.motor_envelope.unwrap_or(0.0),
-        ];
+        let violations: Vec<f64> = v.iter().map(|(_, value)| value).collect();
         let trajectory = finite(&t.time)
             && [
                 &t.q,

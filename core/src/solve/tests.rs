@@ -32,14 +32,15 @@ fn a_feasible_result_satisfies_every_constraint_family() {
         (steps, steps, steps)
     );
     let v = &result.violations;
-    for (family, value) in [
-        ("dynamics", v.dynamics),
-        ("integration", v.integration),
-        ("boundary", v.boundary),
-        ("joint position", v.joint_position),
-        ("speed limits", v.speed_limits),
-        ("control limits", v.control_limits),
+    for family in [
+        "dynamics",
+        "integration",
+        "boundary",
+        "joint_position",
+        "speed_limits",
+        "control_limits",
     ] {
+        let value = v.get(family).unwrap();
         assert!(value <= 1e-6, "{family}: {value:e}");
     }
     let peaks = t.motor_torque_peaks();
@@ -557,7 +558,7 @@ fn rest_ends_start_and_end_the_motion_at_rest() {
     for k in [0, a.len() - 1] {
         assert!(largest(&a[k]) <= 1e-9, "a_{k} = {:?}", a[k]);
     }
-    assert!(rested.violations.boundary <= 1e-6);
+    assert!(rested.violations.get("boundary").unwrap() <= 1e-6);
     let free = solve_original_with(Ends::Hold, Space::Actuation, 0.0);
     assert!(free.feasible);
     let a = &free.trajectory.a;

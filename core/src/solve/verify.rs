@@ -2,7 +2,7 @@
 //! evaluated again on the trajectory read back, independently of IPOPT's own measures
 //! ([`Violations::of`]).
 
-use super::result::Violations;
+use super::keyed::Violations;
 use super::trajectory::Trajectory;
 use crate::model::task::Motion;
 use crate::problem::{Formulation, TrajectoryProblem};
@@ -19,12 +19,23 @@ fn outside(value: f64, lower: f64, upper: f64) -> f64 {
 }
 
 impl Violations {
-    /// The violations of `problem`'s constraint families at x, whose trajectory is `trajectory`.
+    /// The violations of `problem`'s constraint families at x, whose trajectory is `trajectory`:
+    /// the built-in families' measured again on the trajectory, then each added family's (the
+    /// distance of its rows from their bounds at x), under its own name.
     pub(super) fn of(
         problem: &TrajectoryProblem<'_>,
         x: &[f64],
         trajectory: &Trajectory,
     ) -> Violations {
+        let mut violations = Violations::built_in(problem, x, trajectory);
+        for (name, largest) in problem.added_violations(x).iter() {
+            violations.push(name, largest);
+        }
+        violations
+    }
+
+    /// The built-in families' violations, measured on `trajectory`.
+    fn built_in(problem: &TrajectoryProblem<'_>, x: &[f64], trajectory: &Trajectory) -> Violations {
         let f = problem.formulation();
         let layout = f.layout();
         let (n, h) = (layout.dof, f.step_s());
@@ -38,11 +49,13 @@ impl Violations {
                 .map(|(&value, &limit)| outside(value, -limit, limit))
                 .fold(0.0, f64::max)
         };
-        Violations {
-            dynamics: dynamics_residual(problem, trajectory),
-            integration: integration_residual(h, trajectory),
-            boundary: boundary_residual(&f.task().motion, trajectory),
-            joint_position: trajectory
+        let mut violations = Violations::default();
+        violations.push("dynamics", dynamics_residual(problem, trajectory));
+        violations.push("integration", integration_residual(h, trajectory));
+        violations.push("boundary", boundary_residual(&f.task().motion, trajectory));
+        violations.push(
+            "joint_position",
+            trajectory
                 .q
                 .iter()
                 .flat_map(|q| {
@@ -51,22 +64,30 @@ impl Violations {
                         .map(|(&q, &(lo, hi))| outside(q, lo, hi))
                 })
                 .fold(0.0, f64::max),
-            speed_limits: match posed {
+        );
+        violations.push(
+            "speed_limits",
+            match posed {
                 true => motor_limits(&trajectory.motor_speed, f.motor_speed_limits()),
                 false => (trajectory.v.iter())
                     .map(|v| limit_violation(&speed, v))
                     .fold(0.0, f64::max),
             },
-            control_limits: match posed {
+        );
+        violations.push(
+            "control_limits",
+            match posed {
                 true => motor_limits(&trajectory.motor_torque, f.motor_torque_limits()),
                 false => (0..layout.steps)
                     .map(|k| limit_violation(&control, &x[layout.u(k, 0)..layout.u(k, 0) + n]))
                     .fold(0.0, f64::max),
             },
-            cartesian_box: box_violation(problem, trajectory),
-            motor_envelope: least_envelope_margin(f, trajectory)
-                .map(|least| (-least.margin_nm).max(0.0)),
+        );
+        violations.push("cartesian_box", box_violation(problem, trajectory));
+        if let Some(least) = least_envelope_margin(f, trajectory) {
+            violations.push("motor_envelope", (-least.margin_nm).max(0.0));
         }
+        violations
     }
 }
 

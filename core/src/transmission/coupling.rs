@@ -2,7 +2,7 @@
 //! design, mapping torques (N m) and speeds (rad/s) between motors and joints.
 
 use super::design_space::DesignError;
-use super::spec::Entry;
+use super::entry::Entry;
 use super::Transmission;
 use nalgebra::{DMatrix, DVector};
 

@@ -5,7 +5,8 @@
 //! nothing about the belt arm is hard-coded here. Units: ratios are dimensionless, torques N m,
 //! speeds rad/s. Rows of G are motors, columns joints.
 //!
-//! - `spec`: reading the task's `transmission` section (`r<i>` names, entries, order strings);
+//! - `spec`: reading the task's `transmission` section (its matrix, bounds, order strings);
+//! - `entry`: one entry of G or number of a linkage, a constant or `k*r<i>`;
 //! - `design_space`: bounds, order constraints, the original design, checks and projection;
 //! - `active`: the bounds a design sits on, with what widening each would gain;
 //! - `coupling`: G(r), dG/dr_i, and G with its inverse at one design;
@@ -20,6 +21,7 @@ mod active;
 mod actuation;
 mod coupling;
 mod design_space;
+mod entry;
 mod envelope;
 mod limits;
 pub mod linkage;
@@ -40,7 +42,7 @@ pub use loss::{
 pub use pose::{Depth, DesignDerivativeAt, PoseCoupling, PoseError, PoseRow};
 pub use spec::SpecError;
 
-use spec::Entry;
+use entry::Entry;
 
 /// The parsed structure of G(r) with its design space.
 #[derive(Clone, Debug)]

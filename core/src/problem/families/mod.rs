@@ -7,11 +7,13 @@
 //! (`nlp.rs`) and the sensitivity (`sensitivity.rs`) only walk the formulation's families, in
 //! the order of [`FamilyId::ALL`]: the order of their rows within a node, of their Jacobian
 //! entries and of their terms. Adding a family is a new file here and its entry in that list
-//! (and in `build` below). What the families share, the [`Family`] trait and what its visits
+//! (and in `build` below). A constraint added from outside the core
+//! ([`crate::problem::NodeConstraint`]) joins the list after them, as an `added::Added`. What the families share, the [`Family`] trait and what its visits
 //! read, is in `family.rs`, which they import; nothing here is imported back.
 //!
 //! The static hold at the ends is no row of the NLP but a check before it (`../hold.rs`).
 
+pub(super) mod added;
 mod dynamics;
 pub(super) mod elastic;
 mod ends;
@@ -32,6 +34,7 @@ pub(super) use family::{
     NodeSecondOrder, Place, Shape,
 };
 
+use super::layout::BlockId;
 use std::sync::Arc;
 
 /// The family `id` for `shape`, None where the shape has none: with [`FamilyId::ALL`], the list
@@ -50,10 +53,10 @@ fn build(id: FamilyId, shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
     }
 }
 
-/// The families of `shape`, in order, with their ids.
-pub(super) fn of(shape: &Shape<'_>) -> Vec<(FamilyId, Arc<dyn Family>)> {
+/// The families of `shape`, in order, keyed by their row blocks.
+pub(super) fn of(shape: &Shape<'_>) -> Vec<(BlockId, Arc<dyn Family>)> {
     FamilyId::ALL
         .into_iter()
-        .filter_map(|id| build(id, shape).map(|family| (id, family)))
+        .filter_map(|id| build(id, shape).map(|family| (id.into(), family)))
         .collect()
 }

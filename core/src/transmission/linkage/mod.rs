@@ -21,7 +21,7 @@ pub use linear::LinearActuator;
 pub use resolve::{Problem, ResolveError};
 pub use row::{RowDerivatives, RowSensitivity, RowShape};
 
-use super::spec::Entry;
+use super::entry::Entry;
 use crate::dynamics::{Dynamics, Workspace};
 use crate::jet::{Jet, JetShape};
 use std::fmt;

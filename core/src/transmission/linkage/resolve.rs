@@ -1,7 +1,7 @@
 //! Linkages from the task's rows: their links found on the chain, their numbers parsed (each a
 //! constant or a design parameter), their geometry checked, with errors naming the field.
 
-use super::super::spec::{parse_number, Entry};
+use super::super::entry::{parse_number, Entry};
 use super::crank_rod::CrankNumbers;
 use super::{Anchor, CrankRod, LinearActuator, Linkage};
 use crate::dynamics::Dynamics;

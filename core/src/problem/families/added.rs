@@ -1,0 +1,77 @@
+//! The rows of a constraint added from outside the core ([`NodeConstraint`]), as a family: its
+//! bounds, values and Jacobian node by node, dense over the node's [q, v, a, u]. Its Hessian
+//! goes into the node's full block (`../hessian.rs`); it has no design sensitivity (an added
+//! term does not depend on r).
+
+use super::family::{At, Emit, Family, Place};
+use crate::problem::layout::RowBlock;
+use crate::problem::nlp::TrajectoryProblem;
+use crate::problem::node::NodeEval;
+use crate::problem::terms::{at_node, node_columns, NodeConstraint};
+use nalgebra::DMatrix;
+use std::sync::Arc;
+
+/// The family of one added constraint.
+#[derive(Debug)]
+pub(in crate::problem) struct Added(pub(in crate::problem) Arc<dyn NodeConstraint>);
+
+impl Family for Added {
+    fn rows(&self) -> Option<RowBlock> {
+        Some(RowBlock {
+            per_node: self.0.rows(),
+            inner_only: false,
+            relaxed: false,
+        })
+    }
+
+    fn row_bounds(
+        &self,
+        p: &TrajectoryProblem<'_>,
+        Place { k, row }: Place,
+        lower: &mut [f64],
+        upper: &mut [f64],
+    ) {
+        let (rows, steps) = (self.0.rows(), p.formulation().layout().steps);
+        self.0.bounds(
+            k,
+            steps,
+            &mut lower[row..row + rows],
+            &mut upper[row..row + rows],
+        );
+    }
+
+    fn values(
+        &self,
+        p: &TrajectoryProblem<'_>,
+        x: &[f64],
+        _node: &NodeEval,
+        Place { k, row }: Place,
+        g: &mut [f64],
+    ) {
+        let rows = self.0.rows();
+        at_node(p.formulation(), x, k, |node| {
+            self.0.values(node, &mut g[row..row + rows])
+        });
+    }
+
+    fn jacobian(
+        &self,
+        at: &At<'_>,
+        _node: &NodeEval,
+        Place { k, row }: Place,
+        emit: &mut Emit<'_>,
+    ) {
+        let layout = at.formulation().layout();
+        let mut jacobian = DMatrix::zeros(self.0.rows(), 4 * layout.dof);
+        if let At::Design(p) = at {
+            at_node(p.formulation(), p.point(), k, |node| {
+                self.0.jacobian(node, &mut jacobian)
+            });
+        }
+        for r in 0..self.0.rows() {
+            for (c, column) in node_columns(layout, k).enumerate() {
+                emit(row + r, column, jacobian[(r, c)]);
+            }
+        }
+    }
+}
