@@ -5,7 +5,7 @@
 //! The Python half (`python/codesign/`) turns the documents into objects with numpy arrays and
 //! the errors into its exception classes. Every solve runs on a thread of its own with the GIL
 //! released; the calling thread waits for it, looking every 100 ms whether Python has a signal
-//! to raise (Ctrl-C), and then asks the work to stop (`codesign::signals::request_stop`).
+//! to raise (Ctrl-C), and then stops that work alone (`codesign::signals::StopToken`).
 
 mod errors;
 mod interrupt;

@@ -13,6 +13,7 @@ use crate::design::score::{anchor_solution, Fitness};
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;
 use crate::problem::Formulation;
+use crate::signals;
 use crate::solve::{solve_design, solve_design_from, SolveError, SolveSettings, ToolInfo};
 use crate::stats::median;
 use crate::store::document::write_document;
@@ -70,6 +71,10 @@ pub fn run_case(
         .map_or(Some(0.0), |(log, _)| log.earlier_seconds());
     let result = outcome.and_then(|outcome| {
         let mut document = document(case, &formulation, &settings, inputs, outcome)?;
+        // The document's solves of the best and the original design may have been stopped.
+        if signals::stop_requested() {
+            return Err(RunError::Interrupted);
+        }
         document.earlier_seconds = earlier_seconds;
         document.wall_seconds = started.elapsed().as_secs_f64();
         write_document(out, &document).map_err(RunError::store(Output::Result))?;
