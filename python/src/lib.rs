@@ -49,5 +49,6 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(versions, module)?)?;
     module.add_function(wrap_pyfunction!(task::task_text, module)?)?;
     module.add_function(wrap_pyfunction!(runs::optimize, module)?)?;
+    module.add_function(wrap_pyfunction!(runs::log_beside, module)?)?;
     Ok(())
 }
