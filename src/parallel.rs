@@ -3,11 +3,13 @@
 //! MUMPS, which is not thread-safe, to one thread.
 
 use codesign_core::ipopt::LinearSolver;
+use codesign_core::signals;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc::channel;
 
 /// Runs `work` on every index below `count` on up to `threads` threads (at least one), each
-/// thread taking the next index not yet taken until none is left or `stop` says to stop.
+/// thread taking the next index not yet taken until none is left or `stop` says to stop. The
+/// threads work under the calling thread's stop token ([`signals::under`]).
 /// `heard` hears each result in this thread as it finishes, in any order; its error stops the
 /// threads at their next index and is returned. The results in index order, None where an
 /// index was never worked on.
@@ -22,18 +24,21 @@ pub fn in_order<T: Send, E>(
     let (sender, receiver) = channel();
     let mut results: Vec<Option<T>> = Vec::new();
     results.resize_with(count, || None);
+    let token = signals::current();
     std::thread::scope(|scope| -> Result<(), E> {
         for _ in 0..threads.clamp(1, count.max(1)) {
-            let sender = sender.clone();
+            let (sender, token) = (sender.clone(), token.clone());
             let (next, stop, work) = (&next, &stop, &work);
-            scope.spawn(move || loop {
-                let index = next.fetch_add(1, Ordering::Relaxed);
-                if index >= count || stop() {
-                    return;
-                }
-                if sender.send((index, work(index))).is_err() {
-                    return;
-                }
+            scope.spawn(move || {
+                signals::under(token, || loop {
+                    let index = next.fetch_add(1, Ordering::Relaxed);
+                    if index >= count || stop() {
+                        return;
+                    }
+                    if sender.send((index, work(index))).is_err() {
+                        return;
+                    }
+                })
             });
         }
         drop(sender);
@@ -85,5 +90,19 @@ mod tests {
             |i, _| if i == 1 { Err(i) } else { Ok(()) },
         );
         assert_eq!(failed, Err(1));
+    }
+
+    /// The threads work under the caller's stop token: a stopped token stops them, and work
+    /// under none is never stopped.
+    #[test]
+    fn the_threads_work_under_the_callers_stop_token() {
+        let token = signals::StopToken::new();
+        token.stop();
+        let asked = |_: usize| signals::stop_requested();
+        let ok = |_: usize, _: &bool| Ok::<(), ()>(());
+        let stopped = signals::under(Some(token), || in_order(3, 2, || false, asked, ok));
+        assert_eq!(stopped, Ok(vec![Some(true); 3]));
+        let free = in_order(3, 2, || false, asked, ok);
+        assert_eq!(free, Ok(vec![Some(false); 3]));
     }
 }

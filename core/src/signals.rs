@@ -5,12 +5,16 @@
 //! place (or its temporary removed). The handler makes only async-signal-safe calls.
 //!
 //! A host that handles the signals itself (the Python package, whose interpreter owns INT) calls
-//! [`leave_signals_to_host`] first: no handler is installed, and the host asks the work under way
-//! to stop with [`request_stop`]. Every IPOPT solve then stops at its next iteration, and a
-//! co-design run stops before its next evaluation, its log kept for `--resume`.
+//! [`leave_signals_to_host`] first: no handler is installed, and the host stops one piece of work
+//! at a time. It runs each piece [`under`] a [`StopToken`] of its own and stops it with
+//! [`StopToken::stop`]: the IPOPT solves of that work (on its thread and the threads
+//! [`crate::parallel::in_order`] starts for it) end at their next iteration with
+//! [`crate::ipopt::Error::Stopped`], never with a verdict, and a co-design run stops before its
+//! next evaluation, its log kept for `--resume`. Work under other tokens, or none, runs on.
 
+use std::cell::RefCell;
 use std::sync::atomic::{AtomicBool, AtomicI32, AtomicUsize, Ordering};
-use std::sync::Once;
+use std::sync::{Arc, Once};
 
 /// The most worker process groups alive at once in one process.
 pub const MAX_GROUPS: usize = 4096;
@@ -28,28 +32,60 @@ static PENDING: AtomicI32 = AtomicI32::new(0);
 /// Whether the host handles INT, TERM and HUP ([`leave_signals_to_host`]).
 static HOSTED: AtomicBool = AtomicBool::new(false);
 
-/// Whether the host asked the work under way to stop ([`request_stop`]).
-static STOP: AtomicBool = AtomicBool::new(false);
-
-/// Installs no handler, now or later: the host process handles INT, TERM and HUP and calls
-/// [`request_stop`]. Call it before any work starts.
+/// Installs no handler, now or later: the host process handles INT, TERM and HUP and stops its
+/// work through [`StopToken`]s. Call it before any work starts.
 pub fn leave_signals_to_host() {
     HOSTED.store(true, Ordering::SeqCst);
 }
 
-/// Asks every solve and co-design run of this process to stop as soon as it can.
-pub fn request_stop() {
-    STOP.store(true, Ordering::SeqCst);
+/// The request to stop one piece of work: clones share it.
+#[derive(Clone, Debug, Default)]
+pub struct StopToken(Arc<AtomicBool>);
+
+impl StopToken {
+    /// A token not yet stopped.
+    pub fn new() -> StopToken {
+        StopToken::default()
+    }
+
+    /// Asks the work under this token to stop as soon as it can; it cannot be withdrawn.
+    pub fn stop(&self) {
+        self.0.store(true, Ordering::SeqCst);
+    }
+
+    /// Whether [`StopToken::stop`] was called.
+    pub fn stopped(&self) -> bool {
+        self.0.load(Ordering::SeqCst)
+    }
 }
 
-/// Withdraws [`request_stop`], before the next piece of work starts.
-pub fn clear_stop() {
-    STOP.store(false, Ordering::SeqCst);
+thread_local! {
+    /// The token of the work running on this thread ([`under`]).
+    static CURRENT: RefCell<Option<StopToken>> = const { RefCell::new(None) };
 }
 
-/// Whether [`request_stop`] was called and not withdrawn.
+/// Runs `work` on this thread under `token` (None: under no token, never stopped), then puts
+/// back the token this thread had.
+pub fn under<T>(token: Option<StopToken>, work: impl FnOnce() -> T) -> T {
+    /// Puts the earlier token back, even when `work` panics.
+    struct Restore(Option<StopToken>);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            CURRENT.with(|current| *current.borrow_mut() = self.0.take());
+        }
+    }
+    let _restore = Restore(CURRENT.with(|current| current.replace(token)));
+    work()
+}
+
+/// The token of the work on this thread, for the threads it starts to run [`under`].
+pub fn current() -> Option<StopToken> {
+    CURRENT.with(|current| current.borrow().clone())
+}
+
+/// Whether the work on this thread was asked to stop (its token's [`StopToken::stop`]).
 pub fn stop_requested() -> bool {
-    STOP.load(Ordering::SeqCst)
+    CURRENT.with(|current| current.borrow().as_ref().is_some_and(StopToken::stopped))
 }
 
 /// Notes a worker's process group, so that INT, TERM or HUP kill it; false when the table is

@@ -10,8 +10,11 @@ import sys
 import tempfile
 from typing import Any, Callable, Dict, Optional, Sequence, Union
 
+import numpy as np
+
 from codesign import _native
 from codesign._errors import InputError
+from codesign._keywords import design, flag, number, optional_flag, path, plain, shown, text, whole
 from codesign._results import Capacity, CheckReport, Run, Solution
 from codesign._robot import Robot, Transmission
 
@@ -32,11 +35,6 @@ def _merge(base: Dict[str, Any], changes: Dict[str, Any]) -> Dict[str, Any]:
     return merged
 
 
-def _ratios(ratios: Optional[Sequence[float]]) -> Optional[list]:
-    """The design as a list of floats (from any sequence or numpy array)."""
-    return None if ratios is None else [float(r) for r in ratios]
-
-
 def _worker_command() -> str:
     """The shell command that starts one worker: this interpreter running codesign.worker, with
     this package's folder first on its path (so that a source folder in the working directory
@@ -51,10 +49,15 @@ def _worker_command() -> str:
 
 def _progress(progress: Progress) -> Optional[Callable[[int, int, float], Any]]:
     """The callable behind ``progress=``: the caller's, a tqdm bar where tqdm is installed
-    (``None``), or nothing (``False``)."""
+    (``None`` or ``True``), or nothing (``False``)."""
     if callable(progress):
         return progress
-    if progress is False:
+    if progress is not None and not isinstance(progress, (bool, np.bool_)):
+        raise InputError(
+            f"progress={shown(progress)}: must be True, False, None or a callable "
+            "progress(done, total, best)"
+        )
+    if progress is False or progress is np.False_:
         return None
     try:
         from tqdm.auto import tqdm
@@ -132,8 +135,10 @@ class Task:
         ``robot`` path is taken from the folder of the task file this one was loaded from.
         Example: ``task.with_changes(payload=2.0, motors={"torque_limit_nm": 0.8})``.
         """
-        if isinstance(changes.get("payload"), (int, float)):
-            changes["payload"] = {"mass_kg": float(changes["payload"])}
+        changes = {key: plain(key, value) for key, value in changes.items()}
+        payload = changes.get("payload")
+        if isinstance(payload, (int, float)) and not isinstance(payload, bool):
+            changes["payload"] = {"mass_kg": float(payload)}
         document = _merge(self._document, changes)
         label = f"{self.label} with {', '.join(sorted(changes))} changed"
         native = _native.NativeTask.given(json.dumps(document), label, self._folder)
@@ -146,8 +151,10 @@ class Task:
         ends: Optional[str] = None,
     ) -> CheckReport:
         """What ``codesign check`` finds: joints, static torques and the hold, before any solve."""
-        text, words, problems = self._native.check(payload, ends, _ratios(ratios))
-        return CheckReport(text, words, problems)
+        found, words, problems = self._native.check(
+            number("payload", payload), text("ends", ends), design("ratios", ratios)
+        )
+        return CheckReport(found, words, problems)
 
     def solve(
         self,
@@ -170,18 +177,23 @@ class Task:
         from an earlier solution of the same task, space and kind (its point and multipliers;
         the payload may differ). The GIL is released while IPOPT runs; Ctrl-C stops it.
         """
+        if start is not None and not isinstance(start, Solution):
+            raise InputError(
+                f"start={shown(start)}: must be a Solution of an earlier solve, not "
+                f"{type(start).__name__}"
+            )
         native_start = None if start is None else start._native
         native = self._native.solve(
-            space,
-            payload,
-            ends,
-            torque_mode,
-            speed_mode,
-            linear_solver,
-            _ratios(ratios),
-            duration,
-            steps,
-            elastic,
+            text("space", space),
+            number("payload", payload),
+            text("ends", ends),
+            text("torque_mode", torque_mode),
+            text("speed_mode", speed_mode),
+            text("linear_solver", linear_solver),
+            design("ratios", ratios),
+            number("duration", duration),
+            whole("steps", steps),
+            flag("elastic", elastic),
             native_start,
         )
         return Solution(native)
@@ -201,18 +213,18 @@ class Task:
     ) -> Capacity:
         """The largest payload design ``ratios`` moves through the task, kg (``codesign
         capacity``): bracketed by doubling from ``first_step``, then bisected to ``resolution``."""
-        text = self._native.capacity(
-            space,
-            ends,
-            torque_mode,
-            speed_mode,
-            linear_solver,
-            _ratios(ratios),
-            resolution,
-            first_step,
-            max,
+        found = self._native.capacity(
+            text("space", space),
+            text("ends", ends),
+            text("torque_mode", torque_mode),
+            text("speed_mode", speed_mode),
+            text("linear_solver", linear_solver),
+            design("ratios", ratios),
+            number("resolution", resolution),
+            number("first_step", first_step),
+            number("max", max),
         )
-        return Capacity(text)
+        return Capacity(found)
 
     def optimize(
         self,
@@ -244,52 +256,59 @@ class Task:
         The result is written to ``out`` and a CMA-ES run's evaluation log to ``log``
         (``NAME.log.jsonl`` beside ``NAME.json``; give either); ``resume=True`` continues an
         interrupted run from its log. Without either the run goes to a temporary folder.
-        ``progress`` is called as ``progress(done, total, best)`` after each evaluation; by
-        default a tqdm bar shows where tqdm is installed (``False``: nothing).
+        ``progress`` is called as ``progress(done, total, best)`` after each evaluation, and
+        stops the run by raising; by default (``None`` or ``True``) a tqdm bar shows where tqdm
+        is installed (``False``: nothing).
         """
-        result, log_file = self._outputs(out, log)
+        result, log_file = self._outputs(path("out", out), path("log", log))
+        keywords = dict(
+            payload=number("payload", payload),
+            ends=text("ends", ends),
+            torque_mode=text("torque_mode", torque_mode),
+            speed_mode=text("speed_mode", speed_mode),
+            linear_solver=text("linear_solver", linear_solver),
+            method=text("method", method),
+            population=whole("population", population),
+            generations=whole("generations", generations),
+            seed=whole("seed", seed),
+            sigma=number("sigma", sigma),
+            gradient_iterations=whole("gradient_iterations", gradient_iterations),
+            warm_start=optional_flag("warm_start", warm_start),
+            workers=whole("workers", workers),
+            resume=flag("resume", resume),
+            overwrite=flag("overwrite", overwrite),
+            progress=_progress(progress),
+        )
+        space = text("space", space)
         with tempfile.TemporaryDirectory(prefix="codesign-") as folder:
             target = result or os.path.join(folder, "run.json")
-            text = _native.optimize(
-                self._native,
-                space,
-                target,
-                _worker_command(),
-                payload=payload,
-                ends=ends,
-                torque_mode=torque_mode,
-                speed_mode=speed_mode,
-                linear_solver=linear_solver,
-                method=method,
-                population=population,
-                generations=generations,
-                seed=seed,
-                sigma=sigma,
-                gradient_iterations=gradient_iterations,
-                warm_start=warm_start,
-                workers=workers,
-                resume=resume,
-                overwrite=overwrite,
-                progress=_progress(progress),
-            )
-        return Run(text, result or "", log_file)
+            found = _native.optimize(self._native, space, target, _worker_command(), **keywords)
+        return Run(found, result or "", log_file)
 
     @staticmethod
-    def _outputs(out, log):
-        """The result file and the log file of ``out=`` and ``log=`` (each derived from the
-        other), or (None, None) for a run in a temporary folder."""
+    def _outputs(out: Optional[str], log: Optional[str]):
+        """The result file and the log file of ``out=`` and ``log=`` (the log where the run
+        keeps it, beside the result; the result ``NAME.json`` of a log ``NAME.log.jsonl``), or
+        (None, None) for a run in a temporary folder."""
         if out is not None and log is not None:
             raise InputError("out= and log=: give one; the log lies beside the result")
-        if log is not None:
-            log = os.fspath(log)
-            if not log.endswith(LOG_SUFFIX):
-                raise InputError(f"log={log!r}: an evaluation log is named NAME{LOG_SUFFIX}")
-            return log[: -len(LOG_SUFFIX)] + ".json", log
         if out is not None:
-            out = os.fspath(out)
-            stem = out[:-5] if out.endswith(".json") else out
-            return out, stem + LOG_SUFFIX
-        return None, None
+            return out, os.fspath(_native.log_beside(out))
+        if log is None:
+            return None, None
+        name = os.path.basename(log)
+        if not name.endswith(LOG_SUFFIX) or name == LOG_SUFFIX:
+            raise InputError(
+                f"log={log!r}: an evaluation log is named NAME{LOG_SUFFIX}, NAME not empty"
+            )
+        result = log[: -len(LOG_SUFFIX)] + ".json"
+        beside = os.fspath(_native.log_beside(result))
+        if beside != log:
+            raise InputError(
+                f"log={log!r}: the run's result {result!r} keeps its log at {beside!r}; give "
+                f"out={result!r} instead"
+            )
+        return result, log
 
     def __repr__(self) -> str:
         return f"<codesign.Task {self.label}>"

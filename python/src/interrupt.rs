@@ -1,10 +1,13 @@
-//! Work that Ctrl-C can stop: it runs on a thread of its own, the GIL released, while the
-//! calling thread waits and looks every 100 ms whether Python has a signal to raise. On one it
-//! asks the work to stop (`signals::request_stop`: IPOPT at its next iteration, a co-design run
-//! before its next evaluation, its log kept), waits for it, and raises the signal's exception.
+//! Work that Ctrl-C can stop: it runs on a thread of its own under a stop token of its own
+//! (`signals::StopToken`), the GIL released, while the calling thread waits and looks every
+//! 100 ms whether Python has a signal to raise. On one (or when the progress callback raises) it
+//! stops that token: the work's IPOPT solves end at their next iteration as errors, never as
+//! verdicts, and a co-design run stops before its next evaluation, its log kept. It waits for the
+//! work and raises the exception; the work's outcome, whatever it is, is dropped. Work of other
+//! calls, under other tokens, runs on.
 
 use crate::errors::{Failure, Outcome};
-use codesign_core::signals;
+use codesign_core::signals::{self, StopToken};
 use pyo3::prelude::*;
 use std::sync::mpsc::{channel, RecvTimeoutError, Sender};
 use std::time::Duration;
@@ -30,14 +33,21 @@ pub fn run<T: Send + 'static>(
 ) -> PyResult<T> {
     let (sender, mut receiver) = channel();
     let own = sender.clone();
+    let token = StopToken::new();
+    let stop = token.clone();
     let thread = std::thread::Builder::new()
         .name("codesign".to_owned())
         .spawn(move || {
-            let outcome = work(own.clone());
+            let outcome = signals::under(Some(token), || work(own.clone()));
             let _ = own.send(Message::Done(outcome));
         })
         .map_err(|e| Failure::solver(format!("could not start a thread: {e}")).into_py(py))?;
     drop(sender);
+    let stopped = |py: Python<'_>, thread: std::thread::JoinHandle<()>, error: PyErr| {
+        stop.stop();
+        let _ = py.detach(|| thread.join());
+        Err(error)
+    };
     let outcome = loop {
         // A receiver is not Sync: the waiting closure takes it by unique reference.
         let waiting = &mut receiver;
@@ -45,15 +55,13 @@ pub fn run<T: Send + 'static>(
         // Signals are looked for after every message too: a run whose evaluations answer faster
         // than the poll never waits long enough to time out.
         if let Err(signal) = py.check_signals() {
-            stop(py, thread);
-            return Err(signal);
+            return stopped(py, thread, signal);
         }
         match received {
             Ok(Message::Done(outcome)) => break outcome,
             Ok(Message::Progress(done, total, best)) => {
                 if let Err(error) = progress(py, done, total, best) {
-                    stop(py, thread);
-                    return Err(error);
+                    return stopped(py, thread, error);
                 }
             }
             Err(RecvTimeoutError::Timeout) => {}
@@ -66,11 +74,4 @@ pub fn run<T: Send + 'static>(
     };
     let _ = thread.join();
     outcome.map_err(|failure| failure.into_py(py))
-}
-
-/// Asks the work to stop, waits for its thread, and withdraws the request.
-fn stop(py: Python<'_>, thread: std::thread::JoinHandle<()>) {
-    signals::request_stop();
-    let _ = py.detach(|| thread.join());
-    signals::clear_stop();
 }

@@ -6,7 +6,7 @@
 //! The Python half (`python/codesign/`) turns the documents into objects with numpy arrays and
 //! the errors into its exception classes. Every solve runs on a thread of its own with the GIL
 //! released; the calling thread waits for it, looking every 100 ms whether Python has a signal
-//! to raise (Ctrl-C), and then asks the work to stop (`codesign_core::signals::request_stop`).
+//! to raise (Ctrl-C), and then stops that work alone (`codesign_core::signals::StopToken`).
 
 mod errors;
 mod interrupt;
@@ -52,5 +52,6 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(versions, module)?)?;
     module.add_function(wrap_pyfunction!(task::task_text, module)?)?;
     module.add_function(wrap_pyfunction!(runs::optimize, module)?)?;
+    module.add_function(wrap_pyfunction!(runs::log_beside, module)?)?;
     Ok(())
 }

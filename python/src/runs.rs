@@ -99,6 +99,13 @@ fn run(case: &Case, out: &std::path::Path, sender: Sender<Message<String>>) -> O
     document_json(&document).map_err(|e| Failure::solver(format!("result not encoded: {e}")))
 }
 
+/// Where a run whose result is `out` keeps its evaluation log (`NAME.json` ->
+/// `NAME.log.jsonl`, beside the file a symbolic link `out` points to).
+#[pyfunction]
+pub fn log_beside(out: PathBuf) -> PathBuf {
+    codesign::store::log::log_beside(&out)
+}
+
 /// A co-design run of `task` written to `out` (its evaluation log beside it), as
 /// `codesign optimize` runs it; the result document. `progress(done, total, best)` is called
 /// after each evaluation of a CMA-ES run.

@@ -201,6 +201,11 @@ impl NativeTask {
             first_step_kg: first_step.unwrap_or(defaults.first_step_kg),
             max_kg: max.unwrap_or(defaults.max_kg),
         };
+        settings.validate().map_err(|error| {
+            let keyword = error.key.trim_end_matches("_kg");
+            let message = format!("{keyword}={}: {}", number(error.value), error.rule());
+            Failure::input(message).into_py(py)
+        })?;
         interrupt::run(
             py,
             move |_| capacity(&posed, ratios, settings),
@@ -295,9 +300,6 @@ fn capacity(
     let loaded = posed.load()?;
     let formulation = posed.formulation(&loaded)?;
     let ratios = posed.design(&formulation, ratios)?;
-    settings
-        .validate()
-        .map_err(|e| Failure::input(e.to_string()))?;
     let capacity = payload_capacity(&formulation, &loaded.settings, &ratios, &settings)
         .map_err(|e| Failure::solver(format!("{}: {e}", posed.model.source())))?;
     let document = CapacityDocument {

@@ -3,13 +3,10 @@
 use super::common::{finite_ratio, ModelArgs, ProblemArgs};
 use super::failure::Failure;
 use super::store_hints::check_output;
-use crate::design::capacity::{
-    payload_capacity, Capacity, CapacityLimit, CapacitySettings, MIN_RESOLUTION_KG,
-};
+use crate::design::capacity::{payload_capacity, Capacity, CapacityLimit, CapacitySettings};
 use crate::design::run::{Loaded, RecordedHash};
 use crate::report::codesign::{CapacityDocument, CapacityInputs};
 use crate::store::document::write_document;
-use codesign_core::model::task::MAX_PAYLOAD_KG;
 use codesign_core::problem::Formulation;
 use codesign_core::solve::ToolInfo;
 use codesign_core::text::number;
@@ -105,35 +102,26 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The search's settings from the flags, each checked to be a mass a task may carry.
+/// The search's settings from the flags, checked as the library checks them
+/// ([`CapacitySettings::validate`]).
 fn search_settings(args: &Args) -> Result<CapacitySettings, String> {
     if args.model.payload.is_some() {
         return Err("--payload: capacity searches the payload itself; leave it out".to_owned());
     }
-    for (flag, kg) in [
-        ("--resolution", args.resolution),
-        ("--first-step", args.first_step),
-        ("--max", args.max),
-    ] {
-        if !(kg.is_finite() && kg > 0.0 && kg <= MAX_PAYLOAD_KG) {
-            return Err(format!(
-                "{flag} {kg}: must be a mass > 0 and <= {MAX_PAYLOAD_KG} kg (the heaviest payload \
-                 a task may carry)"
-            ));
-        }
-    }
-    if args.resolution < MIN_RESOLUTION_KG {
-        return Err(format!(
-            "--resolution {}: must be at least {MIN_RESOLUTION_KG} kg (1 mg, below what any scale \
-             resolves)",
-            number(args.resolution)
-        ));
-    }
-    Ok(CapacitySettings {
+    let settings = CapacitySettings {
         resolution_kg: args.resolution,
         first_step_kg: args.first_step,
         max_kg: args.max,
-    })
+    };
+    settings.validate().map_err(|error| {
+        let flag = match error.key {
+            "resolution_kg" => "--resolution",
+            "first_step_kg" => "--first-step",
+            _ => "--max",
+        };
+        format!("{flag} {}: {}", number(error.value), error.rule())
+    })?;
+    Ok(settings)
 }
 
 /// Prints the capacity of design `ratios`, what bounds it, and the search's work.

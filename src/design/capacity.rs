@@ -10,10 +10,12 @@
 //! goes beyond the largest payload the motors hold at rest at both ends, which is known in
 //! closed form ([`Formulation::hold_capacity`]), so no capacity exceeds it.
 
+use codesign_core::model::task::MAX_PAYLOAD_KG;
 use codesign_core::problem::{Formulation, FormulationError};
 use codesign_core::solve::{
     solve_design_along, PayloadChain, SolveError, SolveSettings, VerdictBy, CONTINUATION_STEP_KG,
 };
+use codesign_core::text::number;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -99,29 +101,62 @@ pub struct Capacity {
 }
 
 impl CapacitySettings {
-    /// Checks that every mass is a positive number of kg.
-    pub fn validate(&self) -> Result<(), CapacityError> {
-        let valid = |v: f64| v.is_finite() && v > 0.0;
-        if valid(self.resolution_kg)
-            && self.resolution_kg >= MIN_RESOLUTION_KG
-            && valid(self.first_step_kg)
-            && valid(self.max_kg)
+    /// Checks every setting, in the order resolution, first step, max: each a mass from
+    /// [`MIN_RESOLUTION_KG`] to [`MAX_PAYLOAD_KG`]. The one check of the command line, the
+    /// Python package and the capacity objective; each words its error with its own name of the
+    /// setting ([`SettingError::key`]).
+    pub fn validate(&self) -> Result<(), SettingError> {
+        let settings = [
+            ("resolution_kg", self.resolution_kg),
+            ("first_step_kg", self.first_step_kg),
+            ("max_kg", self.max_kg),
+        ];
+        match settings
+            .into_iter()
+            .find(|(_, kg)| !(MIN_RESOLUTION_KG..=MAX_PAYLOAD_KG).contains(kg))
         {
-            return Ok(());
+            Some((key, value)) => Err(SettingError { key, value }),
+            None => Ok(()),
         }
-        Err(CapacityError::Settings(*self))
     }
 }
 
-/// The finest resolution of a capacity search, kg: 1 mg, below what any scale or gripper
-/// resolves; bisecting the largest payload a task may carry (1000 kg) to it takes 30 probes.
+/// The finest resolution of a capacity search, and its smallest mass, kg: 1 mg, below what any
+/// scale or gripper resolves; bisecting the largest payload a task may carry (1000 kg) to it
+/// takes 30 probes.
 pub const MIN_RESOLUTION_KG: f64 = 1e-6;
+
+/// A setting of a capacity search out of its range.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SettingError {
+    /// The setting as the search's document names it: `resolution_kg`, `first_step_kg` or
+    /// `max_kg`.
+    pub key: &'static str,
+    /// Its value, kg.
+    pub value: f64,
+}
+
+impl SettingError {
+    /// What the setting must be, to follow its name and value.
+    pub fn rule(&self) -> String {
+        format!(
+            "must be a mass from {MIN_RESOLUTION_KG} kg (a milligram, below what any scale \
+             resolves) to {MAX_PAYLOAD_KG} kg (the heaviest payload a task may carry)"
+        )
+    }
+}
+
+impl fmt::Display for SettingError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} = {}: {}", self.key, number(self.value), self.rule())
+    }
+}
 
 /// Why a capacity search could not run.
 #[derive(Clone, Debug, PartialEq)]
 pub enum CapacityError {
-    /// A mass of the settings is not a positive number of kg.
-    Settings(CapacitySettings),
+    /// A setting is out of its range.
+    Settings(SettingError),
     /// The problem could not be formulated at a payload.
     Payload(FormulationError),
     /// A probe could not be solved (an invalid design, IPOPT could not run).
@@ -131,12 +166,7 @@ pub enum CapacityError {
 impl fmt::Display for CapacityError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            CapacityError::Settings(settings) => write!(
-                f,
-                "capacity settings must be positive numbers of kg, the resolution at least \
-                 {MIN_RESOLUTION_KG} kg: resolution {}, first step {}, max {}",
-                settings.resolution_kg, settings.first_step_kg, settings.max_kg
-            ),
+            CapacityError::Settings(error) => write!(f, "capacity setting {error}"),
             CapacityError::Payload(error) => error.fmt(f),
             CapacityError::Solve(error) => error.fmt(f),
         }
@@ -207,7 +237,7 @@ pub fn payload_capacity(
     ratios: &[f64],
     settings: &CapacitySettings,
 ) -> Result<Capacity, CapacityError> {
-    settings.validate()?;
+    settings.validate().map_err(CapacityError::Settings)?;
     let hold = formulation
         .hold_capacity(ratios)
         .map_err(SolveError::Design)?;
@@ -320,11 +350,71 @@ mod tests {
             ..settings
         };
         let error = payload_capacity(&formulation, &testing::settings(), &original, &bad);
-        assert_eq!(error, Err(CapacityError::Settings(bad)));
+        let expected = SettingError {
+            key: "resolution_kg",
+            value: 0.0,
+        };
+        assert_eq!(error, Err(CapacityError::Settings(expected)));
         assert!(error
             .unwrap_err()
             .to_string()
-            .starts_with("capacity settings must be positive numbers of kg, the resolution at least 0.000001 kg: resolution 0,"));
+            .starts_with("capacity setting resolution_kg = 0: must be a mass from 0.000001 kg"));
+    }
+
+    /// Every setting is a mass from a milligram to the heaviest payload: a subnormal, a mass
+    /// above a tonne and one that is not finite are refused, naming the first such setting.
+    #[test]
+    fn every_setting_is_a_mass_from_a_milligram_to_a_tonne() {
+        assert_eq!(settings().validate(), Ok(()));
+        let edges = CapacitySettings {
+            resolution_kg: MIN_RESOLUTION_KG,
+            first_step_kg: MIN_RESOLUTION_KG,
+            max_kg: MAX_PAYLOAD_KG,
+        };
+        assert_eq!(edges.validate(), Ok(()));
+        for (key, bad) in [
+            (
+                "max_kg",
+                CapacitySettings {
+                    max_kg: 5e-324,
+                    ..settings()
+                },
+            ),
+            (
+                "max_kg",
+                CapacitySettings {
+                    max_kg: 1e308,
+                    ..settings()
+                },
+            ),
+            (
+                "first_step_kg",
+                CapacitySettings {
+                    first_step_kg: f64::NAN,
+                    ..settings()
+                },
+            ),
+            (
+                "resolution_kg",
+                CapacitySettings {
+                    resolution_kg: 1001.0,
+                    ..settings()
+                },
+            ),
+        ] {
+            let error = bad.validate().unwrap_err();
+            assert_eq!(error.key, key, "{bad:?}");
+        }
+        let first = CapacitySettings {
+            max_kg: 1e308,
+            first_step_kg: 1e300,
+            ..settings()
+        };
+        assert_eq!(
+            first.validate().unwrap_err().to_string(),
+            "first_step_kg = 1e300: must be a mass from 0.000001 kg (a milligram, below what any \
+             scale resolves) to 1000 kg (the heaviest payload a task may carry)"
+        );
     }
 
     /// Under the paper's ends the hold bounds nothing: the original design's capacity is the

@@ -108,7 +108,7 @@ fn absurd_numbers_are_refused_before_any_solve() {
     for (command, flag) in [
         (
             &["capacity", "--resolution", "1e-300"][..],
-            "--resolution 1e-300: must be at least",
+            "--resolution 1e-300: must be a mass from 0.000001 kg",
         ),
         (
             &[
@@ -118,7 +118,7 @@ fn absurd_numbers_are_refused_before_any_solve() {
                 "--capacity-resolution",
                 "1e-300",
             ][..],
-            "--capacity-resolution 1e-300: must be a mass of at least",
+            "--capacity-resolution 1e-300: must be a mass from 0.000001 kg",
         ),
     ] {
         let mut args = command.to_vec();
@@ -155,6 +155,26 @@ fn absurd_numbers_are_refused_before_any_solve() {
     let left: Vec<_> = std::fs::read_dir(&dir).unwrap().flatten().collect();
     assert_eq!(left.len(), 1, "only the task file: {left:?}");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 57, item 6: the capacity search's settings are checked by the library's one rule,
+/// which Python applies too: a subnormal `--max` or `--first-step` (which the search would
+/// report as a capacity of 5e-324 kg) is refused, naming the flag, before any solve.
+#[test]
+fn capacity_settings_below_a_milligram_are_refused() {
+    let out = scratch("capacity-settings").join("c.json");
+    for (flag, value) in [
+        ("--max", "5e-324"),
+        ("--first-step", "5e-324"),
+        ("--max", "1e-7"),
+    ] {
+        let output = codesign(&["capacity", flag, value, "--out", path(&out)]);
+        refused_as_usage(
+            &output,
+            &format!("{flag} {value}: must be a mass from 0.000001 kg (a milligram"),
+        );
+        assert!(!out.exists());
+    }
 }
 
 /// Item 11: no more workers than designs in a generation, and a note above the core count.

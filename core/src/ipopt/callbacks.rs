@@ -15,6 +15,8 @@ pub(super) struct Context<'a, P: Nlp> {
     pub(super) callback_time: Duration,
     pub(super) iterations: sys::Index,
     pub(super) error: Option<Error>,
+    /// Whether the intermediate callback stopped IPOPT because its work was asked to stop.
+    pub(super) stopped: bool,
     /// The last point outside the problem's domain, with why (see [`EvalError`]).
     pub(super) outside_domain: Option<String>,
 }
@@ -196,5 +198,6 @@ pub(super) unsafe extern "C" fn intermediate<P: Nlp>(
 ) -> sys::Bool {
     let context = &mut *user_data.cast::<Context<P>>();
     context.iterations = iter_count;
-    sys::Bool::from(context.error.is_none() && !crate::signals::stop_requested())
+    context.stopped = crate::signals::stop_requested();
+    sys::Bool::from(context.error.is_none() && !context.stopped)
 }

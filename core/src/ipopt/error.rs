@@ -27,6 +27,9 @@ pub enum Error {
     OutputFile(String),
     /// IPOPT refused the options when the solve started (it checks some values only then).
     OptionsAtStart,
+    /// The work the solve belongs to was asked to stop ([`crate::signals::StopToken`]): IPOPT
+    /// was stopped at an iteration, so its point is no answer.
+    Stopped,
     /// The linear solver could not be used; names it and says why.
     LinearSolver {
         /// The solver asked for.
@@ -52,6 +55,7 @@ impl fmt::Display for Error {
                  range, or one that contradicts another); run `codesign solve --verbose` to see \
                  IPOPT's message",
             ),
+            Error::Stopped => f.write_str("the solve was stopped before it ended"),
             Error::LinearSolver { solver, message } => {
                 write!(f, "linear solver `{solver}` cannot be used: {message}")
             }

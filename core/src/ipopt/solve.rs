@@ -89,6 +89,7 @@ pub fn solve_from<P: Nlp>(
         callback_time: Duration::ZERO,
         iterations: 0,
         error: None,
+        stopped: false,
         outside_domain: None,
     };
     let mut g = vec![0.0; shape.m];
@@ -112,6 +113,9 @@ pub fn solve_from<P: Nlp>(
 
     if let Some(error) = context.error {
         return Err(error);
+    }
+    if context.stopped {
+        return Err(Error::Stopped);
     }
     let status = Status::from_code(code);
     if status == Status::InvalidOption {
@@ -349,6 +353,25 @@ mod tests {
             solve_from(&mut other, &Options::new(), Some(&cold)),
             Err(Error::InvalidProblem(_))
         ));
+    }
+
+    /// A solve whose work was asked to stop ends in an error, not in a solution with a
+    /// status; a solve under no token, or another token, is not stopped by it.
+    #[test]
+    fn a_stopped_solve_is_an_error_and_stops_no_other_work() {
+        use crate::signals::{under, StopToken};
+        let stopped = StopToken::new();
+        stopped.stop();
+        let outcome = under(Some(stopped), || solve(&mut Hs071, &Options::new()));
+        assert_eq!(outcome, Err(Error::Stopped));
+        let other = under(Some(StopToken::new()), || {
+            solve(&mut Hs071, &Options::new())
+        });
+        assert_eq!(other.unwrap().status, Status::SolveSucceeded);
+        assert_eq!(
+            solve(&mut Hs071, &Options::new()).unwrap().status,
+            Status::SolveSucceeded
+        );
     }
 
     #[test]

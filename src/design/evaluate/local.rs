@@ -45,17 +45,30 @@ impl InProcess {
 impl InProcess {
     /// Runs `work` on every index below `count` on the evaluator's threads
     /// ([`parallel::in_order`]); `heard` hears each result as it finishes. A host's request to
-    /// stop ends the work unfinished: [`EvaluateError::Interrupted`].
+    /// stop ends the work unfinished: [`EvaluateError::Interrupted`]. A result that finishes
+    /// once the stop was asked may come from a stopped solve: it is neither heard nor returned.
     fn on_threads<T: Send>(
         &self,
         count: usize,
         work: impl Fn(usize) -> T + Sync,
-        heard: impl FnMut(usize, &T) -> Result<(), EvaluateError>,
+        mut heard: impl FnMut(usize, &T) -> Result<(), EvaluateError>,
     ) -> Result<Vec<T>, EvaluateError> {
-        let results =
-            parallel::in_order(count, self.threads, signals::stop_requested, work, heard)?;
+        let unstopped = |index: usize, result: &T| match signals::stop_requested() {
+            true => Err(EvaluateError::Interrupted),
+            false => heard(index, result),
+        };
+        let results = parallel::in_order(
+            count,
+            self.threads,
+            signals::stop_requested,
+            work,
+            unstopped,
+        )?;
         let finished: Option<Vec<T>> = results.into_iter().collect();
-        finished.ok_or(EvaluateError::Interrupted)
+        match signals::stop_requested() {
+            true => Err(EvaluateError::Interrupted),
+            false => finished.ok_or(EvaluateError::Interrupted),
+        }
     }
 }
 
@@ -157,5 +170,29 @@ mod tests {
             .collect();
         assert_eq!(untimed(threaded.clone()), untimed(direct));
         assert_eq!(untimed(threaded), untimed(single));
+    }
+
+    /// A result that finishes once its work was asked to stop (as a stopped solve's verdict
+    /// does) is neither heard, which would log it, nor returned.
+    #[test]
+    fn results_finished_after_a_stop_are_neither_heard_nor_returned() {
+        let token = signals::StopToken::new();
+        let evaluator = InProcess::new(fitness(), 2);
+        let mut heard = 0;
+        let stop_midway = |index: usize| {
+            token.stop();
+            index
+        };
+        let outcome = signals::under(Some(token.clone()), || {
+            evaluator.on_threads(2, stop_midway, |_, _| {
+                heard += 1;
+                Ok(())
+            })
+        });
+        assert!(
+            matches!(outcome, Err(EvaluateError::Interrupted)),
+            "{outcome:?}"
+        );
+        assert_eq!(heard, 0);
     }
 }

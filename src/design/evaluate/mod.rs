@@ -62,7 +62,7 @@ pub enum EvaluateError {
     Workers(WorkerError),
     /// An evaluation could not be appended to the evaluation log.
     Log(StoreError),
-    /// The host asked the run to stop (`signals::request_stop`).
+    /// The host asked the run to stop (its `signals::StopToken`).
     Interrupted,
 }
 

@@ -157,7 +157,7 @@ pub enum GradientError {
         /// The candidate designs solved.
         solved: usize,
     },
-    /// The host asked the run to stop (`signals::request_stop`).
+    /// The host asked the run to stop (its `signals::StopToken`).
     Interrupted,
     /// The evaluator stopped (its worker pool failed).
     Evaluate(EvaluateError),

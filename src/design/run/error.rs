@@ -44,6 +44,9 @@ pub enum RunError {
     /// A fitness could not be built: the gradient method's, or the payload range's
     /// formulations for the document.
     Score(ScoreError),
+    /// The host asked the run to stop while the result's designs were solved
+    /// ([`codesign_core::signals::StopToken`]); nothing was written.
+    Interrupted,
     /// This process's own evaluation of the best design disagrees with the answer behind it
     /// (a worker's, or a resumed log's); names the worker command.
     Unconfirmed(String),
@@ -61,6 +64,7 @@ impl fmt::Display for RunError {
             RunError::Cmaes(error) => write!(f, "{error}"),
             RunError::Gradient(error) => write!(f, "{error}"),
             RunError::Score(error) => write!(f, "{error}"),
+            RunError::Interrupted => f.write_str("interrupted"),
         }
     }
 }

@@ -17,6 +17,7 @@ use crate::store::log::log_beside;
 use codesign_core::model::task::{LimitModes, Task};
 use codesign_core::model::Robot;
 use codesign_core::problem::Formulation;
+use codesign_core::signals;
 use codesign_core::solve::{solve_design, solve_design_from, SolveError, SolveSettings, ToolInfo};
 use std::path::Path;
 use std::time::Instant;
@@ -67,6 +68,10 @@ pub fn run_case(
         .map_or(Some(0.0), |(log, _)| log.earlier_seconds());
     let result = outcome.and_then(|outcome| {
         let mut document = document(case, &formulation, &settings, inputs, outcome)?;
+        // The document's solves of the best and the original design may have been stopped.
+        if signals::stop_requested() {
+            return Err(RunError::Interrupted);
+        }
         document.earlier_seconds = earlier_seconds;
         document.wall_seconds = started.elapsed().as_secs_f64();
         write_document(out, &document).map_err(RunError::store(Output::Result))?;

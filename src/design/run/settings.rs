@@ -5,7 +5,6 @@
 //! words it as a flag, Python as a keyword.
 
 use crate::design::bounds::BoundHandling;
-use crate::design::capacity::{CapacitySettings, MIN_RESOLUTION_KG};
 use crate::design::cmaes::CmaesSettings;
 use crate::design::penalty::{Grading, Penalty, PENALTY};
 use crate::design::score::{Objective, PayloadRange};
@@ -187,18 +186,9 @@ impl RunSettings {
                 "resume",
                 "only CMA-ES runs are resumed; a gradient run is short, start it again",
             )),
-            &Objective::Capacity(CapacitySettings { resolution_kg, .. })
-                if !(resolution_kg.is_finite() && resolution_kg >= MIN_RESOLUTION_KG) =>
-            {
-                Err(CaseError::new(
-                    "resolution_kg",
-                    number(resolution_kg),
-                    format!(
-                        "must be a mass of at least {MIN_RESOLUTION_KG} kg (1 mg, below what \
-                         any scale resolves)"
-                    ),
-                ))
-            }
+            Objective::Capacity(search) => search
+                .validate()
+                .map_err(|e| CaseError::new(e.key, number(e.value), e.rule())),
             _ => Ok(()),
         }
     }

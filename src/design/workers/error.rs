@@ -40,7 +40,7 @@ pub enum WorkerError {
     },
     /// Every thread reading the workers' answers stopped.
     ReadersStopped,
-    /// The host asked the run to stop (`signals::request_stop`, Ctrl-C in Python).
+    /// The host asked the run to stop (its `signals::StopToken`, Ctrl-C in Python).
     Interrupted,
     /// A worker's hello differs from the pool's: another build, or another reading of the setup.
     Refused {
