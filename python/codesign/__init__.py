@@ -16,6 +16,7 @@ from codesign._errors import Error, InputError, SolverError
 from codesign._native import versions as _versions
 from codesign._results import Capacity, CheckReport, Run, Solution
 from codesign._robot import Robot, Transmission
+from codesign import _sections as sections
 from codesign._task import Task
 
 __version__, IPOPT_VERSION = _versions()
@@ -38,4 +39,5 @@ __all__ = [
     "Task",
     "Transmission",
     "__version__",
+    "sections",
 ]

@@ -17,6 +17,17 @@ from codesign._errors import InputError
 from codesign._keywords import design, flag, number, optional_flag, path, plain, shown, text, whole
 from codesign._results import Capacity, CheckReport, Run, Solution
 from codesign._robot import Robot, Transmission
+from codesign._sections import (
+    CartesianBox,
+    LimitModes,
+    Motion,
+    Motors,
+    Payload,
+    PointOnLink,
+    TransmissionSpec,
+    Weights,
+    task_document,
+)
 
 #: The suffix of an evaluation log, beside its result ``NAME.json``.
 LOG_SUFFIX = ".log.jsonl"
@@ -103,6 +114,44 @@ class Task:
         """The paper's pick-and-place task on the built-in 4-DOF belt arm."""
         document = json.loads(_native.task_text(None))
         return cls(_native.NativeTask.builtin(), document, os.getcwd())
+
+    @classmethod
+    def from_sections(
+        cls,
+        *,
+        robot: Optional[Union[str, os.PathLike]],
+        tcp: "PointOnLink",
+        payload: "Payload",
+        motion: "Motion",
+        motors: "Motors",
+        transmission: "TransmissionSpec",
+        weights: Optional["Weights"] = None,
+        cartesian_box: Optional["CartesianBox"] = None,
+        limit_modes: Optional["LimitModes"] = None,
+        gravity: Sequence[float] = (0.0, 0.0, -9.81),
+        solver: Optional[Dict[str, Any]] = None,
+        folder: Optional[Union[str, os.PathLike]] = None,
+    ) -> "Task":
+        """A task written in code from its typed sections (``codesign.sections``), checked as a
+        file is: ``robot`` is the URDF's path (relative to ``folder``, default the working
+        folder), or None for the built-in arm. Sections left out take their defaults (the
+        paper's weights, no box, limit modes ``paper`` and ``exact``)."""
+        document = task_document(
+            None if robot is None else os.fspath(robot),
+            tcp,
+            payload,
+            motion,
+            motors,
+            transmission,
+            weights or Weights(),
+            cartesian_box or CartesianBox(),
+            limit_modes or LimitModes(),
+            tuple(gravity),
+            solver,
+        )
+        folder = os.getcwd() if folder is None else os.path.abspath(os.fspath(folder))
+        native = _native.NativeTask.given(json.dumps(document), "a task from sections", folder)
+        return cls(native, document, folder)
 
     @property
     def label(self) -> str:

@@ -1,0 +1,152 @@
+"""The sections of a task as typed objects: a task written in code, field by field, with the
+units in the names, as well as read from JSON (``Task.from_sections``).
+
+Each section mirrors the core's type of the same name (``codesign_core::model::task``) and
+becomes the JSON the task file would hold; the task is then checked as a file is, and its hash
+is that of the same task read from JSON. Units: m, kg, s, rad, N m.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+
+from codesign._choices import Ends, LimitMode
+
+Number = float
+PerMotor = Union[float, Sequence[float]]
+
+
+def _plain(value: Any) -> Any:
+    """``value`` as JSON data: enums as their names, tuples as lists, None-valued keys dropped."""
+    if isinstance(value, dict):
+        return {key: _plain(item) for key, item in value.items() if item is not None}
+    if isinstance(value, (list, tuple)):
+        return [_plain(item) for item in value]
+    if isinstance(value, (Ends, LimitMode)):
+        return value.value
+    return value
+
+
+@dataclass
+class PointOnLink:
+    """A point fixed in a link's frame."""
+
+    link: str
+    point: Tuple[Number, Number, Number] = (0.0, 0.0, 0.0)
+
+
+@dataclass
+class Payload:
+    """A point-mass payload: ``mass_kg`` at ``at``."""
+
+    mass_kg: Number
+    at: PointOnLink
+
+
+@dataclass
+class Motion:
+    """The motion: from ``start`` to ``goal`` (joint positions, rad) in ``horizon_s`` seconds on
+    ``steps`` intervals, with what it asks at its ends."""
+
+    start: Sequence[Number]
+    goal: Sequence[Number]
+    horizon_s: Number
+    steps: int = 50
+    ends: Union[Ends, str] = Ends.HOLD
+
+
+@dataclass
+class Weights:
+    """The weights of J: ``position`` per rad^2, ``velocity`` per (rad/s)^2, ``control`` per
+    (N m)^2."""
+
+    position: Number = 0.01
+    velocity: Number = 0.01
+    control: Number = 0.001
+
+
+@dataclass
+class SoftInterval:
+    """A soft interval [lower, upper] (m) on one world coordinate of the TCP, penalised by
+    ``weight`` (per m^2) times the violation squared."""
+
+    range: Tuple[Number, Number]
+    weight: Number
+
+
+@dataclass
+class CartesianBox:
+    """The soft box on the TCP, per world axis (an axis left out is free)."""
+
+    x: Optional[SoftInterval] = None
+    y: Optional[SoftInterval] = None
+    z: Optional[SoftInterval] = None
+
+
+@dataclass
+class Motors:
+    """The motors, one value for all or one per motor (row of G): torque limits (N m) and speed
+    limits (rad/s); the optional fields as the task file documents them."""
+
+    torque_limit_nm: PerMotor
+    speed_limit_rad_s: PerMotor
+    rotor_inertia_kgm2: Optional[PerMotor] = None
+    viscous_friction_nm_s_per_rad: Optional[PerMotor] = None
+    no_load_speed_rad_s: Optional[PerMotor] = None
+    torque_constant_nm_per_a: Optional[PerMotor] = None
+    resistance_ohm: Optional[PerMotor] = None
+    efficiency: Optional[PerMotor] = None
+    names: Optional[List[str]] = None
+
+
+@dataclass
+class TransmissionSpec:
+    """G(r): ``matrix`` rows of numbers, ``"r<i>"``, ``"-r<i>"`` or ``"k*r<i>"`` (or linkage
+    rows, as dicts), the ``original`` design, its ``bounds`` and ``order`` constraints."""
+
+    matrix: List[List[Any]]
+    original: Sequence[Number]
+    bounds: Sequence[Tuple[Number, Number]]
+    order: List[str] = field(default_factory=list)
+
+
+@dataclass
+class LimitModes:
+    """How the motors' limits become joint limits: ``torque`` and ``speed`` modes."""
+
+    torque: Union[LimitMode, str] = LimitMode.PAPER
+    speed: Union[LimitMode, str] = LimitMode.EXACT
+
+
+def task_document(
+    robot: Optional[str],
+    tcp: PointOnLink,
+    payload: Payload,
+    motion: Motion,
+    motors: Motors,
+    transmission: TransmissionSpec,
+    weights: Weights,
+    cartesian_box: CartesianBox,
+    limit_modes: LimitModes,
+    gravity: Tuple[Number, Number, Number],
+    solver: Optional[Dict[str, Any]],
+) -> Dict[str, Any]:
+    """The task file's JSON data of these sections."""
+    document = {
+        "robot": robot,
+        "gravity": list(gravity),
+        "tcp": asdict(tcp),
+        "payload": asdict(payload),
+        "motion": asdict(motion),
+        "weights": asdict(weights),
+        "cartesian_box": asdict(cartesian_box),
+        "motors": asdict(motors),
+        "transmission": asdict(transmission),
+        "limit_modes": asdict(limit_modes),
+    }
+    document = _plain(document)
+    document["robot"] = robot
+    if solver is not None:
+        document["solver"] = solver
+    return document
