@@ -92,6 +92,10 @@ class Solution:
         """``joint`` or ``actuation``."""
         self.task_hash: str = task_hash
         """The hash of the task solved (payload aside): equal hashes, equal problems."""
+        self.joint_names: List[str] = native.joint_names()
+        """The joints' names, the columns of the joint arrays (base outward)."""
+        self.motor_names: List[str] = native.motor_names()
+        """The motors' names, the columns of the motor arrays (rows of G)."""
 
     def to_json(self) -> str:
         """The document as JSON text, as ``codesign solve --out`` writes it (without the final
@@ -226,6 +230,14 @@ class Run(_Document):
     def best_result(self) -> Optional[Dict[str, Any]]:
         """The best design's solve, as in a solve document."""
         return self._document.get("best_result")
+
+    @property
+    def best(self) -> Optional[Solution]:
+        """The best design's solve as the run made it, a :class:`Solution` (None when no design
+        was feasible). It keeps no point to start another solve from: solve its ``ratios`` for
+        that."""
+        native = _native.NativeSolution.of_run_best(self.to_json())
+        return None if native is None else Solution(native)
 
     def __repr__(self) -> str:
         return f"<codesign.Run best r={self.best_ratios.tolist()} J={self.best_cost:.6g}>"

@@ -3,6 +3,7 @@
 //! point where it ended, to start another solve from.
 
 use crate::errors::Failure;
+use codesign::design::run::OptimizeDocument;
 use codesign::report::trajectory::SolveDocument;
 use codesign::store::document::document_json;
 use codesign_core::solve::StartPoint;
@@ -14,8 +15,9 @@ use pyo3::prelude::*;
 pub struct NativeSolution {
     /// The document `codesign solve --out` writes for it.
     pub(crate) document: SolveDocument,
-    /// Where it ended: IPOPT's point and multipliers, and what they fit.
-    pub(crate) point: StartPoint,
+    /// Where it ended: IPOPT's point and multipliers, and what they fit; None for a run's best
+    /// design read from the run's document.
+    pub(crate) point: Option<StartPoint>,
 }
 
 /// Rows of equal length as a 2-D array of shape (rows, `width`).
@@ -29,6 +31,34 @@ fn rows<'py>(py: Python<'py>, rows: &[Vec<f64>], width: usize) -> Bound<'py, PyA
 
 #[pymethods]
 impl NativeSolution {
+    /// The best design of the co-design run whose document is `text`, as the run solved it;
+    /// None where it found no feasible design.
+    #[staticmethod]
+    fn of_run_best(py: Python<'_>, text: &str) -> PyResult<Option<NativeSolution>> {
+        let run: OptimizeDocument = serde_json::from_str(text)
+            .map_err(|e| Failure::solver(format!("run document not read: {e}")).into_py(py))?;
+        Ok(
+            SolveDocument::of_run_best(&run).map(|document| NativeSolution {
+                document,
+                point: None,
+            }),
+        )
+    }
+
+    /// The moving joints' names, base outward (the columns of the joint arrays).
+    fn joint_names(&self) -> Vec<String> {
+        self.document.result.joints.clone()
+    }
+
+    /// The motors' names (the task's `motors.names`, else `motor 1`, `motor 2`, ...).
+    fn motor_names(&self) -> Vec<String> {
+        let count = self.document.inputs.task.task.transmission.matrix.len();
+        match &self.document.inputs.task.task.motors.names {
+            Some(names) => names.clone(),
+            None => (1..=count).map(|i| format!("motor {i}")).collect(),
+        }
+    }
+
     /// The document as JSON text, as `solve --out` writes it (without the final newline).
     fn json(&self, py: Python<'_>) -> PyResult<String> {
         document_json(&self.document)

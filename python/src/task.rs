@@ -240,14 +240,22 @@ impl SolveRequest {
         let hard = self.posed.formulation(&loaded)?;
         let formulation = if self.elastic { hard.elastic() } else { hard };
         let ratios = self.posed.design(&formulation, self.ratios)?;
-        let start = self.start.as_ref().map(|start| start.get());
-        if let Some(start) = start {
-            start
-                .point
+        let given = self.start.as_ref().map(|start| start.get());
+        let start = match given {
+            Some(given) => Some(given.point.as_ref().ok_or_else(|| {
+                Failure::input(
+                    "start=: a run's best solution keeps no point to start from; solve its \
+                     design first (ratios=run.best.ratios)",
+                )
+            })?),
+            None => None,
+        };
+        if let Some(point) = start {
+            point
                 .check_fits(&formulation, &loaded.task_hash)
                 .map_err(|e| Failure::input(format!("start=: {e}")))?;
         }
-        let warm = start.map(|start| start.point.to_solution());
+        let warm = start.map(|point| point.to_solution());
         let warm = warm.as_ref();
         let (result, solution) = solve_design_from(&formulation, &ratios, &loaded.settings, warm)
             .map_err(|e| match e {
@@ -277,14 +285,17 @@ impl SolveRequest {
         if fits {
             document = document.with_start_point(point.clone());
         }
-        if let Some(start) = start {
+        if let Some(given) = given {
             document = document.started_from(StartRecord {
                 file: IN_MEMORY.to_owned(),
-                ratios: start.document.result.ratios.clone(),
-                payload_kg: start.document.inputs.payload_kg,
+                ratios: given.document.result.ratios.clone(),
+                payload_kg: given.document.inputs.payload_kg,
             });
         }
-        Ok(NativeSolution { document, point })
+        Ok(NativeSolution {
+            document,
+            point: Some(point),
+        })
     }
 }
 

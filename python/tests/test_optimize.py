@@ -39,6 +39,18 @@ def test_a_run_without_files_and_the_gradient_method(planar):
     assert gradient.best_cost < 1e6
 
 
+def test_a_runs_best_design_is_a_solution_with_named_columns(planar):
+    run = planar.optimize(**SMALL, progress=False)
+    best = run.best
+    assert isinstance(best, cd.Solution)
+    assert best.cost == run.best_cost and list(best.ratios) == list(run.best_ratios)
+    assert best.to_dict()["trajectory"] == run.best_result["trajectory"]
+    assert best.joint_names == run.best_result["joints"] and len(best.motor_names) == 2
+    assert best.q.shape[1] == len(best.joint_names)
+    with pytest.raises(cd.InputError, match="keeps no point to start from"):
+        planar.solve(space="actuation", payload=1.0, ratios=best.ratios, start=best)
+
+
 def test_run_settings_are_checked(planar, tmp_path):
     with pytest.raises(cd.InputError, match="method="):
         planar.optimize(method="annealing")

@@ -89,6 +89,28 @@ impl SolveDocument {
         }
     }
 
+    /// The solve document of a co-design run's best design, as the run recorded it (no raw
+    /// solution kept); None where the run found no feasible design.
+    pub fn of_run_best(run: &crate::design::run::OptimizeDocument) -> Option<SolveDocument> {
+        let result = run.best_result.clone()?;
+        let inputs = &run.inputs;
+        Some(SolveDocument {
+            tool: run.tool.clone(),
+            inputs: SolveInputs {
+                task_file: inputs.task_file.clone(),
+                task_hash: inputs.task_hash.clone(),
+                space: inputs.space,
+                ratios: result.ratios.clone(),
+                payload_kg: inputs.payload_kg,
+                limit_modes: inputs.limit_modes,
+                task: inputs.task.clone(),
+                start: None,
+            },
+            result,
+            start_point: None,
+        })
+    }
+
     /// The document with `point`, the raw solution of its solve, to start another solve from.
     pub fn with_start_point(mut self, point: StartPoint) -> SolveDocument {
         self.start_point = Some(point);
