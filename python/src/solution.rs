@@ -4,7 +4,7 @@
 
 use crate::errors::Failure;
 use codesign::design::run::OptimizeDocument;
-use codesign::report::trajectory::SolveDocument;
+use codesign::report::solve_document::SolveDocument;
 use codesign::store::document::document_json;
 use codesign_core::solve::StartPoint;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};

@@ -7,8 +7,10 @@ mod error;
 pub mod mechanism;
 pub mod plots;
 pub mod poses;
+pub mod solve_document;
 pub mod start;
 pub mod table;
 pub mod trajectory;
+pub mod world;
 
 pub use error::{ReadFailure, ReportError};

@@ -6,7 +6,7 @@
 //! the TCP last), projected on the world plane the TCP's path spans most
 //! ([`path_plane`]); the payload is marked where the task fixes it, with its mass.
 
-use super::trajectory::{path_plane, plot_title, WorldAxis};
+use super::world::{path_plane, plot_title, WorldAxis};
 use super::ReportError;
 use crate::store::files::write_atomic;
 use codesign_core::problem::Formulation;

@@ -2,24 +2,13 @@
 //! `start_point`, checked against the problem about to be solved, and the record the new result
 //! keeps of it (`inputs.start`).
 
+use super::solve_document::StartRecord;
 use super::table::{read_result_file, ResultFile};
 use super::{ReadFailure, ReportError};
 use codesign_core::problem::Formulation;
 use codesign_core::solve::{StartError, StartPoint};
-use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::path::{Path, PathBuf};
-
-/// What a solve's result records of the result it started from (`inputs.start`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct StartRecord {
-    /// The start's file, as given.
-    pub file: String,
-    /// The design the start was solved for.
-    pub ratios: Vec<f64>,
-    /// The payload it was solved for, kg.
-    pub payload_kg: f64,
-}
 
 /// A start read from a solve document: the point and what the new result records of it.
 #[derive(Clone, Debug, PartialEq)]

@@ -1,128 +1,15 @@
-//! The result file and plots of one trajectory solve (`codesign solve`).
+//! The plots of one trajectory solve (`codesign solve --plot`); its document is
+//! `solve_document.rs`.
 
 use super::plots::{Chart, Figure, Guide, Line, Series};
-use super::start::StartRecord;
+use super::world::{path_plane, plot_title};
 use super::ReportError;
-use crate::design::run::RecordedHash;
 use codesign_core::model::chain::JointKind;
-use codesign_core::model::task::{LimitModes, SoftInterval, Task};
+use codesign_core::model::task::Task;
 use codesign_core::problem::{Formulation, Space};
-use codesign_core::solve::{
-    SolveSettings, StartPoint, TaskRecord, ToolInfo, Trajectory, TrajectoryResult,
-};
+use codesign_core::solve::{Trajectory, TrajectoryResult};
 use codesign_core::transmission::{Envelope, JointLimits};
-use serde::{Deserialize, Serialize};
 use std::path::Path;
-
-/// What defined a solve.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SolveInputs {
-    /// The task file as given.
-    pub task_file: String,
-    /// The task hash of the task as read on its robot (`model::identity::task_hash`); unknown in
-    /// files written before it was recorded.
-    #[serde(default, skip_serializing_if = "RecordedHash::is_unknown")]
-    pub task_hash: RecordedHash,
-    /// Joint or actuation space.
-    pub space: Space,
-    /// The design r.
-    pub ratios: Vec<f64>,
-    /// Payload, kg.
-    pub payload_kg: f64,
-    /// Limit modes.
-    pub limit_modes: LimitModes,
-    /// The task with every override applied (horizon, payload, robot), and the solve settings.
-    pub task: TaskRecord,
-    /// The result the solve started from (`solve --start`); absent when it started cold.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub start: Option<StartRecord>,
-}
-
-/// The JSON file `codesign solve --out` writes.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SolveDocument {
-    /// Program and solver versions.
-    pub tool: ToolInfo,
-    /// The inputs.
-    pub inputs: SolveInputs,
-    /// The result, flattened into the document.
-    #[serde(flatten)]
-    pub result: TrajectoryResult,
-    /// The raw solution nearest the verdict, to start another solve from (`solve --start`);
-    /// written by `solve --out`, absent from `reproduce`'s results and from older files.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub start_point: Option<StartPoint>,
-}
-
-impl crate::store::document::Document for SolveDocument {
-    const SCHEMA: crate::store::document::Schema = crate::store::document::Schema::Solve;
-}
-
-impl SolveDocument {
-    /// The document of `result`, solved for `formulation` (its task, space and modes) from the
-    /// task file `task_file` of task hash `task_hash` with `settings`.
-    pub fn new(
-        task_file: &str,
-        task_hash: &str,
-        formulation: &Formulation,
-        settings: &SolveSettings,
-        result: TrajectoryResult,
-    ) -> SolveDocument {
-        let task = formulation.task();
-        SolveDocument {
-            tool: ToolInfo::current(settings.linear_solver()),
-            inputs: SolveInputs {
-                task_file: task_file.to_owned(),
-                task_hash: RecordedHash(Some(task_hash.to_owned())),
-                space: formulation.space(),
-                ratios: result.ratios.clone(),
-                payload_kg: task.payload.mass_kg,
-                limit_modes: *formulation.modes(),
-                task: TaskRecord {
-                    task: task.clone(),
-                    solver: settings.clone(),
-                },
-                start: None,
-            },
-            result,
-            start_point: None,
-        }
-    }
-
-    /// The solve document of a co-design run's best design, as the run recorded it (no raw
-    /// solution kept); None where the run found no feasible design.
-    pub fn of_run_best(run: &crate::design::run::OptimizeDocument) -> Option<SolveDocument> {
-        let result = run.best_result.clone()?;
-        let inputs = &run.inputs;
-        Some(SolveDocument {
-            tool: run.tool.clone(),
-            inputs: SolveInputs {
-                task_file: inputs.task_file.clone(),
-                task_hash: inputs.task_hash.clone(),
-                space: inputs.space,
-                ratios: result.ratios.clone(),
-                payload_kg: inputs.payload_kg,
-                limit_modes: inputs.limit_modes,
-                task: inputs.task.clone(),
-                start: None,
-            },
-            result,
-            start_point: None,
-        })
-    }
-
-    /// The document with `point`, the raw solution of its solve, to start another solve from.
-    pub fn with_start_point(mut self, point: StartPoint) -> SolveDocument {
-        self.start_point = Some(point);
-        self
-    }
-
-    /// The document of a solve that started from the result `record` names.
-    pub fn started_from(mut self, record: StartRecord) -> SolveDocument {
-        self.inputs.start = Some(record);
-        self
-    }
-}
 
 /// One series per column of `rows` (one row per time of `time`), named by `labels`.
 fn per_column(time: &[f64], rows: &[Vec<f64>], labels: &[String]) -> Vec<Series> {
@@ -244,21 +131,6 @@ pub fn write_plots(
     super::poses::write_poses(folder, formulation, result)
 }
 
-/// What every plot of a solve is of: the space, the design and the payload.
-pub(crate) fn plot_title(formulation: &Formulation, result: &TrajectoryResult) -> String {
-    format!(
-        "{} space, r = ({}), payload {} kg",
-        formulation.space(),
-        result
-            .ratios
-            .iter()
-            .map(|r| format!("{r:.3}"))
-            .collect::<Vec<_>>()
-            .join(", "),
-        formulation.task().payload.mass_kg
-    )
-}
-
 /// Joint positions over time, rad, with the robot's finite position limits.
 fn joint_positions(
     formulation: &Formulation,
@@ -364,90 +236,6 @@ fn motor_torque_speed(
     }
 }
 
-/// An axis of the world frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum WorldAxis {
-    /// World x.
-    X,
-    /// World y.
-    Y,
-    /// World z.
-    Z,
-}
-
-impl WorldAxis {
-    /// The axis' index in a world vector: 0, 1 or 2.
-    pub fn index(self) -> usize {
-        match self {
-            WorldAxis::X => 0,
-            WorldAxis::Y => 1,
-            WorldAxis::Z => 2,
-        }
-    }
-
-    /// The axis' name, `x`, `y` or `z`.
-    pub fn name(self) -> &'static str {
-        match self {
-            WorldAxis::X => "x",
-            WorldAxis::Y => "y",
-            WorldAxis::Z => "z",
-        }
-    }
-
-    /// The trajectory's TCP coordinates along the axis, m (x is empty in files written before
-    /// it was recorded).
-    fn of(self, t: &Trajectory) -> &[f64] {
-        match self {
-            WorldAxis::X => &t.tcp_x,
-            WorldAxis::Y => &t.tcp_y,
-            WorldAxis::Z => &t.tcp_z,
-        }
-    }
-
-    /// The task's Cartesian box along the axis, when it has one.
-    fn interval(self, task: &Task) -> Option<&SoftInterval> {
-        let b = &task.cartesian_box;
-        match self {
-            WorldAxis::X => b.x.as_ref(),
-            WorldAxis::Y => b.y.as_ref(),
-            WorldAxis::Z => b.z.as_ref(),
-        }
-    }
-}
-
-/// The world plane the TCP's path moves most in, as (horizontal, vertical) axes of its plot:
-/// the two axes over which the path extends furthest (max - min), in x, y, z order; of axes
-/// that extend equally, x is left out first, then y. A path in the world's y-z plane (the
-/// built-in arm's) gives (y, z).
-pub fn path_plane(t: &Trajectory) -> (WorldAxis, WorldAxis) {
-    let extent = |axis: WorldAxis| {
-        let (lo, hi) = axis
-            .of(t)
-            .iter()
-            .filter(|v| v.is_finite())
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
-                (lo.min(v), hi.max(v))
-            });
-        if hi >= lo {
-            hi - lo
-        } else {
-            0.0
-        }
-    };
-    let (x, y, z) = (
-        extent(WorldAxis::X),
-        extent(WorldAxis::Y),
-        extent(WorldAxis::Z),
-    );
-    if x <= y && x <= z {
-        (WorldAxis::Y, WorldAxis::Z)
-    } else if y <= z {
-        (WorldAxis::X, WorldAxis::Z)
-    } else {
-        (WorldAxis::X, WorldAxis::Y)
-    }
-}
-
 /// The TCP's path from its start to its goal in the world plane it moves most in
 /// ([`path_plane`]), m, with the task's Cartesian box on those axes.
 fn tcp_path(task: &Task, t: &Trajectory, title: &str) -> Chart {
@@ -505,7 +293,7 @@ mod tests {
 
     #[test]
     fn the_path_is_drawn_in_the_plane_it_moves_most_in() {
-        use WorldAxis::{X, Y, Z};
+        use crate::report::world::WorldAxis::{X, Y, Z};
         let arc = |s: f64| (std::f64::consts::PI * s).sin_cos();
         // The built-in arm's kind of path: an arc in y-z, x still to a few micrometres.
         let yz = trajectory(21, 4, |s| [4e-6 * s, -arc(s).1, 0.3 * arc(s).0]);

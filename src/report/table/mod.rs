@@ -17,7 +17,7 @@ pub use build::build_table;
 pub use check::check_results;
 
 use super::codesign::{upgrade_capacity, CapacityDocument};
-use super::trajectory::SolveDocument;
+use super::solve_document::SolveDocument;
 use super::{ReadFailure, ReportError};
 use crate::design::run::{OptimizeDocument, PayloadCost};
 use crate::store::document::{self, Schema, Tagged};
