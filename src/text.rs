@@ -1,6 +1,8 @@
 //! How numbers and names are written in messages: numbers as people write them, never a
-//! 300-digit expansion; names from files on one line, with nothing that steers a terminal.
+//! 300-digit expansion; names from files on one line, with nothing that steers a terminal; and
+//! text that reaches SVG or HTML with only the characters XML allows.
 
+use std::borrow::Cow;
 use std::fmt;
 
 /// `x` as written in messages: plainly (`0.3`, `600`) in the usual range, in exponent form
@@ -40,6 +42,28 @@ pub fn shown(name: &str) -> String {
     text
 }
 
+/// `text` (a document of SVG or HTML, or text bound for one) with each control character but
+/// tab, newline and carriage return (those XML 1.0 refuses, and those it discourages) and
+/// U+FFFE and U+FFFF written as their escapes: an escape, U+001B, as `\u{1b}`. A name read from
+/// a task (`motors.names`, a file's name) may hold any of them; a browser refuses a whole SVG
+/// document over one.
+pub fn markup_safe(text: &str) -> Cow<'_, str> {
+    let refused = |c: char| {
+        (c.is_control() && !matches!(c, '\t' | '\n' | '\r')) || matches!(c, '\u{fffe}' | '\u{ffff}')
+    };
+    if !text.contains(refused) {
+        return Cow::Borrowed(text);
+    }
+    let mut safe = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        match refused(c) {
+            true => safe.extend(c.escape_unicode()),
+            false => safe.push(c),
+        }
+    }
+    Cow::Owned(safe)
+}
+
 struct Number(f64);
 
 impl fmt::Display for Number {
@@ -55,7 +79,17 @@ impl fmt::Display for Number {
 
 #[cfg(test)]
 mod tests {
-    use super::{number, numbers, rounded, shown};
+    use super::{markup_safe, number, numbers, rounded, shown};
+
+    #[test]
+    fn markup_holds_only_the_characters_xml_allows() {
+        assert_eq!(markup_safe("el\u{1b}[31mbow"), "el\\u{1b}[31mbow");
+        assert_eq!(
+            markup_safe("a\u{0}b\u{7f}\u{fffe}"),
+            "a\\u{0}b\\u{7f}\\u{fffe}"
+        );
+        assert_eq!(markup_safe("one\ttwo\nthree\r é"), "one\ttwo\nthree\r é");
+    }
 
     #[test]
     fn names_stay_on_one_line_and_in_order() {
