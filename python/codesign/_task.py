@@ -134,9 +134,10 @@ class Task:
         ratios: Optional[Sequence[float]] = None,
         ends: Optional[str] = None,
     ) -> CheckReport:
-        """What ``codesign check`` finds: joints, static torques and the hold, before any solve."""
-        text, words, problems = self._native.check(payload, ends, _ratios(ratios))
-        return CheckReport(text, words, problems)
+        """What ``codesign check`` finds before any solve: joints, static torques, the hold, the
+        limit modes, the linkages; its errors in ``problems``, its warnings in ``warnings``."""
+        text, words, problems, warnings = self._native.check(payload, ends, _ratios(ratios))
+        return CheckReport(text, words, problems, warnings)
 
     def solve(
         self,

@@ -9,6 +9,7 @@ mod support;
 
 mod built_in_task;
 mod check_cli;
+mod check_findings;
 mod cluster_cli;
 mod dynamics_alloc;
 mod dynamics_cli;
