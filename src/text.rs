@@ -23,6 +23,23 @@ pub fn numbers(values: &[f64]) -> String {
     texts.join(", ")
 }
 
+/// The values of a list a message echoes at most ([`listed`]).
+const ECHOED: usize = 16;
+
+/// `values` (a list a user gave, echoed in a message) as [`numbers`] writes them, at most the
+/// first 16 followed by how many there are: `50, 50, .., 50, ... (1000000 values)`, so that no
+/// list makes a message longer than a line or two.
+pub fn listed(values: &[f64]) -> String {
+    if values.len() <= ECHOED {
+        return numbers(values);
+    }
+    format!(
+        "{}, ... ({} values)",
+        numbers(&values[..ECHOED]),
+        values.len()
+    )
+}
+
 /// `name` (a link's or joint's, read from a file) as a terminal may show it: each control
 /// character (a newline, an escape) and each character that reorders text (U+202A-U+202E,
 /// U+2066-U+2069, U+200E, U+200F) written as its escape, `\n`, `\u{202e}`.
@@ -79,7 +96,16 @@ impl fmt::Display for Number {
 
 #[cfg(test)]
 mod tests {
-    use super::{markup_safe, number, numbers, rounded, shown};
+    use super::{listed, markup_safe, number, numbers, rounded, shown};
+
+    #[test]
+    fn a_long_list_is_echoed_with_its_length() {
+        assert_eq!(listed(&[1e308, 5e-324]), "1e308, 5e-324");
+        let many = listed(&vec![50.0; 1_000_000]);
+        assert!(many.ends_with("50, 50, ... (1000000 values)"), "{many}");
+        assert_eq!(many.matches("50").count(), 16);
+        assert_eq!(listed(&[2.0; 16]), numbers(&[2.0; 16]));
+    }
 
     #[test]
     fn markup_holds_only_the_characters_xml_allows() {

@@ -8,7 +8,7 @@ use codesign::ipopt::LinearSolver;
 use codesign::model::task::{Ends, LimitMode, TaskFile, TaskSource};
 use codesign::model::Robot;
 use codesign::problem::{Formulation, Space};
-use codesign::text::number;
+use codesign::text::{listed, number};
 use std::sync::Arc;
 
 /// The value of keyword `name` among the values of `T` (the command line's names), or an error
@@ -146,7 +146,9 @@ impl Posed {
         formulation
             .transmission()
             .check_design(&ratios)
-            .map_err(|e| Failure::input(format!("{named} {ratios:?}: invalid design: {e}")))?;
+            .map_err(|e| {
+                Failure::input(format!("{named} {}: invalid design: {e}", listed(&ratios)))
+            })?;
         Ok(ratios)
     }
 }

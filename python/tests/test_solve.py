@@ -108,6 +108,16 @@ def test_check_reports_the_problems_and_warnings_of_the_command_line(tmp_path, b
     )
 
 
+def test_a_long_design_is_echoed_in_a_short_message(planar):
+    """A design of a million ratios is refused naming its length, not echoing every value
+    (issue 57, item 21)."""
+    with pytest.raises(cd.InputError) as refused:
+        planar.solve(payload=1.0, ratios=[50] * 10**6)
+    message = str(refused.value)
+    assert "... (1000000 values): invalid design: the design has 1000000 ratios" in message
+    assert len(message) < 500, len(message)
+
+
 def test_a_solve_gives_arrays_of_documented_shapes(planar):
     sol = planar.solve(space="actuation", payload=1.0, ratios=[50, 12])
     steps = planar.to_dict()["motion"]["steps"]

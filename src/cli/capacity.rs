@@ -12,7 +12,7 @@ use crate::problem::Formulation;
 use crate::report::codesign::{CapacityDocument, CapacityInputs};
 use crate::solve::ToolInfo;
 use crate::store::document::write_document;
-use crate::text::number;
+use crate::text::{listed, number, numbers};
 use std::path::PathBuf;
 
 /// Flags of `codesign capacity`.
@@ -75,11 +75,11 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .transmission()
         .check_design(&ratios)
         .map_err(|e| match &args.ratios {
-            Some(_) => format!("--ratios {}: invalid design: {e}", join(&ratios)),
+            Some(_) => format!("--ratios {}: invalid design: {e}", listed(&ratios)),
             None => format!(
                 "{} transmission.original ({}): invalid design: {e}",
                 args.model.source(),
-                join(&ratios)
+                listed(&ratios)
             ),
         })?;
     let capacity = payload_capacity(&formulation, &solve, &ratios, &settings)
@@ -143,7 +143,7 @@ fn print_capacity(
     capacity: &Capacity,
 ) -> Result<(), String> {
     let seconds = capacity.probes.iter().fold(0.0, |sum, p| sum + p.seconds);
-    let design = join(ratios);
+    let design = numbers(ratios);
     let space = formulation.space();
     match (capacity.capacity_kg, capacity.limited_by, capacity.first_infeasible_kg) {
         (None, Some(CapacityLimit::Hold), _) => {
@@ -176,13 +176,4 @@ fn print_capacity(
     }
     say!("  {} solves in {seconds:.1} s", capacity.probes.len());
     Ok(())
-}
-
-/// The design as `r1, r2, ..`.
-fn join(ratios: &[f64]) -> String {
-    ratios
-        .iter()
-        .map(|r| r.to_string())
-        .collect::<Vec<_>>()
-        .join(", ")
 }

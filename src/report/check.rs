@@ -11,7 +11,7 @@ use crate::dynamics::Dynamics;
 use crate::model::chain::JointKind;
 use crate::model::task::{Ends, Task};
 use crate::model::Robot;
-use crate::text::{numbers, shown};
+use crate::text::{number, numbers, shown};
 use crate::transmission::Transmission;
 use nalgebra::DMatrix;
 use serde::Serialize;
@@ -353,10 +353,15 @@ impl Inspection {
 }
 
 /// `values` with four decimals, comma-separated; a value that rounds to zero is written 0,
-/// never -0.
+/// never -0, and one of 1e15 or more as [`number`] writes it (`1e308`, not 309 digits).
 fn four_places(values: &[f64]) -> String {
-    let shown = |v: f64| if v.abs() < 5e-5 { 0.0 } else { v };
-    let texts: Vec<String> = values.iter().map(|&v| format!("{:.4}", shown(v))).collect();
+    let texts: Vec<String> = (values.iter())
+        .map(|&v| match v.abs() {
+            size if size < 5e-5 => format!("{:.4}", 0.0),
+            size if size < 1e15 => format!("{v:.4}"),
+            _ => number(v).to_string(),
+        })
+        .collect();
     texts.join(", ")
 }
 

@@ -22,6 +22,7 @@ use super::{ReadFailure, ReportError};
 use crate::design::run::{OptimizeDocument, PayloadCost};
 use crate::input::{read_text, MAX_RESULT_BYTES};
 use crate::ipopt::LinearSolver;
+use crate::json_keys::check_unique_keys;
 use crate::model::task::{Ends, TaskSource};
 use crate::problem::Space;
 use crate::solve::ToolInfo;
@@ -81,7 +82,8 @@ impl ResultFile {
 }
 
 /// Reads a result file, telling its kind by its envelope's tag (files written before the
-/// envelope: by their fields); errors name the file.
+/// envelope: by their fields), refusing an object that gives a key twice (an edited file, of
+/// which serde would keep the last value silently); errors name the file.
 pub fn read_result_file(path: &Path) -> Result<ResultFile, ReportError> {
     let failed = |why| ReportError::Read {
         path: path.to_owned(),
@@ -90,6 +92,7 @@ pub fn read_result_file(path: &Path) -> Result<ResultFile, ReportError> {
     let text = read_text(path, MAX_RESULT_BYTES).map_err(|e| failed(ReadFailure::Input(e)))?;
     let mut value: serde_json::Value =
         serde_json::from_str(&text).map_err(|e| failed(ReadFailure::NotJson(e.to_string())))?;
+    check_unique_keys(&text).map_err(|e| failed(ReadFailure::RepeatedKey(e)))?;
     let tagged = document::open(&mut value).map_err(|e| failed(ReadFailure::Envelope(e)))?;
     let (schema, version) = match tagged {
         Tagged::Kind(schema, version) => (schema, version),
