@@ -1,6 +1,8 @@
 //! How numbers and names are written in messages: numbers as people write them, never a
-//! 300-digit expansion; names from files on one line, with nothing that steers a terminal.
+//! 300-digit expansion; names from files on one line, with nothing that steers a terminal; and
+//! text that reaches SVG or HTML with only the characters XML allows.
 
+use std::borrow::Cow;
 use std::fmt;
 
 /// `x` as written in messages: plainly (`0.3`, `600`) in the usual range, in exponent form
@@ -28,6 +30,23 @@ pub fn numbers(values: &[f64]) -> String {
     texts.join(", ")
 }
 
+/// The values of a list a message echoes at most ([`listed`]).
+const ECHOED: usize = 16;
+
+/// `values` (a list a user gave, echoed in a message) as [`numbers`] writes them, at most the
+/// first 16 followed by how many there are: `50, 50, .., 50, ... (1000000 values)`, so that no
+/// list makes a message longer than a line or two.
+pub fn listed(values: &[f64]) -> String {
+    if values.len() <= ECHOED {
+        return numbers(values);
+    }
+    format!(
+        "{}, ... ({} values)",
+        numbers(&values[..ECHOED]),
+        values.len()
+    )
+}
+
 /// `name` (a link's or joint's, read from a file) as a terminal may show it: each control
 /// character (a newline, an escape) and each character that reorders text (U+202A-U+202E,
 /// U+2066-U+2069, U+200E, U+200F) written as its escape, `\n`, `\u{202e}`.
@@ -47,6 +66,28 @@ pub fn shown(name: &str) -> String {
     text
 }
 
+/// `text` (a document of SVG or HTML, or text bound for one) with each control character but
+/// tab, newline and carriage return (those XML 1.0 refuses, and those it discourages) and
+/// U+FFFE and U+FFFF written as their escapes: an escape, U+001B, as `\u{1b}`. A name read from
+/// a task (`motors.names`, a file's name) may hold any of them; a browser refuses a whole SVG
+/// document over one.
+pub fn markup_safe(text: &str) -> Cow<'_, str> {
+    let refused = |c: char| {
+        (c.is_control() && !matches!(c, '\t' | '\n' | '\r')) || matches!(c, '\u{fffe}' | '\u{ffff}')
+    };
+    if !text.contains(refused) {
+        return Cow::Borrowed(text);
+    }
+    let mut safe = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        match refused(c) {
+            true => safe.extend(c.escape_unicode()),
+            false => safe.push(c),
+        }
+    }
+    Cow::Owned(safe)
+}
+
 struct Number(f64);
 
 impl fmt::Display for Number {
@@ -62,7 +103,26 @@ impl fmt::Display for Number {
 
 #[cfg(test)]
 mod tests {
-    use super::{number, numbers, rounded, shown};
+    use super::{listed, markup_safe, number, numbers, rounded, shown};
+
+    #[test]
+    fn a_long_list_is_echoed_with_its_length() {
+        assert_eq!(listed(&[1e308, 5e-324]), "1e308, 5e-324");
+        let many = listed(&vec![50.0; 1_000_000]);
+        assert!(many.ends_with("50, 50, ... (1000000 values)"), "{many}");
+        assert_eq!(many.matches("50").count(), 16);
+        assert_eq!(listed(&[2.0; 16]), numbers(&[2.0; 16]));
+    }
+
+    #[test]
+    fn markup_holds_only_the_characters_xml_allows() {
+        assert_eq!(markup_safe("el\u{1b}[31mbow"), "el\\u{1b}[31mbow");
+        assert_eq!(
+            markup_safe("a\u{0}b\u{7f}\u{fffe}"),
+            "a\\u{0}b\\u{7f}\\u{fffe}"
+        );
+        assert_eq!(markup_safe("one\ttwo\nthree\r é"), "one\ttwo\nthree\r é");
+    }
 
     #[test]
     fn names_stay_on_one_line_and_in_order() {

@@ -38,7 +38,7 @@ class NativeTask:
         payload: Optional[float] = None,
         ends: Optional[str] = None,
         ratios: Optional[List[float]] = None,
-    ) -> Tuple[str, str, List[str]]: ...
+    ) -> Tuple[str, str, List[str], List[str]]: ...
     def solve(
         self,
         space: str,

@@ -246,17 +246,19 @@ class Run(_Document):
 class CheckReport(_Document):
     """What ``codesign check`` finds before any solve: the joints, the static torques, the hold."""
 
-    def __init__(self, text: str, words: str, problems: List[str]) -> None:
+    def __init__(self, text: str, words: str, problems: List[str], warnings: List[str]) -> None:
         self._text = text
         self._document = json.loads(text)
         self.text: str = words
         """The report as ``codesign check`` prints it."""
         self.problems: List[str] = problems
-        """Every problem found; empty when none."""
+        """Every error found (what a solve refuses or cannot make sense of); empty when none."""
+        self.warnings: List[str] = warnings
+        """Every warning found (a solve runs through it); empty when none."""
 
     @property
     def ok(self) -> bool:
-        """Whether no problem was found."""
+        """Whether no error was found (``codesign check`` exits 0): warnings may remain."""
         return not self.problems
 
     @property
@@ -273,4 +275,7 @@ class CheckReport(_Document):
         return self.text
 
     def __repr__(self) -> str:
-        return f"<codesign.CheckReport {len(self.problems)} problem(s)>"
+        return (
+            f"<codesign.CheckReport {len(self.problems)} problem(s), "
+            f"{len(self.warnings)} warning(s)>"
+        )

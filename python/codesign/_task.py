@@ -199,11 +199,12 @@ class Task:
         ratios: Optional[Sequence[float]] = None,
         ends: Optional[str] = None,
     ) -> CheckReport:
-        """What ``codesign check`` finds: joints, static torques and the hold, before any solve."""
-        found, words, problems = self._native.check(
+        """What ``codesign check`` finds before any solve: joints, static torques, the hold, the
+        limit modes, the linkages; its errors in ``problems``, its warnings in ``warnings``."""
+        found, words, problems, warnings = self._native.check(
             number("payload", payload), text("ends", ends), design("ratios", ratios)
         )
-        return CheckReport(found, words, problems)
+        return CheckReport(found, words, problems, warnings)
 
     def solve(
         self,

@@ -8,7 +8,7 @@ use codesign_core::ipopt::LinearSolver;
 use codesign_core::model::task::{Ends, LimitMode, TaskFile, TaskSource};
 use codesign_core::model::Robot;
 use codesign_core::problem::{Formulation, Space};
-use codesign_core::text::number;
+use codesign_core::text::{listed, number};
 use std::sync::Arc;
 
 /// The value of keyword `name` among the values of `T` (the command line's names), or an error
@@ -142,7 +142,9 @@ impl Posed {
         formulation
             .transmission()
             .check_design(&ratios)
-            .map_err(|e| Failure::input(format!("{named} {ratios:?}: invalid design: {e}")))?;
+            .map_err(|e| {
+                Failure::input(format!("{named} {}: invalid design: {e}", listed(&ratios)))
+            })?;
         Ok(ratios)
     }
 }

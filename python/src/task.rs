@@ -94,7 +94,7 @@ impl NativeTask {
         self.source.label()
     }
 
-    /// The inspection of `codesign check` as JSON, its text, and its problems.
+    /// The inspection of `codesign check` as JSON, its text, its problems and its warnings.
     #[pyo3(signature = (payload=None, ends=None, ratios=None))]
     fn check(
         &self,
@@ -102,7 +102,7 @@ impl NativeTask {
         payload: Option<f64>,
         ends: Option<&str>,
         ratios: Option<Vec<f64>>,
-    ) -> PyResult<(String, String, Vec<String>)> {
+    ) -> PyResult<(String, String, Vec<String>, Vec<String>)> {
         let keywords = Keywords {
             space: "actuation",
             payload,
@@ -111,20 +111,17 @@ impl NativeTask {
             speed_mode: None,
             linear_solver: None,
         };
-        let inspect = || -> Outcome<(String, String, Vec<String>)> {
+        let inspect = || -> Outcome<(String, String, Vec<String>, Vec<String>)> {
             let posed = self.posed(&keywords)?;
             let loaded = posed.load()?;
-            let formulation = posed.formulation(&loaded)?;
-            let ratios = ratios.unwrap_or_else(|| loaded.task.transmission.original.clone());
-            let inspection = Inspection::of(
-                &loaded.task,
-                &loaded.robot,
-                (formulation.transmission(), &ratios),
-                loaded.settings.constraint_tolerance(),
-            );
+            let tolerance = loaded.settings.constraint_tolerance();
+            let inspection =
+                Inspection::of_task(&loaded.task, &loaded.robot, ratios.as_deref(), tolerance)
+                    .map_err(|e| Failure::input(format!("{}: {e}", posed.model.source())))?;
             let text = serde_json::to_string_pretty(&inspection)
                 .map_err(|e| Failure::solver(e.to_string()))?;
-            Ok((text, inspection.to_text(), inspection.problems()))
+            let words = inspection.to_text();
+            Ok((text, words, inspection.problems, inspection.warnings))
         };
         inspect().map_err(|failure| failure.into_py(py))
     }

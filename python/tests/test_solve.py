@@ -71,6 +71,53 @@ def test_check_reports_what_the_command_line_prints(planar, binary):
     assert not overloaded.ok and overloaded.problems
 
 
+def test_check_reports_the_problems_and_warnings_of_the_command_line(tmp_path, binary):
+    """Python's check and ``codesign check --json`` list the same errors and warnings, the
+    linkages' readings and the limit modes among them (issue 57, items 13 and 14): a four-bar
+    whose loop opens within the joint limits (warnings: exit 0), one whose loop does not close
+    at the start (an error), and one under the box modes a solve refuses."""
+    example = ROOT / "robots" / "examples" / "planar_2dof"
+    four_bar = cd.Task.load(example / "four_bar.json")
+    matrix = four_bar.to_dict()["transmission"]["matrix"]
+    short_rod = [matrix[0], {"crank_rod": dict(matrix[1]["crank_rod"], rod_m=0.15)}]
+    cases = {
+        "opens": four_bar.with_changes(
+            transmission={"matrix": short_rod}, motion={"start": [0.1515, 0.5]}
+        ),
+        "open_at_start": four_bar.with_changes(transmission={"matrix": short_rod}),
+        "paper": four_bar.with_changes(limit_modes={"torque": "paper", "speed": "paper"}),
+    }
+    for name, task in cases.items():
+        report = task.check()
+        document = dict(task.to_dict(), robot=str(example / "robot.urdf"))
+        path = tmp_path / f"{name}.json"
+        path.write_text(json.dumps(document))
+        printed = subprocess.run(
+            [binary, "check", "--task", path, "--json"], capture_output=True, text=True
+        )
+        found = json.loads(printed.stdout)
+        assert report.problems == found["problems"], name
+        assert report.warnings == found["warnings"], name
+        assert printed.returncode == (0 if report.ok else 1), name
+        assert report.to_dict()["linkages"] == found["linkages"], name
+    assert cases["opens"].check().ok
+    assert any("the loop does not close at" in w for w in cases["opens"].check().warnings)
+    assert "design: at the start" in cases["open_at_start"].check().problems[0]
+    assert 'limit_modes.torque = "paper" and limit_modes.speed = "paper"' in (
+        cases["paper"].check().problems[0]
+    )
+
+
+def test_a_long_design_is_echoed_in_a_short_message(planar):
+    """A design of a million ratios is refused naming its length, not echoing every value
+    (issue 57, item 21)."""
+    with pytest.raises(cd.InputError) as refused:
+        planar.solve(payload=1.0, ratios=[50] * 10**6)
+    message = str(refused.value)
+    assert "... (1000000 values): invalid design: the design has 1000000 ratios" in message
+    assert len(message) < 500, len(message)
+
+
 def test_a_solve_gives_arrays_of_documented_shapes(planar):
     sol = planar.solve(space="actuation", payload=1.0, ratios=[50, 12])
     steps = planar.to_dict()["motion"]["steps"]

@@ -9,7 +9,7 @@ use crate::report::codesign::{CapacityDocument, CapacityInputs};
 use crate::store::document::write_document;
 use codesign_core::problem::Formulation;
 use codesign_core::solve::ToolInfo;
-use codesign_core::text::number;
+use codesign_core::text::{listed, number, numbers};
 use std::path::PathBuf;
 
 /// Flags of `codesign capacity`.
@@ -72,11 +72,11 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .transmission()
         .check_design(&ratios)
         .map_err(|e| match &args.ratios {
-            Some(_) => format!("--ratios {}: invalid design: {e}", join(&ratios)),
+            Some(_) => format!("--ratios {}: invalid design: {e}", listed(&ratios)),
             None => format!(
                 "{} transmission.original ({}): invalid design: {e}",
                 args.model.source(),
-                join(&ratios)
+                listed(&ratios)
             ),
         })?;
     let capacity = payload_capacity(&formulation, &solve, &ratios, &settings)
@@ -131,7 +131,7 @@ fn print_capacity(
     capacity: &Capacity,
 ) -> Result<(), String> {
     let seconds = capacity.probes.iter().fold(0.0, |sum, p| sum + p.seconds);
-    let design = join(ratios);
+    let design = numbers(ratios);
     let space = formulation.space();
     match (capacity.capacity_kg, capacity.limited_by, capacity.first_infeasible_kg) {
         (None, Some(CapacityLimit::Hold), _) => {
@@ -164,13 +164,4 @@ fn print_capacity(
     }
     say!("  {} solves in {seconds:.1} s", capacity.probes.len());
     Ok(())
-}
-
-/// The design as `r1, r2, ..`.
-fn join(ratios: &[f64]) -> String {
-    ratios
-        .iter()
-        .map(|r| r.to_string())
-        .collect::<Vec<_>>()
-        .join(", ")
 }

@@ -3,9 +3,7 @@
 use super::common::{finite_ratio, ModelArgs};
 use super::failure::Failure;
 use crate::report::check::Inspection;
-use crate::report::mechanism::{linkage_reports, linkages_text, LinkageReport};
-use codesign_core::dynamics::Dynamics;
-use codesign_core::transmission::Transmission;
+use codesign_core::text::shown;
 
 /// Flags of `codesign check`.
 #[derive(Debug, clap::Args)]
@@ -27,73 +25,41 @@ pub struct Args {
     json: bool,
 }
 
-/// Loads and inspects; prints the inspection; fails (exit 1) listing every problem found. With
-/// `--robot` and no `--task`, the robot alone: its chain, its notes and its tip link.
+/// Loads and inspects; prints the inspection; fails (exit 1) listing every error found, and
+/// notes each warning on stderr (warnings alone: exit 0). With `--robot` and no `--task`, the
+/// robot alone: its chain, its notes and its tip link.
 pub fn run(args: &Args) -> Result<(), Failure> {
     args.model.validate()?;
     let (task, robot, settings, alone) = args.model.load_robot()?;
     if alone {
-        let inspection = Inspection::of_robot(&robot);
-        print(&inspection, &[], args.json)?;
-        return Ok(());
+        return print(&Inspection::of_robot(&robot), args.json);
     }
-    let source = args.model.source();
-    let dynamics = Dynamics::new(robot.clone());
-    let transmission = Transmission::on_chain(&task.transmission, &dynamics)
-        .map_err(|e| format!("{source}: {e}"))?;
-    if transmission.dof() != robot.dof() {
-        return Err(Failure::Work(format!(
-            "{source}: transmission.matrix is {0}x{0} but the robot has {1} moving joints",
-            transmission.dof(),
-            robot.dof()
-        )));
-    }
-    let ratios = args
-        .ratios
-        .clone()
-        .unwrap_or_else(|| task.transmission.original.clone());
     let tolerance = settings.constraint_tolerance();
-    let inspection = Inspection::of(&task, &robot, (&transmission, &ratios), tolerance);
-    // The linkages at the design inspected where it is valid (the inspection names it otherwise).
-    let original = &task.transmission.original;
-    let design = match transmission.check_design(&ratios) {
-        Ok(()) => &ratios,
-        Err(_) => original,
-    };
-    let reports =
-        linkage_reports(&task, &dynamics, design).map_err(|e| format!("{source}: {e}"))?;
-    print(&inspection, &reports, args.json)?;
-    let mut problems = inspection.problems();
-    for report in &reports {
-        let motor = &report.motor;
-        problems.extend(report.warnings.iter().map(|w| format!("{motor}: {w}")));
+    let inspection = Inspection::of_task(&task, &robot, args.ratios.as_deref(), tolerance)
+        .map_err(|e| format!("{}: {e}", args.model.source()))?;
+    print(&inspection, args.json)?;
+    for warning in &inspection.warnings {
+        note!("warning: {}", shown(warning));
     }
+    let problems = &inspection.problems;
     if problems.is_empty() {
         return Ok(());
     }
+    let listed: Vec<String> = problems.iter().map(|p| shown(p)).collect();
     Err(Failure::Work(format!(
         "{} problem(s) found: {}",
         problems.len(),
-        problems.join("; ")
+        listed.join("; ")
     )))
 }
 
-/// Prints the inspection, and the linkages' readings where the transmission has linkage rows
-/// (docs/model.md, section 17), as text, or as one JSON object (the linkages under `linkages`).
-fn print(inspection: &Inspection, linkages: &[LinkageReport], json: bool) -> Result<(), String> {
+/// Prints the inspection as text, or as one JSON object.
+fn print(inspection: &Inspection, json: bool) -> Result<(), Failure> {
     if json {
-        let mut value = serde_json::to_value(inspection).map_err(|e| e.to_string())?;
-        if let (Some(object), false) = (value.as_object_mut(), linkages.is_empty()) {
-            let readings = serde_json::to_value(linkages).map_err(|e| e.to_string())?;
-            object.insert("linkages".into(), readings);
-        }
-        let text = serde_json::to_string_pretty(&value).map_err(|e| e.to_string())?;
+        let text = serde_json::to_string_pretty(inspection).map_err(|e| e.to_string())?;
         say!("{text}");
     } else {
         say_raw!("{}", inspection.to_text());
-        if !linkages.is_empty() {
-            say_raw!("{}", linkages_text(linkages));
-        }
     }
     Ok(())
 }

@@ -16,7 +16,7 @@ use codesign_core::solve::{
     least_envelope_margin, solve_design_from, ElasticMeasures, SolveError, SolveSettings,
     StartPoint, TrajectoryResult,
 };
-use codesign_core::text::{number, rounded};
+use codesign_core::text::{listed, number, rounded};
 use std::path::PathBuf;
 
 /// Flags of `codesign solve`.
@@ -129,13 +129,13 @@ fn refuse_unwritable(result: &TrajectoryResult, source: &str) -> Result<(), Fail
 /// The design to solve, `--ratios` or the task's original one, with the words that name it.
 fn design(args: &Args, task: &Task) -> (Vec<f64>, String) {
     match &args.ratios {
-        Some(ratios) => (ratios.clone(), format!("--ratios {}", join(ratios))),
+        Some(ratios) => (ratios.clone(), format!("--ratios {}", listed(ratios))),
         None => (
             task.transmission.original.clone(),
             format!(
                 "{} transmission.original ({})",
                 args.model.source(),
-                join(&task.transmission.original)
+                listed(&task.transmission.original)
             ),
         ),
     }
@@ -294,14 +294,6 @@ fn check(
         ));
     }
     Ok(())
-}
-
-fn join(values: &[f64]) -> String {
-    values
-        .iter()
-        .map(|v| v.to_string())
-        .collect::<Vec<_>>()
-        .join(",")
 }
 
 /// `max motor torque 1.234 N m (limit 1.7)` where every motor has one limit, else each

@@ -1,14 +1,19 @@
-//! The inspection of a robot and its task before any solve (`codesign check`): the chain, the
-//! TCP at the start and the goal, G at a design and its inverse, the static gravity torques at
-//! both ends against each motor's own torque limit, the design space, and a verdict per check.
+//! The inspection of a robot and its task before any solve (`codesign check`, Python's
+//! `Task.check`): the chain, the TCP at the start and the goal, G at a design and its inverse,
+//! the static gravity torques at both ends against each motor's own torque limit, the design
+//! space, the limit modes, the linkages' readings, and a verdict per check, each finding an
+//! error (a solve refuses the task, or its result would mean nothing) or a warning.
+
+mod verdicts;
 
 use codesign_core::dynamics::Dynamics;
 use codesign_core::model::chain::JointKind;
 use codesign_core::model::task::{Ends, Task};
 use codesign_core::model::Robot;
-use codesign_core::problem::{EndHold, HoldRows, Space};
 use codesign_core::text::{number, numbers, shown};
-use codesign_core::transmission::{JointLimits, Transmission};
+use codesign_core::transmission::Transmission;
+
+use super::mechanism::{linkage_reports, linkages_text, LinkageReport};
 use nalgebra::DMatrix;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -41,6 +46,18 @@ pub struct HoldReport {
     pub motor_torques_nm: Vec<f64>,
 }
 
+/// How much a finding weighs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Severity {
+    /// A solve refuses the task or the design, or its result would mean nothing (motors that
+    /// cannot hold the load where the ends ask for it): `check` exits 1.
+    Error,
+    /// A solve runs, and the designer should know (a dead point or an open loop within the
+    /// joint limits, a TCP outside the soft box at an end): `check` exits 0.
+    Warning,
+}
+
 /// One check and its verdict.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Verdict {
@@ -48,6 +65,9 @@ pub struct Verdict {
     pub check: String,
     /// Whether it passed.
     pub ok: bool,
+    /// How much its finding weighs, where it did not pass.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub severity: Option<Severity>,
     /// What was found.
     pub detail: String,
 }
@@ -91,6 +111,15 @@ pub struct Inspection {
     pub no_load_speeds_rad_s: Vec<f64>,
     /// Every check, in order.
     pub verdicts: Vec<Verdict>,
+    /// The linkage rows' readings (docs/model.md, section 17), at the design inspected where
+    /// it is valid, else at the task's original design; absent when every row is constant.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub linkages: Vec<LinkageReport>,
+    /// The errors found (`check: detail`): what a solve refuses or cannot make sense of.
+    pub problems: Vec<String>,
+    /// The warnings found: the verdicts' (`check: detail`), then the linkages'
+    /// (`motor: warning`).
+    pub warnings: Vec<String>,
 }
 
 fn rows(matrix: &DMatrix<f64>) -> Vec<Vec<f64>> {
@@ -132,84 +161,57 @@ fn joints(robot: &Robot) -> Vec<JointReport> {
         .collect()
 }
 
-/// The verdict on the static torques `end` against each motor's own limit in `limits`, N m:
-/// the motors over their limits by more than `tolerance_nm` (the task's `constr_viol_tol`, as the
-/// solves judge it), or every torque beside its limit. Under `ends` `paper` the hold
-/// is no condition, so a shortfall is told among the fine lines.
-fn hold_verdict(
-    end: &EndHold,
-    limits: &[f64],
-    ends: Ends,
-    tolerance_nm: f64,
-) -> (Option<String>, String) {
-    let shortfall = (!end.holds).then(|| {
-        format!(
-            "{}: the motors cannot hold the load still",
-            end.shortfalls(HoldRows::Motors, tolerance_nm).join(", ")
-        )
-    });
-    if let (Some(shortfall), false) = (&shortfall, ends.judges_hold()) {
-        return (
-            None,
-            format!("{shortfall} (not required: motion.ends is paper)"),
-        );
-    }
-    let problem = shortfall;
-    let torques: Vec<String> = end
-        .motor_torques_nm
-        .iter()
-        .map(|m| format!("{:.3}", m.abs()))
-        .collect();
-    let fine = format!(
-        "motor torques ({}) N m within the motors' limits ({}) N m",
-        torques.join(", "),
-        numbers(limits)
-    );
-    (problem, fine)
-}
-
 impl Inspection {
-    /// Inspects `robot` (with the task's payload) and `task` at design `ratios` of
-    /// `transmission`, judging the static hold at `hold_tolerance_nm`, N m (the task's
-    /// `SolveSettings::constraint_tolerance`, as the solves judge it).
-    pub fn of(
+    /// What `codesign check` and Python's `Task.check` report: `task` on `robot` (the task's
+    /// payload and ends applied) at design `ratios` (None: the task's original), the hold
+    /// judged at `hold_tolerance_nm`, N m (the task's `SolveSettings::constraint_tolerance`, as
+    /// the solves judge it). Errs, naming the field, where the transmission does not fit the
+    /// robot.
+    pub fn of_task(
         task: &Task,
         robot: &Robot,
-        (transmission, ratios): (&Transmission, &[f64]),
+        ratios: Option<&[f64]>,
         hold_tolerance_nm: f64,
-    ) -> Inspection {
-        let joints = joints(robot);
+    ) -> Result<Inspection, String> {
+        let dynamics = Dynamics::new(robot.clone());
+        let transmission =
+            Transmission::on_chain(&task.transmission, &dynamics).map_err(|e| e.to_string())?;
+        if transmission.dof() != robot.dof() {
+            return Err(format!(
+                "transmission.matrix is {0}x{0} but the robot has {1} moving joints",
+                transmission.dof(),
+                robot.dof()
+            ));
+        }
+        let ratios = ratios.unwrap_or(&task.transmission.original);
         let mut inspection = Inspection {
-            joints,
-            notes: robot.notes().to_vec(),
-            tcp_link: task.tcp.link.clone(),
-            payload_kg: robot.payload_kg(),
             ratios: ratios.to_vec(),
             bounds: transmission.bounds().to_vec(),
-            order: transmission
-                .design_space()
-                .order()
-                .iter()
+            order: (transmission.design_space().order().iter())
                 .map(|c| c.to_string())
                 .collect(),
-            g: None,
-            g_inverse: None,
-            g_at_start: false,
-            holds: Vec::new(),
+            tcp_link: task.tcp.link.clone(),
             ends: Some(task.motion.ends),
             torque_limits_nm: task.motors.torque_limit_nm.values(transmission.dof()),
             speed_limits_rad_s: task.motors.speed_limit_rad_s.values(transmission.dof()),
-            no_load_speeds_rad_s: task
-                .motors
-                .no_load_speed_rad_s
-                .as_ref()
+            no_load_speeds_rad_s: (task.motors.no_load_speed_rad_s.as_ref())
                 .map_or_else(Vec::new, |speeds| speeds.values(transmission.dof())),
-            verdicts: Vec::new(),
+            ..Inspection::of_robot(robot)
         };
         inspection.check_motion(task, robot);
-        inspection.check_design(task, robot, (transmission, ratios), hold_tolerance_nm);
+        let parts = (task, &dynamics, &transmission);
+        inspection.check_design(parts, ratios, hold_tolerance_nm);
         inspection.check_envelope();
-        inspection
+        inspection.check_limit_modes(task, &transmission);
+        inspection.check_box(task, &dynamics);
+        // The linkages at the design inspected where it is valid (a verdict names it otherwise).
+        let design = match transmission.check_design(ratios) {
+            Ok(()) => ratios,
+            Err(_) => &task.transmission.original,
+        };
+        inspection.linkages = linkage_reports(task, (&dynamics, &transmission), design);
+        inspection.conclude();
+        Ok(inspection)
     }
 
     /// Inspects a robot alone (no task): its chain and notes, with no design and no motion.
@@ -232,172 +234,23 @@ impl Inspection {
             speed_limits_rad_s: Vec::new(),
             no_load_speeds_rad_s: Vec::new(),
             verdicts: Vec::new(),
+            linkages: Vec::new(),
+            problems: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 
-    /// Where the motors have a torque-speed envelope: the share of its torque limit each motor
-    /// keeps at its speed limit, 1 - w_max / w_0, which must be positive (a motor with no torque
-    /// left below its speed limit has data at odds with itself, e.g. a no-load speed in rpm
-    /// where rad/s was meant would show as a share near 1, one too low as none).
-    fn check_envelope(&mut self) {
-        if self.no_load_speeds_rad_s.is_empty() {
-            return;
-        }
-        let speeds = self
-            .speed_limits_rad_s
-            .iter()
-            .zip(&self.no_load_speeds_rad_s);
-        let kept: Vec<f64> = speeds.clone().map(|(w_max, w0)| 1.0 - w_max / w0).collect();
-        let problems: Vec<String> = speeds
-            .enumerate()
-            .filter(|(_, (w_max, w0))| w0 <= w_max)
-            .map(|(i, (w_max, w0))| {
-                format!(
-                    "motor {}'s no-load speed {} rad/s is not above its speed limit {} rad/s: \
-                     it has no torque left before that limit",
-                    i + 1,
-                    number(*w0),
-                    number(*w_max)
-                )
-            })
-            .collect();
-        let shares: Vec<String> = kept.iter().map(|k| format!("{:.0}%", 100.0 * k)).collect();
-        let fine = format!(
-            "at its speed limit each motor keeps ({}) of its torque limit",
-            shares.join(", ")
-        );
-        let problem = (!problems.is_empty()).then(|| problems.join("; "));
-        self.verdict("torque-speed envelope", problem, fine);
-    }
-
-    fn verdict(&mut self, check: &str, problem: Option<String>, fine: String) {
-        self.verdicts.push(Verdict {
-            check: check.to_owned(),
-            ok: problem.is_none(),
-            detail: problem.unwrap_or(fine),
-        });
-    }
-
-    /// The start and goal: one angle per moving joint, inside the joint limits.
-    fn check_motion(&mut self, task: &Task, robot: &Robot) {
-        let limits = robot.position_limits();
-        let mut problems = Vec::new();
-        for (pose, q) in [("start", &task.motion.start), ("goal", &task.motion.goal)] {
-            if q.len() != limits.len() {
-                problems.push(format!(
-                    "motion.{pose} has {} angles for {} moving joints",
-                    q.len(),
-                    limits.len()
-                ));
-                continue;
-            }
-            for (i, (&angle, &(lo, hi))) in q.iter().zip(limits).enumerate() {
-                if !(lo..=hi).contains(&angle) {
-                    problems.push(format!(
-                        "motion.{pose}[{i}] = {angle} {} is outside joint '{}' [{lo}, {hi}]",
-                        robot.joint_kind(i).unit(),
-                        robot.joint_names()[i]
-                    ));
-                }
-            }
-        }
-        let problem = (!problems.is_empty()).then(|| problems.join("; "));
-        self.verdict(
-            "motion",
-            problem,
-            "start and goal within the joint limits".into(),
-        );
-    }
-
-    /// The design in its space with an invertible G, and the motors holding the arm still at
-    /// both ends.
-    fn check_design(
-        &mut self,
-        task: &Task,
-        robot: &Robot,
-        (t, ratios): (&Transmission, &[f64]),
-        hold_tolerance_nm: f64,
-    ) {
-        let dof = robot.dof();
-        let poses_fit = task.motion.start.len() == dof && task.motion.goal.len() == dof;
-        let dynamics = Dynamics::new(robot.clone());
-        let mut data = dynamics.workspace();
-        // G(r) for a constant transmission; G(q) at the start for a pose-dependent one.
-        let start = &task.motion.start;
-        let coupling = match (t.is_pose_dependent(), poses_fit) {
-            (false, _) => t.coupling(ratios).map(Some),
-            (true, true) => (t.coupling_at(ratios, (&dynamics, start), "the start")).map(Some),
-            // No pose to take G(q) at: the design space alone.
-            (true, false) => t.check_design(ratios).map(|()| None),
+    /// Lists the findings of the verdicts and the linkages as problems and warnings.
+    fn conclude(&mut self) {
+        let of = |severity: Severity| {
+            (self.verdicts.iter())
+                .filter(move |v| v.severity == Some(severity))
+                .map(|v| format!("{}: {}", v.check, v.detail))
         };
-        let coupling = match coupling {
-            Ok(Some(coupling)) => coupling,
-            Ok(None) => {
-                self.verdict("design", None, "inside the design space".into());
-                return;
-            }
-            Err(error) => {
-                self.verdict("design", Some(error.to_string()), String::new());
-                return;
-            }
-        };
-        let fine = match t.is_pose_dependent() {
-            true => "inside the design space, G(q) invertible at the start",
-            false => "inside the design space, G invertible",
-        };
-        self.verdict("design", None, fine.into());
-        self.g_at_start = t.is_pose_dependent();
-        self.g = Some(rows(coupling.matrix()));
-        self.g_inverse = Some(rows(coupling.inverse()));
-        if !poses_fit {
-            return;
-        }
-        // The motors' own limits: the actuation space's control limits.
-        let limits = JointLimits::Box {
-            lower: self.torque_limits_nm.iter().map(|l| -l).collect(),
-            upper: self.torque_limits_nm.clone(),
-        };
-        for (pose, q) in [("start", &task.motion.start), ("goal", &task.motion.goal)] {
-            let coupling = match t.coupling_at(ratios, (&dynamics, q), &format!("the {pose}")) {
-                Ok(coupling) => coupling,
-                Err(error) => {
-                    self.verdict(
-                        &format!("hold at {pose}"),
-                        Some(error.to_string()),
-                        String::new(),
-                    );
-                    continue;
-                }
-            };
-            let end = EndHold::at(
-                &dynamics,
-                &coupling,
-                (Space::Actuation, &limits),
-                q,
-                hold_tolerance_nm,
-            );
-            let tcp = dynamics.tcp_position(&mut data, q);
-            let ends = task.motion.ends;
-            let (problem, fine) =
-                hold_verdict(&end, &self.torque_limits_nm, ends, hold_tolerance_nm);
-            self.verdict(&format!("hold at {pose}"), problem, fine);
-            self.holds.push(HoldReport {
-                pose: pose.to_owned(),
-                q: q.clone(),
-                tcp_m: [tcp[0], tcp[1], tcp[2]],
-                joint_torques_nm: end.joint_torques_nm,
-                motor_torques_nm: end.motor_torques_nm,
-            });
-        }
-    }
-
-    /// The problems found, one a line; empty when every check passed.
-    pub fn problems(&self) -> Vec<String> {
-        self.verdicts
-            .iter()
-            .filter(|v| !v.ok)
-            .map(|v| format!("{}: {}", v.check, v.detail))
-            .collect()
+        let linkages = (self.linkages.iter())
+            .flat_map(|l| l.warnings.iter().map(|w| format!("{}: {w}", l.motor)));
+        self.problems = of(Severity::Error).collect();
+        self.warnings = of(Severity::Warning).chain(linkages).collect();
     }
 
     /// The unit of the joints' gravity loads: "N m" when every joint turns, else one per joint
@@ -488,18 +341,28 @@ impl Inspection {
             );
         }
         for verdict in &self.verdicts {
-            let mark = if verdict.ok { "ok  " } else { "FAIL" };
+            let mark = match verdict.severity {
+                None => "ok  ",
+                Some(Severity::Warning) => "warn",
+                Some(Severity::Error) => "FAIL",
+            };
             let _ = writeln!(text, "{mark} {}: {}", verdict.check, shown(&verdict.detail));
         }
+        text.push_str(&linkages_text(&self.linkages));
         text
     }
 }
 
 /// `values` with four decimals, comma-separated; a value that rounds to zero is written 0,
-/// never -0.
+/// never -0, and one of 1e15 or more as [`number`] writes it (`1e308`, not 309 digits).
 fn four_places(values: &[f64]) -> String {
-    let shown = |v: f64| if v.abs() < 5e-5 { 0.0 } else { v };
-    let texts: Vec<String> = values.iter().map(|&v| format!("{:.4}", shown(v))).collect();
+    let texts: Vec<String> = (values.iter())
+        .map(|&v| match v.abs() {
+            size if size < 5e-5 => format!("{:.4}", 0.0),
+            size if size < 1e15 => format!("{v:.4}"),
+            _ => number(v).to_string(),
+        })
+        .collect();
     texts.join(", ")
 }
 

@@ -40,6 +40,9 @@ pub enum ReadFailure {
     Input(InputError),
     /// It is no JSON; the parser's reason.
     NotJson(String),
+    /// An object of it gives a key twice (an edited file: which value counts is unknown); the
+    /// key and its line.
+    RepeatedKey(String),
     /// Its envelope (`schema`, `version`) cannot be read.
     Envelope(EnvelopeError),
     /// It is a table, which is made from results and no result itself.
@@ -65,6 +68,7 @@ impl fmt::Display for ReportError {
                 match why {
                     ReadFailure::Input(error) => write!(f, "{path}: {error}"),
                     ReadFailure::NotJson(why) => write!(f, "{path}: not JSON: {why}"),
+                    ReadFailure::RepeatedKey(why) => write!(f, "{path}: {why}"),
                     ReadFailure::Envelope(why) => write!(f, "{path}: {why}"),
                     ReadFailure::Table => write!(
                         f,

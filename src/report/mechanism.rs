@@ -3,22 +3,18 @@
 //! torque at the start and the goal through G(q), and where it reaches
 //! a dead point, leaves its stroke or cannot close (docs/model.md, section 17).
 
+mod range;
+
 use codesign_core::dynamics::{Dynamics, Workspace};
-use codesign_core::model::matrix_row::MatrixRow;
 use codesign_core::model::task::Task;
-use codesign_core::text::rounded as number;
-use codesign_core::transmission::linkage::{Linkage, ResolveError, Variables};
+use codesign_core::transmission::linkage::{Linkage, Variables};
 use codesign_core::transmission::Transmission;
+
+use codesign_core::text::{rounded as number, shown};
+use range::over_range;
+pub use range::{ClosedRange, DeadPoint, RangeReading};
 use serde::Serialize;
-use std::f64::consts::PI;
 use std::fmt::Write as _;
-
-/// Poses sampled over the joint range of a linkage, at most: a grid over the joints it spans.
-const RANGE_SAMPLES: f64 = 4096.0;
-
-/// A row's ratio below this share of its largest over the range is reported as near a dead
-/// point.
-const NEAR_ZERO_SHARE: f64 = 0.02;
 
 /// One linkage at one pose.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -35,28 +31,6 @@ pub struct PoseReading {
     pub static_torque_nm: Option<f64>,
     /// Why it has no reading, if so.
     pub error: Option<String>,
-}
-
-/// One linkage over a grid of poses within its joints' limits.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct RangeReading {
-    /// Poses sampled.
-    pub samples: usize,
-    /// Poses where the loop did not close.
-    pub open: usize,
-    /// Over the poses where it closed; None if it closed at none.
-    pub closed: Option<ClosedRange>,
-}
-
-/// A linkage's readings over the poses where it closed.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct ClosedRange {
-    /// The smallest and largest ratio per spanned joint.
-    pub ratio_min: Vec<f64>,
-    /// See `ratio_min`.
-    pub ratio_max: Vec<f64>,
-    /// The smallest and largest length (m) or crank angle (rad).
-    pub measure_range: [f64; 2],
 }
 
 /// What `check` shows of one linkage row.
@@ -80,44 +54,27 @@ pub struct LinkageReport {
     pub warnings: Vec<String>,
 }
 
-/// The linkage rows of a task's transmission, resolved on its robot and read; empty when every
-/// row is constant; read at `design` (one value per design parameter, within the design space).
+/// The linkage rows of `transmission` (the task's, on the chain of `dynamics`), read at
+/// `design` (one value per design parameter, within the design space); empty when every row is
+/// constant.
 pub fn linkage_reports(
     task: &Task,
-    dynamics: &Dynamics,
+    (dynamics, transmission): (&Dynamics, &Transmission),
     design: &[f64],
-) -> Result<Vec<LinkageReport>, ResolveError> {
+) -> Vec<LinkageReport> {
     let mut reports = Vec::new();
-    let original = &task.transmission.original;
-    let transmission = Transmission::on_chain(&task.transmission, dynamics).ok();
-    for (row, written) in task.transmission.matrix.iter().enumerate() {
-        let MatrixRow::Linkage(spec) = written else {
-            continue;
-        };
-        let linkage = Linkage::resolve(spec, row, dynamics, original)?;
-        let motor = task
-            .motors
-            .names
-            .as_ref()
-            .and_then(|names| names.get(row).cloned())
-            .unwrap_or_else(|| format!("motor {}", row + 1));
-        let mut report = read(
-            (task, dynamics, design),
-            &linkage,
-            (row, motor, spec.kind()),
-        );
-        if let Some(transmission) = &transmission {
-            for (reading, q) in report
-                .poses
-                .iter_mut()
-                .zip([&task.motion.start, &task.motion.goal])
-            {
-                reading.static_torque_nm = static_torque(transmission, (dynamics, design), q, row);
-            }
+    for row in transmission.linkages() {
+        let motor = (task.motors.names.as_ref())
+            .and_then(|names| names.get(row.motor).cloned())
+            .unwrap_or_else(|| format!("motor {}", row.motor + 1));
+        let mut report = read((task, dynamics, design), &row.linkage, (row.motor, motor));
+        for (reading, q) in (report.poses.iter_mut()).zip([&task.motion.start, &task.motion.goal]) {
+            reading.static_torque_nm =
+                static_torque(transmission, (dynamics, design), q, row.motor);
         }
         reports.push(report);
     }
-    Ok(reports)
+    reports
 }
 
 /// Motor `row`'s torque holding the robot at rest at pose q through G(q) at `design`, N m; None
@@ -140,7 +97,7 @@ fn static_torque(
 fn read(
     (task, dynamics, design): (&Task, &Dynamics, &[f64]),
     linkage: &Linkage,
-    (row, motor, kind): (usize, String, &'static str),
+    (row, motor): (usize, String),
 ) -> LinkageReport {
     let variables = Variables {
         joints: linkage.joints(),
@@ -169,13 +126,18 @@ fn read(
             }
         })
         .to_vec();
-    let range = over_range((task, dynamics, design), &mut data, linkage, &variables);
+    let range = over_range(
+        (dynamics, &mut data),
+        (&task.motion.start, design),
+        linkage,
+        &variables,
+    );
     let joints: Vec<String> = variables.joints.clone().map(|j| names[j].clone()).collect();
-    let warnings = warnings(linkage, &range, &joints);
+    let warnings = range::warnings(linkage, &range, dynamics.robot());
     LinkageReport {
         row,
         motor,
-        kind,
+        kind: linkage.kind(),
         joints,
         measure: linkage.measure_name(),
         poses,
@@ -206,101 +168,6 @@ fn reading(
     Ok((ratio, measure.value()))
 }
 
-/// The readings over a grid within the spanned joints' limits (a continuous joint: one turn),
-/// the other joints at the start (they do not move the linkage).
-fn over_range(
-    (task, dynamics, design): (&Task, &Dynamics, &[f64]),
-    data: &mut Workspace,
-    linkage: &Linkage,
-    variables: &Variables,
-) -> RangeReading {
-    let joints = variables.joints.clone();
-    let limits = dynamics.robot().position_limits();
-    let per_joint = (RANGE_SAMPLES.powf(1.0 / joints.len().max(1) as f64).floor() as usize).max(3);
-    let mut q = task.motion.start.clone();
-    let span = joints.len();
-    let samples = per_joint.pow(span as u32);
-    let mut open = 0;
-    let mut range = ClosedRange {
-        ratio_min: vec![f64::INFINITY; span],
-        ratio_max: vec![f64::NEG_INFINITY; span],
-        measure_range: [f64::INFINITY, f64::NEG_INFINITY],
-    };
-    for sample in 0..samples {
-        let mut rest = sample;
-        for joint in joints.clone() {
-            let (low, high) = limits[joint];
-            let (low, high) = if low.is_finite() && high.is_finite() {
-                (low, high)
-            } else {
-                (-PI, PI)
-            };
-            q[joint] = low + (high - low) * (rest % per_joint) as f64 / (per_joint - 1) as f64;
-            rest /= per_joint;
-        }
-        match reading(dynamics, data, linkage, &q, design, variables) {
-            Ok((ratio, measure)) => {
-                for (k, value) in ratio.iter().enumerate() {
-                    range.ratio_min[k] = range.ratio_min[k].min(*value);
-                    range.ratio_max[k] = range.ratio_max[k].max(*value);
-                }
-                range.measure_range[0] = range.measure_range[0].min(measure);
-                range.measure_range[1] = range.measure_range[1].max(measure);
-            }
-            Err(_) => open += 1,
-        }
-    }
-    RangeReading {
-        samples,
-        open,
-        closed: (open < samples).then_some(range),
-    }
-}
-
-/// The warnings a designer needs: loops open, ratios through zero, strokes left.
-fn warnings(linkage: &Linkage, range: &RangeReading, joints: &[String]) -> Vec<String> {
-    let mut warnings = Vec::new();
-    if range.open > 0 {
-        warnings.push(format!(
-            "the loop does not close at {} of {} poses within the joint limits",
-            range.open, range.samples
-        ));
-    }
-    let Some(closed) = &range.closed else {
-        return warnings;
-    };
-    for (k, joint) in joints.iter().enumerate() {
-        let (low, high) = (closed.ratio_min[k], closed.ratio_max[k]);
-        let largest = low.abs().max(high.abs());
-        if low < 0.0 && high > 0.0 {
-            warnings.push(format!(
-                "its ratio to joint {joint} changes sign within the joint limits ({} to {}): the motor passes a dead point",
-                number(low),
-                number(high)
-            ));
-        } else if low.abs().min(high.abs()) < NEAR_ZERO_SHARE * largest {
-            warnings.push(format!(
-                "its ratio to joint {joint} falls to {} within the joint limits, near a dead point (largest {})",
-                number(if low.abs() < high.abs() { low } else { high }),
-                number(largest)
-            ));
-        }
-    }
-    if let Some([min, max]) = linkage.stroke() {
-        let [shortest, longest] = closed.measure_range;
-        if shortest < min || longest > max {
-            warnings.push(format!(
-                "its length runs from {} to {} m within the joint limits, beyond its stroke [{}, {}] m",
-                number(shortest),
-                number(longest),
-                number(min),
-                number(max)
-            ));
-        }
-    }
-    warnings
-}
-
 /// The reports as text, one block per linkage.
 pub fn linkages_text(reports: &[LinkageReport]) -> String {
     let mut text = String::new();
@@ -308,10 +175,10 @@ pub fn linkages_text(reports: &[LinkageReport]) -> String {
         let _ = writeln!(
             text,
             "{} (row {}): {} linkage over joint(s) {}",
-            report.motor,
+            shown(&report.motor),
             report.row,
             report.kind,
-            report.joints.join(", ")
+            shown(&report.joints.join(", "))
         );
         for pose in &report.poses {
             let _ = match (&pose.ratio, pose.measure, &pose.error) {

@@ -11,6 +11,7 @@ use super::ReportError;
 use crate::store::files::write_atomic;
 use codesign_core::problem::Formulation;
 use codesign_core::solve::TrajectoryResult;
+use codesign_core::text::markup_safe;
 use nalgebra::Vector3;
 use std::fmt::Write;
 use std::path::Path;
@@ -93,9 +94,11 @@ impl Drawing {
     }
 }
 
-/// `text` with the characters XML reserves escaped.
+/// `text` with the characters XML reserves escaped, and those it refuses written as their
+/// escapes ([`markup_safe`]).
 fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
+    markup_safe(text)
+        .replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
         .replace('"', "&quot;")

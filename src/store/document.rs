@@ -200,6 +200,24 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// The README names the versions this build writes (it said "1 today" once version 2 was
+    /// written).
+    #[test]
+    fn the_readme_names_the_versions_written() {
+        let readme = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md");
+        let text = std::fs::read_to_string(readme).unwrap();
+        let result = Schema::Solve.version();
+        assert_eq!(Schema::Optimize.version(), result);
+        assert_eq!(Schema::Capacity.version(), result);
+        let said = format!(
+            "its `version` ({result} for a solve, optimize or capacity result today, {} for a \
+             table)",
+            Schema::Table.version()
+        );
+        let flowing = text.split_whitespace().collect::<Vec<_>>().join(" ");
+        assert!(flowing.contains(&said), "README.md does not say: {said}");
+    }
+
     /// No envelope is version 0; an unknown tag, a version that is no whole number and a newer
     /// version are refused, naming them.
     #[test]

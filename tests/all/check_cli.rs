@@ -259,3 +259,16 @@ fn check_reads_the_linkages_at_the_design_given() {
         "{found} against {ratio}"
     );
 }
+
+/// A task file's name reaches the messages as a terminal may show it: an escape in it written
+/// `\u{1b}`, never raw (issue 57, item 12).
+#[test]
+fn a_task_files_name_is_escaped_in_messages() {
+    let dir = scratch("escaped-name");
+    let file = dir.join("task\u{1b}[2J.json");
+    std::fs::write(&file, "{").unwrap();
+    let output = codesign(&["check", "--task", file.to_str().unwrap()]);
+    fails_saying(&output, "task\\u{1b}[2J.json: EOF while parsing");
+    assert!(!output.stderr.contains(&0x1b), "{output:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -10,6 +10,7 @@ mod support;
 mod added_terms;
 mod built_in_task;
 mod check_cli;
+mod check_findings;
 mod cluster_cli;
 mod dynamics_alloc;
 mod dynamics_cli;

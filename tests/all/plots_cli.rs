@@ -120,6 +120,41 @@ fn a_planar_arm_is_plotted_with_its_joint_names_in_its_plane() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Every plot is well-formed XML when the motors' names hold control characters (an escape,
+/// U+001B, which XML refuses even as a reference) and markup: each is written as its escape
+/// (issue 57, item 12).
+#[test]
+fn plots_stay_well_formed_xml_with_control_characters_in_names() {
+    let dir = scratch("markup");
+    let examples = support::root().join("robots/examples/planar_2dof");
+    let task = support::task_with(&dir, |task| {
+        *task = support::read_json(&examples.join("task.json"));
+        task["robot"] = examples.join("robot.urdf").to_str().unwrap().into();
+        task["motion"]["steps"] = 10.into();
+        task["motors"]["names"] = serde_json::json!(["sh\u{1b}[31mould<er>", "el&bow\u{7}"]);
+    });
+    let plot = plots(&dir, Some(&task));
+    for name in [
+        "joint_positions.svg",
+        "joint_torques.svg",
+        "motor_torques.svg",
+        "tcp_path.svg",
+        "poses.svg",
+        "motion.svg",
+    ] {
+        let svg = plot(name);
+        for event in xml::EventReader::from_str(&svg) {
+            if let Err(error) = event {
+                panic!("{name} is not well-formed XML: {error}");
+            }
+        }
+    }
+    let motors = plot("motor_torques.svg");
+    assert!(motors.contains("sh\\u{1b}[31mould&lt;er&gt;"), "{motors}");
+    assert!(motors.contains("el&amp;bow\\u{7}"), "{motors}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn the_built_in_arm_keeps_its_path_in_y_z() {
     let dir = scratch("built-in");

@@ -453,3 +453,35 @@ fn stderr(output: &std::process::Output) -> String {
 fn file_name(path: &Path) -> &str {
     path.file_name().unwrap().to_str().unwrap()
 }
+
+/// Numbers a user gives reach the messages as people write them (issue 57, item 21): a design
+/// of 1e308 or 5e-324 is echoed as such, not as a 300-digit expansion, by `solve`, `capacity`
+/// and `check`.
+#[test]
+fn messages_write_huge_and_tiny_numbers_in_exponent_form() {
+    let longest_line = |output: &std::process::Output| {
+        let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+        let longest = stderr.lines().map(str::len).max().unwrap_or(0);
+        assert!(longest < 200, "{stderr}");
+    };
+    let solve = codesign(&["solve", "--payload", "0.5", "--ratios", "1e308,1e308"]);
+    fails_saying(
+        &solve,
+        "--ratios 1e308, 1e308: invalid design: the design has 2 ratios",
+    );
+    longest_line(&solve);
+    let capacity = codesign(&["capacity", "--ratios", "1e308,1,1,1"]);
+    fails_saying(
+        &capacity,
+        "--ratios 1e308, 1, 1, 1: invalid design: r1 = 1e308 is outside [1, 9]",
+    );
+    longest_line(&capacity);
+    let check = codesign(&["check", "--ratios", "5e-324,1e308,1,1"]);
+    fails_saying(&check, "design: r1 = 5e-324 is outside [1, 9]");
+    longest_line(&check);
+    let text = String::from_utf8_lossy(&check.stdout);
+    assert!(
+        text.contains("design r = (0.0000, 1e308, 1.0000, 1.0000)"),
+        "{text}"
+    );
+}

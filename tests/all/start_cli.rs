@@ -144,6 +144,9 @@ fn a_start_that_does_not_fit_is_refused_naming_why() {
     edited(&dir, "spoilt.json", &start, |v| {
         v["start_point"]["x"][5] = "five".into();
     });
+    // A key given twice (issue 57, item 21): serde would keep the last value silently.
+    let twice = text.replacen('{', "{\n  \"cost\": 0.0,", 1);
+    std::fs::write(dir.join("twice.json"), twice).unwrap();
     for (file, expected) in [
         ("cut.json", "--start cut.json: not JSON"),
         (
@@ -155,6 +158,10 @@ fn a_start_that_does_not_fit_is_refused_naming_why() {
         (
             "spoilt.json",
             "--start spoilt.json: not a codesign solve result",
+        ),
+        (
+            "twice.json",
+            "--start twice.json: the key `cost` is given twice in one object",
         ),
         ("missing.json", "--start missing.json"),
     ] {

@@ -15,6 +15,7 @@ pub use super::ends::Ends;
 use super::experiment::Experiment;
 use crate::choice::Choice;
 use crate::input::{read_text, MAX_TASK_BYTES};
+use crate::text::shown;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::fmt;
@@ -340,11 +341,13 @@ impl TaskSource {
 }
 
 impl fmt::Display for TaskSource {
+    /// How messages name the task: `task file t.json`, its name as a terminal may show it
+    /// ([`shown`]: an escape in it written `\u{1b}`).
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             TaskSource::BuiltIn => write!(f, "built-in task"),
-            TaskSource::File(path) => write!(f, "task file {}", path.display()),
-            TaskSource::Given(given) => write!(f, "task {}", given.label),
+            TaskSource::File(path) => write!(f, "task file {}", shown(&path.display().to_string())),
+            TaskSource::Given(given) => write!(f, "task {}", shown(&given.label)),
         }
     }
 }
@@ -381,7 +384,7 @@ impl TaskFile {
     /// Reads and checks the JSON `text` of a task built in memory, as a file is read, its
     /// errors naming the task by `label`; a relative robot path is resolved against `folder`.
     pub fn from_text(text: &str, label: &str, folder: &Path) -> Result<TaskFile, TaskError> {
-        let source = format!("task {label}");
+        let source = format!("task {}", shown(label));
         if text.len() as u64 > MAX_TASK_BYTES {
             return Err(TaskError {
                 source,

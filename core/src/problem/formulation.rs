@@ -131,7 +131,7 @@ impl Formulation {
                 }
             }
         }
-        pose_rules::check(&transmission, space, &modes)?;
+        pose_rules::check_modes(&transmission, space, &modes)?;
         let g_pattern = g_pattern(&transmission);
         let posed = transmission.is_pose_dependent();
         let envelope = Envelope::of(&task.motors, n);

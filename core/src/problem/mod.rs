@@ -34,5 +34,6 @@ pub use hold::{margins, EndHold, HoldRows, StaticHold, DEFAULT_HOLD_TOLERANCE_NM
 pub use kind::ProblemKind;
 pub use layout::{BlockId, Layout, RowBlock};
 pub use nlp::TrajectoryProblem;
+pub use pose_rules::check_modes;
 pub use sensitivity::cost_gradient;
 pub use terms::{NodeConstraint, NodeContext, NodeCost};

@@ -12,8 +12,10 @@ use crate::model::task::{LimitMode, LimitModes};
 use crate::transmission::{Space, Transmission};
 
 /// Ok where `transmission` is constant, or where the problem's space and modes pose its
-/// pose-dependent rows; otherwise the error naming the field.
-pub(super) fn check(
+/// pose-dependent rows; otherwise the error naming every limit mode to change (the torque mode
+/// only in the joint space: the actuation space's controls are the motor torques themselves).
+/// `codesign check` reports the same words before any solve.
+pub fn check_modes(
     transmission: &Transmission,
     space: Space,
     modes: &LimitModes,
@@ -21,25 +23,32 @@ pub(super) fn check(
     let Some(first) = transmission.linkages().first() else {
         return Ok(());
     };
-    let row = format!(
-        "transmission.matrix[{}] is a {} linkage, whose ratio changes with the pose",
-        first.motor,
-        first.linkage.kind()
-    );
-    let refuse = |why: String| Err(FormulationError(format!("task: {row}: {why}")));
-    let boxed = |mode: LimitMode, which: &str| {
-        format!(
-            "limit_modes.{which} = \"{}\" carries the motor limits to a fixed box on the joints \
-             through one constant G; give limit_modes.{which} = \"exact\", which holds each \
-             motor's own limit through G(q) at every node",
-            mode.name()
-        )
+    let torque = (space == Space::Joint).then_some(("torque", modes.torque));
+    let boxed: Vec<(&str, LimitMode)> = [torque, Some(("speed", modes.speed))]
+        .into_iter()
+        .flatten()
+        .filter(|&(_, mode)| mode != LimitMode::Exact)
+        .collect();
+    if boxed.is_empty() {
+        return Ok(());
+    }
+    let given: Vec<String> = (boxed.iter())
+        .map(|(which, mode)| format!("limit_modes.{which} = \"{}\"", mode.name()))
+        .collect();
+    let wanted: Vec<String> = (boxed.iter())
+        .map(|(which, _)| format!("limit_modes.{which} = \"exact\""))
+        .collect();
+    let (carry, hold) = match boxed.len() {
+        1 => ("carries", "holds"),
+        _ => ("carry", "hold"),
     };
-    if modes.speed != LimitMode::Exact {
-        return refuse(boxed(modes.speed, "speed"));
-    }
-    if space == Space::Joint && modes.torque != LimitMode::Exact {
-        return refuse(boxed(modes.torque, "torque"));
-    }
-    Ok(())
+    Err(FormulationError(format!(
+        "task: transmission.matrix[{}] is a {} linkage, whose ratio changes with the pose: {} \
+         {carry} the motor limits to a fixed box on the joints through one constant G; give {}, \
+         which {hold} each motor's own limit through G(q) at every node",
+        first.motor,
+        first.linkage.kind(),
+        given.join(" and "),
+        wanted.join(" and ")
+    )))
 }

@@ -3,6 +3,7 @@
 //! space that every design method uses.
 
 use super::Transmission;
+use crate::text::number;
 use nalgebra::{DMatrix, DVector};
 use std::fmt;
 
@@ -129,14 +130,17 @@ impl DesignSpace {
             return Err(DesignError::new(format!(
                 "r{} = {} is not a finite number",
                 i + 1,
-                r[i]
+                number(r[i])
             )));
         }
         for (i, (&value, &[lo, hi])) in r.iter().zip(&self.bounds).enumerate() {
             if !(lo..=hi).contains(&value) {
                 return Err(DesignError::new(format!(
-                    "r{} = {value} is outside [{lo}, {hi}]",
-                    i + 1
+                    "r{} = {} is outside [{}, {}]",
+                    i + 1,
+                    number(value),
+                    number(lo),
+                    number(hi)
                 )));
             }
         }
@@ -144,9 +148,11 @@ impl DesignSpace {
             let (a, b) = (r[constraint.lower], r[constraint.upper]);
             if !constraint.holds(a, b) {
                 return Err(DesignError::new(format!(
-                    "{constraint} violated: r{} = {a}, r{} = {b}",
+                    "{constraint} violated: r{} = {}, r{} = {}",
                     constraint.lower + 1,
-                    constraint.upper + 1
+                    number(a),
+                    constraint.upper + 1,
+                    number(b)
                 )));
             }
         }
@@ -284,7 +290,9 @@ pub(super) fn invertible(matrix: &DMatrix<f64>, name: &str) -> Result<(), Design
         return Ok(());
     }
     Err(DesignError::new(format!(
-        "{name} is not invertible: smallest singular value {smallest} against largest {largest}"
+        "{name} is not invertible: smallest singular value {} against largest {}",
+        number(smallest),
+        number(largest)
     )))
 }
 

@@ -12,7 +12,7 @@ pub use guide::{Guide, Line};
 pub use ratios::{Bars, Radar};
 
 use super::ReportError;
-use codesign_core::text::{number, rounded};
+use codesign_core::text::{markup_safe, number, rounded};
 use guide::draw_dashes;
 use legend::{Key, Legend};
 use plotters::coord::ranged1d::ValueFormatter;
@@ -211,14 +211,16 @@ pub trait Figure {
     /// Draws the figure into `svg`.
     fn draw(&self, svg: &mut String) -> DrawResult;
 
-    /// Renders the figure as an SVG document.
+    /// Renders the figure as an SVG document. plotters escapes the characters XML reserves in
+    /// the texts it draws (titles, names, labels), not those XML refuses: the document is made
+    /// [`markup_safe`] whole, so that no text drawn into it can leave it ill-formed.
     fn to_svg(&self) -> Result<String, ReportError> {
         let mut svg = String::new();
         self.draw(&mut svg).map_err(|error| ReportError::Draw {
             title: self.title().to_owned(),
             why: error.to_string(),
         })?;
-        Ok(svg)
+        Ok(markup_safe(&svg).into_owned())
     }
 
     /// Renders the figure and writes it atomically to `path`.

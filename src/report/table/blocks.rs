@@ -2,6 +2,8 @@
 //! rendered as Markdown (`paper_table.md`) or HTML (`index.html`). Text may hold Markdown's
 //! inline `code` and **bold**, which the HTML renders as such.
 
+use codesign_core::text::markup_safe;
+
 /// One block of the table's text.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Block {
@@ -90,10 +92,11 @@ pub fn to_html(blocks: &[Block]) -> String {
 }
 
 /// `text` with the characters HTML reserves escaped, for an element's text or an attribute's
-/// value in double quotes.
+/// value in double quotes, and the control characters written as their escapes
+/// ([`markup_safe`]: an escape in a task file's name, `\u{1b}`).
 pub fn escape_html(text: &str) -> String {
     let mut escaped = String::with_capacity(text.len());
-    for c in text.chars() {
+    for c in markup_safe(text).chars() {
         match c {
             '&' => escaped.push_str("&amp;"),
             '<' => escaped.push_str("&lt;"),
@@ -193,6 +196,7 @@ mod tests {
             "&lt;script&gt;alert(&#39;x&#39;)&lt;/script&gt;"
         );
         assert_eq!(escape_html("a&b"), "a&amp;b");
+        assert_eq!(escape_html("task\u{1b}[2J.json"), "task\\u{1b}[2J.json");
     }
 
     #[test]

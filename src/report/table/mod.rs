@@ -23,6 +23,7 @@ use crate::design::run::{OptimizeDocument, PayloadCost};
 use crate::store::document::{self, Schema, Tagged};
 use codesign_core::input::{read_text, MAX_RESULT_BYTES};
 use codesign_core::ipopt::LinearSolver;
+use codesign_core::json_keys::check_unique_keys;
 use codesign_core::model::task::{Ends, TaskSource};
 use codesign_core::problem::Space;
 use codesign_core::solve::ToolInfo;
@@ -81,7 +82,8 @@ impl ResultFile {
 }
 
 /// Reads a result file, telling its kind by its envelope's tag (files written before the
-/// envelope: by their fields); errors name the file.
+/// envelope: by their fields), refusing an object that gives a key twice (an edited file, of
+/// which serde would keep the last value silently); errors name the file.
 pub fn read_result_file(path: &Path) -> Result<ResultFile, ReportError> {
     let failed = |why| ReportError::Read {
         path: path.to_owned(),
@@ -90,6 +92,7 @@ pub fn read_result_file(path: &Path) -> Result<ResultFile, ReportError> {
     let text = read_text(path, MAX_RESULT_BYTES).map_err(|e| failed(ReadFailure::Input(e)))?;
     let mut value: serde_json::Value =
         serde_json::from_str(&text).map_err(|e| failed(ReadFailure::NotJson(e.to_string())))?;
+    check_unique_keys(&text).map_err(|e| failed(ReadFailure::RepeatedKey(e)))?;
     let tagged = document::open(&mut value).map_err(|e| failed(ReadFailure::Envelope(e)))?;
     let (schema, version) = match tagged {
         Tagged::Kind(schema, version) => (schema, version),
