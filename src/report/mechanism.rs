@@ -171,7 +171,9 @@ fn read(
         .to_vec();
     let range = over_range((task, dynamics, design), &mut data, linkage, &variables);
     let joints: Vec<String> = variables.joints.clone().map(|j| names[j].clone()).collect();
-    let warnings = warnings(linkage, &range, &joints);
+    let mut warnings = warnings(linkage, &range, &joints);
+    let crossings = linkage.sweep(dynamics, design, &task.motion.start);
+    warnings.extend(crossings.iter().map(|crossing| crossing.text(names)));
     LinkageReport {
         row,
         motor,

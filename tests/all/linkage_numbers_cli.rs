@@ -71,3 +71,30 @@ fn a_crank_axis_of_huge_or_tiny_components_solves_as_its_direction() {
     assert_eq!(cost(json!([0, -1e308, 0])), unit);
     assert_eq!(cost(json!([0, -1e-300, 0])), unit);
 }
+
+/// The ball screw with its forearm anchor on the forearm's axis, [0.1, 0, 0], at 10 steps: its
+/// optimum jumps the elbow across 0, where the screw's ratio changes sign, between two nodes. The
+/// result said feasible; it is infeasible, listing the crossing, and `check` names the angle.
+#[test]
+fn a_screw_passing_its_dead_point_between_nodes_is_infeasible_and_checked() {
+    let dir = scratch("dead");
+    let task = example_with(&dir, "ball_screw.json", |row| {
+        row["linear"]["to"]["point"] = json!([0.1, 0, 0]);
+    });
+    let task = task.to_str().unwrap();
+    let out = dir.join("out.json");
+    let (stdout, result) = support::succeed_with_out(&["solve", "--task", task], &out);
+    assert_eq!(result["feasible"], json!(false), "{stdout}");
+    assert_eq!(result["dead_points"][0]["motors"], json!([1]));
+    let reason = result["reason"].as_str().unwrap();
+    assert!(
+        reason.contains("the linkage of motor 2 passes a dead point"),
+        "{reason}"
+    );
+    let output = codesign(&["check", "--task", task]);
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        text.contains("its ratio to joint elbow changes sign at elbow = 0.0000 (a dead point)"),
+        "{text}"
+    );
+}

@@ -14,12 +14,14 @@ mod crank_rod;
 mod linear;
 mod resolve;
 mod row;
+mod sweep;
 
 pub use anchor::Anchor;
 pub use crank_rod::CrankRod;
 pub use linear::LinearActuator;
 pub use resolve::{Problem, ResolveError};
 pub use row::{RowDerivatives, RowSensitivity, RowShape};
+pub use sweep::{Change, Crossing};
 
 use super::spec::Entry;
 use crate::dynamics::{Dynamics, Workspace};

@@ -502,3 +502,61 @@ fn a_rows_design_sensitivities_match_central_differences() {
         }
     }
 }
+
+/// The planar example's elbow screw: dL/dq = -0.015 cos q / L falls to zero at q = -pi/2 and
+/// pi/2, within the elbow's limits [-2.6, 2.6]; a crank whose rod is too long for part of the
+/// range opens where |C/R| reaches 1.
+#[test]
+fn a_sweep_names_the_angles_of_dead_points_and_open_loops() {
+    let task = testing::posed_task(testing::SCREW_ROW);
+    let dynamics = Dynamics::new(Robot::load(&task).unwrap());
+    let spec = match &task.transmission.matrix[1] {
+        crate::model::matrix_row::MatrixRow::Linkage(spec) => spec.clone(),
+        _ => unreachable!(),
+    };
+    let screw = Linkage::resolve(&spec, 1, &dynamics, &[50.0, 12.0]).unwrap();
+    let crossings = screw.sweep(&dynamics, &[50.0, 12.0], &task.motion.start);
+    let angles: Vec<f64> = crossings.iter().map(|c| c.angle).collect();
+    assert!(crossings
+        .iter()
+        .all(|c| c.change == Change::RatioSign && c.joint == 1));
+    assert_eq!(angles.len(), 2, "{crossings:?}");
+    let half = std::f64::consts::FRAC_PI_2;
+    assert!((angles[0] + half).abs() < 1e-9 && (angles[1] - half).abs() < 1e-9);
+    let names = dynamics.robot().joint_names();
+    assert_eq!(
+        crossings[0].text(names),
+        "its ratio to joint elbow changes sign at elbow = -1.5708 (a dead point)"
+    );
+
+    let short: crate::model::matrix_row::LinkageSpec = serde_json::from_str(
+        r#"{"crank_rod": {"crank": {"link": "upper_arm", "point": [0.1, 0, 0], "axis": [0, -1, 0],
+            "radius_m": 0.06, "ratio": 10}, "rod_m": 0.27,
+            "to": {"link": "forearm", "point": [0, 0, 0.05]}}}"#,
+    )
+    .unwrap();
+    let crank = Linkage::resolve(&short, 1, &dynamics, &[50.0, 12.0]).unwrap();
+    let crossings = crank.sweep(&dynamics, &[50.0, 12.0], &task.motion.start);
+    let opens = crossings
+        .iter()
+        .find(|c| c.change == Change::Opens)
+        .unwrap();
+    let variables = Variables {
+        joints: crank.joints(),
+        parameters: vec![],
+    };
+    let shape = variables.shape(1);
+    let mut data = dynamics.workspace();
+    let mut q = task.motion.start.clone();
+    let mut closes_at = |angle: f64| {
+        q[1] = angle;
+        let at = (&q[..], &[50.0, 12.0][..]);
+        crank
+            .angle(&dynamics, &mut data, at, &variables, &shape)
+            .is_ok()
+    };
+    assert!(
+        closes_at(opens.angle - 1e-9) && !closes_at(opens.angle + 1e-9),
+        "{crossings:?}"
+    );
+}
