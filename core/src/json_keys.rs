@@ -5,6 +5,7 @@
 
 use serde::de::{self, DeserializeOwned, DeserializeSeed, Deserializer, IgnoredAny};
 use serde::de::{MapAccess, SeqAccess, Visitor};
+use serde::Serialize;
 use serde_json::Value;
 use serde_path_to_error::Segment;
 use std::collections::HashSet;
@@ -47,9 +48,12 @@ impl PathError {
     }
 }
 
-/// Reads `value` as a `T`; the error holds the path of the field at fault.
-pub fn read_value<T: DeserializeOwned>(value: &Value) -> Result<T, PathError> {
-    serde_path_to_error::deserialize(value).map_err(|error| {
+/// Reads `value` as a `T`; the error holds the path of the field at fault. An array where `T`
+/// has an object is refused: serde's derived structs also read a sequence of their fields in
+/// order, so `"motors": [0.6, 250]` would read as a torque and a speed limit. The value read is
+/// written back and compared, shape by shape, with `value`.
+pub fn read_value<T: DeserializeOwned + Serialize>(value: &Value) -> Result<T, PathError> {
+    let read: T = serde_path_to_error::deserialize(value).map_err(|error| {
         // The path stops at a step that is neither a key nor an index (an enum's variant).
         let path = error
             .path()
@@ -64,7 +68,39 @@ pub fn read_value<T: DeserializeOwned>(value: &Value) -> Result<T, PathError> {
             path,
             message: error.into_inner().to_string(),
         }
-    })
+    })?;
+    let written = serde_json::to_value(&read).map_err(|error| PathError {
+        path: Vec::new(),
+        message: error.to_string(),
+    })?;
+    match array_for_object(value, &written) {
+        Some(path) => Err(PathError {
+            path,
+            message: "invalid type: an array, expected an object (write its fields by name)"
+                .to_owned(),
+        }),
+        None => Ok(read),
+    }
+}
+
+/// The path of the first array in `given` where `read` (the same value read and written back)
+/// has an object; None where there is none.
+fn array_for_object(given: &Value, read: &Value) -> Option<Vec<Step>> {
+    let within = |step: Step, given: &Value, read: &Value| {
+        array_for_object(given, read).map(|mut path| {
+            path.insert(0, step);
+            path
+        })
+    };
+    match (given, read) {
+        (Value::Array(_), Value::Object(_)) => Some(Vec::new()),
+        (Value::Object(given), Value::Object(read)) => given
+            .iter()
+            .find_map(|(key, value)| within(Step::Key(key.clone()), value, read.get(key)?)),
+        (Value::Array(given), Value::Array(read)) => (given.iter().zip(read).enumerate())
+            .find_map(|(index, (given, read))| within(Step::Index(index), given, read)),
+        _ => None,
+    }
 }
 
 /// The line (1-based) of the JSON `text` where the value at `path` is named: the line of its

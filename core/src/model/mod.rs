@@ -17,4 +17,6 @@ pub use error::ModelError;
 pub use robot::{Robot, BUILT_IN_URDF};
 
 #[cfg(test)]
+mod section_tests;
+#[cfg(test)]
 mod tests;

@@ -7,11 +7,11 @@ use super::experiment::{Budget, Experiment, MAX_SEEDS};
 use super::validate::{check_payload, FieldError, OutOfRange};
 use crate::text::number;
 use serde::de::DeserializeOwned;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
 /// The `experiment` section as written: every field may be left out.
-#[derive(Deserialize)]
+#[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 struct Section {
     original_payloads_kg: Option<Vec<f64>>,
@@ -23,7 +23,7 @@ struct Section {
 }
 
 /// A budget as written: every field may be left out.
-#[derive(Deserialize)]
+#[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 struct BudgetSection {
     seeds: Option<u64>,
@@ -121,7 +121,7 @@ fn with(budget: Budget, given: BudgetSection) -> Budget {
 }
 
 /// Reads `value` as a `T`; the error names `field`.
-fn parse<T: DeserializeOwned>(field: &str, value: &Value) -> Result<T, FieldError> {
+fn parse<T: DeserializeOwned + Serialize>(field: &str, value: &Value) -> Result<T, FieldError> {
     crate::json_keys::read_value(value).map_err(|e| FieldError {
         field: e.field(field),
         problem: format!(": {}", e.message),

@@ -117,7 +117,11 @@ pub(super) fn assert_cost_gradient_at(
         ..testing::settings()
     };
     let (result, solution) = solve_design_from(f, ratios, &settings, None).unwrap();
-    assert!(result.feasible, "{label} {ratios:?}: {}", result.status);
+    assert!(
+        result.feasible,
+        "{label} {ratios:?}: {} {:?}",
+        result.status, result.reason
+    );
     let gradient = result.cost_gradient.clone().unwrap();
     assert_matches_differences(label, &gradient, ratios, |r| {
         let (near, _) = solve_design_from(f, r, &settings, Some(&solution)).unwrap();
@@ -132,7 +136,8 @@ pub(super) fn assert_cost_gradient_at(
 fn a_screws_cost_gradient_matches_differences() {
     for space in [Space::Actuation, Space::Joint] {
         let f = formulation(SCREW_ROW, space);
-        for design in [[40.0, 14.0], [70.0, 9.0], [25.0, 20.0]] {
+        // Not [25, 20]: its optimum passes the screw's dead point at pi/2 between two nodes.
+        for design in [[40.0, 14.0], [70.0, 9.0], [30.0, 16.0]] {
             assert_cost_gradient_at(&f, &design, &format!("{space} screw"));
         }
     }
@@ -198,7 +203,8 @@ fn a_four_bars_cost_gradient_matches_differences() {
     let task = crate::model::task::Task::load(&path).unwrap();
     let robot = Robot::load(&task).unwrap();
     let f = Formulation::new(&task, robot, Space::Actuation, task.limit_modes).unwrap();
-    for ratios in [[50.0, 60.0, 10.0], [40.0, 70.0, 15.0], [60.0, 55.0, 8.0]] {
+    // Not [40, 70, 15]: its optimum passes the crank's dead point between two nodes.
+    for ratios in [[50.0, 60.0, 10.0], [60.0, 75.0, 12.0], [70.0, 85.0, 30.0]] {
         assert_power_balances(&assert_cost_gradient_at(&f, &ratios, "four-bar"));
     }
 }
@@ -305,4 +311,33 @@ fn a_screws_cost_gradient_with_losses_matches_differences() {
         }
         assert!(driving > 0, "{space}: no motor drives its load fast");
     }
+}
+
+/// The planar example's ball screw with its forearm anchor on the forearm's axis, [0.1, 0, 0]:
+/// its ratio falls to zero at an elbow of 0, which the 10-step optimum crosses between two
+/// nodes (G's elbow entry from 6.1 to -17.3). Its result was feasible; it is infeasible now,
+/// saying where the linkage passes its dead point.
+#[test]
+fn a_screw_that_passes_its_dead_point_between_two_nodes_is_infeasible() {
+    let path = testing::repository().join("robots/examples/planar_2dof/ball_screw.json");
+    let mut task = Task::load(&path).unwrap();
+    task.motion.steps = 10;
+    task.transmission.matrix[1] = serde_json::from_str(
+        r#"{"linear": {"from": {"link": "upper_arm", "point": [0.15, 0, 0]},
+            "to": {"link": "forearm", "point": [0.1, 0, 0]}, "lead_m": "0.001*r2"}}"#,
+    )
+    .unwrap();
+    let f = exact_formulation(&task, Space::Actuation);
+    let result = solve_design(&f, &[50.0, 12.0], &testing::settings()).unwrap();
+    assert!(!result.feasible, "{:?}", result.dead_points);
+    let crossing = &result.dead_points[0];
+    assert_eq!(crossing.motors, [1]);
+    let elbow = |k: usize| result.trajectory.q[k][1];
+    assert!(elbow(crossing.node) * elbow(crossing.node + 1) < 0.0);
+    let reason = result.reason.clone().unwrap_or_default();
+    assert!(
+        reason.contains("the linkage of motor 2 passes a dead point there"),
+        "{reason}"
+    );
+    assert_eq!(result.unjudged(), None);
 }

@@ -15,12 +15,14 @@
 //! node), `figures` (its physical figures), `readback` (a primal point read back as a
 //! trajectory), `result_checks` (whether it judges its design and holds finite numbers only),
 //! `verify` (the constraint residuals evaluated again on the trajectory), `keyed` (their
-//! largest values, keyed by family), `execute` (whether the
-//! motors can execute it), `start` (a solve's raw solution kept to warm-start another solve from,
+//! largest values, keyed by family), `dead_points` (a linkage's dead point crossed between two
+//! nodes), `execute` (whether the motors can execute it), `start` (a solve's raw solution kept
+//! to warm-start another solve from,
 //! [`StartPoint`], with the checks that it fits), `error`.
 
 mod certify;
 mod continuation;
+mod dead_points;
 mod error;
 mod execute;
 mod figures;
@@ -36,6 +38,7 @@ mod verify;
 
 pub use certify::{solve_design, solve_design_along, solve_design_from, solve_elastic};
 pub use continuation::{PayloadChain, CONTINUATION_STEP_KG};
+pub use dead_points::{dead_points, DeadPoint};
 pub use error::SolveError;
 pub use execute::MotorsExecute;
 pub use figures::{MotorFigures, PhysicalFigures};

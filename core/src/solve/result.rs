@@ -1,6 +1,7 @@
 //! The result of a trajectory solve, as result files record it (their schema), and how it is
 //! read from IPOPT's solution.
 
+use super::dead_points::{dead_points, DeadPoint};
 use super::execute::MotorsExecute;
 use super::figures::PhysicalFigures;
 use super::keyed::{Keyed, Violations};
@@ -185,6 +186,10 @@ pub struct TrajectoryResult {
     /// objective's, whose slacks are then within tol).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cost_gradient: Option<Vec<f64>>,
+    /// The steps across which a linkage passes a dead point (G(q) singular between two nodes):
+    /// a result with any is infeasible (docs/model.md, section 17); absent where there is none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub dead_points: Vec<DeadPoint>,
     /// The static torques at the start and the goal against the problem's control limits
     /// (docs/model.md, section 6), computed without IPOPT (absent in files written before it
     /// was recorded).
@@ -221,12 +226,17 @@ pub(super) fn read_result(
     let (cost, elastic) = cost_and_measures(problem, solution);
     let f = problem.formulation();
     let static_hold = problem.static_hold();
+    let dead_points = dead_points(&trajectory.ratio);
+    let crossings = dead_points
+        .iter()
+        .map(|crossing| crossing.text(&trajectory.q));
     let reasons: Vec<String> = [
         static_hold.failure(),
         infeasibility(f, solution, elastic.as_ref(), tol),
     ]
     .into_iter()
     .flatten()
+    .chain(crossings)
     .collect();
     let feasible = reasons.is_empty();
     let reason = (!feasible).then(|| reasons.join("; "));
@@ -272,6 +282,7 @@ pub(super) fn read_result(
                 None => cost_gradient(problem, solution).ok(),
             })
             .flatten(),
+        dead_points,
         static_hold: Some(static_hold),
         elastic,
         cost_terms: Some(cost_terms(problem, &solution.x, &trajectory)),

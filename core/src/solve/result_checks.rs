@@ -10,7 +10,8 @@ impl TrajectoryResult {
     /// did not bring to an optimum (its iterations spent, a number it could not evaluate) and
     /// that shows no shortfall at all (no torque deficit, no speed excess: an infeasible verdict
     /// with nothing lacking says nothing), unless the motors cannot hold the load at rest at a
-    /// judged end (which no trajectory changes). An elastic solve stopped short of an optimum
+    /// judged end (which no trajectory changes) or its trajectory passes a linkage's dead point
+    /// (which makes it infeasible, whatever it lacks). An elastic solve stopped short of an optimum
     /// with a positive shortfall still judges the design infeasible, by the shortfall where it
     /// stopped, as every verdict of the committed results was made. None where the result
     /// judges the design.
@@ -23,8 +24,13 @@ impl TrajectoryResult {
             let positive = |value: f64| value.is_finite() && value > 0.0;
             positive(e.torque_deficit) || positive(e.speed_excess)
         });
-        let judged =
-            self.feasible || self.elastic.is_none() || optimum || shortfall || unheld.is_some();
+        let crossed = !self.dead_points.is_empty();
+        let judged = self.feasible
+            || self.elastic.is_none()
+            || optimum
+            || shortfall
+            || unheld.is_some()
+            || crossed;
         (!judged).then(|| {
             format!(
                 "the elastic solve ended with {} short of an optimum (in {} iterations in all) \

@@ -43,7 +43,10 @@ impl Transmission {
     pub fn coupling(&self, r: &[f64]) -> Result<Coupling, DesignError> {
         self.check_design(r)?;
         Coupling::new(self.matrix(r)).ok_or_else(|| {
-            DesignError::new("G(r) is not invertible: its LU factorisation failed".to_owned())
+            DesignError::new(
+                "G(r) is not invertible: its LU factorisation failed or gave no finite inverse"
+                    .to_owned(),
+            )
         })
     }
 }
@@ -56,9 +59,14 @@ pub struct Coupling {
 }
 
 impl Coupling {
-    /// G with its inverse, None where G is singular.
+    /// G with its inverse, None where G is singular or either is not finite (G is checked
+    /// before it is factorised).
     pub fn new(matrix: DMatrix<f64>) -> Option<Coupling> {
-        let inverse = matrix.clone().try_inverse()?;
+        let finite = |m: &DMatrix<f64>| m.iter().all(|v| v.is_finite());
+        if !finite(&matrix) {
+            return None;
+        }
+        let inverse = matrix.clone().try_inverse().filter(finite)?;
         Some(Coupling { matrix, inverse })
     }
 

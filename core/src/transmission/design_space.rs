@@ -2,6 +2,7 @@
 //! ratios and the original design; the check of a design and the Euclidean projection onto the
 //! space that every design method uses.
 
+use super::linkage::LENGTH_RANGE_M;
 use super::Transmission;
 use crate::text::number;
 use nalgebra::{DMatrix, DVector};
@@ -267,11 +268,27 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 impl Transmission {
-    /// Ok if r lies in the design space ([`DesignSpace::check`]) and G(r) is invertible.
-    /// Otherwise the first violation found, in that order, e.g. `r2 = 9.5 is outside [1, 9]` or
-    /// `r3 <= r2 violated: r3 = 3, r2 = 2`.
+    /// Ok if r lies in the design space ([`DesignSpace::check`]), every length of a linkage
+    /// that depends on r lies in [`LENGTH_RANGE_M`] and G(r) is invertible. Otherwise the first
+    /// violation found, in that order, e.g. `r2 = 9.5 is outside [1, 9]`,
+    /// `r3 <= r2 violated: r3 = 3, r2 = 2` or
+    /// `transmission.matrix[1].linear.lead_m = 0.001*r2 = 1e-9 m is outside [1e-6, 100] m`.
     pub fn check_design(&self, r: &[f64]) -> Result<(), DesignError> {
         self.space.check(r)?;
+        for row in &self.linkages {
+            if let Some((field, written, value)) = row.linkage.design_length_outside(r) {
+                let [low, high] = LENGTH_RANGE_M;
+                return Err(DesignError::new(format!(
+                    "transmission.matrix[{}].{}.{field} = {written} = {} m is outside [{}, {}] m, \
+                     the lengths a linkage may have",
+                    row.motor,
+                    row.linkage.kind(),
+                    number(value),
+                    number(low),
+                    number(high)
+                )));
+            }
+        }
         if self.is_pose_dependent() {
             // G depends on the pose: `coupling_at` checks it where it is used.
             return Ok(());
@@ -280,9 +297,17 @@ impl Transmission {
     }
 }
 
-/// Ok where `matrix` (G, named `name` in the error) is well enough conditioned to invert: its
-/// smallest singular value above n eps times its largest.
+/// Ok where `matrix` (G, named `name` in the error) is finite and well enough conditioned to
+/// invert: its smallest singular value above n eps times its largest. A matrix with an entry
+/// that is not finite is refused before its singular values are sought.
 pub(super) fn invertible(matrix: &DMatrix<f64>, name: &str) -> Result<(), DesignError> {
+    if let Some(index) = matrix.iter().position(|v| !v.is_finite()) {
+        let (row, column) = (index % matrix.nrows(), index / matrix.nrows());
+        return Err(DesignError::new(format!(
+            "{name} is not finite: its entry ({row}, {column}) is {}",
+            matrix[(row, column)]
+        )));
+    }
     let singular_values = matrix.singular_values();
     let largest = singular_values.max();
     let smallest = singular_values.min();
@@ -301,6 +326,7 @@ mod tests {
     use super::*;
     use crate::model::task::{MatrixEntry, MatrixRow, TransmissionSpec};
     use crate::transmission::fixtures::belt_arm;
+    use crate::transmission::Coupling;
 
     #[test]
     fn design_checks_name_the_ratio_or_constraint() {
@@ -350,6 +376,49 @@ mod tests {
         assert_eq!(t.design_space().check(&[1.0]), Ok(()));
         let error = t.coupling(&[1.0]).unwrap_err().to_string();
         assert!(error.starts_with("G(r) is not invertible"), "{error}");
+    }
+
+    /// A lead that depends on the design is held to a micrometre to a hundred metres at each
+    /// design, naming its field: a design whose lead is 1e-300 m (within the bounds) is invalid,
+    /// not a panic of the SVD of an infinite G(q).
+    #[test]
+    fn a_design_whose_linkage_length_leaves_its_range_is_invalid() {
+        let mut task = crate::testing::posed_task(crate::testing::SCREW_ROW);
+        task.transmission.bounds[1] = [1e-300, 40.0];
+        let dynamics = crate::dynamics::Dynamics::new(
+            crate::model::Robot::load(&task).expect("the planar robot loads"),
+        );
+        let t = Transmission::on_chain(&task.transmission, &dynamics).unwrap();
+        let start = task.motion.start.clone();
+        assert!(t
+            .coupling_at(&[50.0, 12.0], (&dynamics, &start), "the start")
+            .is_ok());
+        for r2 in [1e-297, 1e-4] {
+            let error = t
+                .coupling_at(&[50.0, r2], (&dynamics, &start), "the start")
+                .unwrap_err()
+                .to_string();
+            let named = "transmission.matrix[1].linear.lead_m = 0.001*r2 = ";
+            assert!(error.starts_with(named), "{error}");
+            assert!(error.ends_with(" m is outside [1e-6, 100] m, the lengths a linkage may have"));
+        }
+    }
+
+    /// A matrix with an entry that is not finite is refused before its SVD, which would panic.
+    #[test]
+    fn a_matrix_that_is_not_finite_is_not_invertible() {
+        let mut matrix = DMatrix::identity(2, 2);
+        matrix[(1, 0)] = f64::INFINITY;
+        let error = invertible(&matrix, "G(q) at the start")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            error,
+            "G(q) at the start is not finite: its entry (1, 0) is inf"
+        );
+        matrix[(1, 0)] = f64::NAN;
+        assert!(invertible(&matrix, "G").is_err());
+        assert!(Coupling::new(matrix).is_none());
     }
 
     #[test]

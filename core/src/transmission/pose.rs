@@ -85,7 +85,8 @@ pub enum PoseError {
         /// What its geometry lacks.
         error: LinkageError,
     },
-    /// G(q) is singular at the pose: some joint motion turns no motor.
+    /// G(q) is singular at the pose (some joint motion turns no motor), or it or its inverse
+    /// is not finite.
     Singular,
 }
 
@@ -99,7 +100,7 @@ impl fmt::Display for PoseError {
                     motor + 1
                 )
             }
-            PoseError::Singular => f.write_str("G(q) is singular: its LU factorisation failed"),
+            PoseError::Singular => f.write_str("G(q) is singular or not finite: it has no inverse"),
         }
     }
 }

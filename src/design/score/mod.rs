@@ -198,7 +198,7 @@ pub fn solve(
 /// The verdict of one result of `formulation` (under the one rule of feasibility, the result
 /// of an infeasible design is its elastic solve, unless its motors cannot hold the load at
 /// rest): feasible with the optimal cost J, or infeasible with the elastic solve's deficit (or
-/// IPOPT's reason) and its shortfall; a solver error where the elastic solve reached no
+/// IPOPT's reason), the linkages' dead points its trajectory passes, and its shortfall; a solver error where the elastic solve reached no
 /// optimum ([`TrajectoryResult::unjudged`]).
 pub fn judge(formulation: &Formulation, result: &TrajectoryResult) -> Verdict {
     if result.feasible {
@@ -216,10 +216,13 @@ pub fn judge(formulation: &Formulation, result: &TrajectoryResult) -> Verdict {
                 "torque deficit {:.4} N m s, speed excess {:.4} rad",
                 measures.torque_deficit, measures.speed_excess
             );
-            let reason = match result.static_hold.as_ref().and_then(StaticHold::failure) {
-                Some(hold) => format!("{hold}; {deficit}"),
-                None => deficit,
-            };
+            let hold = result.static_hold.as_ref().and_then(StaticHold::failure);
+            let crossings =
+                (result.dead_points.iter()).map(|crossing| crossing.text(&result.trajectory.q));
+            let reason = (hold.into_iter().chain(crossings))
+                .chain([deficit])
+                .collect::<Vec<_>>()
+                .join("; ");
             (SolveStatus::ElasticDeficit, reason)
         }
         None => (

@@ -9,7 +9,7 @@
 //! q_u = k theta. theta is measured from e1: the direction from the crank's axis to the rod's
 //! point at the zero pose (all joints at 0) of the original design.
 
-use super::{positive, Anchor, At, Entry, LinkageError};
+use super::{checked_length, Anchor, At, Entry, LinkageError};
 use crate::dynamics::{Dynamics, Fixed, Workspace};
 use crate::jet::Jet;
 use crate::model::matrix_row::Branch;
@@ -93,8 +93,8 @@ impl CrankRod {
         at: &At<'_, 's>,
         data: &mut Workspace,
     ) -> Result<Jet<'s>, LinkageError> {
-        let radius = positive(at.variables.number(&self.radius, at.r, at.shape), "radius")?;
-        let rod = positive(at.variables.number(&self.rod, at.r, at.shape), "rod length")?;
+        let radius = checked_length(at.variables.number(&self.radius, at.r, at.shape), "radius")?;
+        let rod = checked_length(at.variables.number(&self.rod, at.r, at.shape), "rod length")?;
         let w = self.to.jet(at, data).sub(&self.crank.jet(at, data));
         let [e1, e2] = self.across.map(|direction| {
             let fixed = Fixed::Direction(direction);

@@ -1,7 +1,7 @@
 //! A linear actuator: a screw of lead l between two points turns its motor 2 pi per l of stroke,
 //! q_u = 2 pi |p_to(q) - p_from(q)| / l.
 
-use super::{positive, Anchor, At, Entry, LinkageError};
+use super::{checked_length, Anchor, At, Entry, LinkageError};
 use crate::dynamics::Workspace;
 use crate::jet::Jet;
 use std::f64::consts::TAU;
@@ -64,7 +64,7 @@ impl LinearActuator {
         at: &At<'_, 's>,
         data: &mut Workspace,
     ) -> Result<Jet<'s>, LinkageError> {
-        let lead = positive(at.variables.number(&self.lead, at.r, at.shape), "lead")?;
+        let lead = checked_length(at.variables.number(&self.lead, at.r, at.shape), "lead")?;
         let length = self.length(at, data)?;
         Ok(&length.div(&lead) * TAU)
     }

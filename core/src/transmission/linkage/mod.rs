@@ -24,6 +24,7 @@ pub use row::{RowDerivatives, RowSensitivity, RowShape};
 use super::entry::Entry;
 use crate::dynamics::{Dynamics, Workspace};
 use crate::jet::{Jet, JetShape};
+use crate::text::number;
 use std::fmt;
 use std::ops::Range;
 
@@ -51,15 +52,21 @@ pub enum LinkageError {
         /// |C / R|, dimensionless.
         reach: f64,
     },
-    /// A number of the linkage (a lead, a radius, a rod length) is zero or negative at this
-    /// design.
-    NotPositive {
-        /// What the number is.
+    /// A length of the linkage (a lead, a radius, a rod length) lies outside
+    /// [`LENGTH_RANGE_M`] at this design.
+    Length {
+        /// What the length is.
         what: &'static str,
-        /// Its value.
+        /// Its value, m.
         value: f64,
     },
 }
+
+/// The range every length of a linkage must lie in, m: a screw's lead, a crank's radius and a
+/// rod's length, from a micrometre to a hundred metres. Below it the motor angle's derivatives,
+/// which divide by the length up to its fourth power, overflow (a lead of 1e-300 m makes G(q)
+/// infinite); above it no arm is built.
+pub const LENGTH_RANGE_M: [f64; 2] = [1e-6, 100.0];
 
 impl fmt::Display for LinkageError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -75,8 +82,15 @@ impl fmt::Display for LinkageError {
                 f,
                 "its rod cannot reach the crank pin (the loop does not close: |C/R| = {reach:.4} > 1)"
             ),
-            LinkageError::NotPositive { what, value } => {
-                write!(f, "its {what} is {value}, which must be positive")
+            LinkageError::Length { what, value } => {
+                let [low, high] = LENGTH_RANGE_M;
+                write!(
+                    f,
+                    "its {what} is {} m, outside [{}, {}] m",
+                    number(*value),
+                    number(low),
+                    number(high)
+                )
             }
         }
     }
@@ -120,15 +134,19 @@ impl Variables {
     }
 }
 
-/// A positive number's jet, or the error naming it.
-fn positive<'s>(jet: Jet<'s>, what: &'static str) -> Result<Jet<'s>, LinkageError> {
-    if jet.value() > 0.0 {
-        Ok(jet)
-    } else {
-        Err(LinkageError::NotPositive {
+/// Whether `value` is a length a linkage may have ([`LENGTH_RANGE_M`]).
+fn in_length_range(value: f64) -> bool {
+    (LENGTH_RANGE_M[0]..=LENGTH_RANGE_M[1]).contains(&value)
+}
+
+/// The jet of a length within [`LENGTH_RANGE_M`], or the error naming it.
+fn checked_length<'s>(jet: Jet<'s>, what: &'static str) -> Result<Jet<'s>, LinkageError> {
+    match in_length_range(jet.value()) {
+        true => Ok(jet),
+        false => Err(LinkageError::Length {
             what,
             value: jet.value(),
-        })
+        }),
     }
 }
 
@@ -185,6 +203,44 @@ impl Linkage {
             Linkage::Linear(screw) => screw.length(&at, data),
             Linkage::CrankRod(crank) => crank.crank_angle(&at, data),
         }
+    }
+
+    /// Its lengths ([`LENGTH_RANGE_M`]) with their fields below the row's key: a screw's
+    /// `lead_m`, a crank's `crank.radius_m` and `rod_m`.
+    fn lengths(&self) -> Vec<(&'static str, Entry)> {
+        match self {
+            Linkage::Linear(screw) => vec![("lead_m", screw.lead)],
+            Linkage::CrankRod(crank) => {
+                vec![("crank.radius_m", crank.radius), ("rod_m", crank.rod)]
+            }
+        }
+    }
+
+    /// The first of its lengths that is a constant outside [`LENGTH_RANGE_M`]: its field below
+    /// the row's key and its value, m.
+    pub(super) fn constant_length_outside(&self) -> Option<(&'static str, f64)> {
+        self.lengths()
+            .into_iter()
+            .find_map(|(field, entry)| match entry {
+                Entry::Constant(value) if !in_length_range(value) => Some((field, value)),
+                _ => None,
+            })
+    }
+
+    /// The first of its lengths that depends on the design and lies outside
+    /// [`LENGTH_RANGE_M`] at design `r`: its field below the row's key, as written
+    /// (`0.001*r2`), and its value, m.
+    pub fn design_length_outside(&self, r: &[f64]) -> Option<(&'static str, String, f64)> {
+        self.lengths()
+            .into_iter()
+            .find_map(|(field, entry)| match entry {
+                Entry::Ratio { index, scale } if !in_length_range(entry.value(r)) => Some((
+                    field,
+                    format!("{}*r{}", number(scale), index + 1),
+                    entry.value(r),
+                )),
+                _ => None,
+            })
     }
 
     /// Its key in the task file: `linear` or `crank_rod`.

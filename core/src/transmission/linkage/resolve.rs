@@ -3,10 +3,11 @@
 
 use super::super::entry::{parse_number, Entry};
 use super::crank_rod::CrankNumbers;
-use super::{Anchor, CrankRod, LinearActuator, Linkage};
+use super::{Anchor, CrankRod, LinearActuator, Linkage, LENGTH_RANGE_M};
 use crate::dynamics::Dynamics;
 use crate::model::matrix_row::{CrankRodSpec, LinearSpec, LinkageSpec, PointSpec};
 use crate::model::task::MatrixEntry;
+use crate::text::number;
 use nalgebra::Vector3;
 use std::fmt;
 
@@ -34,6 +35,9 @@ pub enum Problem {
     },
     /// The crank's axis is zero or not finite.
     Axis,
+    /// A length (a lead, a crank's radius, a rod) outside
+    /// [`LENGTH_RANGE_M`](super::LENGTH_RANGE_M), m.
+    Length(f64),
     /// The stroke is not finite with 0 <= min < max.
     Stroke,
     /// Both ends are on one rigid body: the ratio would be zero for every joint.
@@ -62,6 +66,16 @@ impl fmt::Display for ResolveError {
                 )
             }
             Problem::Axis => write!(f, "{field} must be a finite direction, not zero"),
+            Problem::Length(value) => {
+                let [low, high] = LENGTH_RANGE_M;
+                write!(
+                    f,
+                    "{field} = {} m is outside [{}, {}] m, the lengths a linkage may have",
+                    number(*value),
+                    number(low),
+                    number(high)
+                )
+            }
             Problem::Stroke => write!(f, "{field} must be [min, max] in m with 0 <= min < max"),
             Problem::OneBody => write!(
                 f,
@@ -152,10 +166,14 @@ impl Row<'_> {
     fn crank_rod(&self, spec: &CrankRodSpec, original: &[f64]) -> Result<Linkage, ResolveError> {
         let written = &spec.crank;
         let crank = self.anchor("crank", &written.link, &written.point)?;
+        // Scaled by its largest component before it is normalised, so that neither its norm
+        // overflows ([0, -1e308, 0]) nor its square underflows ([0, -1e-300, 0]).
         let axis = Vector3::from(written.axis);
-        if !(axis.iter().all(|c| c.is_finite()) && axis.norm() > 0.0) {
+        let largest = axis.amax();
+        if !(axis.iter().all(|c| c.is_finite()) && largest > 0.0) {
             return Err(self.error("crank.axis", Problem::Axis));
         }
+        let axis = axis / largest;
         let numbers = CrankNumbers {
             radius: self.number("crank.radius_m", &written.radius_m)?,
             ratio: self.number("crank.ratio", &written.ratio)?,
@@ -187,9 +205,13 @@ impl Linkage {
             ratios: original.len(),
             dynamics,
         };
-        match spec {
+        let linkage = match spec {
             LinkageSpec::Linear(linear) => resolving.linear(linear),
             LinkageSpec::CrankRod(crank_rod) => resolving.crank_rod(crank_rod, original),
+        }?;
+        match linkage.constant_length_outside() {
+            Some((field, value)) => Err(resolving.error(field, Problem::Length(value))),
+            None => Ok(linkage),
         }
     }
 }

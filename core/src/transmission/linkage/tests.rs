@@ -265,7 +265,7 @@ fn a_rod_too_short_leaves_the_loop_open() {
     r[2] = -0.3;
     assert!(matches!(
         linkage.angle(&dynamics, &mut data, (&Q, &r), &variables, &shape),
-        Err(LinkageError::NotPositive {
+        Err(LinkageError::Length {
             what: "rod length",
             ..
         })
@@ -321,6 +321,81 @@ fn a_wrong_field_of_a_linkage_row_is_named() {
         let error = resolve(&dynamics, text).unwrap_err().to_string();
         assert!(error.starts_with(expected), "{error}");
     }
+}
+
+/// A lead, a crank's radius or a rod outside a micrometre to a hundred metres is refused where
+/// the row is read, naming the field: its motor angle's derivatives would overflow (a lead of
+/// 1e-300 made G(q) infinite and nalgebra's SVD panic), and a subnormal is no exception.
+#[test]
+fn a_linkage_length_outside_its_range_is_refused_naming_the_field() {
+    let dynamics = dynamics();
+    let screw = |lead: &str| {
+        format!(
+            r#"{{"linear": {{"from": {{"link": "bracket", "point": [0, 0, 0]}},
+            "to": {{"link": "l3", "point": [0.1, 0, 0]}}, "lead_m": {lead}}}}}"#
+        )
+    };
+    let crank = |radius: &str, rod: &str| {
+        format!(
+            r#"{{"crank_rod": {{"crank": {{"link": "bracket", "point": [0, 0, 0],
+            "axis": [0.2, 0.1, 1], "radius_m": {radius}, "ratio": -12}}, "rod_m": {rod},
+            "to": {{"link": "l2", "point": [0.08, 0.05, 0]}}}}}}"#
+        )
+    };
+    let cases = [
+        (
+            screw("1e-300"),
+            "linear.lead_m = 1e-300 m is outside [1e-6, 100] m",
+        ),
+        (screw("5e-324"), "linear.lead_m = 5e-324 m is outside"),
+        (screw("0"), "linear.lead_m = 0 m is outside"),
+        (screw("1000"), "linear.lead_m = 1000 m is outside"),
+        (
+            crank("1e-300", "0.2"),
+            "crank_rod.crank.radius_m = 1e-300 m is outside",
+        ),
+        (
+            crank("0.05", "1e-300"),
+            "crank_rod.rod_m = 1e-300 m is outside",
+        ),
+        (crank("0.05", "-0.2"), "crank_rod.rod_m = -0.2 m is outside"),
+    ];
+    for (text, expected) in cases {
+        let error = resolve(&dynamics, &text).unwrap_err().to_string();
+        let expected = format!("transmission.matrix[1].{expected}");
+        assert!(error.starts_with(&expected), "{error}");
+    }
+    assert!(resolve(&dynamics, &screw("0.000001")).is_ok());
+    assert!(resolve(&dynamics, &crank("0.05", "100")).is_ok());
+}
+
+/// A crank's axis is scaled by its largest component before it is normalised: [0, -1e308, 0]
+/// (whose norm overflows) and [0, -1e-300, 0] (whose square underflows) are [0, -1, 0].
+#[test]
+fn a_crank_axis_of_huge_or_tiny_components_keeps_its_direction() {
+    let dynamics = dynamics();
+    let crank = |axis: &str| {
+        let text = format!(
+            r#"{{"crank_rod": {{"crank": {{"link": "bracket", "point": [0, 0, 0],
+            "axis": {axis}, "radius_m": 0.05, "ratio": -12}}, "rod_m": 0.2,
+            "to": {{"link": "l2", "point": [0.08, 0.05, 0]}}}}}}"#
+        );
+        resolve(&dynamics, &text)
+    };
+    let unit = crank("[0, -1, 0]").unwrap();
+    for axis in [
+        "[0, -1e308, 0]",
+        "[0, -1e-300, 0]",
+        "[0, -5e-324, 0]",
+        "[0, -2, 0]",
+    ] {
+        assert_eq!(crank(axis).unwrap(), unit, "{axis}");
+    }
+    let error = crank("[0, 0, 0]").unwrap_err().to_string();
+    assert!(
+        error.contains("crank.axis must be a finite direction"),
+        "{error}"
+    );
 }
 
 fn row_at(dynamics: &Dynamics, linkage: &Linkage, q: &[f64]) -> RowDerivatives {
