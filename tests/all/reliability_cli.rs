@@ -230,6 +230,54 @@ fn a_second_run_on_one_output_fails_at_once_naming_the_first() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Issue 57, item 11: one rule for both methods. A result whose evaluation log sits beside it
+/// (a CMA-ES run's) is replaced by a gradient run only with --overwrite, which deletes that log,
+/// as a CMA-ES run is refused and then starts afresh.
+#[test]
+fn a_logged_result_is_replaced_by_either_method_only_with_overwrite() {
+    let dir = scratch("gradient-over-cmaes");
+    let task = task_with(&dir, |task| task["motion"]["steps"] = 4.into());
+    let (out, log) = (dir.join("o.json"), dir.join("o.log.jsonl"));
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "optimize",
+            "--task",
+            path(&task),
+            "--payload",
+            "0",
+            "--space",
+            "actuation",
+            "--workers",
+            "1",
+            "--out",
+            path(&out),
+        ];
+        args.extend(extra);
+        codesign(&args)
+    };
+    let cmaes = ["--population", "5", "--generations", "0"];
+    let first = run(&cmaes);
+    assert!(first.status.success(), "{}", stderr(&first));
+    let read = |file: &Path| std::fs::read_to_string(file).unwrap();
+    let (result, logged) = (read(&out), read(&log));
+    let gradient = ["--method", "gradient", "--gradient-iterations", "1"];
+    for refused in [&cmaes[..], &gradient[..]] {
+        fails_saying(
+            &run(refused),
+            "o.log.jsonl exists already: pass --resume to continue that run, or --overwrite",
+        );
+        assert_eq!((read(&out), read(&log)), (result.clone(), logged.clone()));
+    }
+    let replaced = run(&[&gradient[..], &["--overwrite"]].concat());
+    assert!(replaced.status.success(), "{}", stderr(&replaced));
+    assert!(
+        !log.exists(),
+        "the replaced run's log was left beside another run's result"
+    );
+    assert_eq!(support::read_json(&out)["inputs"]["method"], "gradient");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn a_failed_write_on_stdout_is_an_error() {
     let full = std::fs::OpenOptions::new()

@@ -24,9 +24,12 @@ use std::time::Instant;
 /// Makes the progress display of a CMA-ES run, given its number of evaluations and a label.
 pub type ProgressDisplay<'a> = &'a dyn Fn(u64, String) -> Box<dyn Progress>;
 
-/// Runs one co-design case and writes its document to `out`; returns it. A method that logs its
-/// evaluations (CMA-ES) holds its evaluation log, locked, from before the first evaluation
-/// until the document is written, and shows its progress on what `display` makes.
+/// Runs one co-design case and writes its document to `out`; returns it. Every method holds the
+/// evaluation log beside `out`, locked, from before the first evaluation until the document is
+/// written, so that one rule guards an earlier run's log (and the result it belongs to) for
+/// both: it is continued or replaced only as the case's start says. A method that logs its
+/// evaluations (CMA-ES) writes them there and shows its progress on what `display` makes; the
+/// other's log is removed once its run ends.
 pub fn run_case(
     case: &Case,
     out: &Path,
@@ -37,10 +40,7 @@ pub fn run_case(
     case.problem.configure(&mut loaded.settings);
     let read = case.model.inputs(&loaded.task);
     check_result(out, &read).map_err(RunError::store(Output::Result))?;
-    let logged = logs_evaluations(case.settings.method);
-    if logged {
-        check_output(&log_beside(out), &read).map_err(RunError::store(Output::Log))?;
-    }
+    check_output(&log_beside(out), &read).map_err(RunError::store(Output::Log))?;
     let modes = case.problem.modes(&loaded.task);
     probe_solver(&loaded.task, &loaded.settings, &loaded.robot, case, modes)?;
     let inputs = case.inputs(&loaded, modes);
@@ -51,10 +51,8 @@ pub fn run_case(
         ..
     } = loaded;
     let formulation = formulate(case, &task, robot, modes, &settings)?;
-    let mut log = match logged {
-        true => Some(open_log(case, out, &inputs)?),
-        false => None,
-    };
+    let mut log = open_log(case, out, &inputs)?;
+    let logged = logs_evaluations(case.settings.method);
     let started = Instant::now();
     let run = MethodRun {
         case,
@@ -63,11 +61,8 @@ pub fn run_case(
         settings: &settings,
         formulation: &formulation,
     };
-    let outcome = run_method(&run, log.as_mut(), display);
-    // A run without a log has no earlier invocations.
-    let earlier_seconds = log
-        .as_ref()
-        .map_or(Some(0.0), |(log, _)| log.earlier_seconds());
+    let outcome = run_method(&run, logged.then_some(&mut log), display);
+    let earlier_seconds = log.0.earlier_seconds();
     let result = outcome.and_then(|outcome| {
         let mut document = document(case, &formulation, &settings, inputs, outcome)?;
         document.earlier_seconds = earlier_seconds;
@@ -75,8 +70,9 @@ pub fn run_case(
         write_document(out, &document).map_err(RunError::store(Output::Result))?;
         Ok(document)
     });
-    if let (Err(_), Some((log, _))) = (&result, log) {
-        log.discard_if_unused()
+    if result.is_err() || !logged {
+        log.0
+            .discard_if_unused()
             .map_err(RunError::store(Output::Log))?;
     }
     result
