@@ -51,6 +51,7 @@ fn gradient_part(outcome: &DesignOutcome) -> (&[GradientIterate], Option<&Soluti
         MethodOutcome::Gradient {
             iterates,
             best_solution,
+            ..
         } => (iterates, best_solution.as_ref()),
         MethodOutcome::Cmaes { .. } => panic!("a CMA-ES outcome"),
     }
