@@ -55,7 +55,8 @@ pub struct Args {
     /// CMA-ES generations after the initial population.
     #[arg(long, default_value_t = CmaesSettings::default().generations)]
     pub generations: usize,
-    /// Initial step size, relative to the width of the design box.
+    /// Initial step size, relative to the width of the design box: above 0, at most 1 (pagmo's
+    /// range).
     #[arg(long, default_value_t = CmaesSettings::default().sigma0)]
     pub sigma: f64,
     /// How invalid or infeasible designs score: `flat` (the paper's 1e6 for every one),

@@ -121,6 +121,42 @@ fn sizes_are_limited_and_bad_arguments_create_nothing() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Issue 57, item 10: a step size whose samples fall far outside the design box, up to designs
+/// that are no finite number (which the log wrote as nulls, and then refused to resume), is
+/// refused before the run, naming the flag; nothing is created.
+#[test]
+fn a_step_size_wider_than_the_design_box_is_refused_naming_the_flag() {
+    let dir = scratch("sigma");
+    let task = task_with(&dir, |task| task["motion"]["steps"] = 4.into());
+    let out = dir.join("o.json");
+    for sigma in ["1e308", "1.5", "inf", "NaN"] {
+        let output = codesign(&[
+            "optimize",
+            "--task",
+            path(&task),
+            "--population",
+            "5",
+            "--generations",
+            "1",
+            "--workers",
+            "1",
+            "--sigma",
+            sigma,
+            "--out",
+            path(&out),
+        ]);
+        refused_as_usage(
+            &output,
+            &format!("--sigma {sigma}: must be a positive number at most 1"),
+        );
+        assert!(
+            !out.exists() && !dir.join("o.log.jsonl").exists(),
+            "{sigma}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn a_rejected_solver_option_fails_the_run_before_it_starts() {
     let dir = scratch("option");
