@@ -165,28 +165,27 @@ fn summary(document: &OptimizeDocument) -> String {
         texts.join(", ")
     };
     let best = join(&document.best_ratios);
-    let found = match (&document.inputs.settings.objective, &document.payload_costs) {
-        _ if document.best_ratios.is_empty() => "no feasible design found".to_owned(),
-        (Objective::Capacity(_), _) => format!(
-            "largest payload capacity {:.3} kg at r = ({best})",
-            -document.best_cost
-        ),
-        (Objective::Range(_), Some(costs)) => {
+    let objective = &document.inputs.settings.objective;
+    let found = match (objective, &document.payload_costs, document.best_cost) {
+        (_, _, None) => "no feasible design found".to_owned(),
+        (Objective::Capacity(_), _, Some(cost)) => {
+            format!("largest payload capacity {:.3} kg at r = ({best})", -cost)
+        }
+        (Objective::Range(_), Some(costs), Some(mean)) => {
             let per_payload: Vec<String> = costs
                 .best
                 .iter()
                 .map(|c| format!("{} kg: {:.4}", c.payload_kg, c.cost))
                 .collect();
             format!(
-                "best r = ({best}) with mean J = {:.6} ({}; original design: {:.6})",
-                document.best_cost,
+                "best r = ({best}) with mean J = {mean:.6} ({}; original design: {:.6})",
                 per_payload.join(", "),
                 document.original_cost
             )
         }
-        _ => format!(
-            "best r = ({best}) with J = {:.6} (original design: J = {:.6})",
-            document.best_cost, document.original_cost
+        (_, _, Some(cost)) => format!(
+            "best r = ({best}) with J = {cost:.6} (original design: J = {:.6})",
+            document.original_cost
         ),
     };
     let timing = if document.median_solve_seconds.is_nan() {

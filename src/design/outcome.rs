@@ -11,9 +11,9 @@ pub struct DesignOutcome {
     /// The best design seen; empty when no evaluation found a design feasible (an infeasible
     /// design is never reported as the best).
     pub best_ratios: Vec<f64>,
-    /// Its fitness: the optimal cost J, minus the capacity, or the penalty when nothing
-    /// feasible was seen.
-    pub best_cost: f64,
+    /// Its fitness: the optimal cost J, or minus the capacity; None with no best design (a
+    /// penalty is no cost of a design).
+    pub best_cost: Option<f64>,
     /// The fitness of every evaluation, in order.
     pub costs: Vec<f64>,
     /// The wall time of every inner solve that ran, s, in order (replayed ones included).

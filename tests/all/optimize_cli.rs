@@ -458,3 +458,44 @@ fn warm_starts_are_recorded_and_save_iterations() {
     assert!(stderr.contains("warm_start"), "{stderr}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 57, item 8: a run that finds no feasible design reports no cost, whatever its penalty:
+/// `best_cost` is null beside the empty `best_ratios`, and neither its summary nor the table
+/// shows a number for it (with `--penalty 0` both showed 0, a perfect J).
+#[test]
+fn a_run_without_a_feasible_design_reports_no_cost() {
+    let dir = scratch("no-design");
+    // At 3 kg in joint space no design of the initial population is feasible.
+    let task = support::task_with(&dir, |task| task["motion"]["steps"] = 4.into());
+    let out = dir.join("none.json");
+    let (text, result) = support::succeed_with_out(
+        &[
+            "optimize",
+            "--task",
+            task.to_str().unwrap(),
+            "--space",
+            "joint",
+            "--payload",
+            "3",
+            "--population",
+            "5",
+            "--generations",
+            "0",
+            "--penalty",
+            "0",
+            "--workers",
+            "1",
+        ],
+        &out,
+    );
+    assert!(text.starts_with("no feasible design found;"), "{text}");
+    assert_eq!(result["best_ratios"], serde_json::json!([]));
+    assert!(result["best_cost"].is_null(), "{}", result["best_cost"]);
+    let table = support::codesign(&["table", out.to_str().unwrap()]);
+    let table = String::from_utf8_lossy(&table.stdout);
+    assert!(
+        table.contains("| none feasible | 0: none feasible |"),
+        "{table}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

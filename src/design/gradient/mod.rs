@@ -216,7 +216,6 @@ pub fn optimize_gradient(
     settings: &GradientSettings,
 ) -> Result<DesignOutcome, GradientError> {
     let set = transmission.design_space();
-    let penalty = evaluator.penalty();
     let mut solves = Solves::new(evaluator);
     let interrupted = || crate::signals::stop_requested();
     let (candidates, solved) = starts::descent_starts(transmission, settings, &mut solves)?;
@@ -240,12 +239,12 @@ pub fn optimize_gradient(
             from,
         }) => (
             ratios,
-            merit.feasible_cost.expect("only feasible points are kept"),
+            merit.feasible_cost,
             Some(merit.start.to_solution()),
             from.map(Box::new),
         ),
         // Only a graded descent can end without a feasible design.
-        None => (Vec::new(), penalty.base, None, None),
+        None => (Vec::new(), None, None, None),
     };
     Ok(DesignOutcome {
         best_ratios,

@@ -12,7 +12,8 @@ mod verify;
 
 pub use case::{shell_quote, task_source, Case, Loaded, ModelChoice, ProblemChoice};
 pub use document::{
-    Method, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts, RecordedHash,
+    upgrade_optimize, Method, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts,
+    RecordedHash,
 };
 pub use error::{Output, RunError};
 pub use execute::{run_case, ProgressDisplay};

@@ -24,12 +24,11 @@ pub(super) fn confirm_best(
     setup: &WorkerSetup,
     launcher: &Launcher,
 ) -> Result<(), RunError> {
-    if outcome.best_ratios.is_empty() {
+    let Some(claimed) = outcome.best_cost else {
         return Ok(());
-    }
+    };
     let mut evaluator = InProcess::new(setup.fitness()?, 1);
     let own = evaluate_again(outcome, &mut evaluator)?;
-    let claimed = outcome.best_cost;
     let tolerance = COST_AGREEMENT * claimed.abs().max(1.0);
     if own.feasible && (own.cost - claimed).abs() <= tolerance {
         return Ok(());
