@@ -4,10 +4,10 @@ use super::common::{finite_ratio, ModelArgs, ProblemArgs};
 use super::failure::Failure;
 use super::store_hints::check_output;
 use crate::design::capacity::{
-    payload_capacity, Capacity, CapacityLimit, CapacitySettings, MIN_RESOLUTION_KG,
+    check_search_mass, payload_capacity, Capacity, CapacityLimit, CapacitySettings,
+    MIN_RESOLUTION_KG,
 };
 use crate::design::run::{Loaded, RecordedHash};
-use crate::model::task::MAX_PAYLOAD_KG;
 use crate::problem::Formulation;
 use crate::report::codesign::{CapacityDocument, CapacityInputs};
 use crate::solve::ToolInfo;
@@ -115,12 +115,7 @@ fn search_settings(args: &Args) -> Result<CapacitySettings, String> {
         ("--first-step", args.first_step),
         ("--max", args.max),
     ] {
-        if !(kg.is_finite() && kg > 0.0 && kg <= MAX_PAYLOAD_KG) {
-            return Err(format!(
-                "{flag} {kg}: must be a mass > 0 and <= {MAX_PAYLOAD_KG} kg (the heaviest payload \
-                 a task may carry)"
-            ));
-        }
+        check_search_mass(kg).map_err(|rule| format!("{flag} {kg}: {rule}"))?;
     }
     if args.resolution < MIN_RESOLUTION_KG {
         return Err(format!(

@@ -13,6 +13,7 @@ use crate::design::penalty::Penalty;
 use crate::design::run::{run_case, Case, Method, OptimizeDocument};
 use crate::design::score::{Objective, PayloadRange};
 use crate::store::log::{log_beside, Start};
+use crate::text::number;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 
@@ -41,6 +42,10 @@ pub struct Args {
     /// Resolution of the capacity search of `--objective capacity`, kg.
     #[arg(long, value_name = "KG", default_value_t = CapacitySettings::default().resolution_kg)]
     pub capacity_resolution: f64,
+    /// Largest payload the capacity search of `--objective capacity` tries, kg, as `capacity
+    /// --max`: designs that carry it tie there [default: 64].
+    #[arg(long, value_name = "KG")]
+    pub max: Option<f64>,
     /// Iterations per start of the gradient method.
     #[arg(long, value_name = "N", default_value_t = GradientSettings::default().max_iterations)]
     pub gradient_iterations: usize,
@@ -91,6 +96,7 @@ impl Args {
             ObjectiveKind::Cost => Objective::Cost,
             ObjectiveKind::Capacity => Objective::Capacity(CapacitySettings {
                 resolution_kg: self.capacity_resolution,
+                max_kg: self.max.unwrap_or(CapacitySettings::default().max_kg),
                 ..CapacitySettings::default()
             }),
             ObjectiveKind::Range => Objective::Range(PayloadRange {
@@ -158,6 +164,21 @@ pub enum ObjectiveKind {
     Energy,
 }
 
+/// Where a capacity run's designs reached its search's largest payload, in words: that the best
+/// capacity is that ceiling, and how many evaluations reached it; None when none did.
+pub fn ceiling_text(document: &OptimizeDocument) -> Option<String> {
+    let Objective::Capacity(search) = &document.inputs.settings.objective else {
+        return None;
+    };
+    let reached = document.at_max.filter(|&count| count > 0)?;
+    Some(format!(
+        "the search's ceiling (--max {} kg), reached by {reached} of {} evaluations, whose \
+         capacities may be larger: a larger --max tells",
+        number(search.max_kg),
+        document.evaluations
+    ))
+}
+
 /// The run's result in one line: the best design and its fitness, or that none was feasible.
 fn summary(document: &OptimizeDocument) -> String {
     let join = |ratios: &[f64]| {
@@ -169,7 +190,11 @@ fn summary(document: &OptimizeDocument) -> String {
     let found = match (objective, &document.payload_costs, document.best_cost) {
         (_, _, None) => "no feasible design found".to_owned(),
         (Objective::Capacity(_), _, Some(cost)) => {
-            format!("largest payload capacity {:.3} kg at r = ({best})", -cost)
+            let found = format!("largest payload capacity {:.3} kg at r = ({best})", -cost);
+            match ceiling_text(document) {
+                Some(ceiling) => format!("{found}: {ceiling}"),
+                None => found,
+            }
         }
         (Objective::Range(_), Some(costs), Some(mean)) => {
             let per_payload: Vec<String> = costs
@@ -214,6 +239,11 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if args.payloads.is_some() && args.objective != ObjectiveKind::Range {
         return Err(Failure::Usage(
             "--payloads: only with --objective range".to_owned(),
+        ));
+    }
+    if args.max.is_some() && args.objective != ObjectiveKind::Capacity {
+        return Err(Failure::Usage(
+            "--max: only with --objective capacity".to_owned(),
         ));
     }
     let case = args.case();

@@ -10,6 +10,7 @@
 //! goes beyond the largest payload the motors hold at rest at both ends, which is known in
 //! closed form ([`Formulation::hold_capacity`]), so no capacity exceeds it.
 
+use crate::model::task::MAX_PAYLOAD_KG;
 use crate::problem::{Formulation, FormulationError};
 use crate::solve::{
     solve_design_along, PayloadChain, SolveError, SolveSettings, VerdictBy, CONTINUATION_STEP_KG,
@@ -111,6 +112,18 @@ impl CapacitySettings {
         }
         Err(CapacityError::Settings(*self))
     }
+}
+
+/// Checks a mass of a search's settings given by the user (its largest payload, its first step):
+/// a positive number of kg, at most the heaviest payload a task may carry. The rule broken, in
+/// words, when it is not.
+pub fn check_search_mass(kg: f64) -> Result<(), String> {
+    if kg.is_finite() && kg > 0.0 && kg <= MAX_PAYLOAD_KG {
+        return Ok(());
+    }
+    Err(format!(
+        "must be a mass > 0 and <= {MAX_PAYLOAD_KG} kg (the heaviest payload a task may carry)"
+    ))
 }
 
 /// The finest resolution of a capacity search, kg: 1 mg, below what any scale or gripper

@@ -499,3 +499,55 @@ fn a_run_without_a_feasible_design_reports_no_cost() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 57, item 9: the capacity objective's search goes up to `--max` (64 kg unless given,
+/// with `capacity --max`'s range), and a run whose designs reach it says so: in the result
+/// (`at_max`, the evaluations that reached it) and in its summary.
+#[test]
+fn the_capacity_objective_searches_up_to_max_and_says_when_designs_reach_it() {
+    let dir = scratch("capacity-max");
+    let task = support::task_with(&dir, |task| task["motion"]["steps"] = 8.into());
+    fn capacity(max: &str) -> Vec<&str> {
+        vec![
+            "optimize",
+            "--objective",
+            "capacity",
+            "--space",
+            "actuation",
+            "--population",
+            "5",
+            "--generations",
+            "0",
+            "--capacity-resolution",
+            "0.25",
+            "--max",
+            max,
+        ]
+    }
+    let mut args = capacity("0.5");
+    args.extend(["--task", task.to_str().unwrap(), "--workers", "2"]);
+    let (text, capped) = support::succeed_with_out(&args, &dir.join("capped.json"));
+    assert_eq!(capped["inputs"]["objective"]["max_kg"], 0.5);
+    assert_eq!(capped["best_cost"], -0.5, "{capped}");
+    let reached = capped["at_max"].as_u64().unwrap();
+    assert!(reached >= 1, "{capped}");
+    assert!(
+        text.contains(&format!(
+            "largest payload capacity 0.500 kg at r = (8.1701, 2.8946, 1.2235, 1.5014): the \
+             search's ceiling (--max 0.5 kg), reached by {reached} of 5 evaluations, whose \
+             capacities may be larger"
+        )),
+        "{text}"
+    );
+    for max in ["2000", "0", "inf"] {
+        support::refused_as_usage(
+            &support::codesign(&capacity(max)),
+            &format!("--max {max}: must be a mass > 0 and <= 1000 kg"),
+        );
+    }
+    support::refused_as_usage(
+        &support::codesign(&["optimize", "--max", "5"]),
+        "--max: only with --objective capacity",
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,7 +1,7 @@
 //! What `reproduce` prints as the experiment goes, and its errors in the command line's words.
 
 use super::Failure;
-use crate::cli::optimize::progress_bar;
+use crate::cli::optimize::{ceiling_text, progress_bar};
 use crate::cli::store_hints::run_error;
 use crate::design::optimize::Progress;
 use crate::design::run::OptimizeDocument;
@@ -103,9 +103,10 @@ fn beyond_run(run: &PlannedRun, document: &OptimizeDocument) {
                 document.evaluations
             ),
             Some(cost) => say!(
-                "capacity co-design, {space} space: r = {:?} lifts {:.3} kg ({} evaluations)",
+                "capacity co-design, {space} space: r = {:?} lifts {:.3} kg{} ({} evaluations)",
                 document.best_ratios,
                 -cost,
+                ceiling_text(document).map_or_else(String::new, |text| format!(", {text}")),
                 document.evaluations
             ),
         },

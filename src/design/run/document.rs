@@ -169,6 +169,11 @@ pub struct OptimizeDocument {
     /// `best_result` and `original_result` are then None).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub payload_costs: Option<RangeCosts>,
+    /// For `--objective capacity`: the evaluations whose design carried the search's largest
+    /// payload (`max_kg`), where the search stops, so that their capacities tie there; absent
+    /// for the other objectives and in files written before it was counted.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub at_max: Option<usize>,
 }
 
 impl OptimizeDocument {

@@ -159,6 +159,14 @@ fn document(
         }
         _ => case.settings.penalty,
     };
+    let at_max = match &case.settings.objective {
+        Objective::Capacity(search) => Some(
+            (outcome.costs.iter())
+                .filter(|&&cost| -cost >= search.max_kg)
+                .count(),
+        ),
+        _ => None,
+    };
     let (generations, iterates, replayed) = match outcome.method {
         MethodOutcome::Cmaes {
             generations,
@@ -188,6 +196,7 @@ fn document(
         wall_seconds: 0.0,
         earlier_seconds: None,
         payload_costs,
+        at_max,
     })
 }
 

@@ -6,7 +6,7 @@
 
 use super::document::{Method, OptimizeInputs};
 use crate::design::bounds::BoundHandling;
-use crate::design::capacity::{CapacitySettings, MIN_RESOLUTION_KG};
+use crate::design::capacity::{check_search_mass, CapacitySettings, MIN_RESOLUTION_KG};
 use crate::design::cmaes::CmaesSettings;
 use crate::design::penalty::{Grading, Penalty, PENALTY};
 use crate::design::score::{Objective, PayloadRange};
@@ -177,6 +177,8 @@ impl RunSettings {
                     ),
                 ))
             }
+            &Objective::Capacity(CapacitySettings { max_kg, .. }) => check_search_mass(max_kg)
+                .map_err(|rule| CaseError::new("max_kg", number(max_kg), rule)),
             _ => Ok(()),
         }
     }
