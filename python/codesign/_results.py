@@ -212,8 +212,8 @@ class Run(_Document):
         return np.asarray(self._document["best_ratios"], dtype=float)
 
     @property
-    def best_cost(self) -> float:
-        """Its fitness (J*, or the penalty when none was feasible)."""
+    def best_cost(self) -> Optional[float]:
+        """Its fitness (J*, or minus the capacity); None when no design was feasible."""
         return self._document["best_cost"]
 
     @property
@@ -240,6 +240,8 @@ class Run(_Document):
         return None if native is None else Solution(native)
 
     def __repr__(self) -> str:
+        if self.best_cost is None:
+            return "<codesign.Run no feasible design>"
         return f"<codesign.Run best r={self.best_ratios.tolist()} J={self.best_cost:.6g}>"
 
 

@@ -51,6 +51,15 @@ def test_a_runs_best_design_is_a_solution_with_named_columns(planar):
         planar.solve(space="actuation", payload=1.0, ratios=best.ratios, start=best)
 
 
+def test_a_run_without_a_feasible_design_has_no_cost(planar):
+    # Issue 57, item 8: no design of the planar arm holds 100 kg at rest.
+    run = planar.optimize(space="actuation", payload=100.0, population=5, generations=0,
+                          workers=1, progress=False)
+    assert len(run.best_ratios) == 0
+    assert run.best_cost is None and run.to_dict()["best_cost"] is None
+    assert repr(run) == "<codesign.Run no feasible design>"
+
+
 def test_run_settings_are_checked(planar, tmp_path):
     with pytest.raises(cd.InputError, match="method="):
         planar.optimize(method="annealing")
@@ -63,6 +72,9 @@ def test_run_settings_are_checked(planar, tmp_path):
         planar.optimize(space="actuation", population=1, progress=False)
     with pytest.raises(cd.InputError, match="^sigma=-1: must be a positive number"):
         planar.optimize(space="actuation", sigma=-1.0, progress=False)
+    # Issue 57, item 10: a step wider than the design box, up to samples that are no number.
+    with pytest.raises(cd.InputError, match="^sigma=1e308: must be a positive number at most 1"):
+        planar.optimize(space="actuation", sigma=1e308, progress=False)
 
 
 def test_a_progress_callback_that_raises_stops_the_run(planar, tmp_path):

@@ -14,6 +14,7 @@ use crate::design::penalty::Penalty;
 use crate::design::run::{run_case, Case, Method, OptimizeDocument};
 use crate::design::score::{Objective, PayloadRange};
 use crate::store::log::{log_beside, Start};
+use codesign_core::text::number;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 
@@ -43,6 +44,10 @@ pub struct Args {
     /// Resolution of the capacity search of `--objective capacity`, kg.
     #[arg(long, value_name = "KG", default_value_t = CapacitySettings::default().resolution_kg)]
     pub capacity_resolution: f64,
+    /// Largest payload the capacity search of `--objective capacity` tries, kg, as `capacity
+    /// --max`: designs that carry it tie there [default: 64].
+    #[arg(long, value_name = "KG")]
+    pub max: Option<f64>,
     /// Iterations per start of the gradient method.
     #[arg(long, value_name = "N", default_value_t = GradientSettings::default().max_iterations)]
     pub gradient_iterations: usize,
@@ -57,7 +62,8 @@ pub struct Args {
     /// CMA-ES generations after the initial population.
     #[arg(long, default_value_t = CmaesSettings::default().generations)]
     pub generations: usize,
-    /// Initial step size, relative to the width of the design box.
+    /// Initial step size, relative to the width of the design box: above 0, at most 1 (pagmo's
+    /// range).
     #[arg(long, default_value_t = CmaesSettings::default().sigma0)]
     pub sigma: f64,
     /// How invalid or infeasible designs score: `flat` (the paper's 1e6 for every one),
@@ -92,6 +98,7 @@ impl Args {
             ObjectiveKind::Cost => Objective::Cost,
             ObjectiveKind::Capacity => Objective::Capacity(CapacitySettings {
                 resolution_kg: self.capacity_resolution,
+                max_kg: self.max.unwrap_or(CapacitySettings::default().max_kg),
                 ..CapacitySettings::default()
             }),
             ObjectiveKind::Range => Objective::Range(PayloadRange {
@@ -159,6 +166,21 @@ pub enum ObjectiveKind {
     Energy,
 }
 
+/// Where a capacity run's designs reached its search's largest payload, in words: that the best
+/// capacity is that ceiling, and how many evaluations reached it; None when none did.
+pub fn ceiling_text(document: &OptimizeDocument) -> Option<String> {
+    let Objective::Capacity(search) = &document.inputs.settings.objective else {
+        return None;
+    };
+    let reached = document.at_max.filter(|&count| count > 0)?;
+    Some(format!(
+        "the search's ceiling (--max {} kg), reached by {reached} of {} evaluations, whose \
+         capacities may be larger: a larger --max tells",
+        number(search.max_kg),
+        document.evaluations
+    ))
+}
+
 /// The run's result in one line: the best design and its fitness, or that none was feasible.
 fn summary(document: &OptimizeDocument) -> String {
     let join = |ratios: &[f64]| {
@@ -166,28 +188,31 @@ fn summary(document: &OptimizeDocument) -> String {
         texts.join(", ")
     };
     let best = join(&document.best_ratios);
-    let found = match (&document.inputs.settings.objective, &document.payload_costs) {
-        _ if document.best_ratios.is_empty() => "no feasible design found".to_owned(),
-        (Objective::Capacity(_), _) => format!(
-            "largest payload capacity {:.3} kg at r = ({best})",
-            -document.best_cost
-        ),
-        (Objective::Range(_), Some(costs)) => {
+    let objective = &document.inputs.settings.objective;
+    let found = match (objective, &document.payload_costs, document.best_cost) {
+        (_, _, None) => "no feasible design found".to_owned(),
+        (Objective::Capacity(_), _, Some(cost)) => {
+            let found = format!("largest payload capacity {:.3} kg at r = ({best})", -cost);
+            match ceiling_text(document) {
+                Some(ceiling) => format!("{found}: {ceiling}"),
+                None => found,
+            }
+        }
+        (Objective::Range(_), Some(costs), Some(mean)) => {
             let per_payload: Vec<String> = costs
                 .best
                 .iter()
                 .map(|c| format!("{} kg: {:.4}", c.payload_kg, c.cost))
                 .collect();
             format!(
-                "best r = ({best}) with mean J = {:.6} ({}; original design: {:.6})",
-                document.best_cost,
+                "best r = ({best}) with mean J = {mean:.6} ({}; original design: {:.6})",
                 per_payload.join(", "),
                 document.original_cost
             )
         }
-        _ => format!(
-            "best r = ({best}) with J = {:.6} (original design: J = {:.6})",
-            document.best_cost, document.original_cost
+        (_, _, Some(cost)) => format!(
+            "best r = ({best}) with J = {cost:.6} (original design: J = {:.6})",
+            document.original_cost
         ),
     };
     let timing = if document.median_solve_seconds.is_nan() {
@@ -216,6 +241,11 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if args.payloads.is_some() && args.objective != ObjectiveKind::Range {
         return Err(Failure::Usage(
             "--payloads: only with --objective range".to_owned(),
+        ));
+    }
+    if args.max.is_some() && args.objective != ObjectiveKind::Capacity {
+        return Err(Failure::Usage(
+            "--max: only with --objective capacity".to_owned(),
         ));
     }
     let case = args.case();

@@ -371,8 +371,17 @@ fn execute_text(formulation: &Formulation, result: &TrajectoryResult) -> Option<
 }
 
 /// `feasible (judged by solving the trajectory problem directly)`: the verdict and, in plain
-/// words, the solve that gave it (docs/model.md, section 8).
+/// words, the solve that gave it (docs/model.md, section 8); for a design infeasible by the
+/// static hold alone, the hold, and the motion's own verdict after it.
 fn verdict_text(result: &TrajectoryResult) -> String {
+    if result.infeasible_by_hold_alone() {
+        let motion =
+            (result.verdict_by).map_or(String::new(), |by| format!(" ({})", by.describe(true)));
+        return format!(
+            "INFEASIBLE: the motors cannot hold the load at rest at an end (the static hold \
+             below); the motion itself is feasible{motion}"
+        );
+    }
     let verdict = if result.feasible {
         "feasible"
     } else {

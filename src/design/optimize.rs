@@ -237,8 +237,8 @@ fn finish(
         .position(|e| e.ratios == best_ratios && e.cost.to_bits() == cost.to_bits());
     let population = cmaes.settings().population;
     Ok(DesignOutcome {
+        best_cost: any_feasible.then_some(cost),
         best_ratios,
-        best_cost: cost,
         costs: outcome.evaluations.iter().map(|e| e.cost).collect(),
         seconds: outcome
             .evaluations

@@ -2,6 +2,7 @@
 //! progress records each keeps.
 
 use codesign_core::ipopt::Solution;
+use codesign_core::solve::StartPoint;
 use serde::{Deserialize, Serialize};
 
 /// The result of a co-design run, whichever method made it.
@@ -10,9 +11,9 @@ pub struct DesignOutcome {
     /// The best design seen; empty when no evaluation found a design feasible (an infeasible
     /// design is never reported as the best).
     pub best_ratios: Vec<f64>,
-    /// Its fitness: the optimal cost J, minus the capacity, or the penalty when nothing
-    /// feasible was seen.
-    pub best_cost: f64,
+    /// Its fitness: the optimal cost J, or minus the capacity; None with no best design (a
+    /// penalty is no cost of a design).
+    pub best_cost: Option<f64>,
     /// The fitness of every evaluation, in order.
     pub costs: Vec<f64>,
     /// The wall time of every inner solve that ran, s, in order (replayed ones included).
@@ -43,6 +44,9 @@ pub enum MethodOutcome {
         /// The inner solution behind `best_cost` (the method's warm-started solves can reach a
         /// lower local optimum than a cold solve of the same design).
         best_solution: Option<Solution>,
+        /// The start the best design's solve began at (None: the standard guess): where this
+        /// process solves it again to confirm a worker's answer.
+        best_from: Option<Box<StartPoint>>,
     },
 }
 

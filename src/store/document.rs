@@ -49,11 +49,14 @@ impl Schema {
 
     /// The version of this kind that this build writes (0: written before the envelope). The
     /// results are at 2: `reason` always written (null when feasible), each motor's peaks and
-    /// margins in `motors_execute`, and a capacity search's inputs under `inputs`.
+    /// margins in `motors_execute`, and a capacity search's inputs under `inputs`; a co-design
+    /// run's at 3: `best_cost` null without a best design, and a table at 2: a seed's cost null
+    /// then.
     pub fn version(self) -> u32 {
         match self {
-            Schema::Solve | Schema::Optimize | Schema::Capacity => 2,
-            Schema::Table => 1,
+            Schema::Solve | Schema::Capacity => 2,
+            Schema::Optimize => 3,
+            Schema::Table => 2,
         }
     }
 

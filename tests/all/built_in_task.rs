@@ -59,6 +59,12 @@ fn solves_from_a_folder_without_the_repository_and_the_printed_task_loads_back()
     for key in ["status", "cost", "iterations", "trajectory"] {
         assert_eq!(from_files[key], built_in[key], "{key}");
     }
+    // The printed task is the built-in one, its ends included: the same problem, by its hash.
+    assert_eq!(
+        from_files["inputs"]["task_hash"], built_in["inputs"]["task_hash"],
+        "the printed task poses another problem than the built-in one"
+    );
+    assert_eq!(from_files["inputs"]["task"]["motion"]["ends"], "paper");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

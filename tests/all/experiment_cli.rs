@@ -59,7 +59,8 @@ fn command_words(line: &str) -> (String, BTreeMap<String, String>) {
 
 /// Checks that the planned command `now` poses what `was` posed: the same command with the
 /// same flags and values; `optimize` may name besides them the settings at their defaults that
-/// it left out before (method, objective, solve timeout, warm starts).
+/// it left out before (method, objective, solve timeout, warm starts, the capacity search's
+/// largest payload).
 fn same_command(now: &str, was: &str) {
     let (now_program, mut now_flags) = command_words(now);
     let (was_program, was_flags) = command_words(was);
@@ -70,6 +71,7 @@ fn same_command(now: &str, was: &str) {
             ("--objective", "cost"),
             ("--solve-timeout", "600"),
             ("--warm-start", "on"),
+            ("--max", "64"),
         ];
         for (flag, default) in defaults {
             if !was_flags.contains_key(flag) && now_flags.get(flag).is_some_and(|v| v == default) {

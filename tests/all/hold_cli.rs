@@ -82,3 +82,31 @@ fn solve_at_a_payload_the_motors_cannot_hold_is_infeasible_naming_the_end_and_th
         "{text}"
     );
 }
+
+/// Issue 57, item 17: where only the hold fails, the elastic solve needs no slack, so its
+/// verdict names the hold, not a shortfall of the relaxed problem it did not find.
+#[test]
+fn an_elastic_solve_infeasible_only_by_the_hold_says_so() {
+    let (text, result) = run(
+        &[
+            "solve",
+            "--elastic",
+            "--space",
+            "actuation",
+            "--payload",
+            "7",
+            "--steps",
+            "10",
+        ],
+        "elastic-7kg.json",
+    );
+    assert_eq!(result["feasible"], false, "{result}");
+    assert_eq!(result["elastic"]["torque_deficit"], 0.0, "{result}");
+    let verdict = text.lines().nth(1).unwrap();
+    assert!(
+        verdict.contains("INFEASIBLE: the motors cannot hold the load at rest at an end"),
+        "{text}"
+    );
+    assert!(verdict.contains("the motion itself is feasible"), "{text}");
+    assert!(!text.contains("above zero"), "{text}");
+}

@@ -652,6 +652,43 @@ fn running(marker: &str) -> bool {
     })
 }
 
+/// Issue 57, item 4: the gradient method on worker processes believes no lie either. A worker
+/// that answers every feasible design at J = 1e-9, its merit and feasible cost alike (a lie no
+/// check of one answer can see), fails the run: this process solves the best design again from
+/// the start its worker was given and finds another cost.
+#[test]
+fn a_lying_worker_of_the_gradient_method_is_caught_at_the_best_design() {
+    let dir = scratch("gradient-liar");
+    let liar = concat!(
+        r#"{} worker | sed -u -e 's/"cost":[^,]*,"feasible":true/"cost":1e-9,"feasible":true/'"#,
+        r#" -e 's/"value":[^,]*/"value":1e-9/' -e 's/"feasible_cost":[^,]*/"feasible_cost":1e-9/'"#
+    );
+    let run = |command: &str| {
+        let flags = [
+            "--method",
+            "gradient",
+            "--gradient-iterations",
+            "2",
+            "--workers",
+            "2",
+            "--worker-command",
+            command,
+        ];
+        small_run(&dir, &flags).output().unwrap()
+    };
+    let output = run(liar);
+    fails_saying(
+        &output,
+        "this process's own evaluation of it finds it feasible at a fitness of",
+    );
+    fails_saying(&output, "the answers of the workers (`");
+    assert!(!dir.join("o.json").exists(), "a result was written");
+    // Honest workers are believed.
+    let output = run("{} worker");
+    assert!(output.status.success(), "{}", stderr(&output));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Items 13, 14 and 21: a worker command that floods its output, or never says hello, fails the
 /// run at once, naming the command, and leaves no process behind; so does TERM to the run.
 #[test]

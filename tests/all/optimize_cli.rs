@@ -458,3 +458,96 @@ fn warm_starts_are_recorded_and_save_iterations() {
     assert!(stderr.contains("warm_start"), "{stderr}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 57, item 8: a run that finds no feasible design reports no cost, whatever its penalty:
+/// `best_cost` is null beside the empty `best_ratios`, and neither its summary nor the table
+/// shows a number for it (with `--penalty 0` both showed 0, a perfect J).
+#[test]
+fn a_run_without_a_feasible_design_reports_no_cost() {
+    let dir = scratch("no-design");
+    // At 3 kg in joint space no design of the initial population is feasible.
+    let task = support::task_with(&dir, |task| task["motion"]["steps"] = 4.into());
+    let out = dir.join("none.json");
+    let (text, result) = support::succeed_with_out(
+        &[
+            "optimize",
+            "--task",
+            task.to_str().unwrap(),
+            "--space",
+            "joint",
+            "--payload",
+            "3",
+            "--population",
+            "5",
+            "--generations",
+            "0",
+            "--penalty",
+            "0",
+            "--workers",
+            "1",
+        ],
+        &out,
+    );
+    assert!(text.starts_with("no feasible design found;"), "{text}");
+    assert_eq!(result["best_ratios"], serde_json::json!([]));
+    assert!(result["best_cost"].is_null(), "{}", result["best_cost"]);
+    let table = support::codesign(&["table", out.to_str().unwrap()]);
+    let table = String::from_utf8_lossy(&table.stdout);
+    assert!(
+        table.contains("| none feasible | 0: none feasible |"),
+        "{table}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 57, item 9: the capacity objective's search goes up to `--max` (64 kg unless given,
+/// with `capacity --max`'s range), and a run whose designs reach it says so: in the result
+/// (`at_max`, the evaluations that reached it) and in its summary.
+#[test]
+fn the_capacity_objective_searches_up_to_max_and_says_when_designs_reach_it() {
+    let dir = scratch("capacity-max");
+    let task = support::task_with(&dir, |task| task["motion"]["steps"] = 8.into());
+    fn capacity(max: &str) -> Vec<&str> {
+        vec![
+            "optimize",
+            "--objective",
+            "capacity",
+            "--space",
+            "actuation",
+            "--population",
+            "5",
+            "--generations",
+            "0",
+            "--capacity-resolution",
+            "0.25",
+            "--max",
+            max,
+        ]
+    }
+    let mut args = capacity("0.5");
+    args.extend(["--task", task.to_str().unwrap(), "--workers", "2"]);
+    let (text, capped) = support::succeed_with_out(&args, &dir.join("capped.json"));
+    assert_eq!(capped["inputs"]["objective"]["max_kg"], 0.5);
+    assert_eq!(capped["best_cost"], -0.5, "{capped}");
+    let reached = capped["at_max"].as_u64().unwrap();
+    assert!(reached >= 1, "{capped}");
+    assert!(
+        text.contains(&format!(
+            "largest payload capacity 0.500 kg at r = (8.1701, 2.8946, 1.2235, 1.5014): the \
+             search's ceiling (--max 0.5 kg), reached by {reached} of 5 evaluations, whose \
+             capacities may be larger"
+        )),
+        "{text}"
+    );
+    for max in ["2000", "0", "inf"] {
+        support::refused_as_usage(
+            &support::codesign(&capacity(max)),
+            &format!("--max {max}: must be a mass > 0 and <= 1000 kg"),
+        );
+    }
+    support::refused_as_usage(
+        &support::codesign(&["optimize", "--max", "5"]),
+        "--max: only with --objective capacity",
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -121,6 +121,42 @@ fn sizes_are_limited_and_bad_arguments_create_nothing() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Issue 57, item 10: a step size whose samples fall far outside the design box, up to designs
+/// that are no finite number (which the log wrote as nulls, and then refused to resume), is
+/// refused before the run, naming the flag; nothing is created.
+#[test]
+fn a_step_size_wider_than_the_design_box_is_refused_naming_the_flag() {
+    let dir = scratch("sigma");
+    let task = task_with(&dir, |task| task["motion"]["steps"] = 4.into());
+    let out = dir.join("o.json");
+    for sigma in ["1e308", "1.5", "inf", "NaN"] {
+        let output = codesign(&[
+            "optimize",
+            "--task",
+            path(&task),
+            "--population",
+            "5",
+            "--generations",
+            "1",
+            "--workers",
+            "1",
+            "--sigma",
+            sigma,
+            "--out",
+            path(&out),
+        ]);
+        refused_as_usage(
+            &output,
+            &format!("--sigma {sigma}: must be a positive number at most 1"),
+        );
+        assert!(
+            !out.exists() && !dir.join("o.log.jsonl").exists(),
+            "{sigma}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn a_rejected_solver_option_fails_the_run_before_it_starts() {
     let dir = scratch("option");
@@ -227,6 +263,54 @@ fn a_second_run_on_one_output_fails_at_once_naming_the_first() {
     for line in lines.lines() {
         serde_json::from_str::<serde_json::Value>(line).expect("no torn line");
     }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 57, item 11: one rule for both methods. A result whose evaluation log sits beside it
+/// (a CMA-ES run's) is replaced by a gradient run only with --overwrite, which deletes that log,
+/// as a CMA-ES run is refused and then starts afresh.
+#[test]
+fn a_logged_result_is_replaced_by_either_method_only_with_overwrite() {
+    let dir = scratch("gradient-over-cmaes");
+    let task = task_with(&dir, |task| task["motion"]["steps"] = 4.into());
+    let (out, log) = (dir.join("o.json"), dir.join("o.log.jsonl"));
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "optimize",
+            "--task",
+            path(&task),
+            "--payload",
+            "0",
+            "--space",
+            "actuation",
+            "--workers",
+            "1",
+            "--out",
+            path(&out),
+        ];
+        args.extend(extra);
+        codesign(&args)
+    };
+    let cmaes = ["--population", "5", "--generations", "0"];
+    let first = run(&cmaes);
+    assert!(first.status.success(), "{}", stderr(&first));
+    let read = |file: &Path| std::fs::read_to_string(file).unwrap();
+    let (result, logged) = (read(&out), read(&log));
+    let gradient = ["--method", "gradient", "--gradient-iterations", "1"];
+    for refused in [&cmaes[..], &gradient[..]] {
+        fails_saying(
+            &run(refused),
+            "o.log.jsonl exists already: pass --resume to continue that run, or --overwrite",
+        );
+        assert_eq!((read(&out), read(&log)), (result.clone(), logged.clone()));
+    }
+    let replaced = run(&[&gradient[..], &["--overwrite"]].concat());
+    assert!(replaced.status.success(), "{}", stderr(&replaced));
+    assert!(
+        !log.exists(),
+        "the replaced run's log was left beside another run's result"
+    );
+    assert_eq!(support::read_json(&out)["inputs"]["method"], "gradient");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -66,6 +66,13 @@ fn rebuilds_the_table_from_result_files() {
         rows[0]
     );
     assert!(rows[1].contains("(6, 3, 1, 1): 43.67 |"), "{}", rows[1]);
+    // A seed that found no feasible design shows no cost, in files written when its
+    // `best_cost` held the penalty too (issue 57, item 8).
+    assert!(
+        rows[5].contains("| 0: none feasible, 1: 213.75 |"),
+        "{}",
+        rows[5]
+    );
     assert!(
         table.contains("The paper's formulation (`--ends paper`)"),
         "{table}"

@@ -41,6 +41,14 @@ impl TrajectoryResult {
         })
     }
 
+    /// Whether the design is infeasible by the judged static hold alone: the motion's own
+    /// verdict (the trajectory problem's, or the relaxed problem's slacks) found nothing
+    /// lacking, so the reason is the hold's failure and nothing after it.
+    pub fn infeasible_by_hold_alone(&self) -> bool {
+        let unheld = self.static_hold.as_ref().and_then(|h| h.failure());
+        !self.feasible && unheld.is_some() && self.reason == unheld
+    }
+
     /// The first part of the result holding a number that is not finite (JSON would write it
     /// as null, and no reader of results takes that), e.g. `cost`; None where every number is.
     pub fn non_finite(&self) -> Option<&'static str> {

@@ -1,7 +1,7 @@
 //! What `reproduce` prints as the experiment goes, and its errors in the command line's words.
 
 use super::Failure;
-use crate::cli::optimize::progress_bar;
+use crate::cli::optimize::{ceiling_text, progress_bar};
 use crate::cli::store_hints::run_error;
 use crate::design::optimize::Progress;
 use crate::design::run::OptimizeDocument;
@@ -62,16 +62,12 @@ impl Observer for Printer {
     }
 }
 
-/// A CMA-ES run's best design and cost, or that it found no feasible design (and the best
-/// penalised fitness, which grades the designs it tried under the graded penalty).
+/// A CMA-ES run's best design and cost, or that it found no feasible design (a penalty is no
+/// cost of a design).
 fn best_text(document: &OptimizeDocument) -> String {
-    if document.best_ratios.is_empty() {
-        format!("no feasible design, best fitness {:.4}", document.best_cost)
-    } else {
-        format!(
-            "best r = {:?}, J = {:.4}",
-            document.best_ratios, document.best_cost
-        )
+    match document.best_cost {
+        None => "no feasible design found".to_owned(),
+        Some(cost) => format!("best r = {:?}, J = {cost:.4}", document.best_ratios),
     }
 }
 
@@ -82,14 +78,9 @@ fn gradient_run(run: &PlannedRun, result: Result<&OptimizeDocument, crate::desig
     let penalty = run.case.settings.penalty();
     let label = format!("gradient co-design, {space} space, {payload} kg, {penalty} penalty");
     match result {
-        Ok(document) if document.best_ratios.is_empty() => say!(
-            "{label}: no feasible design found ({} solves)",
-            document.evaluations
-        ),
         Ok(document) => say!(
-            "{label}: best r = {:?}, J = {:.4} ({} solves)",
-            document.best_ratios,
-            document.best_cost,
+            "{label}: {} ({} solves)",
+            best_text(document),
             document.evaluations
         ),
         Err(error) => say!("{label}: {}", run_error(error)),
@@ -106,16 +97,19 @@ fn beyond_run(run: &PlannedRun, document: &OptimizeDocument) {
             best_text(document),
             document.evaluations
         ),
-        Objective::Capacity(_) if document.best_ratios.is_empty() => say!(
-            "capacity co-design, {space} space: no design lifts any payload ({} evaluations)",
-            document.evaluations
-        ),
-        Objective::Capacity(_) => say!(
-            "capacity co-design, {space} space: r = {:?} lifts {:.3} kg ({} evaluations)",
-            document.best_ratios,
-            -document.best_cost,
-            document.evaluations
-        ),
+        Objective::Capacity(_) => match document.best_cost {
+            None => say!(
+                "capacity co-design, {space} space: no design lifts any payload ({} evaluations)",
+                document.evaluations
+            ),
+            Some(cost) => say!(
+                "capacity co-design, {space} space: r = {:?} lifts {:.3} kg{} ({} evaluations)",
+                document.best_ratios,
+                -cost,
+                ceiling_text(document).map_or_else(String::new, |text| format!(", {text}")),
+                document.evaluations
+            ),
+        },
         // The experiment plans no energy run.
         Objective::Cost | Objective::Energy => say!(
             "co-design, {space} space, {} kg, seed {}, penalty {}: {} ({} evaluations)",

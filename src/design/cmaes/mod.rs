@@ -12,7 +12,8 @@
 //!    never evaluated. Unlike pagmo, neither test runs after a generation none of whose designs
 //!    was feasible (the caller says which were, see `tell`): a generation penalised alike has
 //!    spread 0 because of the penalty, not because the search converged. The run also stops after
-//!    `generations` generations.
+//!    `generations` generations, and before it hands out a sample that is not finite (sigma or
+//!    the mean grown past any number: no design that is no number is ever evaluated or logged).
 //! 3. `tell` ranks the samples (a NaN fitness ranks last, ties keep sample order), moves the mean
 //!    to the weighted mean of the best mu = lambda/2, updates the paths ps and pc, C (rank-one and
 //!    rank-mu) and sigma, and re-decomposes C when pagmo does.
@@ -353,7 +354,10 @@ impl Cmaes {
             last_step = step.norm();
             samples.push(&self.mean + step);
         }
-        self.phase = if !feasible {
+        let finite = |x: &DVector<f64>| x.iter().all(|v| v.is_finite());
+        self.phase = if !samples.iter().all(finite) {
+            Phase::Stopped(StopReason::Diverged { sigma: self.sigma })
+        } else if !feasible {
             Phase::Sampled(samples)
         } else if last_step < self.settings.xtol {
             Phase::Stopped(StopReason::Xtol { step: last_step })
@@ -772,6 +776,23 @@ mod tests {
         assert!(best < 1e-8, "{best}");
         assert!(spread(&[1.0, f64::NAN, 2.0]).is_nan());
         assert_eq!(best_index(&[f64::NAN, 3.0, 1.0, 1.0]), 2);
+    }
+
+    /// Issue 57, item 10: a search that runs away (a fitness falling without end along a line)
+    /// grows sigma past any number; it stops before it asks for a design that is not finite.
+    #[test]
+    fn a_search_whose_step_size_overflows_stops_before_a_design_that_is_not_finite() {
+        let mut s = settings(5, MAX_GENERATIONS, 0);
+        s.sigma0 = 1.0;
+        let (es, asked) = run(s, vec![0.0], vec![1.0], |x| -x[0]);
+        let infinite = asked.iter().find(|x| !x.iter().all(|v| v.is_finite()));
+        assert_eq!(infinite, None, "after {} designs", asked.len());
+        let reason = es.stop_reason();
+        assert!(
+            matches!(reason, Some(StopReason::Diverged { .. })),
+            "{reason:?}"
+        );
+        assert!(es.generation() < MAX_GENERATIONS);
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! The settings of a CMA-ES run, their defaults and ranges, and why a run stops.
 
 use codesign_core::model::experiment::Budget;
+use codesign_core::text::number;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -49,6 +50,9 @@ pub const MAX_POPULATION: usize = 10_000;
 /// this bound only keeps sizes and the log's indices sane.
 pub const MAX_GENERATIONS: usize = 30_000;
 
+/// The largest initial step size, relative to the widths of the design box: pagmo's bound.
+const MAX_SIGMA0: f64 = 1.0;
+
 /// A setting outside its range.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SettingError {
@@ -95,8 +99,16 @@ impl CmaesSettings {
                 format!("must be at most {MAX_GENERATIONS} (1000 times the paper's 30)"),
             );
         }
-        if !(self.sigma0.is_finite() && self.sigma0 > 0.0) {
-            return error("sigma0", &self.sigma0, "must be a positive number".into());
+        if !(self.sigma0 > 0.0 && self.sigma0 <= MAX_SIGMA0) {
+            return error(
+                "sigma0",
+                &number(self.sigma0),
+                format!(
+                    "must be a positive number at most {MAX_SIGMA0} (pagmo's range): the first \
+                     steps are sigma times the widths of the design box, and wider ones sample \
+                     far outside it, up to designs that are no finite number"
+                ),
+            );
         }
         for (field, value) in [("ftol", self.ftol), ("xtol", self.xtol)] {
             if !(value.is_finite() && value >= 0.0) {
@@ -122,6 +134,11 @@ pub enum StopReason {
         /// |f_best - f_worst|.
         spread: f64,
     },
+    /// A sample drawn was not finite: the step size or the mean grew past any number.
+    Diverged {
+        /// The step size sigma then.
+        sigma: f64,
+    },
 }
 
 impl fmt::Display for StopReason {
@@ -132,6 +149,10 @@ impl fmt::Display for StopReason {
             StopReason::Ftol { spread } => {
                 write!(f, "ftol: fitness spread {spread:e} under the tolerance")
             }
+            StopReason::Diverged { sigma } => write!(
+                f,
+                "diverged: at step size {sigma:e} the next samples are no finite designs"
+            ),
         }
     }
 }

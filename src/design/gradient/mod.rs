@@ -67,6 +67,8 @@ impl Default for GradientSettings {
 struct Point {
     ratios: Vec<f64>,
     merit: Merit,
+    /// The start its solve began at (None: the standard guess), to solve it again as it was.
+    from: Option<StartPoint>,
 }
 
 impl Point {
@@ -110,9 +112,9 @@ impl<'a> Solves<'a> {
         }
     }
 
-    /// Records `descent`'s fitness and, when a solve ran, its time; its point when the descent
-    /// can use it.
-    fn record(&mut self, descent: Descent) -> Option<Point> {
+    /// Records `descent`'s fitness and, when a solve ran, its time; its point, solved from
+    /// `from`, when the descent can use it.
+    fn record(&mut self, descent: Descent, from: Option<&StartPoint>) -> Option<Point> {
         let Descent { evaluation, merit } = descent;
         if evaluation.iterations > 0 {
             self.seconds.push(evaluation.seconds);
@@ -121,6 +123,7 @@ impl<'a> Solves<'a> {
         merit.map(|merit| Point {
             ratios: evaluation.ratios,
             merit,
+            from: from.cloned(),
         })
     }
 
@@ -133,7 +136,9 @@ impl<'a> Solves<'a> {
         let mut solved = self
             .evaluator
             .descend(&[(0, ratios.to_vec())], Some(start))?;
-        Ok(solved.pop().and_then(|descent| self.record(descent)))
+        Ok(solved
+            .pop()
+            .and_then(|descent| self.record(descent, Some(start))))
     }
 
     /// Keeps `point` as the best if it is feasible and cheaper than the best so far.
@@ -211,7 +216,6 @@ pub fn optimize_gradient(
     settings: &GradientSettings,
 ) -> Result<DesignOutcome, GradientError> {
     let set = transmission.design_space();
-    let penalty = evaluator.penalty();
     let mut solves = Solves::new(evaluator);
     let interrupted = || codesign_core::signals::stop_requested();
     let (candidates, solved) = starts::descent_starts(transmission, settings, &mut solves)?;
@@ -228,14 +232,19 @@ pub fn optimize_gradient(
         settings.descents,
         iterates.len()
     );
-    let (best_ratios, best_cost, best_solution) = match solves.best {
-        Some(Point { ratios, merit }) => (
+    let (best_ratios, best_cost, best_solution, best_from) = match solves.best {
+        Some(Point {
             ratios,
-            merit.feasible_cost.expect("only feasible points are kept"),
+            merit,
+            from,
+        }) => (
+            ratios,
+            merit.feasible_cost,
             Some(merit.start.to_solution()),
+            from.map(Box::new),
         ),
         // Only a graded descent can end without a feasible design.
-        None => (Vec::new(), penalty.base, None),
+        None => (Vec::new(), None, None, None),
     };
     Ok(DesignOutcome {
         best_ratios,
@@ -246,6 +255,7 @@ pub fn optimize_gradient(
         method: MethodOutcome::Gradient {
             iterates,
             best_solution,
+            best_from,
         },
     })
 }

@@ -45,7 +45,7 @@ pub(super) fn descent_starts(
                 break 'batches;
             }
             solved += 1;
-            if let Some(point) = solves.record(descent) {
+            if let Some(point) = solves.record(descent, None) {
                 candidates.push((index, point));
             }
             index += 1;

@@ -113,8 +113,9 @@ pub struct OptimizeDocument {
     /// The best design found; empty when no evaluation found a design feasible (files written
     /// before this rule may hold an infeasible design here, with the penalty as its cost).
     pub best_ratios: Vec<f64>,
-    /// Its cost.
-    pub best_cost: f64,
+    /// Its cost; None (null) with no best design, under any penalty (files before version 3
+    /// held the penalty there, read as None by [`upgrade_optimize`]).
+    pub best_cost: Option<f64>,
     /// The full solve of the best design.
     pub best_result: Option<TrajectoryResult>,
     /// The original design.
@@ -157,6 +158,11 @@ pub struct OptimizeDocument {
     /// `best_result` and `original_result` are then None).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub payload_costs: Option<RangeCosts>,
+    /// For `--objective capacity`: the evaluations whose design carried the search's largest
+    /// payload (`max_kg`), where the search stops, so that their capacities tie there; absent
+    /// for the other objectives and in files written before it was counted.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub at_max: Option<usize>,
 }
 
 impl OptimizeDocument {
@@ -175,6 +181,21 @@ impl OptimizeDocument {
             .as_ref()
             .and_then(|r| r.cost_gradient.as_deref());
         space.active_bounds(&self.best_ratios, gradient)
+    }
+}
+
+/// Brings an optimize document of a version before 3, opened (its envelope removed), to version
+/// 3: without a best design (`best_ratios` empty) its `best_cost`, the penalty, becomes null.
+pub fn upgrade_optimize(value: &mut serde_json::Value, version: u32) {
+    let Some(object) = value.as_object_mut().filter(|_| version < 3) else {
+        return;
+    };
+    let none = object
+        .get("best_ratios")
+        .and_then(serde_json::Value::as_array)
+        .is_some_and(Vec::is_empty);
+    if none {
+        object.insert("best_cost".to_owned(), serde_json::Value::Null);
     }
 }
 

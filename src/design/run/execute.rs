@@ -22,9 +22,12 @@ use codesign_core::solve::{solve_design, solve_design_from, SolveError, SolveSet
 use std::path::Path;
 use std::time::Instant;
 
-/// Runs one co-design case and writes its document to `out`; returns it. A method that logs its
-/// evaluations (CMA-ES) holds its evaluation log, locked, from before the first evaluation
-/// until the document is written, and shows its progress on what `display` makes.
+/// Runs one co-design case and writes its document to `out`; returns it. Every method holds the
+/// evaluation log beside `out`, locked, from before the first evaluation until the document is
+/// written, so that one rule guards an earlier run's log (and the result it belongs to) for
+/// both: it is continued or replaced only as the case's start says. A method that logs its
+/// evaluations (CMA-ES) writes them there and shows its progress on what `display` makes; the
+/// other's log is removed once its run ends.
 pub fn run_case(
     case: &Case,
     out: &Path,
@@ -35,10 +38,7 @@ pub fn run_case(
     case.problem.configure(&mut loaded.settings);
     let read = case.model.inputs(&loaded.task);
     check_result(out, &read).map_err(RunError::store(Output::Result))?;
-    let logged = logs_evaluations(case.settings.method);
-    if logged {
-        check_output(&log_beside(out), &read).map_err(RunError::store(Output::Log))?;
-    }
+    check_output(&log_beside(out), &read).map_err(RunError::store(Output::Log))?;
     let modes = case.problem.modes(&loaded.task);
     probe_solver(&loaded.task, &loaded.settings, &loaded.robot, case, modes)?;
     let inputs = case.inputs(&loaded, modes);
@@ -49,10 +49,8 @@ pub fn run_case(
         ..
     } = loaded;
     let formulation = formulate(case, &task, robot, modes, &settings)?;
-    let mut log = match logged {
-        true => Some(open_log(case, out, &inputs)?),
-        false => None,
-    };
+    let mut log = open_log(case, out, &inputs)?;
+    let logged = logs_evaluations(case.settings.method);
     let started = Instant::now();
     let run = MethodRun {
         case,
@@ -61,11 +59,8 @@ pub fn run_case(
         settings: &settings,
         formulation: &formulation,
     };
-    let outcome = run_method(&run, log.as_mut(), display);
-    // A run without a log has no earlier invocations.
-    let earlier_seconds = log
-        .as_ref()
-        .map_or(Some(0.0), |(log, _)| log.earlier_seconds());
+    let outcome = run_method(&run, logged.then_some(&mut log), display);
+    let earlier_seconds = log.0.earlier_seconds();
     let result = outcome.and_then(|outcome| {
         let mut document = document(case, &formulation, &settings, inputs, outcome)?;
         // The document's solves of the best and the original design may have been stopped.
@@ -77,8 +72,9 @@ pub fn run_case(
         write_document(out, &document).map_err(RunError::store(Output::Result))?;
         Ok(document)
     });
-    if let (Err(_), Some((log, _))) = (&result, log) {
-        log.discard_if_unused()
+    if result.is_err() || !logged {
+        log.0
+            .discard_if_unused()
             .map_err(RunError::store(Output::Log))?;
     }
     result
@@ -165,6 +161,14 @@ fn document(
         }
         _ => case.settings.penalty,
     };
+    let at_max = match &case.settings.objective {
+        Objective::Capacity(search) => Some(
+            (outcome.costs.iter())
+                .filter(|&&cost| -cost >= search.max_kg)
+                .count(),
+        ),
+        _ => None,
+    };
     let (generations, iterates, replayed) = match outcome.method {
         MethodOutcome::Cmaes {
             generations,
@@ -194,6 +198,7 @@ fn document(
         wall_seconds: 0.0,
         earlier_seconds: None,
         payload_costs,
+        at_max,
     })
 }
 

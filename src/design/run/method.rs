@@ -7,7 +7,7 @@ use super::document::OptimizeInputs;
 use super::error::RunError;
 use super::settings::Method;
 use super::verify::confirm_best;
-use crate::design::evaluate::{Evaluator, InProcess, WorkerEvaluator};
+use crate::design::evaluate::{InProcess, WorkerEvaluator};
 use crate::design::gradient::optimize_gradient;
 use crate::design::optimize::{optimize, EvaluationLog, Finished, Logged, Progress, Sampling};
 use crate::design::outcome::DesignOutcome;
@@ -60,27 +60,25 @@ pub(super) fn run_method(
 }
 
 /// The gradient method on threads of this process (one with MUMPS, which is not thread-safe),
-/// or on worker processes when the case names a worker command (a cluster's).
+/// or on worker processes when the case names a worker command (a cluster's), with this
+/// process's own check of the best design, as a CMA-ES run's.
 fn run_gradient(run: &MethodRun<'_>) -> Result<DesignOutcome, RunError> {
     let case = run.case;
     let setup = worker_setup(run)?;
     // The workers asked for (default: one per core).
     let count = parallel::threads(case.execution.workers);
-    let evaluator: Box<dyn Evaluator> = match &case.execution.worker_command {
-        None => Box::new(InProcess::new(setup.fitness()?, count)),
-        Some(_) => {
-            let timeout = Duration::from_secs_f64(case.execution.solve_timeout_s);
-            let launcher = case.launcher(&program()?);
-            let count = count.min(MAX_GROUPS);
-            Box::new(WorkerEvaluator::new(launcher, &setup, count, timeout)?)
-        }
-    };
     let transmission = run.formulation.transmission();
-    Ok(optimize_gradient(
-        transmission,
-        evaluator.as_ref(),
-        &case.gradient,
-    )?)
+    let Some(_) = &case.execution.worker_command else {
+        let evaluator = InProcess::new(setup.fitness()?, count);
+        return Ok(optimize_gradient(transmission, &evaluator, &case.gradient)?);
+    };
+    let timeout = Duration::from_secs_f64(case.execution.solve_timeout_s);
+    let launcher = case.launcher(&program()?);
+    let count = count.min(MAX_GROUPS);
+    let evaluator = WorkerEvaluator::new(launcher.clone(), &setup, count, timeout)?;
+    let outcome = optimize_gradient(transmission, &evaluator, &case.gradient)?;
+    confirm_best(&outcome, &setup, &launcher)?;
+    Ok(outcome)
 }
 
 /// This program, which the workers run.

@@ -11,7 +11,9 @@ mod settings;
 mod verify;
 
 pub use case::{shell_quote, task_source, Case, Loaded, ModelChoice, ProblemChoice};
-pub use document::{OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts, RecordedHash};
+pub use document::{
+    upgrade_optimize, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts, RecordedHash,
+};
 pub use error::{Output, RunError};
 pub use execute::run_case;
 pub use method::ProgressDisplay;

@@ -1,11 +1,13 @@
-//! The run's own check of what its workers said: the best design of a CMA-ES run is evaluated
-//! again in this process, as a worker would (same fitness, same warm start), and the run is
-//! believed only when both agree. A worker that lies, or a log edited with a recomputed
-//! checksum, is caught where it matters: at the design the run would report.
+//! The run's own check of what its workers said: the best design of a run on worker processes
+//! (CMA-ES, or the gradient method with a worker command) is evaluated again in this process, as
+//! its worker evaluated it (same fitness, same start), and the run is believed only when both
+//! agree. A worker that lies, or a log edited with a recomputed checksum, is caught where it
+//! matters: at the design the run would report.
 
 use super::error::RunError;
 use crate::design::evaluate::{EvaluateError, Evaluator, InProcess};
-use crate::design::outcome::{BestStart, DesignOutcome};
+use crate::design::outcome::{DesignOutcome, MethodOutcome};
+use crate::design::score::Evaluation;
 use crate::design::workers::{Launcher, WorkerSetup};
 use codesign_core::text::number;
 
@@ -22,18 +24,11 @@ pub(super) fn confirm_best(
     setup: &WorkerSetup,
     launcher: &Launcher,
 ) -> Result<(), RunError> {
-    if outcome.best_ratios.is_empty() {
+    let Some(claimed) = outcome.best_cost else {
         return Ok(());
-    }
-    let anchor = match outcome.best_start() {
-        BestStart::Anchor(anchor) => Some(anchor),
-        BestStart::Solution(_) | BestStart::Cold => None,
     };
     let mut evaluator = InProcess::new(setup.fitness()?, 1);
-    let design = [(0, outcome.best_ratios.clone())];
-    let evaluations = evaluator.evaluate(&design, anchor, &mut |_, _| Ok(()))?;
-    let own = evaluations.first().ok_or(EvaluateError::Interrupted)?;
-    let claimed = outcome.best_cost;
+    let own = evaluate_again(outcome, &mut evaluator)?;
     let tolerance = COST_AGREEMENT * claimed.abs().max(1.0);
     if own.feasible && (own.cost - claimed).abs() <= tolerance {
         return Ok(());
@@ -42,12 +37,41 @@ pub(super) fn confirm_best(
         true => format!("feasible at a fitness of {}", number(own.cost)),
         false => format!("not feasible ({})", own.status),
     };
+    let (answers, then) = match outcome.method {
+        MethodOutcome::Cmaes { .. } => (
+            "or of the evaluation log they were replayed from, ",
+            ", then start afresh with --overwrite",
+        ),
+        MethodOutcome::Gradient { .. } => ("", ""),
+    };
     Err(RunError::Unconfirmed(format!(
         "the best design r = {:?} was answered feasible at a fitness of {}, but this process's \
-         own evaluation of it finds it {found}: the answers of the workers (`{launcher}`), or \
-         of the evaluation log they were replayed from, are not believed and no result was \
-         written; check the worker command, then start afresh with --overwrite",
+         own evaluation of it finds it {found}: the answers of the workers (`{launcher}`), \
+         {answers}are not believed and no result was written; check the worker command{then}",
         outcome.best_ratios,
         number(claimed)
     )))
+}
+
+/// `outcome`'s best design evaluated by `evaluator` as its method evaluated it: CMA-ES's from
+/// the solution of its generation's anchor, the gradient method's scored for a descent from the
+/// start its solve began at.
+fn evaluate_again(
+    outcome: &DesignOutcome,
+    evaluator: &mut InProcess,
+) -> Result<Evaluation, EvaluateError> {
+    let design = [(0, outcome.best_ratios.clone())];
+    let evaluations = match &outcome.method {
+        MethodOutcome::Cmaes { best_anchor, .. } => {
+            evaluator.evaluate(&design, best_anchor.as_deref(), &mut |_, _| Ok(()))?
+        }
+        MethodOutcome::Gradient { best_from, .. } => {
+            let descents = evaluator.descend(&design, best_from.as_deref())?;
+            descents.into_iter().map(|d| d.evaluation).collect()
+        }
+    };
+    evaluations
+        .into_iter()
+        .next()
+        .ok_or(EvaluateError::Interrupted)
 }

@@ -239,14 +239,11 @@ fn row_mut(rows: &mut Vec<TableRow>, payload_kg: f64, space: Space, paper: bool)
 fn add_run(row: &mut TableRow, doc: &OptimizeDocument) {
     let motors = &doc.inputs.task.task.motors;
     if let Objective::Capacity(_) = doc.inputs.settings.objective {
-        let capacity = -doc.best_cost;
-        if row
-            .capacity_max
-            .as_ref()
-            .is_none_or(|(_, best)| capacity > *best)
-            && capacity >= 0.0
-        {
-            row.capacity_max = Some((doc.best_ratios.clone(), capacity));
+        let capacity = doc.best_cost.map(|cost| -cost);
+        if let Some(capacity) = capacity.filter(|&kg| kg >= 0.0) {
+            if (row.capacity_max.as_ref()).is_none_or(|(_, best)| capacity > *best) {
+                row.capacity_max = Some((doc.best_ratios.clone(), capacity));
+            }
         }
         return;
     }

@@ -100,7 +100,7 @@ fn same_result(a: &ResultFile, b: &ResultFile) -> bool {
 
 /// What is wrong when a result holds a cost or mass no run writes: a trajectory cost J (a sum
 /// of squares) below zero or not a number, a capacity below zero (a capacity run's best cost is
-/// minus a capacity, or the penalty when no design it evaluated was feasible).
+/// minus a capacity; none without a feasible design).
 fn odd_value(file: &ResultFile) -> Option<String> {
     let cost = |name: &str, value: f64| {
         (!(value.is_finite() && value >= 0.0)).then(|| {
@@ -115,15 +115,18 @@ fn odd_value(file: &ResultFile) -> Option<String> {
             // The capacity objective minimises minus the payload: its best cost is <= 0, or
             // the penalty (at least its base) when every design was infeasible, as every one
             // is whose motors cannot hold the arm at rest.
-            Objective::Capacity(_)
-                if d.best_cost.is_finite() && d.best_cost >= d.inputs.settings.penalty =>
-            {
-                None
-            }
-            Objective::Capacity(_) => cost("best_cost", -d.best_cost),
-            Objective::Cost | Objective::Range(_) | Objective::Energy => {
-                cost("best_cost", d.best_cost).or_else(|| cost("original_cost", d.original_cost))
-            }
+            // Files written before a best design had to be feasible hold an infeasible one at
+            // the penalty (at least its base), as every design is whose motors cannot hold the
+            // arm at rest.
+            Objective::Capacity(_) => match d.best_cost {
+                Some(best) if !(best.is_finite() && best >= d.inputs.settings.penalty) => {
+                    cost("best_cost", -best)
+                }
+                _ => None,
+            },
+            Objective::Cost | Objective::Range(_) | Objective::Energy => (d.best_cost)
+                .and_then(|best| cost("best_cost", best))
+                .or_else(|| cost("original_cost", d.original_cost)),
         },
         // The table places the original design's solves; any other design has no cell.
         ResultFile::Solve(d) if d.result.ratios != d.inputs.task.task.transmission.original => {

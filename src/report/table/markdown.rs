@@ -319,15 +319,13 @@ fn range_row(range: &RangeRow) -> Vec<String> {
         .iter()
         .map(|c| format!("{} kg: {}", c.payload_kg, cost(c.cost, c.feasible)))
         .collect();
-    let found = !range.ratios.is_empty();
-    let (design, mean, per_payload) = if found {
-        (
+    let (design, mean, per_payload) = match range.mean_cost {
+        Some(mean) => (
             ratios_text(&range.ratios),
-            cost(range.mean_cost, true),
+            cost(mean, true),
             per_payload.join(", "),
-        )
-    } else {
-        ("none feasible".to_owned(), "-".to_owned(), "-".to_owned())
+        ),
+        None => ("none feasible".to_owned(), "-".to_owned(), "-".to_owned()),
     };
     vec![
         format!("{} kg", payloads.join(", ")),
@@ -380,14 +378,15 @@ fn after_columns(after: &AfterCell) -> [String; 4] {
     let seeds = after
         .per_seed
         .iter()
-        .map(
-            |(s, c)| match after.early_stops.iter().find(|e| e.0 == *s) {
+        .map(|(s, c)| {
+            let cost = c.map_or_else(|| "none feasible".to_owned(), |c| format!("{c:.2}"));
+            match after.early_stops.iter().find(|e| e.0 == *s) {
                 Some((_, last, why)) => {
-                    format!("{s}: {c:.2} (stopped after generation {last}: {why})")
+                    format!("{s}: {cost} (stopped after generation {last}: {why})")
                 }
-                None => format!("{s}: {c:.2}"),
-            },
-        )
+                None => format!("{s}: {cost}"),
+            }
+        })
         .collect::<Vec<_>>()
         .join(", ");
     [

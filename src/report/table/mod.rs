@@ -19,7 +19,7 @@ pub use check::check_results;
 use super::codesign::{upgrade_capacity, CapacityDocument};
 use super::solve_document::SolveDocument;
 use super::{ReadFailure, ReportError};
-use crate::design::run::{OptimizeDocument, PayloadCost};
+use crate::design::run::{upgrade_optimize, OptimizeDocument, PayloadCost};
 use crate::store::document::{self, Schema, Tagged};
 use codesign_core::input::{read_text, MAX_RESULT_BYTES};
 use codesign_core::ipopt::LinearSolver;
@@ -105,6 +105,7 @@ pub fn read_result_file(path: &Path) -> Result<ResultFile, ReportError> {
             serde_json::from_value(value).map(|d| ResultFile::Capacity(Box::new(d)))
         }
         Schema::Optimize => {
+            upgrade_optimize(&mut value, version);
             serde_json::from_value(value).map(|d| ResultFile::Optimize(Box::new(d)))
         }
         Schema::Solve => serde_json::from_value(value).map(|d| ResultFile::Solve(Box::new(d))),
@@ -191,8 +192,9 @@ pub struct DesignCell {
 pub struct AfterCell {
     /// The best design over the seeds (None when no run found a feasible design).
     pub best: Option<DesignCell>,
-    /// Best cost per seed, (seed, cost).
-    pub per_seed: Vec<(u64, f64)>,
+    /// Best cost per seed, (seed, cost); the cost None (null) for a seed that found no feasible
+    /// design.
+    pub per_seed: Vec<(u64, Option<f64>)>,
     /// Runs that stopped before their last generation: (seed, last generation run, why).
     #[serde(default)]
     pub early_stops: Vec<(u64, usize, String)>,
@@ -310,8 +312,8 @@ pub struct RangeRow {
     pub seed: u64,
     /// The best design (empty when none was feasible at every payload).
     pub ratios: Vec<f64>,
-    /// Its mean cost over the payloads (the penalty when none was feasible).
-    pub mean_cost: f64,
+    /// Its mean cost over the payloads (None, null, when none was feasible).
+    pub mean_cost: Option<f64>,
     /// Its cost at each payload.
     pub per_payload: Vec<PayloadCost>,
     /// The original design's mean cost (the penalty when infeasible at some payload).
