@@ -210,11 +210,11 @@ mod tests {
         let readme = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md");
         let text = std::fs::read_to_string(readme).unwrap();
         let result = Schema::Solve.version();
-        assert_eq!(Schema::Optimize.version(), result);
         assert_eq!(Schema::Capacity.version(), result);
         let said = format!(
-            "its `version` ({result} for a solve, optimize or capacity result today, {} for a \
-             table)",
+            "its `version` ({result} for a solve or capacity result today, {} for an optimize \
+             result, {} for a table)",
+            Schema::Optimize.version(),
             Schema::Table.version()
         );
         let flowing = text.split_whitespace().collect::<Vec<_>>().join(" ");

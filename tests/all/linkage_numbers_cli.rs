@@ -95,7 +95,7 @@ fn a_screw_passing_its_dead_point_between_nodes_is_infeasible_and_checked() {
     let text = String::from_utf8_lossy(&output.stdout);
     assert!(
         text.contains("its ratio to joint elbow changes sign")
-            && text.contains("passes a dead point at elbow = "),
+            && text.contains("the motor passes a dead point near elbow = "),
         "{text}"
     );
 }

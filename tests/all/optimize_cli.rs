@@ -542,7 +542,7 @@ fn the_capacity_objective_searches_up_to_max_and_says_when_designs_reach_it() {
     for max in ["2000", "0", "inf"] {
         support::refused_as_usage(
             &support::codesign(&capacity(max)),
-            &format!("--max {max}: must be a mass > 0 and <= 1000 kg"),
+            &format!("--max {max}: must be a mass from 0.000001 kg (a milligram"),
         );
     }
     support::refused_as_usage(
