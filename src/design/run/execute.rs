@@ -18,7 +18,9 @@ use codesign_core::model::task::{LimitModes, Task};
 use codesign_core::model::Robot;
 use codesign_core::problem::Formulation;
 use codesign_core::signals;
-use codesign_core::solve::{solve_design, solve_design_from, SolveError, SolveSettings, ToolInfo};
+use codesign_core::solve::{
+    solve_design, solve_design_from, SolveError, SolveSettings, ToolInfo, TrajectoryResult,
+};
 use std::path::Path;
 use std::time::Instant;
 
@@ -154,21 +156,8 @@ fn document(
             None,
         ),
     };
-    let original_cost = match (&original_result, &payload_costs) {
-        (Some(result), _) if result.feasible => result.cost,
-        (_, Some(costs)) if costs.original.iter().all(|c| c.feasible) => {
-            costs.original.iter().map(|c| c.cost).sum::<f64>() / costs.original.len() as f64
-        }
-        _ => case.settings.penalty,
-    };
-    let at_max = match &case.settings.objective {
-        Objective::Capacity(search) => Some(
-            (outcome.costs.iter())
-                .filter(|&&cost| -cost >= search.max_kg)
-                .count(),
-        ),
-        _ => None,
-    };
+    let original_cost = original_cost(case, original_result.as_ref(), payload_costs.as_ref());
+    let at_max = at_max(&case.settings.objective, &outcome.costs);
     let (generations, iterates, replayed) = match outcome.method {
         MethodOutcome::Cmaes {
             generations,
@@ -200,6 +189,33 @@ fn document(
         payload_costs,
         at_max,
     })
+}
+
+/// The original design's fitness: its J where feasible (the mean over a range's payloads where
+/// feasible at every one), else the case's penalty.
+fn original_cost(
+    case: &Case,
+    result: Option<&TrajectoryResult>,
+    payload_costs: Option<&RangeCosts>,
+) -> f64 {
+    match (result, payload_costs) {
+        (Some(result), _) if result.feasible => result.cost,
+        (_, Some(costs)) if costs.original.iter().all(|c| c.feasible) => {
+            costs.original.iter().map(|c| c.cost).sum::<f64>() / costs.original.len() as f64
+        }
+        _ => case.settings.penalty,
+    }
+}
+
+/// How many evaluations of a capacity search reached its ceiling `max_kg` (their capacities
+/// tie there); None for other objectives.
+fn at_max(objective: &Objective, costs: &[f64]) -> Option<usize> {
+    match objective {
+        Objective::Capacity(search) => {
+            Some(costs.iter().filter(|&&cost| -cost >= search.max_kg).count())
+        }
+        _ => None,
+    }
 }
 
 /// The best design of `outcome` solved in `scored`, started as its evaluation was (None when
