@@ -14,11 +14,7 @@ from typing import List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from codesign import _native
-
-
-def _vector(values: Sequence[float]) -> list:
-    """A joint vector as a list of floats (from any sequence or numpy array)."""
-    return [float(value) for value in np.asarray(values, dtype=float).ravel()]
+from codesign._keywords import design
 
 
 class Robot:
@@ -60,15 +56,15 @@ class Robot:
 
     def rnea(self, q: Sequence[float], v: Sequence[float], a: Sequence[float]) -> np.ndarray:
         """Inverse dynamics tau = M(q) a + b(q, v), N m, shape (n,)."""
-        return self._native.rnea(_vector(q), _vector(v), _vector(a))
+        return self._native.rnea(design("q", q), design("v", v), design("a", a))
 
     def mass_matrix(self, q: Sequence[float]) -> np.ndarray:
         """The joint-space mass matrix M(q), kg m^2, shape (n, n)."""
-        return self._native.mass_matrix(_vector(q))
+        return self._native.mass_matrix(design("q", q))
 
     def tcp(self, q: Sequence[float]) -> Tuple[np.ndarray, np.ndarray]:
         """The TCP's world position p(q), m, shape (3,), and its Jacobian dp/dq, shape (3, n)."""
-        return self._native.tcp(_vector(q))
+        return self._native.tcp(design("q", q))
 
 
 class Transmission:
@@ -98,7 +94,7 @@ class Transmission:
         the zero pose), shape (motors, joints). A constant G does not depend on q."""
         ratios = self._original if ratios is None else ratios
         q = np.zeros(self._native_dof()) if q is None else q
-        return self._native.ratio_matrix(_vector(ratios), _vector(q))
+        return self._native.ratio_matrix(design("ratios", ratios), design("q", q))
 
     def _native_dof(self) -> int:
         return len(self._native.joint_names())

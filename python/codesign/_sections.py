@@ -9,6 +9,7 @@ is that of the same task read from JSON. Units: m, kg, s, rad, N m.
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field
+from enum import Enum
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 from codesign._choices import Ends, LimitMode
@@ -23,7 +24,7 @@ def _plain(value: Any) -> Any:
         return {key: _plain(item) for key, item in value.items() if item is not None}
     if isinstance(value, (list, tuple)):
         return [_plain(item) for item in value]
-    if isinstance(value, (Ends, LimitMode)):
+    if isinstance(value, Enum):
         return value.value
     return value
 

@@ -4,6 +4,7 @@
 //! G at a design and a pose.
 
 use crate::errors::{Failure, Outcome};
+use crate::solution::rows;
 use crate::task::NativeTask;
 use codesign_core::dynamics::Dynamics;
 use codesign_core::model::Robot;
@@ -23,11 +24,11 @@ pub struct NativeRobot {
 
 /// A matrix as a 2-D array.
 fn matrix<'py>(py: Python<'py>, m: &DMatrix<f64>) -> Bound<'py, PyArray2<f64>> {
-    let rows: Vec<Vec<f64>> = m
+    let values: Vec<Vec<f64>> = m
         .row_iter()
         .map(|row| row.iter().copied().collect())
         .collect();
-    PyArray2::from_vec2(py, &rows).unwrap_or_else(|_| PyArray2::zeros(py, [0, 0], false))
+    rows(py, &values, m.ncols())
 }
 
 impl NativeRobot {

@@ -21,7 +21,11 @@ pub struct NativeSolution {
 }
 
 /// Rows of equal length as a 2-D array of shape (rows, `width`).
-fn rows<'py>(py: Python<'py>, rows: &[Vec<f64>], width: usize) -> Bound<'py, PyArray2<f64>> {
+pub(crate) fn rows<'py>(
+    py: Python<'py>,
+    rows: &[Vec<f64>],
+    width: usize,
+) -> Bound<'py, PyArray2<f64>> {
     let flat: Vec<f64> = rows.iter().flatten().copied().collect();
     let array = PyArray1::from_vec(py, flat);
     array

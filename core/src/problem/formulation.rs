@@ -2,7 +2,7 @@
 //! constraint families, its layout and its sparsity patterns.
 
 use super::cost::Criterion;
-use super::families::{self, added::Added, Family, FamilyId, Shape};
+use super::families::{self, added, Family, Shape};
 use super::hessian;
 use super::hold::DEFAULT_HOLD_TOLERANCE_NM;
 use super::kind::ProblemKind;
@@ -197,8 +197,8 @@ impl Formulation {
         };
         self.families = families::of(&shape);
         for (i, constraint) in self.added.constraints.iter().enumerate() {
-            let family: Arc<dyn Family> = Arc::new(Added(constraint.clone()));
-            self.families.push((BlockId(FamilyId::COUNT + i), family));
+            let family: Arc<dyn Family> = Arc::new(added::Added(constraint.clone()));
+            self.families.push((added::block(i), family));
         }
         let blocks: Vec<(BlockId, RowBlock)> = (self.families.iter())
             .filter_map(|(id, family)| family.rows().map(|rows| (*id, rows)))

@@ -13,7 +13,7 @@
 //! they always agree.
 
 use super::cost::Cost;
-use super::families::FamilyId;
+use super::families::added;
 use super::families::NodeSecondOrder;
 use super::formulation::Formulation;
 use super::layout::Layout;
@@ -298,15 +298,10 @@ fn added_terms(
 ) -> (DMatrix<f64>, DMatrix<f64>) {
     let size = 4 * formulation.layout().dof;
     let (mut rows, mut cost) = (DMatrix::zeros(size, size), DMatrix::zeros(size, size));
-    for (id, family) in formulation.families() {
-        let added = formulation.added_constraints();
-        let Some(constraint) = id.0.checked_sub(FamilyId::COUNT).and_then(|i| added.get(i)) else {
-            continue;
-        };
-        if let (Some(row), Some(block)) =
-            (formulation.layout().first_row(*id, node.k), family.rows())
-        {
-            constraint.hessian(node, &lambda[row..row + block.per_node], &mut rows);
+    let layout = formulation.layout();
+    for (i, constraint) in formulation.added_constraints().iter().enumerate() {
+        if let Some(row) = layout.first_row(added::block(i), node.k) {
+            constraint.hessian(node, &lambda[row..row + constraint.rows()], &mut rows);
         }
     }
     for term in formulation.added_costs() {

@@ -127,33 +127,48 @@ pub(super) fn at_node<R>(
 
 /// The added cost terms' sum at x.
 pub(super) fn cost(formulation: &Formulation, x: &[f64]) -> f64 {
-    costs(formulation, x).iter().map(|(_, value)| value).sum()
+    let steps = formulation.layout().steps;
+    let terms = formulation.added_costs();
+    let node_sum = |node: &mut NodeContext<'_>| terms.iter().map(|t| t.value(node)).sum::<f64>();
+    (0..steps)
+        .map(|k| at_node(formulation, x, k, node_sum))
+        .sum()
 }
 
 /// Each added cost term's value at x, summed over the nodes, under its name.
 pub(super) fn costs(formulation: &Formulation, x: &[f64]) -> Keyed {
+    let terms = formulation.added_costs();
+    let mut sums = vec![0.0; terms.len()];
+    for k in 0..formulation.layout().steps {
+        at_node(formulation, x, k, |node| {
+            for (sum, term) in sums.iter_mut().zip(terms) {
+                *sum += term.value(node);
+            }
+        });
+    }
     let mut values = Keyed::default();
-    for term in formulation.added_costs() {
-        let steps = formulation.layout().steps;
-        let value = (0..steps).map(|k| at_node(formulation, x, k, |node| term.value(node)));
-        values.push(term.name(), value.sum());
+    for (term, sum) in terms.iter().zip(sums) {
+        values.push(term.name(), sum);
     }
     values
 }
 
 /// Adds the added cost terms' gradient at x into `gradient` (over every variable).
 pub(super) fn add_cost_gradient(formulation: &Formulation, x: &[f64], gradient: &mut [f64]) {
-    let layout = formulation.layout();
+    let (layout, terms) = (formulation.layout(), formulation.added_costs());
+    if terms.is_empty() {
+        return;
+    }
     let mut node_gradient = vec![0.0; 4 * layout.dof];
-    for term in formulation.added_costs() {
-        for k in 0..layout.steps {
-            node_gradient.fill(0.0);
-            at_node(formulation, x, k, |node| {
-                term.gradient(node, &mut node_gradient)
-            });
-            for (c, column) in node_columns(layout, k).enumerate() {
-                gradient[column] += node_gradient[c];
-            }
+    for k in 0..layout.steps {
+        node_gradient.fill(0.0);
+        at_node(formulation, x, k, |node| {
+            terms
+                .iter()
+                .for_each(|term| term.gradient(node, &mut node_gradient))
+        });
+        for (c, column) in node_columns(layout, k).enumerate() {
+            gradient[column] += node_gradient[c];
         }
     }
 }

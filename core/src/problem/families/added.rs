@@ -3,13 +3,19 @@
 //! goes into the node's full block (`../hessian.rs`); it has no design sensitivity (an added
 //! term does not depend on r).
 
-use super::family::{At, Emit, Family, Place};
-use crate::problem::layout::RowBlock;
+use super::family::{At, Emit, Family, FamilyId, Place};
+use crate::problem::layout::{BlockId, RowBlock};
 use crate::problem::nlp::TrajectoryProblem;
 use crate::problem::node::NodeEval;
 use crate::problem::terms::{at_node, node_columns, NodeConstraint};
 use nalgebra::DMatrix;
 use std::sync::Arc;
+
+/// The row block of the added constraint `i` (0-based, in the order added): after every
+/// built-in family's.
+pub(in crate::problem) fn block(i: usize) -> BlockId {
+    BlockId(FamilyId::COUNT + i)
+}
 
 /// The family of one added constraint.
 #[derive(Debug)]
