@@ -75,6 +75,10 @@ def test_run_settings_are_checked(planar, tmp_path):
     # Issue 57, item 10: a step wider than the design box, up to samples that are no number.
     with pytest.raises(cd.InputError, match="^sigma=1e308: must be a positive number at most 1"):
         planar.optimize(space="actuation", sigma=1e308, progress=False)
+    # Issue 57, item 20: a budget whose result `table` could not read (256 MiB).
+    with pytest.raises(cd.InputError, match="^generations=30000: with population 10000 that is "
+                       "300010000 evaluations"):
+        planar.optimize(space="actuation", population=10000, generations=30000, progress=False)
 
 
 def test_a_progress_callback_that_raises_stops_the_run(planar, tmp_path):

@@ -203,6 +203,7 @@ impl Inspection {
         inspection.check_design(parts, ratios, hold_tolerance_nm);
         inspection.check_envelope();
         inspection.check_limit_modes(task, &transmission);
+        inspection.check_memory(task, robot);
         inspection.check_box(task, &dynamics);
         // The linkages at the design inspected where it is valid (a verdict names it otherwise).
         let design = match transmission.check_design(ratios) {

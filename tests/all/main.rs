@@ -21,6 +21,7 @@ mod experiment_cli;
 mod hold_cli;
 mod hostile_cli;
 mod index_page;
+mod limits_cli;
 mod linkage_numbers_cli;
 mod motors_cli;
 mod ocp_reference;

@@ -7,6 +7,7 @@ use super::hessian;
 use super::hold::DEFAULT_HOLD_TOLERANCE_NM;
 use super::kind::ProblemKind;
 use super::layout::{BlockId, Layout, RowBlock};
+use super::memory::{self, MemoryNeed};
 use super::nlp::TrajectoryProblem;
 use super::pose_rules;
 use super::terms::{AddedTerms, NodeConstraint, NodeCost};
@@ -91,8 +92,40 @@ pub struct Formulation {
 }
 
 impl Formulation {
-    /// The hard formulation of `task` for `robot` (payload already set) in `space` with `modes`.
+    /// The hard formulation of `task` for `robot` (payload already set) in `space` with `modes`;
+    /// refused, naming the estimate, when one solve of it would need more memory than the
+    /// machine has available ([`MemoryNeed`]).
     pub fn new(
+        task: &Task,
+        robot: Robot,
+        space: Space,
+        modes: LimitModes,
+    ) -> Result<Formulation, FormulationError> {
+        let mut formulation = Formulation::laid_out(task, robot, space, modes)?;
+        let need = formulation.memory_need();
+        need.check(
+            memory::available_bytes(),
+            task.motion.steps,
+            formulation.layout.dof,
+        )?;
+        formulation.jacobian = families::jacobian_pattern(&formulation);
+        formulation.hessian = hessian::pattern(&formulation);
+        Ok(formulation)
+    }
+
+    /// The estimated memory of one solve of the formulation [`Formulation::new`] would build,
+    /// without building its sparsity patterns; errs where `new` errs for another reason.
+    pub fn memory_need_of(
+        task: &Task,
+        robot: Robot,
+        space: Space,
+        modes: LimitModes,
+    ) -> Result<MemoryNeed, FormulationError> {
+        Ok(Formulation::laid_out(task, robot, space, modes)?.memory_need())
+    }
+
+    /// The hard formulation's families and layout, without its sparsity patterns.
+    fn laid_out(
         task: &Task,
         robot: Robot,
         space: Space,
@@ -157,9 +190,14 @@ impl Formulation {
             jacobian: Vec::new(),
             hessian: Vec::new(),
         };
-        formulation.build(ProblemKind::Hard);
-        formulation.hessian = hessian::pattern(&formulation);
+        formulation.lay_out(ProblemKind::Hard);
         Ok(formulation)
+    }
+
+    /// The estimated memory of one solve of this formulation; [`Formulation::new`] refuses a
+    /// formulation whose need exceeds the memory the machine has available.
+    pub fn memory_need(&self) -> MemoryNeed {
+        MemoryNeed::of(self)
     }
 
     /// The same formulation in the elastic kind (docs/model.md, section 14): always feasible,
@@ -185,6 +223,12 @@ impl Formulation {
 
     /// Builds the families of `kind`, their layout and the Jacobian's structure.
     fn build(&mut self, kind: ProblemKind) {
+        self.lay_out(kind);
+        self.jacobian = families::jacobian_pattern(self);
+    }
+
+    /// Builds the families of `kind` and their layout.
+    fn lay_out(&mut self, kind: ProblemKind) {
         let shape = Shape {
             dof: self.layout.dof,
             space: self.space,
@@ -204,7 +248,6 @@ impl Formulation {
             .filter_map(|(id, family)| family.rows().map(|rows| (*id, rows)))
             .collect();
         self.layout = Layout::new(self.layout.dof, self.layout.steps, &blocks, kind);
-        self.jacobian = families::jacobian_pattern(self);
     }
 
     /// The same formulation (space, modes, kind) for the robot carrying `payload_kg` kg at the

@@ -4,7 +4,9 @@
 //! modes, and with them the problem's constraint families (`families/`, one file each), its
 //! [`Layout`] and its sparsity patterns, built once. Its [`Formulation::problem`] gives the
 //! [`TrajectoryProblem`] of one design r, which implements [`crate::ipopt::Nlp`] with exact,
-//! hand-derived sparse derivatives by walking the families node by node. Constraints and cost
+//! hand-derived sparse derivatives by walking the families node by node. A formulation whose
+//! solve would need more memory than the machine has available is refused before its patterns
+//! are built ([`MemoryNeed`], `memory.rs`). Constraints and cost
 //! terms on one node's variables may be added from outside the core ([`NodeConstraint`],
 //! [`NodeCost`], `terms.rs`).
 
@@ -15,6 +17,7 @@ mod hessian;
 mod hold;
 mod kind;
 mod layout;
+mod memory;
 mod nlp;
 mod node;
 mod pose_rules;
@@ -33,6 +36,7 @@ pub use formulation::{Formulation, FormulationError};
 pub use hold::{margins, EndHold, HoldRows, StaticHold, DEFAULT_HOLD_TOLERANCE_NM};
 pub use kind::ProblemKind;
 pub use layout::{BlockId, Layout, RowBlock};
+pub use memory::{available_bytes, MemoryNeed, BASE_BYTES, BYTES_PER_NONZERO};
 pub use nlp::TrajectoryProblem;
 pub use pose_rules::check_modes;
 pub use sensitivity::cost_gradient;

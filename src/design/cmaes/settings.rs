@@ -1,5 +1,6 @@
 //! The settings of a CMA-ES run, their defaults and ranges, and why a run stops.
 
+use codesign_core::input::MAX_RESULT_BYTES;
 use codesign_core::model::experiment::Budget;
 use codesign_core::text::number;
 use serde::{Deserialize, Serialize};
@@ -50,6 +51,12 @@ pub const MAX_POPULATION: usize = 10_000;
 /// this bound only keeps sizes and the log's indices sane.
 pub const MAX_GENERATIONS: usize = 30_000;
 
+/// Most evaluations of a run, population times (generations + 1): 1600 times the paper's 3100.
+/// The result lists every evaluation's cost (at most 30 bytes each as written) and `table` reads
+/// results of at most [`MAX_RESULT_BYTES`]; the evaluation log takes about 300 bytes an
+/// evaluation (1.5 GB here).
+pub const MAX_EVALUATIONS: usize = 5_000_000;
+
 /// The largest initial step size, relative to the widths of the design box: pagmo's bound.
 const MAX_SIGMA0: f64 = 1.0;
 
@@ -97,6 +104,22 @@ impl CmaesSettings {
                 "generations",
                 &self.generations,
                 format!("must be at most {MAX_GENERATIONS} (1000 times the paper's 30)"),
+            );
+        }
+        let evaluations = self
+            .population
+            .saturating_mul(self.generations.saturating_add(1));
+        if evaluations > MAX_EVALUATIONS {
+            return error(
+                "generations",
+                &self.generations,
+                format!(
+                    "with population {} that is {evaluations} evaluations (population x \
+                     (generations + 1)), but a run may make at most {MAX_EVALUATIONS}: its result \
+                     lists every evaluation's cost, and `table` reads results of at most {} MiB",
+                    self.population,
+                    MAX_RESULT_BYTES >> 20
+                ),
             );
         }
         if !(self.sigma0 > 0.0 && self.sigma0 <= MAX_SIGMA0) {
@@ -154,5 +177,42 @@ impl fmt::Display for StopReason {
                 "diverged: at step size {sigma:e} the next samples are no finite designs"
             ),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{CmaesSettings, MAX_EVALUATIONS, MAX_GENERATIONS};
+    use codesign_core::input::MAX_RESULT_BYTES;
+
+    fn budget(population: usize, generations: usize) -> CmaesSettings {
+        CmaesSettings {
+            population,
+            generations,
+            ..CmaesSettings::PAPER
+        }
+    }
+
+    #[test]
+    fn a_budget_whose_result_no_reader_takes_is_refused_naming_both_settings() {
+        let error = budget(10_000, 30_000).validate().unwrap_err();
+        assert_eq!(error.field, "generations");
+        assert!(error.rule.contains("population 10000"), "{error}");
+        assert!(error.rule.contains("300010000 evaluations"), "{error}");
+        assert!(error.rule.contains("256 MiB"), "{error}");
+        budget(5000, 999).validate().unwrap();
+        assert_eq!(
+            budget(5000, 1000).validate().unwrap_err().field,
+            "generations"
+        );
+        budget(100, 30).validate().unwrap();
+    }
+
+    #[test]
+    fn the_largest_run_writes_a_result_the_table_reads() {
+        // Each cost on a line of its own: 4 spaces, at most 24 characters, ",\n"; each
+        // generation's record at most 200 bytes; 1 MiB for the rest (designs, trajectories).
+        let bytes = MAX_EVALUATIONS * 30 + (MAX_GENERATIONS + 1) * 200 + (1 << 20);
+        assert!((bytes as u64) < MAX_RESULT_BYTES, "{bytes}");
     }
 }

@@ -8,7 +8,7 @@ use super::{rows, HoldReport, Inspection, Severity, Verdict};
 use codesign_core::dynamics::Dynamics;
 use codesign_core::model::task::{Ends, Task};
 use codesign_core::model::Robot;
-use codesign_core::problem::{check_modes, EndHold, HoldRows, Space};
+use codesign_core::problem::{available_bytes, check_modes, EndHold, Formulation, HoldRows, Space};
 use codesign_core::text::{number, numbers, rounded};
 use codesign_core::transmission::{JointLimits, Transmission};
 
@@ -273,6 +273,24 @@ impl Inspection {
             modes.speed.name()
         );
         self.verdict("limit modes", detail.map(Finding::error), fine);
+    }
+
+    /// The memory one solve needs (the larger of the two spaces' estimates, where they can be
+    /// posed) against what the machine has available, refused in a solve's words.
+    pub(super) fn check_memory(&mut self, task: &Task, robot: &Robot) {
+        let need =
+            |space| Formulation::memory_need_of(task, robot.clone(), space, task.limit_modes).ok();
+        let Some(need) = [Space::Joint, Space::Actuation]
+            .into_iter()
+            .filter_map(need)
+            .max_by_key(|need| need.bytes)
+        else {
+            return;
+        };
+        let refusal = need.refusal(available_bytes(), task.motion.steps, robot.dof());
+        // The memory available is left out when it fits: it changes from one call to the next.
+        let fine = format!("one solve needs about {} MiB", need.bytes.div_ceil(1 << 20));
+        self.verdict("memory", refusal.map(Finding::error), fine);
     }
 
     /// The TCP at the start and the goal against the soft Cartesian box (`cartesian_box`), where

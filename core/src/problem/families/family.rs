@@ -270,6 +270,15 @@ pub(in crate::problem) fn jacobian_pattern(formulation: &Formulation) -> Vec<(us
     entries
 }
 
+/// The number of entries of `formulation`'s Jacobian, counted without storing them.
+pub(in crate::problem) fn jacobian_count(formulation: &Formulation) -> usize {
+    let mut count = 0;
+    let zeros = NodeEval::zeros(formulation.layout().dof);
+    let at = At::Structure(formulation);
+    visit_jacobian(&at, |_| &zeros, &mut |_, _, _| count += 1);
+    count
+}
+
 /// Visits the Jacobian's entries node by node, each node's families in order, with node k's
 /// evaluation `node(k)`.
 pub(in crate::problem) fn visit_jacobian<'n>(

@@ -30,7 +30,7 @@ mod strokes;
 
 pub use family::FamilyId;
 pub(super) use family::{
-    jacobian_pattern, visit_jacobian, At, DesignDerivative, Family, LoadDerivative,
+    jacobian_count, jacobian_pattern, visit_jacobian, At, DesignDerivative, Family, LoadDerivative,
     NodeSecondOrder, Place, Shape,
 };
 
