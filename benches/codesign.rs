@@ -1,13 +1,16 @@
 //! A co-design run side by side with the paper's stack, one worker each: CMA-ES over the gear
-//! ratios at 1 kg in actuation space, population 16 over 8 generations, sigma0 0.3, per seed.
+//! ratios at 1 kg (or `--payload KG`: 3 for the paper's edge of feasibility) in actuation space,
+//! population 16 over 8 generations, sigma0 0.3, per seed.
 //!
-//! `cargo bench --bench codesign [-- --seeds 0,1,2,3,4] [--python PYTHON]`: for each seed, in
-//! turn, `codesign optimize --space actuation --payload 1 --population 16 --generations 8
+//! `cargo bench --bench codesign [-- --seeds 0,1,2,3,4] [--payload 1] [--python PYTHON]`: for
+//! each seed, in turn, `codesign optimize --space actuation --payload 1 --population 16 --generations 8
 //! --seed S --workers 1` (the crate's defaults otherwise: LDLᵀ, flat penalty, bounds by penalty)
 //! and `benches/paper_stack/codesign.py --seed S` (pygmo's cmaes over CasADi + IPOPT + MUMPS,
 //! the same outer problem, static hold and penalty), each timed as a whole command, process
 //! start included. Printed: per seed and as medians over the seeds, the wall time, the
-//! evaluations, the IPOPT solves, their iterations and time, and the best cost. Then the crate's
+//! evaluations, the IPOPT solves, their iterations and time, the best cost and when the best
+//! design was first evaluated (s from the run's start; the paper stack's includes building its
+//! CasADi problem, the crate's the run's own `run_seconds`). Then the crate's
 //! run of the first seed with `--linear-solver mumps` (the paper stack's linear solver), and,
 //! untimed, the two stacks' verdicts compared design by design on that run (`codesign.py
 //! --agree`). The machine's load average is printed before and
@@ -23,12 +26,10 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// The run's size and settings, as both stacks take them.
-const RUN_ARGS: [&str; 10] = [
+/// The run's size and settings but the payload, as both stacks take them.
+const RUN_ARGS: [&str; 8] = [
     "--space",
     "actuation",
-    "--payload",
-    "1",
     "--population",
     "16",
     "--generations",
@@ -52,12 +53,14 @@ struct Row {
     /// Mean time of an IPOPT iteration, ms.
     ms_per_iteration: f64,
     best_cost: f64,
+    /// When the best design was first evaluated, s from the run's start (NaN: not known).
+    best_seconds: f64,
 }
 
 impl Row {
-    /// A run's row from its totals: wall time, evaluations, solves, iterations, solve time (s)
-    /// and best cost.
-    fn new(totals: [f64; 5], best_cost: f64) -> Row {
+    /// A run's row from its totals: wall time, evaluations, solves, iterations, solve time (s),
+    /// and its best cost with the time it was found, s.
+    fn new(totals: [f64; 5], (best_cost, best_seconds): (f64, f64)) -> Row {
         let [wall, evaluations, solves, iterations, solve_seconds] = totals;
         Row {
             wall,
@@ -68,19 +71,22 @@ impl Row {
             ms_per_solve: 1e3 * solve_seconds / solves.max(1.0),
             ms_per_iteration: 1e3 * solve_seconds / iterations.max(1.0),
             best_cost,
+            best_seconds,
         }
     }
 }
 
-/// The command line: seeds and the paper stack's Python.
+/// The command line: seeds, payload (kg, as given) and the paper stack's Python.
 struct Options {
     seeds: Vec<u64>,
+    payload: String,
     python: String,
 }
 
 fn options() -> Options {
     let mut options = Options {
         seeds: (0..5).collect(),
+        payload: "1".into(),
         python: std::env::var("PAPER_STACK_PYTHON").unwrap_or_else(|_| "python3".into()),
     };
     let mut args = std::env::args().skip(1);
@@ -97,6 +103,11 @@ fn options() -> Options {
                     })
                     .collect();
             }
+            "--payload" => {
+                let payload = args.next().expect("--payload takes a mass in kg, e.g. 3");
+                payload.parse::<f64>().expect("--payload: a number of kg");
+                options.payload = payload;
+            }
             "--python" => options.python = args.next().expect("--python takes an interpreter"),
             // `cargo bench` passes --bench; other flags are the harness's, not ours.
             _ => {}
@@ -110,12 +121,14 @@ fn number(value: &Value, key: &str) -> f64 {
     value[key].as_f64().unwrap_or(0.0)
 }
 
-/// The crate's `optimize` run of `seed` written to `out` (extra flags in `extra`), timed.
-fn ours(seed: u64, out: &Path, extra: &[&str]) -> Row {
+/// The crate's `optimize` run of `seed` at `payload` kg written to `out` (extra flags in
+/// `extra`), timed.
+fn ours(seed: u64, payload: &str, out: &Path, extra: &[&str]) -> Row {
     let mut command = Command::new(env!("CARGO_BIN_EXE_codesign"));
     command
         .arg("optimize")
         .args(RUN_ARGS)
+        .args(["--payload", payload])
         .args(["--seed", &seed.to_string(), "--workers", "1", "--overwrite"])
         .arg("--out")
         .arg(out)
@@ -125,12 +138,15 @@ fn ours(seed: u64, out: &Path, extra: &[&str]) -> Row {
         serde_json::from_str(&std::fs::read_to_string(out).expect("the result is written"))
             .expect("the result is JSON");
     let log = std::fs::read_to_string(log_of(out)).expect("the log is written");
-    let iterations: f64 = log
-        .lines()
-        .skip(1)
-        .map(|line| serde_json::from_str::<Value>(line).expect("a log record is JSON"))
-        .map(|record| number(&record, "iterations"))
-        .sum();
+    let records: Vec<Value> = (log.lines().skip(1))
+        .map(|line| serde_json::from_str(line).expect("a log record is JSON"))
+        .collect();
+    let iterations = records.iter().map(|r| number(r, "iterations")).sum();
+    // No feasible design: no best cost (null).
+    let best_cost = result["best_cost"].as_f64().unwrap_or(f64::NAN);
+    let best_seconds = (records.iter())
+        .find(|r| r["feasible"] == true && number(r, "cost") == best_cost)
+        .map_or(f64::NAN, |r| number(r, "run_seconds"));
     Row::new(
         [
             wall,
@@ -139,7 +155,7 @@ fn ours(seed: u64, out: &Path, extra: &[&str]) -> Row {
             iterations,
             number(&result, "solve_seconds_total"),
         ],
-        number(&result, "best_cost"),
+        (best_cost, best_seconds),
     )
 }
 
@@ -154,11 +170,12 @@ fn script() -> PathBuf {
 }
 
 /// The paper stack's run of `seed`, timed.
-fn paper_stack(python: &str, seed: u64) -> Row {
+fn paper_stack(python: &str, seed: u64, payload: &str) -> Row {
     let (stdout, wall) = timed(
         Command::new(python)
             .arg(script())
             .args(&RUN_ARGS[2..])
+            .args(["--payload", payload])
             .args(["--seed", &seed.to_string(), "--json"]),
     );
     let row: Value = serde_json::from_str(stdout.trim()).expect("the script prints JSON");
@@ -176,7 +193,10 @@ fn paper_stack(python: &str, seed: u64) -> Row {
             number(&row, "iterations"),
             number(&row, "solve_seconds"),
         ],
-        number(&row, "best_cost"),
+        (
+            number(&row, "best_cost"),
+            row["best_seconds"].as_f64().unwrap_or(f64::NAN),
+        ),
     )
 }
 
@@ -191,7 +211,8 @@ fn has_paper_stack(python: &str) -> bool {
 fn print_row(name: &str, seed: &str, row: &Row) {
     println!(
         "{name:<12} seed {seed:<7} wall {:7.2} s  {:5.0} evaluations  {:4.0} solves  {:6.0} \
-         iterations  solves {:6.2} s ({:6.1} ms per solve, {:5.2} ms per iteration)  best J {:.6}",
+         iterations  solves {:6.2} s ({:6.1} ms per solve, {:5.2} ms per iteration)  best J {:.6} \
+         found at {:.2} s",
         row.wall,
         row.evaluations,
         row.solves,
@@ -199,7 +220,8 @@ fn print_row(name: &str, seed: &str, row: &Row) {
         row.solve_seconds,
         row.ms_per_solve,
         row.ms_per_iteration,
-        row.best_cost
+        row.best_cost,
+        row.best_seconds
     );
 }
 
@@ -215,6 +237,7 @@ fn medians(rows: &[Row]) -> Row {
         ms_per_solve: of(|r| r.ms_per_solve),
         ms_per_iteration: of(|r| r.ms_per_iteration),
         best_cost: of(|r| r.best_cost),
+        best_seconds: of(|r| r.best_seconds),
     }
 }
 
@@ -234,11 +257,12 @@ fn main() {
     }
     let (mut crate_rows, mut paper_rows) = (Vec::new(), Vec::new());
     for &seed in &options.seeds {
-        let row = ours(seed, &dir.join(format!("seed{seed}.json")), &[]);
+        let out = dir.join(format!("seed{seed}.json"));
+        let row = ours(seed, &options.payload, &out, &[]);
         print_row("codesign", &seed.to_string(), &row);
         crate_rows.push(row);
         if paper {
-            let row = paper_stack(&options.python, seed);
+            let row = paper_stack(&options.python, seed, &options.payload);
             print_row("paper stack", &seed.to_string(), &row);
             paper_rows.push(row);
         }
@@ -270,7 +294,7 @@ fn agreement(options: &Options, dir: &Path) {
         return;
     };
     let out = dir.join("agree.json");
-    let row = ours(seed, &out, &["--linear-solver", "mumps"]);
+    let row = ours(seed, &options.payload, &out, &["--linear-solver", "mumps"]);
     print_row("with MUMPS", &seed.to_string(), &row);
     let output = Command::new(&options.python)
         .arg(script())
