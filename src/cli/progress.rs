@@ -1,6 +1,7 @@
 //! The progress line of a co-design run on a terminal: evaluations done of the total, the best
 //! feasible fitness so far, the invalid and infeasible designs met, the time elapsed and an
-//! estimate of the time left from the mean time per evaluation so far. Redrawn in place on
+//! estimate of the time left from the mean time per evaluation so far (unknown until a design
+//! was solved: designs outside the design space take no time, and finish first). Redrawn in place on
 //! stderr when stderr is a terminal; nothing is written otherwise (pipes, CI logs).
 
 use crate::design::optimize::Progress;
@@ -21,6 +22,8 @@ pub struct ProgressLine<W: Write> {
     total: u64,
     /// Evaluations replayed from a resumed run's log: done, but taking no time.
     replayed: u64,
+    /// Whether an evaluation of this invocation ran a solve (inside the design space).
+    timed: bool,
     verdicts: VerdictTally,
     best: Option<f64>,
     started: Instant,
@@ -37,6 +40,7 @@ impl<W: Write> ProgressLine<W> {
             label,
             total,
             replayed: 0,
+            timed: false,
             verdicts: VerdictTally::default(),
             best: None,
             started: Instant::now(),
@@ -58,8 +62,8 @@ impl<W: Write> ProgressLine<W> {
         );
         let solved = self.done() - self.replayed;
         let left = self.total.saturating_sub(self.done());
-        let remaining = match solved {
-            0 if left > 0 => "time left unknown".to_owned(),
+        let remaining = match self.timed {
+            false if left > 0 => "time left unknown".to_owned(),
             _ => {
                 let each = elapsed.as_secs_f64() / solved.max(1) as f64;
                 format!("about {} left", clock(each * left as f64))
@@ -95,6 +99,7 @@ impl<W: Write> Progress for ProgressLine<W> {
     fn evaluated(&mut self, evaluation: &Evaluation, replayed: bool) {
         self.verdicts.add(evaluation);
         self.replayed += u64::from(replayed);
+        self.timed |= !replayed && VerdictKind::of(evaluation) != VerdictKind::Invalid;
         if VerdictKind::of(evaluation) == VerdictKind::Feasible {
             self.best = Some(
                 self.best
@@ -161,7 +166,11 @@ mod tests {
             "joint 1 kg seed 0: 0/10, no feasible design yet (0 invalid, 0 infeasible), 0:03 \
              elapsed, time left unknown"
         );
+        // A design outside the design space finishes at once: no time per solve yet.
         line.evaluated(&evaluation("Invalid_Design", false, 1e6), false);
+        assert!(line
+            .line(Duration::from_secs(3))
+            .ends_with("time left unknown"));
         line.evaluated(&evaluation("Solve_Succeeded", true, 250.5), false);
         line.evaluated(&evaluation("Solve_Succeeded", true, 120.25), false);
         line.evaluated(&evaluation("Elastic_Deficit", false, 1e6), false);
