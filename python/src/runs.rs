@@ -7,6 +7,7 @@ use crate::options::{choice, Keywords, Posed};
 use crate::task::NativeTask;
 use codesign::design::optimize::Progress;
 use codesign::design::run::{run_case, Case, CaseError, Method, RunError};
+use codesign::design::score::Evaluation;
 use codesign::design::warm::WarmStart;
 use codesign::store::document::document_json;
 use codesign::store::log::Start;
@@ -65,14 +66,17 @@ struct Forward {
     sender: Sender<Message<String>>,
     done: u64,
     total: u64,
+    /// The least fitness so far, penalised designs included.
+    best: f64,
 }
 
 impl Progress for Forward {
-    fn evaluated(&mut self, best: f64) {
+    fn evaluated(&mut self, evaluation: &Evaluation, _replayed: bool) {
         self.done += 1;
+        self.best = self.best.min(evaluation.cost);
         let _ = self
             .sender
-            .send(Message::Progress(self.done, self.total, best));
+            .send(Message::Progress(self.done, self.total, self.best));
     }
 }
 
@@ -93,6 +97,7 @@ fn run(case: &Case, out: &std::path::Path, sender: Sender<Message<String>>) -> O
             sender: sender.clone(),
             done: 0,
             total,
+            best: f64::INFINITY,
         })
     };
     let document = run_case(case, out, &display).map_err(failure)?;

@@ -65,6 +65,7 @@ mod doctor;
 mod dynamics;
 mod failure;
 mod optimize;
+mod progress;
 mod reproduce;
 mod run_flags;
 mod solve;

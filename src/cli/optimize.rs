@@ -3,19 +3,18 @@
 
 use super::common::{listed_number, ModelArgs, ProblemArgs};
 use super::failure::Failure;
+use super::progress::progress_line;
 use super::run_flags::{case_error, RunArgs};
 use super::store_hints::run_error;
 use crate::cli::choice::choice;
 use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::gradient::GradientSettings;
-use crate::design::optimize::Progress;
 use crate::design::penalty::Penalty;
 use crate::design::run::{run_case, Case, Method, OptimizeDocument};
 use crate::design::score::{Objective, PayloadRange};
 use crate::store::log::{log_beside, Start};
 use codesign_core::text::number;
-use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 
 /// Flags of `codesign optimize`.
@@ -123,34 +122,6 @@ impl Args {
     }
 }
 
-/// A progress bar on stderr (hidden when stderr is not a terminal), finished when dropped.
-struct Bar(ProgressBar);
-
-impl Progress for Bar {
-    fn evaluated(&mut self, best: f64) {
-        self.0.inc(1);
-        self.0.set_message(format!("best J {best:.4}"));
-    }
-}
-
-impl Drop for Bar {
-    fn drop(&mut self) {
-        self.0.finish();
-    }
-}
-
-/// The progress bar of a CMA-ES run of `total` evaluations, labelled `label`.
-pub fn progress_bar(total: u64, label: String) -> Box<dyn Progress> {
-    let bar = ProgressBar::new(total);
-    if let Ok(style) =
-        ProgressStyle::with_template("{prefix} [{elapsed_precise}] {bar:30} {pos}/{len} {msg}")
-    {
-        bar.set_style(style);
-    }
-    bar.set_prefix(label);
-    Box::new(Bar(bar))
-}
-
 /// The objective as a flag.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum ObjectiveKind {
@@ -215,15 +186,32 @@ fn summary(document: &OptimizeDocument) -> String {
             document.original_cost
         ),
     };
+    format!(
+        "{found}; {} evaluations ({} replayed), {}; {}",
+        document.evaluations,
+        document.replayed,
+        work_text(document),
+        document.stop_reason
+    )
+}
+
+/// Where a run's solver time went, in words: the median and total solve time, then the shares
+/// of invalid and infeasible designs and the IPOPT iterations of each kind of verdict (where
+/// the document counts them).
+pub fn work_text(document: &OptimizeDocument) -> String {
     let timing = if document.median_solve_seconds.is_nan() {
         "no solve timed".to_owned()
     } else {
-        format!("median solve {:.1} ms", document.median_solve_seconds * 1e3)
+        format!(
+            "median solve {:.1} ms, total solver time {:.1} s",
+            document.median_solve_seconds * 1e3,
+            document.solve_seconds_total
+        )
     };
-    format!(
-        "{found}; {} evaluations ({} replayed), {timing}; {}",
-        document.evaluations, document.replayed, document.stop_reason
-    )
+    match &document.verdicts {
+        Some(verdicts) => format!("{timing}; {verdicts}"),
+        None => timing,
+    }
 }
 
 /// Runs `codesign optimize` and prints a summary.
@@ -250,7 +238,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     let case = args.case();
     case.validate().map_err(case_error)?;
-    let document = run_case(&case, &out, &progress_bar).map_err(run_error)?;
+    let document = run_case(&case, &out, &progress_line).map_err(run_error)?;
     say!("{}", summary(&document));
     for bound in document.best_at_bounds() {
         say!("  at its bounds: {bound}");

@@ -7,6 +7,7 @@ use super::cmaes::{Cmaes, CmaesError, CmaesSettings};
 use super::evaluate::{EvaluateError, Evaluator};
 use super::outcome::{DesignOutcome, GenerationSummary, MethodOutcome};
 use super::score::{Evaluation, Status};
+use super::verdicts::VerdictTally;
 use super::warm::WarmStart;
 use crate::stats::median;
 use crate::store;
@@ -122,20 +123,20 @@ pub struct Logged<'a> {
 
 /// What the CMA-ES loop gathers while it runs.
 struct Run {
-    best_cost: f64,
     generations: Vec<GenerationSummary>,
     evaluations: Vec<Evaluation>,
     replayed: usize,
 }
 
-/// Something that hears about progress (a progress bar); the no-op is `()`.
+/// Something that hears about progress (a progress line); the no-op is `()`.
 pub trait Progress {
-    /// One more evaluation finished; `best` is the best cost so far.
-    fn evaluated(&mut self, best: f64);
+    /// One more evaluation finished: solved by this run, or `replayed` from a resumed run's
+    /// log.
+    fn evaluated(&mut self, evaluation: &Evaluation, replayed: bool);
 }
 
 impl Progress for () {
-    fn evaluated(&mut self, _best: f64) {}
+    fn evaluated(&mut self, _evaluation: &Evaluation, _replayed: bool) {}
 }
 
 /// How a run's samples become the designs its workers evaluate.
@@ -174,7 +175,6 @@ pub fn optimize(
     let upper = space.bounds().iter().map(|b| b[1]).collect();
     let mut cmaes = Cmaes::new(settings, lower, upper).map_err(OptimizeError::Cmaes)?;
     let mut outcome = Run {
-        best_cost: f64::INFINITY,
         generations: Vec::new(),
         evaluations: Vec::new(),
         replayed: 0,
@@ -246,6 +246,7 @@ fn finish(
             .filter(|e| e.iterations > 0)
             .map(|e| e.seconds)
             .collect(),
+        verdicts: VerdictTally::of(&outcome.evaluations),
         stop_reason: cmaes
             .stop_reason()
             .map_or_else(|| "stopped".to_owned(), |reason| reason.to_string()),
@@ -340,21 +341,18 @@ impl Generation<'_, '_> {
                 Some(evaluation)
                     if evaluation.ratios == *ratios && evaluation.status.is_judged() =>
                 {
-                    outcome.best_cost = outcome.best_cost.min(evaluation.cost);
                     outcome.replayed += 1;
-                    progress.evaluated(outcome.best_cost);
+                    progress.evaluated(evaluation, true);
                     slots[index] = Some(evaluation.clone());
                 }
                 _ => pending.push((index, ratios.clone())),
             }
         }
-        let best = &mut outcome.best_cost;
         let mut log = self.log;
         let solved = self
             .evaluator
             .evaluate(&pending, self.anchor, &mut |index, evaluation| {
-                *best = best.min(evaluation.cost);
-                progress.evaluated(*best);
+                progress.evaluated(evaluation, false);
                 match log.as_mut() {
                     Some(logged) => (logged.log.append(generation, index, evaluation))
                         .map_err(EvaluateError::Log),

@@ -1,6 +1,7 @@
 //! What an outer method found, in one type for CMA-ES and the gradient method, with the
 //! progress records each keeps.
 
+use super::verdicts::VerdictTally;
 use codesign_core::ipopt::Solution;
 use codesign_core::solve::StartPoint;
 use serde::{Deserialize, Serialize};
@@ -18,6 +19,9 @@ pub struct DesignOutcome {
     pub costs: Vec<f64>,
     /// The wall time of every inner solve that ran, s, in order (replayed ones included).
     pub seconds: Vec<f64>,
+    /// The evaluations by kind of verdict, with the iterations and time of each kind (replayed
+    /// ones included, as the log holds them).
+    pub verdicts: VerdictTally,
     /// Why the method stopped, in words.
     pub stop_reason: String,
     /// What only the method that ran keeps.

@@ -163,14 +163,28 @@ fn solve_originals(
     Ok(files)
 }
 
-/// Runs one planned co-design run, its progress shown by `observer`.
+/// Runs one planned co-design run, its progress shown by `observer`, labelled with which of
+/// the section's runs it is.
 fn run(
     plan: &Plan,
     run: &PlannedRun,
     observer: &dyn Observer,
 ) -> Result<OptimizeDocument, RunError> {
-    let display = |total, label| observer.progress(total, label);
+    let (number, count) = run_number(plan, run);
+    let section = if plan.is_hold_section { "hold " } else { "" };
+    let display =
+        |total, label| observer.progress(total, format!("{section}run {number}/{count}, {label}"));
     run_case(&run.case, &plan.layout.run(&run.name), &display)
+}
+
+/// Which of the section's co-design runs, in the order they run, `run` is (from 1), and how
+/// many there are.
+fn run_number(plan: &Plan, run: &PlannedRun) -> (usize, usize) {
+    let mut runs = plan.cost_runs();
+    runs.extend(plan.gradient_runs());
+    runs.extend(plan.beyond_runs());
+    let position = runs.iter().position(|planned| planned.name == run.name);
+    (position.map_or(0, |index| index + 1), runs.len())
 }
 
 /// The paper's co-design runs (CMA-ES on the cost), in order.

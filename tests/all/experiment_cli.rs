@@ -230,7 +230,22 @@ fn a_task_s_experiment_runs_and_its_table_names_the_task_without_the_paper_s_num
     let task = small_task(&dir, tiny_experiment());
     let out = dir.join("out");
     let args = ["reproduce", "--task", path(&task), "--out-dir", path(&out)];
-    succeed_in(&dir, &args);
+    let printed = succeed_in(&dir, &args);
+    // Each co-design run's line says where its solver time went (issue 54, item 4).
+    let run = read_json(&out.join("runs/actuation-0.5kg-seed0.json"));
+    let work = format!(
+        "({} evaluations; median solve {:.1} ms, total solver time {:.1} s; invalid {} of ",
+        run["evaluations"],
+        run["median_solve_seconds"].as_f64().unwrap() * 1e3,
+        run["solve_seconds_total"].as_f64().unwrap(),
+        run["verdicts"]["invalid"]["designs"]
+    );
+    let line =
+        (printed.lines()).find(|line| line.starts_with("co-design, actuation space, 0.5 kg"));
+    assert!(
+        line.is_some_and(|line| line.contains(&work)),
+        "{printed}\nnot found: {work}"
+    );
     let table = std::fs::read_to_string(out.join("paper_table.md")).unwrap();
     let title = format!("# Co-design of task {} (task hash ", path(&task));
     assert!(table.starts_with(&title), "{table}");

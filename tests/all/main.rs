@@ -29,6 +29,7 @@ mod optimize_cli;
 mod outputs_cli;
 mod plots_cli;
 mod reliability_cli;
+mod run_summary_cli;
 mod solve_cli;
 mod start_cli;
 mod table_cli;

@@ -1,7 +1,8 @@
 //! What `reproduce` prints as the experiment goes, and its errors in the command line's words.
 
 use super::Failure;
-use crate::cli::optimize::{ceiling_text, progress_bar};
+use crate::cli::optimize::{ceiling_text, work_text};
+use crate::cli::progress::progress_line;
 use crate::cli::store_hints::run_error;
 use crate::design::optimize::Progress;
 use crate::design::run::OptimizeDocument;
@@ -9,12 +10,12 @@ use crate::design::score::Objective;
 use crate::experiment::{Event, ExperimentError, MergeError, Observer, PlannedRun};
 
 /// Prints each stage of the experiment on stdout as it finishes, and shows each co-design
-/// run's progress bar.
+/// run's progress line.
 pub struct Printer;
 
 impl Observer for Printer {
     fn progress(&self, total: u64, label: String) -> Box<dyn Progress> {
-        progress_bar(total, label)
+        progress_line(total, label)
     }
 
     fn event(&mut self, event: Event<'_>) {
@@ -37,12 +38,12 @@ impl Observer for Printer {
                 );
             }
             Event::CostRun { run, document } => say!(
-                "co-design, {} space, {} kg, seed {}: {} ({} evaluations)",
+                "co-design, {} space, {} kg, seed {}: {} ({})",
                 run.case.problem.space,
                 document.inputs.payload_kg,
                 run.case.settings.cmaes.seed,
                 best_text(document),
-                document.evaluations
+                evaluations_text(document, "evaluations")
             ),
             Event::GradientRun { run, result } => gradient_run(run, result),
             Event::BeyondRun { run, document } => beyond_run(run, document),
@@ -71,6 +72,12 @@ fn best_text(document: &OptimizeDocument) -> String {
     }
 }
 
+/// A run's evaluations (called `what`) and where its solver time went, e.g. `144 evaluations;
+/// median solve 12.0 ms, total solver time 3.1 s; invalid 3 of 144 (2.1%), ...`.
+fn evaluations_text(document: &OptimizeDocument, what: &str) -> String {
+    format!("{} {what}; {}", document.evaluations, work_text(document))
+}
+
 /// A gradient run's line: its best design, that it found none, or why it failed.
 fn gradient_run(run: &PlannedRun, result: Result<&OptimizeDocument, crate::design::run::RunError>) {
     let space = run.case.problem.space;
@@ -79,9 +86,9 @@ fn gradient_run(run: &PlannedRun, result: Result<&OptimizeDocument, crate::desig
     let label = format!("gradient co-design, {space} space, {payload} kg, {penalty} penalty");
     match result {
         Ok(document) => say!(
-            "{label}: {} ({} solves)",
+            "{label}: {} ({})",
             best_text(document),
-            document.evaluations
+            evaluations_text(document, "solves")
         ),
         Err(error) => say!("{label}: {}", run_error(error)),
     }
@@ -92,32 +99,32 @@ fn beyond_run(run: &PlannedRun, document: &OptimizeDocument) {
     let space = run.case.problem.space;
     match &run.case.settings.objective {
         Objective::Range(range) => say!(
-            "range co-design, {space} space, {:?} kg: {} ({} evaluations)",
+            "range co-design, {space} space, {:?} kg: {} ({})",
             range.payloads_kg,
             best_text(document),
-            document.evaluations
+            evaluations_text(document, "evaluations")
         ),
         Objective::Capacity(_) => match document.best_cost {
             None => say!(
-                "capacity co-design, {space} space: no design lifts any payload ({} evaluations)",
-                document.evaluations
+                "capacity co-design, {space} space: no design lifts any payload ({})",
+                evaluations_text(document, "evaluations")
             ),
             Some(cost) => say!(
-                "capacity co-design, {space} space: r = {:?} lifts {:.3} kg{} ({} evaluations)",
+                "capacity co-design, {space} space: r = {:?} lifts {:.3} kg{} ({})",
                 document.best_ratios,
                 -cost,
                 ceiling_text(document).map_or_else(String::new, |text| format!(", {text}")),
-                document.evaluations
+                evaluations_text(document, "evaluations")
             ),
         },
         // The experiment plans no energy run.
         Objective::Cost | Objective::Energy => say!(
-            "co-design, {space} space, {} kg, seed {}, penalty {}: {} ({} evaluations)",
+            "co-design, {space} space, {} kg, seed {}, penalty {}: {} ({})",
             document.inputs.payload_kg,
             run.case.settings.cmaes.seed,
             run.case.settings.penalty(),
             best_text(document),
-            document.evaluations
+            evaluations_text(document, "evaluations")
         ),
     }
 }

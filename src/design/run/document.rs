@@ -4,6 +4,7 @@
 use super::settings::RunSettings;
 use crate::design::outcome::GenerationSummary;
 use crate::design::outcome::GradientIterate;
+use crate::design::verdicts::VerdictTally;
 use crate::store::log::LoggedRun;
 use codesign_core::ipopt::LinearSolver;
 use codesign_core::model::task::LimitModes;
@@ -142,6 +143,11 @@ pub struct OptimizeDocument {
     /// Wall time of those solves summed, s (replayed ones included, from the log).
     #[serde(default)]
     pub solve_seconds_total: f64,
+    /// The evaluations by kind of verdict (feasible, infeasible, invalid, not judged), each
+    /// with its IPOPT iterations and solve time (replayed ones included, from the log); None in
+    /// files written before it was counted.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub verdicts: Option<VerdictTally>,
     /// Median wall time of an inner solve, s (NaN, written as null, when no solve ran).
     #[serde(deserialize_with = "number_or_nan")]
     pub median_solve_seconds: f64,

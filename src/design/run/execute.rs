@@ -182,6 +182,7 @@ fn document(
         replayed,
         solves: outcome.seconds.len(),
         solve_seconds_total: outcome.seconds.iter().sum(),
+        verdicts: Some(outcome.verdicts),
         median_solve_seconds: median(&outcome.seconds),
         stop_reason: outcome.stop_reason,
         wall_seconds: 0.0,
