@@ -218,7 +218,10 @@ mod tests {
             Schema::Table.version()
         );
         let flowing = text.split_whitespace().collect::<Vec<_>>().join(" ");
-        assert!(flowing.contains(&said), "docs/guide/results.md does not say: {said}");
+        assert!(
+            flowing.contains(&said),
+            "docs/guide/results.md does not say: {said}"
+        );
     }
 
     /// No envelope is version 0; an unknown tag, a version that is no whole number and a newer

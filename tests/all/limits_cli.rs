@@ -25,11 +25,11 @@ fn chain_urdf(joints: usize) -> String {
         };
         urdf += &link(&child);
         let axis = if j % 2 == 0 { "0 1 0" } else { "1 0 0" };
-        write!(
+        writeln!(
             urdf,
             "<joint name=\"j{j}\" type=\"revolute\"><parent link=\"l{}\"/><child link=\"{child}\"/>\
              <origin xyz=\"0 0 0.05\"/><axis xyz=\"{axis}\"/>\
-             <limit lower=\"-3\" upper=\"3\" effort=\"10\" velocity=\"10\"/></joint>\n",
+             <limit lower=\"-3\" upper=\"3\" effort=\"10\" velocity=\"10\"/></joint>",
             j - 1
         )
         .unwrap();
