@@ -1,9 +1,10 @@
 //! The documentation's commands against the command line's own parser (`codesign::cli::Cli`,
 //! the one `codesign` parses its arguments with): the reference page docs/guide/cli.md names
 //! every flag of every command and no flag a command lacks, and every `codesign` command shown
-//! in a `sh` or `console` block of README.md and docs/guide/ parses.
+//! in a `sh` or `console` block of README.md and docs/guide/ parses; the README's solve prints
+//! what the README shows.
 
-use crate::support::root;
+use crate::support::{codesign_in, root, scratch};
 use clap::error::ErrorKind;
 use clap::{CommandFactory, Parser};
 use codesign::cli::Cli;
@@ -183,6 +184,40 @@ fn every_command_the_readme_and_the_guide_show_parses() {
         "only {checked} commands found in the pages' sh blocks"
     );
     assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// A printed line without its wall times, which no two runs share.
+fn timeless(line: &str) -> &str {
+    if line.trim_start().starts_with("solve ") && line.ends_with(" ms)") {
+        "solve (times)"
+    } else {
+        line
+    }
+}
+
+#[test]
+fn the_readme_solve_prints_what_the_readme_shows() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let commands = shown_commands(&readme);
+    let solve = commands
+        .iter()
+        .find(|args| args[1] == "solve")
+        .expect("the README shows a solve");
+    let start = readme
+        .find("```text\n")
+        .expect("the README shows its output")
+        + 8;
+    let shown = &readme[start..start + readme[start..].find("```").unwrap()];
+    let dir = scratch("readme-solve");
+    let args: Vec<&str> = solve[1..].iter().map(String::as_str).collect();
+    let output = codesign_in(&dir, &args);
+    assert!(output.status.success(), "{output:?}");
+    let printed = String::from_utf8(output.stdout).unwrap();
+    let printed: Vec<&str> = printed.lines().map(timeless).collect();
+    let shown: Vec<&str> = shown.lines().map(timeless).collect();
+    assert_eq!(printed, shown);
+    assert!(dir.join("first/poses.svg").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
