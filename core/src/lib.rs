@@ -58,7 +58,7 @@ pub mod testing;
 pub mod text;
 pub mod transmission;
 
-/// The README's Rust example, compiled and run with the doctests.
+/// The Rust example of the user guide (docs/guide/rust.md), compiled and run with the doctests.
 #[cfg(doctest)]
-#[doc = include_str!("../../README.md")]
-pub struct ReadmeExample;
+#[doc = include_str!("../../docs/guide/rust.md")]
+pub struct GuideRustExample;

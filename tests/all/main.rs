@@ -12,6 +12,8 @@ mod built_in_task;
 mod check_cli;
 mod check_findings;
 mod cluster_cli;
+mod docs_cli;
+mod docs_links;
 mod dynamics_alloc;
 mod dynamics_cli;
 mod ends_cli;
