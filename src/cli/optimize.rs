@@ -221,9 +221,20 @@ fn summary(document: &OptimizeDocument) -> String {
         format!("median solve {:.1} ms", document.median_solve_seconds * 1e3)
     };
     format!(
-        "{found}; {} evaluations ({} replayed), {timing}; {}",
-        document.evaluations, document.replayed, document.stop_reason
+        "{found}; {} evaluations ({} replayed, {}), {timing}; {}",
+        document.evaluations,
+        document.replayed,
+        invalid_share(document),
+        document.stop_reason
     )
+}
+
+/// The evaluations of designs outside the design space and their share of all, e.g.
+/// `140 invalid: 97.2%`.
+fn invalid_share(document: &OptimizeDocument) -> String {
+    let invalid = document.invalid.unwrap_or(0);
+    let share = invalid as f64 / document.evaluations.max(1) as f64;
+    format!("{invalid} invalid: {:.1}%", 100.0 * share)
 }
 
 /// Runs `codesign optimize` and prints a summary.

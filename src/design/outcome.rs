@@ -18,6 +18,9 @@ pub struct DesignOutcome {
     pub costs: Vec<f64>,
     /// The wall time of every inner solve that ran, s, in order (replayed ones included).
     pub seconds: Vec<f64>,
+    /// The evaluations of designs outside the design space (status `Invalid_Design`, scored
+    /// without a solve).
+    pub invalid: usize,
     /// Why the method stopped, in words.
     pub stop_reason: String,
     /// What only the method that ran keeps.

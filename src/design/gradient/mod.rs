@@ -26,7 +26,7 @@ pub use starts::{default_starts, spread_designs};
 
 use super::evaluate::{EvaluateError, Evaluator};
 use super::outcome::{DesignOutcome, GradientIterate, MethodOutcome};
-use super::score::{Descent, Merit};
+use super::score::{Descent, Merit, Status};
 use super::workers::WorkerError;
 use codesign_core::solve::StartPoint;
 use codesign_core::transmission::Transmission;
@@ -88,6 +88,8 @@ struct Solves<'a> {
     evaluator: &'a dyn Evaluator,
     costs: Vec<f64>,
     seconds: Vec<f64>,
+    /// Evaluations of designs outside the design space.
+    invalid: usize,
     best: Option<Point>,
 }
 
@@ -98,6 +100,7 @@ impl<'a> Solves<'a> {
             evaluator,
             costs: Vec::new(),
             seconds: Vec::new(),
+            invalid: 0,
             best: None,
         }
     }
@@ -107,6 +110,7 @@ impl<'a> Solves<'a> {
     fn append(&mut self, later: Solves<'_>) {
         self.costs.extend(later.costs);
         self.seconds.extend(later.seconds);
+        self.invalid += later.invalid;
         if let Some(best) = &later.best {
             self.keep(best);
         }
@@ -120,6 +124,7 @@ impl<'a> Solves<'a> {
             self.seconds.push(evaluation.seconds);
         }
         self.costs.push(evaluation.cost);
+        self.invalid += usize::from(evaluation.status == Status::InvalidDesign);
         merit.map(|merit| Point {
             ratios: evaluation.ratios,
             merit,
@@ -251,6 +256,7 @@ pub fn optimize_gradient(
         best_cost,
         costs: solves.costs,
         seconds: solves.seconds,
+        invalid: solves.invalid,
         stop_reason,
         method: MethodOutcome::Gradient {
             iterates,

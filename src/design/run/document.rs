@@ -135,6 +135,10 @@ pub struct OptimizeDocument {
     pub iterates: Vec<GradientIterate>,
     /// Evaluations replayed from the log on resume.
     pub replayed: usize,
+    /// Evaluations of designs outside the design space (status `Invalid_Design`, scored
+    /// without a solve); absent in files written before it was counted.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub invalid: Option<usize>,
     /// Evaluations that ran IPOPT (designs that break a bound or an order constraint are scored
     /// without a solve).
     #[serde(default)]

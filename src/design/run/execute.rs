@@ -180,6 +180,7 @@ fn document(
         costs: outcome.costs,
         iterates,
         replayed,
+        invalid: Some(outcome.invalid),
         solves: outcome.seconds.len(),
         solve_seconds_total: outcome.seconds.iter().sum(),
         median_solve_seconds: median(&outcome.seconds),
