@@ -282,6 +282,11 @@ fn impossible_counts_and_capacities_are_refused() {
         &replayed,
         "replayed.json: replayed = 145 is more than evaluations",
     );
+    let invalid = edit(run, "invalid.json", &|v| v["invalid"] = 145.into());
+    support::fails_saying(
+        &invalid,
+        "invalid.json: invalid = 145 is more than evaluations",
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
