@@ -19,7 +19,10 @@ use serde_json::{Map, Value};
 pub struct RunArgs {
     /// What CMA-ES does with a sample outside the design space (bounds, order constraints):
     /// `penalty` evaluates it as drawn, so it scores the penalty (the paper's rule); `clip`
-    /// evaluates and logs its Euclidean projection onto the space instead (pagmo's force_bounds).
+    /// evaluates and logs its Euclidean projection onto the space instead (pagmo's force_bounds);
+    /// `map` draws the samples in the unit box and maps each onto the space, so that every
+    /// sample is a design (docs/model.md, section 4). CMA-ES only: the gradient method keeps its
+    /// iterates in the space itself.
     #[arg(long, value_parser = choice::<BoundHandling>(), default_value_t = BoundHandling::Penalty)]
     pub bounds: BoundHandling,
     /// Whether CMA-ES starts the designs of each generation from a solution of the generation's
@@ -244,7 +247,7 @@ mod tests {
             },
             penalty: 1e6,
             grading: Grading::Graded,
-            bounds: BoundHandling::Clip,
+            bounds: BoundHandling::Map,
             warm_start: WarmStart::Off,
         };
         case.execution = Execution {

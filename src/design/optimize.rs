@@ -2,7 +2,7 @@
 //! (worker processes, or threads of this process), every evaluation logged when a log is given,
 //! and finished ones replayed on resume.
 
-use super::bounds::BoundHandling;
+use super::bounds::SampleDesigns;
 use super::cmaes::{Cmaes, CmaesError, CmaesSettings};
 use super::evaluate::{EvaluateError, Evaluator};
 use super::outcome::{DesignOutcome, GenerationSummary, MethodOutcome};
@@ -12,7 +12,6 @@ use super::warm::WarmStart;
 use crate::stats::median;
 use crate::store;
 use codesign_core::text::number;
-use codesign_core::transmission::DesignSpace;
 use std::fmt;
 
 /// The evaluation log of a co-design run: one entry per evaluation (see [`store::log`]).
@@ -140,26 +139,25 @@ impl Progress for () {
 }
 
 /// How a run's samples become the designs its workers evaluate.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Sampling<'a> {
-    /// The design space, whose box CMA-ES samples.
-    pub space: &'a DesignSpace,
-    /// The design made of each sample: the sample, or its projection onto the space.
-    pub bounds: BoundHandling,
+    /// The box CMA-ES samples and the design made of each sample: the sample, its projection
+    /// onto the space, or its image under the map from the unit box.
+    pub designs: SampleDesigns<'a>,
     /// Whether the designs of a generation start from a solution of its mean.
     pub warm_start: WarmStart,
 }
 
 impl Sampling<'_> {
     /// The design whose solution the designs of a generation sampled around `mean` start from:
-    /// the mean projected onto the design space, from generation 1 on (the initial population
-    /// is drawn uniformly, around no mean); None when warm starts are off.
+    /// the mean's design ([`SampleDesigns::mean_design`]), from generation 1 on (the initial
+    /// population is drawn uniformly, around no mean); None when warm starts are off.
     fn anchor(&self, generation: usize, mean: &[f64]) -> Option<Vec<f64>> {
-        (self.warm_start.is_on() && generation > 0).then(|| self.space.project(mean))
+        (self.warm_start.is_on() && generation > 0).then(|| self.designs.mean_design(mean))
     }
 }
 
-/// Runs CMA-ES with `settings` in the box of `sampling.space`, evaluating with `evaluator` the
+/// Runs CMA-ES with `settings` in the box of `sampling.designs`, evaluating with `evaluator` the
 /// design `sampling` makes of each sample, logging to `log` when given and replaying its
 /// finished evaluations (from a resumed log) whose design matches exactly. Fails when no
 /// evaluation judged a design (see [`check_evaluations`]).
@@ -170,9 +168,8 @@ pub fn optimize(
     mut log: Option<Logged<'_>>,
     progress: &mut dyn Progress,
 ) -> Result<DesignOutcome, OptimizeError> {
-    let (space, bounds) = (sampling.space, sampling.bounds);
-    let lower = space.bounds().iter().map(|b| b[0]).collect();
-    let upper = space.bounds().iter().map(|b| b[1]).collect();
+    let designs_of = &sampling.designs;
+    let (lower, upper) = designs_of.search_box();
     let mut cmaes = Cmaes::new(settings, lower, upper).map_err(OptimizeError::Cmaes)?;
     let mut outcome = Run {
         generations: Vec::new(),
@@ -181,7 +178,7 @@ pub fn optimize(
     };
     // The anchor of each generation (none for the initial population).
     let mut anchors = vec![None];
-    let initial = bounds.designs(space, &cmaes.initial_population());
+    let initial = designs_of.designs(&cmaes.initial_population());
     let mut evaluations = Generation {
         index: 0,
         anchor: None,
@@ -196,7 +193,7 @@ pub fn optimize(
         .map_err(OptimizeError::Cmaes)?;
     while let Some(samples) = cmaes.ask() {
         let generation = cmaes.generation() + 1;
-        let designs = bounds.designs(space, &samples);
+        let designs = designs_of.designs(&samples);
         let anchor = sampling.anchor(generation, cmaes.mean());
         evaluations = Generation {
             index: generation,
@@ -215,8 +212,8 @@ pub fn optimize(
     finish(&cmaes, &sampling, outcome, &anchors)
 }
 
-/// The run's outcome once CMA-ES has stopped: its best design (as evaluated: the projection of
-/// CMA-ES's best sample where samples are clipped; none when no evaluation was feasible), the
+/// The run's outcome once CMA-ES has stopped: its best design (as evaluated: the projection or
+/// the image of CMA-ES's best sample where samples are clipped or mapped; none when no evaluation was feasible), the
 /// anchor it was evaluated from, and every evaluation's cost and time.
 fn finish(
     cmaes: &Cmaes,
@@ -227,9 +224,10 @@ fn finish(
     let (best, cost) = cmaes.best().ok_or(OptimizeError::NoBest)?;
     // A design no evaluation found feasible is no result: the run reports none.
     let any_feasible = outcome.evaluations.iter().any(|e| e.feasible);
-    // CMA-ES's best is a sample: the design evaluated for it is its projection when clipped.
+    // CMA-ES's best is a sample: the design evaluated for it is its projection when clipped,
+    // its image when mapped.
     let best_ratios = if any_feasible {
-        sampling.bounds.design(sampling.space, best)
+        sampling.designs.design(best)
     } else {
         Vec::new()
     };

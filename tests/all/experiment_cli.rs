@@ -82,6 +82,34 @@ fn same_command(now: &str, was: &str) {
     assert_eq!(now_flags, was_flags, "now: {now}\nwas: {was}");
 }
 
+/// `reproduce --bounds map` maps the samples of every CMA-ES run (the capacity searches among
+/// them) and leaves the gradient method, a projected method, alone; without the flag no run
+/// names `--bounds`: the paper's rule.
+#[test]
+fn reproduce_maps_the_samples_of_every_cmaes_run_when_asked() {
+    let dir = scratch("map-plan");
+    let plan = |extra: &[&str]| {
+        let args = [
+            &["reproduce", "--plan", "--quick", "--out-dir", "OUT"],
+            extra,
+        ]
+        .concat();
+        succeed_in(&dir, &args)
+    };
+    let mapped = plan(&["--bounds", "map"]);
+    let optimize = |line: &&str| line.contains(" optimize ");
+    let cmaes: Vec<&str> = mapped.lines().filter(optimize).collect();
+    assert!(cmaes
+        .iter()
+        .any(|line| line.contains("--objective capacity")));
+    for line in cmaes {
+        let gradient = line.contains("--method gradient");
+        assert_eq!(line.contains(" --bounds map "), !gradient, "{line}");
+    }
+    assert!(!plan(&[]).contains("--bounds"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn the_plan_of_the_built_in_task_is_the_paper_s_experiment_as_before() {
     let dir = scratch("built-in-plan");

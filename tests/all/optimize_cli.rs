@@ -406,6 +406,139 @@ fn clipped_samples_are_evaluated_inside_the_design_space() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// The statuses and designs of a run's evaluation log in (generation, index) order (the log
+/// holds them in the order they finished).
+fn logged_designs(out: &Path) -> Vec<(String, Vec<f64>)> {
+    let text = std::fs::read_to_string(out.with_extension("log.jsonl")).unwrap();
+    let entries = text.lines().skip(1);
+    let mut each: Vec<Value> = entries
+        .map(|line| serde_json::from_str(line).unwrap())
+        .collect();
+    each.sort_by_key(|entry| (entry["generation"].as_u64(), entry["index"].as_u64()));
+    (each.iter())
+        .map(|entry| {
+            let ratios = entry["ratios"].as_array().unwrap().iter();
+            let ratios = ratios.map(|v| v.as_f64().unwrap()).collect();
+            (entry["status"].as_str().unwrap().to_owned(), ratios)
+        })
+        .collect()
+}
+
+/// `--bounds map` against the paper's rule, which draws designs outside the space: the flag is
+/// recorded, every design logged lies in the space, the summary and the document say no
+/// evaluation was invalid (against the penalty run's count, which its log bears out), and a run
+/// cut short resumes to the same result, replaying what it had finished.
+#[test]
+fn mapped_samples_are_designs_and_resume_alike() {
+    let dir = scratch("map");
+    let task = support::task_with(&dir, |task| task["motion"]["steps"] = 8.into());
+    let task = task.to_str().unwrap();
+    let args = |bounds: &'static str| {
+        vec![
+            "optimize",
+            "--task",
+            task,
+            "--payload",
+            "1",
+            "--seed",
+            "0",
+            "--population",
+            "6",
+            "--generations",
+            "2",
+            "--workers",
+            "2",
+            "--bounds",
+            bounds,
+        ]
+    };
+    let out = dir.join("map.json");
+    let (stdout, mapped) = support::succeed_with_out(&args("map"), &out);
+    assert_eq!(mapped["inputs"]["bounds"], "map");
+    assert_eq!(mapped["evaluations"], 18);
+    assert_eq!(mapped["verdicts"]["invalid"]["designs"], 0);
+    assert!(stdout.contains("invalid 0 of 18 (0.0%)"), "{stdout}");
+    let text = std::fs::read_to_string(out.with_extension("log.jsonl")).unwrap();
+    let header: Value = serde_json::from_str(text.lines().next().unwrap()).unwrap();
+    assert_eq!(header["run"]["bounds"], "map");
+    let logged = logged_designs(&out);
+    assert_eq!(logged.len(), 18);
+    let bounds = [[1.0, 9.0], [1.0, 9.0], [1.0, 3.0], [1.0, 3.0]];
+    for (status, r) in &logged {
+        assert_ne!(status, "Invalid_Design");
+        for (value, [lo, hi]) in r.iter().zip(bounds) {
+            assert!((lo..=hi).contains(value), "{r:?} outside the bounds");
+        }
+        assert!(r[2] <= r[1] && r[1] < r[0], "{r:?} breaks the order");
+    }
+
+    let penalty_out = dir.join("penalty.json");
+    let (stdout, penalised) = support::succeed_with_out(&args("penalty"), &penalty_out);
+    let invalid = (logged_designs(&penalty_out).iter())
+        .filter(|(status, _)| status == "Invalid_Design")
+        .count();
+    assert!(invalid > 0, "the paper's rule drew no invalid design");
+    assert_eq!(penalised["verdicts"]["invalid"]["designs"], invalid);
+    let share = format!(
+        "invalid {invalid} of 18 ({:.1}%)",
+        100.0 * invalid as f64 / 18.0
+    );
+    assert!(stdout.contains(&share), "{stdout}");
+
+    // Cut the map run's log after 7 evaluations, as an interruption would, and resume it.
+    let kept: Vec<&str> = text.lines().take(8).collect();
+    std::fs::write(out.with_extension("log.jsonl"), kept.join("\n") + "\n").unwrap();
+    std::fs::remove_file(&out).unwrap();
+    let mut resume = args("map");
+    resume.push("--resume");
+    let (_, resumed) = support::succeed_with_out(&resume, &out);
+    same_result(&mapped, &resumed);
+    assert!(!mapped["best_ratios"].as_array().unwrap().is_empty());
+    assert_eq!(resumed["replayed"], 7);
+    assert_eq!(resumed["verdicts"]["invalid"]["designs"], 0);
+    assert_eq!(logged_designs(&out), logged);
+
+    // The gradient method keeps its iterates in the space: it refuses the map.
+    let refused = support::codesign(&["optimize", "--method", "gradient", "--bounds", "map"]);
+    support::refused_as_usage(&refused, "--bounds map: the gradient method is a projected");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A task whose order constraints form a cycle (r1 <= r2 <= r1) has no map from the unit box:
+/// `--bounds map` is refused naming the ratios, before any generation.
+#[test]
+fn a_cycle_of_order_constraints_is_refused_under_the_map() {
+    let dir = scratch("map-cycle");
+    let task = support::task_with(&dir, |task| {
+        task["motion"]["steps"] = 4.into();
+        task["transmission"]["original"] = serde_json::json!([3, 3, 1, 1]);
+        task["transmission"]["order"] = serde_json::json!(["r3 <= r2", "r1 <= r2", "r2 <= r1"]);
+    });
+    let output = codesign_command(support::root(), &[])
+        .args([
+            "optimize",
+            "--task",
+            task.to_str().unwrap(),
+            "--bounds",
+            "map",
+        ])
+        .args(["--population", "5", "--generations", "0", "--workers", "1"])
+        .arg("--out")
+        .arg(dir.join("cycle.json"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success(), "{stderr}");
+    assert!(
+        stderr.contains(
+            "--bounds map: transmission.order: the constraints among r1, r2 form a cycle"
+        ),
+        "{stderr}"
+    );
+    assert!(!dir.join("cycle.json").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Warm starts (the default) against `--warm-start off` on the same seed: the logs record the
 /// setting, the initial population (started cold either way) is evaluated to the same costs, the
 /// warm run takes fewer IPOPT iterations, and a log resumes only under its own setting.

@@ -282,6 +282,18 @@ fn impossible_counts_and_capacities_are_refused() {
         &replayed,
         "replayed.json: replayed = 145 is more than evaluations",
     );
+    let invalid = edit(run, "invalid.json", &|v| {
+        v["verdicts"] = serde_json::json!({
+            "feasible": {"designs": 0, "iterations": 0, "seconds": 0.0},
+            "infeasible": {"designs": 0, "iterations": 0, "seconds": 0.0},
+            "invalid": {"designs": 145, "iterations": 0, "seconds": 0.0},
+            "unjudged": {"designs": 0, "iterations": 0, "seconds": 0.0}
+        })
+    });
+    support::fails_saying(
+        &invalid,
+        "invalid.json: verdicts = 145 is more than evaluations",
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

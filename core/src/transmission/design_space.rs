@@ -8,8 +8,9 @@ use crate::text::number;
 use nalgebra::{DMatrix, DVector};
 use std::fmt;
 
-/// Margin that keeps a strict order constraint r_i < r_j strict in [`DesignSpace::halfspaces`].
-const STRICT_MARGIN: f64 = 1e-6;
+/// Margin that keeps a strict order constraint r_i < r_j strict in [`DesignSpace::halfspaces`]
+/// and in the map from the unit box (`UnitMap`).
+pub(super) const STRICT_MARGIN: f64 = 1e-6;
 
 /// Margin that keeps a non-strict order constraint r_i <= r_j true after rounding in
 /// [`DesignSpace::halfspaces`].

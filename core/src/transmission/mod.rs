@@ -8,6 +8,7 @@
 //! - `spec`: reading the task's `transmission` section (its matrix, bounds, order strings);
 //! - `entry`: one entry of G or number of a linkage, a constant or `k*r<i>`;
 //! - `design_space`: bounds, order constraints, the original design, checks and projection;
+//! - `unit_map`: the map from the unit box onto the design space, and back ([`UnitMap`]);
 //! - `active`: the bounds a design sits on, with what widening each would gain;
 //! - `coupling`: G(r), dG/dr_i, and G with its inverse at one design;
 //! - `limits`: the joint torque and speed limits of each [`LimitMode`](crate::model::task::LimitMode);
@@ -28,6 +29,7 @@ pub mod linkage;
 mod loss;
 mod pose;
 mod spec;
+mod unit_map;
 
 pub use active::{ActiveBound, BoundSide};
 pub use actuation::{Actuation, MotorDynamics, Space};
@@ -41,6 +43,7 @@ pub use loss::{
 };
 pub use pose::{Depth, DesignDerivativeAt, PoseCoupling, PoseError, PoseRow};
 pub use spec::SpecError;
+pub use unit_map::{UnitMap, UnitMapError};
 
 use entry::Entry;
 

@@ -5,7 +5,7 @@
 use super::case::Case;
 use super::document::OptimizeInputs;
 use super::error::RunError;
-use super::settings::Method;
+use super::settings::{CaseError, Method};
 use super::verify::confirm_best;
 use crate::design::evaluate::{InProcess, WorkerEvaluator};
 use crate::design::gradient::optimize_gradient;
@@ -137,6 +137,14 @@ fn run_cmaes(
     display: ProgressDisplay<'_>,
 ) -> Result<DesignOutcome, RunError> {
     let case = run.case;
+    let space = run.formulation.transmission().design_space();
+    let designs = (case.settings.bounds.samples(space)).map_err(|e| {
+        RunError::Case(CaseError::new(
+            "bounds",
+            case.settings.bounds,
+            e.to_string(),
+        ))
+    })?;
     let setup = worker_setup(run)?;
     let workers = worker_count(case.execution.workers, case.settings.cmaes.population);
     let program = program()?;
@@ -151,8 +159,7 @@ fn run_cmaes(
     );
     let mut progress = display(total, label);
     let sampling = Sampling {
-        space: run.formulation.transmission().design_space(),
-        bounds: case.settings.bounds,
+        designs,
         warm_start: case.settings.warm_start,
     };
     let logged = log.map(|(log, finished)| Logged {

@@ -61,7 +61,8 @@ pub struct RunSettings {
     #[serde(default, skip_serializing_if = "Grading::is_flat")]
     pub grading: Grading,
     /// Whether CMA-ES's samples outside the design space were projected onto it before they
-    /// were evaluated; penalised as drawn (the paper's rule) when left out.
+    /// were evaluated (`clip`), or drawn in the unit box and mapped onto it (`map`); penalised
+    /// as drawn (the paper's rule) when left out.
     #[serde(default, skip_serializing_if = "BoundHandling::is_penalty")]
     pub bounds: BoundHandling,
     /// Whether each generation's designs started from a solution of its mean; always written,
@@ -159,8 +160,9 @@ impl RunSettings {
             return Err(CaseError::new(
                 "bounds",
                 self.bounds,
-                "the gradient method keeps its iterates in the design space itself; only CMA-ES \
-                 projects its samples",
+                "the gradient method is a projected method: it keeps its iterates in the design \
+                 space (bounds and order constraints) itself; only CMA-ES projects or maps its \
+                 samples",
             ));
         }
         self.check_objective(payload, start)

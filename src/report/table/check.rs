@@ -168,7 +168,7 @@ fn odd_capacity(d: &CapacityDocument) -> Option<String> {
 }
 
 /// What is wrong when a co-design run's counts disagree: one cost per evaluation, and no more
-/// evaluations replayed or solved than there were.
+/// evaluations replayed, solved or invalid than there were.
 fn odd_count(file: &ResultFile) -> Option<String> {
     let ResultFile::Optimize(d) = file else {
         return None;
@@ -189,5 +189,10 @@ fn odd_count(file: &ResultFile) -> Option<String> {
             )
         })
     };
-    most("replayed", d.replayed).or_else(|| most("solves", d.solves))
+    most("replayed", d.replayed)
+        .or_else(|| most("solves", d.solves))
+        .or_else(|| {
+            let verdicts = d.verdicts.as_ref();
+            most("verdicts", verdicts.map_or(0, |v| v.evaluations()))
+        })
 }
