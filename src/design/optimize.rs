@@ -213,8 +213,9 @@ pub fn optimize(
 }
 
 /// The run's outcome once CMA-ES has stopped: its best design (as evaluated: the projection or
-/// the image of CMA-ES's best sample where samples are clipped or mapped; none when no evaluation was feasible), the
-/// anchor it was evaluated from, and every evaluation's cost and time.
+/// the image of CMA-ES's best sample where samples are clipped or mapped; none when no
+/// evaluation was feasible), the anchor it was evaluated from, and every evaluation's cost and
+/// time.
 fn finish(
     cmaes: &Cmaes,
     sampling: &Sampling<'_>,

@@ -80,6 +80,13 @@ impl fmt::Display for SettingError {
 impl std::error::Error for SettingError {}
 
 impl CmaesSettings {
+    /// The evaluations of a run that goes to its last generation: the initial population and
+    /// one population per generation, population x (generations + 1) (saturating).
+    pub fn evaluations(&self) -> usize {
+        self.population
+            .saturating_mul(self.generations.saturating_add(1))
+    }
+
     /// Checks every setting against its range; the error names the first that is outside.
     pub fn validate(&self) -> Result<(), SettingError> {
         let error = |field, value: &dyn fmt::Display, rule: String| {
@@ -106,9 +113,7 @@ impl CmaesSettings {
                 format!("must be at most {MAX_GENERATIONS} (1000 times the paper's 30)"),
             );
         }
-        let evaluations = self
-            .population
-            .saturating_mul(self.generations.saturating_add(1));
+        let evaluations = self.evaluations();
         if evaluations > MAX_EVALUATIONS {
             return error(
                 "generations",

@@ -152,7 +152,7 @@ fn run_cmaes(
     let launcher = case.launcher(&program);
     let mut evaluator = WorkerEvaluator::new(launcher.clone(), &setup, workers, timeout)?;
     let settings = &case.settings.cmaes;
-    let total = (settings.population * (settings.generations + 1)) as u64;
+    let total = settings.evaluations() as u64;
     let label = format!(
         "{} {} kg seed {}",
         case.problem.space, run.inputs.payload_kg, settings.seed
