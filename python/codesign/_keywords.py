@@ -49,6 +49,18 @@ def number(name: str, value: Any) -> Optional[float]:
         raise InputError(f"{name}={shown(value)}: too large for a number of 64 bits") from None
 
 
+def duration(name: str, value: Any) -> Optional[List[float]]:
+    """None; a number of seconds as ``[T]`` (a fixed duration); or a pair ``(T_min, T_max)`` as
+    ``[T_min, T_max]`` (a free duration)."""
+    if value is None:
+        return None
+    if isinstance(value, (tuple, list)):
+        if len(value) != 2:
+            raise _refused(name, value, "a duration in s or a pair (T_min, T_max) in s")
+        return [number(f"{name}[{i}]", v) for i, v in enumerate(value)]  # type: ignore[misc]
+    return [number(name, value)]  # type: ignore[list-item]
+
+
 def whole(name: str, value: Any) -> Optional[int]:
     """None, or ``value`` (an int, Python's or numpy's; not a bool) as an int from 0 to
     2**64 - 1."""

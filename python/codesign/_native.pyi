@@ -48,7 +48,7 @@ class NativeTask:
         speed_mode: Optional[str] = None,
         linear_solver: Optional[str] = None,
         ratios: Optional[List[float]] = None,
-        duration: Optional[float] = None,
+        duration: Optional[List[float]] = None,
         steps: Optional[int] = None,
         elastic: bool = False,
         start: Optional[NativeSolution] = None,

@@ -47,12 +47,13 @@ class Payload:
 
 @dataclass
 class Motion:
-    """The motion: from ``start`` to ``goal`` (joint positions, rad) in ``horizon_s`` seconds on
-    ``steps`` intervals, with what it asks at its ends."""
+    """The motion: from ``start`` to ``goal`` (joint positions, rad) in ``horizon_s`` seconds (or
+    a free duration, ``{"free": [T_min, T_max]}``) on ``steps`` intervals, with what it asks at its
+    ends."""
 
     start: Sequence[Number]
     goal: Sequence[Number]
-    horizon_s: Number
+    horizon_s: Union[Number, Dict[str, Sequence[Number]]]
     steps: int = 50
     ends: Union[Ends, str] = Ends.HOLD
 
@@ -60,11 +61,12 @@ class Motion:
 @dataclass
 class Weights:
     """The weights of J: ``position`` per rad^2, ``velocity`` per (rad/s)^2, ``control`` per
-    (N m)^2."""
+    (N m)^2, ``time`` per s (the duration's term w_T T; 0 leaves it out)."""
 
     position: Number = 0.01
     velocity: Number = 0.01
     control: Number = 0.001
+    time: Number = 0.0
 
 
 @dataclass

@@ -8,13 +8,24 @@ import os
 import shlex
 import sys
 import tempfile
-from typing import Any, Callable, Dict, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from codesign import _native
 from codesign._errors import InputError
-from codesign._keywords import design, flag, number, optional_flag, path, plain, shown, text, whole
+from codesign._keywords import (
+    design,
+    duration as duration_of,
+    flag,
+    number,
+    optional_flag,
+    path,
+    plain,
+    shown,
+    text,
+    whole,
+)
 from codesign._results import Capacity, CheckReport, Run, Solution
 from codesign._robot import Robot, Transmission
 from codesign._sections import (
@@ -217,7 +228,7 @@ class Task:
         torque_mode: Optional[str] = None,
         speed_mode: Optional[str] = None,
         linear_solver: Optional[str] = None,
-        duration: Optional[float] = None,
+        duration: Union[None, float, Tuple[float, float]] = None,
         steps: Optional[int] = None,
         elastic: bool = False,
     ) -> Solution:
@@ -241,7 +252,7 @@ class Task:
             text("speed_mode", speed_mode),
             text("linear_solver", linear_solver),
             design("ratios", ratios),
-            number("duration", duration),
+            duration_of("duration", duration),
             whole("steps", steps),
             flag("elastic", elastic),
             native_start,

@@ -12,7 +12,9 @@ use codesign::report::codesign::{CapacityDocument, CapacityInputs};
 use codesign::report::solve_document::{SolveDocument, StartRecord};
 use codesign::store::document::{document_json, Document};
 use codesign_core::model::task::BUILT_IN_TASK;
-use codesign_core::model::task::{check_horizon, check_steps, GivenTask, TaskFile, TaskSource};
+use codesign_core::model::task::{
+    check_horizon, check_steps, GivenTask, Horizon, TaskFile, TaskSource,
+};
 use codesign_core::solve::{solve_design_from, SolveError, StartPoint, ToolInfo};
 use codesign_core::text::number;
 use pyo3::prelude::*;
@@ -140,7 +142,7 @@ impl NativeTask {
         speed_mode: Option<&str>,
         linear_solver: Option<&str>,
         ratios: Option<Vec<f64>>,
-        duration: Option<f64>,
+        duration: Option<Vec<f64>>,
         steps: Option<usize>,
         elastic: bool,
         start: Option<Py<NativeSolution>>,
@@ -214,7 +216,8 @@ impl NativeTask {
 struct SolveRequest {
     posed: Posed,
     ratios: Option<Vec<f64>>,
-    duration: Option<f64>,
+    /// [T] fixes the duration, [T_min, T_max] frees it.
+    duration: Option<Vec<f64>>,
     steps: Option<usize>,
     elastic: bool,
     start: Option<Py<NativeSolution>>,
@@ -225,9 +228,7 @@ impl SolveRequest {
     fn solve(self) -> Outcome<NativeSolution> {
         let mut loaded = self.posed.load()?;
         if let Some(duration) = self.duration {
-            check_horizon(duration)
-                .map_err(|why| Failure::input(format!("duration={}: {why}", number(duration))))?;
-            loaded.task.motion.horizon_s = duration;
+            loaded.task.motion.horizon = horizon_of(&duration)?;
         }
         if let Some(steps) = self.steps {
             check_steps(steps).map_err(|why| Failure::input(format!("steps={steps}: {why}")))?;
@@ -323,4 +324,30 @@ fn capacity(
         capacity,
     };
     json(&document)
+}
+
+/// The horizon of `duration=`: [T] fixed, [T_min, T_max] free, each within the task's range.
+fn horizon_of(duration: &[f64]) -> Result<Horizon, Failure> {
+    let checked = |name: &str, seconds: f64| {
+        check_horizon(seconds)
+            .map_err(|why| Failure::input(format!("{name}={}: {why}", number(seconds))))
+    };
+    match *duration {
+        [seconds] => checked("duration", seconds).map(|()| Horizon::Fixed(seconds)),
+        [min_s, max_s] => {
+            checked("duration[0]", min_s)?;
+            checked("duration[1]", max_s)?;
+            if min_s >= max_s {
+                return Err(Failure::input(format!(
+                    "duration=({}, {}): T_min must be below T_max",
+                    number(min_s),
+                    number(max_s)
+                )));
+            }
+            Ok(Horizon::Free { min_s, max_s })
+        }
+        _ => Err(Failure::input(
+            "duration: a duration in s or a pair (T_min, T_max) in s".to_owned(),
+        )),
+    }
 }

@@ -279,3 +279,26 @@ def test_physical_figures_match_a_hand_computation(planar):
         driving = sum(positive(a, b, step) for a, b, step in zip(p0, p1, h))
         assert motor["positive_work_j"] == pytest.approx(driving, rel=1e-4)
     assert figures["work_j"] == pytest.approx(sum(m["work_j"] for m in figures["motors"]))
+
+
+def test_a_free_duration_is_the_command_lines_free_horizon(binary, tmp_path):
+    """duration=(T_min, T_max) frees T as the task file's {"free": [T_min, T_max]} does: the
+    same optimum to the bit, with the chosen T as horizon_s (issue 52)."""
+    document = json.loads((ROOT / "robots" / "tasks" / "pick_place.json").read_text())
+    document["robot"] = str(ROOT / "robots" / "belt_arm.urdf")
+    document["weights"] = {"position": 0, "velocity": 0, "control": 0, "time": 1}
+    document["cartesian_box"] = {}
+    fixed, free, out = tmp_path / "fixed.json", tmp_path / "free.json", tmp_path / "out.json"
+    fixed.write_text(json.dumps(document))
+    document["motion"]["horizon_s"] = {"free": [0.3, 1.2]}
+    free.write_text(json.dumps(document))
+    python = cd.Task.load(fixed).solve(duration=(0.3, 1.2)).to_dict()
+    assert python["feasible"] and python["horizon_s"] == python["cost"] < 0.8
+    subprocess.run([binary, "solve", "--task", free, "--out", out], check=True, capture_output=True)
+    cli = json.loads(out.read_text())
+    for key in ["cost", "horizon_s", "cost_terms", "trajectory", "cost_gradient"]:
+        assert python[key] == cli[key], key
+    assert python["inputs"]["task"] == cli["inputs"]["task"]
+    for bad, words in [((1.2, 0.3), "T_min must be below T_max"), ((0.3,), "a pair")]:
+        with pytest.raises(cd.InputError, match=words):
+            cd.Task.load(fixed).solve(duration=bad)

@@ -10,11 +10,11 @@ use crate::report::trajectory::{every_plot_file, write_plots};
 use crate::store::document::write_document;
 use crate::store::files::check_folder;
 use codesign_core::ipopt::{check_derivatives, DerivativeOrder};
-use codesign_core::model::task::{check_horizon, check_steps, PerMotor, Task};
+use codesign_core::model::task::{check_horizon, check_steps, Horizon, PerMotor, Task};
 use codesign_core::problem::{EndHold, Formulation, Space, StaticHold};
 use codesign_core::solve::{
-    least_envelope_margin, solve_design_from, ElasticMeasures, SolveError, SolveSettings,
-    StartPoint, TrajectoryResult,
+    least_envelope_margin, solve_design_from, CostTerms, ElasticMeasures, SolveError,
+    SolveSettings, StartPoint, TrajectoryResult,
 };
 use codesign_core::text::{listed, number, rounded};
 use std::path::PathBuf;
@@ -166,7 +166,9 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     } = args.model.load()?;
     args.problem.configure(&mut settings);
     settings.verbose = args.verbose;
-    task.motion.horizon_s = args.duration.unwrap_or(task.motion.horizon_s);
+    if let Some(duration) = args.duration {
+        task.motion.horizon = Horizon::Fixed(duration);
+    }
     task.motion.steps = args.steps.unwrap_or(task.motion.steps);
     check_outputs(args, &task)?;
     let modes = args.problem.modes(&task);
@@ -460,24 +462,11 @@ fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
     if let Some(elastic) = &result.elastic {
         say!("  {}", elastic_text(elastic));
     }
+    if let Some(horizon) = result.horizon_s {
+        say!("  free horizon: T* = {horizon:.6} s");
+    }
     if let Some(t) = &result.cost_terms {
-        let terms = [
-            ("position", t.position),
-            ("velocity", t.velocity),
-            ("control", t.control),
-            ("box", t.cartesian_box),
-        ];
-        let largest = terms
-            .iter()
-            .fold(terms[0], |m, &t| if t.1 > m.1 { t } else { m });
-        say!(
-            "  J by term: position {:.4}, velocity {:.4}, control {:.4}, box {:.4} (the largest: {})",
-            t.position,
-            t.velocity,
-            t.control,
-            t.cartesian_box,
-            largest.0
-        );
+        say!("  {}", cost_terms_text(t));
     }
     let s = &result.solve_seconds;
     say!(
@@ -486,4 +475,29 @@ fn print_summary(formulation: &Formulation, result: &TrajectoryResult) {
         s.callbacks * 1e3,
         s.ipopt * 1e3
     );
+}
+
+/// "J by term: ..." with the largest named; the duration's term only where it counts.
+fn cost_terms_text(t: &CostTerms) -> String {
+    let mut terms = vec![
+        ("position", t.position),
+        ("velocity", t.velocity),
+        ("control", t.control),
+        ("box", t.cartesian_box),
+    ];
+    if t.time != 0.0 {
+        terms.push(("time", t.time));
+    }
+    let largest = terms
+        .iter()
+        .fold(terms[0], |m, &t| if t.1 > m.1 { t } else { m });
+    let listed: Vec<String> = terms
+        .iter()
+        .map(|(name, value)| format!("{name} {value:.4}"))
+        .collect();
+    format!(
+        "J by term: {} (the largest: {})",
+        listed.join(", "),
+        largest.0
+    )
 }

@@ -21,6 +21,7 @@ mod evaluation_log;
 mod examples_cli;
 mod experiment_cli;
 mod hold_cli;
+mod horizon_cli;
 mod hostile_cli;
 mod index_page;
 mod limits_cli;

@@ -4,6 +4,7 @@ pub mod chain;
 mod ends;
 mod error;
 pub mod experiment;
+mod horizon;
 pub mod identity;
 pub mod matrix_row;
 mod motors;

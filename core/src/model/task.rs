@@ -13,6 +13,7 @@
 use super::ends::read_ends;
 pub use super::ends::Ends;
 use super::experiment::Experiment;
+pub use super::horizon::Horizon;
 use crate::choice::Choice;
 use crate::input::{read_text, MAX_TASK_BYTES};
 use crate::text::shown;
@@ -50,11 +51,11 @@ pub const BUILT_IN_TASK: &str = include_str!("../../../robots/tasks/pick_place.j
 ///     motion: Motion {
 ///         start: vec![0.0, 1.885, 0.0, 0.0],
 ///         goal: vec![-3.1416, -1.5708, -1.5708, 0.0],
-///         horizon_s: 0.8,
+///         horizon: Horizon::Fixed(0.8),
 ///         steps: 20,
 ///         ends: Ends::Paper,
 ///     },
-///     weights: Weights { position: 0.01, velocity: 0.01, control: 0.001 },
+///     weights: Weights { position: 0.01, velocity: 0.01, control: 0.001, time: 0.0 },
 ///     cartesian_box: CartesianBox::default(),
 ///     motors: Motors::ideal(PerMotor::All(1.7), PerMotor::All(100.0)),
 ///     transmission: TransmissionSpec {
@@ -143,8 +144,9 @@ pub struct Motion {
     pub start: Vec<f64>,
     /// Joint positions at t = horizon, rad.
     pub goal: Vec<f64>,
-    /// Duration T, s.
-    pub horizon_s: f64,
+    /// Duration T, s: fixed, or free within bounds (`{"free": [T_min, T_max]}`).
+    #[serde(rename = "horizon_s")]
+    pub horizon: Horizon,
     /// Number of intervals N (nodes 0..=N).
     pub steps: usize,
     /// What the motion asks at its ends beyond q and v fixed at nodes 0 and N: nothing (the
@@ -160,7 +162,7 @@ pub struct Motion {
 struct MotionFile {
     start: Vec<f64>,
     goal: Vec<f64>,
-    horizon_s: f64,
+    horizon_s: Horizon,
     steps: usize,
     #[serde(default)]
     ends: Option<Ends>,
@@ -176,13 +178,13 @@ impl TryFrom<MotionFile> for Motion {
             ends: read_ends(file.ends, file.rest_at_ends)?,
             start: file.start,
             goal: file.goal,
-            horizon_s: file.horizon_s,
+            horizon: file.horizon_s,
             steps: file.steps,
         })
     }
 }
 
-/// Weights of J = sum_k wq |q_k|^2 + wv |v_k|^2 + wu |u_k|^2 + box penalties.
+/// Weights of J = sum_k wq |q_k|^2 + wv |v_k|^2 + wu |u_k|^2 + box penalties + w_T T.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Weights {
@@ -192,6 +194,16 @@ pub struct Weights {
     pub velocity: f64,
     /// wu, per (N m)^2.
     pub control: f64,
+    /// w_T, per s: the weight of the duration T in J (0, and not written, when absent). With
+    /// every other weight 0, no box and a free horizon, J* = w_T T* is the minimum time.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub time: f64,
+}
+
+/// Whether a weight is 0: an absent weight is not written, so that the task hash of a task
+/// written before the weight existed stays as it was.
+fn is_zero(weight: &f64) -> bool {
+    *weight == 0.0
 }
 
 /// A soft interval on one world coordinate of the TCP: penalty weight * violation^2.
@@ -460,9 +472,11 @@ impl Task {
         TaskFile::built_in().map(|file| file.task)
     }
 
-    /// The time step h = T / N, s.
-    pub fn step_s(&self) -> f64 {
-        self.motion.horizon_s / self.motion.steps as f64
+    /// The time step h = T / N of a fixed horizon, s; None where T is free (a free T's step is
+    /// the problem's, [`crate::problem::Setting::step_at`]).
+    pub fn step_s(&self) -> Option<f64> {
+        let fixed = self.motion.horizon.fixed_s()?;
+        Some(fixed / self.motion.steps as f64)
     }
 }
 
@@ -478,7 +492,7 @@ mod tests {
     fn default_task_loads_with_the_spec_values() {
         let task = Task::load(&default_task_path()).unwrap();
         assert_eq!(task.motion.steps, 50);
-        assert!((task.step_s() - 0.016).abs() < 1e-15);
+        assert!((task.step_s().unwrap() - 0.016).abs() < 1e-15);
         assert!((task.motion.start[1] - 0.6 * std::f64::consts::PI).abs() < 1e-15);
         assert_eq!(task.transmission.original, vec![6.0, 3.0, 1.0, 1.0]);
         assert_eq!(task.limit_modes.torque, LimitMode::Paper);

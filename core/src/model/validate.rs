@@ -143,7 +143,7 @@ impl FieldError {
     }
 
     /// The error of a `value` of `field` outside its range.
-    fn out_of_range(field: &str, value: f64, range: OutOfRange) -> FieldError {
+    pub(super) fn out_of_range(field: &str, value: f64, range: OutOfRange) -> FieldError {
         FieldError::new(field, format!(" = {}: {range}", number(value)))
     }
 }
@@ -222,8 +222,7 @@ impl Motion {
                 ),
             ));
         }
-        check_horizon(self.horizon_s)
-            .map_err(|why| FieldError::out_of_range("motion.horizon_s", self.horizon_s, why))?;
+        self.horizon.validate("motion.horizon_s")?;
         check_steps(self.steps)
             .map_err(|why| FieldError::out_of_range("motion.steps", self.steps as f64, why))
     }
@@ -234,7 +233,8 @@ impl Weights {
     fn validate(&self) -> Result<(), FieldError> {
         Bounds::weight("per rad^2").check("weights.position", self.position)?;
         Bounds::weight("per (rad/s)^2").check("weights.velocity", self.velocity)?;
-        Bounds::weight("per (N m)^2").check("weights.control", self.control)
+        Bounds::weight("per (N m)^2").check("weights.control", self.control)?;
+        Bounds::weight("per s").check("weights.time", self.time)
     }
 }
 

@@ -1,19 +1,24 @@
-//! The cost J (docs/model.md, section 7) and its first and second derivatives:
+//! What the trajectory problem minimises, in one place: the cost J (docs/model.md, section 7),
+//! its first and second derivatives, and its value term by term ([`CostTerms`]):
 //!
 //!   J = sum_(k < N) [ w_q |q_k|^2 + w_v |v_k|^2 + sum_i w_u,i u_k,i^2
-//!                     + sum_axis rho c_axis(p(q_k))^2 ],
+//!                     + sum_axis rho c_axis(p(q_k))^2 ] + w_T T,
 //!
 //! with p the TCP's world position and c the soft Cartesian box's violation of one coordinate;
 //! the weights are the task's ([`Criterion::Weighted`], w_u,i = w_u) or those of the motors'
 //! copper losses ([`Criterion::CopperLoss`]: w_q = w_v = 0, w_u,i = h R_i / k_t,i^2). Its Hessian
 //! is diagonal in v and u (2 w_v, 2 w_u,i) and, in q, 2 w_q I plus 2 rho (J^T J + c s H) per
-//! violated axis (J = dp_axis/dq, H its Hessian, s = dc/dp = +-1).
+//! violated axis (J = dp_axis/dq, H its Hessian, s = dc/dp = +-1). The duration's term w_T T is
+//! linear: a constant for a fixed horizon, a gradient w_T in T for a free one, no Hessian.
 
 use super::layout::Layout;
 use super::node::NodeEval;
+use super::setting::Setting;
 use crate::dynamics::{Dynamics, Workspace};
-use crate::model::task::{CartesianBox, Task, Weights};
+use crate::model::task::{CartesianBox, Weights};
+use crate::solve::Keyed;
 use nalgebra::DMatrix;
+use serde::{Deserialize, Serialize};
 
 /// Box penalty of one TCP coordinate p, m: (c, dc/dp) with c = max(0, lo - p) + max(0, p - hi).
 fn box_violation(range: [f64; 2], p: f64) -> (f64, f64) {
@@ -53,17 +58,23 @@ pub(super) struct Cost<'f> {
     velocity: f64,
     /// w_u,i of control i, per (N m)^2.
     control: Vec<f64>,
+    /// w_T, per s.
+    time: f64,
+    criterion: &'f Criterion,
     cartesian_box: &'f CartesianBox,
     layout: &'f Layout,
+    setting: &'f Setting,
 }
 
 impl<'f> Cost<'f> {
-    /// The cost `criterion` and `task` set on variables laid out by `layout`.
-    pub(super) fn new(criterion: &Criterion, task: &'f Task, layout: &'f Layout) -> Cost<'f> {
+    /// The cost `criterion` and the task of `setting` set on its variables.
+    pub(super) fn new(criterion: &'f Criterion, setting: &'f Setting) -> Cost<'f> {
+        let (task, layout) = (setting.task(), setting.layout());
         let Weights {
             position,
             velocity,
             control,
+            time,
         } = task.weights;
         let (position, velocity, control) = match criterion {
             Criterion::Weighted => (position, velocity, vec![control; layout.dof]),
@@ -73,8 +84,11 @@ impl<'f> Cost<'f> {
             position,
             velocity,
             control,
+            time,
+            criterion,
             cartesian_box: &task.cartesian_box,
             layout,
+            setting,
         }
     }
 
@@ -91,6 +105,9 @@ impl<'f> Cost<'f> {
                 let (c, _) = box_violation(range, node.tcp[axis]);
                 cost += weight * c * c;
             }
+        }
+        if self.time != 0.0 {
+            cost += self.time * self.setting.horizon_at(x);
         }
         cost
     }
@@ -116,6 +133,9 @@ impl<'f> Cost<'f> {
                     }
                 }
             }
+        }
+        if let Some(column) = layout.horizon() {
+            gradient[column] = self.time;
         }
     }
 
@@ -160,5 +180,83 @@ impl<'f> Cost<'f> {
     /// The u-u block of J's Hessian at control i (diagonal): 2 w_u,i.
     pub(super) fn control_hessian(&self, i: usize) -> f64 {
         2.0 * self.control[i]
+    }
+}
+
+/// The cost J by term (docs/model.md, section 7), so that a user sees which one dominates; they
+/// sum to J.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct CostTerms {
+    /// w_q sum_(k<N) |q_k|^2.
+    pub position: f64,
+    /// w_v sum_(k<N) |v_k|^2.
+    pub velocity: f64,
+    /// w_u sum_(k<N) |u_k|^2 (u: joint torques in joint space, motor torques in actuation
+    /// space).
+    pub control: f64,
+    /// sum_(k<N) sum_axis rho c_axis(p_k)^2: the soft Cartesian box.
+    pub cartesian_box: f64,
+    /// w_T T, the duration's term (absent when 0).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub time: f64,
+    /// The terms a formulation adds (`Formulation::with_cost`), each under its name.
+    #[serde(flatten, skip_serializing_if = "Keyed::is_empty")]
+    pub added: Keyed,
+}
+
+/// Whether a term is 0: the duration's term is not written then, as before it existed.
+fn is_zero(value: &f64) -> bool {
+    *value == 0.0
+}
+
+impl Cost<'_> {
+    /// J at x by term, with the TCP's world position `tcp(k)` at each node k < N and the
+    /// added terms' values `added`. Under the copper losses' criterion they are the control
+    /// term.
+    pub(super) fn terms(
+        &self,
+        x: &[f64],
+        tcp: impl Fn(usize) -> [f64; 3],
+        added: Keyed,
+    ) -> CostTerms {
+        let layout = self.layout;
+        let squares = |index: fn(&Layout, usize, usize) -> usize| {
+            let mut sum = 0.0;
+            for k in 0..layout.steps {
+                for i in 0..layout.dof {
+                    sum += x[index(layout, k, i)].powi(2);
+                }
+            }
+            sum
+        };
+        let mut cartesian_box = 0.0;
+        for k in 0..layout.steps {
+            let p = tcp(k);
+            for (axis, [lo, hi], weight) in box_axes(self.cartesian_box) {
+                let c = (lo - p[axis]).max(0.0) + (p[axis] - hi).max(0.0);
+                cartesian_box += weight * c * c;
+            }
+        }
+        let w = &self.setting.task().weights;
+        let (position, velocity, control) = match self.criterion {
+            Criterion::Weighted => (
+                w.position * squares(Layout::q),
+                w.velocity * squares(Layout::v),
+                w.control * squares(Layout::u),
+            ),
+            Criterion::CopperLoss(weights) => {
+                let nodes = (0..layout.steps).flat_map(|k| (0..layout.dof).map(move |i| (k, i)));
+                let losses = nodes.map(|(k, i)| weights[i] * x[layout.u(k, i)].powi(2));
+                (0.0, 0.0, losses.sum())
+            }
+        };
+        CostTerms {
+            position,
+            velocity,
+            control,
+            cartesian_box,
+            time: self.time * self.setting.horizon_at(x),
+            added,
+        }
     }
 }

@@ -2,37 +2,21 @@
 //! constraint families, its layout and its sparsity patterns.
 
 use super::cost::Criterion;
-use super::families::{self, added, Family, Shape};
+use super::error::FormulationError;
+use super::families::{self, added, Families, Family, Shape};
 use super::hessian;
-use super::hold::DEFAULT_HOLD_TOLERANCE_NM;
 use super::kind::ProblemKind;
-use super::layout::{BlockId, Layout, RowBlock};
+use super::layout::{BlockId, Layout, RowBlock, WideVariable};
 use super::memory::{self, MemoryNeed};
-use super::nlp::TrajectoryProblem;
 use super::pose_rules;
+use super::setting::{Setting, DEFAULT_HOLD_TOLERANCE_NM};
 use super::terms::{AddedTerms, NodeConstraint, NodeCost};
 use crate::dynamics::Dynamics;
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;
-use crate::transmission::{
-    Actuation, Coupling, DesignError, Envelope, MotorDynamics, Space, Transmission,
-    TransmissionLoss,
-};
+use crate::transmission::{Envelope, MotorDynamics, Space, Transmission, TransmissionLoss};
 use nalgebra::DMatrix;
-use std::fmt;
 use std::sync::Arc;
-
-/// A formulation that cannot be built; the message names the field at fault.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FormulationError(pub String);
-
-impl fmt::Display for FormulationError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for FormulationError {}
 
 /// The structural non-zeros of G (row = motor, column = joint) over the whole design space and
 /// every pose: the entries of G(r) at the original design, those some ratio moves, and a linkage
@@ -59,32 +43,14 @@ fn g_pattern(transmission: &Transmission) -> DMatrix<f64> {
 /// [`Formulation::problem`] for each design.
 #[derive(Clone, Debug)]
 pub struct Formulation {
-    task: Task,
-    transmission: Transmission,
-    dynamics: Dynamics,
-    space: Space,
-    modes: LimitModes,
-    /// Each motor's torque limit (the task's `motors.torque_limit_nm`), N m, one per row of G.
-    torque_limits: Vec<f64>,
-    /// Each motor's speed limit (the task's `motors.speed_limit_rad_s`), rad/s, one per row of G.
-    speed_limits: Vec<f64>,
-    /// The motors' rotor inertia and friction, None for ideal motors (neither key given).
-    motor_dynamics: Option<MotorDynamics>,
-    /// The motors' torque-speed envelope, None without `motors.no_load_speed_rad_s`.
-    envelope: Option<Envelope>,
-    /// The transmissions' losses, None without `motors.efficiency`.
-    loss: Option<TransmissionLoss>,
-    /// A static-hold margin down to minus this holds, N m: the solver's constraint tolerance.
-    hold_tolerance_nm: f64,
+    /// What is fixed for every design: task, robot, transmission, modes, motors, layout.
+    setting: Setting,
     /// What the problem minimises: the task's J or the motors' copper losses.
     criterion: Criterion,
     /// The constraint families, in the order of [`FamilyId::ALL`], then the added constraints.
     families: Vec<(BlockId, Arc<dyn Family>)>,
     /// The constraints and cost terms added from outside the core, in the order added.
     added: AddedTerms,
-    layout: Layout,
-    /// Structural non-zeros of G (row = motor, column = joint) over the whole design space.
-    g_pattern: DMatrix<f64>,
     /// The stored entries of one node's Hessian block, in their order.
     node_hessian: Vec<hessian::Entry>,
     jacobian: Vec<(usize, usize)>,
@@ -106,10 +72,11 @@ impl Formulation {
         need.check(
             memory::available_bytes(),
             task.motion.steps,
-            formulation.layout.dof,
+            formulation.layout().dof,
         )?;
-        formulation.jacobian = families::jacobian_pattern(&formulation);
-        formulation.hessian = hessian::pattern(&formulation);
+        formulation.jacobian =
+            families::jacobian_pattern(&formulation.setting, &formulation.families);
+        formulation.hessian = formulation.hessian_pattern();
         Ok(formulation)
     }
 
@@ -169,7 +136,7 @@ impl Formulation {
         let posed = transmission.is_pose_dependent();
         let envelope = Envelope::of(&task.motors, n);
         let loss = TransmissionLoss::of(&task.motors, n);
-        let mut formulation = Formulation {
+        let setting = Setting {
             task: task.clone(),
             transmission,
             dynamics,
@@ -179,14 +146,17 @@ impl Formulation {
             speed_limits: task.motors.speed_limit_rad_s.values(n),
             motor_dynamics: MotorDynamics::of(&task.motors, n),
             envelope,
-            node_hessian: hessian::node_entries(n, loss.is_some(), posed, false),
             loss,
             hold_tolerance_nm: DEFAULT_HOLD_TOLERANCE_NM,
+            g_pattern,
+            layout: Layout::new(n, task.motion.steps, &[], ProblemKind::Hard, &[]),
+        };
+        let mut formulation = Formulation {
+            node_hessian: hessian::node_entries(n, setting.loss.is_some(), posed, false),
+            setting,
             criterion: Criterion::Weighted,
             families: Vec::new(),
             added: AddedTerms::default(),
-            layout: Layout::new(n, task.motion.steps, &[], ProblemKind::Hard),
-            g_pattern,
             jacobian: Vec::new(),
             hessian: Vec::new(),
         };
@@ -196,8 +166,12 @@ impl Formulation {
 
     /// The estimated memory of one solve of this formulation; [`Formulation::new`] refuses a
     /// formulation whose need exceeds the memory the machine has available.
+    /// The Jacobian's entries are counted, the Hessian's are steps times one node's: the
+    /// patterns need not be built.
     pub fn memory_need(&self) -> MemoryNeed {
-        MemoryNeed::of(self)
+        let jacobian = families::jacobian_count(&self.setting, &self.families);
+        let hessian = self.layout().steps * self.node_hessian.len();
+        MemoryNeed::of((jacobian + hessian) as u64)
     }
 
     /// The same formulation in the elastic kind (docs/model.md, section 14): always feasible,
@@ -224,20 +198,20 @@ impl Formulation {
     /// Builds the families of `kind`, their layout and the Jacobian's structure.
     fn build(&mut self, kind: ProblemKind) {
         self.lay_out(kind);
-        self.jacobian = families::jacobian_pattern(self);
+        self.jacobian = families::jacobian_pattern(&self.setting, &self.families);
     }
 
     /// Builds the families of `kind` and their layout.
     fn lay_out(&mut self, kind: ProblemKind) {
         let shape = Shape {
-            dof: self.layout.dof,
-            space: self.space,
-            modes: self.modes,
+            dof: self.setting.layout.dof,
+            space: self.setting.space,
+            modes: self.setting.modes,
             kind,
-            envelope: self.envelope.as_ref(),
-            g_pattern: &self.g_pattern,
-            linkages: self.transmission.linkages(),
-            motors: self.motor_dynamics.as_ref(),
+            envelope: self.setting.envelope.as_ref(),
+            g_pattern: &self.setting.g_pattern,
+            linkages: self.setting.transmission.linkages(),
+            motors: self.setting.motor_dynamics.as_ref(),
         };
         self.families = families::of(&shape);
         for (i, constraint) in self.added.constraints.iter().enumerate() {
@@ -247,17 +221,29 @@ impl Formulation {
         let blocks: Vec<(BlockId, RowBlock)> = (self.families.iter())
             .filter_map(|(id, family)| family.rows().map(|rows| (*id, rows)))
             .collect();
-        self.layout = Layout::new(self.layout.dof, self.layout.steps, &blocks, kind);
+        self.setting.layout = Layout::new(
+            self.setting.layout.dof,
+            self.setting.layout.steps,
+            &blocks,
+            kind,
+            &self.wide_variables(),
+        );
+    }
+
+    /// The problem-wide variables: the duration T where the task's horizon is free.
+    fn wide_variables(&self) -> Vec<WideVariable> {
+        let free = self.task().motion.horizon.is_free();
+        free.then_some(WideVariable::Horizon).into_iter().collect()
     }
 
     /// The same formulation (space, modes, kind) for the robot carrying `payload_kg` kg at the
     /// task's payload point instead.
     pub fn with_payload(&self, payload_kg: f64) -> Result<Formulation, FormulationError> {
-        let mut task = self.task.clone();
+        let mut task = self.task().clone();
         task.payload.mass_kg = payload_kg;
-        let robot = self.dynamics.robot().with_payload(payload_kg);
-        let mut hard = Formulation::new(&task, robot, self.space, self.modes)?
-            .with_hold_tolerance(self.hold_tolerance_nm);
+        let robot = self.dynamics().robot().with_payload(payload_kg);
+        let mut hard = Formulation::new(&task, robot, self.space(), *self.modes())?
+            .with_hold_tolerance(self.hold_tolerance_nm());
         hard.criterion = self.criterion.clone();
         if self.has_added_terms() {
             hard.added = self.added.clone();
@@ -272,7 +258,7 @@ impl Formulation {
     /// The same formulation, a static-hold margin down to minus `tolerance_nm` N m holding
     /// (the solve settings' constraint tolerance, `SolveSettings::constraint_tolerance`).
     pub fn with_hold_tolerance(mut self, tolerance_nm: f64) -> Formulation {
-        self.hold_tolerance_nm = tolerance_nm;
+        self.setting.hold_tolerance_nm = tolerance_nm;
         self
     }
 
@@ -282,14 +268,20 @@ impl Formulation {
     /// the task's `motors.torque_constant_nm_per_a` and `motors.resistance_ohm`, a resistance > 0.
     pub fn minimising_copper_loss(mut self) -> Result<Formulation, FormulationError> {
         let refuse = |why: &str| Err(FormulationError(format!("the energy objective {why}")));
-        if self.space != Space::Actuation {
+        if self.space() != Space::Actuation {
             return refuse(
                 "weighs the motor torques, the controls of the actuation space: use the space \
                  actuation (--space actuation)",
             );
         }
-        let n = self.layout.dof;
-        let Some(constants) = self.task.motors.electrical(n) else {
+        let Some(h) = self.task().step_s() else {
+            return refuse(
+                "weighs the losses by the step h = T/N, which a free horizon makes a variable: \
+                 give motion.horizon_s a fixed duration",
+            );
+        };
+        let n = self.setting.layout.dof;
+        let Some(constants) = self.task().motors.electrical(n) else {
             return refuse(
                 "needs the motors' copper losses: give the task's motors.torque_constant_nm_per_a \
                  and motors.resistance_ohm",
@@ -302,7 +294,6 @@ impl Formulation {
                 i + 1
             ));
         }
-        let h = self.step_s();
         let weights = constants.iter().map(|(k_t, r)| h * r / (k_t * k_t));
         self.criterion = Criterion::CopperLoss(weights.collect());
         Ok(self)
@@ -315,17 +306,28 @@ impl Formulation {
 
     /// The tolerance of the static hold's margins, N m ([`Formulation::with_hold_tolerance`]).
     pub fn hold_tolerance_nm(&self) -> f64 {
-        self.hold_tolerance_nm
+        self.setting.hold_tolerance_nm()
     }
 
     /// Hard or elastic.
     pub fn kind(&self) -> ProblemKind {
-        self.layout.kind
+        self.setting.layout.kind
     }
 
     /// The constraint families, in order.
-    pub(super) fn families(&self) -> &[(BlockId, Arc<dyn Family>)] {
+    pub(super) fn families(&self) -> &Families {
         &self.families
+    }
+
+    /// What a node's Hessian sums at the primal point x: the setting, the families and the
+    /// added terms.
+    pub(super) fn hessian_parts(&self, x: &[f64]) -> hessian::Parts<'_> {
+        hessian::Parts {
+            setting: &self.setting,
+            step_s: self.step_at(x),
+            families: &self.families,
+            added: &self.added,
+        }
     }
 
     /// The same formulation with `constraint`'s rows at every node k < N, after every family's
@@ -357,15 +359,33 @@ impl Formulation {
         !self.added.is_empty()
     }
 
+    /// Whether a problem keeps the primal point it evaluated last, for the Jacobians that read
+    /// it: those of terms added from outside the core, and of the rows that read a free T.
+    pub(super) fn keeps_point(&self) -> bool {
+        self.has_added_terms() || self.layout().horizon().is_some()
+    }
+
     /// The families, layout and patterns built again after a term was added.
     fn rebuild(mut self) -> Formulation {
-        let n = self.layout.dof;
+        let n = self.setting.layout.dof;
         let full = self.has_added_terms();
-        let (losses, posed) = (self.loss.is_some(), self.transmission.is_pose_dependent());
+        let (losses, posed) = (
+            self.setting.loss.is_some(),
+            self.transmission().is_pose_dependent(),
+        );
         self.node_hessian = hessian::node_entries(n, losses, posed, full);
         self.build(self.kind());
-        self.hessian = hessian::pattern(&self);
+        self.hessian = self.hessian_pattern();
         self
+    }
+
+    /// The Hessian's structure: every node's entries, node by node, then those that couple
+    /// node variables with problem-wide ones.
+    fn hessian_pattern(&self) -> Vec<(usize, usize)> {
+        let mut pattern = hessian::pattern(self.layout(), &self.node_hessian);
+        let emit = &mut |row, column, _| pattern.push((row, column));
+        families::visit_wide_hessian(self.layout(), &self.families, None, emit);
+        pattern
     }
 
     /// The per-node entries of the Lagrangian's Hessian, in their order.
@@ -383,75 +403,70 @@ impl Formulation {
         &self.hessian
     }
 
-    /// The problem of design `ratios`, or why the design is not valid.
-    pub fn problem(&self, ratios: &[f64]) -> Result<TrajectoryProblem<'_>, DesignError> {
-        TrajectoryProblem::new(self, ratios)
-    }
-
-    /// The actuation of `coupling` (G at one design and, for a pose-dependent transmission, one
-    /// pose) in this formulation's space, with its motors and losses.
-    pub(super) fn actuation(&self, coupling: Coupling) -> Actuation {
-        Actuation::new(coupling, self.space, self.motor_dynamics()).with_loss(self.loss.as_ref())
+    /// What is fixed for every design of this formulation.
+    pub fn setting(&self) -> &Setting {
+        &self.setting
     }
 
     /// The task.
     pub fn task(&self) -> &Task {
-        &self.task
+        self.setting.task()
     }
 
     /// The transmission's structure and design space.
     pub fn transmission(&self) -> &Transmission {
-        &self.transmission
+        self.setting.transmission()
     }
 
     /// The robot's dynamics model (with the payload), shared by every problem of the formulation.
     pub fn dynamics(&self) -> &Dynamics {
-        &self.dynamics
+        self.setting.dynamics()
     }
 
     /// Joint or actuation space.
     pub fn space(&self) -> Space {
-        self.space
+        self.setting.space()
     }
 
     /// The limit modes.
     pub fn modes(&self) -> &LimitModes {
-        &self.modes
+        self.setting.modes()
     }
 
     /// Each motor's torque limit |tau_u,i| <= limit_i, N m (motor i = row i of G).
     pub fn motor_torque_limits(&self) -> &[f64] {
-        &self.torque_limits
+        self.setting.motor_torque_limits()
     }
 
     /// Each motor's speed limit |qd_u,i| <= limit_i, rad/s (motor i = row i of G).
     pub fn motor_speed_limits(&self) -> &[f64] {
-        &self.speed_limits
+        self.setting.motor_speed_limits()
     }
 
     /// The motors' rotor inertia and viscous friction, None for ideal motors.
     pub fn motor_dynamics(&self) -> Option<&MotorDynamics> {
-        self.motor_dynamics.as_ref()
+        self.setting.motor_dynamics()
     }
 
     /// The motors' torque-speed envelope, None without `motors.no_load_speed_rad_s`.
     pub fn envelope(&self) -> Option<&Envelope> {
-        self.envelope.as_ref()
+        self.setting.envelope()
     }
 
     /// The transmissions' losses, None without `motors.efficiency`.
     pub fn transmission_loss(&self) -> Option<&TransmissionLoss> {
-        self.loss.as_ref()
+        self.setting.transmission_loss()
     }
 
     /// The index layout.
     pub fn layout(&self) -> &Layout {
-        &self.layout
+        self.setting.layout()
     }
 
-    /// Time step h = T/N, s.
-    pub fn step_s(&self) -> f64 {
-        self.task.step_s()
+    /// Time step h = T/N at the primal point x, s: the task's for a fixed horizon, T/N of x's
+    /// T for a free one.
+    pub fn step_at(&self, x: &[f64]) -> f64 {
+        self.setting.step_at(x)
     }
 
     /// Number of structural non-zeros of the constraint Jacobian.

@@ -13,12 +13,11 @@
 //! they always agree.
 
 use super::cost::Cost;
-use super::families::added;
-use super::families::NodeSecondOrder;
-use super::formulation::Formulation;
+use super::families::{added, Families, NodeSecondOrder};
 use super::layout::Layout;
 use super::node::NodeEval;
-use super::terms::NodeContext;
+use super::setting::Setting;
+use super::terms::{AddedTerms, NodeContext};
 use crate::dynamics::Workspace;
 use crate::transmission::Actuation;
 use nalgebra::DMatrix;
@@ -129,17 +128,21 @@ pub(super) fn node_entries(n: usize, losses: bool, pose: bool, full: bool) -> Ve
     entries
 }
 
-/// The Hessian's structure: every node's entries, node by node.
-pub(super) fn pattern(formulation: &Formulation) -> Vec<(usize, usize)> {
-    let layout = formulation.layout();
+/// The Hessian's structure: every node's `entries`, node by node.
+pub(super) fn pattern(layout: &Layout, entries: &[Entry]) -> Vec<(usize, usize)> {
     (0..layout.steps)
-        .flat_map(|k| {
-            formulation
-                .node_hessian()
-                .iter()
-                .map(move |entry| entry.position(layout, k))
-        })
+        .flat_map(|k| entries.iter().map(move |entry| entry.position(layout, k)))
         .collect()
+}
+
+/// What a node's Hessian sums, of one formulation: its setting, its constraint families and the
+/// terms added from outside the core.
+pub(super) struct Parts<'p> {
+    pub(super) setting: &'p Setting,
+    /// The step h = T/N at the point evaluated, s.
+    pub(super) step_s: f64,
+    pub(super) families: &'p Families,
+    pub(super) added: &'p AddedTerms,
 }
 
 /// A node's variables: (q_k, v_k, a_k) and u_k.
@@ -185,20 +188,20 @@ impl NodeHessian {
         }
     }
 
-    /// Evaluates the blocks at node k's (q, v, a) of `formulation`, with the node's evaluation
+    /// Evaluates the blocks of `parts` at node k's (q, v, a), with the node's evaluation
     /// `node`, the design's `actuation` and every row's multiplier `lambda`.
     pub(super) fn evaluate(
         &mut self,
-        (formulation, k, data): (&Formulation, usize, &mut Workspace),
+        (parts, k, data): (&Parts<'_>, usize, &mut Workspace),
         cost: &Cost<'_>,
         ((q, v, a), u): NodeVariables<'_>,
         (node, actuation): (&NodeEval, &Actuation),
         lambda: &[f64],
     ) {
-        let (layout, dynamics) = (formulation.layout(), formulation.dynamics());
+        let (layout, dynamics) = (parts.setting.layout(), parts.setting.dynamics());
         self.dynamics.fill(0.0);
         self.mixed.fill(0.0);
-        for (id, family) in formulation.families() {
+        for (id, family) in parts.families {
             let (Some(row), Some(block)) = (layout.first_row(*id, k), family.rows()) else {
                 continue;
             };
@@ -224,11 +227,11 @@ impl NodeHessian {
         for (i, value) in self.cost_control.iter_mut().enumerate() {
             *value = cost.control_hessian(i);
         }
-        if formulation.has_added_terms() {
+        if !parts.added.is_empty() {
             let mut node = NodeContext {
                 k,
                 steps: layout.steps,
-                step_s: formulation.step_s(),
+                step_s: parts.step_s,
                 q,
                 v,
                 a,
@@ -236,7 +239,7 @@ impl NodeHessian {
                 dynamics,
                 workspace: data,
             };
-            self.added = Some(added_terms(formulation, &mut node, lambda));
+            self.added = Some(added_terms((layout, parts.added), &mut node, lambda));
         }
     }
 
@@ -292,19 +295,18 @@ impl NodeHessian {
 /// The added constraints' terms at `node` under their multipliers in `lambda`, and the added
 /// cost terms', 4n x 4n each (lower triangles).
 fn added_terms(
-    formulation: &Formulation,
+    (layout, added): (&Layout, &AddedTerms),
     node: &mut NodeContext<'_>,
     lambda: &[f64],
 ) -> (DMatrix<f64>, DMatrix<f64>) {
-    let size = 4 * formulation.layout().dof;
+    let size = 4 * layout.dof;
     let (mut rows, mut cost) = (DMatrix::zeros(size, size), DMatrix::zeros(size, size));
-    let layout = formulation.layout();
-    for (i, constraint) in formulation.added_constraints().iter().enumerate() {
+    for (i, constraint) in added.constraints.iter().enumerate() {
         if let Some(row) = layout.first_row(added::block(i), node.k) {
             constraint.hessian(node, &lambda[row..row + constraint.rows()], &mut rows);
         }
     }
-    for term in formulation.added_costs() {
+    for term in &added.costs {
         term.hessian(node, &mut cost);
     }
     (rows, cost)
@@ -320,7 +322,7 @@ mod tests {
     #[test]
     fn node_entries_run_row_by_row_through_the_lower_triangle() {
         let n = 4;
-        let layout = Layout::new(n, 3, &[], ProblemKind::Hard);
+        let layout = Layout::new(n, 3, &[], ProblemKind::Hard, &[]);
         let base = layout.q(1, 0);
         let mut expected = Vec::new();
         for i in 0..2 * n {

@@ -11,12 +11,6 @@ use crate::transmission::Space;
 use crate::transmission::{Coupling, DesignError, JointLimits};
 use serde::{Deserialize, Serialize};
 
-/// IPOPT's default `constr_viol_tol`, N m here: the violation of a constraint IPOPT accepts at
-/// an optimum. A hold margin down to minus the solver's tolerance counts as held, as a
-/// trajectory that close to its limit counts as feasible (a joint whose limit is 0 in mode
-/// `paper` and whose gravity torque is 0 up to rounding holds).
-pub const DEFAULT_HOLD_TOLERANCE_NM: f64 = 1e-4;
-
 /// The tolerance of hold files written before it was recorded, N m.
 fn older_tolerance() -> f64 {
     1e-9
@@ -320,6 +314,7 @@ mod tests {
     use super::*;
     use crate::model::task::{LimitMode, LimitModes};
     use crate::model::Robot;
+    use crate::problem::DEFAULT_HOLD_TOLERANCE_NM;
     use crate::testing;
 
     /// The repository's task carrying `payload_kg` in `space` with torque mode `torque`.

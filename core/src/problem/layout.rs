@@ -7,6 +7,9 @@
 //! the inner nodes 0 < k < N (where v is free). The layout knows the blocks' sizes, not what
 //! their rows mean: that is each family's own file.
 //!
+//! Problem-wide variables ([`WideVariable`]: the free horizon T) follow the node blocks, in the
+//! order given.
+//!
 //! The elastic kind (docs/model.md, section 14) appends its slack columns after the
 //! trajectory's: for each relaxed block in the families' order, for each node where it is
 //! present, a pair `[+, -]` per row (2 columns per row). Today the dynamics rows (the torque
@@ -18,6 +21,13 @@ use super::kind::ProblemKind;
 /// (`FamilyId as usize`, which converts into it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct BlockId(pub usize);
+
+/// A variable of the whole problem, beside the node blocks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WideVariable {
+    /// The duration T of a free horizon, s (the step is h = T/N).
+    Horizon,
+}
 
 /// The rows one constraint family holds at a node.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -72,17 +82,20 @@ pub struct Layout {
     offsets: Vec<Option<usize>>,
     /// Each relaxed block's first slack column (elastic kind).
     slack_base: Vec<Option<usize>>,
+    /// The problem-wide variables, in the order of their columns after the node blocks.
+    wide: Vec<WideVariable>,
     variables: usize,
 }
 
 impl Layout {
-    /// The layout of a problem of `kind` with `dof` joints, `steps` intervals and the row
-    /// blocks `blocks`, given in the families' order.
+    /// The layout of a problem of `kind` with `dof` joints, `steps` intervals, the row blocks
+    /// `blocks`, given in the families' order, and the problem-wide variables `wide`.
     pub fn new(
         dof: usize,
         steps: usize,
         blocks: &[(BlockId, RowBlock)],
         kind: ProblemKind,
+        wide: &[WideVariable],
     ) -> Layout {
         let keys = blocks.iter().map(|(id, _)| id.0 + 1).max().unwrap_or(0);
         let mut by_key = vec![None; keys];
@@ -103,7 +116,7 @@ impl Layout {
         }
         row_base.push(row);
         let mut slack_base = vec![None; keys];
-        let mut column = 4 * dof * steps + 2 * dof;
+        let mut column = 4 * dof * steps + 2 * dof + wide.len();
         if kind == ProblemKind::Elastic {
             for &(id, block) in blocks.iter().filter(|(_, block)| block.relaxed) {
                 slack_base[id.0] = Some(column);
@@ -118,6 +131,7 @@ impl Layout {
             row_base,
             offsets,
             slack_base,
+            wide: wide.to_vec(),
             variables: column,
         }
     }
@@ -127,7 +141,7 @@ impl Layout {
         self.blocks.get(id.into().0).copied().flatten()
     }
 
-    /// Number of variables: 4nN + 2n, plus the slacks of the elastic kind.
+    /// Number of variables: 4nN + 2n, the problem-wide ones, and the slacks of the elastic kind.
     pub fn num_variables(&self) -> usize {
         self.variables
     }
@@ -139,7 +153,18 @@ impl Layout {
 
     /// The slack columns (empty in the hard kind).
     pub fn slacks(&self) -> std::ops::Range<usize> {
-        self.trajectory_variables()..self.num_variables()
+        self.trajectory_variables() + self.wide.len()..self.num_variables()
+    }
+
+    /// The column of the problem-wide variable `variable`, where the problem has it.
+    pub fn wide(&self, variable: WideVariable) -> Option<usize> {
+        let position = self.wide.iter().position(|&v| v == variable)?;
+        Some(self.trajectory_variables() + position)
+    }
+
+    /// The column of the free horizon T, where the horizon is free.
+    pub fn horizon(&self) -> Option<usize> {
+        self.wide(WideVariable::Horizon)
     }
 
     /// Number of constraint rows.
@@ -245,7 +270,7 @@ mod tests {
                 })
                 .collect();
             for kind in [ProblemKind::Hard, ProblemKind::Elastic] {
-                let layout = Layout::new(n, 5, &blocks, kind);
+                let layout = Layout::new(n, 5, &blocks, kind, &[]);
                 let mut columns = vec![0; layout.num_variables()];
                 let mut rows = vec![0; layout.num_constraints()];
                 for k in 0..=layout.steps {
@@ -299,7 +324,7 @@ mod tests {
                 },
             ),
         ];
-        let layout = Layout::new(4, 3, &blocks, ProblemKind::Hard);
+        let layout = Layout::new(4, 3, &blocks, ProblemKind::Hard, &[]);
         assert_eq!(layout.row(FamilyId::Dynamics, 1, 2), Some(14));
         assert_eq!(layout.row(FamilyId::Integration, 1, 0), Some(16));
         assert_eq!(layout.num_constraints(), 36);

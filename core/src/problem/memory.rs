@@ -8,8 +8,7 @@
 //! MUMPS): 396 to 411 bytes per non-zero of the hard problem, and 479 to 489 bytes per non-zero
 //! of the hard problem for the elastic one (which adds slacks), above about 15 MiB.
 
-use super::families;
-use super::formulation::{Formulation, FormulationError};
+use super::error::FormulationError;
 use std::fmt;
 
 /// Bytes one solve needs per structural non-zero of the hard problem's Jacobian and Hessian:
@@ -29,11 +28,8 @@ pub struct MemoryNeed {
 }
 
 impl MemoryNeed {
-    /// The need of `formulation`, whose families and layout are built (its patterns need not
-    /// be): the Jacobian's entries counted, the Hessian's as steps times one node's.
-    pub(super) fn of(formulation: &Formulation) -> MemoryNeed {
-        let hessian = formulation.layout().steps * formulation.node_hessian().len();
-        let nonzeros = (families::jacobian_count(formulation) + hessian) as u64;
+    /// The need of a solve whose Jacobian and Hessian have `nonzeros` structural non-zeros.
+    pub(super) fn of(nonzeros: u64) -> MemoryNeed {
         MemoryNeed {
             nonzeros,
             bytes: BASE_BYTES.saturating_add(nonzeros.saturating_mul(BYTES_PER_NONZERO)),

@@ -3,7 +3,8 @@
 //! the Jacobian, adds the cost (`cost.rs`) and the elastic kind's penalty, and assembles the
 //! Hessian's node blocks (`hessian.rs`).
 
-use super::cost::Cost;
+use super::cost::{Cost, CostTerms};
+use super::design_data::DesignData;
 use super::families::{self, elastic, At, Place};
 use super::formulation::Formulation;
 use super::hessian::NodeHessian;
@@ -14,7 +15,7 @@ use crate::dynamics::Workspace;
 use crate::ipopt::{EvalError, Nlp};
 use crate::solve::Keyed;
 use crate::transmission::{
-    Actuation, Coupling, Depth, DesignError, JointLimits, NodeLoss, PoseError, Space,
+    Actuation, Coupling, Depth, DesignError, JointLimits, NodeLoss, PoseError,
 };
 use nalgebra::DVector;
 
@@ -22,10 +23,8 @@ use nalgebra::DVector;
 #[derive(Clone, Debug)]
 pub struct TrajectoryProblem<'a> {
     formulation: &'a Formulation,
-    ratios: Vec<f64>,
-    /// G(r), its inverse, and the controls' map to joint and motor torques; G at the motion's
-    /// start for a pose-dependent transmission, whose nodes hold their own.
-    actuation: Actuation,
+    /// What the families read of this design: r, its actuation and the point evaluated last.
+    design: DesignData<'a>,
     /// G at the motion's start and goal: the static hold's.
     ends: [Coupling; 2],
     /// Each screw's motor and length per motor radian l / 2 pi at this design, m/rad.
@@ -41,13 +40,10 @@ pub struct TrajectoryProblem<'a> {
     /// The trajectory IPOPT starts from instead of the standard guess (see
     /// [`TrajectoryProblem::start_at`]).
     start: Option<Vec<f64>>,
-    /// The primal point evaluated last, kept where terms were added from outside the core
-    /// (whose Jacobians read it).
-    point: Vec<f64>,
 }
 
 impl<'a> TrajectoryProblem<'a> {
-    pub(super) fn new(formulation: &'a Formulation, ratios: &[f64]) -> Result<Self, DesignError> {
+    fn new(formulation: &'a Formulation, ratios: &[f64]) -> Result<Self, DesignError> {
         // The coupling checks the design (bounds, order, G invertible, the linkages closed at
         // both ends) before building G.
         let (transmission, motion) = (formulation.transmission(), &formulation.task().motion);
@@ -57,8 +53,11 @@ impl<'a> TrajectoryProblem<'a> {
         let (n, steps) = (formulation.layout().dof, formulation.layout().steps);
         Ok(TrajectoryProblem {
             formulation,
-            ratios: ratios.to_vec(),
-            actuation: formulation.actuation(start.clone()),
+            design: DesignData::new(
+                formulation.setting(),
+                ratios,
+                formulation.setting().actuation(start.clone()),
+            ),
             ends: [start, goal],
             screws: (transmission.linkages().iter())
                 .filter_map(|row| Some((row.motor, row.linkage.length_per_angle(ratios)?)))
@@ -70,7 +69,6 @@ impl<'a> TrajectoryProblem<'a> {
             level: Level::Nothing,
             node_hessian: NodeHessian::zeros(n),
             start: None,
-            point: Vec::new(),
         })
     }
 
@@ -96,20 +94,23 @@ impl<'a> TrajectoryProblem<'a> {
         Ok(())
     }
 
-    /// The primal point evaluated last, where terms were added from outside the core (else
-    /// empty).
-    pub(super) fn point(&self) -> &[f64] {
-        &self.point
-    }
-
     /// Each constraint added from outside the core's largest violation at x, by name.
     pub fn added_violations(&self, x: &[f64]) -> Keyed {
-        terms::violations(self.formulation, x)
+        let f = self.formulation;
+        terms::violations(f.setting(), f.added_constraints(), x)
+    }
+
+    /// J at x by term ([`CostTerms`]), with the TCP's world position `tcp(k)` at each node
+    /// k < N.
+    pub fn cost_terms(&self, x: &[f64], tcp: impl Fn(usize) -> [f64; 3]) -> CostTerms {
+        let f = self.formulation;
+        Cost::new(f.criterion(), f.setting()).terms(x, tcp, self.added_costs(x))
     }
 
     /// Each cost term added from outside the core at x, summed over the nodes, by name.
     pub fn added_costs(&self, x: &[f64]) -> Keyed {
-        terms::costs(self.formulation, x)
+        let f = self.formulation;
+        terms::costs(f.setting(), f.added_costs(), x)
     }
 
     /// The formulation this problem belongs to.
@@ -119,18 +120,23 @@ impl<'a> TrajectoryProblem<'a> {
 
     /// The design r.
     pub fn ratios(&self) -> &[f64] {
-        &self.ratios
+        self.design.ratios()
+    }
+
+    /// What the families read of this design.
+    pub(super) fn design(&self) -> &DesignData<'a> {
+        &self.design
     }
 
     /// G(r) and its inverse at this design.
     pub fn coupling(&self) -> &Coupling {
-        self.actuation.coupling()
+        self.design.coupling()
     }
 
     /// The actuation at this design: the controls' map to joint and motor torques (at the
     /// motion's start for a pose-dependent transmission: see [`TrajectoryProblem::actuation_at`]).
     pub fn actuation(&self) -> &Actuation {
-        &self.actuation
+        self.design.actuation()
     }
 
     /// G at the motion's start and goal.
@@ -143,12 +149,16 @@ impl<'a> TrajectoryProblem<'a> {
     pub fn actuation_at(&self, q: &[f64]) -> Result<Actuation, PoseError> {
         let f = self.formulation;
         if !f.transmission().is_pose_dependent() {
-            return Ok(self.actuation.clone());
+            return Ok(self.actuation().clone());
         }
         let mut data = f.dynamics().workspace();
-        let at =
-            (f.transmission()).at_pose(&self.ratios, (f.dynamics(), &mut data), q, Depth::First)?;
-        Ok(f.actuation(at.coupling))
+        let at = (f.transmission()).at_pose(
+            self.ratios(),
+            (f.dynamics(), &mut data),
+            q,
+            Depth::First,
+        )?;
+        Ok(f.setting().actuation(at.coupling))
     }
 
     /// The joint torques G(q)^T J_m h the motors' rotor inertia takes through the speed term
@@ -161,8 +171,12 @@ impl<'a> TrajectoryProblem<'a> {
             return Ok(vec![0.0; q.len()]);
         };
         let mut data = f.dynamics().workspace();
-        let at =
-            (f.transmission()).at_pose(&self.ratios, (f.dynamics(), &mut data), q, Depth::Third)?;
+        let at = (f.transmission()).at_pose(
+            self.ratios(),
+            (f.dynamics(), &mut data),
+            q,
+            Depth::Third,
+        )?;
         let rows = at.rows.iter().map(|(motor, row)| (*motor, &row.hessian));
         let h = families::speed_terms(rows, &DVector::from_column_slice(v));
         let torques = families::speed_term_torques(at.coupling.matrix(), motors, &h);
@@ -171,17 +185,7 @@ impl<'a> TrajectoryProblem<'a> {
 
     /// Each motor's angle at pose q, rad: gamma_i(q) for a linkage row, G_i q for a constant one.
     pub fn motor_angles(&self, q: &[f64]) -> Result<Vec<f64>, PoseError> {
-        let f = self.formulation;
-        let mut data = f.dynamics().workspace();
-        (f.transmission()).motor_angles(&self.ratios, (f.dynamics(), &mut data), q)
-    }
-
-    /// The actuation at `node`: its own G(q_k) where the transmission depends on the pose,
-    /// this design's otherwise.
-    pub(super) fn actuation_of<'n>(&'n self, node: &'n NodeEval) -> &'n Actuation {
-        node.pose
-            .as_ref()
-            .map_or(&self.actuation, |pose| &pose.actuation)
+        self.design.motor_angles(q)
     }
 
     /// Joint torques the links take at a node of speeds v and accelerations a under control u,
@@ -193,38 +197,28 @@ impl<'a> TrajectoryProblem<'a> {
         u: &[f64],
         loss: Option<&NodeLoss>,
     ) -> Vec<f64> {
-        self.actuation.link_torques((v, a), u, loss)
+        self.actuation().link_torques((v, a), u, loss)
     }
 
     /// Motor torques of control u at a node: u (actuation space) or G^-T u (joint space), N m.
     pub fn motor_torques(&self, u: &[f64]) -> Vec<f64> {
-        self.actuation.motor_torques(u)
+        self.actuation().motor_torques(u)
     }
 
     /// The box or linear rows that limit the joint speeds v in the formulation's speed mode, rad/s.
     pub fn speed_limits(&self) -> JointLimits {
-        let f = self.formulation;
-        self.coupling()
-            .speed_limits(f.modes().speed, f.motor_speed_limits())
+        self.design.speed_limits()
     }
 
     /// The box or linear rows that limit the controls u: |u_i| <= motor i's torque limit in
     /// actuation space, the formulation's torque mode in joint space, N m.
     pub fn control_limits(&self) -> JointLimits {
-        self.control_limits_with(self.coupling())
+        self.design.control_limits()
     }
 
     /// The same limits through `coupling`, G at some pose of a pose-dependent transmission.
     pub fn control_limits_with(&self, coupling: &Coupling) -> JointLimits {
-        let f = self.formulation;
-        let limits = f.motor_torque_limits();
-        match f.space() {
-            Space::Actuation => JointLimits::Box {
-                lower: limits.iter().map(|limit| -limit).collect(),
-                upper: limits.to_vec(),
-            },
-            Space::Joint => coupling.torque_limits(f.modes().torque, limits),
-        }
+        self.design.control_limits_with(coupling)
     }
 
     /// Evaluates the node data at x up to `level` (cached until x changes).
@@ -232,9 +226,9 @@ impl<'a> TrajectoryProblem<'a> {
         if new_x {
             self.level = Level::Nothing;
         }
-        if self.level == Level::Nothing && self.formulation.has_added_terms() {
-            self.point.clear();
-            self.point.extend_from_slice(x);
+        if self.level == Level::Nothing && self.formulation.keeps_point() {
+            self.design.point.clear();
+            self.design.point.extend_from_slice(x);
         }
         if self.level >= level {
             return Ok(());
@@ -245,7 +239,7 @@ impl<'a> TrajectoryProblem<'a> {
                 x[i]
             )));
         }
-        let (f, actuation) = (self.formulation, &self.actuation);
+        let (f, actuation) = (self.formulation, self.design.actuation());
         // The linkage rows are taken to the third order at once: IPOPT asks for the derivatives
         // at nearly every point whose values it asked for (each accepted step), and the jets
         // cost about as much to the third order as to the first. At the values' x they are
@@ -262,10 +256,10 @@ impl<'a> TrajectoryProblem<'a> {
             node.evaluate(f.dynamics(), data, state, level);
             if f.transmission().is_pose_dependent() && !poses_current {
                 let at = (f.transmission())
-                    .at_pose(&self.ratios, (f.dynamics(), data), state.0, depth)
+                    .at_pose(self.design.ratios(), (f.dynamics(), data), state.0, depth)
                     .map_err(|error| EvalError::outside_domain(format!("node {k}: {error}")))?;
                 node.pose = Some(NodePose {
-                    actuation: f.actuation(at.coupling),
+                    actuation: f.setting().actuation(at.coupling),
                     rows: at.rows,
                     screws: self.screws.clone(),
                     speeds: state.1.to_vec(),
@@ -278,6 +272,13 @@ impl<'a> TrajectoryProblem<'a> {
         }
         self.level = level;
         Ok(())
+    }
+}
+
+impl Formulation {
+    /// The problem of design `ratios`, or why the design is not valid.
+    pub fn problem(&self, ratios: &[f64]) -> Result<TrajectoryProblem<'_>, DesignError> {
+        TrajectoryProblem::new(self, ratios)
     }
 }
 
@@ -308,7 +309,7 @@ impl Nlp for TrajectoryProblem<'_> {
         lower.fill(f64::NEG_INFINITY);
         upper.fill(f64::INFINITY);
         for (_, family) in self.formulation.families() {
-            family.variable_bounds(self, lower, upper);
+            family.variable_bounds(&self.design, lower, upper);
         }
     }
 
@@ -316,7 +317,7 @@ impl Nlp for TrajectoryProblem<'_> {
         lower.fill(0.0);
         upper.fill(0.0);
         for (family, place) in self.places() {
-            family.row_bounds(self, place, lower, upper);
+            family.row_bounds(&self.design, place, lower, upper);
         }
     }
 
@@ -331,13 +332,16 @@ impl Nlp for TrajectoryProblem<'_> {
             x[..start.len()].copy_from_slice(start);
             return;
         }
+        if let Some(column) = layout.horizon() {
+            x[column] = motion.horizon.initial_s();
+        }
         for k in 0..=layout.steps {
             let s = k as f64 / layout.steps as f64;
             for i in 0..layout.dof {
                 let (start, goal) = (motion.start[i], motion.goal[i]);
                 x[layout.q(k, i)] = start + s * (goal - start);
                 if k > 0 && k < layout.steps {
-                    x[layout.v(k, i)] = (goal - start) / motion.horizon_s;
+                    x[layout.v(k, i)] = (goal - start) / motion.horizon.initial_s();
                 }
             }
         }
@@ -346,29 +350,29 @@ impl Nlp for TrajectoryProblem<'_> {
     fn objective(&mut self, x: &[f64], new_x: bool) -> Result<f64, EvalError> {
         self.evaluate(x, new_x, Level::Values)?;
         let f = self.formulation;
-        let mut cost = Cost::new(f.criterion(), f.task(), f.layout()).value(x, &self.nodes);
+        let mut cost = Cost::new(f.criterion(), f.setting()).value(x, &self.nodes);
         if f.has_added_terms() {
-            cost += terms::cost(f, x);
+            cost += terms::cost(f.setting(), f.added_costs(), x);
         }
         Ok(match f.layout().kind {
             ProblemKind::Hard => cost,
-            ProblemKind::Elastic => cost + elastic::penalty(f, x),
+            ProblemKind::Elastic => cost + elastic::penalty(f.setting(), x),
         })
     }
 
     fn gradient(&mut self, x: &[f64], new_x: bool, gradient: &mut [f64]) -> Result<(), EvalError> {
         self.evaluate(x, new_x, Level::Derivatives)?;
         let f = self.formulation;
-        Cost::new(f.criterion(), f.task(), f.layout()).gradient(x, &self.nodes, gradient);
-        terms::add_cost_gradient(f, x, gradient);
-        elastic::penalty_gradient(f, gradient);
+        Cost::new(f.criterion(), f.setting()).gradient(x, &self.nodes, gradient);
+        terms::add_cost_gradient(f.setting(), f.added_costs(), x, gradient);
+        elastic::penalty_gradient(f.setting(), gradient);
         Ok(())
     }
 
     fn constraints(&mut self, x: &[f64], new_x: bool, g: &mut [f64]) -> Result<(), EvalError> {
         self.evaluate(x, new_x, Level::Values)?;
         for (family, place) in self.places() {
-            family.values(self, x, &self.nodes[place.k], place, g);
+            family.values(&self.design, x, &self.nodes[place.k], place, g);
         }
         Ok(())
     }
@@ -385,8 +389,9 @@ impl Nlp for TrajectoryProblem<'_> {
     ) -> Result<(), EvalError> {
         self.evaluate(x, new_x, Level::Derivatives)?;
         let mut next = 0;
-        let at = At::Design(self);
-        families::visit_jacobian(&at, |k| &self.nodes[k], &mut |_, _, value| {
+        let at = At::Design(&self.design);
+        let f = self.formulation.families();
+        families::visit_jacobian(&at, f, |k| &self.nodes[k], &mut |_, _, value| {
             values[next] = value;
             next += 1;
         });
@@ -408,20 +413,24 @@ impl Nlp for TrajectoryProblem<'_> {
         self.evaluate(x, new_x, Level::Derivatives)?;
         let f = self.formulation;
         let layout = f.layout();
-        let cost = Cost::new(f.criterion(), f.task(), layout);
+        let cost = Cost::new(f.criterion(), f.setting());
         let per_node = f.node_hessian().len();
+        let parts = f.hessian_parts(x);
         let nodes = self.nodes.iter().zip(&mut self.workspaces);
         for (k, ((node, data), values)) in nodes.zip(values.chunks_mut(per_node)).enumerate() {
             let state = (layout.node_state(x, k), layout.controls(x, k));
-            let actuation = node
-                .pose
-                .as_ref()
-                .map_or(&self.actuation, |pose| &pose.actuation);
+            let actuation = self.design.actuation_of(node);
             self.node_hessian
-                .evaluate((f, k, data), &cost, state, (node, actuation), lambda);
+                .evaluate((&parts, k, data), &cost, state, (node, actuation), lambda);
             self.node_hessian
                 .write(f.node_hessian(), obj_factor, values);
         }
+        let mut next = layout.steps * per_node;
+        let emit = &mut |_, _, value| {
+            values[next] = value;
+            next += 1;
+        };
+        families::visit_wide_hessian(layout, f.families(), Some(lambda), emit);
         Ok(())
     }
 }

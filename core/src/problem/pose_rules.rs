@@ -7,7 +7,7 @@
 //! inertia and friction (their speed term dG/dt v included), their torque-speed envelope and
 //! the transmissions' losses are posed through G(q).
 
-use super::formulation::FormulationError;
+use super::error::FormulationError;
 use crate::model::task::{LimitMode, LimitModes};
 use crate::transmission::{Space, Transmission};
 

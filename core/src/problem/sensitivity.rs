@@ -51,12 +51,18 @@ pub fn cost_gradient(
                 for (id, family) in f.families() {
                     if let Some(row) = layout.first_row(*id, k) {
                         let place = Place { k, row };
-                        family.sensitivity(problem, solution, derivative, place, &mut total);
+                        family.sensitivity(
+                            problem.design(),
+                            solution,
+                            derivative,
+                            place,
+                            &mut total,
+                        );
                     }
                 }
             }
             for (_, family) in f.families() {
-                family.bound_sensitivity(problem, solution, &design, &mut total);
+                family.bound_sensitivity(problem.design(), solution, &design, &mut total);
             }
             total
         })

@@ -10,8 +10,8 @@
 //! Its rows are hard in both kinds of problem, and a result reports each constraint's largest
 //! violation and each cost term's value under the term's name.
 
-use super::formulation::Formulation;
 use super::layout::Layout;
+use super::setting::Setting;
 use crate::dynamics::{Dynamics, Workspace};
 use crate::solve::Keyed;
 use nalgebra::DMatrix;
@@ -102,45 +102,42 @@ fn outside(value: f64, lower: f64, upper: f64) -> f64 {
     (lower - value).max(value - upper).max(0.0)
 }
 
-/// Runs `f` on node k of the primal point x of `formulation`, in a workspace of its own.
+/// Runs `f` on node k of the primal point x of a formulation of `setting`, in a workspace of its
+/// own.
 pub(super) fn at_node<R>(
-    formulation: &Formulation,
+    setting: &Setting,
     x: &[f64],
     k: usize,
     f: impl FnOnce(&mut NodeContext<'_>) -> R,
 ) -> R {
-    let layout = formulation.layout();
+    let layout = setting.layout();
     let (q, v, a) = layout.node_state(x, k);
-    let mut workspace = formulation.dynamics().workspace();
+    let mut workspace = setting.dynamics().workspace();
     f(&mut NodeContext {
         k,
         steps: layout.steps,
-        step_s: formulation.step_s(),
+        step_s: setting.step_at(x),
         q,
         v,
         a,
         u: layout.controls(x, k),
-        dynamics: formulation.dynamics(),
+        dynamics: setting.dynamics(),
         workspace: &mut workspace,
     })
 }
 
 /// The added cost terms' sum at x.
-pub(super) fn cost(formulation: &Formulation, x: &[f64]) -> f64 {
-    let steps = formulation.layout().steps;
-    let terms = formulation.added_costs();
+pub(super) fn cost(setting: &Setting, terms: &[Arc<dyn NodeCost>], x: &[f64]) -> f64 {
+    let steps = setting.layout().steps;
     let node_sum = |node: &mut NodeContext<'_>| terms.iter().map(|t| t.value(node)).sum::<f64>();
-    (0..steps)
-        .map(|k| at_node(formulation, x, k, node_sum))
-        .sum()
+    (0..steps).map(|k| at_node(setting, x, k, node_sum)).sum()
 }
 
 /// Each added cost term's value at x, summed over the nodes, under its name.
-pub(super) fn costs(formulation: &Formulation, x: &[f64]) -> Keyed {
-    let terms = formulation.added_costs();
+pub(super) fn costs(setting: &Setting, terms: &[Arc<dyn NodeCost>], x: &[f64]) -> Keyed {
     let mut sums = vec![0.0; terms.len()];
-    for k in 0..formulation.layout().steps {
-        at_node(formulation, x, k, |node| {
+    for k in 0..setting.layout().steps {
+        at_node(setting, x, k, |node| {
             for (sum, term) in sums.iter_mut().zip(terms) {
                 *sum += term.value(node);
             }
@@ -154,15 +151,20 @@ pub(super) fn costs(formulation: &Formulation, x: &[f64]) -> Keyed {
 }
 
 /// Adds the added cost terms' gradient at x into `gradient` (over every variable).
-pub(super) fn add_cost_gradient(formulation: &Formulation, x: &[f64], gradient: &mut [f64]) {
-    let (layout, terms) = (formulation.layout(), formulation.added_costs());
+pub(super) fn add_cost_gradient(
+    setting: &Setting,
+    terms: &[Arc<dyn NodeCost>],
+    x: &[f64],
+    gradient: &mut [f64],
+) {
+    let layout = setting.layout();
     if terms.is_empty() {
         return;
     }
     let mut node_gradient = vec![0.0; 4 * layout.dof];
     for k in 0..layout.steps {
         node_gradient.fill(0.0);
-        at_node(formulation, x, k, |node| {
+        at_node(setting, x, k, |node| {
             terms
                 .iter()
                 .for_each(|term| term.gradient(node, &mut node_gradient))
@@ -174,19 +176,21 @@ pub(super) fn add_cost_gradient(formulation: &Formulation, x: &[f64], gradient: 
 }
 
 /// Each added constraint's largest violation at x, under its name.
-pub(super) fn violations(formulation: &Formulation, x: &[f64]) -> Keyed {
+pub(super) fn violations(
+    setting: &Setting,
+    constraints: &[Arc<dyn NodeConstraint>],
+    x: &[f64],
+) -> Keyed {
     let mut largest = Keyed::default();
-    let steps = formulation.layout().steps;
-    for constraint in formulation.added_constraints() {
+    let steps = setting.layout().steps;
+    for constraint in constraints {
         let rows = constraint.rows();
         let (mut values, mut lower, mut upper) =
             (vec![0.0; rows], vec![0.0; rows], vec![0.0; rows]);
         let mut worst = 0.0_f64;
         for k in 0..steps {
             constraint.bounds(k, steps, &mut lower, &mut upper);
-            at_node(formulation, x, k, |node| {
-                constraint.values(node, &mut values)
-            });
+            at_node(setting, x, k, |node| constraint.values(node, &mut values));
             for r in 0..rows {
                 worst = worst.max(outside(values[r], lower[r], upper[r]));
             }

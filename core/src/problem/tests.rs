@@ -781,7 +781,7 @@ fn the_copper_losses_weigh_each_motor_by_its_constants() {
     use crate::model::task::PerMotor;
     let f = copper_loss_formulations().remove(0);
     let (k_t, r) = electrical();
-    let h = f.step_s();
+    let h = f.task().step_s().unwrap();
     let expected: Vec<f64> = (0..4).map(|i| h * r[i] / (k_t[i] * k_t[i])).collect();
     assert_eq!(
         f.criterion(),

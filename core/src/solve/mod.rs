@@ -36,6 +36,7 @@ mod start;
 mod trajectory;
 mod verify;
 
+pub use crate::problem::CostTerms;
 pub use certify::{solve_design, solve_design_along, solve_design_from, solve_elastic};
 pub use continuation::{PayloadChain, CONTINUATION_STEP_KG};
 pub use dead_points::{dead_points, DeadPoint};
@@ -43,7 +44,7 @@ pub use error::SolveError;
 pub use execute::MotorsExecute;
 pub use figures::{MotorFigures, PhysicalFigures};
 pub use keyed::{Keyed, Violations};
-pub use result::{CostTerms, ElasticMeasures, SolveSeconds, ToolInfo, TrajectoryResult, VerdictBy};
+pub use result::{ElasticMeasures, SolveSeconds, ToolInfo, TrajectoryResult, VerdictBy};
 pub use run::WARM_MAX_ITER;
 pub use settings::{SettingsError, SolveSettings, TaskRecord, DEFAULT_MAX_ITER, DEFAULT_TOL};
 pub use start::{StartError, StartPart, StartPoint};

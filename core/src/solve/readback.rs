@@ -14,7 +14,7 @@ pub(super) fn read_trajectory(
 ) -> Result<Trajectory, (usize, PoseError)> {
     let f = problem.formulation();
     let layout = f.layout();
-    let (n, steps, h) = (layout.dof, layout.steps, f.step_s());
+    let (n, steps, h) = (layout.dof, layout.steps, f.step_at(x));
     let slice = |start: usize| x[start..start + n].to_vec();
     let dynamics = f.dynamics();
     let posed = f.transmission().is_pose_dependent();

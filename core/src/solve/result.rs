@@ -4,13 +4,13 @@
 use super::dead_points::{dead_points, DeadPoint};
 use super::execute::MotorsExecute;
 use super::figures::PhysicalFigures;
-use super::keyed::{Keyed, Violations};
+use super::keyed::Violations;
 use super::readback::read_trajectory;
 use super::trajectory::Trajectory;
 use super::SolveError;
 use crate::ipopt::{LinearSolver, Nlp, Solution};
 use crate::problem::{
-    cost_gradient, relaxation, Criterion, Formulation, ProblemKind, StaticHold, TrajectoryProblem,
+    cost_gradient, relaxation, CostTerms, Formulation, ProblemKind, StaticHold, TrajectoryProblem,
 };
 use serde::{Deserialize, Serialize};
 
@@ -102,24 +102,6 @@ pub struct SolveSeconds {
     pub ipopt: f64,
 }
 
-/// The cost J by term (docs/model.md, section 7), so that a user sees which one dominates; they
-/// sum to J.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct CostTerms {
-    /// w_q sum_(k<N) |q_k|^2.
-    pub position: f64,
-    /// w_v sum_(k<N) |v_k|^2.
-    pub velocity: f64,
-    /// w_u sum_(k<N) |u_k|^2 (u: joint torques in joint space, motor torques in actuation
-    /// space).
-    pub control: f64,
-    /// sum_(k<N) sum_axis rho c_axis(p_k)^2: the soft Cartesian box.
-    pub cartesian_box: f64,
-    /// The terms a formulation adds (`Formulation::with_cost`), each under its name.
-    #[serde(flatten, skip_serializing_if = "Keyed::is_empty")]
-    pub added: Keyed,
-}
-
 /// What an elastic solve's slacks relax (docs/model.md, section 14).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ElasticMeasures {
@@ -201,6 +183,10 @@ pub struct TrajectoryResult {
     /// J by term (absent in files written before it was recorded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cost_terms: Option<CostTerms>,
+    /// The duration T the solve chose, s, where the task's horizon is free (`{"free": [T_min,
+    /// T_max]}`); absent for a fixed horizon, whose T is the task's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub horizon_s: Option<f64>,
     /// The moving joints' names in the URDF, from the base outward (the order of every
     /// per-joint vector; empty in files written before it was recorded).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -286,6 +272,7 @@ pub(super) fn read_result(
         static_hold: Some(static_hold),
         elastic,
         cost_terms: Some(cost_terms(problem, &solution.x, &trajectory)),
+        horizon_s: (f.layout().horizon()).map(|_| f.setting().horizon_at(&solution.x)),
         joints: f.dynamics().robot().joint_names().to_vec(),
         figures: PhysicalFigures::of(&trajectory, electrical.as_deref()),
         trajectory,
@@ -301,7 +288,7 @@ fn cost_and_measures(
     solution: &Solution,
 ) -> (f64, Option<ElasticMeasures>) {
     let f = problem.formulation();
-    let Some(relaxed) = relaxation(f, &solution.x) else {
+    let Some(relaxed) = relaxation(f.setting(), &solution.x) else {
         return (solution.objective, None);
     };
     let objective = problem.objective(&solution.x, true).unwrap_or(f64::NAN);
@@ -349,56 +336,9 @@ fn infeasibility(
     })
 }
 
-/// J at x by term; the TCP path is the trajectory's. Under the copper losses' criterion they
-/// are the control term.
+/// J at x by term; the TCP path is the trajectory's.
 fn cost_terms(problem: &TrajectoryProblem<'_>, x: &[f64], trajectory: &Trajectory) -> CostTerms {
-    let f = problem.formulation();
-    let (layout, task) = (f.layout(), f.task());
-    let squares = |index: fn(&crate::problem::Layout, usize, usize) -> usize| {
-        let mut sum = 0.0;
-        for k in 0..layout.steps {
-            for i in 0..layout.dof {
-                sum += x[index(layout, k, i)].powi(2);
-            }
-        }
-        sum
-    };
-    let b = &task.cartesian_box;
-    let mut cartesian_box = 0.0;
-    for k in 0..layout.steps {
-        let p = [
-            trajectory.tcp_x[k],
-            trajectory.tcp_y[k],
-            trajectory.tcp_z[k],
-        ];
-        for (axis, interval) in [&b.x, &b.y, &b.z].into_iter().enumerate() {
-            if let Some(interval) = interval {
-                let [lo, hi] = interval.range;
-                let c = (lo - p[axis]).max(0.0) + (p[axis] - hi).max(0.0);
-                cartesian_box += interval.weight * c * c;
-            }
-        }
-    }
-    let added = problem.added_costs(x);
-    let w = &task.weights;
-    match f.criterion() {
-        Criterion::Weighted => CostTerms {
-            position: w.position * squares(crate::problem::Layout::q),
-            velocity: w.velocity * squares(crate::problem::Layout::v),
-            control: w.control * squares(crate::problem::Layout::u),
-            cartesian_box,
-            added,
-        },
-        // The copper losses are the control term.
-        Criterion::CopperLoss(weights) => CostTerms {
-            position: 0.0,
-            velocity: 0.0,
-            control: (0..layout.steps)
-                .flat_map(|k| (0..layout.dof).map(move |i| (k, i)))
-                .map(|(k, i)| weights[i] * x[layout.u(k, i)].powi(2))
-                .sum(),
-            cartesian_box,
-            added,
-        },
-    }
+    let t = trajectory;
+    let tcp = |k: usize| [t.tcp_x[k], t.tcp_y[k], t.tcp_z[k]];
+    problem.cost_terms(x, tcp)
 }

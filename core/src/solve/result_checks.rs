@@ -66,7 +66,7 @@ impl TrajectoryResult {
             finite(&measures) && some(&e.objective_gradient)
         });
         let terms = self.cost_terms.as_ref().is_none_or(|c| {
-            finite(&[c.position, c.velocity, c.control, c.cartesian_box])
+            finite(&[c.position, c.velocity, c.control, c.cartesian_box, c.time])
                 && c.added.iter().all(|(_, value)| value.is_finite())
         });
         let execute = self

@@ -38,7 +38,7 @@ impl Violations {
     fn built_in(problem: &TrajectoryProblem<'_>, x: &[f64], trajectory: &Trajectory) -> Violations {
         let f = problem.formulation();
         let layout = f.layout();
-        let (n, h) = (layout.dof, f.step_s());
+        let (n, h) = (layout.dof, f.step_at(x));
         let limits = f.dynamics().robot().position_limits();
         let speed = problem.speed_limits();
         let control = problem.control_limits();

@@ -258,10 +258,11 @@ fn shortfall(formulation: &Formulation, result: &TrajectoryResult) -> f64 {
 }
 
 /// The shortfall, motor-seconds (s), of a torque deficit (N m s), a static hold deficit (N m,
-/// held over the horizon T) and a speed excess (rad), as [`Verdict::Infeasible`] measures it.
+/// held over the horizon T, a free one's T_max) and a speed excess (rad), as
+/// [`Verdict::Infeasible`] measures it.
 fn shortfall_of(formulation: &Formulation, torque: f64, hold: f64, speed: f64) -> f64 {
     let task = formulation.task();
     let motors = &task.motors;
-    (torque + hold * task.motion.horizon_s) / motors.torque_limit_nm.mean()
+    (torque + hold * task.motion.horizon.initial_s()) / motors.torque_limit_nm.mean()
         + speed / motors.speed_limit_rad_s.mean()
 }

@@ -71,7 +71,7 @@ fn an_infeasible_design_scores_the_flat_or_the_graded_penalty() {
     // rule fails on this design, and the smaller problem fails sooner.
     let mut task = testing::held_task();
     task.payload.mass_kg = 0.0;
-    task.motion.horizon_s = 0.2;
+    task.motion.horizon = codesign_core::model::task::Horizon::Fixed(0.2);
     task.motion.steps = 20;
     let modes = task.limit_modes;
     let fitness = |penalty: &Penalty| {

@@ -167,7 +167,7 @@ impl TableTask {
             .collect();
         let paper_motion = Task::built_in()
             .ok()
-            .map(|task| (task.motion.horizon_s, task.motion.steps));
+            .map(|task| (task.motion.horizon, task.motion.steps));
         let own_motion = files
             .iter()
             .all(|file| motion(file).is_none_or(|m| Some(m) == paper_motion));

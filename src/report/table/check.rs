@@ -6,7 +6,7 @@ use crate::design::score::Objective;
 use crate::report::codesign::CapacityDocument;
 use crate::report::ReportError;
 use codesign_core::model::identity::built_in_task_hash;
-use codesign_core::model::task::MAX_PAYLOAD_KG;
+use codesign_core::model::task::{Horizon, MAX_PAYLOAD_KG};
 use codesign_core::text::number;
 use std::path::PathBuf;
 
@@ -62,13 +62,13 @@ pub fn check_results(paths: &[PathBuf], files: &[ResultFile]) -> Result<(), Repo
 }
 
 /// The horizon (s) and intervals of a result's motion, where it records them.
-pub(super) fn motion(file: &ResultFile) -> Option<(f64, usize)> {
+pub(super) fn motion(file: &ResultFile) -> Option<(Horizon, usize)> {
     let motion = match file {
         ResultFile::Solve(d) => &d.inputs.task.task.motion,
         ResultFile::Optimize(d) => &d.inputs.task.task.motion,
         ResultFile::Capacity(_) => return None,
     };
-    Some((motion.horizon_s, motion.steps))
+    Some((motion.horizon, motion.steps))
 }
 
 /// The table row of a solve of the original design: (payload kg, space).

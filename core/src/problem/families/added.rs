@@ -4,8 +4,8 @@
 //! term does not depend on r).
 
 use super::family::{At, Emit, Family, FamilyId, Place};
+use crate::problem::design_data::DesignData;
 use crate::problem::layout::{BlockId, RowBlock};
-use crate::problem::nlp::TrajectoryProblem;
 use crate::problem::node::NodeEval;
 use crate::problem::terms::{at_node, node_columns, NodeConstraint};
 use nalgebra::DMatrix;
@@ -32,12 +32,12 @@ impl Family for Added {
 
     fn row_bounds(
         &self,
-        p: &TrajectoryProblem<'_>,
+        p: &DesignData<'_>,
         Place { k, row }: Place,
         lower: &mut [f64],
         upper: &mut [f64],
     ) {
-        let (rows, steps) = (self.0.rows(), p.formulation().layout().steps);
+        let (rows, steps) = (self.0.rows(), p.setting().layout().steps);
         self.0.bounds(
             k,
             steps,
@@ -48,14 +48,14 @@ impl Family for Added {
 
     fn values(
         &self,
-        p: &TrajectoryProblem<'_>,
+        p: &DesignData<'_>,
         x: &[f64],
         _node: &NodeEval,
         Place { k, row }: Place,
         g: &mut [f64],
     ) {
         let rows = self.0.rows();
-        at_node(p.formulation(), x, k, |node| {
+        at_node(p.setting(), x, k, |node| {
             self.0.values(node, &mut g[row..row + rows])
         });
     }
@@ -67,10 +67,10 @@ impl Family for Added {
         Place { k, row }: Place,
         emit: &mut Emit<'_>,
     ) {
-        let layout = at.formulation().layout();
+        let layout = at.setting().layout();
         let mut jacobian = DMatrix::zeros(self.0.rows(), 4 * layout.dof);
         if let At::Design(p) = at {
-            at_node(p.formulation(), p.point(), k, |node| {
+            at_node(p.setting(), p.point(), k, |node| {
                 self.0.jacobian(node, &mut jacobian)
             });
         }

@@ -23,8 +23,8 @@ use super::family::{
 use super::motor_load::MotorLoad;
 use super::posed_loss::PosedLoss;
 use crate::ipopt::Solution;
+use crate::problem::design_data::DesignData;
 use crate::problem::layout::RowBlock;
-use crate::problem::nlp::TrajectoryProblem;
 use crate::problem::node::NodeEval;
 use crate::transmission::{MotorDynamics, Space};
 use nalgebra::{DMatrix, DVector};
@@ -80,13 +80,13 @@ impl Family for Dynamics {
 
     fn values(
         &self,
-        p: &TrajectoryProblem<'_>,
+        p: &DesignData<'_>,
         x: &[f64],
         node: &NodeEval,
         Place { k, row }: Place,
         g: &mut [f64],
     ) {
-        let layout = p.formulation().layout();
+        let layout = p.setting().layout();
         let u = layout.controls(x, k);
         let (_, v, a) = layout.node_state(x, k);
         let actuation = p.actuation_of(node);
@@ -106,7 +106,7 @@ impl Family for Dynamics {
     }
 
     fn jacobian(&self, at: &At<'_>, node: &NodeEval, Place { k, row }: Place, emit: &mut Emit<'_>) {
-        let layout = at.formulation().layout();
+        let layout = at.setting().layout();
         let actuation = at.actuation(node);
         let control = actuation.map_or(&self.control_pattern, |a| a.control_map());
         let reflected = actuation.and_then(|a| a.reflected());
@@ -198,13 +198,13 @@ impl Family for Dynamics {
 
     fn sensitivity(
         &self,
-        p: &TrajectoryProblem<'_>,
+        p: &DesignData<'_>,
         solution: &Solution,
         derivative: &DesignDerivative,
         Place { k, row }: Place,
         total: &mut f64,
     ) {
-        let layout = p.formulation().layout();
+        let layout = p.setting().layout();
         let x = &solution.x;
         let (_, v, a) = layout.node_state(x, k);
         let u = layout.controls(x, k);
@@ -230,12 +230,12 @@ impl Family for Dynamics {
 /// node, since the Lagrangian's partial derivative holds x fixed; at G(q_k) where G depends on
 /// the pose.
 fn loss_derivative(
-    p: &TrajectoryProblem<'_>,
+    p: &DesignData<'_>,
     x: &[f64],
     k: usize,
     derivative: &DesignDerivative,
 ) -> DVector<f64> {
-    let f = p.formulation();
+    let f = p.setting();
     let (q, v, a) = f.layout().node_state(x, k);
     let dynamics = f.dynamics();
     let mut tau = vec![0.0; f.layout().dof];

@@ -12,10 +12,10 @@
 //! boundary values and the position bounds.
 
 use super::family::{Family, FamilyId, Shape};
-use crate::problem::formulation::Formulation;
+use crate::problem::design_data::DesignData;
 use crate::problem::kind::ProblemKind;
 use crate::problem::layout::Layout;
-use crate::problem::nlp::TrajectoryProblem;
+use crate::problem::setting::Setting;
 use crate::transmission::Space;
 use std::sync::Arc;
 
@@ -105,29 +105,30 @@ fn slack_weights(
 }
 
 /// The penalty at x: the weighted sum of the slacks (0 in the hard kind).
-pub(in crate::problem) fn penalty(formulation: &Formulation, x: &[f64]) -> f64 {
-    let weights = penalty_weights(formulation.space());
-    slack_weights(formulation.layout(), weights)
+pub(in crate::problem) fn penalty(setting: &Setting, x: &[f64]) -> f64 {
+    let weights = penalty_weights(setting.space());
+    slack_weights(setting.layout(), weights)
         .map(|(c, weight)| weight * x[c])
         .sum()
 }
 
 /// Writes the penalty's gradient, the weights, into the slack entries of `gradient`.
-pub(in crate::problem) fn penalty_gradient(formulation: &Formulation, gradient: &mut [f64]) {
-    let weights = penalty_weights(formulation.space());
-    for (c, weight) in slack_weights(formulation.layout(), weights) {
+pub(in crate::problem) fn penalty_gradient(setting: &Setting, gradient: &mut [f64]) {
+    let weights = penalty_weights(setting.space());
+    for (c, weight) in slack_weights(setting.layout(), weights) {
         gradient[c] = weight;
     }
 }
 
-/// What the slacks of `formulation`'s primal point x relax, or None in the hard kind.
-pub fn relaxation(formulation: &Formulation, x: &[f64]) -> Option<Relaxation> {
-    let (layout, h) = (formulation.layout(), formulation.step_s());
+/// What the slacks of the primal point x of a formulation of `setting` relax
+/// ([`Formulation::setting`](crate::problem::Formulation::setting)), or None in the hard kind.
+pub fn relaxation(setting: &Setting, x: &[f64]) -> Option<Relaxation> {
+    let (layout, h) = (setting.layout(), setting.step_at(x));
     if layout.kind == ProblemKind::Hard {
         return None;
     }
     let mut relaxation = Relaxation {
-        penalty: penalty(formulation, x),
+        penalty: penalty(setting, x),
         ..Relaxation::default()
     };
     for k in 0..layout.steps {
@@ -155,8 +156,8 @@ pub(super) fn of(shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
 }
 
 impl Family for Slacks {
-    fn variable_bounds(&self, p: &TrajectoryProblem<'_>, lower: &mut [f64], _upper: &mut [f64]) {
-        lower[p.formulation().layout().slacks()].fill(0.0);
+    fn variable_bounds(&self, p: &DesignData<'_>, lower: &mut [f64], _upper: &mut [f64]) {
+        lower[p.setting().layout().slacks()].fill(0.0);
     }
 }
 
@@ -166,6 +167,7 @@ mod tests {
     use crate::ipopt;
     use crate::model::task::{LimitMode, LimitModes};
     use crate::model::Robot;
+    use crate::problem::Formulation;
 
     /// The feasible reference cases: every feasible case of tests/data/ocp_reference.json and
     /// the committed original designs that IPOPT solves (results/original): (space, payload kg,

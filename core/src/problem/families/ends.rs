@@ -5,7 +5,7 @@
 //! bound of the NLP but a check before it (`../hold.rs`).
 
 use super::family::{Family, Shape};
-use crate::problem::nlp::TrajectoryProblem;
+use crate::problem::design_data::DesignData;
 use std::sync::Arc;
 
 /// The end conditions.
@@ -18,8 +18,8 @@ pub(super) fn of(_shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
 }
 
 impl Family for Ends {
-    fn variable_bounds(&self, p: &TrajectoryProblem<'_>, lower: &mut [f64], upper: &mut [f64]) {
-        let f = p.formulation();
+    fn variable_bounds(&self, p: &DesignData<'_>, lower: &mut [f64], upper: &mut [f64]) {
+        let f = p.setting();
         let (layout, motion) = (f.layout(), &f.task().motion);
         for i in 0..layout.dof {
             for (k, pose) in [(0, &motion.start), (layout.steps, &motion.goal)] {

@@ -22,8 +22,8 @@ use super::motor_speed::posed_speed_hessian;
 use super::motor_torque::{posed_torque_columns, posed_torque_hessian};
 use crate::ipopt::Solution;
 use crate::model::task::LimitMode;
+use crate::problem::design_data::DesignData;
 use crate::problem::layout::{Layout, RowBlock};
-use crate::problem::nlp::TrajectoryProblem;
 use crate::problem::node::NodeEval;
 use crate::transmission::{Actuation, Side, Space};
 use nalgebra::{DMatrix, DVector};
@@ -86,7 +86,7 @@ pub(in crate::problem) fn speed_relaxation(
 
 impl Envelope {
     /// B at the problem's design.
-    fn slack_map<'m>(&'m self, p: &'m TrajectoryProblem<'_>) -> &'m DMatrix<f64> {
+    fn slack_map<'m>(&'m self, p: &'m DesignData<'_>) -> &'m DMatrix<f64> {
         if self.slack_through_g {
             p.coupling().matrix()
         } else {
@@ -96,14 +96,8 @@ impl Envelope {
 
     /// The motor speeds node k's rows see at x: G v_k, and in the elastic kind G v_k + B d_k,
     /// rad/s (G at the node's pose where it depends on the pose).
-    fn speeds(
-        &self,
-        p: &TrajectoryProblem<'_>,
-        x: &[f64],
-        node: &NodeEval,
-        k: usize,
-    ) -> DVector<f64> {
-        let layout = p.formulation().layout();
+    fn speeds(&self, p: &DesignData<'_>, x: &[f64], node: &NodeEval, k: usize) -> DVector<f64> {
+        let layout = p.setting().layout();
         let g = p.actuation_of(node).coupling().matrix();
         let speeds = g * segment(x, layout.v(k, 0), layout.dof);
         match speed_relaxation(layout, x, k) {
@@ -147,12 +141,12 @@ impl Family for Envelope {
 
     fn row_bounds(
         &self,
-        p: &TrajectoryProblem<'_>,
+        p: &DesignData<'_>,
         Place { row, .. }: Place,
         lower: &mut [f64],
         upper: &mut [f64],
     ) {
-        let limits = p.formulation().motor_torque_limits();
+        let limits = p.setting().motor_torque_limits();
         for (i, limit) in limits.iter().enumerate() {
             for side in Side::BOTH {
                 let r = side_row(row, limits.len(), i, side);
@@ -163,13 +157,13 @@ impl Family for Envelope {
 
     fn values(
         &self,
-        p: &TrajectoryProblem<'_>,
+        p: &DesignData<'_>,
         x: &[f64],
         node: &NodeEval,
         Place { k, row }: Place,
         g: &mut [f64],
     ) {
-        let f = p.formulation();
+        let f = p.setting();
         let (layout, Some(envelope)) = (f.layout(), f.envelope()) else {
             return;
         };
@@ -184,7 +178,7 @@ impl Family for Envelope {
     }
 
     fn jacobian(&self, at: &At<'_>, node: &NodeEval, Place { k, row }: Place, emit: &mut Emit<'_>) {
-        let f = at.formulation();
+        let f = at.setting();
         let (layout, Some(envelope)) = (f.layout(), f.envelope()) else {
             return;
         };
@@ -244,13 +238,13 @@ impl Family for Envelope {
     /// (lambda_P + lambda_M) . d(tau_u)/dr_l + (lambda_P - lambda_M) . c (dG_l v + dB_l d).
     fn sensitivity(
         &self,
-        p: &TrajectoryProblem<'_>,
+        p: &DesignData<'_>,
         solution: &Solution,
         derivative: &DesignDerivative,
         Place { k, row }: Place,
         total: &mut f64,
     ) {
-        let f = p.formulation();
+        let f = p.setting();
         let (layout, Some(envelope)) = (f.layout(), f.envelope()) else {
             return;
         };

@@ -5,14 +5,15 @@
 use crate::dynamics::{Dynamics, Workspace};
 use crate::ipopt::Solution;
 use crate::model::task::LimitModes;
-use crate::problem::formulation::Formulation;
+use crate::problem::design_data::DesignData;
 use crate::problem::kind::ProblemKind;
-use crate::problem::layout::{BlockId, RowBlock};
-use crate::problem::nlp::TrajectoryProblem;
+use crate::problem::layout::{BlockId, Layout, RowBlock};
 use crate::problem::node::NodeEval;
+use crate::problem::setting::Setting;
 use crate::transmission::{Actuation, Coupling, Envelope, MotorDynamics, PoseRow, Space};
 use nalgebra::{DMatrix, DVector};
 use std::fmt;
+use std::sync::Arc;
 
 /// The constraint families, in the order their rows sit within a node and their terms are
 /// visited.
@@ -93,17 +94,17 @@ pub(in crate::problem) struct Place {
 pub(in crate::problem) enum At<'a> {
     /// The structure: every entry that some design of the space makes non-zero; the values
     /// given are not meaningful.
-    Structure(&'a Formulation),
+    Structure(&'a Setting),
     /// The values at one design and the nodes evaluated at the current point.
-    Design(&'a TrajectoryProblem<'a>),
+    Design(&'a DesignData<'a>),
 }
 
 impl At<'_> {
-    /// The formulation.
-    pub(in crate::problem) fn formulation(&self) -> &Formulation {
+    /// The formulation's setting.
+    pub(in crate::problem) fn setting(&self) -> &Setting {
         match self {
-            At::Structure(formulation) => formulation,
-            At::Design(problem) => problem.formulation(),
+            At::Structure(setting) => setting,
+            At::Design(design) => design.setting(),
         }
     }
 
@@ -120,7 +121,7 @@ impl At<'_> {
     /// the pattern's non-zeros are emitted.
     pub(in crate::problem) fn pick<'m>(
         &'m self,
-        value: impl FnOnce(&'m TrajectoryProblem<'m>) -> &'m DMatrix<f64>,
+        value: impl FnOnce(&'m DesignData<'m>) -> &'m DMatrix<f64>,
         pattern: &'m DMatrix<f64>,
     ) -> &'m DMatrix<f64> {
         match self {
@@ -188,12 +189,12 @@ pub(in crate::problem) trait Family: fmt::Debug + Send + Sync {
 
     /// Sets the bounds it puts on variables (after the earlier families', which it may
     /// override).
-    fn variable_bounds(&self, _p: &TrajectoryProblem<'_>, _lower: &mut [f64], _upper: &mut [f64]) {}
+    fn variable_bounds(&self, _p: &DesignData<'_>, _lower: &mut [f64], _upper: &mut [f64]) {}
 
     /// Sets its rows' bounds at `place`.
     fn row_bounds(
         &self,
-        _p: &TrajectoryProblem<'_>,
+        _p: &DesignData<'_>,
         _place: Place,
         _lower: &mut [f64],
         _upper: &mut [f64],
@@ -203,7 +204,7 @@ pub(in crate::problem) trait Family: fmt::Debug + Send + Sync {
     /// Writes its rows' values at `place` for the primal point x, with the node's evaluation.
     fn values(
         &self,
-        _p: &TrajectoryProblem<'_>,
+        _p: &DesignData<'_>,
         _x: &[f64],
         _node: &NodeEval,
         _place: Place,
@@ -219,10 +220,23 @@ pub(in crate::problem) trait Family: fmt::Debug + Send + Sync {
     /// joint); linear families add nothing.
     fn hessian(&self, _node: NodeSecondOrder<'_>, _blocks: Blocks<'_>) {}
 
+    /// Visits the entries of lambda . its rows' second derivatives at `place` that couple a
+    /// node's variable with a problem-wide one (the free horizon T), (row, column, value) in the
+    /// Hessian's lower triangle, in a fixed order; `multipliers` are its rows' at the node (all
+    /// 0 for the structure).
+    fn wide_hessian(
+        &self,
+        _layout: &Layout,
+        _place: Place,
+        _multipliers: &[f64],
+        _emit: &mut Emit<'_>,
+    ) {
+    }
+
     /// Adds lambda . d(rows)/dr_l at `place` to `total`, at `solution`.
     fn sensitivity(
         &self,
-        _p: &TrajectoryProblem<'_>,
+        _p: &DesignData<'_>,
         _solution: &Solution,
         _derivative: &DesignDerivative,
         _place: Place,
@@ -234,7 +248,7 @@ pub(in crate::problem) trait Family: fmt::Debug + Send + Sync {
     /// row terms: -(z_L + z_U) . d(bound)/dr_l.
     fn bound_sensitivity(
         &self,
-        _p: &TrajectoryProblem<'_>,
+        _p: &DesignData<'_>,
         _solution: &Solution,
         _derivative: &DesignDerivative,
         _total: &mut f64,
@@ -261,38 +275,73 @@ pub(in crate::problem) fn segment(x: &[f64], start: usize, n: usize) -> DVector<
     DVector::from_column_slice(&x[start..start + n])
 }
 
-/// The structure of `formulation`'s Jacobian: one visit of zero nodes.
-pub(in crate::problem) fn jacobian_pattern(formulation: &Formulation) -> Vec<(usize, usize)> {
+/// The families of a formulation in order, keyed by their row blocks.
+pub(in crate::problem) type Families = [(BlockId, Arc<dyn Family>)];
+
+/// The structure of the Jacobian of `families` over `setting`: one visit of zero nodes.
+pub(in crate::problem) fn jacobian_pattern(
+    setting: &Setting,
+    families: &Families,
+) -> Vec<(usize, usize)> {
     let mut entries = Vec::new();
-    let zeros = NodeEval::zeros(formulation.layout().dof);
-    let at = At::Structure(formulation);
-    visit_jacobian(&at, |_| &zeros, &mut |row, col, _| entries.push((row, col)));
+    let zeros = NodeEval::zeros(setting.layout().dof);
+    let at = At::Structure(setting);
+    visit_jacobian(&at, families, |_| &zeros, &mut |row, col, _| {
+        entries.push((row, col))
+    });
     entries
 }
 
-/// The number of entries of `formulation`'s Jacobian, counted without storing them.
-pub(in crate::problem) fn jacobian_count(formulation: &Formulation) -> usize {
+/// The number of entries of the same Jacobian, counted without storing them.
+pub(in crate::problem) fn jacobian_count(setting: &Setting, families: &Families) -> usize {
     let mut count = 0;
-    let zeros = NodeEval::zeros(formulation.layout().dof);
-    let at = At::Structure(formulation);
-    visit_jacobian(&at, |_| &zeros, &mut |_, _, _| count += 1);
+    let zeros = NodeEval::zeros(setting.layout().dof);
+    let at = At::Structure(setting);
+    visit_jacobian(&at, families, |_| &zeros, &mut |_, _, _| count += 1);
     count
 }
 
-/// Visits the Jacobian's entries node by node, each node's families in order, with node k's
-/// evaluation `node(k)`.
+/// Visits the Jacobian's entries of `families` node by node, each node's families in order,
+/// with node k's evaluation `node(k)`.
 pub(in crate::problem) fn visit_jacobian<'n>(
     at: &At<'_>,
+    families: &Families,
     node: impl Fn(usize) -> &'n NodeEval,
     emit: &mut Emit<'_>,
 ) {
-    let f = at.formulation();
-    let layout = f.layout();
+    let layout = at.setting().layout();
     for k in 0..layout.steps {
-        for (id, family) in f.families() {
+        for (id, family) in families {
             if let Some(row) = layout.first_row(*id, k) {
                 family.jacobian(at, node(k), Place { k, row }, emit);
             }
+        }
+    }
+}
+
+/// Visits the Hessian's entries that couple node variables with problem-wide ones, node by node
+/// and each node's families in order, with the rows' multipliers `lambda` (None: zeros, for the
+/// structure).
+pub(in crate::problem) fn visit_wide_hessian(
+    layout: &Layout,
+    families: &Families,
+    lambda: Option<&[f64]>,
+    emit: &mut Emit<'_>,
+) {
+    let mut zeros = Vec::new();
+    for k in 0..layout.steps {
+        for (id, family) in families {
+            let (Some(row), Some(block)) = (layout.first_row(*id, k), family.rows()) else {
+                continue;
+            };
+            let multipliers = match lambda {
+                Some(lambda) => &lambda[row..row + block.per_node],
+                None => {
+                    zeros.resize(block.per_node, 0.0);
+                    &zeros[..]
+                }
+            };
+            family.wide_hessian(layout, Place { k, row }, multipliers, emit);
         }
     }
 }

@@ -12,7 +12,7 @@
 use super::family::{DesignDerivative, Family, FamilyId, Shape};
 use crate::ipopt::Solution;
 use crate::model::task::LimitMode;
-use crate::problem::nlp::TrajectoryProblem;
+use crate::problem::design_data::DesignData;
 use crate::transmission::{limit_weights, JointLimits, Space};
 use nalgebra::{DMatrix, RowDVector};
 use std::sync::Arc;
@@ -74,8 +74,8 @@ pub(super) fn box_bound_derivative(
 }
 
 impl Family for JointBoxes {
-    fn variable_bounds(&self, p: &TrajectoryProblem<'_>, lower: &mut [f64], upper: &mut [f64]) {
-        let f = p.formulation();
+    fn variable_bounds(&self, p: &DesignData<'_>, lower: &mut [f64], upper: &mut [f64]) {
+        let f = p.setting();
         let layout = f.layout();
         let positions = f.dynamics().robot().position_limits();
         let speed = match p.speed_limits() {
@@ -107,12 +107,12 @@ impl Family for JointBoxes {
     /// = -(z_L + z_U) . db/dr, over the speeds of the inner nodes, then the controls.
     fn bound_sensitivity(
         &self,
-        p: &TrajectoryProblem<'_>,
+        p: &DesignData<'_>,
         solution: &Solution,
         derivative: &DesignDerivative,
         total: &mut f64,
     ) {
-        let f = p.formulation();
+        let f = p.setting();
         let layout = f.layout();
         let mut bound_term =
             |columns: &dyn Fn(usize, usize) -> usize, nodes: std::ops::Range<usize>, db: &[f64]| {

@@ -30,8 +30,8 @@ mod strokes;
 
 pub use family::FamilyId;
 pub(super) use family::{
-    jacobian_count, jacobian_pattern, visit_jacobian, At, DesignDerivative, Family, LoadDerivative,
-    NodeSecondOrder, Place, Shape,
+    jacobian_count, jacobian_pattern, visit_jacobian, visit_wide_hessian, At, DesignDerivative,
+    Families, Family, LoadDerivative, NodeSecondOrder, Place, Shape,
 };
 
 use super::layout::BlockId;

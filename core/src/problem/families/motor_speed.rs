@@ -18,9 +18,9 @@ use super::family::{
 use super::joint_limits::box_bound_derivative;
 use crate::ipopt::Solution;
 use crate::model::task::LimitMode;
+use crate::problem::design_data::DesignData;
 use crate::problem::kind::ProblemKind;
 use crate::problem::layout::RowBlock;
-use crate::problem::nlp::TrajectoryProblem;
 use crate::problem::node::{NodeEval, NodePose};
 use crate::transmission::JointLimits;
 use nalgebra::{DMatrix, DVector};
@@ -60,7 +60,7 @@ pub(super) fn of(shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
 
 impl MotorSpeed {
     /// A at the problem's design and `node`'s pose.
-    fn matrix<'m>(&'m self, p: &'m TrajectoryProblem<'_>, node: &'m NodeEval) -> &'m DMatrix<f64> {
+    fn matrix<'m>(&'m self, p: &'m DesignData<'_>, node: &'m NodeEval) -> &'m DMatrix<f64> {
         if self.boxed {
             &self.pattern
         } else {
@@ -87,7 +87,7 @@ impl Family for MotorSpeed {
 
     fn row_bounds(
         &self,
-        p: &TrajectoryProblem<'_>,
+        p: &DesignData<'_>,
         Place { row, .. }: Place,
         lower: &mut [f64],
         upper: &mut [f64],
@@ -103,13 +103,13 @@ impl Family for MotorSpeed {
 
     fn values(
         &self,
-        p: &TrajectoryProblem<'_>,
+        p: &DesignData<'_>,
         x: &[f64],
         node: &NodeEval,
         Place { k, row }: Place,
         g: &mut [f64],
     ) {
-        let layout = p.formulation().layout();
+        let layout = p.setting().layout();
         let a = self.matrix(p, node);
         let n = layout.dof;
         for i in 0..n {
@@ -121,7 +121,7 @@ impl Family for MotorSpeed {
     }
 
     fn jacobian(&self, at: &At<'_>, node: &NodeEval, Place { k, row }: Place, emit: &mut Emit<'_>) {
-        let layout = at.formulation().layout();
+        let layout = at.setting().layout();
         let a = match at {
             At::Structure(_) => &self.pattern,
             At::Design(p) => self.matrix(p, node),
@@ -157,13 +157,13 @@ impl Family for MotorSpeed {
 
     fn sensitivity(
         &self,
-        p: &TrajectoryProblem<'_>,
+        p: &DesignData<'_>,
         solution: &Solution,
         derivative: &DesignDerivative,
         Place { k, row }: Place,
         total: &mut f64,
     ) {
-        let f = p.formulation();
+        let f = p.setting();
         let layout = f.layout();
         let n = layout.dof;
         let multipliers = segment(&solution.lambda, row, n);

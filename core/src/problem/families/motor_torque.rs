@@ -17,8 +17,8 @@ use super::family::{
 };
 use crate::ipopt::Solution;
 use crate::model::task::LimitMode;
+use crate::problem::design_data::DesignData;
 use crate::problem::layout::RowBlock;
-use crate::problem::nlp::TrajectoryProblem;
 use crate::problem::node::{NodeEval, NodePose};
 use crate::transmission::{Actuation, JointLimits, Space};
 use nalgebra::{DMatrix, DVector};
@@ -59,8 +59,8 @@ impl Family for MotorTorque {
         }
     }
 
-    fn variable_bounds(&self, p: &TrajectoryProblem<'_>, lower: &mut [f64], upper: &mut [f64]) {
-        let layout = p.formulation().layout();
+    fn variable_bounds(&self, p: &DesignData<'_>, lower: &mut [f64], upper: &mut [f64]) {
+        let layout = p.setting().layout();
         let JointLimits::Box {
             lower: lo,
             upper: hi,
@@ -78,25 +78,25 @@ impl Family for MotorTorque {
 
     fn row_bounds(
         &self,
-        p: &TrajectoryProblem<'_>,
+        p: &DesignData<'_>,
         Place { row, .. }: Place,
         lower: &mut [f64],
         upper: &mut [f64],
     ) {
-        for (i, limit) in p.formulation().motor_torque_limits().iter().enumerate() {
+        for (i, limit) in p.setting().motor_torque_limits().iter().enumerate() {
             (lower[row + i], upper[row + i]) = (-limit, *limit);
         }
     }
 
     fn values(
         &self,
-        p: &TrajectoryProblem<'_>,
+        p: &DesignData<'_>,
         x: &[f64],
         node: &NodeEval,
         Place { k, row }: Place,
         g: &mut [f64],
     ) {
-        let layout = p.formulation().layout();
+        let layout = p.setting().layout();
         let u = layout.controls(x, k);
         let motor_of_joint = p.actuation_of(node).motor_of_joint();
         for i in 0..layout.dof {
@@ -108,7 +108,7 @@ impl Family for MotorTorque {
         let MotorTorque::Rows { pattern, posed } = self else {
             return;
         };
-        let layout = at.formulation().layout();
+        let layout = at.setting().layout();
         let actuation = at.actuation(node);
         let motor_of_joint = actuation.map_or(pattern, |a| a.motor_of_joint());
         let position = match (actuation, &node.pose) {
@@ -139,14 +139,14 @@ impl Family for MotorTorque {
 
     fn sensitivity(
         &self,
-        p: &TrajectoryProblem<'_>,
+        p: &DesignData<'_>,
         solution: &Solution,
         derivative: &DesignDerivative,
         Place { k, row }: Place,
         total: &mut f64,
     ) {
-        let n = p.formulation().layout().dof;
-        let u = segment(&solution.x, p.formulation().layout().u(k, 0), n);
+        let n = p.setting().layout().dof;
+        let u = segment(&solution.x, p.setting().layout().u(k, 0), n);
         // G^-T u differentiates to -G^-T dG^T G^-T u = dG_inv^T u.
         *total += segment(&solution.lambda, row, n).dot(&derivative.dg_inv.tr_mul(&u));
     }

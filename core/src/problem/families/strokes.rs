@@ -8,8 +8,8 @@ use super::family::{
     segment, At, Blocks, DesignDerivative, Emit, Family, NodeSecondOrder, Place, Shape,
 };
 use crate::ipopt::Solution;
+use crate::problem::design_data::DesignData;
 use crate::problem::layout::RowBlock;
-use crate::problem::nlp::TrajectoryProblem;
 use crate::problem::node::NodeEval;
 use crate::transmission::linkage::{Linkage, RowDerivatives};
 use std::ops::Range;
@@ -40,8 +40,8 @@ fn screw_row(node: &NodeEval, motor: usize) -> Option<(&RowDerivatives, f64)> {
 }
 
 /// Motor `motor`'s linkage in `p`'s transmission.
-fn linkage<'p>(p: &'p TrajectoryProblem<'_>, motor: usize) -> Option<&'p Linkage> {
-    let linkages = p.formulation().transmission().linkages();
+fn linkage<'p>(p: &'p DesignData<'_>, motor: usize) -> Option<&'p Linkage> {
+    let linkages = p.setting().transmission().linkages();
     Some(&linkages.iter().find(|row| row.motor == motor)?.linkage)
 }
 
@@ -56,7 +56,7 @@ impl Family for Strokes {
 
     fn row_bounds(
         &self,
-        _p: &TrajectoryProblem<'_>,
+        _p: &DesignData<'_>,
         Place { row, .. }: Place,
         lower: &mut [f64],
         upper: &mut [f64],
@@ -68,7 +68,7 @@ impl Family for Strokes {
 
     fn values(
         &self,
-        _p: &TrajectoryProblem<'_>,
+        _p: &DesignData<'_>,
         _x: &[f64],
         node: &NodeEval,
         Place { row, .. }: Place,
@@ -82,7 +82,7 @@ impl Family for Strokes {
     }
 
     fn jacobian(&self, at: &At<'_>, node: &NodeEval, Place { k, row }: Place, emit: &mut Emit<'_>) {
-        let layout = at.formulation().layout();
+        let layout = at.setting().layout();
         for (s, (motor, joints, _)) in self.screws.iter().enumerate() {
             let found = match at {
                 At::Structure(_) => None,
@@ -111,13 +111,13 @@ impl Family for Strokes {
 
     fn sensitivity(
         &self,
-        p: &TrajectoryProblem<'_>,
+        p: &DesignData<'_>,
         solution: &Solution,
         derivative: &DesignDerivative,
         Place { k, row }: Place,
         total: &mut f64,
     ) {
-        let layout = p.formulation().layout();
+        let layout = p.setting().layout();
         let q = segment(&solution.x, layout.q(k, 0), layout.dof);
         let Ok(angles) = p.motor_angles(q.as_slice()) else {
             return;

@@ -1,0 +1,133 @@
+//! [`Setting`]: what a formulation fixes for every design besides its families and patterns:
+//! the task, the robot's dynamics, the transmission, the space and limit modes, the motors'
+//! limits, dynamics, envelope and losses, and the index layout. The constraint families read it
+//! (and, for one design, a [`DesignData`](super::DesignData) over it), never the whole
+//! formulation.
+
+use super::layout::Layout;
+use crate::dynamics::Dynamics;
+use crate::model::task::{LimitModes, Task};
+use crate::transmission::{
+    Actuation, Coupling, Envelope, MotorDynamics, Space, Transmission, TransmissionLoss,
+};
+use nalgebra::DMatrix;
+
+/// IPOPT's default `constr_viol_tol`, N m here: the violation of a constraint IPOPT accepts at
+/// an optimum. A hold margin down to minus the solver's tolerance counts as held, as a
+/// trajectory that close to its limit counts as feasible (a joint whose limit is 0 in mode
+/// `paper` and whose gravity torque is 0 up to rounding holds).
+pub const DEFAULT_HOLD_TOLERANCE_NM: f64 = 1e-4;
+
+/// What a formulation fixes for every design (see the module's documentation).
+#[derive(Clone, Debug)]
+pub struct Setting {
+    pub(super) task: Task,
+    pub(super) transmission: Transmission,
+    pub(super) dynamics: Dynamics,
+    pub(super) space: Space,
+    pub(super) modes: LimitModes,
+    /// Each motor's torque limit (the task's `motors.torque_limit_nm`), N m, one per row of G.
+    pub(super) torque_limits: Vec<f64>,
+    /// Each motor's speed limit (the task's `motors.speed_limit_rad_s`), rad/s, one per row of G.
+    pub(super) speed_limits: Vec<f64>,
+    /// The motors' rotor inertia and friction, None for ideal motors (neither key given).
+    pub(super) motor_dynamics: Option<MotorDynamics>,
+    /// The motors' torque-speed envelope, None without `motors.no_load_speed_rad_s`.
+    pub(super) envelope: Option<Envelope>,
+    /// The transmissions' losses, None without `motors.efficiency`.
+    pub(super) loss: Option<TransmissionLoss>,
+    /// A static-hold margin down to minus this holds, N m: the solver's constraint tolerance
+    /// ([`DEFAULT_HOLD_TOLERANCE_NM`] unless set).
+    pub(super) hold_tolerance_nm: f64,
+    /// Structural non-zeros of G (row = motor, column = joint) over the whole design space.
+    pub(super) g_pattern: DMatrix<f64>,
+    pub(super) layout: Layout,
+}
+
+impl Setting {
+    /// The actuation of `coupling` (G at one design and, for a pose-dependent transmission, one
+    /// pose) in this setting's space, with its motors and losses.
+    pub(super) fn actuation(&self, coupling: Coupling) -> Actuation {
+        Actuation::new(coupling, self.space, self.motor_dynamics()).with_loss(self.loss.as_ref())
+    }
+
+    /// The task.
+    pub fn task(&self) -> &Task {
+        &self.task
+    }
+
+    /// The transmission's structure and design space.
+    pub fn transmission(&self) -> &Transmission {
+        &self.transmission
+    }
+
+    /// The robot's dynamics model (with the payload), shared by every problem of the formulation.
+    pub fn dynamics(&self) -> &Dynamics {
+        &self.dynamics
+    }
+
+    /// Joint or actuation space.
+    pub fn space(&self) -> Space {
+        self.space
+    }
+
+    /// The limit modes.
+    pub fn modes(&self) -> &LimitModes {
+        &self.modes
+    }
+
+    /// Each motor's torque limit |tau_u,i| <= limit_i, N m (motor i = row i of G).
+    pub fn motor_torque_limits(&self) -> &[f64] {
+        &self.torque_limits
+    }
+
+    /// Each motor's speed limit |qd_u,i| <= limit_i, rad/s (motor i = row i of G).
+    pub fn motor_speed_limits(&self) -> &[f64] {
+        &self.speed_limits
+    }
+
+    /// The motors' rotor inertia and viscous friction, None for ideal motors.
+    pub fn motor_dynamics(&self) -> Option<&MotorDynamics> {
+        self.motor_dynamics.as_ref()
+    }
+
+    /// The motors' torque-speed envelope, None without `motors.no_load_speed_rad_s`.
+    pub fn envelope(&self) -> Option<&Envelope> {
+        self.envelope.as_ref()
+    }
+
+    /// The transmissions' losses, None without `motors.efficiency`.
+    pub fn transmission_loss(&self) -> Option<&TransmissionLoss> {
+        self.loss.as_ref()
+    }
+
+    /// The tolerance of the static hold's margins, N m.
+    pub fn hold_tolerance_nm(&self) -> f64 {
+        self.hold_tolerance_nm
+    }
+
+    /// Structural non-zeros of G (row = motor, column = joint) over the whole design space and
+    /// every pose.
+    pub fn g_pattern(&self) -> &DMatrix<f64> {
+        &self.g_pattern
+    }
+
+    /// The index layout.
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    /// The duration T at the primal point x, s: the task's fixed T, or x's T where the horizon
+    /// is free (a column of the layout).
+    pub fn horizon_at(&self, x: &[f64]) -> f64 {
+        match self.layout.horizon() {
+            Some(column) => x[column],
+            None => self.task.motion.horizon.initial_s(),
+        }
+    }
+
+    /// Time step h = T/N at the primal point x, s.
+    pub fn step_at(&self, x: &[f64]) -> f64 {
+        self.horizon_at(x) / self.layout.steps as f64
+    }
+}
