@@ -4,6 +4,7 @@
 pub mod check;
 pub mod codesign;
 mod error;
+pub mod export;
 pub mod mechanism;
 pub mod plots;
 pub mod poses;

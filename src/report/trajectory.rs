@@ -27,7 +27,7 @@ fn per_column(time: &[f64], rows: &[Vec<f64>], labels: &[String]) -> Vec<Series>
 
 /// The moving joints' URDF names: the result's, or the robot's for a result written before
 /// they were recorded.
-fn joint_labels(formulation: &Formulation, result: &TrajectoryResult) -> Vec<String> {
+pub(super) fn joint_labels(formulation: &Formulation, result: &TrajectoryResult) -> Vec<String> {
     let robot = formulation.dynamics().robot();
     if result.joints.len() == robot.dof() {
         result.joints.clone()
@@ -57,7 +57,7 @@ fn joint_axis_label(
 
 /// The names of `motors` motors (row i of G drives motor i): the task's `motors.names`, else
 /// `motor 1` to `motor m`.
-fn motor_labels(task: &Task, motors: usize) -> Vec<String> {
+pub(super) fn motor_labels(task: &Task, motors: usize) -> Vec<String> {
     match &task.motors.names {
         Some(names) if names.len() == motors => names.clone(),
         _ => (1..=motors).map(|i| format!("motor {i}")).collect(),

@@ -20,6 +20,7 @@ mod ends_cli;
 mod evaluation_log;
 mod examples_cli;
 mod experiment_cli;
+mod export_cli;
 mod hold_cli;
 mod hostile_cli;
 mod index_page;
