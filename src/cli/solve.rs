@@ -94,7 +94,8 @@ fn check_outputs(args: &Args, task: &Task) -> Result<(), Failure> {
     if let Some(folder) = &args.plot {
         check_folder(folder).map_err(|e| format!("--plot: {e}"))?;
         // A folder not made yet holds nothing to protect.
-        for name in every_plot_file().filter(|_| folder.is_dir()) {
+        let motors = task.transmission.matrix.len();
+        for name in every_plot_file(motors).iter().filter(|_| folder.is_dir()) {
             check_output("--plot", &folder.join(name), &inputs)?;
         }
     }

@@ -6,6 +6,7 @@ pub mod codesign;
 mod error;
 pub mod export;
 pub mod mechanism;
+pub mod motor_plots;
 pub mod plots;
 pub mod poses;
 pub mod solve_document;

@@ -30,6 +30,7 @@ mod motors_cli;
 mod ocp_reference;
 mod optimize_cli;
 mod outputs_cli;
+mod plot_figures_cli;
 mod plots_cli;
 mod reliability_cli;
 mod run_summary_cli;
