@@ -291,6 +291,7 @@ impl SolveRequest {
         Ok(NativeSolution {
             document,
             point: Some(point),
+            formulation: Some(formulation),
         })
     }
 }
