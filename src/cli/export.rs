@@ -69,8 +69,8 @@ impl ExportArgs {
         write_atomic(path, table.to_csv().as_bytes()).map_err(|e| hint(e, "--export"))?;
         let infeasible = match result.feasible {
             true => String::new(),
-            false => "; the design is infeasible: this is where the solver stopped, not a \
-                      motion within the limits"
+            false => "; note: the design is infeasible (the verdict above), so this motion is \
+                      not one its motors can run within every limit"
                 .to_owned(),
         };
         say!(
