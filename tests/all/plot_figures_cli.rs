@@ -4,6 +4,7 @@
 use crate::support;
 
 use std::path::Path;
+use support::chromium::Browser;
 use support::{read_json, scratch, succeed_in};
 
 /// The texts of `svg` in order (plotters writes `<text ...>\nTEXT\n</text>`), joined by spaces.
@@ -77,4 +78,32 @@ fn a_ball_screws_ratio_is_drawn_over_time_and_each_motor_has_its_figure() {
     assert!(ratios.contains("G[motor 2, elbow]"), "{ratios}");
     assert!(!ratios.contains("G[motor 1"), "{ratios}");
     assert!(ratios.contains("Ratios of the linkage rows, G(q) over time"));
+}
+
+/// The texts of the SVG open in `browser` whose box on screen (rotated ones turned) leaves its
+/// picture, with their boxes.
+fn texts_outside(browser: &mut Browser) -> serde_json::Value {
+    browser.evaluate(
+        "(() => { const svg = document.querySelector('svg'); \
+         const p = svg.getBoundingClientRect(); \
+         return [...svg.querySelectorAll('text')] \
+         .map(t => [t.textContent.trim(), t.getBoundingClientRect()]) \
+         .filter(([_, b]) => b.left < p.left || b.top < p.top || b.right > p.right \
+           || b.bottom > p.bottom) \
+         .map(([text, b]) => `${text}: ${b.left},${b.top} to ${b.right},${b.bottom} \
+           in ${p.width}x${p.height}`); })()",
+    )
+}
+
+#[test]
+fn every_text_of_the_charts_stays_inside_its_picture() {
+    // An infeasible design's long titles, the shared limits' legend entries, the motors'.
+    let dir = scratch("texts-inside");
+    solve(&dir, &["--payload", "3"]);
+    let mut browser = Browser::start(&dir.join("profile"), 1400, 700);
+    for file in charts(4) {
+        browser.open(&dir.join("plots").join(&file));
+        let outside = texts_outside(&mut browser);
+        assert_eq!(outside, serde_json::json!([]), "{file}");
+    }
 }
