@@ -79,13 +79,15 @@ def cost_history(plt: Any, costs: Sequence[float], penalty: float, title: str) -
     feasible: List[tuple] = []
     best: List[tuple] = []
     least = math.inf
+    penalised = 0
     for i, cost in enumerate(costs):
-        if cost is not None and math.isfinite(cost) and 0 < cost < penalty:
+        if not (math.isfinite(cost) and cost < penalty):
+            penalised += 1
+        elif cost > 0:
             feasible.append((i, cost))
             least = min(least, cost)
         if math.isfinite(least):
             best.append((i, least))
-    penalised = sum(1 for cost in costs if not (cost is not None and math.isfinite(cost) and cost < penalty))
     figure, ax = plt.subplots(figsize=(11, 5.4), layout="constrained")
     if feasible:
         ax.plot(*zip(*feasible), ".", color="#0072b2", alpha=0.45, label="feasible evaluation")

@@ -44,7 +44,8 @@ def test_the_resampled_nodes_are_the_solutions():
     for j, joint in enumerate(sol.joint_names):
         np.testing.assert_allclose(table[f"q_{joint}_rad"][rows], sol.q[:, j], atol=1e-12, rtol=0)
         np.testing.assert_allclose(table[f"v_{joint}_rad_s"][rows], sol.v[:, j], atol=1e-12, rtol=0)
-        np.testing.assert_allclose(table[f"a_{joint}_rad_s2"][rows], sol.a[held, j], atol=1e-12, rtol=0)
+        accelerations = table[f"a_{joint}_rad_s2"][rows]
+        np.testing.assert_allclose(accelerations, sol.a[held, j], atol=1e-12, rtol=0)
     for i, motor in enumerate(name.replace(" ", "_") for name in sol.motor_names):
         np.testing.assert_allclose(
             table[f"q_u_{motor}_rad"][rows], sol.motor_position[:, i], atol=1e-12, rtol=0
