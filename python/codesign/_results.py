@@ -5,11 +5,12 @@ arrays. The fields are documented in ``docs/results.md``."""
 from __future__ import annotations
 
 import json
+import math
 from typing import Any, Dict, List, Optional
 
 import numpy as np
 
-from codesign import _native
+from codesign import _native, _plot
 
 
 class _Document:
@@ -153,6 +154,38 @@ class Solution:
         gradient = self._native.cost_gradient()
         return None if gradient is None else np.asarray(gradient, dtype=float)
 
+    def resample(self, rate: float) -> Dict[str, np.ndarray]:
+        """The trajectory at ``rate`` samples per second (Hz), as ``codesign solve --export
+        FILE.csv --rate HZ`` writes it: a dict from each column's name (``time_s``,
+        ``q_<joint>_rad``, ..., ``tau_u_<motor>_Nm``, and ``i_u_<motor>_A`` where the task gives
+        the motors' torque constants), in the CSV's order, to its values, shape (rows,).
+
+        Rows at t = i / rate from 0 to the motion's end. Between the nodes the speeds follow
+        v_k + s a_k and the positions q_k + s v_k+1 (the integration rows, each exact over its
+        interval); accelerations, torques and currents are held over each interval; the motors'
+        angles and speeds follow the joints through G(q). At the nodes every column is the
+        solution's own value (docs/guide/results.md, "Exporting a trajectory for a
+        controller"). Raises ``InputError`` for a rate that is not finite and positive or that
+        gives more than 200 000 rows, and for a run's best solution, which keeps no robot to
+        resample with (solve its design instead)."""
+        names, columns = self._native.resample(float(rate))
+        return dict(zip(names, columns))
+
+    def plot(self) -> Dict[str, Any]:
+        """The charts ``codesign solve --plot`` draws, as matplotlib Figures by the name of the
+        file it writes (without ``.svg``): ``joint_positions``, ``joint_torques``,
+        ``motor_torques``, ``tcp_path``, ``motor_1_torque_speed``, ... (one per motor), and
+        ``linkage_ratios`` where a row of G is a linkage; the same curves, limits, colours and
+        titles (an infeasible design's say so, and why). The arm's poses and animation are the
+        command line's alone. Needs matplotlib (``ImportError`` saying so without it); raises
+        ``InputError`` for a run's best solution, which keeps no robot (solve its design)."""
+        plt = _plot.pyplot("Solution.plot()")
+        charts = self._native.charts()
+        return {
+            file[: -len(".svg")]: _plot.draw_chart(plt, json.loads(chart))
+            for file, chart in charts
+        }
+
     def __repr__(self) -> str:
         verdict = "feasible" if self.feasible else f"infeasible: {self.reason}"
         return (f"<codesign.Solution {self.space} r={self.ratios.tolist()} "
@@ -238,6 +271,21 @@ class Run(_Document):
         that."""
         native = _native.NativeSolution.of_run_best(self.to_json())
         return None if native is None else Solution(native)
+
+    def plot(self) -> Any:
+        """The cost of every evaluation as a matplotlib Figure: the feasible ones as dots and the
+        best so far as a line on a log axis, the penalised ones (infeasible or invalid designs)
+        counted in the legend, as the command line's ``cost_evolution`` plots. Needs matplotlib
+        (``ImportError`` saying so without it)."""
+        plt = _plot.pyplot("Run.plot()")
+        inputs = self._document["inputs"]
+        costs = [math.inf if c is None else c for c in self._document["costs"]]
+        title = (
+            f"Cost per evaluation: {inputs['space']} space, {inputs['payload_kg']} kg, "
+            f"{inputs.get('method', 'cmaes')}"
+            + (f", seed {inputs['seed']}" if "seed" in inputs else "")
+        )
+        return _plot.cost_history(plt, costs, inputs.get("penalty", math.inf), title)
 
     def __repr__(self) -> str:
         if self.best_cost is None:

@@ -1,11 +1,15 @@
 //! `NativeSolution`: one solve's document, kept in Rust and read on demand: its figures by
-//! getters, its trajectories as numpy arrays, its JSON text only when asked (`to_json`), and the
-//! point where it ended, to start another solve from.
+//! getters, its trajectories as numpy arrays, its JSON text only when asked (`to_json`), the
+//! point where it ended, to start another solve from, and what it was solved for, to resample
+//! it at a controller's rate.
 
 use crate::errors::Failure;
 use codesign::design::run::OptimizeDocument;
+use codesign::report::export::{resample, ExportError};
 use codesign::report::solve_document::SolveDocument;
+use codesign::report::trajectory::charts;
 use codesign::store::document::document_json;
+use codesign_core::problem::Formulation;
 use codesign_core::solve::StartPoint;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
@@ -18,6 +22,9 @@ pub struct NativeSolution {
     /// Where it ended: IPOPT's point and multipliers, and what they fit; None for a run's best
     /// design read from the run's document.
     pub(crate) point: Option<StartPoint>,
+    /// The formulation it was solved for (task, robot, space), to resample it; None for a run's
+    /// best design read from the run's document.
+    pub(crate) formulation: Option<Formulation>,
 }
 
 /// Rows of equal length as a 2-D array of shape (rows, `width`).
@@ -33,6 +40,20 @@ pub(crate) fn rows<'py>(
         .unwrap_or_else(|_| PyArray2::zeros(py, [0, width], false))
 }
 
+impl NativeSolution {
+    /// The formulation it was solved for, or the error of `method` (`resample`, `plot`) for a
+    /// run's best design, which keeps none.
+    fn formulation(&self, py: Python<'_>, method: &str) -> PyResult<&Formulation> {
+        self.formulation.as_ref().ok_or_else(|| {
+            Failure::input(format!(
+                "{method}: a run's best solution keeps no robot; solve its design first \
+                 (ratios=run.best.ratios)"
+            ))
+            .into_py(py)
+        })
+    }
+}
+
 #[pymethods]
 impl NativeSolution {
     /// The best design of the co-design run whose document is `text`, as the run solved it;
@@ -45,8 +66,42 @@ impl NativeSolution {
             SolveDocument::of_run_best(&run).map(|document| NativeSolution {
                 document,
                 point: None,
+                formulation: None,
             }),
         )
+    }
+
+    /// The charts `solve --plot` draws, each as its file's name and the chart as JSON
+    /// (`Chart::to_json`), in the order it writes them.
+    fn charts(&self, py: Python<'_>) -> PyResult<Vec<(String, String)>> {
+        let formulation = self.formulation(py, "plot")?;
+        let charts = charts(formulation, &self.document.result)
+            .map_err(|e| Failure::solver(format!("plot: {e}")).into_py(py))?;
+        let charts = charts.into_iter();
+        Ok(charts
+            .map(|(file, chart)| (file, chart.to_json().to_string()))
+            .collect())
+    }
+
+    /// The trajectory at `rate` samples per second, as `solve --export` writes it: the columns'
+    /// names and each column's values.
+    #[allow(clippy::type_complexity)]
+    fn resample<'py>(
+        &self,
+        py: Python<'py>,
+        rate: f64,
+    ) -> PyResult<(Vec<String>, Vec<Bound<'py, PyArray1<f64>>>)> {
+        let formulation = self.formulation(py, "resample")?;
+        let table = resample(formulation, &self.document.result, rate).map_err(|e| {
+            match e {
+                ExportError::Rate(_) => Failure::input(format!("rate={rate}: {e}")),
+                _ => Failure::solver(format!("resample: {e}")),
+            }
+            .into_py(py)
+        })?;
+        let columns = table.columns.into_iter();
+        let columns = columns.map(|column| PyArray1::from_vec(py, column));
+        Ok((table.names, columns.collect()))
     }
 
     /// The moving joints' names, base outward (the columns of the joint arrays).

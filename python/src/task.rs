@@ -292,6 +292,7 @@ impl SolveRequest {
         Ok(NativeSolution {
             document,
             point: Some(point),
+            formulation: Some(formulation),
         })
     }
 }

@@ -63,6 +63,7 @@ mod choice;
 mod common;
 mod doctor;
 mod dynamics;
+mod export;
 mod failure;
 mod optimize;
 mod progress;

@@ -1,6 +1,7 @@
 //! `codesign solve`: one trajectory problem for one design.
 
 use super::common::{finite_ratio, ModelArgs, ProblemArgs};
+use super::export::ExportArgs;
 use super::failure::{Failure, INFEASIBLE_EXIT};
 use super::store_hints::check_output;
 use crate::design::run::Loaded;
@@ -50,6 +51,8 @@ pub struct Args {
     /// Draw SVG plots of the trajectory into this folder.
     #[arg(long, value_name = "DIR")]
     plot: Option<PathBuf>,
+    #[command(flatten)]
+    export: ExportArgs,
     /// Show IPOPT's iteration log.
     #[arg(long)]
     verbose: bool,
@@ -60,8 +63,11 @@ pub struct Args {
     /// Instead of solving, run IPOPT's derivative checker (first and second order) at the
     /// initial guess and report what it flags. IPOPT 3.11's checker takes about 13 minutes on
     /// the full 50-step problem: `--steps 5` checks the same structure in 0.1 s. It writes no
-    /// result and no plot, so it takes neither `--out` nor `--plot`.
-    #[arg(long, conflicts_with_all = ["out", "plot", "start", "fail_if_infeasible"])]
+    /// result, plot or export, so it takes none of `--out`, `--plot`, `--export`.
+    #[arg(
+        long,
+        conflicts_with_all = ["out", "plot", "export", "rate", "start", "fail_if_infeasible"]
+    )]
     check_derivatives: bool,
     /// Start from the trajectory and multipliers of an earlier `solve --out` result of the same
     /// task, space, steps and kind (hard or `--elastic`): another design or payload converges
@@ -75,8 +81,9 @@ pub struct Args {
     fail_if_infeasible: bool,
 }
 
-/// Checks, before any solve, that `--out` and the files of `--plot` can be written and are none
-/// of the inputs of `task` (`--start` among them).
+/// Checks, before any solve, that `--out`, the files of `--plot` and `--export` can be written
+/// and are none of the inputs of `task` (`--start` among them), and that `--rate` makes an
+/// export.
 fn check_outputs(args: &Args, task: &Task) -> Result<(), Failure> {
     let choice = args.model.choice();
     let mut inputs = choice.inputs(task);
@@ -87,11 +94,14 @@ fn check_outputs(args: &Args, task: &Task) -> Result<(), Failure> {
     if let Some(folder) = &args.plot {
         check_folder(folder).map_err(|e| format!("--plot: {e}"))?;
         // A folder not made yet holds nothing to protect.
-        for name in every_plot_file().filter(|_| folder.is_dir()) {
+        let motors = task.transmission.matrix.len();
+        for name in every_plot_file(motors).iter().filter(|_| folder.is_dir()) {
             check_output("--plot", &folder.join(name), &inputs)?;
         }
     }
-    Ok(())
+    // A free horizon's rows are bounded by its longest duration.
+    let duration = task.motion.horizon.initial_s();
+    args.export.check(duration, args.out.as_deref(), &inputs)
 }
 
 /// Checks the flags that need no file: `--payload`, `--duration`, `--steps`.
@@ -226,7 +236,7 @@ fn start_text(record: &StartRecord) -> String {
     )
 }
 
-/// Writes the plots of `--plot` and the result of `--out`, with `point` (the raw solution, to
+/// Writes the plots of `--plot`, the export of `--export` and the result of `--out`, with `point` (the raw solution, to
 /// start another solve from) and the record of `start`.
 fn write_outputs(
     args: &Args,
@@ -241,6 +251,7 @@ fn write_outputs(
         write_plots(folder, formulation, &result).map_err(|e| e.to_string())?;
         say!("plots written to {}", folder.display());
     }
+    args.export.write(formulation, &result)?;
     if let Some(path) = &args.out {
         let label = args.model.source().label();
         let mut document = SolveDocument::new(&label, task_hash, formulation, settings, result);

@@ -4,9 +4,10 @@
 //! security policy lets it load nothing but images beside it.
 
 use super::Layout;
+use crate::report::motor_plots::{motor_plot_file, LINKAGE_RATIOS_FILE};
 use crate::report::poses::{MOTION_FILE, POSES_FILE};
 use crate::report::table::{escape_html, to_html, PaperTable};
-use crate::report::trajectory::{ENVELOPE_PLOT_FILE, PLOT_FILES};
+use crate::report::trajectory::PLOT_FILES;
 use crate::report::ReportError;
 use crate::store::files::write_atomic;
 use codesign_core::problem::Space;
@@ -31,12 +32,16 @@ const STYLE: &str = "body { font-family: sans-serif; margin: 1em auto; max-width
 /// else.
 const POLICY: &str = "default-src 'none'; img-src 'self'; style-src 'unsafe-inline'";
 
-/// The plots of a design in the order shown: the animation and the filmstrip, then the charts.
-fn plot_order() -> impl Iterator<Item = &'static str> {
-    [MOTION_FILE, POSES_FILE]
-        .into_iter()
-        .chain(PLOT_FILES)
-        .chain([ENVELOPE_PLOT_FILE])
+/// The plots of a design in `folder` in the order shown: the animation and the filmstrip, the
+/// charts, each motor's torque-speed figure, the linkage rows' ratios (those it holds).
+fn plot_order(folder: &Path) -> Vec<PathBuf> {
+    let motors = (0..).map(motor_plot_file);
+    let motors = motors.take_while(|file| folder.join(file).is_file());
+    let files = [MOTION_FILE, POSES_FILE].into_iter().chain(PLOT_FILES);
+    let mut files: Vec<String> = files.map(String::from).chain(motors).collect();
+    files.push(LINKAGE_RATIOS_FILE.to_owned());
+    let files = files.into_iter().map(|file| folder.join(file));
+    files.filter(|plot| plot.is_file()).collect()
 }
 
 /// Writes `index.html` into the results folder of `layout`: `table`, and the plots of each of
@@ -103,8 +108,7 @@ fn case_section(layout: &Layout, payload_kg: f64, space: Space) -> Option<String
     let existing = |plots: Vec<PathBuf>| -> Vec<PathBuf> {
         plots.into_iter().filter(|plot| plot.is_file()).collect()
     };
-    let of_design =
-        |folder: PathBuf| existing(plot_order().map(|file| folder.join(file)).collect());
+    let of_design = |folder: PathBuf| plot_order(&folder);
     let parts = [
         (
             "Best design (CMA-ES)",

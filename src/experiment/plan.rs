@@ -294,8 +294,8 @@ impl Plan {
 
     /// Every file the reproduction writes itself, existing ones to be checked before any work
     /// (a co-design run checks its own): the table and its page, the original designs' results
-    /// and plots, the capacities.
-    pub fn outputs(&self) -> Vec<PathBuf> {
+    /// and plots (of a transmission of `motors` motors), the capacities.
+    pub fn outputs(&self, motors: usize) -> Vec<PathBuf> {
         let mut files = vec![
             self.layout.table_markdown(),
             self.layout.table_json(),
@@ -305,7 +305,7 @@ impl Plan {
             for space in SPACES {
                 files.push(self.layout.original(space, payload));
                 let plots = self.layout.original_plots(space, payload);
-                files.extend(every_plot_file().map(|name| plots.join(name)));
+                files.extend(every_plot_file(motors).iter().map(|name| plots.join(name)));
             }
         }
         for space in SPACES {

@@ -4,7 +4,9 @@
 pub mod check;
 pub mod codesign;
 mod error;
+pub mod export;
 pub mod mechanism;
+pub mod motor_plots;
 pub mod plots;
 pub mod poses;
 pub mod solve_document;

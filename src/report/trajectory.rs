@@ -1,6 +1,7 @@
 //! The plots of one trajectory solve (`codesign solve --plot`); its document is
 //! `solve_document.rs`.
 
+use super::motor_plots::{motor_charts, motor_plot_file, LINKAGE_RATIOS_FILE};
 use super::plots::{Chart, Figure, Guide, Line, Series};
 use super::world::{path_plane, plot_title};
 use super::ReportError;
@@ -8,7 +9,7 @@ use codesign_core::model::chain::JointKind;
 use codesign_core::model::task::Task;
 use codesign_core::problem::{Formulation, Space};
 use codesign_core::solve::{Trajectory, TrajectoryResult};
-use codesign_core::transmission::{Envelope, JointLimits};
+use codesign_core::transmission::JointLimits;
 use std::path::Path;
 
 /// One series per column of `rows` (one row per time of `time`), named by `labels`.
@@ -27,7 +28,7 @@ fn per_column(time: &[f64], rows: &[Vec<f64>], labels: &[String]) -> Vec<Series>
 
 /// The moving joints' URDF names: the result's, or the robot's for a result written before
 /// they were recorded.
-fn joint_labels(formulation: &Formulation, result: &TrajectoryResult) -> Vec<String> {
+pub(super) fn joint_labels(formulation: &Formulation, result: &TrajectoryResult) -> Vec<String> {
     let robot = formulation.dynamics().robot();
     if result.joints.len() == robot.dof() {
         result.joints.clone()
@@ -57,7 +58,7 @@ fn joint_axis_label(
 
 /// The names of `motors` motors (row i of G drives motor i): the task's `motors.names`, else
 /// `motor 1` to `motor m`.
-fn motor_labels(task: &Task, motors: usize) -> Vec<String> {
+pub(super) fn motor_labels(task: &Task, motors: usize) -> Vec<String> {
     match &task.motors.names {
         Some(names) if names.len() == motors => names.clone(),
         _ => (1..=motors).map(|i| format!("motor {i}")).collect(),
@@ -82,33 +83,48 @@ pub const PLOT_FILES: [&str; 4] = [
     "tcp_path.svg",
 ];
 
-/// The file of the motors' torque-speed plot, which [`write_plots`] adds to [`PLOT_FILES`] where
-/// the motors have a torque-speed envelope.
-pub const ENVELOPE_PLOT_FILE: &str = "motor_torque_speed.svg";
-
-/// Every file [`write_plots`] may write: [`PLOT_FILES`], [`ENVELOPE_PLOT_FILE`] and the arm's
+/// Every file [`write_plots`] may write for a transmission of `motors` motors:
+/// [`PLOT_FILES`], each motor's torque-speed figure, the linkage rows' ratios, and the arm's
 /// poses and animation (`poses`).
-pub fn every_plot_file() -> impl Iterator<Item = &'static str> {
-    PLOT_FILES.into_iter().chain([
-        ENVELOPE_PLOT_FILE,
-        super::poses::POSES_FILE,
-        super::poses::MOTION_FILE,
-    ])
+pub fn every_plot_file(motors: usize) -> Vec<String> {
+    let mut files: Vec<String> = PLOT_FILES.map(String::from).to_vec();
+    files.extend((0..motors).map(motor_plot_file));
+    files.extend(
+        [
+            LINKAGE_RATIOS_FILE,
+            super::poses::POSES_FILE,
+            super::poses::MOTION_FILE,
+        ]
+        .map(String::from),
+    );
+    files
 }
 
 /// Writes the plots of a solve into `folder` ([`PLOT_FILES`]): joint positions and joint
 /// torques (named as in the URDF) and motor torques (named as in the task) with each curve's
 /// limits in its colour, and the TCP path from its start to its goal in the world plane it moves
-/// most in ([`path_plane`]) with the Cartesian box; where the motors have a torque-speed
-/// envelope, also each motor's operating points in the torque-speed plane inside it and its
-/// speed limits ([`ENVELOPE_PLOT_FILE`]); and the arm in poses along the motion and animated
-/// (`poses`).
+/// most in ([`path_plane`]) with the Cartesian box; each motor's operating points in the
+/// torque-speed plane within its own limits and envelope, and the linkage rows' ratios over time
+/// (`motor_plots`); and the arm in poses along the motion and animated (`poses`). An
+/// infeasible design's titles say so, and why ([`plot_title`]).
 pub fn write_plots(
     folder: &Path,
     formulation: &Formulation,
     result: &TrajectoryResult,
 ) -> Result<(), ReportError> {
     crate::store::files::create_folder(folder)?;
+    for (name, chart) in charts(formulation, result)? {
+        chart.write(&folder.join(name))?;
+    }
+    super::poses::write_poses(folder, formulation, result)
+}
+
+/// The charts [`write_plots`] draws, each with its file's name, in the order it writes them:
+/// [`PLOT_FILES`], then each motor's torque-speed figure and the linkage rows' ratios.
+pub fn charts(
+    formulation: &Formulation,
+    result: &TrajectoryResult,
+) -> Result<Vec<(String, Chart)>, ReportError> {
     let task = formulation.task();
     let t = &result.trajectory;
     let title = plot_title(formulation, result);
@@ -120,15 +136,13 @@ pub fn write_plots(
         motor_torques(formulation.motor_torque_limits(), t, &motors, &title),
         tcp_path(task, t, &title),
     ];
-    for (name, chart) in PLOT_FILES.into_iter().zip(charts) {
-        chart.write(&folder.join(name))?;
-    }
-    if let Some(envelope) = formulation.envelope() {
-        let speed_limits = task.motors.speed_limit_rad_s.values(motors.len());
-        motor_torque_speed((envelope, &speed_limits), t, &motors, &title)
-            .write(&folder.join(ENVELOPE_PLOT_FILE))?;
-    }
-    super::poses::write_poses(folder, formulation, result)
+    let mut named: Vec<(String, Chart)> = PLOT_FILES
+        .map(String::from)
+        .into_iter()
+        .zip(charts)
+        .collect();
+    named.extend(motor_charts(formulation, t, (&joints, &motors), &title));
+    Ok(named)
 }
 
 /// Joint positions over time, rad, with the robot's finite position limits.
@@ -192,46 +206,6 @@ fn motor_torques(limits: &[f64], t: &Trajectory, motors: &[String], title: &str)
         y_label: "tau_u [N m]".into(),
         series: per_column(&t.time[..t.joint_torque.len()], &t.motor_torque, motors),
         guides: limit_guides(limits.iter().map(|&l| (-l, l)), motors),
-        log_y: false,
-    }
-}
-
-/// Each motor's operating points (motor speed w_k, motor torque tau_u,k) at the nodes k < N,
-/// the pairs the envelope rows bound (docs/model.md, section 5), from start to goal, of the
-/// motors named `motors`: inside the envelope |tau_u| + c |w| <= tau_max drawn as a diamond,
-/// and between the speed limits -+w_max (`speed_limits`, rad/s, one per motor), each in its
-/// motor's colour, one for motors that share it.
-fn motor_torque_speed(
-    (envelope, speed_limits): (&Envelope, &[f64]),
-    t: &Trajectory,
-    motors: &[String],
-    title: &str,
-) -> Chart {
-    let series = motors
-        .iter()
-        .enumerate()
-        .map(|(motor, label)| {
-            let points = t.motor_torque.iter().zip(&t.motor_speed);
-            let points = points.map(|(torque, speed)| (speed[motor], torque[motor]));
-            Series::path(label.clone(), points.collect())
-        })
-        .collect();
-    let edges = (0..envelope.motors()).flat_map(|motor| {
-        let (w0, tau) = (envelope.no_load_speed(motor), envelope.torque_limit(motor));
-        let corners = [(w0, 0.0), (0.0, tau), (-w0, 0.0), (0.0, -tau)];
-        (0..4).map(move |i| (motor, Line::Segment(corners[i], corners[(i + 1) % 4])))
-    });
-    let speeds = speed_limits.iter().enumerate();
-    let speeds =
-        speeds.flat_map(|(motor, &w)| [(motor, Line::Vertical(-w)), (motor, Line::Vertical(w))]);
-    let mut guides = Guide::owned(edges, "torque-speed envelope", motors);
-    guides.extend(Guide::owned(speeds, "speed limit", motors));
-    Chart {
-        title: format!("Motor torque against motor speed: {title}"),
-        x_label: "w [rad/s]".into(),
-        y_label: "tau_u [N m]".into(),
-        series,
-        guides,
         log_y: false,
     }
 }
@@ -395,63 +369,5 @@ mod tests {
         );
         assert_eq!(chart.guides[0].line, Line::Horizontal(-1.7));
         assert_eq!(chart.guides[0].owners, [0]);
-    }
-
-    #[test]
-    fn the_torque_speed_plot_draws_each_motor_inside_its_envelope() {
-        use codesign_core::model::task::{Motors, PerMotor};
-        let mut motors = Motors::ideal(PerMotor::Each(vec![1.7, 1.0]), PerMotor::All(100.0));
-        motors.no_load_speed_rad_s = Some(PerMotor::All(50.0));
-        let envelope = Envelope::of(&motors, 2).unwrap();
-        let mut t = trajectory(5, 2, |s| [0.0, s, s]);
-        t.motor_speed[2][1] = -30.0;
-        let names = ["motor 1".to_owned(), "motor 2".to_owned()];
-        let speeds = [40.0, 40.0];
-        let chart = motor_torque_speed((&envelope, &speeds), &t, &names, "test");
-        // A diamond of four edges per distinct motor, through (+-w_0, 0) and (0, +-tau_max),
-        // in its motor's colour; then the speed limits the motors share.
-        assert_eq!(chart.guides.len(), 10);
-        let first = &chart.guides[0];
-        assert_eq!(first.line, Line::Segment((50.0, 0.0), (0.0, 1.7)));
-        assert_eq!(
-            (first.owners.as_slice(), first.label.as_str()),
-            ([0].as_slice(), "motor 1 torque-speed envelope")
-        );
-        assert_eq!(
-            chart.guides[6].line,
-            Line::Segment((-50.0, 0.0), (0.0, -1.0))
-        );
-        let speed = &chart.guides[8..];
-        assert_eq!(
-            (speed[0].line, speed[1].line),
-            (Line::Vertical(-40.0), Line::Vertical(40.0))
-        );
-        assert_eq!(speed[1].owners, [0, 1]);
-        assert_eq!(speed[1].label, "speed limit of motor 1, motor 2");
-        // Motor torque over interval k against motor speed at node k, k < N, start to goal.
-        assert_eq!(chart.series.len(), 2);
-        assert_eq!(chart.series[1].points.len(), 4);
-        assert_eq!(chart.series[1].points[2], (-30.0, t.motor_torque[2][1]));
-        assert!(chart.series.iter().all(|s| s.ends));
-        let svg = chart.to_svg().unwrap();
-        assert!(svg.contains(">\nmotor 2\n</text>") && svg.contains("w [rad/s]"));
-        for label in [
-            "speed limit of motor 1, motor 2",
-            "motor 2 torque-speed envelope",
-        ] {
-            let x = crate::report::plots::tests::text_x(&svg, label);
-            assert!(x > 900.0, "{label} at {x}");
-        }
-        // Motors that share their limits share one diamond; each its own speed limit.
-        motors.torque_limit_nm = PerMotor::All(1.7);
-        let envelope = Envelope::of(&motors, 2).unwrap();
-        let shared = motor_torque_speed((&envelope, &[40.0, 60.0]), &t, &names, "test");
-        assert_eq!(shared.guides.len(), 8);
-        assert_eq!(
-            shared.guides[0].label,
-            "torque-speed envelope of motor 1, motor 2"
-        );
-        assert_eq!(shared.guides[7].label, "motor 2 speed limit");
-        assert_eq!(shared.guides[7].line, Line::Vertical(60.0));
     }
 }

@@ -5,19 +5,21 @@ use codesign_core::model::task::{SoftInterval, Task};
 use codesign_core::problem::Formulation;
 use codesign_core::solve::{Trajectory, TrajectoryResult};
 
-/// What every plot of a solve is of: the space, the design and the payload.
+/// What every plot of a solve is of: the space, the design and the payload; for an infeasible
+/// design, `INFEASIBLE` and why after them, so that no plot of it passes for a feasible one.
 pub(crate) fn plot_title(formulation: &Formulation, result: &TrajectoryResult) -> String {
-    format!(
+    let ratios: Vec<String> = result.ratios.iter().map(|r| format!("{r:.3}")).collect();
+    let design = format!(
         "{} space, r = ({}), payload {} kg",
         formulation.space(),
-        result
-            .ratios
-            .iter()
-            .map(|r| format!("{r:.3}"))
-            .collect::<Vec<_>>()
-            .join(", "),
+        ratios.join(", "),
         formulation.task().payload.mass_kg
-    )
+    );
+    match (result.feasible, &result.reason) {
+        (true, _) => design,
+        (false, Some(reason)) => format!("{design}; INFEASIBLE: {reason}"),
+        (false, None) => format!("{design}; INFEASIBLE"),
+    }
 }
 
 /// An axis of the world frame.

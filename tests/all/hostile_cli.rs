@@ -450,8 +450,8 @@ fn a_plot_never_writes_through_a_link_to_an_input() {
     fails_saying(&output, "--plot");
     fails_saying(&output, "that is an input of this command (--task");
     assert_eq!(std::fs::read(&task).unwrap(), before);
-    // A folder not made yet is made, with every plot: the four charts, the arm's poses and its
-    // animation.
+    // A folder not made yet is made, with every plot: the four charts, the four motors'
+    // torque-speed figures, the arm's poses and its animation.
     let fresh = dir.join("fresh");
     let output = codesign(&[
         "solve",
@@ -463,7 +463,7 @@ fn a_plot_never_writes_through_a_link_to_an_input() {
         path(&fresh),
     ]);
     assert!(output.status.success(), "{}", stderr(&output));
-    assert_eq!(std::fs::read_dir(&fresh).unwrap().count(), 6);
+    assert_eq!(std::fs::read_dir(&fresh).unwrap().count(), 10);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

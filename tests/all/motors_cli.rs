@@ -270,8 +270,13 @@ fn the_torque_speed_envelope_bounds_the_motors_at_speed() {
         "{stdout}"
     );
     solve(support::task_path().to_str().unwrap(), &plain, &plot(1));
-    let torque_speed = plots.map(|folder| folder.join("motor_torque_speed.svg").is_file());
-    assert_eq!(torque_speed, [true, false]);
+    // Each motor its own torque-speed figure, envelope or not; the envelope's diamond only with
+    // one.
+    let figure = |i: usize| std::fs::read_to_string(plots[i].join("motor_2_torque_speed.svg"));
+    let (enveloped, plain_figure) = (figure(0).unwrap(), figure(1).unwrap());
+    assert!(enveloped.contains("torque-speed envelope (no-load speed 120"));
+    assert!(!plain_figure.contains("torque-speed envelope"));
+    assert!(plain_figure.contains("speed limit -+100 rad/s"));
     let (result, ideal) = (read_json(&out), read_json(&plain));
     assert_eq!(result["feasible"], true);
     assert_eq!(

@@ -193,7 +193,8 @@ fn check_outputs(
     let results = read.iter().map(|path| ("--from-runs", path.as_path()));
     let inputs: Vec<(&str, &Path)> = task_file.chain(robot).chain(results).collect();
     let flag = if merged { "--from-runs" } else { "--out-dir" };
-    for output in sections(plan, hold).flat_map(Plan::outputs) {
+    let motors = task.task.transmission.matrix.len();
+    for output in sections(plan, hold).flat_map(|plan| plan.outputs(motors)) {
         if !read.contains(&output) {
             check_output(flag, &output, &inputs)?;
         }

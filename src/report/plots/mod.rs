@@ -130,21 +130,17 @@ fn log_tick(value: &f64) -> String {
 /// The outcome of drawing a figure.
 pub type DrawResult = Result<(), Box<dyn std::error::Error>>;
 
-/// The series colours, in order: Palette99's first six (the colours of every committed plot),
-/// then six dark ones that stay readable on white.
-const PALETTE: [RGBColor; 12] = [
-    RGBColor(230, 25, 75),
-    RGBColor(60, 180, 75),
-    RGBColor(255, 225, 25),
-    RGBColor(0, 130, 200),
-    RGBColor(245, 130, 48),
-    RGBColor(145, 30, 180),
-    RGBColor(0, 128, 128),
-    RGBColor(128, 0, 0),
-    RGBColor(0, 0, 128),
-    RGBColor(170, 110, 40),
-    RGBColor(128, 128, 0),
-    RGBColor(240, 50, 230),
+/// The series colours, in order: Okabe and Ito's palette for colour-blind readers, without its
+/// yellow, which is hard to read on white: blue, vermillion, bluish green, reddish purple,
+/// orange, sky blue, black.
+const PALETTE: [RGBColor; 7] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(230, 159, 0),
+    RGBColor(86, 180, 233),
+    RGBColor(0, 0, 0),
 ];
 
 /// The colour of guides of no series.
@@ -156,7 +152,7 @@ fn palette(i: usize) -> RGBAColor {
 }
 
 /// Whether the `i`-th line of a chart is dashed: those of the palette's second round, fourth
-/// and so on, so that no two of 24 lines look alike.
+/// and so on, so that no two of 14 lines look alike.
 fn dashed(i: usize) -> bool {
     (i / PALETTE.len()) % 2 == 1
 }
@@ -173,16 +169,22 @@ fn colour(i: usize, mark: Mark) -> RGBAColor {
 
 /// The font size (plotters' points) of the caption `title` over a figure `width` pixels wide
 /// with `margin` pixels each side: 22, or less for a title too long to fit (many ratios in a
-/// design), down to 10. An SVG viewer lays the text out, so its width is estimated: 0.55 em per
+/// design), down to [`WRAPPED`], below which [`caption_lines`] wraps it. An SVG viewer lays the text out, so its width is estimated: 0.55 em per
 /// character, and plotters writes 1/1.24 of the size as the SVG font size.
 fn caption_size(title: &str, width: u32, margin: u32) -> f64 {
     const LARGEST: f64 = 22.0;
-    const SMALLEST: f64 = 10.0;
-    let pixels_per_point = 0.55 / 1.24;
-    let room = f64::from(width.saturating_sub(2 * margin));
-    let fit = room / (pixels_per_point * title.chars().count().max(1) as f64);
-    fit.clamp(SMALLEST, LARGEST)
+    caption_fit(title, width, margin).clamp(WRAPPED, LARGEST)
 }
+
+/// The largest font size (plotters' points) at which `title` fits on one line over a figure
+/// `width` pixels wide with `margin` pixels each side, as [`caption_size`] estimates it.
+fn caption_fit(title: &str, width: u32, margin: u32) -> f64 {
+    let room = f64::from(width.saturating_sub(2 * margin));
+    room / (CAPTION_EM / 1.24 * title.chars().count().max(1) as f64)
+}
+
+/// A caption character's estimated width, em.
+const CAPTION_EM: f64 = 0.55;
 
 /// An area of an SVG figure, in pixels.
 type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
@@ -198,9 +200,25 @@ fn canvas<'a>(
     let root =
         SVGBackend::with_string(svg, (width + legend.width(height), height)).into_drawing_area();
     root.fill(&WHITE)?;
-    let (plot, side) = root.split_horizontally(width);
-    let plot = plot.titled(title, ("sans-serif", caption_size(title, width, 12)))?;
+    let (mut plot, side) = root.split_horizontally(width);
+    for line in caption_lines(title, width, 12) {
+        plot = plot.titled(&line, ("sans-serif", caption_size(title, width, 12)))?;
+    }
     Ok((plot, side))
+}
+
+/// The least size of a caption wrapped onto more lines, plotters' points.
+const WRAPPED: f64 = 14.0;
+
+/// The lines of the caption `title` over a figure `width` pixels wide with `margin` pixels each
+/// side: one, at [`caption_size`], unless that is below [`WRAPPED`]; then as many as it takes
+/// at that size, broken at spaces (an infeasible design's reason makes a long title).
+fn caption_lines(title: &str, width: u32, margin: u32) -> Vec<String> {
+    if caption_fit(title, width, margin) >= WRAPPED {
+        return vec![title.to_owned()];
+    }
+    let room = f64::from(width.saturating_sub(2 * margin));
+    legend::wrap(title, (room / (WRAPPED * CAPTION_EM / 1.24)) as usize)
 }
 
 /// A figure drawn as SVG.
@@ -292,6 +310,52 @@ impl Chart {
             legend.add(Key::Goal, "goal");
         }
         legend
+    }
+
+    /// The chart as data, for a drawing elsewhere (Python's `Solution.plot`): `title`,
+    /// `x_label`, `y_label`, `log_y`; `series`, each with its `name`, `points` ([x, y] pairs),
+    /// `mark` (`line` or `dots`), `ends` (a path's start and goal marked), `colour` (`#rrggbb`)
+    /// and `dashed`; `guides`, each with its `label`, `line` (`{"horizontal": y}`,
+    /// `{"vertical": x}` or `{"segment": [[x, y], [x, y]]}`) and the `colours` its dashes take
+    /// turns in, as the SVG draws them (`#rrggbbaa` where translucent). A number that is not
+    /// finite is null.
+    pub fn to_json(&self) -> serde_json::Value {
+        use serde_json::json;
+        let hex = |c: RGBAColor| {
+            let (r, g, b) = c.rgb();
+            match c.alpha() < 1.0 {
+                true => format!(
+                    "#{r:02x}{g:02x}{b:02x}{:02x}",
+                    (c.alpha() * 255.0).round() as u8
+                ),
+                false => format!("#{r:02x}{g:02x}{b:02x}"),
+            }
+        };
+        let series = self.series.iter().enumerate().map(|(i, series)| {
+            let (colour, dashed) = self.style(i);
+            let mark = match series.mark {
+                Mark::Line => "line",
+                Mark::Dots => "dots",
+            };
+            json!({
+                "name": series.name, "points": series.points, "mark": mark,
+                "ends": series.ends, "colour": hex(colour), "dashed": dashed,
+            })
+        });
+        let guides = self.guides.iter().map(|guide| {
+            let line = match guide.line {
+                Line::Horizontal(y) => json!({ "horizontal": y }),
+                Line::Vertical(x) => json!({ "vertical": x }),
+                Line::Segment(from, to) => json!({ "segment": [from, to] }),
+            };
+            let colours: Vec<String> = self.guide_colours(guide).into_iter().map(hex).collect();
+            json!({ "label": guide.label, "line": line, "colours": colours })
+        });
+        json!({
+            "title": self.title, "x_label": self.x_label, "y_label": self.y_label,
+            "log_y": self.log_y, "series": series.collect::<Vec<_>>(),
+            "guides": guides.collect::<Vec<_>>(),
+        })
     }
 
     /// The x range of the series and guides.
@@ -600,6 +664,20 @@ pub(super) mod tests {
     fn many_series_cycle_through_the_palette_then_dash() {
         assert_eq!(palette(0), palette(PALETTE.len()));
         assert_ne!(palette(5), palette(6));
+        // Every colour reads on white (WCAG contrast at least 2: the palette's yellow, 1.3,
+        // and Palette99's, 1.2, would not).
+        let linear = |c: u8| {
+            let c = f64::from(c) / 255.0;
+            match c <= 0.03928 {
+                true => c / 12.92,
+                false => ((c + 0.055) / 1.055).powf(2.4),
+            }
+        };
+        for RGBColor(r, g, b) in PALETTE {
+            let luminance = 0.2126 * linear(r) + 0.7152 * linear(g) + 0.0722 * linear(b);
+            let contrast = 1.05 / (luminance + 0.05);
+            assert!(contrast >= 2.0, "({r}, {g}, {b}): contrast {contrast:.2}");
+        }
         assert!((0..PALETTE.len()).all(|i| !dashed(i)));
         assert!(dashed(PALETTE.len()) && dashed(2 * PALETTE.len() - 1));
         assert!(!dashed(2 * PALETTE.len()));
@@ -616,9 +694,9 @@ pub(super) mod tests {
         };
         let svg = chart.to_svg().unwrap();
         assert!((0..14).all(|i| svg.contains(&format!("joint_{i}"))));
-        // The 13th line (the palette's first colour again) is drawn in dashes: many segments.
-        let red = svg.matches("stroke=\"#E6194B\"").count();
-        assert!(red > 6, "{red} red strokes");
+        // The 8th line (the palette's first colour again) is drawn in dashes: many segments.
+        let blue = svg.matches("stroke=\"#0072B2\"").count();
+        assert!(blue > 6, "{blue} blue strokes");
     }
 
     #[test]
@@ -633,6 +711,12 @@ pub(super) mod tests {
         assert_eq!(caption_size(&title(4), 900, 12), 22.0);
         let eight = caption_size(&title(8), 900, 12);
         assert!(10.0 < eight && eight < 22.0, "{eight}");
-        assert_eq!(caption_size(&title(60), 900, 12), 10.0);
+        assert_eq!(caption_size(&title(60), 900, 12), WRAPPED);
+        // Too long for one line at 14: wrapped onto lines that fit, nothing lost.
+        assert_eq!(caption_lines(&title(8), 900, 12), [title(8)]);
+        let lines = caption_lines(&title(60), 900, 12);
+        assert!((3..=5).contains(&lines.len()), "{lines:?}");
+        assert!(lines.iter().all(|l| caption_fit(l, 900, 12) >= WRAPPED));
+        assert_eq!(lines.join(" "), title(60));
     }
 }
