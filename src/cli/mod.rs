@@ -70,6 +70,7 @@ mod progress;
 mod reproduce;
 mod run_flags;
 mod solve;
+mod solve_summary;
 mod store_hints;
 mod table;
 mod task;
