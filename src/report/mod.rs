@@ -5,6 +5,7 @@ pub mod check;
 pub mod codesign;
 mod error;
 pub mod mechanism;
+pub mod migrate;
 pub mod plots;
 pub mod poses;
 pub mod solve_document;
