@@ -34,9 +34,11 @@ const CAPACITY_INPUTS: [&str; 7] = [
 
 /// The kind of a document written before the envelope (version 0), by its fields: a co-design
 /// run has `best_ratios`, a table `rows`, a capacity search `probes`, a solve none of them.
-/// None for JSON that is no codesign document (its `tool.name` is not `codesign`).
+/// None for JSON that is no codesign document (its `tool.name` is not `codesign`, or
+/// `codesign-core` as later builds name it).
 pub fn untagged_kind(value: &Value) -> Option<Schema> {
-    if value.pointer("/tool/name").and_then(Value::as_str) != Some("codesign") {
+    let name = value.pointer("/tool/name").and_then(Value::as_str);
+    if !name.is_some_and(|name| name == "codesign" || name == "codesign-core") {
         return None;
     }
     let has = |key: &str| value.get(key).is_some();
