@@ -57,7 +57,9 @@ pub enum ReadFailure {
     },
     /// It is no codesign document (result or table) nor evaluation log (`codesign migrate`).
     NotADocument,
-    /// It is no codesign result of the kind its tag (or, before the envelope, its fields) says;
+    /// It changed between its reading and its migration (`codesign migrate`).
+    Changed,
+    /// It is no codesign result of the kind its tag says (for `codesign migrate`, once upgraded);
     /// the kind and the reason.
     NotAResult {
         /// `solve`, `optimize` or `capacity`.
@@ -96,6 +98,11 @@ impl fmt::Display for ReportError {
                              this version"
                         )
                     }
+                    ReadFailure::Changed => write!(
+                        f,
+                        "{path}: changed while it was migrated (another command wrote it); run \
+                         `codesign migrate {path}` again"
+                    ),
                     ReadFailure::NotADocument => {
                         write!(f, "{path}: no codesign result, table or evaluation log")
                     }

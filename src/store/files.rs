@@ -237,14 +237,14 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), StoreError> {
     replace_whole(path, &target, mode, bytes)
 }
 
-/// Replaces the evaluation log at `path`, read as `before`, with `after` whole, as
-/// [`write_atomic`] writes a result, holding the log's lock meanwhile: a run that has it open
-/// makes this fail, naming the run, and none opens it before the new file is in place
-/// (`codesign migrate`). Refuses a log that no longer holds `before`; keeps the original as
-/// [`keep_original`] does when `keep`, and returns the name it is kept under.
+/// Replaces the evaluation log at `path`, read as a text of FNV-1a hash `read`, with `after`
+/// whole, as [`write_atomic`] writes a result, holding the log's lock meanwhile: a run that has
+/// it open makes this fail, naming the run, and none opens it before the new file is in place
+/// (`codesign migrate`). Refuses a log that no longer holds what was read; keeps the original
+/// as [`keep_original`] does when `keep`, and returns the name it is kept under.
 pub fn rewrite_log(
     path: &Path,
-    before: &[u8],
+    read: &str,
     after: &[u8],
     keep: bool,
 ) -> Result<Option<PathBuf>, StoreError> {
@@ -259,7 +259,7 @@ pub fn rewrite_log(
     let mut now = Vec::new();
     held.read_to_end(&mut now)
         .map_err(|e| StoreError::io(Action::Read, path, &e))?;
-    if now != before {
+    if codesign_core::hash::fnv1a(&now) != read {
         return Err(StoreError::Replaced {
             path: path.to_owned(),
         });

@@ -238,8 +238,7 @@ fn differences(logged: &Value, current: &Value, path: &str, found: &mut Vec<Stri
 enum NoHeader {
     /// The file is no log: the parser's reason, None for JSON of a header of another format.
     Foreign(Option<String>),
-    /// A log of an older format (its entries without checksums, or its header without the
-    /// field that says they carry them): the parser's reason, if any.
+    /// A log of an older format (without checksums): the parser's reason, if any.
     Old(Option<String>),
 }
 
@@ -271,8 +270,8 @@ enum Contents {
     Entries,
     /// A log header alone: a run that ended before its first evaluation.
     HeaderOnly,
-    /// A log of an older format, to migrate before resuming: the parser's reason, if any.
-    Old(Option<String>),
+    /// A log of an older format, to migrate before resuming.
+    Old,
     /// No log: the parser's reason, when its first line is no JSON of a header.
     Foreign(Option<String>),
 }
@@ -304,14 +303,9 @@ impl<E: Serialize + DeserializeOwned> EvaluationLog<E> {
         if length > 0 {
             let contents = log.contents()?;
             match (start, contents) {
-                (Start::Resume, Contents::Entries) => return log.replay(run),
-                (Start::Resume, Contents::Old(why)) => {
-                    return Err(StoreError::OldLog {
-                        path: path.to_owned(),
-                        why,
-                    })
-                }
-                (Start::Fresh, Contents::Entries | Contents::Old(_)) => {
+                // An old log is refused in its reading, naming `codesign migrate`.
+                (Start::Resume, Contents::Entries | Contents::Old) => return log.replay(run),
+                (Start::Fresh, Contents::Entries | Contents::Old) => {
                     return Err(StoreError::LogExists {
                         path: path.to_owned(),
                     })
@@ -401,8 +395,7 @@ impl<E: Serialize + DeserializeOwned> EvaluationLog<E> {
     }
 
     /// Fails, naming the differing settings, unless the logged run is `run`, compared as the
-    /// run's type; a logged run that does not read as it (a setting missing: an older log) is
-    /// an old log.
+    /// run's type; one that does not read as it (a setting missing) is of an older log.
     fn check_same_run<T: LoggedRun>(&self, logged: &Value, run: &T) -> Result<(), StoreError> {
         let logged =
             serde_json::from_value::<T>(logged.clone()).map_err(|e| StoreError::OldLog {
@@ -437,7 +430,7 @@ impl<E: Serialize + DeserializeOwned> EvaluationLog<E> {
         let (first, more) = read.map_err(|e| StoreError::io(Action::Read, &self.path, &e))?;
         Ok(match header_of(first) {
             Err(NoHeader::Foreign(why)) => Contents::Foreign(why),
-            Err(NoHeader::Old(why)) => Contents::Old(why),
+            Err(NoHeader::Old(_)) => Contents::Old,
             Ok(_) if more => Contents::Entries,
             Ok(_) => Contents::HeaderOnly,
         })

@@ -15,6 +15,8 @@ use crate::design::score::Evaluation;
 use crate::store::document::{self, document_json, Document, Schema, Tagged};
 use crate::store::files::{keep_original, rewrite_log, write_atomic};
 use crate::store::log_upgrade::upgrade_log;
+use crate::store::{Action, StoreError};
+use codesign_core::hash::fnv1a;
 use codesign_core::input::{read_text, MAX_RESULT_BYTES};
 use codesign_core::json_keys::check_unique_keys;
 use codesign_core::model::identity::built_in_task_hash;
@@ -50,8 +52,9 @@ pub struct Migration {
     pub kind: Kind,
     /// What changes, one line each; empty for a current file.
     pub changes: Vec<String>,
-    /// The text read.
-    before: String,
+    /// The FNV-1a hash of the text read, to check that the file still holds it when it is
+    /// replaced.
+    read: String,
     /// The new text, when anything changes.
     after: Option<String>,
 }
@@ -70,8 +73,19 @@ impl Migration {
             return Ok(None);
         };
         if self.kind == Kind::Log {
-            let kept = rewrite_log(&self.path, self.before.as_bytes(), after.as_bytes(), keep)?;
+            let kept = rewrite_log(&self.path, &self.read, after.as_bytes(), keep)?;
             return Ok(kept);
+        }
+        let now = std::fs::read(&self.path).map_err(|e| StoreError::Io {
+            action: Action::Read,
+            path: self.path.clone(),
+            why: e.to_string(),
+        })?;
+        if fnv1a(&now) != self.read {
+            return Err(ReportError::Read {
+                path: self.path.clone(),
+                why: ReadFailure::Changed,
+            });
         }
         let kept = keep.then(|| keep_original(&self.path)).transpose()?;
         write_atomic(&self.path, after.as_bytes()).inspect_err(|_| {
@@ -104,7 +118,7 @@ pub fn plan(path: &Path) -> Result<Option<Migration>, ReportError> {
             path: path.to_owned(),
             kind: Kind::Log,
             changes: upgraded.changes,
-            before,
+            read: fnv1a(before.as_bytes()),
             after: upgraded.text,
         }));
     }
@@ -134,7 +148,7 @@ pub fn plan(path: &Path) -> Result<Option<Migration>, ReportError> {
         path: path.to_owned(),
         kind: Kind::Document(schema, version),
         changes,
-        before,
+        read: fnv1a(before.as_bytes()),
         after,
     }))
 }
@@ -157,4 +171,30 @@ fn rewritten(schema: Schema, value: Value, before: &str) -> Result<String, serde
 fn text_of<D: Document + DeserializeOwned>(text: &str) -> Result<String, serde_json::Error> {
     let document: D = serde_json::from_str(text)?;
     Ok(document_json(&document)? + "\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A file written by another command between the plan and its writing is left as that
+    /// command wrote it, and the migration fails naming it; a log the same.
+    #[test]
+    fn a_file_changed_meanwhile_is_left_alone() {
+        let dir = std::env::temp_dir().join(format!("codesign-migrate-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let fixtures = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/migrate");
+        for name in ["solve-v1.json", "unchecked.log.jsonl"] {
+            let path = dir.join(name);
+            std::fs::copy(fixtures.join(name), &path).unwrap();
+            let migration = plan(&path).unwrap().unwrap();
+            assert!(migration.is_old());
+            std::fs::write(&path, "{}\n").unwrap();
+            let error = migration.apply(true).unwrap_err();
+            assert!(error.to_string().contains(name), "{error}");
+            assert_eq!(std::fs::read_to_string(&path).unwrap(), "{}\n");
+            assert!(!dir.join(format!("{name}.orig")).exists());
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }
