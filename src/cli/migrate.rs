@@ -28,9 +28,14 @@ pub struct Args {
 pub fn run(args: &Args) -> Result<(), String> {
     let mut plans = Vec::new();
     let mut others = 0;
+    // A file named twice (by itself and in a folder, or through a link) is migrated once.
+    let mut seen = std::collections::HashSet::new();
     for path in &args.paths {
         let walked = path.is_dir();
         for file in files_of(path)? {
+            if !seen.insert(std::fs::canonicalize(&file).unwrap_or_else(|_| file.clone())) {
+                continue;
+            }
             match plan(&file)? {
                 Some(migration) => plans.push(migration),
                 None if walked => others += 1,
