@@ -65,6 +65,7 @@ mod doctor;
 mod dynamics;
 mod export;
 mod failure;
+mod migrate;
 mod optimize;
 mod progress;
 mod reproduce;
@@ -110,6 +111,9 @@ enum Command {
     Reproduce(reproduce::Args),
     /// Rebuild the table from result files of `solve`, `optimize` and `capacity` of one task.
     Table(table::Args),
+    /// Bring result files, tables and evaluation logs of older versions of codesign to this
+    /// version, in place (the original kept as NAME.orig); a current file is left untouched.
+    Migrate(migrate::Args),
     /// Print the built-in task (JSON), a starting point for one's own: `codesign task > my.json`.
     ///
     /// Every command uses the built-in task and robot unless given `--task FILE` (and
@@ -146,6 +150,7 @@ pub fn main(stdout_closed: bool) -> ExitCode {
         Command::Capacity(args) => capacity::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Table(args) => table::run(&args).map_err(Failure::Work),
+        Command::Migrate(args) => migrate::run(&args).map_err(Failure::Work),
         Command::Task(args) => task::run(&args).map_err(Failure::Work),
         Command::Worker => worker::run().map_err(Failure::Work),
     };

@@ -17,8 +17,7 @@ pub enum WarmStart {
     /// range and a capacity search start cold (the latter warm-starts its own probes).
     #[default]
     On,
-    /// Every design from the standard initial guess (the paper's; every run logged before warm
-    /// starts existed).
+    /// Every design from the standard initial guess (the paper's).
     Off,
 }
 
@@ -34,11 +33,6 @@ impl Choice for WarmStart {
 }
 
 impl WarmStart {
-    /// Off: the setting of the runs logged before it was recorded (all started cold).
-    pub fn off() -> WarmStart {
-        WarmStart::Off
-    }
-
     /// Whether warm starts are on.
     pub fn is_on(&self) -> bool {
         *self == WarmStart::On

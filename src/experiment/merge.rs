@@ -100,7 +100,7 @@ fn planned_all(
 /// `task_hash`, the plan's (a file written before the hash was recorded is not checked).
 fn read_of_task(path: &Path, task_hash: &str) -> Result<ResultFile, MergeError> {
     let file = read(path)?;
-    match file.task(None) {
+    match file.task() {
         Some(recorded) if recorded != task_hash => Err(MergeError::OtherTask {
             path: path.to_owned(),
             recorded,

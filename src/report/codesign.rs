@@ -28,8 +28,7 @@ pub struct CapacityInputs {
     pub limit_modes: LimitModes,
     /// What the motion asks at its ends (`motion.ends`): under `paper` the capacity is the
     /// paper's dynamic one and `hold_kg` is reported beside it; under `hold` and `rest` it is
-    /// bounded by `hold_kg`. Files written before the choice: `hold`.
-    #[serde(default)]
+    /// bounded by `hold_kg`.
     pub ends: Ends,
     /// Resolution and range of the search.
     pub settings: CapacitySettings,
@@ -45,32 +44,6 @@ pub struct CapacityDocument {
     /// The outcome, flattened into the document.
     #[serde(flatten)]
     pub capacity: Capacity,
-}
-
-/// The fields of [`CapacityInputs`], which versions 0 and 1 wrote at the top level.
-const INPUT_FIELDS: [&str; 7] = [
-    "task_file",
-    "task_hash",
-    "space",
-    "ratios",
-    "limit_modes",
-    "ends",
-    "settings",
-];
-
-/// Brings a capacity document of version 0 or 1, opened (its envelope removed), to version 2:
-/// its inputs move from the top level into `inputs`.
-pub fn upgrade_capacity(value: &mut serde_json::Value, version: u32) {
-    let Some(object) = value.as_object_mut().filter(|_| version < 2) else {
-        return;
-    };
-    let mut inputs = serde_json::Map::new();
-    for field in INPUT_FIELDS {
-        if let Some(entry) = object.remove(field) {
-            inputs.insert(field.to_owned(), entry);
-        }
-    }
-    object.insert("inputs".to_owned(), serde_json::Value::Object(inputs));
 }
 
 impl crate::store::document::Document for CapacityDocument {
@@ -195,22 +168,5 @@ mod tests {
                 }
             }
         }
-    }
-
-    /// A capacity of version 1 (or 0) has its inputs at the top level; the upgrade moves them,
-    /// and only them, under `inputs`, and leaves a version 2 document as it is.
-    #[test]
-    fn a_capacity_of_version_1_reads_as_version_2() {
-        let mut old = serde_json::json!({"tool": {}, "task_file": "t.json", "space": "joint", "ratios": [1.0],
-            "limit_modes": {}, "settings": {"max_kg": 4.0}, "capacity_kg": 2.0, "probes": []});
-        upgrade_capacity(&mut old, 1);
-        assert_eq!(old["inputs"]["task_file"], "t.json");
-        assert_eq!(old["inputs"]["settings"]["max_kg"], 4.0);
-        assert_eq!(old["capacity_kg"], 2.0);
-        assert!(old.get("space").is_none() && old["inputs"].get("ends").is_none());
-        let current = serde_json::json!({"inputs": {"space": "joint"}, "capacity_kg": 1.0});
-        let mut same = current.clone();
-        upgrade_capacity(&mut same, 2);
-        assert_eq!(same, current);
     }
 }

@@ -1,7 +1,7 @@
 //! Why a report could not be made: a chart not drawn, a file not written, a result file not
 //! read, or results that make no table together.
 
-use crate::store::document::EnvelopeError;
+use crate::store::document::{EnvelopeError, Schema};
 use crate::store::StoreError;
 use codesign_core::input::InputError;
 use codesign_core::transmission::DesignError;
@@ -47,7 +47,19 @@ pub enum ReadFailure {
     Envelope(EnvelopeError),
     /// It is a table, which is made from results and no result itself.
     Table,
-    /// It is no codesign result of the kind its tag (or, before the envelope, its fields) says;
+    /// It is a document of an older version (0: written before the envelope), which
+    /// `codesign migrate` brings to this build's.
+    Old {
+        /// Its kind, where its envelope or (version 0) its fields tell it.
+        schema: Option<Schema>,
+        /// Its version.
+        version: u32,
+    },
+    /// It is no codesign document (result or table) nor evaluation log (`codesign migrate`).
+    NotADocument,
+    /// It changed between its reading and its migration (`codesign migrate`).
+    Changed,
+    /// It is no codesign result of the kind its tag says (for `codesign migrate`, once upgraded);
     /// the kind and the reason.
     NotAResult {
         /// `solve`, `optimize` or `capacity`.
@@ -74,6 +86,26 @@ impl fmt::Display for ReportError {
                         f,
                         "{path}: a table, made from results: give the result files it was made of"
                     ),
+                    ReadFailure::Old { schema, version } => {
+                        let kind = schema.map_or("a codesign document", |s| s.tag());
+                        let current = schema.map_or(String::new(), |s| {
+                            format!(" (this codesign reads version {})", s.version())
+                        });
+                        write!(
+                            f,
+                            "{path}: {kind} of version {version}, written by an older \
+                             codesign{current}: run `codesign migrate {path}` to bring it to \
+                             this version"
+                        )
+                    }
+                    ReadFailure::Changed => write!(
+                        f,
+                        "{path}: changed while it was migrated (another command wrote it); run \
+                         `codesign migrate {path}` again"
+                    ),
+                    ReadFailure::NotADocument => {
+                        write!(f, "{path}: no codesign result, table or evaluation log")
+                    }
                     ReadFailure::NotAResult { kind, why } => {
                         write!(f, "{path}: not a codesign {kind} result: {why}")
                     }

@@ -7,6 +7,7 @@ mod error;
 pub mod export;
 pub mod mechanism;
 pub mod motor_plots;
+pub mod migrate;
 pub mod plots;
 pub mod poses;
 pub mod solve_document;

@@ -234,17 +234,75 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), StoreError> {
     if is_log(&target) {
         return Err(not_written(Refusal::LogName));
     }
+    replace_whole(path, &target, mode, bytes)
+}
+
+/// Replaces the evaluation log at `path`, read as a text of FNV-1a hash `read`, with `after`
+/// whole, as [`write_atomic`] writes a result, holding the log's lock meanwhile: a run that has
+/// it open makes this fail, naming the run, and none opens it before the new file is in place
+/// (`codesign migrate`). Refuses a log that no longer holds what was read; keeps the original
+/// as [`keep_original`] does when `keep`, and returns the name it is kept under.
+pub fn rewrite_log(
+    path: &Path,
+    read: &str,
+    after: &[u8],
+    keep: bool,
+) -> Result<Option<PathBuf>, StoreError> {
+    let (target, mode) = resolve_target(path).map_err(|why| StoreError::NotWritten {
+        path: path.to_owned(),
+        why,
+    })?;
+    let thing = super::Thing::EvaluationLog;
+    let mut held =
+        File::open(&target).map_err(|e| StoreError::io(Action::Open(thing), path, &e))?;
+    super::lock::lock_file(&held, thing, path)?;
+    let mut now = Vec::new();
+    held.read_to_end(&mut now)
+        .map_err(|e| StoreError::io(Action::Read, path, &e))?;
+    if codesign_core::hash::fnv1a(&now) != read {
+        return Err(StoreError::Replaced {
+            path: path.to_owned(),
+        });
+    }
+    let kept = keep.then(|| keep_original(path)).transpose()?;
+    replace_whole(path, &target, mode, after).inspect_err(|_| {
+        kept.as_ref().map(std::fs::remove_file);
+    })?;
+    Ok(kept)
+}
+
+/// Keeps the file at `path` (the one a symbolic link points to) under the name `NAME.orig`
+/// beside it, as a second name of the same file, before it is replaced; refuses where that
+/// name is taken, so that no earlier original is lost. Returns the name kept.
+pub fn keep_original(path: &Path) -> Result<PathBuf, StoreError> {
+    let target = resolved(path);
+    let mut name = target.as_os_str().to_owned();
+    name.push(".orig");
+    let kept = PathBuf::from(name);
+    std::fs::hard_link(&target, &kept)
+        .map_err(|e| StoreError::io(Action::Create(super::Thing::Original), &kept, &e))?;
+    Ok(kept)
+}
+
+/// Writes `bytes` through a temporary file beside `target` (what `path` resolves to, of
+/// permission bits `mode` where it exists) and renames it into place.
+fn replace_whole(
+    path: &Path,
+    target: &Path,
+    mode: Option<u32>,
+    bytes: &[u8],
+) -> Result<(), StoreError> {
     let failed = |error: std::io::Error| StoreError::io(Action::Write, path, &error);
     // INT, TERM and HUP wait until the temporary is renamed into place or removed.
     let _deferral = signals::defer();
-    let (mut file, temporary) = create_beside(&target, "tmp")?.map_err(failed)?;
+    let (mut file, temporary) = create_beside(target, "tmp")?.map_err(failed)?;
     let written = mode
         .map_or(Ok(()), |mode| {
             file.set_permissions(Permissions::from_mode(mode))
         })
         .and_then(|()| file.write_all(bytes))
         .and_then(|()| file.sync_all())
-        .and_then(|()| std::fs::rename(&temporary, &target));
+        .and_then(|()| std::fs::rename(&temporary, target));
     written.map_err(|error| {
         let _ = std::fs::remove_file(&temporary);
         failed(error)

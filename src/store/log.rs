@@ -47,8 +47,8 @@ pub struct LogHeader {
     pub format: String,
     /// The run's settings (task, space, modes, payload, seed, population, ...), as JSON.
     pub run: Value,
-    /// Whether every entry carries a checksum (false in logs written before checksums).
-    #[serde(default)]
+    /// Whether every entry carries a checksum: true in every log this build reads (false or
+    /// absent in logs written before checksums, which `codesign migrate` brings to this format).
     pub checksums: bool,
 }
 
@@ -160,23 +160,17 @@ impl<E: Serialize> LogEntry<E> {
 }
 
 impl<E: Serialize + DeserializeOwned> LogEntry<E> {
-    /// Parses an entry line and checks its checksum (required when `checksums`); the entry
-    /// returned has none.
-    pub fn from_line(line: &str, checksums: bool) -> Result<LogEntry<E>, Damage> {
+    /// Parses an entry line and checks its checksum, which it must carry; the entry returned
+    /// has none.
+    pub fn from_line(line: &str) -> Result<LogEntry<E>, Damage> {
         let mut entry: LogEntry<E> =
             serde_json::from_str(line).map_err(|e| Damage::NotARecord(e.to_string()))?;
-        match entry.check.take() {
-            Some(logged) => {
-                let text =
-                    serde_json::to_string(&entry).map_err(|e| Damage::NotARecord(e.to_string()))?;
-                if checksum(&text) != logged {
-                    return Err(Damage::ChecksumMismatch);
-                }
-            }
-            None if checksums => return Err(Damage::NoChecksum),
-            None => {}
+        let logged = entry.check.take().ok_or(Damage::NoChecksum)?;
+        let text = serde_json::to_string(&entry).map_err(|e| Damage::NotARecord(e.to_string()))?;
+        match checksum(&text) == logged {
+            true => Ok(entry),
+            false => Err(Damage::ChecksumMismatch),
         }
-        Ok(entry)
     }
 }
 
@@ -240,16 +234,33 @@ fn differences(logged: &Value, current: &Value, path: &str, found: &mut Vec<Stri
     }
 }
 
+/// Why a first line is no header of a log this build reads.
+enum NoHeader {
+    /// The file is no log: the parser's reason, None for JSON of a header of another format.
+    Foreign(Option<String>),
+    /// A log of an older format (without checksums): the parser's reason, if any.
+    Old(Option<String>),
+}
+
 /// The header of a log whose first line is `first`, and that line's length in bytes; else why
-/// the file is no log (None: JSON of a header of another format).
-fn header_of(first: Option<Line>) -> Result<(LogHeader, usize), Option<String>> {
-    let text = first
-        .ok_or_else(|| "the file is empty".to_owned())?
-        .text()?;
-    let header: LogHeader = serde_json::from_str(&text).map_err(|e| Some(e.to_string()))?;
-    match header.format == FORMAT {
-        true => Ok((header, text.len())),
-        false => Err(None),
+/// the file is no log of this build's.
+fn header_of(first: Option<Line>) -> Result<(LogHeader, usize), NoHeader> {
+    let text = (first.ok_or_else(|| "the file is empty".to_owned()))
+        .and_then(Line::text)
+        .map_err(|why| NoHeader::Foreign(Some(why)))?;
+    match serde_json::from_str::<LogHeader>(&text) {
+        Ok(header) if header.format != FORMAT => Err(NoHeader::Foreign(None)),
+        Ok(header) if !header.checksums => Err(NoHeader::Old(None)),
+        Ok(header) => Ok((header, text.len())),
+        Err(e) if text.starts_with(super::LOG_HEADER_PREFIX) => {
+            Err(NoHeader::Old(Some(e.to_string())))
+        }
+        Err(e) => match serde_json::from_str::<Value>(&text) {
+            Ok(value) if value.get("format").is_some_and(|f| f != FORMAT) => {
+                Err(NoHeader::Foreign(None))
+            }
+            _ => Err(NoHeader::Foreign(Some(e.to_string()))),
+        },
     }
 }
 
@@ -259,6 +270,8 @@ enum Contents {
     Entries,
     /// A log header alone: a run that ended before its first evaluation.
     HeaderOnly,
+    /// A log of an older format, to migrate before resuming.
+    Old,
     /// No log: the parser's reason, when its first line is no JSON of a header.
     Foreign(Option<String>),
 }
@@ -290,8 +303,9 @@ impl<E: Serialize + DeserializeOwned> EvaluationLog<E> {
         if length > 0 {
             let contents = log.contents()?;
             match (start, contents) {
-                (Start::Resume, Contents::Entries) => return log.replay(run),
-                (Start::Fresh, Contents::Entries) => {
+                // An old log is refused in its reading, naming `codesign migrate`.
+                (Start::Resume, Contents::Entries | Contents::Old) => return log.replay(run),
+                (Start::Fresh, Contents::Entries | Contents::Old) => {
                     return Err(StoreError::LogExists {
                         path: path.to_owned(),
                     })
@@ -332,9 +346,15 @@ impl<E: Serialize + DeserializeOwned> EvaluationLog<E> {
         let read_error = |e: std::io::Error| StoreError::io(Action::Read, &self.path, &e);
         let mut reader = BufReader::new(&self.file);
         let first = next_line(&mut reader).map_err(read_error)?;
-        let (header, header_bytes) = header_of(first).map_err(|why| StoreError::NotALog {
-            path: self.path.clone(),
-            why,
+        let (header, header_bytes) = header_of(first).map_err(|problem| match problem {
+            NoHeader::Foreign(why) => StoreError::NotALog {
+                path: self.path.clone(),
+                why,
+            },
+            NoHeader::Old(why) => StoreError::OldLog {
+                path: self.path.clone(),
+                why,
+            },
         })?;
         self.check_same_run(&header.run, run)?;
         let mut finished = HashMap::new();
@@ -357,7 +377,7 @@ impl<E: Serialize + DeserializeOwned> EvaluationLog<E> {
                 }
                 Some(other) => return Err(damaged(Damage::NotALine(other.text().unwrap_err()))),
             };
-            let entry = LogEntry::<E>::from_line(&line, header.checksums).map_err(damaged)?;
+            let entry = LogEntry::<E>::from_line(&line).map_err(damaged)?;
             earlier_seconds = earlier_seconds
                 .zip(entry.run_seconds)
                 .map(|(latest, at)| latest.max(at));
@@ -374,17 +394,18 @@ impl<E: Serialize + DeserializeOwned> EvaluationLog<E> {
         Ok((self, finished))
     }
 
-    /// Fails, naming the differing settings, unless the logged run is `run`. Compared as the
-    /// run's type, so that a field added later with a default still matches older logs.
+    /// Fails, naming the differing settings, unless the logged run is `run`, compared as the
+    /// run's type; one that does not read as it (a setting missing) is of an older log.
     fn check_same_run<T: LoggedRun>(&self, logged: &Value, run: &T) -> Result<(), StoreError> {
-        let parsed = serde_json::from_value::<T>(logged.clone());
-        if parsed.as_ref().is_ok_and(|logged| logged.same_run(run)) {
+        let logged =
+            serde_json::from_value::<T>(logged.clone()).map_err(|e| StoreError::OldLog {
+                path: self.path.clone(),
+                why: Some(e.to_string()),
+            })?;
+        if logged.same_run(run) {
             return Ok(());
         }
-        let logged = match parsed {
-            Ok(parsed) => serde_json::to_value(parsed).unwrap_or(Value::Null),
-            Err(_) => logged.clone(),
-        };
+        let logged = serde_json::to_value(logged).unwrap_or(Value::Null);
         let current = serde_json::to_value(run).map_err(|e| self.serialise_error(&e))?;
         let mut found = Vec::new();
         differences(&logged, &current, "", &mut found);
@@ -408,7 +429,8 @@ impl<E: Serialize + DeserializeOwned> EvaluationLog<E> {
             .and_then(|read| self.file.seek(SeekFrom::Start(0)).map(|_| read));
         let (first, more) = read.map_err(|e| StoreError::io(Action::Read, &self.path, &e))?;
         Ok(match header_of(first) {
-            Err(why) => Contents::Foreign(why),
+            Err(NoHeader::Foreign(why)) => Contents::Foreign(why),
+            Err(NoHeader::Old(_)) => Contents::Old,
             Ok(_) if more => Contents::Entries,
             Ok(_) => Contents::HeaderOnly,
         })
@@ -509,7 +531,6 @@ mod tests {
         seed: u64,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         method: Option<String>,
-        #[serde(default)]
         extra: u32,
     }
 
@@ -574,7 +595,7 @@ mod tests {
             let value = 1.0 + 8.0 * (state >> 11) as f64 / (1u64 << 53) as f64;
             let original = entry(1, 2, value);
             let line = original.to_line().unwrap();
-            let back = LogEntry::<Design>::from_line(&line, true).unwrap();
+            let back = LogEntry::<Design>::from_line(&line).unwrap();
             assert_eq!(
                 back.evaluation.ratios[3].to_bits(),
                 original.evaluation.ratios[3].to_bits()
@@ -635,13 +656,16 @@ mod tests {
         drop(log);
         let (_, finished) = Log::open(&path, &run, Start::Resume).unwrap();
         assert_eq!(finished.len(), 3);
-        // A log written before a defaulted field existed still belongs to the run.
+        // A log written before a field of the run existed is an older log, to migrate.
         let newer = NewerRun {
             seed: 3,
             method: None,
             extra: 0,
         };
-        assert!(Log::open(&path, &newer, Start::Resume).is_ok());
+        let error = Log::open(&path, &newer, Start::Resume).unwrap_err();
+        assert!(matches!(error, StoreError::OldLog { .. }), "{error:?}");
+        let migrate = format!("run `codesign migrate {}`", path.display());
+        assert!(error.to_string().contains(&migrate), "{error}");
         let other = Run {
             seed: 4,
             method: None,
@@ -762,6 +786,29 @@ mod tests {
                 why: None
             }
         );
+        std::fs::remove_file(&path).unwrap();
+    }
+
+    /// A log written before checksums is one to migrate: resuming it names `codesign migrate`,
+    /// a fresh run finds it in the way, and only `--overwrite` replaces it.
+    #[test]
+    fn a_log_without_checksums_is_refused_naming_migrate() {
+        let path = scratch("unchecked");
+        let run = Run {
+            seed: 1,
+            method: None,
+        };
+        let old = "{\"format\":\"codesign-evaluation-log\",\"run\":{\"seed\":1}}\n\
+                   {\"generation\":0,\"index\":0,\"ratios\":[1.0],\"cost\":1.0}\n";
+        std::fs::write(&path, old).unwrap();
+        let error = Log::open(&path, &run, Start::Resume).unwrap_err();
+        assert!(matches!(error, StoreError::OldLog { .. }), "{error:?}");
+        let migrate = format!("run `codesign migrate {}`", path.display());
+        assert!(error.to_string().contains(&migrate), "{error}");
+        let error = Log::open(&path, &run, Start::Fresh).unwrap_err();
+        assert_eq!(error, StoreError::LogExists { path: path.clone() });
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), old);
+        assert!(Log::open(&path, &run, Start::Overwrite).is_ok());
         std::fs::remove_file(&path).unwrap();
     }
 

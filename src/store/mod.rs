@@ -11,13 +11,14 @@ pub mod files;
 mod lines;
 pub mod lock;
 pub mod log;
+pub mod log_upgrade;
 
 /// The name of the evaluation log's format, its header's first field.
 const LOG_FORMAT: &str = "codesign-evaluation-log";
 
 /// How every evaluation log's first line begins (its header's `format`, written first): how a
 /// log is known whatever its name.
-const LOG_HEADER_PREFIX: &str = "{\"format\":\"codesign-evaluation-log\"";
+pub const LOG_HEADER_PREFIX: &str = "{\"format\":\"codesign-evaluation-log\"";
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -90,6 +91,13 @@ pub enum StoreError {
         /// Why its first line is no log header, when it is no JSON of one.
         why: Option<String>,
     },
+    /// The evaluation log at `path` is of an older format, which `codesign migrate` upgrades.
+    OldLog {
+        /// The log.
+        path: PathBuf,
+        /// The parser's reason, if any.
+        why: Option<String>,
+    },
     /// The evaluation log at `path` was replaced by another process while this one opened it.
     Replaced {
         /// The log.
@@ -134,6 +142,8 @@ pub enum Thing {
     EvaluationLog,
     /// A folder of results.
     OutputFolder,
+    /// The original of a file `codesign migrate` replaces, kept beside it.
+    Original,
 }
 
 /// Why an output is refused.
@@ -212,6 +222,7 @@ impl fmt::Display for Thing {
         f.write_str(match self {
             Thing::EvaluationLog => "the evaluation log",
             Thing::OutputFolder => "the output folder",
+            Thing::Original => "the copy of the original",
         })
     }
 }
@@ -344,6 +355,18 @@ impl fmt::Display for StoreError {
                 "{} is not an evaluation log (line 1: {why})",
                 path.display()
             ),
+            StoreError::OldLog { path, why } => {
+                let why = why
+                    .as_ref()
+                    .map_or(String::new(), |why| format!(" ({why})"));
+                write!(
+                    f,
+                    "{} is an evaluation log of an older codesign{why}: run `codesign migrate {}` \
+                     to bring it to this version",
+                    path.display(),
+                    path.display()
+                )
+            }
             StoreError::Replaced { path } => write!(
                 f,
                 "the evaluation log {} was replaced while this run opened it; run again",

@@ -57,7 +57,7 @@ fn committed_logs_resume_and_their_lines_are_written_as_they_are() {
         };
         let negative = matches!(inputs.settings.objective, Objective::Capacity(_));
         for line in lines {
-            let entry = LogEntry::<Evaluation>::from_line(line, header.checksums)
+            let entry = LogEntry::<Evaluation>::from_line(line)
                 .unwrap_or_else(|why| panic!("{}: {why:?}", original.display()));
             assert_eq!(entry.to_line().unwrap(), line, "{}", original.display());
             let implausible = entry.evaluation.implausible(&penalty, negative);
@@ -93,7 +93,7 @@ fn an_edited_entry_the_scoring_never_writes_is_refused() {
         .iter()
         .enumerate()
         .skip(1)
-        .map(|(k, line)| (k, LogEntry::<Evaluation>::from_line(line, true).unwrap()))
+        .map(|(k, line)| (k, LogEntry::<Evaluation>::from_line(line).unwrap()))
         .find(|(_, entry)| entry.evaluation.status.to_string() == "Invalid_Design")
         .expect("the committed run logs an invalid design");
     entry.evaluation.feasible = true;

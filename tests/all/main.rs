@@ -27,6 +27,7 @@ mod hostile_cli;
 mod index_page;
 mod limits_cli;
 mod linkage_numbers_cli;
+mod migrate_cli;
 mod motors_cli;
 mod ocp_reference;
 mod optimize_cli;

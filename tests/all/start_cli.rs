@@ -133,7 +133,7 @@ fn a_start_that_does_not_fit_is_refused_naming_why() {
     // Files that are no start: cut short, another kind, without a point, edited.
     let text = std::fs::read_to_string(dir.join("start.json")).unwrap();
     std::fs::write(dir.join("cut.json"), &text[..text.len() / 2]).unwrap();
-    let capacity = r#"{"schema": "codesign/capacity", "version": 1}"#;
+    let capacity = r#"{"schema": "codesign/capacity", "version": 2}"#;
     std::fs::write(dir.join("capacity.json"), capacity).unwrap();
     edited(&dir, "pointless.json", &start, |v| {
         v.as_object_mut().unwrap().remove("start_point");

@@ -241,10 +241,18 @@ fn results_are_read_by_their_schema_tag() {
     assert!(!std::fs::read_to_string(dir.join("old.json"))
         .unwrap()
         .contains("schema"));
+    // Written before the envelope (version 0): refused until migrated, then read.
+    let old = dir.join("old.json");
+    let migrate = format!("run `codesign migrate {}`", old.display());
+    support::fails_saying(&untagged, &migrate);
+    support::fails_saying(&untagged, "old.json: codesign/solve of version 0");
+    let migrated = codesign(&["migrate", old.to_str().unwrap()]);
+    assert!(migrated.status.success());
+    let again = codesign(&["table", old.to_str().unwrap()]);
     assert!(
-        untagged.status.success(),
+        again.status.success(),
         "{}",
-        String::from_utf8_lossy(&untagged.stderr)
+        String::from_utf8_lossy(&again.stderr)
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -35,12 +35,6 @@ impl LinearSolver {
         }
     }
 
-    /// The solver of every result written before the LDLᵀ existed: the value of a missing
-    /// `linear_solver` field in older result files and evaluation logs.
-    pub fn before_ldl() -> LinearSolver {
-        LinearSolver::Mumps
-    }
-
     /// The name users give it (`--linear-solver`, the task's `solver.linear_solver`, result files).
     pub fn name(self) -> &'static str {
         match self {

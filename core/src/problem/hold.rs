@@ -11,15 +11,6 @@ use crate::transmission::Space;
 use crate::transmission::{Coupling, DesignError, JointLimits};
 use serde::{Deserialize, Serialize};
 
-/// The tolerance of hold files written before it was recorded, N m.
-fn older_tolerance() -> f64 {
-    1e-9
-}
-
-/// Files written before the hold was a choice judged it.
-fn judged_before() -> bool {
-    true
-}
 
 /// What the rows of the control limits are, and so what a margin belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -67,12 +58,10 @@ pub struct EndHold {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StaticHold {
     /// Whether the hold is a condition of feasibility (`motion.ends` `hold` or `rest`); under
-    /// `paper` it is reported and never judged. Files written before the choice: true.
-    #[serde(default = "judged_before")]
+    /// `paper` it is reported and never judged.
     pub judged: bool,
     /// A margin down to minus this counts as held, N m: the solver's constraint tolerance
-    /// ([`DEFAULT_HOLD_TOLERANCE_NM`]). Files written before it was recorded: 1e-9.
-    #[serde(default = "older_tolerance")]
+    /// ([`DEFAULT_HOLD_TOLERANCE_NM`]).
     pub tolerance_nm: f64,
     /// What the margins' rows are.
     pub rows: HoldRows,

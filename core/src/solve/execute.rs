@@ -18,20 +18,13 @@ pub struct MotorsExecute {
     pub torque_excess_nm: Vec<f64>,
     /// Per motor: its peak |speed| above its speed limit, rad/s (0 within it).
     pub speed_excess_rad_s: Vec<f64>,
-    /// Per motor: its peak |torque| over the intervals, N m (absent in files of version 1 and
-    /// before: empty).
-    #[serde(default)]
+    /// Per motor: its peak |torque| over the intervals, N m.
     pub torque_peak_nm: Vec<f64>,
-    /// Per motor: its peak |speed| over the nodes, rad/s (version 1 and before: empty).
-    #[serde(default)]
+    /// Per motor: its peak |speed| over the nodes, rad/s.
     pub speed_peak_rad_s: Vec<f64>,
-    /// Per motor: its torque limit less its peak |torque|, N m; negative where it exceeds it
-    /// (version 1 and before: empty).
-    #[serde(default)]
+    /// Per motor: its torque limit less its peak |torque|, N m; negative where it exceeds it.
     pub torque_margin_nm: Vec<f64>,
-    /// Per motor: its speed limit less its peak |speed|, rad/s; negative where it exceeds it
-    /// (version 1 and before: empty).
-    #[serde(default)]
+    /// Per motor: its speed limit less its peak |speed|, rad/s; negative where it exceeds it.
     pub speed_margin_rad_s: Vec<f64>,
 }
 

@@ -23,9 +23,7 @@ pub struct ToolInfo {
     pub version: String,
     /// The IPOPT version linked.
     pub ipopt_version: String,
-    /// The linear solver IPOPT factorised with. Files written before it was recorded were all
-    /// solved with MUMPS.
-    #[serde(default = "LinearSolver::before_ldl")]
+    /// The linear solver IPOPT factorised with.
     pub linear_solver: LinearSolver,
 }
 
@@ -136,9 +134,7 @@ pub struct TrajectoryResult {
     /// (`static_hold`).
     pub feasible: bool,
     /// Why the result is infeasible, when it is: the end and the motors that cannot hold the
-    /// load at rest first, then IPOPT's or the elastic solve's reason; null when feasible
-    /// (files of version 1 and before leave it out then).
-    #[serde(default)]
+    /// load at rest first, then IPOPT's or the elastic solve's reason; null when feasible.
     pub reason: Option<String>,
     /// Which solve gave the verdict (docs/model.md, section 8): the hard problem, the elastic
     /// one, or the hard one started from the elastic trajectory. Absent in files written before

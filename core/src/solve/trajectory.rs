@@ -37,8 +37,7 @@ pub struct Trajectory {
     /// written.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub transmission_loss: Vec<Vec<f64>>,
-    /// TCP world x per node, m (absent in files written before it was recorded).
-    #[serde(default)]
+    /// TCP world x per node, m.
     pub tcp_x: Vec<f64>,
     /// TCP world y per node, m.
     pub tcp_y: Vec<f64>,

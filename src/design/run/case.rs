@@ -233,8 +233,7 @@ impl Case {
         OptimizeInputs {
             settings: self.settings.recorded(),
             task_file: self.model.source().label(),
-            // The linear solver is recorded in its own field, so that a log written before the
-            // field existed (MUMPS) compares by that field alone.
+            // The linear solver is recorded in its own field, not in the task's solve settings.
             task: TaskRecord {
                 task: task.clone(),
                 solver: settings.recorded(),

@@ -12,7 +12,7 @@ mod verify;
 
 pub use case::{shell_quote, task_source, Case, Loaded, ModelChoice, ProblemChoice};
 pub use document::{
-    upgrade_optimize, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts, RecordedHash,
+    number_or_nan, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts, RecordedHash,
 };
 pub use error::{Output, RunError};
 pub use execute::run_case;

@@ -45,10 +45,8 @@ impl Choice for Method {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunSettings {
     /// The outer-level method.
-    #[serde(default)]
     pub method: Method,
     /// What is minimised.
-    #[serde(default)]
     pub objective: Objective,
     /// CMA-ES's settings (`seed`, `population`, `generations`, `sigma0`, `ftol`, `xtol`); a
     /// gradient run records them too (`reproduce`'s with population and generations 0).
@@ -65,9 +63,7 @@ pub struct RunSettings {
     /// as drawn (the paper's rule) when left out.
     #[serde(default, skip_serializing_if = "BoundHandling::is_penalty")]
     pub bounds: BoundHandling,
-    /// Whether each generation's designs started from a solution of its mean; always written,
-    /// and off where left out: the logs written before warm starts existed (all cold).
-    #[serde(default = "WarmStart::off")]
+    /// Whether each generation's designs started from a solution of its mean; always written.
     pub warm_start: WarmStart,
 }
 

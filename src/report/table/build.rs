@@ -161,10 +161,7 @@ impl TableTask {
     fn of(files: &[ResultFile]) -> TableTask {
         // The built-in task always loads (tested); were it not to, no table is the paper's.
         let built_in = built_in_task_hash().ok();
-        let tasks: Vec<Option<String>> = files
-            .iter()
-            .map(|file| file.task(built_in.as_deref()))
-            .collect();
+        let tasks: Vec<Option<String>> = files.iter().map(ResultFile::task).collect();
         let paper_motion = Task::built_in()
             .ok()
             .map(|task| (task.motion.horizon, task.motion.steps));

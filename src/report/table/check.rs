@@ -5,14 +5,13 @@ use super::ResultFile;
 use crate::design::score::Objective;
 use crate::report::codesign::CapacityDocument;
 use crate::report::ReportError;
-use codesign_core::model::identity::built_in_task_hash;
 use codesign_core::model::task::{Horizon, MAX_PAYLOAD_KG};
 use codesign_core::text::number;
 use std::path::PathBuf;
 
 /// Fails, naming the files, when two results are of different tasks (their task hashes differ;
-/// a file without one, written before it was recorded, is of the built-in task when it says so,
-/// else of an unknown task that merges with any: see [`ResultFile::task`]), when two describe
+/// a file without one, written before it was recorded, is of an unknown task that merges with
+/// any: see [`ResultFile::task`]), when two describe
 /// different motions (horizon or number of intervals), when one result is given twice (the same
 /// file, or the same run under another name), or when a result holds a cost no run writes
 /// (edited or damaged), or a solve of another design than the original one, which has no cell:
@@ -23,11 +22,7 @@ pub fn check_results(paths: &[PathBuf], files: &[ResultFile]) -> Result<(), Repo
             return Err(ReportError::Table(format!("{}: {why}", path.display())));
         }
     }
-    let built_in = built_in_task_hash().ok();
-    let tasks: Vec<Option<String>> = files
-        .iter()
-        .map(|file| file.task(built_in.as_deref()))
-        .collect();
+    let tasks: Vec<Option<String>> = files.iter().map(ResultFile::task).collect();
     for (i, a) in files.iter().enumerate() {
         for (j, b) in files.iter().enumerate().skip(i + 1) {
             let (first, second) = (paths[i].display(), paths[j].display());

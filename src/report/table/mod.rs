@@ -16,15 +16,16 @@ pub use hold::HoldRow;
 pub use build::build_table;
 pub use check::check_results;
 
-use super::codesign::{upgrade_capacity, CapacityDocument};
+use super::codesign::CapacityDocument;
+use super::migrate::steps::untagged_kind;
 use super::solve_document::SolveDocument;
 use super::{ReadFailure, ReportError};
-use crate::design::run::{upgrade_optimize, OptimizeDocument, PayloadCost};
+use crate::design::run::{OptimizeDocument, PayloadCost};
 use crate::store::document::{self, Schema, Tagged};
 use codesign_core::input::{read_text, MAX_RESULT_BYTES};
 use codesign_core::ipopt::LinearSolver;
 use codesign_core::json_keys::check_unique_keys;
-use codesign_core::model::task::{Ends, TaskSource};
+use codesign_core::model::task::Ends;
 use codesign_core::problem::Space;
 use codesign_core::solve::ToolInfo;
 use serde::{Deserialize, Serialize};
@@ -62,28 +63,22 @@ impl ResultFile {
     }
 
     /// The task the result belongs to, by task hash (`model::identity::task_hash`): the hash it
-    /// records; for a file written before the hash was recorded, `built_in` (the built-in
-    /// task's hash) when it records the built-in task, which was then the paper's; else None,
-    /// an unknown task.
-    pub fn task(&self, built_in: Option<&str>) -> Option<String> {
+    /// records; None, an unknown task, for a file of a task file written before the hash was
+    /// recorded (`codesign migrate` gave one of the built-in task the built-in task's hash).
+    pub fn task(&self) -> Option<String> {
         let recorded = match self {
             ResultFile::Solve(d) => &d.inputs.task_hash,
             ResultFile::Optimize(d) => &d.inputs.task_hash,
             ResultFile::Capacity(d) => &d.inputs.task_hash,
         };
-        match (&recorded.0, built_in) {
-            (Some(hash), _) => Some(hash.clone()),
-            (None, Some(built_in)) if self.task_file() == TaskSource::BuiltIn.label() => {
-                Some(built_in.to_owned())
-            }
-            (None, _) => None,
-        }
+        recorded.0.clone()
     }
 }
 
-/// Reads a result file, telling its kind by its envelope's tag (files written before the
-/// envelope: by their fields), refusing an object that gives a key twice (an edited file, of
-/// which serde would keep the last value silently); errors name the file.
+/// Reads a result file of the version this build writes, telling its kind by its envelope's
+/// tag, refusing an object that gives a key twice (an edited file, of which serde would keep
+/// the last value silently) and an older version (`codesign migrate` upgrades it); errors name
+/// the file.
 pub fn read_result_file(path: &Path) -> Result<ResultFile, ReportError> {
     let failed = |why| ReportError::Read {
         path: path.to_owned(),
@@ -94,18 +89,27 @@ pub fn read_result_file(path: &Path) -> Result<ResultFile, ReportError> {
         serde_json::from_str(&text).map_err(|e| failed(ReadFailure::NotJson(e.to_string())))?;
     check_unique_keys(&text).map_err(|e| failed(ReadFailure::RepeatedKey(e)))?;
     let tagged = document::open(&mut value).map_err(|e| failed(ReadFailure::Envelope(e)))?;
-    let (schema, version) = match tagged {
-        Tagged::Kind(schema, version) => (schema, version),
-        Tagged::Untagged => (untagged_kind(&value), 0),
+    let schema = match tagged {
+        Tagged::Kind(schema, version) if version == schema.version() => schema,
+        Tagged::Kind(schema, version) => {
+            return Err(failed(ReadFailure::Old {
+                schema: Some(schema),
+                version,
+            }))
+        }
+        Tagged::Untagged => {
+            return Err(failed(ReadFailure::Old {
+                schema: untagged_kind(&value),
+                version: 0,
+            }))
+        }
     };
     let kind = schema.name();
     let parsed = match schema {
         Schema::Capacity => {
-            upgrade_capacity(&mut value, version);
             serde_json::from_value(value).map(|d| ResultFile::Capacity(Box::new(d)))
         }
         Schema::Optimize => {
-            upgrade_optimize(&mut value, version);
             serde_json::from_value(value).map(|d| ResultFile::Optimize(Box::new(d)))
         }
         Schema::Solve => serde_json::from_value(value).map(|d| ResultFile::Solve(Box::new(d))),
@@ -117,18 +121,6 @@ pub fn read_result_file(path: &Path) -> Result<ResultFile, ReportError> {
             why: e.to_string(),
         })
     })
-}
-
-/// The kind of a result written before the envelope (version 0), by its fields: a co-design
-/// run has `best_ratios`, a capacity search `probes`, a solve neither.
-fn untagged_kind(value: &serde_json::Value) -> Schema {
-    if value.get("best_ratios").is_some() {
-        Schema::Optimize
-    } else if value.get("probes").is_some() {
-        Schema::Capacity
-    } else {
-        Schema::Solve
-    }
 }
 
 /// What the paper reports for one row (docs/model.md, section 13, from the paper's Table II).
@@ -196,14 +188,14 @@ pub struct AfterCell {
     /// design.
     pub per_seed: Vec<(u64, Option<f64>)>,
     /// Runs that stopped before their last generation: (seed, last generation run, why).
-    #[serde(default)]
     pub early_stops: Vec<(u64, usize, String)>,
     /// CMA-ES evaluations over all seeds.
     pub evaluations: usize,
     /// Those that ran an inner solve (the rest broke an order constraint).
-    #[serde(default)]
     pub solves: usize,
-    /// Median over the runs of each run's median solve time, s.
+    /// Median over the runs of each run's median solve time, s (NaN, written as null, when no
+    /// solve ran).
+    #[serde(deserialize_with = "crate::design::run::number_or_nan")]
     pub median_solve_seconds: f64,
     /// CMA-ES population and generations of the runs.
     pub population: usize,
@@ -256,11 +248,9 @@ pub struct TableRow {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PaperTable {
     /// The title: "Table II reproduced" for the paper's task, else naming the task.
-    #[serde(default)]
     pub title: String,
     /// Whether the results are of the paper's task (the built-in one, by task hash): only then
     /// does the table show the paper's values.
-    #[serde(default)]
     pub paper_task: bool,
     /// What the motion asks at its ends in the table's problems (`motion.ends`; absent in
     /// tables written before the choice, whose results held the load at rest).
@@ -275,7 +265,6 @@ pub struct PaperTable {
     /// Program and solver versions.
     pub tool: ToolInfo,
     /// The linear solvers the result files were solved with, each once.
-    #[serde(default)]
     pub linear_solvers: Vec<LinearSolver>,
     /// Rows by payload, then joint before actuation.
     pub rows: Vec<TableRow>,
@@ -287,10 +276,8 @@ pub struct PaperTable {
     pub solve_seconds: f64,
     /// Evaluations of the co-design runs on the payload capacity that ran a capacity search
     /// (each a bracketing and bisection of several solves).
-    #[serde(default)]
     pub capacity_evaluations: usize,
     /// The wall times of those searches summed, s.
-    #[serde(default)]
     pub capacity_seconds: f64,
     /// Co-design runs for a payload range (`--objective range`), beyond the paper.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
