@@ -4,7 +4,8 @@
 //!
 //! The data flow one way: the design loop (`design`: CMA-ES, the gradient method, the payload
 //! capacity and the evaluators, in this process or in worker processes), the experiment of a
-//! task (`experiment`), the reports (`report`) and the command line (`cli`). Beneath them, the
+//! task (`experiment`), the reports (`report`) and the command line (`cli`, with the feature
+//! `cli`, on by default: the Python package builds without it). Beneath them, the
 //! result store (`store`) writes result files and the evaluation log, and imports nothing from
 //! the rest of the crate.
 
@@ -13,6 +14,7 @@
 #[macro_use]
 extern crate codesign_core;
 
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod design;
 pub mod experiment;
