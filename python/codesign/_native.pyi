@@ -67,6 +67,7 @@ class NativeTask:
         resolution: Optional[float] = None,
         first_step: Optional[float] = None,
         max: Optional[float] = None,
+        duration: Optional[float] = None,
     ) -> str: ...
 
 def optimize(

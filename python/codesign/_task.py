@@ -271,9 +271,11 @@ class Task:
         resolution: Optional[float] = None,
         first_step: Optional[float] = None,
         max: Optional[float] = None,
+        duration: Optional[float] = None,
     ) -> Capacity:
         """The largest payload design ``ratios`` moves through the task, kg (``codesign
-        capacity``): bracketed by doubling from ``first_step``, then bisected to ``resolution``."""
+        capacity``): bracketed by doubling from ``first_step``, then bisected to ``resolution``;
+        each payload moved in ``duration`` s where given (``--duration``), else the task's."""
         found = self._native.capacity(
             text("space", space),
             text("ends", ends),
@@ -284,6 +286,7 @@ class Task:
             number("resolution", resolution),
             number("first_step", first_step),
             number("max", max),
+            number("duration", duration),
         )
         return Capacity(found)
 

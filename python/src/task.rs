@@ -169,7 +169,7 @@ impl NativeTask {
 
     /// The payload capacity of a design, as `codesign capacity --out` writes it.
     #[pyo3(signature = (space, ends=None, torque_mode=None, speed_mode=None, linear_solver=None,
-        ratios=None, resolution=None, first_step=None, max=None))]
+        ratios=None, resolution=None, first_step=None, max=None, duration=None))]
     #[allow(clippy::too_many_arguments)]
     fn capacity(
         &self,
@@ -183,6 +183,7 @@ impl NativeTask {
         resolution: Option<f64>,
         first_step: Option<f64>,
         max: Option<f64>,
+        duration: Option<f64>,
     ) -> PyResult<String> {
         let keywords = Keywords {
             space,
@@ -206,7 +207,7 @@ impl NativeTask {
         })?;
         interrupt::run(
             py,
-            move |_| capacity(&posed, ratios, settings),
+            move |_| capacity(&posed, ratios, settings, duration),
             |_, _, _, _| Ok(()),
         )
     }
@@ -300,13 +301,18 @@ impl SolveRequest {
 /// What a result started from a Python solution records as its start's file.
 const IN_MEMORY: &str = "start= (a Solution in memory)";
 
-/// The capacity search of design `ratios` (None: the original) with `settings`, its document.
+/// The capacity search of design `ratios` (None: the original) with `settings`, each payload
+/// moved in `duration` s where given, its document.
 fn capacity(
     posed: &Posed,
     ratios: Option<Vec<f64>>,
     settings: CapacitySettings,
+    duration: Option<f64>,
 ) -> Outcome<String> {
-    let loaded = posed.load()?;
+    let mut loaded = posed.load()?;
+    if let Some(seconds) = duration {
+        loaded.task.motion.horizon = horizon_of(&[seconds])?;
+    }
     let formulation = posed.formulation(&loaded)?;
     let ratios = posed.design(&formulation, ratios)?;
     let capacity = payload_capacity(&formulation, &loaded.settings, &ratios, &settings)
@@ -321,6 +327,7 @@ fn capacity(
             limit_modes: *formulation.modes(),
             ends: loaded.task.motion.ends,
             settings,
+            duration_s: duration,
         },
         capacity,
     };

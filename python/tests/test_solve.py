@@ -244,6 +244,11 @@ def test_capacity_brackets_the_payload(planar):
     assert cap.to_dict()["inputs"]["task_file"] == str(PLANAR)
     with pytest.raises(cd.InputError, match="resolution"):
         planar.capacity(resolution=-1.0)
+    slow = planar.capacity(ratios=[50, 12], resolution=0.2, duration=2.0)
+    assert slow.to_dict()["inputs"]["duration_s"] == 2.0
+    assert "duration_s" not in cap.to_dict()["inputs"]
+    with pytest.raises(cd.InputError, match="duration"):
+        planar.capacity(duration=0.0)
 
 
 def test_the_built_in_task_solves_in_both_spaces():

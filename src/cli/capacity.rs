@@ -7,6 +7,7 @@ use crate::design::capacity::{payload_capacity, Capacity, CapacityLimit, Capacit
 use crate::design::run::{Loaded, RecordedHash};
 use crate::report::codesign::{CapacityDocument, CapacityInputs};
 use crate::store::document::write_document;
+use codesign_core::model::task::{check_horizon, Horizon};
 use codesign_core::problem::Formulation;
 use codesign_core::solve::ToolInfo;
 use codesign_core::text::{listed, number, numbers};
@@ -36,6 +37,10 @@ pub struct Args {
     /// of the rule's payload continuation, whose steps the bracketing then climbs).
     #[arg(long, value_name = "KG", default_value_t = CapacitySettings::default().first_step_kg)]
     first_step: f64,
+    /// Duration T of the motion each payload is moved in, s: the heaviest payload moved within T
+    /// (a fixed duration); default: the task's `motion.horizon_s`.
+    #[arg(long, value_name = "S")]
+    duration: Option<f64>,
     /// Largest payload tried, kg.
     #[arg(long, value_name = "KG", default_value_t = CapacitySettings::default().max_kg)]
     max: f64,
@@ -51,11 +56,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let settings = search_settings(args).map_err(Failure::Usage)?;
     args.model.validate()?;
     let Loaded {
-        task,
+        mut task,
         robot,
         settings: mut solve,
         task_hash,
     } = args.model.load()?;
+    if let Some(duration) = args.duration {
+        task.motion.horizon = Horizon::Fixed(duration);
+    }
     args.problem.configure(&mut solve);
     if let Some(path) = &args.out {
         check_output("--out", path, &args.model.choice().inputs(&task))?;
@@ -93,6 +101,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 limit_modes: modes,
                 ends: task.motion.ends,
                 settings,
+                duration_s: args.duration,
             },
             capacity,
         };
@@ -107,6 +116,9 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 fn search_settings(args: &Args) -> Result<CapacitySettings, String> {
     if args.model.payload.is_some() {
         return Err("--payload: capacity searches the payload itself; leave it out".to_owned());
+    }
+    if let Some(duration) = args.duration {
+        check_horizon(duration).map_err(|why| format!("--duration {}: {why}", number(duration)))?;
     }
     let settings = CapacitySettings {
         resolution_kg: args.resolution,

@@ -295,6 +295,7 @@ pub fn capacity_documents(
                 limit_modes: task.task.limit_modes,
                 ends: task.task.motion.ends,
                 settings,
+                duration_s: None,
             },
             capacity,
         };

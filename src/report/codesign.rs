@@ -32,6 +32,10 @@ pub struct CapacityInputs {
     pub ends: Ends,
     /// Resolution and range of the search.
     pub settings: CapacitySettings,
+    /// The fixed duration T each payload was moved in, s, where it was set for the search
+    /// (`capacity --duration`); absent: the task's `motion.horizon_s`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub duration_s: Option<f64>,
 }
 
 /// The JSON file `codesign capacity` writes (version 2: the inputs under `inputs`).

@@ -79,3 +79,26 @@ fn a_free_horizon_is_checked_and_duration_fixes_it() {
     assert_eq!(result["inputs"]["task"]["motion"]["horizon_s"], 0.9);
     assert_eq!(result["cost"].as_f64().unwrap(), 0.9);
 }
+
+/// `capacity --duration T` moves each payload in T: a longer motion carries no less (the built-in
+/// arm's original design, actuation space), and the document records T.
+#[test]
+fn the_capacity_within_a_duration_grows_with_it() {
+    let dir = scratch("horizon_cli_capacity");
+    let capacity = |duration: Option<&str>, file: &str| {
+        let mut args = vec!["capacity", "--resolution", "0.05"];
+        if let Some(duration) = duration {
+            args.extend(["--duration", duration]);
+        }
+        let (_, document) = succeed_with_out(&args, &dir.join(file));
+        document
+    };
+    let task = capacity(None, "task.json");
+    let slow = capacity(Some("1.2"), "slow.json");
+    assert_eq!(task["inputs"]["duration_s"], Value::Null);
+    assert_eq!(slow["inputs"]["duration_s"], 1.2);
+    let kg = |document: &Value| document["capacity_kg"].as_f64().unwrap();
+    assert!(kg(&slow) >= kg(&task), "{} < {}", kg(&slow), kg(&task));
+    let output = support::codesign(&["capacity", "--duration", "0"]);
+    support::refused_as_usage(&output, "--duration 0");
+}
