@@ -19,7 +19,7 @@ pub enum Ends {
     #[default]
     Hold,
     /// As `hold`, and zero joint acceleration at nodes 0 and N-1: the motion starts and ends
-    /// at rest (once written `motion.rest_at_ends: true`).
+    /// at rest.
     Rest,
 }
 
@@ -58,35 +58,12 @@ impl fmt::Display for Ends {
     }
 }
 
-/// The `motion.ends` of a task file as written: `ends`, or the older `rest_at_ends: true`
-/// (read as `rest`), never both at odds. Neither: `hold`.
-pub(super) fn read_ends(ends: Option<Ends>, rest_at_ends: Option<bool>) -> Result<Ends, String> {
-    match (ends, rest_at_ends) {
-        (None, None | Some(false)) => Ok(Ends::default()),
-        (None, Some(true)) => Ok(Ends::Rest),
-        (Some(ends), None) => Ok(ends),
-        (Some(ends), Some(rest)) if rest == ends.rests() => Ok(ends),
-        (Some(ends), Some(rest)) => Err(format!(
-            "motion.rest_at_ends = {rest} contradicts motion.ends = \"{ends}\": rest_at_ends is \
-             the older spelling of ends \"rest\"; keep ends alone"
-        )),
-    }
-}
-
 #[cfg(test)]
 mod tests {
-    use super::{read_ends, Ends};
+    use super::Ends;
 
     #[test]
-    fn the_older_key_reads_as_rest_and_a_contradiction_is_refused() {
-        assert_eq!(read_ends(None, None), Ok(Ends::Hold));
-        assert_eq!(read_ends(None, Some(false)), Ok(Ends::Hold));
-        assert_eq!(read_ends(None, Some(true)), Ok(Ends::Rest));
-        assert_eq!(read_ends(Some(Ends::Paper), None), Ok(Ends::Paper));
-        assert_eq!(read_ends(Some(Ends::Rest), Some(true)), Ok(Ends::Rest));
-        assert_eq!(read_ends(Some(Ends::Hold), Some(false)), Ok(Ends::Hold));
-        let error = read_ends(Some(Ends::Paper), Some(true)).unwrap_err();
-        assert!(error.contains("motion.rest_at_ends = true contradicts motion.ends = \"paper\""));
+    fn the_hold_is_judged_under_hold_and_rest_and_rest_alone_rests() {
         assert!(Ends::Hold.judges_hold() && Ends::Rest.judges_hold());
         assert!(!Ends::Paper.judges_hold());
         assert!(Ends::Rest.rests() && !Ends::Hold.rests());

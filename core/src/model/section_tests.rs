@@ -94,7 +94,7 @@ fn a_section_written_as_an_array_is_refused_naming_it() {
     "steps": 50,
     "ends": "paper"
   }"#,
-        r#""motion": [[0.0, 1.88, 0.0, 0.0], [-3.14, -1.57, -1.57, 0.0], 0.8, 50, "paper", null]"#,
+        r#""motion": [[0.0, 1.88, 0.0, 0.0], [-3.14, -1.57, -1.57, 0.0], 0.8, 50, "paper"]"#,
         "motion",
     );
     refused(

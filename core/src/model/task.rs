@@ -10,7 +10,6 @@
 //! `robots/tasks/pick_place.json` is compiled into the binary as the built-in task
 //! ([`Task::built_in`]), so that every command works without files from any folder.
 
-use super::ends::read_ends;
 pub use super::ends::Ends;
 use super::experiment::Experiment;
 pub use super::horizon::Horizon;
@@ -138,7 +137,7 @@ pub struct Payload {
 
 /// The motion to plan.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(try_from = "MotionFile")]
+#[serde(deny_unknown_fields)]
 pub struct Motion {
     /// Joint positions at t = 0, rad (joint order of the URDF chain from the root).
     pub start: Vec<f64>,
@@ -152,36 +151,8 @@ pub struct Motion {
     /// What the motion asks at its ends beyond q and v fixed at nodes 0 and N: nothing (the
     /// paper's `paper`), the load held at rest (`hold`, when the key is absent), or that and zero
     /// acceleration at nodes 0 and N-1 (`rest`).
+    #[serde(default)]
     pub ends: Ends,
-}
-
-/// [`Motion`] as a task file writes it: `ends` may be absent, or spelled as the older
-/// `rest_at_ends`.
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct MotionFile {
-    start: Vec<f64>,
-    goal: Vec<f64>,
-    horizon_s: Horizon,
-    steps: usize,
-    #[serde(default)]
-    ends: Option<Ends>,
-    #[serde(default)]
-    rest_at_ends: Option<bool>,
-}
-
-impl TryFrom<MotionFile> for Motion {
-    type Error = String;
-
-    fn try_from(file: MotionFile) -> Result<Motion, String> {
-        Ok(Motion {
-            ends: read_ends(file.ends, file.rest_at_ends)?,
-            start: file.start,
-            goal: file.goal,
-            horizon: file.horizon_s,
-            steps: file.steps,
-        })
-    }
 }
 
 /// Weights of J = sum_k wq |q_k|^2 + wv |v_k|^2 + wu |u_k|^2 + box penalties + w_T T.
