@@ -11,7 +11,6 @@ use crate::transmission::Space;
 use crate::transmission::{Coupling, DesignError, JointLimits};
 use serde::{Deserialize, Serialize};
 
-
 /// What the rows of the control limits are, and so what a margin belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]

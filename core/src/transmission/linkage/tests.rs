@@ -193,7 +193,9 @@ fn a_linkages_drawn_points_keep_its_lengths() {
     let r = design();
     let mut data = dynamics.workspace();
     let linkage = screw(&dynamics);
-    let ends = linkage.drawn_points(&dynamics, &mut data, (&Q, &r)).unwrap();
+    let ends = linkage
+        .drawn_points(&dynamics, &mut data, (&Q, &r))
+        .unwrap();
     let variables = Variables {
         joints: linkage.joints(),
         parameters: Vec::new(),
@@ -210,7 +212,10 @@ fn a_linkages_drawn_points_keep_its_lengths() {
             .drawn_points(&dynamics, &mut data, (&Q, &r))
             .unwrap();
         let [centre, pin, end] = [points[0], points[1], points[2]];
-        assert!(((pin - centre).norm() - 0.05 * r[1]).abs() < 1e-12, "{branch:?}");
+        assert!(
+            ((pin - centre).norm() - 0.05 * r[1]).abs() < 1e-12,
+            "{branch:?}"
+        );
         assert!(((end - pin).norm() - r[2]).abs() < 1e-9, "{branch:?}");
     }
     let short = [0.05, 2.5, 0.01];
