@@ -359,8 +359,7 @@ fn animate(attribute: &str, seconds: f64, values: &[String]) -> String {
     )
 }
 
-/// The moving marks of the animation in `panel`: the links, each linkage (at a node where its
-/// loop does not close, as at the last node before where it does, or the first) and the payload.
+/// The moving marks of the animation in `panel`: the links, each linkage and the payload.
 fn moving(
     svg: &mut String,
     formulation: &Formulation,
@@ -375,31 +374,7 @@ fn moving(
         animate("points", seconds, &frames)
     );
     for (row, kind) in drawing.kinds.iter().enumerate() {
-        let Some(mut last) = (drawing.poses.iter())
-            .find_map(|p| p.linkages[row].as_ref())
-            .map(|points| panel.points(points))
-        else {
-            continue;
-        };
-        let frames: Vec<String> = (drawing.poses.iter())
-            .map(|p| {
-                if let Some(points) = &p.linkages[row] {
-                    last = panel.points(points);
-                }
-                last.clone()
-            })
-            .collect();
-        let colour = match kind {
-            Kind::Screw => "#d55e00",
-            Kind::CrankRod => "#009e73",
-        };
-        let _ = write!(
-            svg,
-            r##"<polyline class="{}" points="{}" fill="none" stroke="{colour}" stroke-width="3" stroke-linejoin="round">{}</polyline>"##,
-            kind.class(),
-            frames[0],
-            animate("points", seconds, &frames)
-        );
+        moving_linkage(svg, drawing, (*kind, row), (panel, seconds));
     }
     if formulation.task().payload.mass_kg > 0.0 {
         let at: Vec<(f64, f64)> = drawing.poses.iter().map(|p| panel.at(&p.payload)).collect();
@@ -414,6 +389,45 @@ fn moving(
             animate("y", seconds, &ys)
         );
     }
+}
+
+/// Linkage `row` moving in `panel`: a screw's line, or a crank and its rod, each an animated
+/// polyline (at a node where its loop does not close, as at the last node before where it
+/// does, or the first); nothing where it closes at no node.
+fn moving_linkage(
+    svg: &mut String,
+    drawing: &Drawing,
+    (kind, row): (Kind, usize),
+    (panel, seconds): (&Panel, f64),
+) {
+    let Some(mut last) = (drawing.poses.iter()).find_map(|p| p.linkages[row].clone()) else {
+        return;
+    };
+    let frames: Vec<Vec<Vector3<f64>>> = (drawing.poses.iter())
+        .map(|p| {
+            if let Some(points) = &p.linkages[row] {
+                last = points.clone();
+            }
+            last.clone()
+        })
+        .collect();
+    let parts: &[(std::ops::Range<usize>, &str, &str)] = match kind {
+        Kind::Screw => &[(0..2, "screw-body", "#d55e00")],
+        Kind::CrankRod => &[(0..2, "crank", "#009e73"), (1..3, "rod", "#cc79a7")],
+    };
+    let _ = write!(svg, r##"<g class="{}">"##, kind.class());
+    for (points, class, colour) in parts {
+        let values: Vec<String> = (frames.iter())
+            .map(|f| panel.points(&f[points.clone()]))
+            .collect();
+        let _ = write!(
+            svg,
+            r##"<polyline class="{class}" points="{}" fill="none" stroke="{colour}" stroke-width="3">{}</polyline>"##,
+            values[0],
+            animate("points", seconds, &values)
+        );
+    }
+    svg.push_str("</g>");
 }
 
 /// Writes [`POSES_FILE`] and [`MOTION_FILE`] of `result` into `folder` (which exists).

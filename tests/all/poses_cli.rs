@@ -64,6 +64,8 @@ fn a_crank_and_rod_is_drawn_with_its_circle() {
     assert_eq!(of_class(&poses, "linkage screw"), 0);
     let motion = std::fs::read_to_string(plots.join("motion.svg")).unwrap();
     assert_eq!(of_class(&motion, "linkage crank-rod"), 1);
+    assert_eq!(of_class(&motion, "crank"), 1);
+    assert_eq!(of_class(&motion, "rod"), 1);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
