@@ -248,7 +248,7 @@ fn legend(drawing: &Drawing) -> String {
         text.push_str("; screw (vermilion) between its anchors, its length in m");
     }
     if drawing.kinds.contains(&Kind::CrankRod) {
-        text.push_str("; crank (green, its circle dotted) and rod (pink)");
+        text.push_str("; crank (green; its circle dotted in the filmstrip) and rod (pink)");
     }
     text
 }
