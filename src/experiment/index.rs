@@ -1,12 +1,14 @@
-//! The front page of a results folder, `index.html`: the table as HTML, then each case's plots,
-//! the best design's animation and filmstrip first. One page that needs no network: the plots
+//! The front page of a results folder, `index.html`: the answer first (a chart of every case's
+//! J and payload capacity before and after the co-design), then the table as HTML, then each
+//! case's plots, the best design's animation and filmstrip first. One page that needs no network: the plots
 //! are linked by relative paths, the style is inline, there is no script, and its content
 //! security policy lets it load nothing but images beside it.
 
+use super::summary::summary_chart;
 use super::Layout;
 use crate::report::motor_plots::{motor_plot_file, LINKAGE_RATIOS_FILE};
 use crate::report::poses::{MOTION_FILE, POSES_FILE};
-use crate::report::table::{escape_html, to_html, PaperTable};
+use crate::report::table::{escape_html, to_html, Block, PaperTable};
 use crate::report::trajectory::PLOT_FILES;
 use crate::report::ReportError;
 use crate::store::files::write_atomic;
@@ -14,16 +16,18 @@ use codesign_core::problem::Space;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
-/// The page's style: readable tables, the charts three to a row (each links to its full size),
-/// the arm's animation and filmstrip as drawn, no wider than the page.
+/// The page's style: readable tables, the charts two to a row at a readable size (each links to
+/// its full size), the summary chart, the arm's animation and filmstrip as drawn, no wider than
+/// the page.
 const STYLE: &str = "body { font-family: sans-serif; margin: 1em auto; max-width: 1300px; \
      padding: 0 1em; line-height: 1.4; } \
      table { border-collapse: collapse; font-size: 0.85em; margin: 1em 0; } \
      th, td { border: 1px solid #bbb; padding: 0.25em 0.5em; vertical-align: top; } \
      th { background: #eef; } blockquote { color: #444; border-left: 3px solid #ccd; \
      margin: 0.8em 0; padding-left: 0.8em; } code { background: #f3f3f3; } \
-     figure { display: inline-block; margin: 0.5em; vertical-align: top; width: 400px; \
-     max-width: 100%; } figure.arm { width: auto; } \
+     figure { display: inline-block; margin: 0.5em; vertical-align: top; width: 620px; \
+     max-width: 100%; } figure.arm, figure.summary { width: auto; } \
+     #summary { max-width: 100%; height: auto; } \
      img { width: 100%; max-width: 100%; height: auto; border: 1px solid #ddd; } \
      figure.arm img { width: auto; } \
      figcaption { font-size: 0.8em; color: #555; }";
@@ -60,7 +64,14 @@ fn index_page(layout: &Layout, table: &PaperTable) -> String {
          <title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n",
         escape_html(&table.title)
     );
-    page.push_str(&to_html(&table.blocks()));
+    let blocks = table.blocks();
+    let title = usize::from(matches!(blocks.first(), Some(Block::Heading(1, _))));
+    page.push_str(&to_html(&blocks[..title]));
+    if let Some(chart) = summary_chart(table) {
+        page.push_str("<h2>Every case, before and after</h2>\n");
+        let _ = writeln!(page, "<figure class=\"summary\">{chart}</figure>");
+    }
+    page.push_str(&to_html(&blocks[title..]));
     page.push_str(&files_paragraph(layout, table));
     let mut cases = Vec::new();
     for row in &table.rows {
@@ -73,7 +84,7 @@ fn index_page(layout: &Layout, table: &PaperTable) -> String {
         .filter_map(|&(payload, space)| case_section(layout, payload, space))
         .collect();
     if !sections.is_empty() {
-        page.push_str("<h2>Plots</h2>\n");
+        page.push_str("<h2>Plots</h2>\n<p>Each plot opens full size on click.</p>\n");
         page.push_str(&sections.concat());
     }
     let ratios = layout.optimal_ratios();
@@ -243,5 +254,13 @@ mod tests {
         assert!(animation < page.find("best-actuation-1kg/joint_torques.svg").unwrap());
         assert!(!page.contains(root.to_str().unwrap()), "{page}");
         assert!(page.contains("<h3>1 kg, joint space</h3>"));
+        // The answer first: the chart of every case before the tables, a bar per value.
+        let chart = page.find("<svg id=\"summary\"").unwrap();
+        assert!(chart < page.find("<table>").unwrap());
+        assert!(page.find("<h1>").unwrap() < chart);
+        assert!(
+            page.contains("<text x=\"8\" y=\"69.0\">0 kg, joint space</text>"),
+            "{page}"
+        );
     }
 }

@@ -14,6 +14,7 @@ mod layout;
 mod merge;
 mod plan;
 mod stages;
+mod summary;
 mod task;
 
 pub use error::{ExperimentError, MergeError};

@@ -1,8 +1,10 @@
 //! `index.html`, the page `reproduce` writes into its results folder, rendered in headless
 //! Chromium: it loads with no error (no exception, no `console.error`, no failed or blocked
-//! load), shows the table and every plot, and the best design's arm moves in its animation
+//! load), leads with the summary chart (no text of it clipped), shows the table and every plot
+//! at a readable size, and the best design's arm moves in its animation
 //! while its filmstrip stands still.
 
+use crate::plot_figures_cli::texts_outside;
 use crate::support;
 
 use codesign::experiment::write_index;
@@ -109,6 +111,17 @@ fn the_page_loads_without_error_and_the_arm_moves() {
         title,
         "Table II reproduced: gear ratios and cost per payload"
     );
+    // The answer first: the summary chart leads the page's charts, images and tables, and its
+    // texts stay inside it; the line plots are shown at a readable width.
+    let first = browser.evaluate("document.querySelector('svg, img, table').id");
+    assert_eq!(first, "summary");
+    let outside = texts_outside(&mut browser);
+    assert_eq!(outside, serde_json::json!([]));
+    let narrowest = browser.evaluate(
+        "Math.min(...Array.from(document.querySelectorAll('img[src$=\"/joint_torques.svg\"]')) \
+         .map(i => i.getBoundingClientRect().width))",
+    );
+    assert!(narrowest.as_f64() >= Some(500.0), "{narrowest}");
     let tables = browser.evaluate("document.querySelectorAll('table').length");
     assert!(tables.as_u64() >= Some(2), "{tables}");
     // Every plot shown, every image decoded.
@@ -134,6 +147,9 @@ fn the_page_loads_without_error_and_the_arm_moves() {
     assert!(moved, "the arm stood still for 2 s in {animation}");
     let errors = browser.errors();
     assert!(errors.is_empty(), "{errors:#?}");
+    // The animation's caption whole: no text of it leaves its picture.
+    browser.open(&layout.best_plots(Space::Actuation, 1.0).join("motion.svg"));
+    assert_eq!(texts_outside(&mut browser), serde_json::json!([]));
     drop(browser);
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -34,6 +34,7 @@ mod optimize_cli;
 mod outputs_cli;
 mod plot_figures_cli;
 mod plots_cli;
+mod poses_cli;
 mod reliability_cli;
 mod run_summary_cli;
 mod solve_cli;

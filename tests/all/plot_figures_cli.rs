@@ -82,7 +82,7 @@ fn a_ball_screws_ratio_is_drawn_over_time_and_each_motor_has_its_figure() {
 
 /// The texts of the SVG open in `browser` whose box on screen (rotated ones turned) leaves its
 /// picture, with their boxes.
-fn texts_outside(browser: &mut Browser) -> serde_json::Value {
+pub(crate) fn texts_outside(browser: &mut Browser) -> serde_json::Value {
     browser.evaluate(
         "(() => { const svg = document.querySelector('svg'); \
          const p = svg.getBoundingClientRect(); \

@@ -96,7 +96,7 @@ fn a_planar_arm_is_plotted_with_its_joint_names_in_its_plane() {
     let poses = plot("poses.svg");
     assert!(poses.contains("world x-z plane"));
     let arms: Vec<&str> = poses
-        .split("<polyline points=\"")
+        .split("<polyline class=\"links\" points=\"")
         .skip(1)
         .filter(|part| part.contains("stroke-width=\"5\""))
         .collect();

@@ -129,4 +129,22 @@ impl CrankRod {
         let ratio = at.variables.number(&self.ratio, at.r, at.shape);
         Ok(&self.crank_angle(at, data)? * &ratio)
     }
+
+    /// The crank's centre, its pin and the rod's end in the world at pose `q` and design `r`,
+    /// m, with the crank's angle `theta` (rad, from [`CrankRod::crank_angle`]).
+    pub(super) fn drawn(
+        &self,
+        dynamics: &Dynamics,
+        data: &mut Workspace,
+        (q, r): (&[f64], &[f64]),
+        theta: f64,
+    ) -> Vec<Vector3<f64>> {
+        let frame = dynamics.body_pose(data, q, self.crank.body());
+        let centre = frame.apply(&self.crank.on_body(r));
+        let [e1, e2] = self.across;
+        let arm = (e1 * theta.cos() + e2 * theta.sin()) * self.radius.value(r);
+        let pin = centre + frame.rotation * arm;
+        let to = dynamics.body_pose(data, q, self.to.body());
+        vec![centre, pin, to.apply(&self.to.on_body(r))]
+    }
 }

@@ -25,6 +25,7 @@ use super::entry::Entry;
 use crate::dynamics::{Dynamics, Workspace};
 use crate::jet::{Jet, JetShape};
 use crate::text::number;
+use nalgebra::Vector3;
 use std::fmt;
 use std::ops::Range;
 
@@ -274,6 +275,35 @@ impl Linkage {
         match self {
             Linkage::Linear(screw) => screw.length_per_angle_derivative(parameter),
             Linkage::CrankRod(_) => 0.0,
+        }
+    }
+
+    /// The points that draw the linkage at pose `q` (rad) and design `r`, in the world frame,
+    /// m: a screw's two ends; a crank's centre, its pin and the rod's end on the driven link.
+    /// Err where its loop does not close there (no crank pin) or a length leaves its range.
+    pub fn drawn_points(
+        &self,
+        dynamics: &Dynamics,
+        data: &mut Workspace,
+        (q, r): (&[f64], &[f64]),
+    ) -> Result<Vec<Vector3<f64>>, LinkageError> {
+        match self {
+            Linkage::Linear(screw) => Ok([&screw.from, &screw.to]
+                .map(|end| {
+                    let pose = dynamics.body_pose(data, q, end.body());
+                    pose.apply(&end.on_body(r))
+                })
+                .to_vec()),
+            Linkage::CrankRod(crank) => {
+                let variables = Variables {
+                    joints: self.joints(),
+                    parameters: Vec::new(),
+                };
+                let shape = variables.shape(1);
+                let at = At::new(dynamics, (q, r), &variables, &shape);
+                let theta = crank.crank_angle(&at, data)?.value();
+                Ok(crank.drawn(dynamics, data, (q, r), theta))
+            }
         }
     }
 

@@ -185,6 +185,44 @@ fn a_crank_closes_its_loop_on_its_branch() {
     }
 }
 
+/// The points that draw a linkage: a screw's ends are its length apart; a crank's pin is its
+/// radius from its centre and its rod's length from the rod's end.
+#[test]
+fn a_linkages_drawn_points_keep_its_lengths() {
+    let dynamics = dynamics();
+    let r = design();
+    let mut data = dynamics.workspace();
+    let linkage = screw(&dynamics);
+    let ends = linkage
+        .drawn_points(&dynamics, &mut data, (&Q, &r))
+        .unwrap();
+    let variables = Variables {
+        joints: linkage.joints(),
+        parameters: Vec::new(),
+    };
+    let shape = variables.shape(0);
+    let length = linkage
+        .measure(&dynamics, &mut data, (&Q, &r), &variables, &shape)
+        .unwrap()
+        .value();
+    assert_eq!(ends.len(), 2);
+    assert!(((ends[1] - ends[0]).norm() - length).abs() < 1e-12);
+    for branch in [Branch::Positive, Branch::Negative] {
+        let points = crank(&dynamics, branch)
+            .drawn_points(&dynamics, &mut data, (&Q, &r))
+            .unwrap();
+        let [centre, pin, end] = [points[0], points[1], points[2]];
+        assert!(
+            ((pin - centre).norm() - 0.05 * r[1]).abs() < 1e-12,
+            "{branch:?}"
+        );
+        assert!(((end - pin).norm() - r[2]).abs() < 1e-9, "{branch:?}");
+    }
+    let short = [0.05, 2.5, 0.01];
+    let open = crank(&dynamics, Branch::Positive).drawn_points(&dynamics, &mut data, (&Q, &short));
+    assert!(matches!(open, Err(LinkageError::Open { .. })), "{open:?}");
+}
+
 /// Central differences of the jet's derivative `of` minus its last variable, in that variable,
 /// against the jet's derivative `of`; variables beyond the joints are design parameters.
 fn check_by_differences(dynamics: &Dynamics, linkage: &Linkage, of: &[usize]) {
