@@ -1,7 +1,9 @@
-//! `codesign table`: the paper's table rebuilt from result files (e.g. runs split across machines).
+//! `codesign table`: the paper's table rebuilt from result files (e.g. runs split across machines),
+//! or a reproduction folder's page written again from its table and the plots it holds.
 
 use super::store_hints::check_output;
-use crate::report::table::{build_table, check_results, read_result_file};
+use crate::experiment::{write_index, Layout};
+use crate::report::table::{build_table, check_results, read_result_file, read_table_file};
 use crate::store::document::write_document;
 use crate::store::files::write_atomic;
 use std::path::{Path, PathBuf};
@@ -10,17 +12,25 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Result files of `solve`, `optimize` and `capacity` (JSON).
-    #[arg(required = true, value_name = "FILES")]
+    #[arg(required_unless_present = "page", value_name = "FILES")]
     files: Vec<PathBuf>,
     /// Write the Markdown table here and its JSON beside it (`T.md` gives `T.json`, any other
     /// name `NAME.json` appended); default: print it. Symbolic links are followed; an input
     /// file, a folder, a special file or a file the user may not write is refused.
-    #[arg(long, value_name = "FILE.md")]
+    #[arg(long, value_name = "FILE.md", conflicts_with = "page")]
     out: Option<PathBuf>,
+    /// Instead: write the page `FOLDER/index.html` of a reproduction folder (as `reproduce
+    /// --out-dir FOLDER` lays it out) again, from its `paper_table.json` and the plots it
+    /// holds, e.g. after this build changed the page; nothing else in it is touched.
+    #[arg(long, value_name = "FOLDER", conflicts_with = "files")]
+    page: Option<PathBuf>,
 }
 
 /// Reads the files, builds the table, writes or prints it.
 pub fn run(args: &Args) -> Result<(), String> {
+    if let Some(folder) = &args.page {
+        return write_page(folder);
+    }
     let outputs = match &args.out {
         Some(markdown) => {
             let json = json_beside(markdown);
@@ -51,6 +61,18 @@ pub fn run(args: &Args) -> Result<(), String> {
         }
         None => say_raw!("{}", table.to_markdown()),
     }
+    Ok(())
+}
+
+/// Writes the page of the reproduction folder `folder` from its table.
+fn write_page(folder: &Path) -> Result<(), String> {
+    if !folder.is_dir() {
+        return Err(format!("--page {}: no such folder", folder.display()));
+    }
+    let layout = Layout::new(folder);
+    let table = read_table_file(&layout.table_json()).map_err(|e| e.to_string())?;
+    write_index(&layout, &table).map_err(|e| e.to_string())?;
+    say!("page written to {}", layout.index().display());
     Ok(())
 }
 

@@ -56,7 +56,7 @@ pub fn write_index(layout: &Layout, table: &PaperTable) -> Result<(), ReportErro
 }
 
 /// The page of `table` and the plots under `layout`.
-fn index_page(layout: &Layout, table: &PaperTable) -> String {
+pub fn index_page(layout: &Layout, table: &PaperTable) -> String {
     let mut page = format!(
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
          <meta http-equiv=\"Content-Security-Policy\" content=\"{POLICY}\">\n\

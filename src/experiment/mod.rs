@@ -19,7 +19,7 @@ mod task;
 
 pub use error::{ExperimentError, MergeError};
 pub use finish::{run_experiment, Section};
-pub use index::write_index;
+pub use index::{index_page, write_index};
 pub use layout::{CapacityOf, Layout, RunName, FOLDERS, HOLD_FOLDER};
 pub use plan::{Plan, PlanError, PlanRequest, PlannedRun, SPACES};
 pub use stages::{Event, Observer, Outcomes};

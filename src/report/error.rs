@@ -47,6 +47,8 @@ pub enum ReadFailure {
     Envelope(EnvelopeError),
     /// It is a table, which is made from results and no result itself.
     Table,
+    /// It is a document of this kind where a table was asked for.
+    NotATable(Schema),
     /// It is a document of an older version (0: written before the envelope), which
     /// `codesign migrate` brings to this build's.
     Old {
@@ -85,6 +87,11 @@ impl fmt::Display for ReportError {
                     ReadFailure::Table => write!(
                         f,
                         "{path}: a table, made from results: give the result files it was made of"
+                    ),
+                    ReadFailure::NotATable(schema) => write!(
+                        f,
+                        "{path}: a {} document, not a table (`paper_table.json`)",
+                        schema.tag()
                     ),
                     ReadFailure::Old { schema, version } => {
                         let kind = schema.map_or("a codesign document", |s| s.tag());

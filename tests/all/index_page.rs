@@ -154,6 +154,32 @@ fn the_page_loads_without_error_and_the_arm_moves() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// The committed pages of the full and the quick reproduction, as a reader opens them: no
+/// error, the summary chart first with its texts inside it, every image decoded.
+#[test]
+fn the_committed_pages_lead_with_the_summary_and_load_whole() {
+    let dir = scratch("committed");
+    let mut browser = Browser::start(&dir.join("profile"), 1300, 900);
+    for folder in ["results", "results/quick"] {
+        browser.open(&root().join(folder).join("index.html"));
+        let first = browser.evaluate("document.querySelector('svg, img, table').id");
+        assert_eq!(first, "summary", "{folder}");
+        assert_eq!(
+            texts_outside(&mut browser),
+            serde_json::json!([]),
+            "{folder}"
+        );
+        let broken = browser.evaluate(
+            "Array.from(document.images).filter(i => !i.complete || i.naturalWidth == 0).length",
+        );
+        assert_eq!(broken, 0, "{folder}");
+        let errors = browser.errors();
+        assert!(errors.is_empty(), "{folder}: {errors:#?}");
+    }
+    drop(browser);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// The check above sees an error: a page with an exception, a `console.error`, a missing image
 /// and one its content security policy blocks reports each.
 #[test]

@@ -341,3 +341,75 @@ fn the_committed_optima_at_their_bounds_are_named() {
     }
     assert!(!line.contains("r2 at its"), "{line}");
 }
+
+/// The committed reproduction folders' pages, from
+/// `results/**/paper_table.json`.
+const COMMITTED_PAGES: [&str; 10] = [
+    "results",
+    "results/hold",
+    "results/quick",
+    "results/quick/hold",
+    "results/motors/rotor_inertia",
+    "results/motors/rotor_inertia/hold",
+    "results/motors/rotor_inertia_heavy",
+    "results/motors/rotor_inertia_heavy/hold",
+    "results/motors/envelope",
+    "results/motors/envelope/hold",
+];
+
+/// Every committed page is the one this build writes from its folder's table and plots
+/// (`codesign table --page` writes it again after the page changes), so none lags behind.
+#[test]
+fn every_committed_page_is_current() {
+    use codesign::experiment::{index_page, Layout};
+    use codesign::report::table::read_table_file;
+    for folder in COMMITTED_PAGES {
+        let layout = Layout::new(root().join(folder));
+        let table = read_table_file(&layout.table_json()).unwrap();
+        let committed = std::fs::read_to_string(layout.index()).unwrap();
+        assert!(
+            committed == index_page(&layout, &table),
+            "{folder}/index.html is not the page of its table: \
+             `codesign table --page {folder}` writes it again"
+        );
+    }
+}
+
+/// `table --page FOLDER` writes the folder's page from its table, leading with the summary
+/// chart, and touches nothing else; a folder without a table, or a result where the table
+/// should be, is refused naming the file.
+#[test]
+fn the_page_is_written_again_from_the_table() {
+    let dir = support::scratch("page");
+    let quick = root().join("results/quick");
+    std::fs::copy(quick.join("paper_table.json"), dir.join("paper_table.json")).unwrap();
+    let output = codesign(&["table", "--page", dir.to_str().unwrap()]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let page = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    let summary = page.find("id=\"summary\"").expect("a summary chart");
+    assert!(summary < page.find("<table").unwrap());
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["index.html", "paper_table.json"]);
+    let empty = dir.join("empty");
+    std::fs::create_dir(&empty).unwrap();
+    let output = codesign(&["table", "--page", empty.to_str().unwrap()]);
+    support::fails_saying(&output, "paper_table.json");
+    std::fs::copy(
+        quick.join("original/actuation-0kg.json"),
+        empty.join("paper_table.json"),
+    )
+    .unwrap();
+    let output = codesign(&["table", "--page", empty.to_str().unwrap()]);
+    support::fails_saying(&output, "a codesign/solve document, not a table");
+    let output = codesign(&["table", "--page", dir.join("none").to_str().unwrap()]);
+    support::fails_saying(&output, "no such folder");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

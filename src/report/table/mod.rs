@@ -80,31 +80,7 @@ impl ResultFile {
 /// the last value silently) and an older version (`codesign migrate` upgrades it); errors name
 /// the file.
 pub fn read_result_file(path: &Path) -> Result<ResultFile, ReportError> {
-    let failed = |why| ReportError::Read {
-        path: path.to_owned(),
-        why,
-    };
-    let text = read_text(path, MAX_RESULT_BYTES).map_err(|e| failed(ReadFailure::Input(e)))?;
-    let mut value: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| failed(ReadFailure::NotJson(e.to_string())))?;
-    check_unique_keys(&text).map_err(|e| failed(ReadFailure::RepeatedKey(e)))?;
-    let tagged = document::open(&mut value).map_err(|e| failed(ReadFailure::Envelope(e)))?;
-    let schema = match tagged {
-        Tagged::Kind(schema, version) if version == schema.version() => schema,
-        Tagged::Kind(schema, version) => {
-            return Err(failed(ReadFailure::Old {
-                schema: Some(schema),
-                version,
-            }))
-        }
-        Tagged::Untagged => {
-            return Err(failed(ReadFailure::Old {
-                schema: untagged_kind(&value),
-                version: 0,
-            }))
-        }
-    };
-    let kind = schema.name();
+    let (schema, value) = read_current(path)?;
     let parsed = match schema {
         Schema::Capacity => {
             serde_json::from_value(value).map(|d| ResultFile::Capacity(Box::new(d)))
@@ -113,14 +89,57 @@ pub fn read_result_file(path: &Path) -> Result<ResultFile, ReportError> {
             serde_json::from_value(value).map(|d| ResultFile::Optimize(Box::new(d)))
         }
         Schema::Solve => serde_json::from_value(value).map(|d| ResultFile::Solve(Box::new(d))),
-        Schema::Table => return Err(failed(ReadFailure::Table)),
+        Schema::Table => return Err(read_failure(path, ReadFailure::Table)),
     };
     parsed.map_err(|e| {
-        failed(ReadFailure::NotAResult {
-            kind,
-            why: e.to_string(),
-        })
+        let kind = schema.name();
+        let why = e.to_string();
+        read_failure(path, ReadFailure::NotAResult { kind, why })
     })
+}
+
+/// Reads a table (`paper_table.json`, a `codesign/table` document of this build's version),
+/// with the checks of [`read_result_file`]; errors name the file.
+pub fn read_table_file(path: &Path) -> Result<PaperTable, ReportError> {
+    let (schema, value) = read_current(path)?;
+    if schema != Schema::Table {
+        return Err(read_failure(path, ReadFailure::NotATable(schema)));
+    }
+    serde_json::from_value(value).map_err(|e| {
+        let kind = schema.name();
+        let why = e.to_string();
+        read_failure(path, ReadFailure::NotAResult { kind, why })
+    })
+}
+
+/// The error of reading `path`, for `why`.
+fn read_failure(path: &Path, why: ReadFailure) -> ReportError {
+    ReportError::Read {
+        path: path.to_owned(),
+        why,
+    }
+}
+
+/// A codesign document of this build's version at `path`: its kind and its fields, the
+/// envelope taken off.
+fn read_current(path: &Path) -> Result<(Schema, serde_json::Value), ReportError> {
+    let failed = |why| read_failure(path, why);
+    let text = read_text(path, MAX_RESULT_BYTES).map_err(|e| failed(ReadFailure::Input(e)))?;
+    let mut value: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| failed(ReadFailure::NotJson(e.to_string())))?;
+    check_unique_keys(&text).map_err(|e| failed(ReadFailure::RepeatedKey(e)))?;
+    let tagged = document::open(&mut value).map_err(|e| failed(ReadFailure::Envelope(e)))?;
+    match tagged {
+        Tagged::Kind(schema, version) if version == schema.version() => Ok((schema, value)),
+        Tagged::Kind(schema, version) => Err(failed(ReadFailure::Old {
+            schema: Some(schema),
+            version,
+        })),
+        Tagged::Untagged => Err(failed(ReadFailure::Old {
+            schema: untagged_kind(&value),
+            version: 0,
+        })),
+    }
 }
 
 /// What the paper reports for one row (docs/model.md, section 13, from the paper's Table II).
