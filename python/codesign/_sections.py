@@ -88,12 +88,23 @@ class CartesianBox:
 
 
 @dataclass
+class Part:
+    """A motor of a catalogue (docs/guide/catalogue.md): the catalogue file, relative to the
+    task's folder unless absolute, and the motor's ``name`` in it."""
+
+    catalogue: str
+    name: str
+
+
+@dataclass
 class Motors:
     """The motors, one value for all or one per motor (row of G): torque limits (N m) and speed
-    limits (rad/s); the optional fields as the task file documents them."""
+    limits (rad/s); the optional fields as the task file documents them. ``parts``, one
+    catalogue motor per motor, sets the figures its motors' parts give (the limits among them,
+    which may then be left out)."""
 
-    torque_limit_nm: PerMotor
-    speed_limit_rad_s: PerMotor
+    torque_limit_nm: Optional[PerMotor] = None
+    speed_limit_rad_s: Optional[PerMotor] = None
     rotor_inertia_kgm2: Optional[PerMotor] = None
     viscous_friction_nm_s_per_rad: Optional[PerMotor] = None
     no_load_speed_rad_s: Optional[PerMotor] = None
@@ -101,6 +112,7 @@ class Motors:
     resistance_ohm: Optional[PerMotor] = None
     efficiency: Optional[PerMotor] = None
     names: Optional[List[str]] = None
+    parts: Optional[List[Part]] = None
 
 
 @dataclass

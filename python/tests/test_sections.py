@@ -7,6 +7,7 @@ import pytest
 
 import codesign as cd
 from codesign import sections as s
+from conftest import ROOT
 
 
 def built_in_from_sections(**changes) -> cd.Task:
@@ -49,3 +50,16 @@ def test_a_task_from_typed_sections_has_the_hash_of_the_same_task_read_from_json
 def test_a_section_out_of_range_is_refused_naming_its_field():
     with pytest.raises(cd.InputError, match="motors.torque_limit_nm"):
         built_in_from_sections(motors=s.Motors(torque_limit_nm=-1.0, speed_limit_rad_s=100.0))
+
+
+def test_motors_chosen_from_a_catalogue_set_the_motor_figures():
+    """The paper's ideal motor as a catalogue part is the built-in task: the same hash, the same
+    solve; a field set against a part's value is refused naming both."""
+    ideal = s.Part(str(ROOT / "tests" / "data" / "catalogue" / "ideal.json"), "ideal 1.7 N m")
+    typed = built_in_from_sections(motors=s.Motors(parts=[ideal] * 4)).solve(payload=1.0, steps=8)
+    read = cd.Task.builtin().solve(payload=1.0, steps=8)
+    assert typed.task_hash == read.task_hash
+    assert typed.cost == read.cost
+    real = cd.Task.load(ROOT / "robots" / "tasks" / "pick_place_parts.json")
+    with pytest.raises(cd.InputError, match=r"motors.torque_limit_nm = 1 conflicts with motors.parts\[0\]"):
+        real.with_changes(motors={"torque_limit_nm": 1.0})

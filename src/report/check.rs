@@ -7,6 +7,7 @@
 mod verdicts;
 
 use codesign_core::dynamics::Dynamics;
+use codesign_core::model::catalogue::Catalogue;
 use codesign_core::model::chain::JointKind;
 use codesign_core::model::task::{Ends, Task};
 use codesign_core::model::Robot;
@@ -29,6 +30,42 @@ pub struct JointReport {
     pub limits: (f64, f64),
     /// The mass it carries: its body and every body outboard, with the payload, kg.
     pub carries_kg: f64,
+}
+
+/// The catalogue motor a task chose for one motor (`motors.parts`), with the numbers of the part
+/// that are no figures of the motor model.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PartReport {
+    /// The part's name in its catalogue.
+    pub name: String,
+    /// The catalogue file, as the task's reading joined it.
+    pub catalogue: String,
+    /// Its mass, kg, where the catalogue gives it.
+    pub mass_kg: Option<f64>,
+    /// Its continuous torque, N m (given, or k_t times the continuous current), where known.
+    pub continuous_torque_nm: Option<f64>,
+}
+
+/// The chosen parts of `task`, motor i's at index i; empty where it chooses none. A catalogue
+/// is read again for the numbers the task does not hold; one that cannot be read now (it was
+/// when the task was) leaves them out.
+fn part_reports(task: &Task) -> Vec<PartReport> {
+    let Some(parts) = task.motors.parts.as_ref() else {
+        return Vec::new();
+    };
+    parts
+        .iter()
+        .map(|part| {
+            let catalogue = Catalogue::load(&part.catalogue).ok();
+            let motor = catalogue.as_ref().and_then(|c| c.motor(&part.name));
+            PartReport {
+                name: part.name.clone(),
+                catalogue: part.catalogue.display().to_string(),
+                mass_kg: motor.and_then(|m| m.mass_kg),
+                continuous_torque_nm: motor.and_then(|m| m.continuous_torque()),
+            }
+        })
+        .collect()
 }
 
 /// The static torques that hold the arm still at one pose.
@@ -109,6 +146,9 @@ pub struct Inspection {
     /// Each motor's no-load speed, rad/s, where the task gives a torque-speed envelope.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub no_load_speeds_rad_s: Vec<f64>,
+    /// Each motor's catalogue part, where the task chooses them (`motors.parts`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub parts: Vec<PartReport>,
     /// Every check, in order.
     pub verdicts: Vec<Verdict>,
     /// The linkage rows' readings (docs/model.md, section 17), at the design inspected where
@@ -196,6 +236,7 @@ impl Inspection {
             speed_limits_rad_s: task.motors.speed_limit_rad_s.values(transmission.dof()),
             no_load_speeds_rad_s: (task.motors.no_load_speed_rad_s.as_ref())
                 .map_or_else(Vec::new, |speeds| speeds.values(transmission.dof())),
+            parts: part_reports(task),
             ..Inspection::of_robot(robot)
         };
         inspection.check_motion(task, robot);
@@ -234,6 +275,7 @@ impl Inspection {
             torque_limits_nm: Vec::new(),
             speed_limits_rad_s: Vec::new(),
             no_load_speeds_rad_s: Vec::new(),
+            parts: Vec::new(),
             verdicts: Vec::new(),
             linkages: Vec::new(),
             problems: Vec::new(),
@@ -330,6 +372,7 @@ impl Inspection {
             }
             text.push('\n');
         }
+        text.push_str(&parts_text(&self.parts));
         for hold in &self.holds {
             let _ = writeln!(
                 text,
@@ -352,6 +395,34 @@ impl Inspection {
         text.push_str(&linkages_text(&self.linkages));
         text
     }
+}
+
+/// The lines of the chosen parts: `motor 1: Allied Motion HT02502-A00 (0.56 kg, continuous
+/// 0.636 N m) of catalogue ...`, then their mass in all where every part gives it; empty
+/// without parts.
+fn parts_text(parts: &[PartReport]) -> String {
+    let mut text = String::new();
+    for (i, part) in parts.iter().enumerate() {
+        let mass = part
+            .mass_kg
+            .map_or("mass not given".to_owned(), |m| format!("{} kg", number(m)));
+        let continuous = part
+            .continuous_torque_nm
+            .map_or("not given".to_owned(), |t| format!("{:.3} N m", t));
+        let _ = writeln!(
+            text,
+            "motor {}: {} ({mass}, continuous torque {continuous}) of catalogue {}",
+            i + 1,
+            shown(&part.name),
+            shown(&part.catalogue)
+        );
+    }
+    let masses: Option<Vec<f64>> = parts.iter().map(|p| p.mass_kg).collect();
+    if let Some(masses) = masses.filter(|m| !m.is_empty()) {
+        let total: f64 = masses.iter().sum();
+        let _ = writeln!(text, "motor parts: {} kg in all", number(total));
+    }
+    text
 }
 
 /// `values` with four decimals, comma-separated; a value that rounds to zero is written 0,

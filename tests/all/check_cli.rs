@@ -272,3 +272,64 @@ fn a_task_files_name_is_escaped_in_messages() {
     assert!(!output.stderr.contains(&0x1b), "{output:?}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A task that chooses its motors from a catalogue: `check` lists each motor's part with its
+/// mass and continuous torque and their mass in all, and shows the limits the parts set; a
+/// field set against a part's value fails naming both.
+#[test]
+fn check_lists_the_motors_chosen_from_a_catalogue() {
+    let task = "robots/tasks/pick_place_parts.json";
+    let output = codesign(&["check", "--task", task]);
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    for line in [
+        "motor torque limits (2.33, 2.33, 1.48, 1.48) N m, speed limits (100, 100, 100, 100) rad/s, no-load speeds (121, 121, 144, 144) rad/s",
+        "motor 1: Allied Motion HT02502-A00 (0.56 kg, continuous torque 0.636 N m) of catalogue robots/tasks/../catalogue/parts.json",
+        "motor 4: Allied Motion HT02501-A00 (0.38 kg, continuous torque 0.442 N m)",
+        "motor parts: 1.88 kg in all",
+    ] {
+        assert!(text.contains(line), "{line}: {text}");
+    }
+    let json = codesign(&["check", "--task", task, "--json"]);
+    let value: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    assert_eq!(value["parts"][2]["name"], "Allied Motion HT02501-A00");
+    assert_eq!(value["parts"][2]["mass_kg"], 0.38);
+    let built_in = codesign(&["check", "--json"]);
+    let value: serde_json::Value = serde_json::from_slice(&built_in.stdout).unwrap();
+    assert!(value.get("parts").is_none());
+    let dir = scratch("parts");
+    let text = std::fs::read_to_string(support::root().join(task)).unwrap();
+    let conflicting = text.replacen(
+        "\"speed_limit_rad_s\": 100.0,",
+        "\"speed_limit_rad_s\": 100.0, \"no_load_speed_rad_s\": 150,",
+        1,
+    );
+    let path = dir.join("conflicting.json");
+    std::fs::write(
+        &path,
+        conflicting
+            .replace(
+                "../catalogue",
+                &support::root()
+                    .join("robots/catalogue")
+                    .display()
+                    .to_string(),
+            )
+            .replace(
+                "../belt_arm.urdf",
+                &support::root()
+                    .join("robots/belt_arm.urdf")
+                    .display()
+                    .to_string(),
+            ),
+    )
+    .unwrap();
+    fails_saying(
+        &codesign(&["check", "--task", path.to_str().unwrap()]),
+        "motors.no_load_speed_rad_s = 150 conflicts with motors.parts[0] ('Allied Motion HT02502-A00' of catalogue",
+    );
+}

@@ -1,5 +1,6 @@
 //! The robot model and the task: what is read from files before any computation.
 
+pub mod catalogue;
 pub mod chain;
 mod ends;
 mod error;
@@ -7,6 +8,7 @@ pub mod experiment;
 mod horizon;
 pub mod identity;
 pub mod matrix_row;
+pub mod motor_parts;
 mod motors;
 mod read_experiment;
 mod robot;
@@ -17,6 +19,8 @@ mod validate;
 pub use error::ModelError;
 pub use robot::{Robot, BUILT_IN_URDF};
 
+#[cfg(test)]
+mod catalogue_tests;
 #[cfg(test)]
 mod section_tests;
 #[cfg(test)]

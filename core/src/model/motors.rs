@@ -3,6 +3,7 @@
 //! Motor i drives row i of the transmission matrix G (`transmission.matrix`), so a per-motor
 //! list has one value per row of G, in that order.
 
+pub use super::motor_parts::PartChoice;
 use super::validate::{Bounds, FieldError};
 use crate::text::{number, numbers};
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
@@ -230,6 +231,10 @@ pub struct Motors {
     /// only: no part of the problem or of the task hash.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub names: Option<Vec<String>>,
+    /// The catalogue motor of each motor, motor i's at index i: when the task is read, each
+    /// sets its motor's figures above ([`super::motor_parts`]); absent: the figures as written.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub parts: Option<Vec<PartChoice>>,
 }
 
 impl Motors {
@@ -246,6 +251,7 @@ impl Motors {
             resistance_ohm: None,
             efficiency: None,
             names: None,
+            parts: None,
         }
     }
 
@@ -316,6 +322,16 @@ impl Motors {
             _ => Ok(()),
         };
         electrical?;
+        if let Some(parts) = self.parts.as_ref().filter(|parts| parts.len() != motors) {
+            return Err(FieldError::new(
+                "motors.parts",
+                format!(
+                    " has {} parts but transmission.matrix has {motors} rows: name one \
+                     catalogue motor per motor (row of G)",
+                    parts.len()
+                ),
+            ));
+        }
         self.names
             .as_deref()
             .map_or(Ok(()), |names| check_names(names, motors))

@@ -22,7 +22,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-pub use super::motors::{Motors, PerMotor};
+pub use super::motors::{Motors, PartChoice, PerMotor};
 pub use super::validate::{
     check_horizon, check_payload, check_steps, FieldError, OutOfRange, MAX_GRAVITY, MAX_HORIZON_S,
     MAX_PAYLOAD_KG, MAX_POINT_M, MAX_STEPS, MIN_HORIZON_S,
@@ -361,7 +361,7 @@ impl TaskFile {
             message: e.to_string(),
         })?;
         let folder = path.parent().unwrap_or(Path::new("."));
-        TaskFile::from_json(&text, source).map(|file| file.robot_from(folder))
+        TaskFile::from_json(&text, source, Some(folder)).map(|file| file.robot_from(folder))
     }
 
     /// Reads and checks the JSON `text` of a task built in memory, as a file is read, its
@@ -374,7 +374,7 @@ impl TaskFile {
                 message: format!("longer than the {MAX_TASK_BYTES} bytes a task may have"),
             });
         }
-        TaskFile::from_json(text, source).map(|file| file.robot_from(folder))
+        TaskFile::from_json(text, source, Some(folder)).map(|file| file.robot_from(folder))
     }
 
     /// This task file with a relative robot path resolved against `folder`.
@@ -389,15 +389,16 @@ impl TaskFile {
     /// `../belt_arm.urdf` beside `robots/tasks/`, names the very URDF compiled in as the built-in
     /// robot, so it is replaced by `None`.
     pub fn built_in() -> Result<TaskFile, TaskError> {
-        let mut file = TaskFile::from_json(BUILT_IN_TASK, TaskSource::BuiltIn.to_string())?;
+        let mut file = TaskFile::from_json(BUILT_IN_TASK, TaskSource::BuiltIn.to_string(), None)?;
         file.task.robot = None;
         Ok(file)
     }
 
     /// Parses and checks the JSON `text` of a task from `source` (named in errors); the robot
     /// path is left as written, the `solver` section is kept as written, the `experiment`
-    /// section is read and checked.
-    fn from_json(text: &str, source: String) -> Result<TaskFile, TaskError> {
+    /// section is read and checked, the motors' catalogue parts are read, their paths joined
+    /// to `folder` (`super::motor_parts::resolve`).
+    fn from_json(text: &str, source: String, folder: Option<&Path>) -> Result<TaskFile, TaskError> {
         let parsed = crate::json_keys::check_unique_keys(text)
             .and_then(|()| serde_json::from_str::<Value>(text).map_err(|e| e.to_string()))
             .and_then(|mut value| {
@@ -405,6 +406,7 @@ impl TaskFile {
                 let solver = section("solver");
                 let experiment = Experiment::from_section(section("experiment").as_ref())
                     .map_err(|e| e.to_string())?;
+                super::motor_parts::resolve(&mut value, folder)?;
                 let task = read_task(text, &value)?;
                 task.validate().map_err(|e| e.to_string())?;
                 Ok(TaskFile {
@@ -492,7 +494,7 @@ mod tests {
     #[test]
     fn errors_name_the_built_in_task_and_a_task_without_robot_means_the_built_in_one() {
         let broken = BUILT_IN_TASK.replacen("\"steps\": 50", "\"steps\": 0", 1);
-        let message = TaskFile::from_json(&broken, TaskSource::BuiltIn.to_string())
+        let message = TaskFile::from_json(&broken, TaskSource::BuiltIn.to_string(), None)
             .unwrap_err()
             .to_string();
         assert!(
@@ -501,7 +503,7 @@ mod tests {
         );
         let without = BUILT_IN_TASK.replacen("\"robot\": \"../belt_arm.urdf\",", "", 1);
         assert_ne!(without, BUILT_IN_TASK);
-        let task = TaskFile::from_json(&without, TaskSource::BuiltIn.to_string())
+        let task = TaskFile::from_json(&without, TaskSource::BuiltIn.to_string(), None)
             .unwrap()
             .task;
         assert_eq!(task.robot, None);
