@@ -225,3 +225,27 @@ fn a_formulation_refuses_targets_that_cannot_hold() {
         "{error}"
     );
 }
+
+/// No pose within the joint limits takes the TCP out of the ball `Robot::reach` gives, and some
+/// come near its surface (the built-in arm stretched out reaches 0.948 m).
+#[test]
+fn the_tcp_stays_within_the_arms_reach() {
+    for task in [testing::task(), posed_task(SCREW_ROW)] {
+        let robot = Robot::load(&task).unwrap();
+        let (centre, radius) = robot.reach().unwrap();
+        let limits = robot.position_limits().to_vec();
+        let dynamics = Dynamics::new(robot);
+        let mut data = dynamics.workspace();
+        let mut rng = testing::Random::new(5);
+        let mut farthest: f64 = 0.0;
+        for _ in 0..2000 {
+            let q: Vec<f64> = (limits.iter())
+                .map(|&(lo, hi)| rng.real(lo.max(-4.0)..hi.min(4.0)))
+                .collect();
+            let distance = (dynamics.tcp_position(&mut data, &q) - centre).norm();
+            assert!(distance <= radius + 1e-12, "{distance} > {radius}");
+            farthest = farthest.max(distance);
+        }
+        assert!(farthest > 0.8 * radius, "{farthest} of {radius}");
+    }
+}
