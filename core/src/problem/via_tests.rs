@@ -249,3 +249,70 @@ fn the_tcp_stays_within_the_arms_reach() {
         assert!(farthest > 0.8 * radius, "{farthest} of {radius}");
     }
 }
+
+/// A TCP via point out of reach (1.002 m from the shoulder, which reaches 0.948 m) is no error of the solve but a verdict of the one rule: no start
+/// finds a trajectory, and the result says infeasible with IPOPT's reason.
+#[test]
+fn an_unreachable_via_point_is_judged_infeasible_by_the_one_rule() {
+    let mut task = testing::task();
+    task.motion.steps = 10;
+    task.motion.via = vec![Via::Tcp(TcpVia {
+        t_s: 0.4,
+        tcp: [0.0, 0.5, 0.0],
+        tol_m: 0.01,
+    })];
+    let robot = Robot::load(&task).unwrap();
+    let (centre, radius) = robot.reach().unwrap();
+    assert!((Vector3::new(0.0, 0.5, 0.0) - centre).norm() > radius + 0.05);
+    let f = Formulation::new(&task, robot, Space::Actuation, task.limit_modes).unwrap();
+    let result = solve_design(&f, &[6.0, 3.0, 1.0, 1.0], &SolveSettings::default()).unwrap();
+    assert!(
+        !result.feasible,
+        "{:?} {:?}",
+        result.violations, result.status
+    );
+    assert!(result.reason.is_some());
+    assert!(result.violations.get("via_tcp").unwrap() > 0.1);
+}
+
+/// Held upright within a little more than its tilt at the start and the goal, the built-in
+/// arm's end effector, which tilts far beyond that on its way without the rows, stays within it
+/// at every node, and the one rule judges the result feasible.
+#[test]
+fn an_upright_link_stays_within_its_tolerance() {
+    let mut task = testing::task();
+    task.motion.steps = 20;
+    task.motion.horizon = Horizon::Fixed(1.5);
+    let design = [6.0, 3.0, 1.0, 1.0];
+    let solve = |task: &Task| {
+        let robot = Robot::load(task).unwrap();
+        let f = Formulation::new(task, robot, Space::Actuation, task.limit_modes).unwrap();
+        let result = solve_design(&f, &design, &SolveSettings::default()).unwrap();
+        (f, result)
+    };
+    let (axis, tilt) = bisecting_axis(&task, "link_4");
+    let tol_rad = tilt + 0.3;
+    task.motion.upright = Some(Upright {
+        link: "link_4".into(),
+        axis,
+        tol_rad,
+    });
+    let (f, upright) = solve(&task);
+    assert!(upright.feasible, "{tilt} {:?}", upright.reason);
+    assert!(upright.violations.get("upright").unwrap() <= 1e-6);
+    let target = f.setting().targets().upright.clone().unwrap();
+    let dynamics = f.dynamics();
+    let mut data = dynamics.workspace();
+    let mut tilts = |q: &[Vec<f64>]| {
+        (q.iter())
+            .map(|q| target.tilt(dynamics, &mut data, q))
+            .fold(0.0, f64::max)
+    };
+    assert!(tilts(&upright.trajectory.q) <= tol_rad + 1e-6);
+    task.motion.upright = None;
+    let (_, free) = solve(&task);
+    assert!(free.feasible);
+    let free_tilt = tilts(&free.trajectory.q);
+    assert!(free_tilt > tol_rad + 0.1, "{free_tilt} {tol_rad}");
+    assert!(upright.cost > free.cost);
+}
