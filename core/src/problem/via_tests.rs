@@ -316,3 +316,21 @@ fn an_upright_link_stays_within_its_tolerance() {
     assert!(free_tilt > tol_rad + 0.1, "{free_tilt} {tol_rad}");
     assert!(upright.cost > free.cost);
 }
+
+/// An upright link under a free horizon: its rows read neither h nor T, and the problem's
+/// derivatives in T and q stay exact (central differences and IPOPT's checker, both spaces).
+#[test]
+fn an_upright_link_under_a_free_horizon_has_exact_derivatives() {
+    let mut task = with_targets(testing::task(), "link_4");
+    task.motion.via.clear();
+    task.motion.horizon = Horizon::Free {
+        min_s: 0.4,
+        max_s: 1.2,
+    };
+    task.weights.time = 2.0;
+    for f in formulations(&task) {
+        assert!(f.layout().horizon().is_some());
+        assert_derivatives_match(&f, &[7.0, 4.0, 2.0, 1.5]);
+        assert_checker_finds_nothing(&f, &[7.0, 4.0, 2.0, 1.5]);
+    }
+}
