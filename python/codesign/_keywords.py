@@ -5,10 +5,12 @@ takes. Numpy's scalars count as the Python numbers they hold. The ranges are the
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import numbers
 import os
 from collections.abc import Sequence
+from enum import Enum
 from typing import Any, List, Optional
 
 import numpy as np
@@ -122,7 +124,13 @@ def path(name: str, value: Any) -> Optional[str]:
 def plain(name: str, value: Any) -> Any:
     """``value`` as JSON holds it: dicts with str keys, lists, str, bool, None and finite
     numbers, numpy's as Python's; anything else an error naming where it lies in ``name``
-    (``motors.torque_limit_nm``)."""
+    (``motors.torque_limit_nm``). A section's dataclass (``codesign.sections``) counts as the
+    dict of its fields, those that are None left out."""
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        fields = dataclasses.asdict(value).items()
+        value = {key: item for key, item in fields if item is not None}
+    if isinstance(value, Enum):
+        return value.value
     if isinstance(value, dict):
         for key in value:
             if not isinstance(key, str):

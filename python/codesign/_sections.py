@@ -46,16 +46,49 @@ class Payload:
 
 
 @dataclass
+class ViaJoints:
+    """Joint angles the motion passes: each joint within ``tol_rad`` of ``q`` (rad, one per moving
+    joint) at the node nearest ``t_s`` seconds."""
+
+    t_s: Number
+    q: Sequence[Number]
+    tol_rad: Number
+
+
+@dataclass
+class ViaTcp:
+    """A TCP position the motion passes: the TCP within ``tol_m`` of the world point ``tcp`` (m)
+    at the node nearest ``t_s`` seconds."""
+
+    t_s: Number
+    tcp: Tuple[Number, Number, Number]
+    tol_m: Number
+
+
+@dataclass
+class Upright:
+    """``link``'s ``axis`` (in the link's frame) within ``tol_rad`` of the world's vertical at
+    every node."""
+
+    link: str
+    axis: Tuple[Number, Number, Number]
+    tol_rad: Number
+
+
+@dataclass
 class Motion:
     """The motion: from ``start`` to ``goal`` (joint positions, rad) in ``horizon_s`` seconds (or
     a free duration, ``{"free": [T_min, T_max]}``) on ``steps`` intervals, with what it asks at its
-    ends."""
+    ends, the points it passes (``via``: :class:`ViaJoints` or :class:`ViaTcp`, each at a time of
+    a fixed duration) and a link it holds ``upright`` (:class:`Upright`)."""
 
     start: Sequence[Number]
     goal: Sequence[Number]
     horizon_s: Union[Number, Dict[str, Sequence[Number]]]
     steps: int = 50
     ends: Union[Ends, str] = Ends.HOLD
+    via: List[Union[ViaJoints, ViaTcp]] = field(default_factory=list)
+    upright: Optional[Upright] = None
 
 
 @dataclass
@@ -161,6 +194,8 @@ def task_document(
         "limit_modes": asdict(limit_modes),
     }
     document = _plain(document)
+    if not document["motion"]["via"]:
+        del document["motion"]["via"]
     document["robot"] = robot
     if solver is not None:
         document["solver"] = solver

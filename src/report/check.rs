@@ -1,10 +1,14 @@
 //! The inspection of a robot and its task before any solve (`codesign check`, Python's
 //! `Task.check`): the chain, the TCP at the start and the goal, G at a design and its inverse,
 //! the static gravity torques at both ends against each motor's own torque limit, the design
-//! space, the limit modes, the linkages' readings, and a verdict per check, each finding an
-//! error (a solve refuses the task, or its result would mean nothing) or a warning.
+//! space, the limit modes, the linkages' readings, the via points and the upright link, and a
+//! verdict per check, each finding an error (a solve refuses the task, or its result would mean
+//! nothing) or a warning.
 
+mod targets;
 mod verdicts;
+
+use verdicts::Finding;
 
 use codesign_core::dynamics::Dynamics;
 use codesign_core::model::catalogue::Catalogue;
@@ -246,6 +250,7 @@ impl Inspection {
         inspection.check_limit_modes(task, &transmission);
         inspection.check_memory(task, robot);
         inspection.check_box(task, &dynamics);
+        inspection.check_targets(task, &dynamics);
         // The linkages at the design inspected where it is valid (a verdict names it otherwise).
         let design = match transmission.check_design(ratios) {
             Ok(()) => ratios,

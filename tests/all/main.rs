@@ -41,3 +41,4 @@ mod solve_cli;
 mod start_cli;
 mod table_cli;
 mod urdf_idioms;
+mod via_cli;

@@ -6,6 +6,10 @@
 //! a prismatic joint's S_j = (0, u_j) gives J_j = u_j. As du_i/dq_j = u_j x u_i for j <= i (zero
 //! for a prismatic j), the second derivatives are d^2 P / dq_i dq_j = w_min(i,j) x J_max(i,j), w
 //! the angular part of S (zero beyond the TCP's body).
+//!
+//! A direction d fixed to body b, w = R_b(q) d in the world, turns with each revolute joint
+//! j <= b: dw/dq_j = u_j x w, and d^2 w / dq_i dq_j = u_min(i,j) x (u_max(i,j) x w) (zero where
+//! either joint lies beyond b or is prismatic, whose w is 0).
 
 use super::spatial::Motion;
 use super::{remember, same_state, shape, Dynamics, Workspace};
@@ -144,6 +148,63 @@ impl Dynamics {
         for j in 0..self.tcp_joints() {
             let s = &data.frames[j].s;
             let column = s.ang.cross(&tcp) + s.lin;
+            for i in 0..=j {
+                let entry = data.frames[i].s.ang.cross(&column);
+                for (hessian, value) in hessians.iter_mut().zip(entry.iter()) {
+                    hessian[(i, j)] = *value;
+                    hessian[(j, i)] = *value;
+                }
+            }
+        }
+    }
+
+    /// The world coordinates at `q` of `direction`, given in `body`'s frame (None: the base).
+    pub fn direction_world(
+        &self,
+        data: &mut Workspace,
+        q: &[f64],
+        body: Option<usize>,
+        direction: &Vector3<f64>,
+    ) -> Vector3<f64> {
+        self.update_frames(data, q);
+        body.map_or(*direction, |b| data.frames[b].pose.rotation * direction)
+    }
+
+    /// The Jacobian dw/dq (3 x n, per rad) of [`Dynamics::direction_world`]: column j is
+    /// u_j x w for a joint j <= `body`; `jacobian` is resized if it has another shape.
+    pub fn direction_jacobian(
+        &self,
+        data: &mut Workspace,
+        q: &[f64],
+        (body, direction): (Option<usize>, &Vector3<f64>),
+        jacobian: &mut DMatrix<f64>,
+    ) {
+        let w = self.direction_world(data, q, body, direction);
+        shape(jacobian, 3, self.dof());
+        jacobian.fill(0.0);
+        for j in 0..body.map_or(0, |b| b + 1) {
+            jacobian.set_column(j, &data.frames[j].s.ang.cross(&w));
+        }
+    }
+
+    /// The Hessians d^2 w_c / dq dq (n x n each, per rad^2) of the world x, y and z of
+    /// [`Dynamics::direction_world`]: entry (i, j) is u_min(i,j) x (u_max(i,j) x w); each matrix
+    /// is resized if it has another shape.
+    pub fn direction_hessians(
+        &self,
+        data: &mut Workspace,
+        q: &[f64],
+        (body, direction): (Option<usize>, &Vector3<f64>),
+        hessians: &mut [DMatrix<f64>; 3],
+    ) {
+        let w = self.direction_world(data, q, body, direction);
+        let n = self.dof();
+        for hessian in hessians.iter_mut() {
+            shape(hessian, n, n);
+            hessian.fill(0.0);
+        }
+        for j in 0..body.map_or(0, |b| b + 1) {
+            let column = data.frames[j].s.ang.cross(&w);
             for i in 0..=j {
                 let entry = data.frames[i].s.ang.cross(&column);
                 for (hessian, value) in hessians.iter_mut().zip(entry.iter()) {

@@ -416,6 +416,36 @@ fn check_against_differences(dynamics: Dynamics, seed: u64) {
             });
             assert_matrix(&format!("TCP Hessian {axis}"), hessian, &fd, 1e-8, 1e-9);
         }
+
+        // A direction fixed to a middle body and to the last.
+        let d = nalgebra::Vector3::new(0.3, -0.5, 0.8);
+        for body in [Some(n / 2), Some(n - 1)] {
+            let mut jacobian = DMatrix::zeros(3, n);
+            dynamics.direction_jacobian(&mut data, &q, (body, &d), &mut jacobian);
+            let mut of = dynamics.workspace();
+            let fd = central_differences(&q, 3, |x, out| {
+                out.copy_from_slice(dynamics.direction_world(&mut of, x, body, &d).as_slice())
+            });
+            assert_matrix("direction Jacobian", &jacobian, &fd, 1e-8, 1e-9);
+            let mut hessians = [0, 1, 2].map(|_| DMatrix::zeros(n, n));
+            dynamics.direction_hessians(&mut data, &q, (body, &d), &mut hessians);
+            for (axis, hessian) in hessians.iter().enumerate() {
+                let fd = central_differences(&q, n, |x, out| {
+                    let mut j = DMatrix::zeros(3, n);
+                    dynamics.direction_jacobian(&mut of, x, (body, &d), &mut j);
+                    for (o, value) in out.iter_mut().zip(j.row(axis).iter()) {
+                        *o = *value;
+                    }
+                });
+                assert_matrix(
+                    &format!("direction Hessian {axis}"),
+                    hessian,
+                    &fd,
+                    1e-8,
+                    1e-9,
+                );
+            }
+        }
     }
 }
 

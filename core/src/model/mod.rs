@@ -15,6 +15,7 @@ mod robot;
 pub mod task;
 mod urdf;
 mod validate;
+mod via;
 
 pub use error::ModelError;
 pub use robot::{Robot, BUILT_IN_URDF};

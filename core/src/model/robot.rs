@@ -200,6 +200,32 @@ impl Robot {
     }
 }
 
+impl Robot {
+    /// A ball that holds every position the TCP reaches: its centre, the first joint's origin
+    /// in the world (m), and its radius, m: the distances between the joints' origins and from
+    /// the last to the TCP, with each prismatic joint's longest travel, summed (the triangle
+    /// inequality). None where a prismatic joint before the TCP slides without limit.
+    pub fn reach(&self) -> Option<(Vector3<f64>, f64)> {
+        let bodies = &self.chain.bodies;
+        let Some(last) = self.tcp.body else {
+            return Some((self.tcp.point, 0.0));
+        };
+        let mut radius = self.tcp.point.norm();
+        for (j, body) in bodies.iter().enumerate().take(last + 1) {
+            if j > 0 {
+                radius += body.joint_placement.translation.norm();
+            }
+            if body.kind == JointKind::Prismatic {
+                let (lo, hi) = self.chain.limits[j];
+                radius += lo.abs().max(hi.abs());
+            }
+        }
+        radius
+            .is_finite()
+            .then_some((bodies[0].joint_placement.translation, radius))
+    }
+}
+
 /// The task's `point` on `link` as a point on the chain; `field` names the task field in errors.
 fn point_on_chain(
     chain: &Chain,

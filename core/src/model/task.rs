@@ -27,6 +27,7 @@ pub use super::validate::{
     check_horizon, check_payload, check_steps, FieldError, OutOfRange, MAX_GRAVITY, MAX_HORIZON_S,
     MAX_PAYLOAD_KG, MAX_POINT_M, MAX_STEPS, MIN_HORIZON_S,
 };
+pub use super::via::{JointVia, TcpVia, Upright, Via};
 
 /// The built-in task: the text of `robots/tasks/pick_place.json`, compiled in.
 pub const BUILT_IN_TASK: &str = include_str!("../../../robots/tasks/pick_place.json");
@@ -53,6 +54,8 @@ pub const BUILT_IN_TASK: &str = include_str!("../../../robots/tasks/pick_place.j
 ///         horizon: Horizon::Fixed(0.8),
 ///         steps: 20,
 ///         ends: Ends::Paper,
+///         via: vec![],
+///         upright: None,
 ///     },
 ///     weights: Weights { position: 0.01, velocity: 0.01, control: 0.001, time: 0.0 },
 ///     cartesian_box: CartesianBox::default(),
@@ -153,6 +156,14 @@ pub struct Motion {
     /// acceleration at nodes 0 and N-1 (`rest`).
     #[serde(default)]
     pub ends: Ends,
+    /// Points the motion passes, each joint angles or a TCP position at a time (absent: none;
+    /// docs/model.md, section 6).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub via: Vec<Via>,
+    /// A link whose axis stays within a tolerance of the world's vertical at every node
+    /// (absent: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub upright: Option<Upright>,
 }
 
 /// Weights of J = sum_k wq |q_k|^2 + wv |v_k|^2 + wu |u_k|^2 + box penalties + w_T T.

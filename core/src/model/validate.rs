@@ -224,7 +224,8 @@ impl Motion {
         }
         self.horizon.validate("motion.horizon_s")?;
         check_steps(self.steps)
-            .map_err(|why| FieldError::out_of_range("motion.steps", self.steps as f64, why))
+            .map_err(|why| FieldError::out_of_range("motion.steps", self.steps as f64, why))?;
+        self.validate_targets()
     }
 }
 

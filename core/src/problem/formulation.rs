@@ -10,6 +10,7 @@ use super::layout::{BlockId, Layout, RowBlock, WideVariable};
 use super::memory::{self, MemoryNeed};
 use super::pose_rules;
 use super::setting::{Setting, DEFAULT_HOLD_TOLERANCE_NM};
+use super::targets::Targets;
 use super::terms::{AddedTerms, NodeConstraint, NodeCost};
 use crate::dynamics::Dynamics;
 use crate::model::task::{LimitModes, Task};
@@ -132,6 +133,8 @@ impl Formulation {
             }
         }
         pose_rules::check_modes(&transmission, space, &modes)?;
+        let targets = Targets::resolve(task, &dynamics)
+            .map_err(|problems| FormulationError(format!("task: {}", problems.join("; "))))?;
         let g_pattern = g_pattern(&transmission);
         let posed = transmission.is_pose_dependent();
         let envelope = Envelope::of(&task.motors, n);
@@ -149,6 +152,7 @@ impl Formulation {
             loss,
             hold_tolerance_nm: DEFAULT_HOLD_TOLERANCE_NM,
             g_pattern,
+            targets,
             layout: Layout::new(n, task.motion.steps, &[], ProblemKind::Hard, &[]),
         };
         let mut formulation = Formulation {
@@ -212,6 +216,7 @@ impl Formulation {
             g_pattern: &self.setting.g_pattern,
             linkages: self.setting.transmission.linkages(),
             motors: self.setting.motor_dynamics.as_ref(),
+            targets: &self.setting.targets,
         };
         self.families = families::of(&shape);
         for (i, constraint) in self.added.constraints.iter().enumerate() {

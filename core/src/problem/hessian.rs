@@ -202,16 +202,17 @@ impl NodeHessian {
         self.dynamics.fill(0.0);
         self.mixed.fill(0.0);
         for (id, family) in parts.families {
-            let (Some(row), Some(block)) = (layout.first_row(*id, k), family.rows()) else {
+            let Some(rows) = layout.rows_at(*id, k) else {
                 continue;
             };
             let terms = NodeSecondOrder {
+                k,
                 dynamics,
                 node,
                 actuation,
                 data: &mut *data,
                 state: (q, v, a),
-                multipliers: &lambda[row..row + block.per_node],
+                multipliers: &lambda[rows],
                 scratch: &mut self.scratch,
             };
             family.hessian(terms, (&mut self.dynamics, &mut self.mixed));

@@ -3,8 +3,8 @@
 //! Variables are grouped by node for a banded structure: node k < N holds
 //! `[q_k, v_k, a_k, u_k]` (4n numbers), the last node N holds `[q_N, v_N]`. Constraint rows are
 //! grouped the same way: node k < N holds the row blocks of the formulation's constraint
-//! families (`families/`, each block keyed by its family's [`BlockId`]) in the families' order, each present at every node k < N or only at
-//! the inner nodes 0 < k < N (where v is free). The layout knows the blocks' sizes, not what
+//! families (`families/`, each block keyed by its family's [`BlockId`]) in the families' order, each present at every node k < N, only at
+//! the inner nodes 0 < k < N (where v is free), or at the nodes it lists ([`Nodes`]). The layout knows the blocks' sizes, not what
 //! their rows mean: that is each family's own file.
 //!
 //! Problem-wide variables ([`WideVariable`]: the free horizon T) follow the node blocks, in the
@@ -16,6 +16,7 @@
 //! deficits s+, s-) and the motor speed rows (the speed excesses e+, e-) are relaxed.
 
 use super::kind::ProblemKind;
+use std::sync::Arc;
 
 /// The key of a row block: the position of its family in the families' order
 /// (`FamilyId as usize`, which converts into it).
@@ -29,13 +30,24 @@ pub enum WideVariable {
     Horizon,
 }
 
+/// The nodes k < N where a row block has its rows.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Nodes {
+    /// Every node k < N.
+    Every,
+    /// The inner nodes 0 < k < N (where v is free).
+    Inner,
+    /// The nodes listed, ascending and each once (a via point's node).
+    Listed(Arc<[usize]>),
+}
+
 /// The rows one constraint family holds at a node.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct RowBlock {
     /// Rows per node where the block is present.
     pub per_node: usize,
-    /// Present only at the inner nodes 0 < k < N (else at every node k < N).
-    pub inner_only: bool,
+    /// The nodes where it is present.
+    pub nodes: Nodes,
     /// Relaxed by a slack pair per row in the elastic kind.
     pub relaxed: bool,
 }
@@ -43,24 +55,29 @@ pub struct RowBlock {
 impl RowBlock {
     /// Whether the block has rows at node k of a problem with `steps` intervals.
     fn present(&self, k: usize, steps: usize) -> bool {
-        k < steps && (k > 0 || !self.inner_only)
+        k < steps
+            && match &self.nodes {
+                Nodes::Every => true,
+                Nodes::Inner => k > 0,
+                Nodes::Listed(nodes) => nodes.binary_search(&k).is_ok(),
+            }
     }
 
     /// The position of node k among the nodes where the block is present.
     fn ordinal(&self, k: usize) -> usize {
-        if self.inner_only {
-            k - 1
-        } else {
-            k
+        match &self.nodes {
+            Nodes::Every => k,
+            Nodes::Inner => k - 1,
+            Nodes::Listed(nodes) => nodes.partition_point(|&node| node < k),
         }
     }
 
     /// Number of nodes where the block is present.
     fn nodes(&self, steps: usize) -> usize {
-        if self.inner_only {
-            steps.saturating_sub(1)
-        } else {
-            steps
+        match &self.nodes {
+            Nodes::Every => steps,
+            Nodes::Inner => steps.saturating_sub(1),
+            Nodes::Listed(nodes) => nodes.iter().filter(|&&k| k < steps).count(),
         }
     }
 }
@@ -99,15 +116,15 @@ impl Layout {
     ) -> Layout {
         let keys = blocks.iter().map(|(id, _)| id.0 + 1).max().unwrap_or(0);
         let mut by_key = vec![None; keys];
-        for &(id, block) in blocks {
-            by_key[id.0] = Some(block);
+        for (id, block) in blocks {
+            by_key[id.0] = Some(block.clone());
         }
         let mut row_base = Vec::with_capacity(steps + 1);
         let mut offsets = vec![None; keys * steps];
         let mut row = 0;
         for k in 0..steps {
             row_base.push(row);
-            for &(id, block) in blocks {
+            for (id, block) in blocks {
                 if block.present(k, steps) {
                     offsets[k * keys + id.0] = Some(row);
                     row += block.per_node;
@@ -118,7 +135,7 @@ impl Layout {
         let mut slack_base = vec![None; keys];
         let mut column = 4 * dof * steps + 2 * dof + wide.len();
         if kind == ProblemKind::Elastic {
-            for &(id, block) in blocks.iter().filter(|(_, block)| block.relaxed) {
+            for (id, block) in blocks.iter().filter(|(_, block)| block.relaxed) {
                 slack_base[id.0] = Some(column);
                 column += 2 * block.per_node * block.nodes(steps);
             }
@@ -138,7 +155,7 @@ impl Layout {
 
     /// The row block of key `id`, None where its family has no rows.
     pub fn block(&self, id: impl Into<BlockId>) -> Option<RowBlock> {
-        self.blocks.get(id.into().0).copied().flatten()
+        self.blocks.get(id.into().0).cloned().flatten()
     }
 
     /// Number of variables: 4nN + 2n, the problem-wide ones, and the slacks of the elastic kind.
@@ -179,6 +196,13 @@ impl Layout {
             return None;
         }
         self.offsets[k * keys + id]
+    }
+
+    /// The rows of block `id` at node k, where it has any.
+    pub fn rows_at(&self, id: impl Into<BlockId>, k: usize) -> Option<std::ops::Range<usize>> {
+        let id = id.into();
+        let first = self.first_row(id, k)?;
+        Some(first..first + self.blocks[id.0].as_ref()?.per_node)
     }
 
     /// Row j of block `id` at node k, where it has one.
@@ -263,7 +287,11 @@ mod tests {
                 .map(|(_, &(family, per_node, inner_only, relaxed))| {
                     let block = RowBlock {
                         per_node,
-                        inner_only,
+                        nodes: if inner_only {
+                            Nodes::Inner
+                        } else {
+                            Nodes::Every
+                        },
                         relaxed,
                     };
                     (family.into(), block)
@@ -282,7 +310,8 @@ mod tests {
                             columns[layout.u(k, i)] += 1;
                         }
                     }
-                    for &(family, block) in &blocks {
+                    for (family, block) in &blocks {
+                        let family = *family;
                         for j in 0..block.per_node {
                             layout
                                 .row(family, k, j)
@@ -311,7 +340,7 @@ mod tests {
                 FamilyId::Dynamics.into(),
                 RowBlock {
                     per_node: 4,
-                    inner_only: false,
+                    nodes: Nodes::Every,
                     relaxed: true,
                 },
             ),
@@ -319,7 +348,7 @@ mod tests {
                 FamilyId::Integration.into(),
                 RowBlock {
                     per_node: 8,
-                    inner_only: false,
+                    nodes: Nodes::Every,
                     relaxed: false,
                 },
             ),

@@ -33,9 +33,12 @@ mod pose_rules;
 mod pose_tests;
 mod sensitivity;
 mod setting;
+mod targets;
 mod terms;
 #[cfg(test)]
 pub(crate) mod tests;
+#[cfg(test)]
+mod via_tests;
 
 pub use crate::transmission::Space;
 pub use cost::{CostTerms, Criterion};
@@ -46,10 +49,11 @@ pub use families::FamilyId;
 pub use formulation::Formulation;
 pub use hold::{margins, EndHold, HoldRows, StaticHold};
 pub use kind::ProblemKind;
-pub use layout::{BlockId, Layout, RowBlock};
+pub use layout::{BlockId, Layout, Nodes, RowBlock};
 pub use memory::{available_bytes, MemoryNeed, BASE_BYTES, BYTES_PER_NONZERO};
 pub use nlp::TrajectoryProblem;
 pub use pose_rules::check_modes;
 pub use sensitivity::cost_gradient;
 pub use setting::{Setting, DEFAULT_HOLD_TOLERANCE_NM};
+pub use targets::{JointTarget, Targets, TcpTarget, UprightTarget};
 pub use terms::{NodeConstraint, NodeContext, NodeCost};

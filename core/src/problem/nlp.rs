@@ -254,6 +254,9 @@ impl<'a> TrajectoryProblem<'a> {
         for (k, (node, data)) in nodes.enumerate() {
             let state = f.layout().node_state(x, k);
             node.evaluate(f.dynamics(), data, state, level);
+            if let Some(upright) = &f.setting().targets().upright {
+                node.upright = Some(upright.z_and_gradient(f.dynamics(), data, state.0));
+            }
             if f.transmission().is_pose_dependent() && !poses_current {
                 let at = (f.transmission())
                     .at_pose(self.design.ratios(), (f.dynamics(), data), state.0, depth)

@@ -33,6 +33,9 @@ pub(super) struct NodeEval {
     pub(super) loss: Option<NodeLoss>,
     /// G(q_k) and its linkage rows' derivatives, None for a constant G(r).
     pub(super) pose: Option<NodePose>,
+    /// The world z of the upright link's axis at q_k and its gradient in q_k (per rad), where
+    /// the task holds a link upright (`motion.upright`).
+    pub(super) upright: Option<(f64, Vec<f64>)>,
 }
 
 /// The transmission at a node whose G depends on the pose (docs/model.md, section 17).
@@ -99,6 +102,7 @@ impl NodeEval {
             tcp_jacobian: DMatrix::zeros(3, n),
             loss: None,
             pose: None,
+            upright: None,
         }
     }
 

@@ -5,6 +5,7 @@
 //! formulation.
 
 use super::layout::Layout;
+use super::targets::Targets;
 use crate::dynamics::Dynamics;
 use crate::model::task::{LimitModes, Task};
 use crate::transmission::{
@@ -41,6 +42,8 @@ pub struct Setting {
     pub(super) hold_tolerance_nm: f64,
     /// Structural non-zeros of G (row = motor, column = joint) over the whole design space.
     pub(super) g_pattern: DMatrix<f64>,
+    /// The task's via points and upright link, on their nodes and bodies.
+    pub(super) targets: Targets,
     pub(super) layout: Layout,
 }
 
@@ -110,6 +113,11 @@ impl Setting {
     /// every pose.
     pub fn g_pattern(&self) -> &DMatrix<f64> {
         &self.g_pattern
+    }
+
+    /// The task's via points and upright link, resolved (`motion.via`, `motion.upright`).
+    pub fn targets(&self) -> &Targets {
+        &self.targets
     }
 
     /// The index layout.

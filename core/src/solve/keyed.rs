@@ -15,7 +15,9 @@ use std::fmt;
 /// rad/s), `joint_position` the joints' position limits (rad), `speed_limits` the problem's
 /// speed limits in its speed mode (rad/s), `control_limits` its control bounds in its torque
 /// mode (N m), `cartesian_box` the soft box (penalised, not enforced; m), and, where the motors
-/// have a torque-speed envelope, `motor_envelope` (N m, docs/model.md, section 5).
+/// have a torque-speed envelope, `motor_envelope` (N m, docs/model.md, section 5); where the
+/// task has them, `via_joints` (rad) and `via_tcp` (m), how far the via points' nodes lie beyond
+/// their tolerances, and `upright` (rad), how far the upright link tilts beyond its own.
 pub type Violations = Keyed;
 
 /// Numbers keyed by name, in the order they were pushed; written as a JSON object in that order.

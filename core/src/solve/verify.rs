@@ -84,6 +84,13 @@ impl Violations {
             },
         );
         violations.push("cartesian_box", box_violation(problem, trajectory));
+        for (name, beyond) in f
+            .setting()
+            .targets()
+            .violations(f.dynamics(), &trajectory.q)
+        {
+            violations.push(name, beyond);
+        }
         if let Some(least) = least_envelope_margin(f, trajectory) {
             violations.push("motor_envelope", (-least.margin_nm).max(0.0));
         }

@@ -13,13 +13,13 @@ use codesign_core::text::{number, numbers, rounded};
 use codesign_core::transmission::{JointLimits, Transmission};
 
 /// What a check found where it did not pass.
-struct Finding {
+pub(super) struct Finding {
     severity: Severity,
     detail: String,
 }
 
 impl Finding {
-    fn error(detail: impl ToString) -> Finding {
+    pub(super) fn error(detail: impl ToString) -> Finding {
         Finding {
             severity: Severity::Error,
             detail: detail.to_string(),
@@ -78,7 +78,7 @@ fn hold_verdict(
 
 impl Inspection {
     /// Records check `check`: the finding where it did not pass, else what it found fine.
-    fn verdict(&mut self, check: &str, finding: Option<Finding>, fine: String) {
+    pub(super) fn verdict(&mut self, check: &str, finding: Option<Finding>, fine: String) {
         let (severity, detail) = match finding {
             Some(Finding { severity, detail }) => (Some(severity), detail),
             None => (None, fine),

@@ -5,7 +5,7 @@
 
 use super::family::{At, Emit, Family, FamilyId, Place};
 use crate::problem::design_data::DesignData;
-use crate::problem::layout::{BlockId, RowBlock};
+use crate::problem::layout::{BlockId, Nodes, RowBlock};
 use crate::problem::node::NodeEval;
 use crate::problem::terms::{at_node, node_columns, NodeConstraint};
 use nalgebra::DMatrix;
@@ -25,7 +25,7 @@ impl Family for Added {
     fn rows(&self) -> Option<RowBlock> {
         Some(RowBlock {
             per_node: self.0.rows(),
-            inner_only: false,
+            nodes: Nodes::Every,
             relaxed: false,
         })
     }

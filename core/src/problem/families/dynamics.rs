@@ -24,7 +24,7 @@ use super::motor_load::MotorLoad;
 use super::posed_loss::PosedLoss;
 use crate::ipopt::Solution;
 use crate::problem::design_data::DesignData;
-use crate::problem::layout::RowBlock;
+use crate::problem::layout::{Nodes, RowBlock};
 use crate::problem::node::NodeEval;
 use crate::transmission::{MotorDynamics, Space};
 use nalgebra::{DMatrix, DVector};
@@ -73,7 +73,7 @@ impl Family for Dynamics {
     fn rows(&self) -> Option<RowBlock> {
         Some(RowBlock {
             per_node: self.control_pattern.nrows(),
-            inner_only: false,
+            nodes: Nodes::Every,
             relaxed: true,
         })
     }

@@ -23,7 +23,7 @@ use super::motor_torque::{posed_torque_columns, posed_torque_hessian};
 use crate::ipopt::Solution;
 use crate::model::task::LimitMode;
 use crate::problem::design_data::DesignData;
-use crate::problem::layout::{Layout, RowBlock};
+use crate::problem::layout::{Layout, Nodes, RowBlock};
 use crate::problem::node::NodeEval;
 use crate::transmission::{Actuation, Side, Space};
 use nalgebra::{DMatrix, DVector};
@@ -134,7 +134,7 @@ impl Family for Envelope {
     fn rows(&self) -> Option<RowBlock> {
         Some(RowBlock {
             per_node: 2 * self.identity.nrows(),
-            inner_only: true,
+            nodes: Nodes::Inner,
             relaxed: false,
         })
     }

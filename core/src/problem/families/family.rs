@@ -10,6 +10,7 @@ use crate::problem::kind::ProblemKind;
 use crate::problem::layout::{BlockId, Layout, RowBlock};
 use crate::problem::node::NodeEval;
 use crate::problem::setting::Setting;
+use crate::problem::targets::Targets;
 use crate::transmission::{Actuation, Coupling, Envelope, MotorDynamics, PoseRow, Space};
 use nalgebra::{DMatrix, DVector};
 use std::fmt;
@@ -37,13 +38,17 @@ pub enum FamilyId {
     Ends,
     /// The strokes of the linear actuators that give one.
     Strokes,
+    /// The via points of the motion: joint bounds and TCP rows at their nodes.
+    Via,
+    /// A link held upright.
+    Upright,
     /// The elastic kind's slacks, non-negative and penalised.
     Slacks,
 }
 
 impl FamilyId {
     /// Every family, in order.
-    pub const ALL: [FamilyId; 9] = [
+    pub const ALL: [FamilyId; 11] = [
         FamilyId::Dynamics,
         FamilyId::Integration,
         FamilyId::MotorSpeed,
@@ -52,6 +57,8 @@ impl FamilyId {
         FamilyId::JointLimits,
         FamilyId::Ends,
         FamilyId::Strokes,
+        FamilyId::Via,
+        FamilyId::Upright,
         FamilyId::Slacks,
     ];
 
@@ -79,6 +86,8 @@ pub(in crate::problem) struct Shape<'a> {
     pub(in crate::problem) linkages: &'a [PoseRow],
     /// The motors' rotor inertia and friction, None for ideal motors.
     pub(in crate::problem) motors: Option<&'a MotorDynamics>,
+    /// The task's via points and upright link.
+    pub(in crate::problem) targets: &'a Targets,
 }
 
 /// Where a family's rows sit at one node.
@@ -162,6 +171,8 @@ pub(in crate::problem) struct LoadDerivative {
 
 /// The evaluation of one node's second-order terms.
 pub(in crate::problem) struct NodeSecondOrder<'a> {
+    /// The node k < N.
+    pub(in crate::problem) k: usize,
     pub(in crate::problem) dynamics: &'a Dynamics,
     /// The node's evaluation (RNEA's derivatives, the transmissions' losses).
     pub(in crate::problem) node: &'a NodeEval,
@@ -331,13 +342,14 @@ pub(in crate::problem) fn visit_wide_hessian(
     let mut zeros = Vec::new();
     for k in 0..layout.steps {
         for (id, family) in families {
-            let (Some(row), Some(block)) = (layout.first_row(*id, k), family.rows()) else {
+            let Some(rows) = layout.rows_at(*id, k) else {
                 continue;
             };
+            let row = rows.start;
             let multipliers = match lambda {
-                Some(lambda) => &lambda[row..row + block.per_node],
+                Some(lambda) => &lambda[rows],
                 None => {
-                    zeros.resize(block.per_node, 0.0);
+                    zeros.resize(rows.len(), 0.0);
                     &zeros[..]
                 }
             };

@@ -8,7 +8,7 @@
 use super::family::{At, Emit, Family, Place, Shape};
 use crate::model::task::Horizon;
 use crate::problem::design_data::DesignData;
-use crate::problem::layout::{Layout, RowBlock};
+use crate::problem::layout::{Layout, Nodes, RowBlock};
 use crate::problem::node::NodeEval;
 use std::sync::Arc;
 
@@ -27,7 +27,7 @@ impl Family for Integration {
     fn rows(&self) -> Option<RowBlock> {
         Some(RowBlock {
             per_node: 2 * self.dof,
-            inner_only: false,
+            nodes: Nodes::Every,
             relaxed: false,
         })
     }

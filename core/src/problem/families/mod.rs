@@ -8,7 +8,8 @@
 //! the order of [`FamilyId::ALL`]: the order of their rows within a node, of their Jacobian
 //! entries and of their terms. Adding a family is a new file here and its entry in that list
 //! (and in `build` below). A constraint added from outside the core
-//! ([`crate::problem::NodeConstraint`]) joins the list after them, as an `added::Added`. What the families share, the [`Family`] trait and what its visits
+//! ([`crate::problem::NodeConstraint`]) joins the list after them, as an `added::Added`.
+//! What the families share, the [`Family`] trait and what its visits
 //! read, is in `family.rs`, which they import; nothing here is imported back.
 //!
 //! The static hold at the ends is no row of the NLP but a check before it (`../hold.rs`).
@@ -27,6 +28,8 @@ mod motor_speed;
 mod motor_torque;
 mod posed_loss;
 mod strokes;
+mod upright;
+mod via;
 
 pub use family::FamilyId;
 pub(super) use family::{
@@ -49,6 +52,8 @@ fn build(id: FamilyId, shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
         FamilyId::JointLimits => joint_limits::of(shape),
         FamilyId::Ends => ends::of(shape),
         FamilyId::Strokes => strokes::of(shape),
+        FamilyId::Via => via::of(shape),
+        FamilyId::Upright => upright::of(shape),
         FamilyId::Slacks => elastic::of(shape),
     }
 }

@@ -20,7 +20,7 @@ use crate::ipopt::Solution;
 use crate::model::task::LimitMode;
 use crate::problem::design_data::DesignData;
 use crate::problem::kind::ProblemKind;
-use crate::problem::layout::RowBlock;
+use crate::problem::layout::{Nodes, RowBlock};
 use crate::problem::node::{NodeEval, NodePose};
 use crate::transmission::JointLimits;
 use nalgebra::{DMatrix, DVector};
@@ -80,7 +80,7 @@ impl Family for MotorSpeed {
     fn rows(&self) -> Option<RowBlock> {
         Some(RowBlock {
             per_node: self.pattern.nrows(),
-            inner_only: true,
+            nodes: Nodes::Inner,
             relaxed: true,
         })
     }

@@ -18,7 +18,7 @@ use super::family::{
 use crate::ipopt::Solution;
 use crate::model::task::LimitMode;
 use crate::problem::design_data::DesignData;
-use crate::problem::layout::RowBlock;
+use crate::problem::layout::{Nodes, RowBlock};
 use crate::problem::node::{NodeEval, NodePose};
 use crate::transmission::{Actuation, JointLimits, Space};
 use nalgebra::{DMatrix, DVector};
@@ -53,7 +53,7 @@ impl Family for MotorTorque {
             MotorTorque::Bounds => None,
             MotorTorque::Rows { pattern, .. } => Some(RowBlock {
                 per_node: pattern.nrows(),
-                inner_only: false,
+                nodes: Nodes::Every,
                 relaxed: false,
             }),
         }

@@ -9,7 +9,7 @@ use super::family::{
 };
 use crate::ipopt::Solution;
 use crate::problem::design_data::DesignData;
-use crate::problem::layout::RowBlock;
+use crate::problem::layout::{Nodes, RowBlock};
 use crate::problem::node::NodeEval;
 use crate::transmission::linkage::{Linkage, RowDerivatives};
 use std::ops::Range;
@@ -49,7 +49,7 @@ impl Family for Strokes {
     fn rows(&self) -> Option<RowBlock> {
         Some(RowBlock {
             per_node: self.screws.len(),
-            inner_only: false,
+            nodes: Nodes::Every,
             relaxed: false,
         })
     }

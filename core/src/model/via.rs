@@ -1,0 +1,334 @@
+//! Where the motion must pass and how a link must stay (docs/model.md, section 6): the task's
+//! `motion.via`, points the motion passes at given times, each as joint angles or as a position
+//! of the TCP in the world, and `motion.upright`, a link's axis kept within a tolerance of the
+//! world's vertical at every node.
+//!
+//! A via point's time t_s falls on the node k = round(t_s N / T) nearest it, which must be an
+//! inner node 0 < k < N (the task's start and goal fix nodes 0 and N); [`Motion::via_node`] maps
+//! it, and refuses a free horizon, whose nodes move in time as T changes.
+
+use super::task::Motion;
+use super::validate::{FieldError, MAX_POINT_M};
+use crate::text::number;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+
+/// A point the motion passes: joint angles or a TCP position, at a time.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged, try_from = "ViaFields")]
+pub enum Via {
+    /// Joint angles.
+    Joints(JointVia),
+    /// A TCP position in the world.
+    Tcp(TcpVia),
+}
+
+/// Joint angles the motion passes: |q_k,i - q_i| <= tol_rad for every joint at the node k
+/// nearest t_s (bounds on the node's variables).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointVia {
+    /// The time, s, from the start.
+    pub t_s: f64,
+    /// The joint angles, rad (m for a prismatic joint), one per moving joint.
+    pub q: Vec<f64>,
+    /// The tolerance on each joint, rad (m), >= 0 (0: exactly).
+    pub tol_rad: f64,
+}
+
+/// A TCP position the motion passes: |p(q_k) - tcp| <= tol_m at the node k nearest t_s, p the
+/// TCP's world position.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TcpVia {
+    /// The time, s, from the start.
+    pub t_s: f64,
+    /// The point in the world frame, m.
+    pub tcp: [f64; 3],
+    /// The radius of the ball around it, m, > 0.
+    pub tol_m: f64,
+}
+
+/// A link held upright: the angle between its `axis` (in the link's frame) and the world's +z
+/// stays within tol_rad at every node.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Upright {
+    /// The link's name in the URDF.
+    pub link: String,
+    /// The axis in the link's frame (any length > 0; its direction counts).
+    pub axis: [f64; 3],
+    /// The largest angle from the vertical, rad, in (0, pi).
+    pub tol_rad: f64,
+}
+
+/// A via point as written, before it is known which kind it is.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ViaFields {
+    t_s: f64,
+    q: Option<Vec<f64>>,
+    tol_rad: Option<f64>,
+    tcp: Option<[f64; 3]>,
+    tol_m: Option<f64>,
+}
+
+impl TryFrom<ViaFields> for Via {
+    type Error = String;
+
+    fn try_from(fields: ViaFields) -> Result<Via, String> {
+        let t_s = fields.t_s;
+        match (fields.q, fields.tol_rad, fields.tcp, fields.tol_m) {
+            (Some(q), Some(tol_rad), None, None) => Ok(Via::Joints(JointVia { t_s, q, tol_rad })),
+            (None, None, Some(tcp), Some(tol_m)) => Ok(Via::Tcp(TcpVia { t_s, tcp, tol_m })),
+            _ => Err(
+                "a via point is {\"t_s\", \"q\", \"tol_rad\"} (joint angles, rad) or \
+                      {\"t_s\", \"tcp\", \"tol_m\"} (a TCP position in the world, m)"
+                    .to_owned(),
+            ),
+        }
+    }
+}
+
+impl Via {
+    /// Its time, s.
+    pub fn t_s(&self) -> f64 {
+        match self {
+            Via::Joints(via) => via.t_s,
+            Via::Tcp(via) => via.t_s,
+        }
+    }
+
+    /// Checks its numbers, `field` naming it (`motion.via[2]`).
+    fn validate(&self, field: &str) -> Result<(), FieldError> {
+        if !self.t_s().is_finite() {
+            return Err(FieldError::new(
+                format!("{field}.t_s"),
+                " is not a finite time",
+            ));
+        }
+        match self {
+            Via::Joints(via) => {
+                finite(&format!("{field}.q"), &via.q)?;
+                if !(via.tol_rad.is_finite() && (0.0..=PI).contains(&via.tol_rad)) {
+                    return Err(FieldError::new(
+                        format!("{field}.tol_rad"),
+                        format!(" = {} must be from 0 to pi rad", number(via.tol_rad)),
+                    ));
+                }
+            }
+            Via::Tcp(via) => {
+                finite(&format!("{field}.tcp"), &via.tcp)?;
+                if via.tcp.iter().map(|p| p * p).sum::<f64>().sqrt() > MAX_POINT_M {
+                    return Err(FieldError::new(
+                        format!("{field}.tcp"),
+                        format!(" lies farther than {MAX_POINT_M} m from the world's origin"),
+                    ));
+                }
+                if !(via.tol_m.is_finite() && via.tol_m >= MIN_TOL_M && via.tol_m <= MAX_POINT_M) {
+                    return Err(FieldError::new(
+                        format!("{field}.tol_m"),
+                        format!(
+                            " = {} must be from {MIN_TOL_M} to {MAX_POINT_M} m (a ball of radius \
+                             0 has no interior, and its row's gradient vanishes at its centre)",
+                            number(via.tol_m)
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The smallest radius of a TCP via point, m: a micrometre, below any arm's repeatability.
+pub const MIN_TOL_M: f64 = 1e-6;
+
+/// The smallest tolerance of `motion.upright`, rad: its row is scaled by 1/sin(tol).
+pub const MIN_UPRIGHT_TOL_RAD: f64 = 1e-6;
+
+/// Ok if every value is finite; else an error naming `name[i]` of the first that is not.
+fn finite(name: &str, values: &[f64]) -> Result<(), FieldError> {
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(i) => Err(FieldError::new(
+            format!("{name}[{i}]"),
+            " is not a finite number",
+        )),
+        None => Ok(()),
+    }
+}
+
+impl Upright {
+    /// Checks its numbers: a finite axis of length > 0, a tolerance in (0, pi).
+    fn validate(&self) -> Result<(), FieldError> {
+        finite("motion.upright.axis", &self.axis)?;
+        if self.axis.iter().all(|&a| a == 0.0) {
+            return Err(FieldError::new(
+                "motion.upright.axis",
+                " is the zero vector, which has no direction",
+            ));
+        }
+        let tol = self.tol_rad;
+        if !(tol.is_finite() && tol >= MIN_UPRIGHT_TOL_RAD && tol < PI) {
+            return Err(FieldError::new(
+                "motion.upright.tol_rad",
+                format!(
+                    " = {} must be from {MIN_UPRIGHT_TOL_RAD} rad to below pi (an axis held \
+                     exactly vertical leaves its row without a gradient)",
+                    number(tol)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The unit axis, in the link's frame.
+    pub fn unit_axis(&self) -> [f64; 3] {
+        let norm = self.axis.iter().map(|a| a * a).sum::<f64>().sqrt();
+        self.axis.map(|a| a / norm)
+    }
+}
+
+impl Motion {
+    /// Checks the via points' and the upright link's numbers (what needs no robot and no
+    /// duration: the nodes are found by [`Motion::via_node`]).
+    pub(super) fn validate_targets(&self) -> Result<(), FieldError> {
+        for (i, via) in self.via.iter().enumerate() {
+            via.validate(&format!("motion.via[{i}]"))?;
+        }
+        self.upright.as_ref().map_or(Ok(()), Upright::validate)
+    }
+
+    /// The node k = round(t_s N / T) of via point `i`, nearest its time: an error naming its
+    /// field where the horizon is free, t_s lies outside [0, T], or k is node 0 or N (the start
+    /// and the goal, which the task fixes).
+    pub fn via_node(&self, i: usize) -> Result<usize, FieldError> {
+        let field = format!("motion.via[{i}].t_s");
+        let t_s = self.via[i].t_s();
+        let Some(horizon) = self.horizon.fixed_s() else {
+            return Err(FieldError::new(
+                field,
+                " needs a fixed motion.horizon_s: under a free horizon the nodes move in time as \
+                 T changes, so a time has no node (not supported yet)",
+            ));
+        };
+        if !(0.0..=horizon).contains(&t_s) {
+            return Err(FieldError::new(
+                field,
+                format!(
+                    " = {} lies outside the motion's [0, {}] s",
+                    number(t_s),
+                    number(horizon)
+                ),
+            ));
+        }
+        let steps = self.steps;
+        let k = (t_s * steps as f64 / horizon).round() as usize;
+        if k == 0 || k >= steps {
+            let (end, pose) = if k == 0 {
+                ("node 0", "motion.start")
+            } else {
+                ("the last node", "motion.goal")
+            };
+            let h = horizon / steps as f64;
+            return Err(FieldError::new(
+                field,
+                format!(
+                    " = {} falls on {end}, which {pose} fixes: a via point lies at an inner \
+                     node, t_s from {} to {} s (h = {} s)",
+                    number(t_s),
+                    number(h / 2.0),
+                    number(horizon - h / 2.0),
+                    number(h)
+                ),
+            ));
+        }
+        Ok(k)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::task::{Horizon, Task};
+
+    #[test]
+    fn a_via_point_reads_as_joints_or_tcp_and_writes_back() {
+        for text in [
+            r#"{"t_s":0.4,"q":[0.0,1.0],"tol_rad":0.05}"#,
+            r#"{"t_s":0.4,"tcp":[0.1,0.2,0.3],"tol_m":0.01}"#,
+        ] {
+            let via: Via = serde_json::from_str(text).unwrap();
+            assert_eq!(serde_json::to_string(&via).unwrap(), text);
+        }
+        for bad in [
+            r#"{"t_s":0.4,"q":[0.0],"tol_m":0.01}"#,
+            r#"{"t_s":0.4,"tcp":[0.0,0.0,0.0]}"#,
+            r#"{"t_s":0.4,"q":[0.0],"tol_rad":0.1,"tcp":[0.0,0.0,0.0],"tol_m":0.1}"#,
+        ] {
+            let error = serde_json::from_str::<Via>(bad).unwrap_err().to_string();
+            assert!(error.contains("a via point is"), "{bad}: {error}");
+        }
+        assert!(
+            serde_json::from_str::<Via>(r#"{"t_s":0.4,"q":[0.0],"tol_rad":0.1,"x":1}"#)
+                .unwrap_err()
+                .to_string()
+                .contains("unknown field")
+        );
+    }
+
+    #[test]
+    fn a_via_time_falls_on_the_nearest_inner_node_of_a_fixed_horizon() {
+        let mut motion = Task::built_in().unwrap().motion;
+        motion.steps = 5;
+        let at = |t_s| {
+            Via::Tcp(TcpVia {
+                t_s,
+                tcp: [0.0; 3],
+                tol_m: 0.01,
+            })
+        };
+        motion.via = vec![at(0.4), at(0.25), at(0.05), at(0.75), at(0.9), at(-0.1)];
+        assert_eq!(motion.via_node(0).unwrap(), 3);
+        assert_eq!(motion.via_node(1).unwrap(), 2);
+        for (i, words) in [
+            (2, "falls on node 0"),
+            (3, "falls on the last node"),
+            (4, "outside the motion's [0, 0.8] s"),
+            (5, "outside"),
+        ] {
+            let error = motion.via_node(i).unwrap_err().to_string();
+            assert!(
+                error.starts_with(&format!("motion.via[{i}].t_s")),
+                "{error}"
+            );
+            assert!(error.contains(words), "{error}");
+        }
+        motion.horizon = Horizon::Free {
+            min_s: 0.3,
+            max_s: 1.2,
+        };
+        let error = motion.via_node(0).unwrap_err().to_string();
+        assert!(error.contains("fixed motion.horizon_s"), "{error}");
+    }
+
+    #[test]
+    fn the_targets_numbers_are_checked_naming_their_fields() {
+        let mut motion = Task::built_in().unwrap().motion;
+        motion.via = vec![Via::Tcp(TcpVia {
+            t_s: 0.4,
+            tcp: [0.0; 3],
+            tol_m: 0.0,
+        })];
+        let error = motion.validate_targets().unwrap_err().to_string();
+        assert!(error.starts_with("motion.via[0].tol_m = 0"), "{error}");
+        motion.via.clear();
+        motion.upright = Some(Upright {
+            link: "link_4".into(),
+            axis: [0.0; 3],
+            tol_rad: 0.1,
+        });
+        let error = motion.validate_targets().unwrap_err().to_string();
+        assert!(error.starts_with("motion.upright.axis"), "{error}");
+    }
+}

@@ -1,0 +1,44 @@
+"""Via points and an upright link (``motion.via``, ``motion.upright``) from Python: typed
+sections and plain dicts give one task, ``check`` refuses a TCP via point out of reach naming its
+field, and a solve passes a reachable one within its tolerance."""
+
+import math
+
+import pytest
+
+import codesign as cd
+from codesign import sections as s
+
+THROUGH = s.ViaTcp(t_s=0.4, tcp=(0.0, -0.7, -0.1), tol_m=0.01)
+
+
+def test_typed_via_points_are_the_task_file_s_and_a_solve_passes_through_them():
+    task = cd.Task.builtin()
+    typed = task.with_changes(motion={"via": [THROUGH]})
+    plain = task.with_changes(
+        motion={"via": [{"t_s": 0.4, "tcp": [0.0, -0.7, -0.1], "tol_m": 0.01}]}
+    )
+    assert typed.to_dict()["motion"]["via"] == plain.to_dict()["motion"]["via"]
+    assert typed.check().ok
+    sol = typed.solve(payload=1.0, steps=20)
+    assert sol.feasible
+    node = sol.to_dict()["trajectory"]
+    at = [node[axis][10] for axis in ("tcp_x", "tcp_y", "tcp_z")]
+    assert math.dist(at, THROUGH.tcp) <= THROUGH.tol_m + 1e-6
+    assert sol.to_dict()["violations"]["via_tcp"] <= 1e-6
+    assert sol.cost > task.solve(payload=1.0, steps=20).cost
+
+
+def test_check_refuses_a_via_point_out_of_reach_and_an_unknown_upright_link():
+    far = s.ViaTcp(t_s=0.4, tcp=(0.0, 1.5, 0.0), tol_m=0.01)
+    upright = s.Upright(link="no_such_link", axis=(0.0, 0.0, 1.0), tol_rad=0.5)
+    report = cd.Task.builtin().with_changes(motion={"via": [far], "upright": upright}).check()
+    assert not report.ok
+    problems = " ".join(report.problems)
+    assert "motion.via[0].tcp lies" in problems
+    assert "motion.upright.link: 'no_such_link'" in problems
+
+
+def test_a_via_point_of_neither_kind_is_refused_naming_its_field():
+    with pytest.raises(cd.InputError, match=r"motion.via\[0\]"):
+        cd.Task.builtin().with_changes(motion={"via": [{"t_s": 0.4, "q": [0, 0, 0, 0]}]})
