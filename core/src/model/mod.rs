@@ -5,6 +5,7 @@ mod ends;
 mod error;
 pub mod experiment;
 mod horizon;
+mod minimum_time;
 pub mod identity;
 pub mod matrix_row;
 mod motors;
