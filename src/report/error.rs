@@ -47,6 +47,8 @@ pub enum ReadFailure {
     Envelope(EnvelopeError),
     /// It is a table, which is made from results and no result itself.
     Table,
+    /// It is a trade-off of capacity against cycle time, which no table places.
+    Tradeoff,
     /// It is a document of an older version (0: written before the envelope), which
     /// `codesign migrate` brings to this build's.
     Old {
@@ -85,6 +87,11 @@ impl fmt::Display for ReportError {
                     ReadFailure::Table => write!(
                         f,
                         "{path}: a table, made from results: give the result files it was made of"
+                    ),
+                    ReadFailure::Tradeoff => write!(
+                        f,
+                        "{path}: a trade-off of capacity against cycle time, which a table does \
+                         not place: give solve, optimize or capacity results"
                     ),
                     ReadFailure::Old { schema, version } => {
                         let kind = schema.map_or("a codesign document", |s| s.tag());

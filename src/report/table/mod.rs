@@ -114,6 +114,7 @@ pub fn read_result_file(path: &Path) -> Result<ResultFile, ReportError> {
         }
         Schema::Solve => serde_json::from_value(value).map(|d| ResultFile::Solve(Box::new(d))),
         Schema::Table => return Err(failed(ReadFailure::Table)),
+        Schema::Tradeoff => return Err(failed(ReadFailure::Tradeoff)),
     };
     parsed.map_err(|e| {
         failed(ReadFailure::NotAResult {
