@@ -69,6 +69,20 @@ class NativeTask:
         max: Optional[float] = None,
         duration: Optional[float] = None,
     ) -> str: ...
+    def tradeoff(
+        self,
+        space: str,
+        durations: List[float],
+        ends: Optional[str] = None,
+        torque_mode: Optional[str] = None,
+        speed_mode: Optional[str] = None,
+        linear_solver: Optional[str] = None,
+        ratios: Optional[List[float]] = None,
+        resolution: Optional[float] = None,
+        first_step: Optional[float] = None,
+        max: Optional[float] = None,
+        out: Optional[str] = None,
+    ) -> str: ...
 
 def optimize(
     task: NativeTask,
@@ -81,6 +95,7 @@ def optimize(
     speed_mode: Optional[str] = None,
     linear_solver: Optional[str] = None,
     method: str = "cmaes",
+    objective: str = "cost",
     population: Optional[int] = None,
     generations: Optional[int] = None,
     seed: Optional[int] = None,

@@ -290,12 +290,52 @@ class Task:
         )
         return Capacity(found)
 
+    def tradeoff(
+        self,
+        durations: Sequence[float],
+        space: str = "actuation",
+        ratios: Optional[Sequence[float]] = None,
+        *,
+        ends: Optional[str] = None,
+        torque_mode: Optional[str] = None,
+        speed_mode: Optional[str] = None,
+        linear_solver: Optional[str] = None,
+        resolution: Optional[float] = None,
+        first_step: Optional[float] = None,
+        max: Optional[float] = None,
+        out: Optional[Union[str, os.PathLike]] = None,
+    ) -> Dict[str, Any]:
+        """The payload capacity of design ``ratios`` against the duration of its motion
+        (``codesign tradeoff``): at each of ``durations`` (s), the heaviest payload moved within
+        it, as :meth:`capacity` with ``duration=`` finds it. Returns the document's data (a
+        dict: ``inputs`` with ``durations_s``, and ``points``, one per duration, each with its
+        ``duration_s``, ``capacity_kg`` and search); given ``out`` (``NAME.json``), writes it
+        there with its plot beside it (``NAME.svg``)."""
+        listed = design("durations", durations)
+        if listed is None:
+            raise InputError("durations=None: must be a list of durations in s")
+        found = self._native.tradeoff(
+            text("space", space),
+            listed,
+            text("ends", ends),
+            text("torque_mode", torque_mode),
+            text("speed_mode", speed_mode),
+            text("linear_solver", linear_solver),
+            design("ratios", ratios),
+            number("resolution", resolution),
+            number("first_step", first_step),
+            number("max", max),
+            path("out", out),
+        )
+        return json.loads(found)
+
     def optimize(
         self,
         space: str = "actuation",
         payload: Optional[float] = None,
         *,
         method: str = "cmaes",
+        objective: str = "cost",
         population: Optional[int] = None,
         generations: Optional[int] = None,
         seed: Optional[int] = None,
@@ -317,6 +357,11 @@ class Task:
         solved by ``workers`` worker processes) or the gradient method on dJ*/dr (its
         candidate starts and its descents solved on ``workers`` threads).
 
+        ``objective`` is what the run minimises: ``"cost"``, the trajectory cost J;
+        ``"energy"``, the motors' copper losses; or ``"time"``, the least duration T* of the
+        motion (each design solves the task's pure minimum-time problem, J* = T*, and the
+        gradient method descends on the exact dT*/dr).
+
         The result is written to ``out`` and a CMA-ES run's evaluation log to ``log``
         (``NAME.log.jsonl`` beside ``NAME.json``; give either); ``resume=True`` continues an
         interrupted run from its log. Without either the run goes to a temporary folder.
@@ -332,6 +377,7 @@ class Task:
             speed_mode=text("speed_mode", speed_mode),
             linear_solver=text("linear_solver", linear_solver),
             method=text("method", method),
+            objective=text("objective", objective),
             population=whole("population", population),
             generations=whole("generations", generations),
             seed=whole("seed", seed),

@@ -7,7 +7,7 @@ use crate::options::{choice, Keywords, Posed};
 use crate::task::NativeTask;
 use codesign::design::optimize::Progress;
 use codesign::design::run::{run_case, Case, CaseError, Method, RunError};
-use codesign::design::score::Evaluation;
+use codesign::design::score::{Evaluation, Objective};
 use codesign::design::warm::WarmStart;
 use codesign::store::document::document_json;
 use codesign::store::log::Start;
@@ -19,6 +19,7 @@ use std::sync::mpsc::Sender;
 #[derive(Clone, Debug)]
 pub struct RunKeywords {
     method: Method,
+    objective: Objective,
     population: Option<usize>,
     generations: Option<usize>,
     seed: Option<u64>,
@@ -34,6 +35,7 @@ impl RunKeywords {
     /// The case these settings and `posed` make.
     fn case(&self, posed: Posed) -> Case {
         let mut case = Case::new(posed.model, posed.problem, self.method);
+        case.settings.objective = self.objective.clone();
         let cmaes = &mut case.settings.cmaes;
         cmaes.population = self.population.unwrap_or(cmaes.population);
         cmaes.generations = self.generations.unwrap_or(cmaes.generations);
@@ -48,6 +50,19 @@ impl RunKeywords {
         execution.worker_command = Some(self.worker_command.clone());
         execution.start = self.start;
         case
+    }
+}
+
+/// The objective of `objective=`: one that needs no settings of its own (the capacity and range
+/// objectives are the command line's, `codesign optimize --objective`).
+fn objective_of(name: &str) -> Outcome<Objective> {
+    match name {
+        "cost" => Ok(Objective::Cost),
+        "energy" => Ok(Objective::Energy),
+        "time" => Ok(Objective::Time),
+        _ => Err(Failure::input(format!(
+            "objective={name:?}: one of \"cost\", \"energy\", \"time\""
+        ))),
     }
 }
 
@@ -116,7 +131,7 @@ pub fn log_beside(out: PathBuf) -> PathBuf {
 /// after each evaluation of a CMA-ES run.
 #[pyfunction]
 #[pyo3(signature = (task, space, out, worker_command, payload=None, ends=None, torque_mode=None,
-    speed_mode=None, linear_solver=None, method="cmaes", population=None, generations=None,
+    speed_mode=None, linear_solver=None, method="cmaes", objective="cost", population=None, generations=None,
     seed=None, sigma=None, gradient_iterations=None, warm_start=None, workers=None, resume=false,
     overwrite=false, progress=None))]
 #[allow(clippy::too_many_arguments)]
@@ -132,6 +147,7 @@ pub fn optimize(
     speed_mode: Option<&str>,
     linear_solver: Option<&str>,
     method: &str,
+    objective: &str,
     population: Option<usize>,
     generations: Option<usize>,
     seed: Option<u64>,
@@ -159,6 +175,7 @@ pub fn optimize(
         }
         let run = RunKeywords {
             method: choice("method", method).map_err(|f| f.into_py(py))?,
+            objective: objective_of(objective).map_err(|f| f.into_py(py))?,
             population,
             generations,
             seed,

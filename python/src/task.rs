@@ -1,5 +1,5 @@
-//! `NativeTask`: a task, where it comes from, and what the package does with it: check, solve
-//! and capacity here, optimize in `runs`. Each answers with the command line's JSON document.
+//! `NativeTask`: a task, where it comes from, and what the package does with it: check, solve,
+//! capacity and its trade-off against cycle time here, optimize in `runs`. Each answers with the command line's JSON document.
 
 use crate::errors::{Failure, Outcome};
 use crate::interrupt;
@@ -9,8 +9,11 @@ use codesign::design::capacity::{payload_capacity, CapacitySettings};
 use codesign::design::run::RecordedHash;
 use codesign::report::check::Inspection;
 use codesign::report::codesign::{CapacityDocument, CapacityInputs};
+use codesign::design::tradeoff::{capacity_tradeoff, check_durations, TradeoffProblem};
+use codesign::report::plots::Figure;
 use codesign::report::solve_document::{SolveDocument, StartRecord};
-use codesign::store::document::{document_json, Document};
+use codesign::report::tradeoff::{TradeoffDocument, TradeoffInputs};
+use codesign::store::document::{document_json, write_document, Document};
 use codesign_core::model::task::BUILT_IN_TASK;
 use codesign_core::model::task::{
     check_horizon, check_steps, GivenTask, Horizon, TaskFile, TaskSource,
@@ -194,23 +197,74 @@ impl NativeTask {
             linear_solver,
         };
         let posed = self.posed(&keywords).map_err(|f| f.into_py(py))?;
-        let defaults = CapacitySettings::default();
-        let settings = CapacitySettings {
-            resolution_kg: resolution.unwrap_or(defaults.resolution_kg),
-            first_step_kg: first_step.unwrap_or(defaults.first_step_kg),
-            max_kg: max.unwrap_or(defaults.max_kg),
-        };
-        settings.validate().map_err(|error| {
-            let keyword = error.key.trim_end_matches("_kg");
-            let message = format!("{keyword}={}: {}", number(error.value), error.rule());
-            Failure::input(message).into_py(py)
-        })?;
+        let settings = search_settings(resolution, first_step, max).map_err(|f| f.into_py(py))?;
         interrupt::run(
             py,
             move |_| capacity(&posed, ratios, settings, duration),
             |_, _, _, _| Ok(()),
         )
     }
+
+    /// The payload capacity of a design at each duration, as `codesign tradeoff --out` writes
+    /// it (and, given `out`, written there with its plot beside it).
+    #[pyo3(signature = (space, durations, ends=None, torque_mode=None, speed_mode=None,
+        linear_solver=None, ratios=None, resolution=None, first_step=None, max=None, out=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn tradeoff(
+        &self,
+        py: Python<'_>,
+        space: &str,
+        durations: Vec<f64>,
+        ends: Option<&str>,
+        torque_mode: Option<&str>,
+        speed_mode: Option<&str>,
+        linear_solver: Option<&str>,
+        ratios: Option<Vec<f64>>,
+        resolution: Option<f64>,
+        first_step: Option<f64>,
+        max: Option<f64>,
+        out: Option<PathBuf>,
+    ) -> PyResult<String> {
+        let keywords = Keywords {
+            space,
+            payload: None,
+            ends,
+            torque_mode,
+            speed_mode,
+            linear_solver,
+        };
+        let posed = self.posed(&keywords).map_err(|f| f.into_py(py))?;
+        let settings = search_settings(resolution, first_step, max).map_err(|f| f.into_py(py))?;
+        check_durations(&durations)
+            .map_err(|e| Failure::input(format!("durations: {e}")).into_py(py))?;
+        let asked = TradeoffAsked {
+            ratios,
+            durations,
+            settings,
+            out,
+        };
+        interrupt::run(py, move |_| asked.run(&posed), |_, _, _, _| Ok(()))
+    }
+}
+
+/// The settings of a capacity search from its keywords (None: the default), checked, an error
+/// naming the keyword.
+fn search_settings(
+    resolution: Option<f64>,
+    first_step: Option<f64>,
+    max: Option<f64>,
+) -> Outcome<CapacitySettings> {
+    let defaults = CapacitySettings::default();
+    let settings = CapacitySettings {
+        resolution_kg: resolution.unwrap_or(defaults.resolution_kg),
+        first_step_kg: first_step.unwrap_or(defaults.first_step_kg),
+        max_kg: max.unwrap_or(defaults.max_kg),
+    };
+    settings.validate().map_err(|error| {
+        let keyword = error.key.trim_end_matches("_kg");
+        Failure::input(format!("{keyword}={}: {}", number(error.value), error.rule()))
+    })?;
+    Ok(settings)
 }
 
 /// What one solve was asked.
@@ -332,6 +386,65 @@ fn capacity(
         capacity,
     };
     json(&document)
+}
+
+/// What a trade-off was asked.
+struct TradeoffAsked {
+    ratios: Option<Vec<f64>>,
+    durations: Vec<f64>,
+    settings: CapacitySettings,
+    /// Where to write the document, its plot beside it (`.svg`).
+    out: Option<PathBuf>,
+}
+
+impl TradeoffAsked {
+    /// The capacities at every duration of design `ratios` (None: the original), the document
+    /// as JSON, written with its plot where asked.
+    fn run(self, posed: &Posed) -> Outcome<String> {
+        let loaded = posed.load()?;
+        let formulation = posed.formulation(&loaded)?;
+        let ratios = posed.design(&formulation, self.ratios)?;
+        let plot = match &self.out {
+            Some(out) if out.extension().is_some_and(|e| e == "svg") => {
+                return Err(Failure::input(format!(
+                    "out={}: the result is JSON and its plot is written beside it as .svg; name \
+                     the result FILE.json",
+                    out.display()
+                )))
+            }
+            Some(out) => Some(out.with_extension("svg")),
+            None => None,
+        };
+        let problem = TradeoffProblem {
+            task: &loaded.task,
+            robot: &loaded.robot,
+            space: formulation.space(),
+            modes: *formulation.modes(),
+            solve: &loaded.settings,
+        };
+        let points = capacity_tradeoff(&problem, &ratios, &self.durations, &self.settings)
+            .map_err(|e| Failure::solver(format!("{}: {e}", posed.model.source())))?;
+        let document = TradeoffDocument {
+            tool: ToolInfo::current(loaded.settings.linear_solver()),
+            inputs: TradeoffInputs {
+                task_file: posed.model.source().label(),
+                task_hash: RecordedHash(Some(loaded.task_hash.clone())),
+                space: formulation.space(),
+                ratios,
+                limit_modes: *formulation.modes(),
+                ends: loaded.task.motion.ends,
+                settings: self.settings,
+                durations_s: self.durations,
+            },
+            points,
+        };
+        if let (Some(out), Some(plot)) = (&self.out, &plot) {
+            let written = |e: &dyn std::fmt::Display| Failure::input(format!("out=: {e}"));
+            write_document(out, &document).map_err(|e| written(&e))?;
+            document.chart().write(plot).map_err(|e| written(&e))?;
+        }
+        json(&document)
+    }
 }
 
 /// The horizon of `duration=`: [T] fixed, [T_min, T_max] free, each within the task's range.

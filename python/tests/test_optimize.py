@@ -125,3 +125,15 @@ def test_ctrl_c_stops_a_run_within_a_second_and_leaves_it_resumable(planar, tmp_
     run = planar.optimize(space="actuation", payload=1.0, population=8, generations=40, seed=1,
                           workers=1, log=log, resume=True, progress=False)
     assert run.to_dict()["replayed"] >= 10
+
+
+def test_the_time_objective_shortens_the_motion(planar):
+    task = planar.with_changes(motion={"steps": 20})
+    run = task.optimize(space="actuation", payload=0.0, method="gradient", objective="time",
+                        gradient_iterations=2)
+    document = run.to_dict()
+    assert document["inputs"]["objective"] == {"kind": "time"}
+    assert run.best_cost <= document["original_cost"]
+    assert run.best_result["cost"] == run.best_result["horizon_s"]
+    with pytest.raises(cd.InputError, match="objective='speed'"):
+        task.optimize(objective="speed")

@@ -251,6 +251,20 @@ def test_capacity_brackets_the_payload(planar):
         planar.capacity(duration=0.0)
 
 
+def test_a_tradeoff_is_the_capacity_within_each_duration(planar, tmp_path):
+    out = tmp_path / "tradeoff.json"
+    data = planar.tradeoff([1.0, 2.0], ratios=[50, 12], resolution=0.2, out=out)
+    assert data["schema"] == "codesign/tradeoff" and data["version"] == 1
+    assert data["inputs"]["durations_s"] == [1.0, 2.0]
+    assert json.loads(out.read_text()) == data
+    assert "<svg" in (tmp_path / "tradeoff.svg").read_text()
+    alone = planar.capacity(ratios=[50, 12], resolution=0.2, duration=2.0)
+    assert [p["duration_s"] for p in data["points"]] == [1.0, 2.0]
+    assert data["points"][1]["capacity_kg"] == alone.capacity_kg
+    with pytest.raises(cd.InputError, match="durations"):
+        planar.tradeoff([])
+
+
 def test_the_built_in_task_solves_in_both_spaces():
     task = cd.Task.builtin()
     for space in ("joint", "actuation"):

@@ -120,10 +120,20 @@ fn search_settings(args: &Args) -> Result<CapacitySettings, String> {
     if let Some(duration) = args.duration {
         check_horizon(duration).map_err(|why| format!("--duration {}: {why}", number(duration)))?;
     }
+    capacity_settings(args.resolution, args.first_step, args.max)
+}
+
+/// The search's settings of flags `--resolution`, `--first-step` and `--max`, checked as the
+/// library checks them ([`CapacitySettings::validate`]), an error naming the flag.
+pub(super) fn capacity_settings(
+    resolution_kg: f64,
+    first_step_kg: f64,
+    max_kg: f64,
+) -> Result<CapacitySettings, String> {
     let settings = CapacitySettings {
-        resolution_kg: args.resolution,
-        first_step_kg: args.first_step,
-        max_kg: args.max,
+        resolution_kg,
+        first_step_kg,
+        max_kg,
     };
     settings.validate().map_err(|error| {
         let flag = match error.key {

@@ -75,6 +75,7 @@ mod solve_summary;
 mod store_hints;
 mod table;
 mod task;
+mod tradeoff;
 mod worker;
 
 use clap::{Parser, Subcommand};
@@ -105,6 +106,9 @@ enum Command {
     Solve(solve::Args),
     /// The largest payload a design can move through the task (bracketing and bisection).
     Capacity(capacity::Args),
+    /// A design's payload capacity against the duration of its motion: the capacity within each
+    /// of several durations, as JSON with its plot.
+    Tradeoff(tradeoff::Args),
     /// Co-design: search the gear ratios with CMA-ES, solving each design in worker processes.
     Optimize(optimize::Args),
     /// Run the task's experiment, by default the paper's (and more): original designs, co-design, capacities, table, plots.
@@ -148,6 +152,7 @@ pub fn main(stdout_closed: bool) -> ExitCode {
         Command::Solve(args) => solve::run(&args),
         Command::Optimize(args) => optimize::run(&args),
         Command::Capacity(args) => capacity::run(&args),
+        Command::Tradeoff(args) => tradeoff::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),
         Command::Table(args) => table::run(&args).map_err(Failure::Work),
         Command::Migrate(args) => migrate::run(&args).map_err(Failure::Work),

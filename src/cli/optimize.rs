@@ -26,8 +26,9 @@ pub struct Args {
     /// quasi-Newton on the exact dJ*/dr with warm-started inner solves.
     #[arg(long, value_parser = choice::<Method>(), default_value = "cmaes")]
     pub method: Method,
-    /// What to minimise: the trajectory cost at the payload, or minus the payload capacity
-    /// (each evaluation then bisects the payload: about 10 solves).
+    /// What to minimise: the trajectory cost at the payload, minus the payload capacity (each
+    /// evaluation then bisects the payload: about 10 solves), or the least duration of the
+    /// motion.
     #[arg(long, value_enum, default_value = "cost")]
     pub objective: ObjectiveKind,
     /// Payloads of `--objective range`, kg: each evaluation solves the design at every one (in
@@ -104,6 +105,7 @@ impl Args {
                 payloads_kg: self.payloads.clone().unwrap_or_default(),
             }),
             ObjectiveKind::Energy => Objective::Energy,
+            ObjectiveKind::Time => Objective::Time,
         };
         settings.cmaes = CmaesSettings {
             population: self.population,
@@ -135,6 +137,10 @@ pub enum ObjectiveKind {
     /// (actuation space; needs the task's motors.torque_constant_nm_per_a and
     /// motors.resistance_ohm).
     Energy,
+    /// The least duration T* of the motion, s: each design solves the task's pure minimum-time
+    /// problem (the task's free horizon, or its fixed T freed to [0.3 T, 1.5 T]; J = T, no other
+    /// weight, no box).
+    Time,
 }
 
 /// Where a capacity run's designs reached its search's largest payload, in words: that the best
@@ -181,6 +187,10 @@ fn summary(document: &OptimizeDocument) -> String {
                 document.original_cost
             )
         }
+        (Objective::Time, _, Some(seconds)) => format!(
+            "best r = ({best}) with T* = {seconds:.6} s (original design: T* = {:.6} s)",
+            document.original_cost
+        ),
         (_, _, Some(cost)) => format!(
             "best r = ({best}) with J = {cost:.6} (original design: J = {:.6})",
             document.original_cost

@@ -12,6 +12,7 @@ pub mod outcome;
 pub mod penalty;
 pub mod run;
 pub mod score;
+pub mod tradeoff;
 pub mod verdicts;
 pub mod warm;
 pub mod workers;

@@ -56,8 +56,11 @@ pub enum MethodOutcome {
 
 /// Where the solve of an outcome's best design starts, to find the solution behind its cost.
 pub enum BestStart<'a> {
-    /// From this inner solution (the gradient method's own).
-    Solution(&'a Solution),
+    /// From this point, where the gradient method's solve of it began (the solution of the
+    /// design it was a trial from): solved again from there, it gives the same solution. (From
+    /// the best design's own solution a minimum-time solve may move to another local optimum,
+    /// docs/model.md, section 6.)
+    Point(&'a StartPoint),
     /// From the solution of this anchor (CMA-ES with warm starts).
     Anchor(&'a [f64]),
     /// From the standard initial guess.
@@ -73,9 +76,9 @@ impl DesignOutcome {
                 ..
             } => BestStart::Anchor(anchor),
             MethodOutcome::Gradient {
-                best_solution: Some(solution),
+                best_from: Some(from),
                 ..
-            } => BestStart::Solution(solution),
+            } => BestStart::Point(from),
             _ => BestStart::Cold,
         }
     }

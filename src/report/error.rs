@@ -49,6 +49,8 @@ pub enum ReadFailure {
     Table,
     /// It is a document of this kind where a table was asked for.
     NotATable(Schema),
+    /// It is a trade-off of capacity against cycle time, which no table places.
+    Tradeoff,
     /// It is a document of an older version (0: written before the envelope), which
     /// `codesign migrate` brings to this build's.
     Old {
@@ -92,6 +94,11 @@ impl fmt::Display for ReportError {
                         f,
                         "{path}: a {} document, not a table (`paper_table.json`)",
                         schema.tag()
+                    ),
+                    ReadFailure::Tradeoff => write!(
+                        f,
+                        "{path}: a trade-off of capacity against cycle time, which a table does \
+                         not place: give solve, optimize or capacity results"
                     ),
                     ReadFailure::Old { schema, version } => {
                         let kind = schema.map_or("a codesign document", |s| s.tag());

@@ -21,15 +21,18 @@ pub enum Schema {
     Capacity,
     /// The experiment's table (`paper_table.json`, `codesign table --out`).
     Table,
+    /// A design's payload capacity against cycle time (`codesign tradeoff`).
+    Tradeoff,
 }
 
 impl Schema {
     /// Every kind.
-    pub const ALL: [Schema; 4] = [
+    pub const ALL: [Schema; 5] = [
         Schema::Solve,
         Schema::Optimize,
         Schema::Capacity,
         Schema::Table,
+        Schema::Tradeoff,
     ];
 
     /// The tag a document of this kind carries as `schema`, e.g. `codesign/solve`.
@@ -39,10 +42,12 @@ impl Schema {
             Schema::Optimize => "codesign/optimize",
             Schema::Capacity => "codesign/capacity",
             Schema::Table => "codesign/table",
+            Schema::Tradeoff => "codesign/tradeoff",
         }
     }
 
-    /// The kind's name, as the command that writes it: `solve`, `optimize`, `capacity`, `table`.
+    /// The kind's name, as the command that writes it: `solve`, `optimize`, `capacity`, `table`,
+    /// `tradeoff`.
     pub fn name(self) -> &'static str {
         &self.tag()["codesign/".len()..]
     }
@@ -51,12 +56,13 @@ impl Schema {
     /// results are at 2: `reason` always written (null when feasible), each motor's peaks and
     /// margins in `motors_execute`, and a capacity search's inputs under `inputs`; a co-design
     /// run's at 3: `best_cost` null without a best design, and a table at 2: a seed's cost null
-    /// then.
+    /// then. A trade-off, which came later, is at 1.
     pub fn version(self) -> u32 {
         match self {
             Schema::Solve | Schema::Capacity => 2,
             Schema::Optimize => 3,
             Schema::Table => 2,
+            Schema::Tradeoff => 1,
         }
     }
 

@@ -12,6 +12,7 @@ mod built_in_task;
 mod check_cli;
 mod check_findings;
 mod cluster_cli;
+mod cycle_time_cli;
 mod docs_cli;
 mod docs_links;
 mod dynamics_alloc;

@@ -6,6 +6,7 @@ mod ends;
 mod error;
 pub mod experiment;
 mod horizon;
+mod minimum_time;
 pub mod identity;
 pub mod matrix_row;
 pub mod motor_parts;

@@ -13,6 +13,7 @@
 pub use super::ends::Ends;
 use super::experiment::Experiment;
 pub use super::horizon::Horizon;
+pub use super::minimum_time::MINIMUM_TIME_RANGE;
 use crate::choice::Choice;
 use crate::input::{read_text, MAX_TASK_BYTES};
 use crate::text::shown;

@@ -60,6 +60,8 @@ mod linkage_tests;
 #[cfg(test)]
 mod loss_tests;
 #[cfg(test)]
+mod minimum_time_tests;
+#[cfg(test)]
 mod parts_tests;
 #[cfg(test)]
 mod prismatic_tests;

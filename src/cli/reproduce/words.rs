@@ -117,8 +117,8 @@ fn beyond_run(run: &PlannedRun, document: &OptimizeDocument) {
                 evaluations_text(document, "evaluations")
             ),
         },
-        // The experiment plans no energy run.
-        Objective::Cost | Objective::Energy => say!(
+        // The experiment plans no energy or time run.
+        Objective::Cost | Objective::Energy | Objective::Time => say!(
             "co-design, {space} space, {} kg, seed {}, penalty {}: {} ({})",
             document.inputs.payload_kg,
             run.case.settings.cmaes.seed,

@@ -148,8 +148,8 @@ fn document(
             let original = payload_costs(&fitness, settings, &original_ratios);
             (None, None, Some(RangeCosts { best, original }))
         }
-        // Started as its evaluation was: from the method's own inner solution or its
-        // generation's anchor, so that the reported trajectory is the one behind `best_cost`.
+        // Started as its evaluation was: where the gradient method's solve of it began or from
+        // its generation's anchor, so that the reported trajectory is the one behind `best_cost`.
         _ => (
             solve_best(scored, settings, &outcome),
             solve_design(scored, &original_ratios, settings).ok(),
@@ -227,8 +227,12 @@ fn solve_best(
     outcome: &DesignOutcome,
 ) -> Option<codesign_core::solve::TrajectoryResult> {
     let anchored;
+    let from;
     let start = match outcome.best_start() {
-        BestStart::Solution(solution) => Some(solution),
+        BestStart::Point(point) => {
+            from = point.to_solution();
+            Some(&from)
+        }
         BestStart::Anchor(anchor) => {
             anchored = anchor_solution(scored, settings, anchor);
             anchored.as_ref()
@@ -262,7 +266,8 @@ fn payload_costs(fitness: &Fitness, settings: &SolveSettings, ratios: &[f64]) ->
 }
 
 /// The hard formulation of `case` for `task` and `robot` under `modes`: minimising the motors'
-/// copper losses for the energy objective, the task's J otherwise.
+/// copper losses for the energy objective, the duration T of the task's pure minimum-time
+/// problem for the time objective, the task's J otherwise.
 fn formulate(
     case: &Case,
     task: &Task,
@@ -270,6 +275,7 @@ fn formulate(
     modes: LimitModes,
     settings: &SolveSettings,
 ) -> Result<Formulation, RunError> {
+    let task = &case.settings.objective.task(task);
     let formulation = Formulation::new(task, robot, case.problem.space, modes)
         .map_err(|e| RunError::Load(e.to_string()))?
         .with_hold_tolerance(settings.constraint_tolerance());

@@ -1,5 +1,5 @@
 //! What co-design minimises, and how a design is solved for it: the cost at one payload, the
-//! mean cost over several, or minus the payload capacity; with a graded penalty the solves are
+//! mean cost over several, minus the payload capacity, or the least duration; with a graded penalty the solves are
 //! the elastic ones, which measure how far an infeasible design is from feasible.
 
 use super::{judge, shortfall_of, solve, validate, Evaluation, Score, SolveStatus, Verdict};
@@ -30,6 +30,20 @@ pub enum Objective {
     /// trajectory problem minimises them instead of J (docs/model.md, section 7), from the
     /// task's `motors.torque_constant_nm_per_a` and `motors.resistance_ohm`.
     Energy,
+    /// The least duration T* of the task's motion, s: each design solves the task's pure
+    /// minimum-time problem ([`Task::minimum_time`]: a free horizon, J = T), so J* = T*.
+    Time,
+}
+
+impl Objective {
+    /// The task whose trajectory problem the objective solves per design: the task itself, or
+    /// its pure minimum-time problem for [`Objective::Time`].
+    pub fn task(&self, task: &Task) -> Task {
+        match self {
+            Objective::Time => task.minimum_time(),
+            _ => task.clone(),
+        }
+    }
 }
 
 /// The payloads of [`Objective::Range`].
@@ -113,6 +127,7 @@ impl Fitness {
         objective: &Objective,
         penalty: Penalty,
     ) -> Result<Fitness, ScoreError> {
+        let task = &objective.task(task);
         let robot = Robot::load(task)?;
         let task_hash = task_hash(task, robot.urdf_hash());
         let hard = Formulation::new(task, robot, space, modes)?
@@ -127,7 +142,9 @@ impl Fitness {
         };
         let formulation = |payload_kg: f64| base.with_payload(payload_kg);
         let scored = match objective {
-            Objective::Cost | Objective::Energy => Scored::Cost(formulation(task.payload.mass_kg)?),
+            Objective::Cost | Objective::Energy | Objective::Time => {
+                Scored::Cost(formulation(task.payload.mass_kg)?)
+            }
             Objective::Capacity(settings) => {
                 Scored::Capacity(formulation(task.payload.mass_kg)?, *settings)
             }

@@ -9,6 +9,7 @@ pub mod steps;
 use super::codesign::CapacityDocument;
 use super::solve_document::SolveDocument;
 use super::table::PaperTable;
+use super::tradeoff::TradeoffDocument;
 use super::{ReadFailure, ReportError};
 use crate::design::run::OptimizeDocument;
 use crate::design::score::Evaluation;
@@ -164,6 +165,7 @@ fn rewritten(schema: Schema, value: Value, before: &str) -> Result<String, serde
         Schema::Optimize => text_of::<OptimizeDocument>(&text),
         Schema::Capacity => text_of::<CapacityDocument>(&text),
         Schema::Table => text_of::<PaperTable>(&text),
+        Schema::Tradeoff => text_of::<TradeoffDocument>(&text),
     }
 }
 

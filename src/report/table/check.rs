@@ -119,7 +119,8 @@ fn odd_value(file: &ResultFile) -> Option<String> {
                 }
                 _ => None,
             },
-            Objective::Cost | Objective::Range(_) | Objective::Energy => (d.best_cost)
+            Objective::Cost | Objective::Range(_) | Objective::Energy | Objective::Time => (d
+                .best_cost)
                 .and_then(|best| cost("best_cost", best))
                 .or_else(|| cost("original_cost", d.original_cost)),
         },

@@ -1,0 +1,182 @@
+//! `codesign tradeoff`: the payload capacity of one design against the duration of its motion,
+//! each point the capacity `codesign capacity --duration T` finds, written as JSON with its plot.
+
+use super::capacity::capacity_settings;
+use super::common::{finite_ratio, listed_number, ModelArgs, ProblemArgs};
+use super::failure::Failure;
+use super::store_hints::check_output;
+use crate::design::capacity::{CapacityLimit, CapacitySettings};
+use crate::design::run::{Loaded, RecordedHash};
+use crate::design::tradeoff::{
+    capacity_tradeoff, check_durations, TradeoffError, TradeoffPoint, TradeoffProblem,
+};
+use crate::report::plots::Figure;
+use crate::report::tradeoff::{TradeoffDocument, TradeoffInputs};
+use crate::store::document::write_document;
+use codesign_core::solve::ToolInfo;
+use codesign_core::text::{listed, numbers};
+use std::path::{Path, PathBuf};
+
+/// Flags of `codesign tradeoff`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    model: ModelArgs,
+    #[command(flatten)]
+    problem: ProblemArgs,
+    /// Durations T of the motion, s: at each, the heaviest payload the design moves within T
+    /// (as `capacity --duration T`).
+    #[arg(
+        long,
+        required = true,
+        value_name = "S,S,..",
+        value_delimiter = ',',
+        num_args = 1..,
+        value_parser = listed_number
+    )]
+    durations: Vec<f64>,
+    /// Gear ratios of the design, one per ratio of the task's transmission (r1,r2,..); default:
+    /// the task's original design.
+    #[arg(
+        long,
+        value_name = "R1,R2,..",
+        value_delimiter = ',',
+        num_args = 1..,
+        value_parser = finite_ratio
+    )]
+    ratios: Option<Vec<f64>>,
+    /// Width of the final bracket of each search, kg.
+    #[arg(long, value_name = "KG", default_value_t = CapacitySettings::default().resolution_kg)]
+    resolution: f64,
+    /// First payload tried after 0 kg in each search, doubled until infeasible, kg.
+    #[arg(long, value_name = "KG", default_value_t = CapacitySettings::default().first_step_kg)]
+    first_step: f64,
+    /// Largest payload tried, kg.
+    #[arg(long, value_name = "KG", default_value_t = CapacitySettings::default().max_kg)]
+    max: f64,
+    /// Write the trade-off as JSON to this file and its plot beside it as the same name ending
+    /// in .svg (both checked before the searches, as `capacity --out`).
+    #[arg(long, value_name = "FILE.json")]
+    out: Option<PathBuf>,
+}
+
+/// Searches the capacity at every duration, prints them, writes the file and its plot.
+pub fn run(args: &Args) -> Result<(), Failure> {
+    if args.model.payload.is_some() {
+        return Err(Failure::Usage(
+            "--payload: tradeoff searches the payload itself; leave it out".to_owned(),
+        ));
+    }
+    check_durations(&args.durations).map_err(|e| Failure::Usage(format!("--durations: {e}")))?;
+    let settings = capacity_settings(args.resolution, args.first_step, args.max)
+        .map_err(Failure::Usage)?;
+    args.model.validate()?;
+    let Loaded {
+        task,
+        robot,
+        settings: mut solve,
+        task_hash,
+    } = args.model.load()?;
+    args.problem.configure(&mut solve);
+    let plot = args.out.as_deref().map(plot_beside).transpose()?;
+    if let (Some(out), Some(plot)) = (&args.out, &plot) {
+        let choice = args.model.choice();
+        let inputs = choice.inputs(&task);
+        check_output("--out", out, &inputs)?;
+        check_output("--out", plot, &inputs)?;
+    }
+    let modes = args.problem.modes(&task);
+    let ratios = args
+        .ratios
+        .clone()
+        .unwrap_or_else(|| task.transmission.original.clone());
+    let problem = TradeoffProblem {
+        task: &task,
+        robot: &robot,
+        space: args.problem.space,
+        modes,
+        solve: &solve,
+    };
+    let points = capacity_tradeoff(&problem, &ratios, &args.durations, &settings)
+        .map_err(|e| trade_off_error(args, &ratios, e))?;
+    say!(
+        "{} space, r = ({}): payload capacity against the duration of the motion",
+        args.problem.space,
+        numbers(&ratios)
+    );
+    for point in &points {
+        say!("  {}", point_text(point));
+    }
+    let (Some(out), Some(plot)) = (&args.out, &plot) else {
+        return Ok(());
+    };
+    let document = TradeoffDocument {
+        tool: ToolInfo::current(solve.linear_solver()),
+        inputs: TradeoffInputs {
+            task_file: args.model.source().label(),
+            task_hash: RecordedHash(Some(task_hash)),
+            space: args.problem.space,
+            ratios,
+            limit_modes: modes,
+            ends: task.motion.ends,
+            settings,
+            durations_s: args.durations.clone(),
+        },
+        points,
+    };
+    write_document(out, &document).map_err(|e| e.to_string())?;
+    document.chart().write(plot).map_err(|e| e.to_string())?;
+    say!(
+        "result written to {} (plot {})",
+        out.display(),
+        plot.display()
+    );
+    Ok(())
+}
+
+/// Where the plot of result `out` goes: beside it, its extension replaced by `.svg`; refused
+/// when that is `out` itself.
+fn plot_beside(out: &Path) -> Result<PathBuf, Failure> {
+    let plot = out.with_extension("svg");
+    if plot == out {
+        return Err(Failure::Usage(format!(
+            "--out {}: the result is JSON and its plot is written beside it as .svg; name the \
+             result FILE.json",
+            out.display()
+        )));
+    }
+    Ok(plot)
+}
+
+/// A trade-off's error worded with the flag or the task field at fault.
+fn trade_off_error(args: &Args, ratios: &[f64], error: TradeoffError) -> Failure {
+    let source = args.model.source();
+    match &error {
+        TradeoffError::Capacity(_, crate::design::capacity::CapacityError::Solve(
+            codesign_core::solve::SolveError::Design(_),
+        )) => Failure::Work(match &args.ratios {
+            Some(_) => format!("--ratios {}: invalid design: {error}", listed(ratios)),
+            None => format!(
+                "{source} transmission.original ({}): invalid design: {error}",
+                listed(ratios)
+            ),
+        }),
+        _ => Failure::Work(format!("{source}: {error}")),
+    }
+}
+
+/// One point in words: its duration and capacity, and what bounds it.
+fn point_text(point: &TradeoffPoint) -> String {
+    let capacity = &point.capacity;
+    let at = format!("T = {} s", codesign_core::text::number(point.duration_s));
+    match (capacity.capacity_kg, capacity.limited_by, capacity.first_infeasible_kg) {
+        (None, _, _) => format!("{at}: infeasible even without payload"),
+        (Some(kg), Some(CapacityLimit::Hold), _) => {
+            format!("{at}: payload capacity {kg:.3} kg, bounded by static hold")
+        }
+        (Some(kg), _, Some(limit)) => {
+            format!("{at}: payload capacity {kg:.3} kg ({limit:.3} kg is infeasible)")
+        }
+        (Some(kg), _, None) => format!("{at}: carries at least {kg:.3} kg (--max)"),
+    }
+}
