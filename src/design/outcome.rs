@@ -48,9 +48,9 @@ pub enum MethodOutcome {
         /// The inner solution behind `best_cost` (the method's warm-started solves can reach a
         /// lower local optimum than a cold solve of the same design).
         best_solution: Option<Solution>,
-        /// The start the best design's solve began at (None: the standard guess): where this
+        /// The starts the best design's solve began at (none: the standard guess): where this
         /// process solves it again to confirm a worker's answer.
-        best_from: Option<Box<StartPoint>>,
+        best_from: Vec<StartPoint>,
     },
 }
 

@@ -7,6 +7,7 @@ pub mod experiment;
 mod horizon;
 pub mod identity;
 pub mod matrix_row;
+mod motions;
 mod motors;
 mod read_experiment;
 mod robot;
