@@ -7,7 +7,7 @@ use crate::options::{Keywords, Posed, ReadTask};
 use crate::solution::NativeSolution;
 use codesign::design::capacity::{payload_capacity, CapacitySettings};
 use codesign::design::run::RecordedHash;
-use codesign::report::check::Inspection;
+use codesign::report::check::TaskInspection;
 use codesign::report::codesign::{CapacityDocument, CapacityInputs};
 use codesign::report::solve_document::{SolveDocument, StartRecord};
 use codesign::store::document::{document_json, Document};
@@ -118,12 +118,12 @@ impl NativeTask {
             let loaded = posed.load()?;
             let tolerance = loaded.settings.constraint_tolerance();
             let inspection =
-                Inspection::of_task(&loaded.task, &loaded.robot, ratios.as_deref(), tolerance)
+                TaskInspection::of(&loaded.task, &loaded.robot, ratios.as_deref(), tolerance)
                     .map_err(|e| Failure::input(format!("{}: {e}", posed.model.source())))?;
             let text = serde_json::to_string_pretty(&inspection)
                 .map_err(|e| Failure::solver(e.to_string()))?;
             let words = inspection.to_text();
-            Ok((text, words, inspection.problems, inspection.warnings))
+            Ok((text, words, inspection.problems(), inspection.warnings()))
         };
         inspect().map_err(|failure| failure.into_py(py))
     }

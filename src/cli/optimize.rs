@@ -12,9 +12,9 @@ use crate::design::cmaes::CmaesSettings;
 use crate::design::gradient::GradientSettings;
 use crate::design::penalty::Penalty;
 use crate::design::run::{run_case, Case, Method, MotionCost, OptimizeDocument};
-use codesign_core::choice::Choice;
 use crate::design::score::{Objective, PayloadRange};
 use crate::store::log::{log_beside, Start};
+use codesign_core::choice::Choice;
 use codesign_core::text::number;
 use std::path::PathBuf;
 
@@ -210,7 +210,12 @@ fn motions_text(costs: &[MotionCost]) -> String {
     let each: Vec<String> = (costs.iter())
         .map(|c| match c.feasible {
             true => format!("{} (w {}): {:.4}", c.name, number(c.weight), c.cost),
-            false => format!("{} (w {}): infeasible, {}", c.name, number(c.weight), c.status),
+            false => format!(
+                "{} (w {}): infeasible, {}",
+                c.name,
+                number(c.weight),
+                c.status
+            ),
         })
         .collect();
     each.join(", ")

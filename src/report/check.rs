@@ -2,9 +2,13 @@
 //! `Task.check`): the chain, the TCP at the start and the goal, G at a design and its inverse,
 //! the static gravity torques at both ends against each motor's own torque limit, the design
 //! space, the limit modes, the linkages' readings, and a verdict per check, each finding an
-//! error (a solve refuses the task, or its result would mean nothing) or a warning.
+//! error (a solve refuses the task, or its result would mean nothing) or a warning; a task with
+//! several motions is inspected motion by motion (`motions`).
 
+mod motions;
 mod verdicts;
+
+pub use motions::{MotionInspection, TaskInspection};
 
 use codesign_core::dynamics::Dynamics;
 use codesign_core::model::chain::JointKind;

@@ -46,7 +46,9 @@ pub struct MotionEntry {
 }
 
 /// Reads a `motions` list, refusing an empty one: a task of one motion leaves the key out.
-pub(super) fn non_empty<'de, D: Deserializer<'de>>(reader: D) -> Result<Vec<MotionEntry>, D::Error> {
+pub(super) fn non_empty<'de, D: Deserializer<'de>>(
+    reader: D,
+) -> Result<Vec<MotionEntry>, D::Error> {
     let entries = Vec::<MotionEntry>::deserialize(reader)?;
     if entries.is_empty() {
         return Err(D::Error::custom(
@@ -228,9 +230,8 @@ impl Task {
         };
         weight.check(&format!("{field}.weight"), entry.weight)?;
         if let Some(kg) = entry.payload_kg {
-            check_payload(kg).map_err(|why| {
-                FieldError::out_of_range(&format!("{field}.payload_kg"), kg, why)
-            })?;
+            check_payload(kg)
+                .map_err(|why| FieldError::out_of_range(&format!("{field}.payload_kg"), kg, why))?;
         }
         let joints = self.motion.start.len();
         let points = [("start", &entry.start), ("goal", &entry.goal)];
@@ -238,10 +239,7 @@ impl Task {
             if let Some(point) = point.as_ref().filter(|p| p.len() != joints) {
                 return Err(FieldError::new(
                     format!("{field}.{key}"),
-                    format!(
-                        " has {} joints but motion.start has {joints}",
-                        point.len()
-                    ),
+                    format!(" has {} joints but motion.start has {joints}", point.len()),
                 ));
             }
         }

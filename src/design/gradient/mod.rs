@@ -139,9 +139,7 @@ impl<'a> Solves<'a> {
         start: &[StartPoint],
     ) -> Result<Option<Point>, GradientError> {
         let mut solved = self.evaluator.descend(&[(0, ratios.to_vec())], start)?;
-        Ok(solved
-            .pop()
-            .and_then(|descent| self.record(descent, start)))
+        Ok(solved.pop().and_then(|descent| self.record(descent, start)))
     }
 
     /// Keeps `point` as the best if it is feasible and cheaper than the best so far.

@@ -299,7 +299,9 @@ fn each_motion(fitness: &Fitness, settings: &SolveSettings, ratios: &[f64]) -> V
                 payload_kg: problem.formulation.task().payload.mass_kg,
                 feasible: solved.as_ref().is_ok_and(|r| r.feasible),
                 cost: solved.as_ref().map_or(f64::NAN, |r| r.cost),
-                status: solved.as_ref().map_or_else(|e| e.to_string(), |r| r.status.clone()),
+                status: solved
+                    .as_ref()
+                    .map_or_else(|e| e.to_string(), |r| r.status.clone()),
                 result: solved.ok(),
             }
         })

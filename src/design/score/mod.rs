@@ -11,6 +11,8 @@
 //! record and its status texts).
 
 mod descent;
+#[cfg(test)]
+mod motion_tests;
 mod motions;
 mod objective;
 mod plausible;

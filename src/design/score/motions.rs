@@ -182,7 +182,10 @@ impl Motions {
             },
             None => Verdict::Feasible {
                 // A task's list of motions is never empty.
-                cost: self.score.combine(&weighted).map_or(f64::NAN, |(cost, _)| cost),
+                cost: self
+                    .score
+                    .combine(&weighted)
+                    .map_or(f64::NAN, |(cost, _)| cost),
                 status: SolveStatus::Ipopt(ipopt::Status::SolveSucceeded.name()),
             },
         };
@@ -211,7 +214,11 @@ impl Motions {
         let gradient = match active {
             Some(a) => merits[a].gradient.iter().map(|g| weights[a] * g).collect(),
             None => (0..ratios)
-                .map(|j| (weights.iter().zip(&merits)).map(|(w, m)| w * m.gradient[j]).sum())
+                .map(|j| {
+                    (weights.iter().zip(&merits))
+                        .map(|(w, m)| w * m.gradient[j])
+                        .sum()
+                })
                 .collect(),
         };
         let feasible_cost = match verdict {
