@@ -130,7 +130,8 @@ impl NativeTask {
 
     /// One solve, as `codesign solve --out` writes it, and where it ended (see `Task.solve`).
     #[pyo3(signature = (space, payload=None, ends=None, torque_mode=None, speed_mode=None,
-        linear_solver=None, ratios=None, duration=None, steps=None, elastic=false, start=None))]
+        linear_solver=None, ratios=None, duration=None, steps=None, elastic=false, start=None,
+        motion=None))]
     #[allow(clippy::too_many_arguments)]
     fn solve(
         &self,
@@ -146,6 +147,7 @@ impl NativeTask {
         steps: Option<usize>,
         elastic: bool,
         start: Option<Py<NativeSolution>>,
+        motion: Option<String>,
     ) -> PyResult<NativeSolution> {
         let keywords = Keywords {
             space,
@@ -163,6 +165,7 @@ impl NativeTask {
             steps,
             elastic,
             start,
+            motion,
         };
         interrupt::run(py, move |_| request.solve(), |_, _, _, _| Ok(()))
     }
@@ -222,12 +225,19 @@ struct SolveRequest {
     steps: Option<usize>,
     elastic: bool,
     start: Option<Py<NativeSolution>>,
+    /// The motion of the task's `motions` list to solve (None: the task's one motion).
+    motion: Option<String>,
 }
 
 impl SolveRequest {
     /// Solves under the one rule, from the start when given; the document and where it ended.
     fn solve(self) -> Outcome<NativeSolution> {
-        let mut loaded = self.posed.load()?;
+        let mut loaded = (self.posed.load()?)
+            .one_motion(self.motion.as_deref())
+            .map_err(|why| match self.motion {
+                Some(_) => Failure::input(format!("motion={why}")),
+                None => Failure::input(format!("motion=: {why}")),
+            })?;
         if let Some(duration) = self.duration {
             loaded.task.motion.horizon = horizon_of(&duration)?;
         }
@@ -310,6 +320,15 @@ fn capacity(
     duration: Option<f64>,
 ) -> Outcome<String> {
     let mut loaded = posed.load()?;
+    if loaded.task.has_motions() {
+        return Err(Failure::input(format!(
+            "{}: a payload capacity is the heaviest payload of one motion, and the task lists \
+             {} motions (`motions`); search each motion's capacity with a task of that motion \
+             alone",
+            posed.model.source(),
+            loaded.task.motions.len()
+        )));
+    }
     if let Some(seconds) = duration {
         loaded.task.motion.horizon = horizon_of(&[seconds])?;
     }

@@ -14,24 +14,7 @@ use codesign_core::text::number;
 /// `loaded` with its task replaced by its motion `name` (the robot carrying that motion's
 /// payload); an error when the task has no `motions` list or no motion of that name.
 pub(super) fn pick_motion(loaded: Loaded, name: &str) -> Result<Loaded, Failure> {
-    let motions = loaded.task.motion_tasks();
-    if motions.is_empty() {
-        return Err(Failure::from(format!(
-            "--motion {name}: the task has no `motions` list (it has one motion, `motion`); \
-             leave --motion out"
-        )));
-    }
-    let names = names(&motions);
-    let Some(motion) = motions.into_iter().find(|motion| motion.name == name) else {
-        return Err(Failure::from(format!(
-            "--motion {name}: the task has no motion of that name (its motions: {names})"
-        )));
-    };
-    Ok(Loaded {
-        robot: loaded.robot.with_payload(motion.task.payload.mass_kg),
-        task: motion.task,
-        ..loaded
-    })
+    (loaded.one_motion(Some(name))).map_err(|why| Failure::from(format!("--motion {why}")))
 }
 
 /// The motions' names, comma-separated.

@@ -20,7 +20,15 @@ fn each_motion_cost(dir: &std::path::Path) -> Vec<f64> {
     (MOTIONS.iter())
         .map(|(name, _)| {
             let out = dir.join(format!("{name}.json"));
-            let args = ["solve", "--task", TASK, "--space", "actuation", "--motion", name];
+            let args = [
+                "solve",
+                "--task",
+                TASK,
+                "--space",
+                "actuation",
+                "--motion",
+                name,
+            ];
             let (text, result) = succeed_with_out(&args, &out);
             assert_eq!(result["feasible"], true, "{name}: {text}");
             if *name == "high" {
@@ -47,7 +55,10 @@ fn three_picks_are_solved_each_and_co_designed_as_one() {
     let text = String::from_utf8_lossy(&output.stdout);
     assert!(output.status.success(), "{text}");
     for (name, weight) in MOTIONS {
-        assert!(text.contains(&format!("motion {name} (weight {weight}")), "{text}");
+        assert!(
+            text.contains(&format!("motion {name} (weight {weight}")),
+            "{text}"
+        );
     }
     let printed = text
         .split("3 motions: J = ")
@@ -55,7 +66,10 @@ fn three_picks_are_solved_each_and_co_designed_as_one() {
         .and_then(|rest| rest.split(',').next())
         .and_then(|number| number.parse::<f64>().ok())
         .unwrap_or_else(|| panic!("{text}"));
-    assert!((printed - expected).abs() <= 1e-6, "{printed} vs {expected}");
+    assert!(
+        (printed - expected).abs() <= 1e-6,
+        "{printed} vs {expected}"
+    );
 
     let args = [
         "optimize",
@@ -69,7 +83,10 @@ fn three_picks_are_solved_each_and_co_designed_as_one() {
         "3",
     ];
     let (text, document) = succeed_with_out(&args, &dir.join("optimize.json"));
-    assert!(text.contains("the sum of the motions' (low (w 2): "), "{text}");
+    assert!(
+        text.contains("the sum of the motions' (low (w 2): "),
+        "{text}"
+    );
     let listed = &document["motion_costs"];
     assert_eq!(listed["score"], "sum");
     let original = listed["original"].as_array().unwrap();
@@ -81,7 +98,10 @@ fn three_picks_are_solved_each_and_co_designed_as_one() {
         assert_eq!(entry["result"]["cost"].as_f64(), Some(*cost));
     }
     let original_cost = document["original_cost"].as_f64().unwrap();
-    assert!((original_cost - expected).abs() <= 1e-9 * expected, "{original_cost}");
+    assert!(
+        (original_cost - expected).abs() <= 1e-9 * expected,
+        "{original_cost}"
+    );
     assert_eq!(document["best_result"], Value::Null);
     let best = listed["best"].as_array().unwrap();
     let best_sum: f64 = (best.iter().zip(MOTIONS))
@@ -89,7 +109,10 @@ fn three_picks_are_solved_each_and_co_designed_as_one() {
         .sum();
     let best_cost = document["best_cost"].as_f64().unwrap();
     assert!(best_cost < original_cost, "{best_cost} vs {original_cost}");
-    assert!((best_sum - best_cost).abs() <= 1e-6 * best_cost, "{best_sum} vs {best_cost}");
+    assert!(
+        (best_sum - best_cost).abs() <= 1e-6 * best_cost,
+        "{best_sum} vs {best_cost}"
+    );
 }
 
 /// `check` inspects each motion; the flags and commands of one motion refuse the task, saying
@@ -110,13 +133,33 @@ fn three_picks_are_checked_each_and_refused_where_one_motion_is_meant() {
     let usage = support::codesign(&["solve", "--task", TASK, "--out", out]);
     refused_as_usage(&usage, "--out is of one motion, and the task lists 3");
     let unknown = support::codesign(&["solve", "--task", TASK, "--motion", "top"]);
-    fails_saying(&unknown, "no motion of that name (its motions: low, middle, high)");
+    fails_saying(
+        &unknown,
+        "no motion of that name (its motions: low, middle, high)",
+    );
     let single = support::codesign(&["solve", "--motion", "low"]);
     fails_saying(&single, "--motion low: the task has no `motions` list");
     let capacity = support::codesign(&["capacity", "--task", TASK]);
-    fails_saying(&capacity, "a payload capacity is the heaviest payload of one motion");
-    let args = ["optimize", "--task", TASK, "--objective", "capacity", "--out", out];
-    fails_saying(&support::codesign(&args), "--objective capacity: a payload capacity");
+    fails_saying(
+        &capacity,
+        "a payload capacity is the heaviest payload of one motion",
+    );
+    let args = [
+        "optimize",
+        "--task",
+        TASK,
+        "--objective",
+        "capacity",
+        "--out",
+        out,
+    ];
+    fails_saying(
+        &support::codesign(&args),
+        "--objective capacity: a payload capacity",
+    );
     let args = ["reproduce", "--task", TASK, "--quick", "--plan"];
-    fails_saying(&support::codesign(&args), "reproduce runs an experiment of one motion");
+    fails_saying(
+        &support::codesign(&args),
+        "reproduce runs an experiment of one motion",
+    );
 }
