@@ -141,3 +141,27 @@ fn a_motion_too_fast_makes_the_design_infeasible_and_capacity_is_refused() {
         "{error}"
     );
 }
+
+/// With the graded penalty a feasible design scores the same sum (the elastic problem's optimum
+/// is J* where it is feasible) and its merit is the weighted sum of the motions' elastic merits.
+#[test]
+fn the_graded_penalty_scores_feasible_motions_as_the_flat_one() {
+    let ratios = [7.0, 5.0, 2.0, 2.0];
+    let task = two_motions(MotionsScore::Sum);
+    let flat = cost_fitness(&task).evaluate(&ratios);
+    let graded = Fitness::new(
+        &task,
+        &testing::settings(),
+        Space::Actuation,
+        task.limit_modes,
+        &Objective::Cost,
+        "graded".parse().unwrap(),
+    )
+    .unwrap();
+    let descent = graded.descend_from(&ratios, &[]);
+    assert!(descent.evaluation.feasible, "{descent:?}");
+    let merit = descent.merit.expect("an elastic merit");
+    assert!((descent.evaluation.cost - flat.cost).abs() <= 1e-6 * flat.cost);
+    assert!((merit.value - flat.cost).abs() <= 1e-6 * flat.cost, "{merit:?}");
+    assert_eq!(merit.feasible_cost, Some(descent.evaluation.cost));
+}
