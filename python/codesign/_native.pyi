@@ -55,6 +55,7 @@ class NativeTask:
         steps: Optional[int] = None,
         elastic: bool = False,
         start: Optional[NativeSolution] = None,
+        motion: Optional[str] = None,
     ) -> NativeSolution: ...
     def capacity(
         self,

@@ -265,6 +265,13 @@ class Run(_Document):
         return self._document.get("best_result")
 
     @property
+    def motion_costs(self) -> Optional[Dict[str, Any]]:
+        """For a task with several motions: ``score`` (``"sum"`` or ``"worst"``), and ``best`` and
+        ``original``, each motion's ``name``, ``weight``, ``payload_kg``, ``feasible``, ``cost``
+        (J_i), ``status`` and full ``result`` at that design; None for a task of one motion."""
+        return self._document.get("motion_costs")
+
+    @property
     def best(self) -> Optional[Solution]:
         """The best design's solve as the run made it, a :class:`Solution` (None when no design
         was feasible). It keeps no point to start another solve from: solve its ``ratios`` for

@@ -92,6 +92,31 @@ class Motion:
 
 
 @dataclass
+class MotionEntry:
+    """One motion of a task's several (``motions``): its ``name`` (unique), its ``weight`` in the
+    task's score, its payload (``payload_kg``, kg) and the fields of :class:`Motion` it changes
+    (its via points and upright link among them); a field left as None is the task's."""
+
+    name: str
+    weight: Number = 1.0
+    payload_kg: Optional[Number] = None
+    start: Optional[Sequence[Number]] = None
+    goal: Optional[Sequence[Number]] = None
+    horizon_s: Union[None, Number, Dict[str, Sequence[Number]]] = None
+    steps: Optional[int] = None
+    ends: Union[None, Ends, str] = None
+    via: Optional[List[Union[ViaJoints, ViaTcp]]] = None
+    upright: Optional[Upright] = None
+
+
+class MotionsScore(str, Enum):
+    """How a task's motions make one score: ``SUM`` of w_i J_i (the default) or the ``WORST``."""
+
+    SUM = "sum"
+    WORST = "worst"
+
+
+@dataclass
 class Weights:
     """The weights of J: ``position`` per rad^2, ``velocity`` per (rad/s)^2, ``control`` per
     (N m)^2, ``time`` per s (the duration's term w_T T; 0 leaves it out)."""
@@ -179,8 +204,11 @@ def task_document(
     limit_modes: LimitModes,
     gravity: Tuple[Number, Number, Number],
     solver: Optional[Dict[str, Any]],
+    motions: Optional[Sequence[MotionEntry]] = None,
+    motions_score: Union[None, MotionsScore, str] = None,
 ) -> Dict[str, Any]:
-    """The task file's JSON data of these sections."""
+    """The task file's JSON data of these sections (``motions`` and ``motions_score`` written
+    only where given)."""
     document = {
         "robot": robot,
         "gravity": list(gravity),
@@ -193,6 +221,10 @@ def task_document(
         "transmission": asdict(transmission),
         "limit_modes": asdict(limit_modes),
     }
+    if motions is not None:
+        document["motions"] = [asdict(entry) for entry in motions]
+    if motions_score is not None:
+        document["motions_score"] = motions_score
     document = _plain(document)
     if not document["motion"]["via"]:
         del document["motion"]["via"]

@@ -8,7 +8,7 @@ import os
 import shlex
 import sys
 import tempfile
-from typing import Any, Callable, Dict, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -32,6 +32,8 @@ from codesign._sections import (
     CartesianBox,
     LimitModes,
     Motion,
+    MotionEntry,
+    MotionsScore,
     Motors,
     Payload,
     PointOnLink,
@@ -142,11 +144,15 @@ class Task:
         gravity: Sequence[float] = (0.0, 0.0, -9.81),
         solver: Optional[Dict[str, Any]] = None,
         folder: Optional[Union[str, os.PathLike]] = None,
+        motions: Optional[Sequence["MotionEntry"]] = None,
+        motions_score: Union[None, "MotionsScore", str] = None,
     ) -> "Task":
         """A task written in code from its typed sections (``codesign.sections``), checked as a
         file is: ``robot`` is the URDF's path (relative to ``folder``, default the working
         folder), or None for the built-in arm. Sections left out take their defaults (the
-        paper's weights, no box, limit modes ``paper`` and ``exact``)."""
+        paper's weights, no box, limit modes ``paper`` and ``exact``). ``motions`` makes one
+        design serve several motions (each a :class:`~codesign.sections.MotionEntry` changing
+        ``motion``), scored by ``motions_score``: ``"sum"`` (the default) or ``"worst"``."""
         document = task_document(
             None if robot is None else os.fspath(robot),
             tcp,
@@ -159,6 +165,8 @@ class Task:
             limit_modes or LimitModes(),
             tuple(gravity),
             solver,
+            motions,
+            motions_score,
         )
         folder = os.getcwd() if folder is None else os.path.abspath(os.fspath(folder))
         native = _native.NativeTask.given(json.dumps(document), "a task from sections", folder)
@@ -173,6 +181,12 @@ class Task:
         """The task's robot (its URDF, gravity, TCP and payload; ``payload`` kg instead where
         given), with its dynamics."""
         return Robot(_native.NativeRobot.of_task(self._native, payload))
+
+    @property
+    def motions(self) -> List[str]:
+        """The names of the task's several motions (``motions``), in order; empty for a task of
+        one motion."""
+        return [entry["name"] for entry in self._document.get("motions", [])]
 
     @property
     def transmission(self) -> Transmission:
@@ -231,12 +245,15 @@ class Task:
         duration: Union[None, float, Tuple[float, float]] = None,
         steps: Optional[int] = None,
         elastic: bool = False,
+        motion: Optional[str] = None,
     ) -> Solution:
         """Solves the trajectory problem of design ``ratios`` (default: the task's original).
 
         ``space`` is ``"actuation"`` (the paper's method) or ``"joint"``. ``start`` warm-starts
         from an earlier solution of the same task, space and kind (its point and multipliers;
-        the payload may differ). The GIL is released while IPOPT runs; Ctrl-C stops it.
+        the payload may differ). A task with several motions (:attr:`motions`) solves the one
+        ``motion`` names (``solve --motion``). The GIL is released while IPOPT runs; Ctrl-C
+        stops it.
         """
         if start is not None and not isinstance(start, Solution):
             raise InputError(
@@ -256,6 +273,7 @@ class Task:
             whole("steps", steps),
             flag("elastic", elastic),
             native_start,
+            text("motion", motion),
         )
         return Solution(native)
 

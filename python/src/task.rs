@@ -7,9 +7,9 @@ use crate::options::{Keywords, Posed, ReadTask};
 use crate::solution::NativeSolution;
 use codesign::design::capacity::{payload_capacity, CapacitySettings};
 use codesign::design::run::RecordedHash;
-use codesign::report::check::Inspection;
-use codesign::report::codesign::{CapacityDocument, CapacityInputs};
 use codesign::design::tradeoff::{capacity_tradeoff, check_durations, TradeoffProblem};
+use codesign::report::check::TaskInspection;
+use codesign::report::codesign::{CapacityDocument, CapacityInputs};
 use codesign::report::plots::Figure;
 use codesign::report::solve_document::{SolveDocument, StartRecord};
 use codesign::report::tradeoff::{TradeoffDocument, TradeoffInputs};
@@ -121,19 +121,20 @@ impl NativeTask {
             let loaded = posed.load()?;
             let tolerance = loaded.settings.constraint_tolerance();
             let inspection =
-                Inspection::of_task(&loaded.task, &loaded.robot, ratios.as_deref(), tolerance)
+                TaskInspection::of(&loaded.task, &loaded.robot, ratios.as_deref(), tolerance)
                     .map_err(|e| Failure::input(format!("{}: {e}", posed.model.source())))?;
             let text = serde_json::to_string_pretty(&inspection)
                 .map_err(|e| Failure::solver(e.to_string()))?;
             let words = inspection.to_text();
-            Ok((text, words, inspection.problems, inspection.warnings))
+            Ok((text, words, inspection.problems(), inspection.warnings()))
         };
         inspect().map_err(|failure| failure.into_py(py))
     }
 
     /// One solve, as `codesign solve --out` writes it, and where it ended (see `Task.solve`).
     #[pyo3(signature = (space, payload=None, ends=None, torque_mode=None, speed_mode=None,
-        linear_solver=None, ratios=None, duration=None, steps=None, elastic=false, start=None))]
+        linear_solver=None, ratios=None, duration=None, steps=None, elastic=false, start=None,
+        motion=None))]
     #[allow(clippy::too_many_arguments)]
     fn solve(
         &self,
@@ -149,6 +150,7 @@ impl NativeTask {
         steps: Option<usize>,
         elastic: bool,
         start: Option<Py<NativeSolution>>,
+        motion: Option<String>,
     ) -> PyResult<NativeSolution> {
         let keywords = Keywords {
             space,
@@ -166,6 +168,7 @@ impl NativeTask {
             steps,
             elastic,
             start,
+            motion,
         };
         interrupt::run(py, move |_| request.solve(), |_, _, _, _| Ok(()))
     }
@@ -262,7 +265,11 @@ fn search_settings(
     };
     settings.validate().map_err(|error| {
         let keyword = error.key.trim_end_matches("_kg");
-        Failure::input(format!("{keyword}={}: {}", number(error.value), error.rule()))
+        Failure::input(format!(
+            "{keyword}={}: {}",
+            number(error.value),
+            error.rule()
+        ))
     })?;
     Ok(settings)
 }
@@ -276,12 +283,19 @@ struct SolveRequest {
     steps: Option<usize>,
     elastic: bool,
     start: Option<Py<NativeSolution>>,
+    /// The motion of the task's `motions` list to solve (None: the task's one motion).
+    motion: Option<String>,
 }
 
 impl SolveRequest {
     /// Solves under the one rule, from the start when given; the document and where it ended.
     fn solve(self) -> Outcome<NativeSolution> {
-        let mut loaded = self.posed.load()?;
+        let mut loaded = (self.posed.load()?)
+            .one_motion(self.motion.as_deref())
+            .map_err(|why| match self.motion {
+                Some(_) => Failure::input(format!("motion={why}")),
+                None => Failure::input(format!("motion=: {why}")),
+            })?;
         if let Some(duration) = self.duration {
             loaded.task.motion.horizon = horizon_of(&duration)?;
         }
@@ -364,6 +378,15 @@ fn capacity(
     duration: Option<f64>,
 ) -> Outcome<String> {
     let mut loaded = posed.load()?;
+    if loaded.task.has_motions() {
+        return Err(Failure::input(format!(
+            "{}: a payload capacity is the heaviest payload of one motion, and the task lists \
+             {} motions (`motions`); search each motion's capacity with a task of that motion \
+             alone",
+            posed.model.source(),
+            loaded.task.motions.len()
+        )));
+    }
     if let Some(seconds) = duration {
         loaded.task.motion.horizon = horizon_of(&[seconds])?;
     }

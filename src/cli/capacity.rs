@@ -61,6 +61,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         settings: mut solve,
         task_hash,
     } = args.model.load()?;
+    if task.has_motions() {
+        return Err(Failure::from(format!(
+            "{}: a payload capacity is the heaviest payload of one motion, and the task lists {} \
+             motions (`motions`); search each motion's capacity with a task of that motion alone",
+            args.model.source(),
+            task.motions.len()
+        )));
+    }
     if let Some(duration) = args.duration {
         task.motion.horizon = Horizon::Fixed(duration);
     }

@@ -2,7 +2,7 @@
 
 use super::common::{finite_ratio, ModelArgs};
 use super::failure::Failure;
-use crate::report::check::Inspection;
+use crate::report::check::{Inspection, TaskInspection};
 use codesign_core::text::shown;
 
 /// Flags of `codesign check`.
@@ -27,21 +27,23 @@ pub struct Args {
 
 /// Loads and inspects; prints the inspection; fails (exit 1) listing every error found, and
 /// notes each warning on stderr (warnings alone: exit 0). With `--robot` and no `--task`, the
-/// robot alone: its chain, its notes and its tip link.
+/// robot alone: its chain, its notes and its tip link. A task with a `motions` list is
+/// inspected motion by motion.
 pub fn run(args: &Args) -> Result<(), Failure> {
     args.model.validate()?;
     let (task, robot, settings, alone) = args.model.load_robot()?;
     if alone {
-        return print(&Inspection::of_robot(&robot), args.json);
+        let inspection = TaskInspection::One(Box::new(Inspection::of_robot(&robot)));
+        return print(&inspection, args.json);
     }
     let tolerance = settings.constraint_tolerance();
-    let inspection = Inspection::of_task(&task, &robot, args.ratios.as_deref(), tolerance)
+    let inspection = TaskInspection::of(&task, &robot, args.ratios.as_deref(), tolerance)
         .map_err(|e| format!("{}: {e}", args.model.source()))?;
     print(&inspection, args.json)?;
-    for warning in &inspection.warnings {
+    for warning in &inspection.warnings() {
         note!("warning: {}", shown(warning));
     }
-    let problems = &inspection.problems;
+    let problems = &inspection.problems();
     if problems.is_empty() {
         return Ok(());
     }
@@ -53,8 +55,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     )))
 }
 
-/// Prints the inspection as text, or as one JSON object.
-fn print(inspection: &Inspection, json: bool) -> Result<(), Failure> {
+/// Prints the inspection as text, or as JSON (one object, or one per motion).
+fn print(inspection: &TaskInspection, json: bool) -> Result<(), Failure> {
     if json {
         let text = serde_json::to_string_pretty(inspection).map_err(|e| e.to_string())?;
         say!("{text}");

@@ -31,6 +31,11 @@ pub struct ExportArgs {
 }
 
 impl ExportArgs {
+    /// Whether `--export` was given.
+    pub fn is_requested(&self) -> bool {
+        self.export.is_some()
+    }
+
     /// Checks, before the solve, that `--rate` gives a grid an export holds over `duration_s`
     /// and that `--export` can be written, is none of `inputs` and is not `--out`.
     pub fn check(

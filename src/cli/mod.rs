@@ -71,6 +71,7 @@ mod progress;
 mod reproduce;
 mod run_flags;
 mod solve;
+mod solve_motions;
 mod solve_summary;
 mod store_hints;
 mod table;

@@ -11,9 +11,10 @@ use crate::design::capacity::CapacitySettings;
 use crate::design::cmaes::CmaesSettings;
 use crate::design::gradient::GradientSettings;
 use crate::design::penalty::Penalty;
-use crate::design::run::{run_case, Case, Method, OptimizeDocument};
+use crate::design::run::{run_case, Case, Method, MotionCost, OptimizeDocument};
 use crate::design::score::{Objective, PayloadRange};
 use crate::store::log::{log_beside, Start};
+use codesign_core::choice::Choice;
 use codesign_core::text::number;
 use std::path::PathBuf;
 
@@ -187,14 +188,23 @@ fn summary(document: &OptimizeDocument) -> String {
                 document.original_cost
             )
         }
-        (Objective::Time, _, Some(seconds)) => format!(
+        (Objective::Time, _, Some(seconds)) if document.motion_costs.is_none() => format!(
             "best r = ({best}) with T* = {seconds:.6} s (original design: T* = {:.6} s)",
             document.original_cost
         ),
-        (_, _, Some(cost)) => format!(
-            "best r = ({best}) with J = {cost:.6} (original design: J = {:.6})",
-            document.original_cost
-        ),
+        (_, _, Some(cost)) => match &document.motion_costs {
+            Some(costs) => format!(
+                "best r = ({best}) with J = {cost:.6}, the {} of the motions' ({}; original \
+                 design: J = {:.6})",
+                costs.score.name(),
+                motions_text(&costs.best),
+                document.original_cost
+            ),
+            None => format!(
+                "best r = ({best}) with J = {cost:.6} (original design: J = {:.6})",
+                document.original_cost
+            ),
+        },
     };
     format!(
         "{found}; {} evaluations ({} replayed), {}; {}",
@@ -203,6 +213,22 @@ fn summary(document: &OptimizeDocument) -> String {
         work_text(document),
         document.stop_reason
     )
+}
+
+/// Each motion's cost at a design, `NAME (w 2): 1.2345`, or why it is infeasible.
+fn motions_text(costs: &[MotionCost]) -> String {
+    let each: Vec<String> = (costs.iter())
+        .map(|c| match c.feasible {
+            true => format!("{} (w {}): {:.4}", c.name, number(c.weight), c.cost),
+            false => format!(
+                "{} (w {}): infeasible, {}",
+                c.name,
+                number(c.weight),
+                c.status
+            ),
+        })
+        .collect();
+    each.join(", ")
 }
 
 /// Where a run's solver time went, in words: the median and total solve time, then the shares

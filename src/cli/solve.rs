@@ -1,8 +1,10 @@
-//! `codesign solve`: one trajectory problem for one design.
+//! `codesign solve`: one trajectory problem for one design (each motion's, for a task with
+//! several: `solve_motions`).
 
 use super::common::{finite_ratio, ModelArgs, ProblemArgs};
 use super::export::ExportArgs;
 use super::failure::{Failure, INFEASIBLE_EXIT};
+use super::solve_motions::{pick_motion, solve_each};
 use super::solve_summary::print_summary;
 use super::store_hints::check_output;
 use crate::design::run::Loaded;
@@ -13,6 +15,7 @@ use crate::store::document::write_document;
 use crate::store::files::check_folder;
 use codesign_core::ipopt::{check_derivatives, DerivativeOrder};
 use codesign_core::model::task::{check_horizon, check_steps, Horizon, Task};
+use codesign_core::model::Robot;
 use codesign_core::problem::Formulation;
 use codesign_core::solve::{
     solve_design_from, SolveError, SolveSettings, StartPoint, TrajectoryResult,
@@ -24,9 +27,9 @@ use std::path::PathBuf;
 #[derive(Debug, clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    model: ModelArgs,
+    pub(super) model: ModelArgs,
     #[command(flatten)]
-    problem: ProblemArgs,
+    pub(super) problem: ProblemArgs,
     /// Gear ratios of the design, one per ratio of the task's transmission (r1,r2,..); default:
     /// the task's original design.
     #[arg(
@@ -39,23 +42,28 @@ pub struct Args {
     ratios: Option<Vec<f64>>,
     /// Duration of the motion, s; default: the task's horizon.
     #[arg(long, value_name = "S")]
-    duration: Option<f64>,
+    pub(super) duration: Option<f64>,
     /// Number of intervals N; default: the task's steps.
     #[arg(long, value_name = "N")]
-    steps: Option<usize>,
+    pub(super) steps: Option<usize>,
+    /// Solve only this motion of the task's `motions` list, by its name, with every other flag;
+    /// without it a task with a `motions` list solves each motion in turn, and takes none of
+    /// `--out`, `--plot`, `--export`, `--start`, `--check-derivatives` (each is of one motion).
+    #[arg(long, value_name = "NAME")]
+    motion: Option<String>,
     /// Write the result as JSON to this file (checked before the solve; a symbolic link is
     /// followed, an input file, a folder, a special file or a file the user may not write
     /// refused; a file replaced keeps its permissions).
     #[arg(long, value_name = "FILE.json")]
-    out: Option<PathBuf>,
+    pub(super) out: Option<PathBuf>,
     /// Draw SVG plots of the trajectory into this folder.
     #[arg(long, value_name = "DIR")]
-    plot: Option<PathBuf>,
+    pub(super) plot: Option<PathBuf>,
     #[command(flatten)]
-    export: ExportArgs,
+    pub(super) export: ExportArgs,
     /// Show IPOPT's iteration log.
     #[arg(long)]
-    verbose: bool,
+    pub(super) verbose: bool,
     /// Solve the elastic problem (docs/model.md, section 14): always feasible, it reports the
     /// torque the design lacks and the speed above its limit instead of failing.
     #[arg(long)]
@@ -68,17 +76,17 @@ pub struct Args {
         long,
         conflicts_with_all = ["out", "plot", "export", "rate", "start", "fail_if_infeasible"]
     )]
-    check_derivatives: bool,
+    pub(super) check_derivatives: bool,
     /// Start from the trajectory and multipliers of an earlier `solve --out` result of the same
     /// task, space, steps and kind (hard or `--elastic`): another design or payload converges
     /// in fewer iterations. A start that does not fit is refused, naming why; where the start
     /// finds no feasible trajectory, the cold starts follow as without it.
     #[arg(long, value_name = "FILE.json")]
-    start: Option<PathBuf>,
+    pub(super) start: Option<PathBuf>,
     /// Exit with code 3 (after writing the result and plots) when the design is infeasible;
     /// without it an infeasible verdict, like a feasible one, exits 0.
     #[arg(long)]
-    fail_if_infeasible: bool,
+    pub(super) fail_if_infeasible: bool,
 }
 
 /// Checks, before any solve, that `--out`, the files of `--plot` and `--export` can be written
@@ -119,7 +127,7 @@ fn check_flags(args: &Args) -> Result<(), Failure> {
 
 /// Fails, naming the design by `source`, where `result` is no result to report: a number in it
 /// is not finite, or it judges no design.
-fn refuse_unwritable(result: &TrajectoryResult, source: &str) -> Result<(), Failure> {
+pub(super) fn refuse_unwritable(result: &TrajectoryResult, source: &str) -> Result<(), Failure> {
     if let Some(part) = result.non_finite() {
         return Err(Failure::from(format!(
             "{source}: the solve (IPOPT status {}) gave a result whose {part} holds a number \
@@ -137,7 +145,7 @@ fn refuse_unwritable(result: &TrajectoryResult, source: &str) -> Result<(), Fail
 }
 
 /// The design to solve, `--ratios` or the task's original one, with the words that name it.
-fn design(args: &Args, task: &Task) -> (Vec<f64>, String) {
+pub(super) fn design(args: &Args, task: &Task) -> (Vec<f64>, String) {
     match &args.ratios {
         Some(ratios) => (ratios.clone(), format!("--ratios {}", listed(ratios))),
         None => (
@@ -165,27 +173,65 @@ fn read_start_flag(
 }
 
 /// Solves, prints a summary, writes the requested files; fails after writing them where
-/// `--fail-if-infeasible` asks it to.
+/// `--fail-if-infeasible` asks it to. A task with a `motions` list solves the motion of
+/// `--motion`, or each in turn.
 pub fn run(args: &Args) -> Result<(), Failure> {
     check_flags(args)?;
-    let Loaded {
-        mut task,
-        robot,
-        mut settings,
-        task_hash,
-    } = args.model.load()?;
-    args.problem.configure(&mut settings);
-    settings.verbose = args.verbose;
+    let loaded = args.model.load()?;
+    match &args.motion {
+        Some(name) => solve_one(args, pick_motion(loaded, name)?),
+        None if loaded.task.has_motions() => solve_each(args, loaded),
+        None => solve_one(args, loaded),
+    }
+}
+
+/// The task's motion with `--duration` and `--steps` applied.
+pub(super) fn with_flags(args: &Args, mut task: Task) -> Task {
     if let Some(duration) = args.duration {
         task.motion.horizon = Horizon::Fixed(duration);
     }
     task.motion.steps = args.steps.unwrap_or(task.motion.steps);
-    check_outputs(args, &task)?;
-    let modes = args.problem.modes(&task);
-    let hard = Formulation::new(&task, robot, args.problem.space, modes)
+    task
+}
+
+/// The problem of `task` on `robot` in the flags' space and modes, elastic with `--elastic`.
+pub(super) fn formulate(
+    args: &Args,
+    task: &Task,
+    robot: Robot,
+    settings: &SolveSettings,
+) -> Result<Formulation, Failure> {
+    let modes = args.problem.modes(task);
+    let hard = Formulation::new(task, robot, args.problem.space, modes)
         .map_err(|e| e.to_string())?
         .with_hold_tolerance(settings.constraint_tolerance());
-    let formulation = if args.elastic { hard.elastic() } else { hard };
+    Ok(if args.elastic { hard.elastic() } else { hard })
+}
+
+/// A solve's error in words, naming the design by `source`, the task or its solver settings.
+pub(super) fn solve_error(args: &Args, source: &str, error: SolveError) -> Failure {
+    Failure::from(match error {
+        SolveError::Design(_) => format!("{source}: {error}"),
+        SolveError::Ipopt(_) => format!("{} solver: {error}", args.model.source()),
+        SolveError::Formulation(_) | SolveError::Pose { .. } => {
+            format!("{}: {error}", args.model.source())
+        }
+    })
+}
+
+/// Solves the one motion of `loaded`'s task, prints its summary, writes the requested files.
+fn solve_one(args: &Args, loaded: Loaded) -> Result<(), Failure> {
+    let Loaded {
+        task,
+        robot,
+        mut settings,
+        task_hash,
+    } = loaded;
+    args.problem.configure(&mut settings);
+    settings.verbose = args.verbose;
+    let task = with_flags(args, task);
+    check_outputs(args, &task)?;
+    let formulation = formulate(args, &task, robot, &settings)?;
     let (ratios, source) = design(args, &task);
     if args.check_derivatives {
         return Ok(check(&formulation, &settings, &ratios, &source)?);
@@ -193,13 +239,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let start = read_start_flag(args, &formulation, &task_hash)?;
     let warm = start.as_ref().map(|start| start.point.to_solution());
     let (result, solution) = solve_design_from(&formulation, &ratios, &settings, warm.as_ref())
-        .map_err(|e| match e {
-            SolveError::Design(_) => format!("{source}: {e}"),
-            SolveError::Ipopt(_) => format!("{} solver: {e}", args.model.source()),
-            SolveError::Formulation(_) | SolveError::Pose { .. } => {
-                format!("{}: {e}", args.model.source())
-            }
-        })?;
+        .map_err(|e| solve_error(args, &source, e))?;
     refuse_unwritable(&result, &source)?;
     print_summary(&formulation, &result);
     if let Some(start) = &start {

@@ -68,8 +68,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         ));
     }
     check_durations(&args.durations).map_err(|e| Failure::Usage(format!("--durations: {e}")))?;
-    let settings = capacity_settings(args.resolution, args.first_step, args.max)
-        .map_err(Failure::Usage)?;
+    let settings =
+        capacity_settings(args.resolution, args.first_step, args.max).map_err(Failure::Usage)?;
     args.model.validate()?;
     let Loaded {
         task,
@@ -152,9 +152,12 @@ fn plot_beside(out: &Path) -> Result<PathBuf, Failure> {
 fn trade_off_error(args: &Args, ratios: &[f64], error: TradeoffError) -> Failure {
     let source = args.model.source();
     match &error {
-        TradeoffError::Capacity(_, crate::design::capacity::CapacityError::Solve(
-            codesign_core::solve::SolveError::Design(_),
-        )) => Failure::Work(match &args.ratios {
+        TradeoffError::Capacity(
+            _,
+            crate::design::capacity::CapacityError::Solve(
+                codesign_core::solve::SolveError::Design(_),
+            ),
+        ) => Failure::Work(match &args.ratios {
             Some(_) => format!("--ratios {}: invalid design: {error}", listed(ratios)),
             None => format!(
                 "{source} transmission.original ({}): invalid design: {error}",
@@ -169,7 +172,11 @@ fn trade_off_error(args: &Args, ratios: &[f64], error: TradeoffError) -> Failure
 fn point_text(point: &TradeoffPoint) -> String {
     let capacity = &point.capacity;
     let at = format!("T = {} s", codesign_core::text::number(point.duration_s));
-    match (capacity.capacity_kg, capacity.limited_by, capacity.first_infeasible_kg) {
+    match (
+        capacity.capacity_kg,
+        capacity.limited_by,
+        capacity.first_infeasible_kg,
+    ) {
         (None, _, _) => format!("{at}: infeasible even without payload"),
         (Some(kg), Some(CapacityLimit::Hold), _) => {
             format!("{at}: payload capacity {kg:.3} kg, bounded by static hold")

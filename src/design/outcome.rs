@@ -47,10 +47,10 @@ pub enum MethodOutcome {
         iterates: Vec<GradientIterate>,
         /// The inner solution behind `best_cost` (the method's warm-started solves can reach a
         /// lower local optimum than a cold solve of the same design).
-        best_solution: Option<Solution>,
-        /// The start the best design's solve began at (None: the standard guess): where this
+        best_solution: Option<Box<Solution>>,
+        /// The starts the best design's solve began at (none: the standard guess): where this
         /// process solves it again to confirm a worker's answer.
-        best_from: Option<Box<StartPoint>>,
+        best_from: Vec<StartPoint>,
     },
 }
 
@@ -75,10 +75,9 @@ impl DesignOutcome {
                 best_anchor: Some(anchor),
                 ..
             } => BestStart::Anchor(anchor),
-            MethodOutcome::Gradient {
-                best_from: Some(from),
-                ..
-            } => BestStart::Point(from),
+            MethodOutcome::Gradient { best_from, .. } if best_from.len() == 1 => {
+                BestStart::Point(&best_from[0])
+            }
             _ => BestStart::Cold,
         }
     }

@@ -54,7 +54,9 @@ impl fmt::Display for TradeoffError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             TradeoffError::NoDuration => write!(f, "a trade-off needs at least one duration"),
-            TradeoffError::Duration(seconds, why) => write!(f, "duration {}: {why}", number(*seconds)),
+            TradeoffError::Duration(seconds, why) => {
+                write!(f, "duration {}: {why}", number(*seconds))
+            }
             TradeoffError::Formulation(seconds, error) => {
                 write!(f, "at {} s: {error}", number(*seconds))
             }

@@ -22,6 +22,14 @@ pub enum ExperimentError {
         /// What is wrong.
         error: SettingsError,
     },
+    /// The task lists several motions (`motions`): an experiment's payloads, capacities and
+    /// table are of one motion.
+    SeveralMotions {
+        /// The task.
+        source: TaskSource,
+        /// How many motions it lists.
+        motions: usize,
+    },
     /// The task's robot could not be read.
     Model(ModelError),
     /// The task could not be formulated at a payload.
@@ -59,6 +67,13 @@ impl fmt::Display for ExperimentError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             ExperimentError::Settings { source, error } => write!(f, "{source}: {error}"),
+            ExperimentError::SeveralMotions { source, motions } => write!(
+                f,
+                "{source}: reproduce runs an experiment of one motion (its payloads, payload \
+                 capacities and table are of one motion), and the task lists {motions} motions \
+                 (`motions`); co-design them with `codesign optimize` (the cost or energy \
+                 objective)"
+            ),
             ExperimentError::Model(error) => error.fmt(f),
             ExperimentError::Formulation(error) => error.fmt(f),
             ExperimentError::Original { source, error } => match error {

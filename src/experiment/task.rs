@@ -23,6 +23,12 @@ impl ExperimentTask {
     /// The plan's task from its `file` (the plan's ends applied), its solve settings (the
     /// plan's linear solver applied) and its task hash, checked with its robot.
     pub fn load(plan: &Plan, mut file: TaskFile) -> Result<ExperimentTask, ExperimentError> {
+        if file.task.has_motions() {
+            return Err(ExperimentError::SeveralMotions {
+                source: task_source(plan.task.as_ref()),
+                motions: file.task.motions.len(),
+            });
+        }
         file.task.motion.ends = plan.ends;
         let mut solver = SolveSettings::from_section(file.solver.as_ref()).map_err(|error| {
             ExperimentError::Settings {

@@ -3,11 +3,13 @@
 //! the static gravity torques at both ends against each motor's own torque limit, the design
 //! space, the limit modes, the linkages' readings, the via points and the upright link, and a
 //! verdict per check, each finding an error (a solve refuses the task, or its result would mean
-//! nothing) or a warning.
+//! nothing) or a warning; a task with several motions is inspected motion by motion (`motions`).
 
+mod motions;
 mod targets;
 mod verdicts;
 
+pub use motions::{MotionInspection, TaskInspection};
 use verdicts::Finding;
 
 use codesign_core::dynamics::Dynamics;

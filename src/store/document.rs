@@ -219,9 +219,10 @@ mod tests {
         assert_eq!(Schema::Capacity.version(), result);
         let said = format!(
             "its `version` ({result} for a solve or capacity result today, {} for an optimize \
-             result, {} for a table)",
+             result, {} for a table, {} for a trade-off)",
             Schema::Optimize.version(),
-            Schema::Table.version()
+            Schema::Table.version(),
+            Schema::Tradeoff.version()
         );
         let flowing = text.split_whitespace().collect::<Vec<_>>().join(" ");
         assert!(

@@ -48,9 +48,15 @@ fn the_time_objective_minimises_the_duration_with_both_methods() {
             assert_eq!(number(&result["cost"]), t_star, "J* = T*");
             assert!((0.24..=1.2).contains(&t_star), "{t_star}");
         }
-        assert_eq!(number(&document["original_cost"]), number(&original["cost"]));
+        assert_eq!(
+            number(&document["original_cost"]),
+            number(&original["cost"])
+        );
         let best_cost = number(&document["best_cost"]);
-        assert!(best_cost <= number(&document["original_cost"]), "{document}");
+        assert!(
+            best_cost <= number(&document["original_cost"]),
+            "{document}"
+        );
         assert!(
             (best_cost - number(&best["cost"])).abs() <= 1e-6 * best_cost,
             "{best_cost} vs {}",
@@ -64,7 +70,12 @@ fn the_time_objective_minimises_the_duration_with_both_methods() {
 /// level and a trade-off in each point.
 fn untimed(document: &Value) -> Value {
     let mut search = json!({});
-    for key in ["capacity_kg", "first_infeasible_kg", "hold_kg", "limited_by"] {
+    for key in [
+        "capacity_kg",
+        "first_infeasible_kg",
+        "hold_kg",
+        "limited_by",
+    ] {
         search[key] = document.get(key).cloned().unwrap_or(Value::Null);
     }
     let mut probes = document["probes"].as_array().unwrap().clone();

@@ -29,6 +29,7 @@ mod index_page;
 mod limits_cli;
 mod linkage_numbers_cli;
 mod migrate_cli;
+mod motions_cli;
 mod motors_cli;
 mod ocp_reference;
 mod optimize_cli;

@@ -22,9 +22,8 @@ impl Horizon {
     pub fn minimum_time(self) -> Horizon {
         match self {
             Horizon::Fixed(seconds) => {
-                let [low, high] = MINIMUM_TIME_RANGE.map(|factor| {
-                    (factor * seconds).clamp(MIN_HORIZON_S, MAX_HORIZON_S)
-                });
+                let [low, high] = MINIMUM_TIME_RANGE
+                    .map(|factor| (factor * seconds).clamp(MIN_HORIZON_S, MAX_HORIZON_S));
                 // For any T a task accepts, low < high: 0.3 T < 1.5 T, 0.01 < 0.015, 1080 < 3600.
                 Horizon::Free {
                     min_s: low,

@@ -23,6 +23,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+pub use super::motions::{MotionEntry, MotionTask, MotionsScore, MAX_MOTION_NAME};
 pub use super::motors::{Motors, PartChoice, PerMotor};
 pub use super::validate::{
     check_horizon, check_payload, check_steps, FieldError, OutOfRange, MAX_GRAVITY, MAX_HORIZON_S,
@@ -73,6 +74,8 @@ pub const BUILT_IN_TASK: &str = include_str!("../../../robots/tasks/pick_place.j
 ///         order: vec!["r3 <= r2".into(), "r2 < r1".into()],
 ///     },
 ///     limit_modes: LimitModes { torque: LimitMode::Paper, speed: LimitMode::Exact },
+///     motions: Vec::new(), // one motion: `motion`
+///     motions_score: MotionsScore::Sum,
 /// };
 /// task.validate()?;
 /// // The same task as JSON reads back equal.
@@ -104,6 +107,18 @@ pub struct Task {
     pub transmission: TransmissionSpec,
     /// How actuator limits become joint-space limits.
     pub limit_modes: LimitModes,
+    /// Several motions of one design, each a named, weighted change of `motion` (and of the
+    /// payload); empty (and not written) for a task of one motion.
+    #[serde(
+        default,
+        skip_serializing_if = "Vec::is_empty",
+        deserialize_with = "super::motions::non_empty"
+    )]
+    pub motions: Vec<MotionEntry>,
+    /// How the motions' optimal costs make the task's score: their weighted sum (the default,
+    /// not written) or the worst weighted one.
+    #[serde(default, skip_serializing_if = "MotionsScore::is_sum")]
+    pub motions_score: MotionsScore,
 }
 
 /// A task file as read: the task, its `solver` section as written (absent: none), which the

@@ -208,24 +208,26 @@ fn check_finite(name: &str, values: &[f64]) -> Result<(), FieldError> {
 }
 
 impl Motion {
-    /// Checks the end points (finite, one value per joint each), the horizon and the steps.
-    fn validate(&self) -> Result<(), FieldError> {
-        check_finite("motion.start", &self.start)?;
-        check_finite("motion.goal", &self.goal)?;
+    /// Checks the end points (finite, one value per joint each), the horizon and the steps;
+    /// `name` names the motion in errors (`motion`, `motions[1]`).
+    pub(super) fn validate(&self, name: &str) -> Result<(), FieldError> {
+        check_finite(&format!("{name}.start"), &self.start)?;
+        check_finite(&format!("{name}.goal"), &self.goal)?;
         if self.start.len() != self.goal.len() {
             return Err(FieldError::new(
-                "motion.start",
+                format!("{name}.start"),
                 format!(
-                    " has {} joints but motion.goal has {}",
+                    " has {} joints but {name}.goal has {}",
                     self.start.len(),
                     self.goal.len()
                 ),
             ));
         }
-        self.horizon.validate("motion.horizon_s")?;
-        check_steps(self.steps)
-            .map_err(|why| FieldError::out_of_range("motion.steps", self.steps as f64, why))?;
-        self.validate_targets()
+        self.horizon.validate(&format!("{name}.horizon_s"))?;
+        check_steps(self.steps).map_err(|why| {
+            FieldError::out_of_range(&format!("{name}.steps"), self.steps as f64, why)
+        })?;
+        self.validate_targets(name)
     }
 }
 
@@ -282,7 +284,8 @@ impl Task {
         check_payload(self.payload.mass_kg).map_err(|why| {
             FieldError::out_of_range("payload.mass_kg", self.payload.mass_kg, why)
         })?;
-        self.motion.validate()?;
+        self.motion.validate("motion")?;
+        self.validate_motions()?;
         self.weights.validate()?;
         self.cartesian_box.validate()?;
         self.motors.validate(self.transmission.matrix.len())

@@ -159,19 +159,20 @@ fn finite(name: &str, values: &[f64]) -> Result<(), FieldError> {
 }
 
 impl Upright {
-    /// Checks its numbers: a finite axis of length > 0, a tolerance in (0, pi).
-    fn validate(&self) -> Result<(), FieldError> {
-        finite("motion.upright.axis", &self.axis)?;
+    /// Checks its numbers: a finite axis of length > 0, a tolerance in (0, pi); `field` names
+    /// it (`motion.upright`).
+    fn validate(&self, field: &str) -> Result<(), FieldError> {
+        finite(&format!("{field}.axis"), &self.axis)?;
         if self.axis.iter().all(|&a| a == 0.0) {
             return Err(FieldError::new(
-                "motion.upright.axis",
+                format!("{field}.axis"),
                 " is the zero vector, which has no direction",
             ));
         }
         let tol = self.tol_rad;
-        if !(tol.is_finite() && tol >= MIN_UPRIGHT_TOL_RAD && tol < PI) {
+        if !(MIN_UPRIGHT_TOL_RAD..PI).contains(&tol) {
             return Err(FieldError::new(
-                "motion.upright.tol_rad",
+                format!("{field}.tol_rad"),
                 format!(
                     " = {} must be from {MIN_UPRIGHT_TOL_RAD} rad to below pi (an axis held \
                      exactly vertical leaves its row without a gradient)",
@@ -191,12 +192,13 @@ impl Upright {
 
 impl Motion {
     /// Checks the via points' and the upright link's numbers (what needs no robot and no
-    /// duration: the nodes are found by [`Motion::via_node`]).
-    pub(super) fn validate_targets(&self) -> Result<(), FieldError> {
+    /// duration: the nodes are found by [`Motion::via_node`]); `name` names the motion in errors
+    /// (`motion`, `motions[1]`).
+    pub(super) fn validate_targets(&self, name: &str) -> Result<(), FieldError> {
         for (i, via) in self.via.iter().enumerate() {
-            via.validate(&format!("motion.via[{i}]"))?;
+            via.validate(&format!("{name}.via[{i}]"))?;
         }
-        self.upright.as_ref().map_or(Ok(()), Upright::validate)
+        (self.upright.as_ref()).map_or(Ok(()), |up| up.validate(&format!("{name}.upright")))
     }
 
     /// The node k = round(t_s N / T) of via point `i`, nearest its time: an error naming its
@@ -320,7 +322,7 @@ mod tests {
             tcp: [0.0; 3],
             tol_m: 0.0,
         })];
-        let error = motion.validate_targets().unwrap_err().to_string();
+        let error = motion.validate_targets("motion").unwrap_err().to_string();
         assert!(error.starts_with("motion.via[0].tol_m = 0"), "{error}");
         motion.via.clear();
         motion.upright = Some(Upright {
@@ -328,7 +330,7 @@ mod tests {
             axis: [0.0; 3],
             tol_rad: 0.1,
         });
-        let error = motion.validate_targets().unwrap_err().to_string();
+        let error = motion.validate_targets("motion").unwrap_err().to_string();
         assert!(error.starts_with("motion.upright.axis"), "{error}");
     }
 }

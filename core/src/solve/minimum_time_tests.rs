@@ -31,7 +31,8 @@ fn assert_time_gradient(task: &Task, space: Space, modes: LimitModes, ratios: &[
     assert_eq!(result.horizon_s, Some(result.cost), "J* = T*");
     let gradient = result.cost_gradient.clone().unwrap();
     let mut warm = settings.clone();
-    warm.options.insert("mu_init".into(), serde_json::json!(1e-9));
+    warm.options
+        .insert("mu_init".into(), serde_json::json!(1e-9));
     let scale = gradient.iter().fold(0.0_f64, |m, g| m.max(g.abs()));
     assert!(scale > 0.0, "{space} {ratios:?}: dT*/dr = 0");
     let scaled: Vec<f64> = gradient.iter().map(|g| g / scale).collect();

@@ -95,7 +95,7 @@ impl Evaluator for InProcess {
     fn descend(
         &self,
         designs: &Designs,
-        start: Option<&StartPoint>,
+        start: &[StartPoint],
     ) -> Result<Vec<Descent>, EvaluateError> {
         let fitness = &self.fitness;
         self.on_threads(

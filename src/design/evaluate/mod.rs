@@ -43,12 +43,12 @@ pub trait Evaluator: Sync {
     ) -> Result<Vec<Evaluation>, EvaluateError>;
 
     /// Scores every design of `designs` for a gradient descent (`Fitness::descend_from`), each
-    /// solved from `start` (a merit's start; None: the standard guess), and returns them in the
+    /// solved from `start` (a merit's starts; none: the standard guess), and returns them in the
     /// order given.
     fn descend(
         &self,
         designs: &Designs,
-        start: Option<&StartPoint>,
+        start: &[StartPoint],
     ) -> Result<Vec<Descent>, EvaluateError>;
 
     /// How many designs it solves at once.

@@ -86,10 +86,10 @@ impl Evaluator for WorkerEvaluator {
     fn descend(
         &self,
         designs: &Designs,
-        start: Option<&StartPoint>,
+        start: &[StartPoint],
     ) -> Result<Vec<Descent>, EvaluateError> {
         let descent = DescentRequest {
-            start: start.cloned(),
+            starts: start.to_vec(),
         };
         let penalty = self.penalty;
         let mut pool = self.pool();

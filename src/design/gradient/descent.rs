@@ -122,7 +122,7 @@ fn line_search(
         if step.iter().all(|s| s.abs() < 1e-12) {
             return Ok(None);
         }
-        if let Some(next) = solves.solve(&trial, &point.merit.start)? {
+        if let Some(next) = solves.solve(&trial, &point.merit.starts)? {
             let (merit, gradient) = (point.merit.value, &point.merit.gradient);
             if next.merit.value <= merit + 1e-4 * dot(gradient, &step) {
                 return Ok(Some((next, step)));

@@ -68,8 +68,8 @@ impl Default for GradientSettings {
 struct Point {
     ratios: Vec<f64>,
     merit: Merit,
-    /// The start its solve began at (None: the standard guess), to solve it again as it was.
-    from: Option<StartPoint>,
+    /// The starts its solve began at (none: the standard guess), to solve it again as it was.
+    from: Vec<StartPoint>,
 }
 
 impl Point {
@@ -117,8 +117,8 @@ impl<'a> Solves<'a> {
     }
 
     /// Records `descent`'s fitness and, when a solve ran, its time; its point, solved from
-    /// `from`, when the descent can use it.
-    fn record(&mut self, descent: Descent, from: Option<&StartPoint>) -> Option<Point> {
+    /// `from` (none: the standard guess), when the descent can use it.
+    fn record(&mut self, descent: Descent, from: &[StartPoint]) -> Option<Point> {
         let Descent { evaluation, merit } = descent;
         if evaluation.iterations > 0 {
             self.seconds.push(evaluation.seconds);
@@ -128,7 +128,7 @@ impl<'a> Solves<'a> {
         merit.map(|merit| Point {
             ratios: evaluation.ratios,
             merit,
-            from: from.cloned(),
+            from: from.to_vec(),
         })
     }
 
@@ -136,14 +136,10 @@ impl<'a> Solves<'a> {
     fn solve(
         &mut self,
         ratios: &[f64],
-        start: &StartPoint,
+        start: &[StartPoint],
     ) -> Result<Option<Point>, GradientError> {
-        let mut solved = self
-            .evaluator
-            .descend(&[(0, ratios.to_vec())], Some(start))?;
-        Ok(solved
-            .pop()
-            .and_then(|descent| self.record(descent, Some(start))))
+        let mut solved = self.evaluator.descend(&[(0, ratios.to_vec())], start)?;
+        Ok(solved.pop().and_then(|descent| self.record(descent, start)))
     }
 
     /// Keeps `point` as the best if it is feasible and cheaper than the best so far.
@@ -245,11 +241,11 @@ pub fn optimize_gradient(
         }) => (
             ratios,
             merit.feasible_cost,
-            Some(merit.start.to_solution()),
-            from.map(Box::new),
+            merit.starts.first().map(|s| Box::new(s.to_solution())),
+            from,
         ),
         // Only a graded descent can end without a feasible design.
-        None => (Vec::new(), None, None, None),
+        None => (Vec::new(), None, None, Vec::new()),
     };
     Ok(DesignOutcome {
         best_ratios,

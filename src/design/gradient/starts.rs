@@ -40,12 +40,12 @@ pub(super) fn descent_starts(
             true => starts.len(),
             false => (index + batch).min(designs.len()),
         };
-        for descent in solves.evaluator.descend(&designs[index..end], None)? {
+        for descent in solves.evaluator.descend(&designs[index..end], &[])? {
             if enough(&candidates, index) || codesign_core::signals::stop_requested() {
                 break 'batches;
             }
             solved += 1;
-            if let Some(point) = solves.record(descent, None) {
+            if let Some(point) = solves.record(descent, &[]) {
                 candidates.push((index, point));
             }
             index += 1;

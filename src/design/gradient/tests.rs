@@ -52,7 +52,7 @@ fn gradient_part(outcome: &DesignOutcome) -> (&[GradientIterate], Option<&Soluti
             iterates,
             best_solution,
             ..
-        } => (iterates, best_solution.as_ref()),
+        } => (iterates, best_solution.as_deref()),
         MethodOutcome::Cmaes { .. } => panic!("a CMA-ES outcome"),
     }
 }

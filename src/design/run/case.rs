@@ -118,6 +118,43 @@ pub struct Loaded {
     pub task_hash: String,
 }
 
+impl Loaded {
+    /// This with its task replaced by the motion `name` of its `motions` list (the robot
+    /// carrying that motion's payload), or with the task as it is for `name` None and a task of
+    /// one motion; what is wrong otherwise, in words that follow the flag or keyword naming
+    /// the motion (`NAME: ...`, to follow `--motion `; for None a sentence of its own).
+    pub fn one_motion(self, name: Option<&str>) -> Result<Loaded, String> {
+        let motions = self.task.motion_tasks();
+        let names: Vec<&str> = motions.iter().map(|m| m.name.as_str()).collect();
+        let names = names.join(", ");
+        let Some(name) = name else {
+            return match motions.is_empty() {
+                true => Ok(self),
+                false => Err(format!(
+                    "the task lists {} motions ({names}); name the one to solve",
+                    motions.len()
+                )),
+            };
+        };
+        if motions.is_empty() {
+            return Err(format!(
+                "{name}: the task has no `motions` list (it has one motion, `motion`); leave \
+                 the motion out"
+            ));
+        }
+        let Some(motion) = motions.into_iter().find(|motion| motion.name == name) else {
+            return Err(format!(
+                "{name}: the task has no motion of that name (its motions: {names})"
+            ));
+        };
+        Ok(Loaded {
+            robot: self.robot.with_payload(motion.task.payload.mass_kg),
+            task: motion.task,
+            ..self
+        })
+    }
+}
+
 /// The space, limit modes and linear solver of a run's trajectory problems (`--space`,
 /// `--torque-mode`, `--speed-mode`, `--linear-solver`).
 #[derive(Clone, Debug, PartialEq)]

@@ -7,7 +7,7 @@ use crate::design::outcome::GradientIterate;
 use crate::design::verdicts::VerdictTally;
 use crate::store::log::LoggedRun;
 use codesign_core::ipopt::LinearSolver;
-use codesign_core::model::task::LimitModes;
+use codesign_core::model::task::{LimitModes, MotionsScore};
 use codesign_core::problem::Space;
 use codesign_core::solve::{TaskRecord, ToolInfo, TrajectoryResult};
 use codesign_core::transmission::{ActiveBound, Transmission};
@@ -152,6 +152,11 @@ pub struct OptimizeDocument {
     /// `best_result` and `original_result` are then None).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub payload_costs: Option<RangeCosts>,
+    /// For a task with several motions (`motions`): the best and the original design solved
+    /// for every motion (their `best_result` and `original_result` are then None); absent for
+    /// a task of one motion.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion_costs: Option<MotionCosts>,
     /// For `--objective capacity`: the evaluations whose design carried the search's largest
     /// payload (`max_kg`), where the search stops, so that their capacities tie there; absent
     /// for the other objectives and in files written before it was counted.
@@ -202,6 +207,37 @@ pub struct PayloadCost {
     pub cost: f64,
     /// IPOPT's status, or why no solve ran.
     pub status: String,
+}
+
+/// The designs of a run over a task's several motions, solved for each motion.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MotionCosts {
+    /// How the motions' costs make the score: `sum` or `worst`.
+    pub score: MotionsScore,
+    /// The best design, per motion (empty when no design was found).
+    pub best: Vec<MotionCost>,
+    /// The original design, per motion.
+    pub original: Vec<MotionCost>,
+}
+
+/// One design solved for one motion of a task.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MotionCost {
+    /// The motion's name.
+    pub name: String,
+    /// Its weight w_i.
+    pub weight: f64,
+    /// Its payload, kg.
+    pub payload_kg: f64,
+    /// Whether its trajectory problem was solved feasibly.
+    pub feasible: bool,
+    /// Its optimal cost J_i (meaningful when feasible; null when no solve ran).
+    #[serde(deserialize_with = "number_or_nan")]
+    pub cost: f64,
+    /// IPOPT's status, or why no solve ran.
+    pub status: String,
+    /// The solve's full result (None when no solve ran).
+    pub result: Option<TrajectoryResult>,
 }
 
 /// Reads a number that serde_json wrote as null because it was NaN.

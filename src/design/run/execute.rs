@@ -2,7 +2,9 @@
 //! (CMA-ES in worker processes, or the gradient method), and the document of what it found.
 
 use super::case::{Case, Loaded};
-use super::document::{OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts};
+use super::document::{
+    MotionCost, MotionCosts, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts,
+};
 use super::error::{Output, RunError};
 use super::method::{logs_evaluations, run_method, MethodRun, ProgressDisplay};
 use crate::design::optimize::{EvaluationLog, Finished};
@@ -14,7 +16,7 @@ use crate::stats::median;
 use crate::store::document::write_document;
 use crate::store::files::{check_output, check_result};
 use crate::store::log::log_beside;
-use codesign_core::model::task::{LimitModes, Task};
+use codesign_core::model::task::{LimitModes, MotionsScore, Task};
 use codesign_core::model::Robot;
 use codesign_core::problem::Formulation;
 use codesign_core::signals;
@@ -37,6 +39,9 @@ pub fn run_case(
 ) -> Result<OptimizeDocument, RunError> {
     case.validate().map_err(RunError::Case)?;
     let mut loaded = case.model.load().map_err(RunError::Load)?;
+    (case.settings)
+        .check_task(&loaded.task)
+        .map_err(RunError::Case)?;
     case.problem.configure(&mut loaded.settings);
     let read = case.model.inputs(&loaded.task);
     check_result(out, &read).map_err(RunError::store(Output::Result))?;
@@ -114,7 +119,7 @@ fn open_log(
 }
 
 /// The result document of a run: the method's outcome with full solves of the best and the
-/// original design (at every payload of a range). The wall time and the earlier invocations'
+/// original design (at every payload of a range, for every motion of a task with several). The wall time and the earlier invocations'
 /// time are the caller's to set.
 fn document(
     case: &Case,
@@ -134,16 +139,29 @@ fn document(
             &elastic
         }
     };
+    let fitness = || {
+        Fitness::new(
+            formulation.task(),
+            settings,
+            formulation.space(),
+            *formulation.modes(),
+            &case.settings.objective,
+            case.settings.penalty(),
+        )
+    };
+    let mut motion_costs = None;
     let (best_result, original_result, payload_costs) = match &case.settings.objective {
+        _ if formulation.task().has_motions() => {
+            let fitness = fitness()?;
+            motion_costs = Some(MotionCosts {
+                score: formulation.task().motions_score,
+                best: each_motion(&fitness, settings, &outcome.best_ratios),
+                original: each_motion(&fitness, settings, &original_ratios),
+            });
+            (None, None, None)
+        }
         Objective::Range(_) => {
-            let fitness = Fitness::new(
-                formulation.task(),
-                settings,
-                formulation.space(),
-                *formulation.modes(),
-                &case.settings.objective,
-                case.settings.penalty(),
-            )?;
+            let fitness = fitness()?;
             let best = payload_costs(&fitness, settings, &outcome.best_ratios);
             let original = payload_costs(&fitness, settings, &original_ratios);
             (None, None, Some(RangeCosts { best, original }))
@@ -156,7 +174,10 @@ fn document(
             None,
         ),
     };
-    let original_cost = original_cost(case, original_result.as_ref(), payload_costs.as_ref());
+    let original_cost = match &motion_costs {
+        Some(costs) => motions_cost(&costs.original, costs.score).unwrap_or(case.settings.penalty),
+        None => original_cost(case, original_result.as_ref(), payload_costs.as_ref()),
+    };
     let at_max = at_max(&case.settings.objective, &outcome.costs);
     let (generations, iterates, replayed) = match outcome.method {
         MethodOutcome::Cmaes {
@@ -188,6 +209,7 @@ fn document(
         wall_seconds: 0.0,
         earlier_seconds: None,
         payload_costs,
+        motion_costs,
         at_max,
     })
 }
@@ -263,6 +285,40 @@ fn payload_costs(fitness: &Fitness, settings: &SolveSettings, ratios: &[f64]) ->
             }
         })
         .collect()
+}
+
+/// `ratios` solved from the standard guess for every motion of `fitness` (none when `ratios`
+/// is empty: no feasible design was found), as the design was scored (elastic problems for a
+/// graded penalty).
+fn each_motion(fitness: &Fitness, settings: &SolveSettings, ratios: &[f64]) -> Vec<MotionCost> {
+    let Some(motions) = fitness.motions().filter(|_| !ratios.is_empty()) else {
+        return Vec::new();
+    };
+    (motions.problems.iter())
+        .map(|problem| {
+            let solved = solve_design(&problem.formulation, ratios, settings);
+            MotionCost {
+                name: problem.name.clone(),
+                weight: problem.weight,
+                payload_kg: problem.formulation.task().payload.mass_kg,
+                feasible: solved.as_ref().is_ok_and(|r| r.feasible),
+                cost: solved.as_ref().map_or(f64::NAN, |r| r.cost),
+                status: solved
+                    .as_ref()
+                    .map_or_else(|e| e.to_string(), |r| r.status.clone()),
+                result: solved.ok(),
+            }
+        })
+        .collect()
+}
+
+/// The score of a design's costs for each motion, `score`-combined (w_i J_i summed in order, or
+/// the worst); None unless every motion is feasible.
+fn motions_cost(costs: &[MotionCost], score: MotionsScore) -> Option<f64> {
+    let weighted: Option<Vec<f64>> = (costs.iter())
+        .map(|c| c.feasible.then_some(c.weight * c.cost))
+        .collect();
+    score.combine(&weighted?).map(|(cost, _)| cost)
 }
 
 /// The hard formulation of `case` for `task` and `robot` under `modes`: minimising the motors'

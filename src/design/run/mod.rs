@@ -12,7 +12,8 @@ mod verify;
 
 pub use case::{shell_quote, task_source, Case, Loaded, ModelChoice, ProblemChoice};
 pub use document::{
-    number_or_nan, OptimizeDocument, OptimizeInputs, PayloadCost, RangeCosts, RecordedHash,
+    number_or_nan, MotionCost, MotionCosts, OptimizeDocument, OptimizeInputs, PayloadCost,
+    RangeCosts, RecordedHash,
 };
 pub use error::{Output, RunError};
 pub use execute::run_case;

@@ -12,7 +12,7 @@ use crate::design::warm::WarmStart;
 use crate::design::workers::SOLVE_TIMEOUT_S;
 use crate::store::log::Start;
 use codesign_core::choice::Choice;
-use codesign_core::model::task::check_payload;
+use codesign_core::model::task::{check_payload, Task};
 use codesign_core::text::number;
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
@@ -162,6 +162,33 @@ impl RunSettings {
             ));
         }
         self.check_objective(payload, start)
+    }
+
+    /// Checks what the objective asks of `task`: the capacity and range objectives are of one
+    /// motion (a payload capacity, a mean over payloads of one motion), so a task with a
+    /// `motions` list is co-designed with the cost, energy or time objective only.
+    pub fn check_task(&self, task: &Task) -> Result<(), CaseError> {
+        let name = match &self.objective {
+            Objective::Capacity(_) => "capacity",
+            Objective::Range(_) => "range",
+            Objective::Cost | Objective::Energy | Objective::Time => return Ok(()),
+        };
+        if !task.has_motions() {
+            return Ok(());
+        }
+        let what = match name {
+            "capacity" => "a payload capacity is the heaviest payload of one motion",
+            _ => "a payload range is one motion's cost averaged over payloads",
+        };
+        Err(CaseError::new(
+            "objective",
+            name,
+            format!(
+                "{what}, and the task lists {} motions (`motions`); co-design them with the cost, \
+                 energy or time objective (each motion may give its own payload_kg)",
+                task.motions.len()
+            ),
+        ))
     }
 
     /// Checks what the objective asks of the method, the payload and the start.

@@ -66,7 +66,7 @@ fn evaluate_again(
             evaluator.evaluate(&design, best_anchor.as_deref(), &mut |_, _| Ok(()))?
         }
         MethodOutcome::Gradient { best_from, .. } => {
-            let descents = evaluator.descend(&design, best_from.as_deref())?;
+            let descents = evaluator.descend(&design, best_from)?;
             descents.into_iter().map(|d| d.evaluation).collect()
         }
     };

@@ -5,22 +5,25 @@
 
 use super::objective::{solved, unheld, Scored};
 use super::{validate, Evaluation, Fitness, Score, Verdict};
-use codesign_core::problem::ProblemKind;
+use codesign_core::problem::{Formulation, ProblemKind};
 use codesign_core::solve::StartPoint;
 use serde::{Deserialize, Serialize};
 
-/// What a descent uses of one design's solve (docs/model.md, section 12).
+/// What a descent uses of one design's solves (docs/model.md, section 12).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Merit {
     /// The merit: the optimal cost J* (flat penalty), or the elastic problem's optimal penalised
-    /// objective (graded penalty), which is J* where the design is feasible.
+    /// objective (graded penalty), which is J* where the design is feasible; over a task's
+    /// several motions their weighted sum, or the worst weighted one.
     pub value: f64,
-    /// Its gradient with respect to the ratios (the exact sensitivity of the solve).
+    /// Its gradient with respect to the ratios (the exact sensitivity of the solves; over
+    /// several motions the weighted sum of theirs, or the active motion's).
     pub gradient: Vec<f64>,
     /// The optimal cost J*, when the design is feasible.
     pub feasible_cost: Option<f64>,
-    /// The solve's raw solution, to start the solves of designs near it from.
-    pub start: StartPoint,
+    /// The solves' raw solutions, one per problem of the merit (the one problem, or each motion
+    /// in the task's order), to start the solves of designs near it from.
+    pub starts: Vec<StartPoint>,
 }
 
 /// A design scored for a descent: its evaluation, and its merit when the descent can use it (a
@@ -36,67 +39,112 @@ pub struct Descent {
 
 impl Fitness {
     /// Scores `ratios` for a descent: validated, solved under the one rule from `start` (a nearby
-    /// design's merit's start; None: the standard guess) and judged, with the merit of the
-    /// solve. Its verdict is the one [`Fitness::evaluate`] gives: a design whose motors cannot
+    /// design's merit's starts; none: the standard guess) and judged, with the merit of the
+    /// solves. Its verdict is the one [`Fitness::evaluate`] gives: a design whose motors cannot
     /// hold the load at rest is infeasible by the hold's deficit alone. With the flat penalty it
     /// is then not solved; with the graded one it is, for the elastic merit that moves the
     /// descent toward designs that hold it. Only the cost and energy objectives have a merit
-    /// (one payload's optimal cost); the others score as [`Fitness::evaluate`] does, with none.
-    /// A start that does not fit the problem is a solver error.
-    pub fn descend_from(&self, ratios: &[f64], start: Option<&StartPoint>) -> Descent {
+    /// (one payload's optimal cost, or a task's motions'); the others score as
+    /// [`Fitness::evaluate`] does, with none. A start that does not fit the problems is a
+    /// solver error.
+    pub fn descend_from(&self, ratios: &[f64], start: &[StartPoint]) -> Descent {
         let unsolved = |verdict: Verdict| Descent {
             evaluation: Evaluation::new(ratios, &Score::unsolved(verdict), &self.penalty),
             merit: None,
         };
-        let Scored::Cost(formulation) = &self.scored else {
+        let Some(problems) = self.merit_problems() else {
             return Descent {
                 evaluation: self.evaluate(ratios),
                 merit: None,
             };
         };
-        if let Some(Err(error)) = start.map(|s| s.check_fits(formulation, &self.task_hash)) {
+        if let Err(message) = self.check_starts(&problems, start) {
             return unsolved(Verdict::SolverError {
-                message: format!("warm start: {error}"),
+                message: format!("warm start: {message}"),
             });
         }
         if let Err(verdict) = validate(&self.transmission, ratios) {
             return unsolved(verdict);
         }
+        let (score, merit) = match &self.scored {
+            Scored::Motions(motions) => motions.descend(self, ratios, start),
+            _ => self.descend_one(problems[0], ratios, start.first()),
+        };
+        Descent {
+            evaluation: Evaluation::new(ratios, &score, &self.penalty),
+            merit,
+        }
+    }
+
+    /// The problems a merit is made of, in order: the cost objective's one, or one per motion;
+    /// None for the objectives without a merit.
+    fn merit_problems(&self) -> Option<Vec<&Formulation>> {
+        match &self.scored {
+            Scored::Cost(formulation) => Some(vec![formulation]),
+            Scored::Motions(motions) => Some(motions.formulations()),
+            Scored::Capacity(..) | Scored::Range(_) => None,
+        }
+    }
+
+    /// Checks that `starts` are none, or one per problem of `problems`, each fitting its
+    /// problem; what is wrong, in words.
+    fn check_starts(&self, problems: &[&Formulation], starts: &[StartPoint]) -> Result<(), String> {
+        if !starts.is_empty() && starts.len() != problems.len() {
+            return Err(format!(
+                "{} start points for {} problems",
+                starts.len(),
+                problems.len()
+            ));
+        }
+        for (start, problem) in starts.iter().zip(problems) {
+            start
+                .check_fits(problem, &self.task_hash)
+                .map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    }
+
+    /// Valid `ratios` scored for a descent in `formulation`'s problem from `start`: the score,
+    /// and the merit when the descent can use it.
+    pub(super) fn descend_one(
+        &self,
+        formulation: &Formulation,
+        ratios: &[f64],
+        start: Option<&StartPoint>,
+    ) -> (Score, Option<Merit>) {
         let hard = formulation.kind() == ProblemKind::Hard;
-        let unheld = unheld(&[(0.0, formulation)], ratios);
+        let unheld = unheld(&[(String::new(), formulation)], ratios);
         if let (Some(verdict), true) = (&unheld, hard) {
-            return unsolved(verdict.clone());
+            return (Score::unsolved(verdict.clone()), None);
         }
         let warm = start.map(StartPoint::to_solution);
         let (mut score, ran) = solved(formulation, &self.solve, ratios, warm.as_ref());
         let Some((result, solution)) = ran else {
-            return unsolved(score.verdict);
+            return (score, None);
         };
         if let Some(verdict) = unheld {
             score.verdict = verdict;
         }
-        let evaluation = Evaluation::new(ratios, &score, &self.penalty);
         // The flat penalty descends on feasible designs only: the elastic result the rule
         // reports for an infeasible design of the hard problem is not its objective.
         if hard && !result.feasible {
-            return Descent {
-                evaluation,
-                merit: None,
-            };
+            return (score, None);
         }
         let merit = match result.elastic {
             Some(measures) => measures.objective_gradient.map(|g| (measures.objective, g)),
             None => result.cost_gradient.map(|g| (result.cost, g)),
         };
-        Descent {
-            evaluation,
-            merit: merit.map(|(value, gradient)| Merit {
-                value,
-                gradient,
-                feasible_cost: result.feasible.then_some(result.cost),
-                start: StartPoint::from_solution(&solution, formulation, &self.task_hash),
-            }),
-        }
+        let merit = merit.map(|(value, gradient)| Merit {
+            value,
+            gradient,
+            feasible_cost: result.feasible.then_some(result.cost),
+            starts: vec![StartPoint::from_solution(
+                &solution,
+                formulation,
+                &self.task_hash,
+            )],
+        });
+        (score, merit)
     }
 
     /// What `merit`, answered for `evaluation` by a worker of this fitness, holds that cannot
@@ -104,7 +152,7 @@ impl Fitness {
     /// per ratio, a feasible cost that is not the evaluation's, a start that does not fit the
     /// problem. None when it can be.
     pub fn implausible_merit(&self, evaluation: &Evaluation, merit: &Merit) -> Option<String> {
-        let Scored::Cost(formulation) = &self.scored else {
+        let Some(problems) = self.merit_problems() else {
             return Some("a merit for an objective that has none".to_owned());
         };
         if !merit.value.is_finite() {
@@ -124,7 +172,14 @@ impl Fitness {
                 merit.feasible_cost, evaluation.cost, evaluation.feasible
             ));
         }
-        let fits = merit.start.check_fits(formulation, &self.task_hash);
+        if merit.starts.len() != problems.len() {
+            return Some(format!(
+                "a merit with {} start points for {} problems",
+                merit.starts.len(),
+                problems.len()
+            ));
+        }
+        let fits = self.check_starts(&problems, &merit.starts);
         fits.err()
             .map(|error| format!("a merit whose start {error}"))
     }

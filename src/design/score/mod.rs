@@ -7,9 +7,13 @@
 //! [`Verdict::fitness`] is the one rule turning it into a number; [`Evaluation`] is its record as
 //! the evaluation log and the worker protocol write it. Its modules: `objective` (what is solved
 //! per design: the cost, a range's mean cost, the payload capacity, elastic solves for a graded
-//! penalty), `record` (the evaluation record and its status texts).
+//! penalty), `motions` (one design over a task's several motions), `record` (the evaluation
+//! record and its status texts).
 
 mod descent;
+#[cfg(test)]
+mod motion_tests;
+mod motions;
 mod objective;
 mod plausible;
 mod record;
@@ -17,6 +21,7 @@ mod record;
 mod tests;
 
 pub use descent::{Descent, Merit};
+pub use motions::{MotionProblem, Motions};
 pub use objective::{anchor_solution, Fitness, Objective, PayloadRange, ScoreError};
 pub use plausible::MAX_REASON_BYTES;
 pub use record::{Evaluation, SolveStatus, Status};
@@ -113,14 +118,19 @@ impl Verdict {
     }
 
     /// The verdict with its reason prefixed by the payload it was reached at, kg.
-    fn at(mut self, payload_kg: f64) -> Verdict {
+    fn at(self, payload_kg: f64) -> Verdict {
+        self.labelled(&format!("at {payload_kg} kg"))
+    }
+
+    /// The verdict with its reason prefixed by `label` (`at 1 kg`, `motion low`) and a colon.
+    fn labelled(mut self, label: &str) -> Verdict {
         match &mut self {
             Verdict::Feasible { .. } => {}
             Verdict::Infeasible { reason, .. }
             | Verdict::Invalid { reason, .. }
             | Verdict::SolverError { message: reason }
             | Verdict::WorkerFailed { message: reason } => {
-                *reason = format!("at {payload_kg} kg: {reason}");
+                *reason = format!("{label}: {reason}");
             }
         }
         self

@@ -1,7 +1,9 @@
 //! What co-design minimises, and how a design is solved for it: the cost at one payload, the
-//! mean cost over several, minus the payload capacity, or the least duration; with a graded penalty the solves are
-//! the elastic ones, which measure how far an infeasible design is from feasible.
+//! mean cost over several, the weighted costs of a task's several motions (`super::motions`),
+//! minus the payload capacity, or the least duration; with a graded penalty the solves are the
+//! elastic ones, which measure how far an infeasible design is from feasible.
 
+use super::motions::Motions;
 use super::{judge, shortfall_of, solve, validate, Evaluation, Score, SolveStatus, Verdict};
 use crate::design::capacity::{payload_capacity, CapacitySettings};
 use crate::design::penalty::{Grading, Penalty};
@@ -58,8 +60,15 @@ pub struct PayloadRange {
 pub enum ScoreError {
     /// The robot model could not be loaded.
     Model(ModelError),
-    /// The trajectory problem could not be formulated (at some payload).
+    /// The trajectory problem could not be formulated (at some payload, or of some motion).
     Formulation(FormulationError),
+    /// The objective is of one motion (`capacity`, `range`), and the task lists several.
+    SeveralMotions {
+        /// The objective's name.
+        objective: &'static str,
+        /// The task's motions.
+        motions: usize,
+    },
 }
 
 impl fmt::Display for ScoreError {
@@ -67,6 +76,12 @@ impl fmt::Display for ScoreError {
         match self {
             ScoreError::Model(error) => error.fmt(f),
             ScoreError::Formulation(error) => error.fmt(f),
+            ScoreError::SeveralMotions { objective, motions } => write!(
+                f,
+                "the {objective} objective is of one motion, and the task lists {motions} \
+                 motions (`motions`); co-design several motions with the cost or energy \
+                 objective"
+            ),
         }
     }
 }
@@ -76,6 +91,7 @@ impl std::error::Error for ScoreError {
         match self {
             ScoreError::Model(error) => Some(error),
             ScoreError::Formulation(error) => Some(error),
+            ScoreError::SeveralMotions { .. } => None,
         }
     }
 }
@@ -113,12 +129,16 @@ pub(super) enum Scored {
     Capacity(Formulation, CapacitySettings),
     /// The mean cost over the payloads, each with its formulation.
     Range(Vec<(f64, Formulation)>),
+    /// The cost (or copper losses) of each of a task's motions, made one.
+    Motions(Motions),
 }
 
 impl Fitness {
     /// The fitness of `objective` for `task` (its payload used by `Cost` and `Capacity`) in
     /// `space` with limit `modes`, solved with `solve`; with a graded `penalty` the problems are
-    /// the elastic ones.
+    /// the elastic ones. A task with a `motions` list is scored over its motions by the cost
+    /// and energy objectives, and refused by the others
+    /// ([`ScoreError::SeveralMotions`]).
     pub fn new(
         task: &Task,
         solve: &SolveSettings,
@@ -130,6 +150,22 @@ impl Fitness {
         let task = &objective.task(task);
         let robot = Robot::load(task)?;
         let task_hash = task_hash(task, robot.urdf_hash());
+        if task.has_motions() {
+            let objective = match objective {
+                Objective::Cost | Objective::Energy | Objective::Time => objective,
+                Objective::Capacity(_) => return Err(several("capacity", task)),
+                Objective::Range(_) => return Err(several("range", task)),
+            };
+            let grading = penalty.grading;
+            let motions = Motions::new(task, &robot, space, modes, solve, objective, grading)?;
+            return Ok(Fitness {
+                transmission: motions.transmission().clone(),
+                scored: Scored::Motions(motions),
+                penalty,
+                solve: solve.clone(),
+                task_hash,
+            });
+        }
         let hard = Formulation::new(task, robot, space, modes)?
             .with_hold_tolerance(solve.constraint_tolerance());
         let hard = match objective {
@@ -175,6 +211,14 @@ impl Fitness {
         self.solve.linear_solver()
     }
 
+    /// The problems of a task's several motions (None for a task of one motion).
+    pub fn motions(&self) -> Option<&Motions> {
+        match &self.scored {
+            Scored::Motions(motions) => Some(motions),
+            _ => None,
+        }
+    }
+
     /// The range's payloads with their formulations (empty for another objective).
     pub fn payloads(&self) -> &[(f64, Formulation)] {
         match &self.scored {
@@ -211,9 +255,12 @@ impl Fitness {
                 _ => verdict,
             });
         }
-        let held: Vec<(f64, &Formulation)> = match &self.scored {
-            Scored::Cost(formulation) => vec![(0.0, formulation)],
-            Scored::Range(formulations) => formulations.iter().map(|(kg, f)| (*kg, f)).collect(),
+        let held: Vec<(String, &Formulation)> = match &self.scored {
+            Scored::Cost(formulation) => vec![(String::new(), formulation)],
+            Scored::Range(formulations) => (formulations.iter())
+                .map(|(kg, f)| (format!("at {kg} kg"), f))
+                .collect(),
+            Scored::Motions(motions) => motions.labelled(),
             // The capacity search solves no payload its motors cannot hold.
             Scored::Capacity(..) => Vec::new(),
         };
@@ -235,6 +282,7 @@ impl Fitness {
                 elastic(&each, solve, ratios, None)
             }
             Scored::Range(formulations) => range(formulations, solve, ratios),
+            Scored::Motions(motions) => motions.score(solve, ratios, graded),
         }
     }
 
@@ -246,6 +294,14 @@ impl Fitness {
     /// Scores `ratios` from `warm` (see [`Fitness::score_from`]) and records the evaluation.
     pub fn evaluate_from(&self, ratios: &[f64], warm: Option<&Solution>) -> Evaluation {
         Evaluation::new(ratios, &self.score_from(ratios, warm), &self.penalty)
+    }
+}
+
+/// The error of an objective of one motion, `objective`, for `task`, which lists several.
+fn several(objective: &'static str, task: &Task) -> ScoreError {
+    ScoreError::SeveralMotions {
+        objective,
+        motions: task.motions.len(),
     }
 }
 
@@ -261,13 +317,14 @@ pub fn anchor_solution(
     result.feasible.then_some(solution)
 }
 
-/// The verdict of valid `ratios` when its motors cannot hold the load at rest at an end at some
-/// payload of `formulations` (named when there are several): infeasible whatever IPOPT would
-/// say, so nothing is solved. Its shortfall is the hold's deficit alone, summed over the
-/// payloads (docs/model.md, section 10). None when every payload is held.
-pub(super) fn unheld(formulations: &[(f64, &Formulation)], ratios: &[f64]) -> Option<Verdict> {
+/// The verdict of valid `ratios` when its motors cannot hold the load at rest at an end of some
+/// problem of `formulations` (a payload or a motion, named by its label when there are
+/// several): infeasible whatever IPOPT would say, so nothing is solved. Its shortfall is the
+/// hold's deficit alone, summed over the problems (docs/model.md, section 10). None when every
+/// one is held.
+pub(super) fn unheld(formulations: &[(String, &Formulation)], ratios: &[f64]) -> Option<Verdict> {
     let (mut short, mut reasons) = (0.0, Vec::new());
-    for (payload_kg, formulation) in formulations {
+    for (label, formulation) in formulations {
         // A design whose problem cannot be built is judged by its solve.
         let hold = formulation.static_hold(ratios).ok()?;
         let Some(reason) = hold.failure() else {
@@ -276,7 +333,7 @@ pub(super) fn unheld(formulations: &[(f64, &Formulation)], ratios: &[f64]) -> Op
         short += shortfall_of(formulation, 0.0, hold.judged_deficit_nm(), 0.0);
         reasons.push(match formulations.len() {
             1 => reason,
-            _ => format!("at {payload_kg} kg: {reason}"),
+            _ => format!("{label}: {reason}"),
         });
     }
     (!reasons.is_empty()).then(|| Verdict::Infeasible {

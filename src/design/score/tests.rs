@@ -171,7 +171,7 @@ fn a_descent_judges_a_design_that_cannot_hold_as_an_evaluation_does() {
     for penalty in ["flat", "graded"] {
         let fitness = fitness(3.0, Space::Actuation, penalty);
         let evaluation = fitness.evaluate(&original());
-        let descent = fitness.descend_from(&original(), None);
+        let descent = fitness.descend_from(&original(), &[]);
         let solved = descent.evaluation.iterations > 0;
         let work = Evaluation {
             iterations: 0,

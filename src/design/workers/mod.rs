@@ -652,25 +652,25 @@ done"#;
     fn descents_are_answered_with_the_merits_of_this_process() {
         let fitness = setup().fitness().unwrap();
         let design = vec![9.0, 7.7, 3.0, 3.0];
-        let start = fitness.descend_from(&design, None).merit.unwrap().start;
-        let request = |id: usize, ratios: &[f64], start: Option<&StartPoint>| Request {
+        let start = fitness.descend_from(&design, &[]).merit.unwrap().starts;
+        let request = |id: usize, ratios: &[f64], start: &[StartPoint]| Request {
             id,
             ratios: ratios.to_vec(),
             anchor: None,
             descent: Some(DescentRequest {
-                start: start.cloned(),
+                starts: start.to_vec(),
             }),
         };
         let near = [8.9, 7.6, 2.9, 2.95];
         let answered = responses(&[
-            request(0, &design, None),
-            request(1, &near, Some(&start)),
-            request(2, &[20.0, 7.7, 3.0, 3.0], Some(&start)),
+            request(0, &design, &[]),
+            request(1, &near, &start),
+            request(2, &[20.0, 7.7, 3.0, 3.0], &start),
         ]);
         let own = [
-            fitness.descend_from(&design, None),
-            fitness.descend_from(&near, Some(&start)),
-            fitness.descend_from(&[20.0, 7.7, 3.0, 3.0], Some(&start)),
+            fitness.descend_from(&design, &[]),
+            fitness.descend_from(&near, &start),
+            fitness.descend_from(&[20.0, 7.7, 3.0, 3.0], &start),
         ];
         let untimed = |e: &Evaluation| Evaluation {
             seconds: 0.0,
@@ -693,8 +693,8 @@ done"#;
                 0 => lie.value = f64::NAN,
                 1 => lie.gradient.truncate(3),
                 2 => lie.feasible_cost = lie.feasible_cost.map(|c| c + 1.0),
-                3 => lie.start.x.truncate(1),
-                _ => lie.start.z_lower[0] = -1.0,
+                3 => lie.starts[0].x.truncate(1),
+                _ => lie.starts[0].z_lower[0] = -1.0,
             }
             lies.push(fitness.implausible_merit(evaluation, &lie));
         }

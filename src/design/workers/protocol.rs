@@ -152,10 +152,10 @@ pub struct Request {
 /// What a request of the gradient method adds (see [`Request::descent`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DescentRequest {
-    /// The solution the design's solve starts from (a nearby design's merit's); None: the
-    /// standard guess.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub start: Option<StartPoint>,
+    /// The solutions the design's solves start from (a nearby design's merit's, one per problem
+    /// its merit is made of); none: the standard guess.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub starts: Vec<StartPoint>,
 }
 
 /// A worker's solution of the last anchor it was sent (see [`Request::anchor`]).
@@ -219,7 +219,7 @@ pub fn serve(mut input: impl BufRead, mut output: impl Write) -> Result<(), Work
             serde_json::from_str(&line).map_err(WorkerError::MalformedRequest)?;
         let response = match &request.descent {
             Some(descent) => {
-                let scored = fitness.descend_from(&request.ratios, descent.start.as_ref());
+                let scored = fitness.descend_from(&request.ratios, &descent.starts);
                 Response {
                     id: request.id,
                     evaluation: scored.evaluation,

@@ -20,6 +20,7 @@ use crate::store::{Action, StoreError};
 use codesign_core::hash::fnv1a;
 use codesign_core::input::{read_text, MAX_RESULT_BYTES};
 use codesign_core::json_keys::check_unique_keys;
+use codesign_core::model::catalogue;
 use codesign_core::model::identity::built_in_task_hash;
 use ordered::Ordered;
 use serde::de::DeserializeOwned;
@@ -98,7 +99,7 @@ impl Migration {
 
 /// Plans the migration of the file at `path`: a result document, a table or an evaluation log
 /// of any version this build knows. None for a file that is none of them (JSON of another
-/// program). Errors name the file: unreadable, damaged, of a newer version, or not read as
+/// program, or a catalogue of parts). Errors name the file: unreadable, damaged, of a newer version, or not read as
 /// this build's type once upgraded.
 pub fn plan(path: &Path) -> Result<Option<Migration>, ReportError> {
     let failed = |why| ReportError::Read {
@@ -126,6 +127,11 @@ pub fn plan(path: &Path) -> Result<Option<Migration>, ReportError> {
     let mut value: Value =
         serde_json::from_str(&before).map_err(|e| failed(ReadFailure::NotJson(e.to_string())))?;
     check_unique_keys(&before).map_err(|e| failed(ReadFailure::RepeatedKey(e)))?;
+    if value.get("schema").and_then(Value::as_str) == Some(catalogue::SCHEMA) {
+        // A catalogue of parts is an input, read by its own strict reader, and has no older
+        // version to upgrade.
+        return Ok(None);
+    }
     let (schema, version) = match document::open(&mut value) {
         Ok(Tagged::Kind(schema, version)) => (schema, version),
         Ok(Tagged::Untagged) => match steps::untagged_kind(&value) {
