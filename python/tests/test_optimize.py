@@ -135,5 +135,5 @@ def test_the_time_objective_shortens_the_motion(planar):
     assert document["inputs"]["objective"] == {"kind": "time"}
     assert run.best_cost <= document["original_cost"]
     assert run.best_result["cost"] == run.best_result["horizon_s"]
-    with pytest.raises(cd.InputError, match="objective='speed'"):
+    with pytest.raises(cd.InputError, match='objective="speed"'):
         task.optimize(objective="speed")
