@@ -161,7 +161,11 @@ fn the_page_loads_without_error_and_the_arm_moves() {
 fn the_committed_pages_lead_with_the_summary_and_load_whole() {
     let dir = scratch("committed");
     let mut browser = Browser::start(&dir.join("profile"), 1300, 900);
-    for folder in ["results", "results/quick", "results/linkage/ball_screw_quick"] {
+    for folder in [
+        "results",
+        "results/quick",
+        "results/linkage/ball_screw_quick",
+    ] {
         browser.open(&root().join(folder).join("index.html"));
         let first = browser.evaluate("document.querySelector('svg, img, table').id");
         assert_eq!(first, "summary", "{folder}");
