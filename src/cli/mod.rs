@@ -71,6 +71,7 @@ mod progress;
 mod reproduce;
 mod run_flags;
 mod solve;
+mod solve_args;
 mod solve_motions;
 mod solve_summary;
 mod store_hints;
@@ -104,7 +105,7 @@ enum Command {
     /// Evaluate the robot's dynamics and TCP kinematics, with derivatives, at one state (JSON).
     Dynamics(dynamics::Args),
     /// Solve the trajectory problem of one design and report cost, feasibility and trajectory.
-    Solve(solve::Args),
+    Solve(solve_args::Args),
     /// The largest payload a design can move through the task (bracketing and bisection).
     Capacity(capacity::Args),
     /// A design's payload capacity against the duration of its motion: the capacity within each

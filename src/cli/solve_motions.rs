@@ -3,7 +3,7 @@
 //! section 10, "Several motions").
 
 use super::failure::{Failure, INFEASIBLE_EXIT};
-use super::solve::{design, formulate, refuse_unwritable, solve_error, with_flags, Args};
+use super::solve_args::{design, formulate, refuse_unwritable, solve_error, with_flags, Args};
 use super::solve_summary::print_summary;
 use crate::design::run::Loaded;
 use codesign_core::choice::Choice;

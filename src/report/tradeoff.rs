@@ -8,7 +8,6 @@ use crate::design::tradeoff::TradeoffPoint;
 use codesign_core::model::task::{Ends, LimitModes};
 use codesign_core::problem::Space;
 use codesign_core::solve::ToolInfo;
-use codesign_core::text::numbers;
 use serde::{Deserialize, Serialize};
 
 /// What defined a trade-off: the task, the space, the design, the durations and the capacity
@@ -63,7 +62,10 @@ impl TradeoffDocument {
             title: format!(
                 "Payload capacity against cycle time, {} space, r = ({})",
                 inputs.space,
-                numbers(&inputs.ratios)
+                (inputs.ratios.iter())
+                    .map(|r| format!("{r:.3}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ),
             x_label: "duration T of the motion (s)".to_owned(),
             y_label: "payload capacity (kg)".to_owned(),

@@ -9,7 +9,7 @@
 //! pitch and width in mm as their makers give them. docs/guide/catalogue.md describes every
 //! field.
 
-use super::validate::{Bounds, FieldError};
+use super::ranges::{Bounds, FieldError};
 use crate::input::{read_text, MAX_TASK_BYTES};
 use crate::json_keys::{check_unique_keys, line_of, read_value};
 use crate::text::shown;

@@ -2,7 +2,7 @@
 //! `motion.horizon_s` as a number of seconds or as `{"free": [T_min, T_max]}`; a free T is a
 //! variable of the trajectory problem (docs/model.md, section 6).
 
-use super::validate::{check_horizon, FieldError};
+use super::ranges::{check_horizon, FieldError};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use serde_json::Value;
 

@@ -1,8 +1,8 @@
 //! The pure minimum-time problem of a task: its motion with a free horizon, J = T (docs/model.md,
 //! section 6), what the cycle-time co-design solves for each design.
 
+use super::ranges::{MAX_HORIZON_S, MIN_HORIZON_S};
 use super::task::{CartesianBox, Horizon, Task, Weights};
-use super::validate::{MAX_HORIZON_S, MIN_HORIZON_S};
 
 /// The range of the free horizon of a task whose horizon is fixed at T, as multiples of T:
 /// [0.3 T, 1.5 T] (the one place of this default). Its upper end starts the solve (the slowest

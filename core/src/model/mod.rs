@@ -12,6 +12,7 @@ mod minimum_time;
 mod motions;
 pub mod motor_parts;
 mod motors;
+mod ranges;
 mod read_experiment;
 mod robot;
 pub mod task;

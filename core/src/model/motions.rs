@@ -6,8 +6,8 @@
 //! A task with a `motions` list is a set of single-motion tasks ([`Task::motion_tasks`]); every
 //! layer below co-design solves each of them as the task it is.
 
+use super::ranges::{check_payload, Bounds, FieldError, MAX_WEIGHT};
 use super::task::{Ends, Horizon, Motion, Task, Upright, Via};
-use super::validate::{check_payload, Bounds, FieldError, MAX_WEIGHT};
 use crate::choice::Choice;
 use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serialize};

@@ -4,7 +4,7 @@
 //! list has one value per row of G, in that order.
 
 pub use super::motor_parts::PartChoice;
-use super::validate::{Bounds, FieldError};
+use super::ranges::{Bounds, FieldError};
 use crate::text::{number, numbers};
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};

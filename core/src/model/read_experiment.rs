@@ -4,7 +4,7 @@
 //! (`experiment.rs`), which the task file holds, because it uses the task's checks.
 
 use super::experiment::{Budget, Experiment, MAX_SEEDS};
-use super::validate::{check_payload, FieldError, OutOfRange};
+use super::ranges::{check_payload, FieldError, OutOfRange};
 use crate::text::number;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};

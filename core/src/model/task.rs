@@ -25,7 +25,7 @@ use std::sync::Arc;
 
 pub use super::motions::{MotionEntry, MotionTask, MotionsScore, MAX_MOTION_NAME};
 pub use super::motors::{Motors, PartChoice, PerMotor};
-pub use super::validate::{
+pub use super::ranges::{
     check_horizon, check_payload, check_steps, FieldError, OutOfRange, MAX_GRAVITY, MAX_HORIZON_S,
     MAX_PAYLOAD_KG, MAX_POINT_M, MAX_STEPS, MIN_HORIZON_S,
 };

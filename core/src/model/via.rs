@@ -7,8 +7,8 @@
 //! inner node 0 < k < N (the task's start and goal fix nodes 0 and N); [`Motion::via_node`] maps
 //! it, and refuses a free horizon, whose nodes move in time as T changes.
 
+use super::ranges::{FieldError, MAX_POINT_M};
 use super::task::Motion;
-use super::validate::{FieldError, MAX_POINT_M};
 use crate::text::number;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;

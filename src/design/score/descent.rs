@@ -3,28 +3,13 @@
 //! the solves near the design. It is what [`Fitness::descend_from`] gives, in this process or in
 //! a worker, and what the worker protocol carries back.
 
-use super::objective::{solved, unheld, Scored};
+use super::fitness::Scored;
+use super::merit::Merit;
+use super::solves::{solved, unheld};
 use super::{validate, Evaluation, Fitness, Score, Verdict};
+use crate::design::penalty::Grading;
 use codesign_core::problem::{Formulation, ProblemKind};
 use codesign_core::solve::StartPoint;
-use serde::{Deserialize, Serialize};
-
-/// What a descent uses of one design's solves (docs/model.md, section 12).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Merit {
-    /// The merit: the optimal cost J* (flat penalty), or the elastic problem's optimal penalised
-    /// objective (graded penalty), which is J* where the design is feasible; over a task's
-    /// several motions their weighted sum, or the worst weighted one.
-    pub value: f64,
-    /// Its gradient with respect to the ratios (the exact sensitivity of the solves; over
-    /// several motions the weighted sum of theirs, or the active motion's).
-    pub gradient: Vec<f64>,
-    /// The optimal cost J*, when the design is feasible.
-    pub feasible_cost: Option<f64>,
-    /// The solves' raw solutions, one per problem of the merit (the one problem, or each motion
-    /// in the task's order), to start the solves of designs near it from.
-    pub starts: Vec<StartPoint>,
-}
 
 /// A design scored for a descent: its evaluation, and its merit when the descent can use it (a
 /// valid design whose solve gave a merit with its gradient; with the flat penalty, a feasible
@@ -67,7 +52,12 @@ impl Fitness {
             return unsolved(verdict);
         }
         let (score, merit) = match &self.scored {
-            Scored::Motions(motions) => motions.descend(self, ratios, start),
+            Scored::Motions(motions) => {
+                let graded = self.penalty.grading == Grading::Graded;
+                motions.descend(graded, ratios, start, |problem, from| {
+                    self.descend_one(problem, ratios, from)
+                })
+            }
             _ => self.descend_one(problems[0], ratios, start.first()),
         };
         Descent {

@@ -5,24 +5,30 @@
 //! A [`Verdict`] says what a design is: feasible with its cost, infeasible by a shortfall,
 //! invalid at a distance from the design space, or not judged (a solver error, a failed worker).
 //! [`Verdict::fitness`] is the one rule turning it into a number; [`Evaluation`] is its record as
-//! the evaluation log and the worker protocol write it. Its modules: `objective` (what is solved
-//! per design: the cost, a range's mean cost, the payload capacity, elastic solves for a graded
-//! penalty), `motions` (one design over a task's several motions), `record` (the evaluation
-//! record and its status texts).
+//! the evaluation log and the worker protocol write it. Its modules: `objective` (what co-design
+//! minimises), `fitness` (what is solved per design: the cost, a range's mean cost, the payload
+//! capacity, elastic solves for a graded penalty), `solves` (one solve judged), `motions` (one
+//! design over a task's several motions), `descent` and `merit` (a design scored for a gradient
+//! descent), `record` (the evaluation record and its status texts).
 
 mod descent;
+mod fitness;
+mod merit;
 #[cfg(test)]
 mod motion_tests;
 mod motions;
 mod objective;
 mod plausible;
 mod record;
+mod solves;
 #[cfg(test)]
 mod tests;
 
-pub use descent::{Descent, Merit};
+pub use descent::Descent;
+pub use fitness::{anchor_solution, Fitness};
+pub use merit::Merit;
 pub use motions::{MotionProblem, Motions};
-pub use objective::{anchor_solution, Fitness, Objective, PayloadRange, ScoreError};
+pub use objective::{Objective, PayloadRange, ScoreError};
 pub use plausible::MAX_REASON_BYTES;
 pub use record::{Evaluation, SolveStatus, Status};
 

@@ -7,9 +7,10 @@
 //! motion (the rest are not solved), with the graded one by the summed shortfall of every
 //! motion, as a payload range's payloads are.
 
-use super::descent::Merit;
-use super::objective::{solved, unheld, Objective, ScoreError};
-use super::{Fitness, Score, SolveStatus, Verdict};
+use super::merit::Merit;
+use super::objective::{Objective, ScoreError};
+use super::solves::{solved, unheld};
+use super::{Score, SolveStatus, Verdict};
 use crate::design::penalty::Grading;
 use codesign_core::ipopt;
 use codesign_core::model::task::{LimitModes, MotionsScore, Task};
@@ -112,23 +113,23 @@ impl Motions {
     }
 
     /// The score of valid `ratios` for a descent and its merit: each motion scored for a descent
-    /// from its start in `starts` (none: the standard guess) by `fitness`, as a task of one
-    /// motion is; with the flat penalty up to the first motion not feasible. The verdict is
-    /// the one [`Motions::score`] reaches from the same solves.
+    /// from its start in `starts` (none: the standard guess) by `one`, as a task of one motion
+    /// is; with the flat penalty (`graded` false) up to the first motion not feasible. The
+    /// verdict is the one [`Motions::score`] reaches from the same solves.
     pub fn descend(
         &self,
-        fitness: &Fitness,
+        graded: bool,
         ratios: &[f64],
         starts: &[StartPoint],
+        one: impl Fn(&Formulation, Option<&StartPoint>) -> (Score, Option<Merit>),
     ) -> (Score, Option<Merit>) {
-        let graded = fitness.penalty.grading == Grading::Graded;
         let held = unheld(&self.labelled(), ratios);
         if let (Some(verdict), false) = (&held, graded) {
             return (Score::unsolved(verdict.clone()), None);
         }
         let (mut scores, mut merits) = (Vec::new(), Vec::new());
         for (i, problem) in self.problems.iter().enumerate() {
-            let (score, merit) = fitness.descend_one(&problem.formulation, ratios, starts.get(i));
+            let (score, merit) = one(&problem.formulation, starts.get(i));
             let feasible = score.verdict.is_feasible();
             scores.push(score);
             merits.push(merit);
