@@ -193,13 +193,19 @@ fn summary(document: &OptimizeDocument) -> String {
             document.original_cost
         ),
         (_, _, Some(cost)) => match &document.motion_costs {
-            Some(costs) => format!(
-                "best r = ({best}) with J = {cost:.6}, the {} of the motions' ({}; original \
-                 design: J = {:.6})",
-                costs.score.name(),
-                motions_text(&costs.best),
-                document.original_cost
-            ),
+            Some(costs) => {
+                let (name, unit) = match objective {
+                    Objective::Time => ("T*", " s"),
+                    _ => ("J", ""),
+                };
+                format!(
+                    "best r = ({best}) with {name} = {cost:.6}{unit}, the {} of the motions' \
+                     ({}; original design: {name} = {:.6}{unit})",
+                    costs.score.name(),
+                    motions_text(&costs.best),
+                    document.original_cost
+                )
+            }
             None => format!(
                 "best r = ({best}) with J = {cost:.6} (original design: J = {:.6})",
                 document.original_cost

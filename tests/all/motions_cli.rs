@@ -115,6 +115,43 @@ fn three_picks_are_solved_each_and_co_designed_as_one() {
     );
 }
 
+/// The time objective over the three picks: each motion's least duration, their weighted sum
+/// the cell's cycle time, printed as T* in s and shorter at the best design than at the original.
+#[test]
+fn three_picks_are_co_designed_for_the_cells_cycle_time() {
+    let dir = scratch("motions-time");
+    let args = [
+        "optimize",
+        "--task",
+        TASK,
+        "--space",
+        "actuation",
+        "--objective",
+        "time",
+        "--method",
+        "gradient",
+        "--gradient-iterations",
+        "2",
+    ];
+    let (text, document) = succeed_with_out(&args, &dir.join("optimize.json"));
+    assert!(
+        text.contains("s, the sum of the motions' (low (w 2): ") && text.contains("with T* = "),
+        "{text}"
+    );
+    let listed = &document["motion_costs"];
+    let best = listed["best"].as_array().unwrap();
+    let best_sum: f64 = (best.iter().zip(MOTIONS))
+        .map(|(entry, (_, weight))| weight * entry["result"]["horizon_s"].as_f64().unwrap())
+        .sum();
+    let best_cost = document["best_cost"].as_f64().unwrap();
+    assert!(
+        (best_sum - best_cost).abs() <= 1e-6 * best_cost,
+        "{best_sum} vs {best_cost}"
+    );
+    assert!(best_cost < document["original_cost"].as_f64().unwrap());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// `check` inspects each motion; the flags and commands of one motion refuse the task, saying
 /// why, and `--motion` names only a motion of the list.
 #[test]
