@@ -10,10 +10,9 @@ use codesign::design::run::RecordedHash;
 use codesign::design::tradeoff::{capacity_tradeoff, check_durations, TradeoffProblem};
 use codesign::report::check::TaskInspection;
 use codesign::report::codesign::{CapacityDocument, CapacityInputs};
-use codesign::report::plots::Figure;
 use codesign::report::solve_document::{SolveDocument, StartRecord};
-use codesign::report::tradeoff::{TradeoffDocument, TradeoffInputs};
-use codesign::store::document::{document_json, write_document, Document};
+use codesign::report::tradeoff::{plot_beside, TradeoffDocument, TradeoffInputs};
+use codesign::store::document::{document_json, Document};
 use codesign_core::model::task::BUILT_IN_TASK;
 use codesign_core::model::task::{
     check_horizon, check_steps, GivenTask, Horizon, TaskFile, TaskSource,
@@ -427,17 +426,12 @@ impl TradeoffAsked {
         let loaded = posed.load()?;
         let formulation = posed.formulation(&loaded)?;
         let ratios = posed.design(&formulation, self.ratios)?;
-        let plot = match &self.out {
-            Some(out) if out.extension().is_some_and(|e| e == "svg") => {
-                return Err(Failure::input(format!(
-                    "out={}: the result is JSON and its plot is written beside it as .svg; name \
-                     the result FILE.json",
-                    out.display()
-                )))
-            }
-            Some(out) => Some(out.with_extension("svg")),
-            None => None,
-        };
+        let plot = (self.out.as_deref())
+            .map(|out| {
+                plot_beside(out)
+                    .map_err(|why| Failure::input(format!("out={}: {why}", out.display())))
+            })
+            .transpose()?;
         let problem = TradeoffProblem {
             task: &loaded.task,
             robot: &loaded.robot,
@@ -462,9 +456,8 @@ impl TradeoffAsked {
             points,
         };
         if let (Some(out), Some(plot)) = (&self.out, &plot) {
-            let written = |e: &dyn std::fmt::Display| Failure::input(format!("out=: {e}"));
-            write_document(out, &document).map_err(|e| written(&e))?;
-            document.chart().write(plot).map_err(|e| written(&e))?;
+            (document.write_with_plot(out, plot))
+                .map_err(|e| Failure::input(format!("out=: {e}")))?;
         }
         json(&document)
     }

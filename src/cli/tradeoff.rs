@@ -10,12 +10,10 @@ use crate::design::run::{Loaded, RecordedHash};
 use crate::design::tradeoff::{
     capacity_tradeoff, check_durations, TradeoffError, TradeoffPoint, TradeoffProblem,
 };
-use crate::report::plots::Figure;
-use crate::report::tradeoff::{TradeoffDocument, TradeoffInputs};
-use crate::store::document::write_document;
+use crate::report::tradeoff::{plot_beside, TradeoffDocument, TradeoffInputs};
 use codesign_core::solve::ToolInfo;
 use codesign_core::text::{listed, numbers};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Flags of `codesign tradeoff`.
 #[derive(Debug, clap::Args)]
@@ -78,7 +76,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         task_hash,
     } = args.model.load()?;
     args.problem.configure(&mut solve);
-    let plot = args.out.as_deref().map(plot_beside).transpose()?;
+    let plot = (args.out.as_deref())
+        .map(|out| {
+            plot_beside(out)
+                .map_err(|why| Failure::Usage(format!("--out {}: {why}", out.display())))
+        })
+        .transpose()?;
     if let (Some(out), Some(plot)) = (&args.out, &plot) {
         let choice = args.model.choice();
         let inputs = choice.inputs(&task);
@@ -124,28 +127,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         },
         points,
     };
-    write_document(out, &document).map_err(|e| e.to_string())?;
-    document.chart().write(plot).map_err(|e| e.to_string())?;
+    document.write_with_plot(out, plot)?;
     say!(
         "result written to {} (plot {})",
         out.display(),
         plot.display()
     );
     Ok(())
-}
-
-/// Where the plot of result `out` goes: beside it, its extension replaced by `.svg`; refused
-/// when that is `out` itself.
-fn plot_beside(out: &Path) -> Result<PathBuf, Failure> {
-    let plot = out.with_extension("svg");
-    if plot == out {
-        return Err(Failure::Usage(format!(
-            "--out {}: the result is JSON and its plot is written beside it as .svg; name the \
-             result FILE.json",
-            out.display()
-        )));
-    }
-    Ok(plot)
 }
 
 /// A trade-off's error worded with the flag or the task field at fault.

@@ -5,10 +5,13 @@ use super::plots::{Chart, Series};
 use crate::design::capacity::CapacitySettings;
 use crate::design::run::RecordedHash;
 use crate::design::tradeoff::TradeoffPoint;
+use crate::report::plots::Figure;
+use crate::store::document::write_document;
 use codesign_core::model::task::{Ends, LimitModes};
 use codesign_core::problem::Space;
 use codesign_core::solve::ToolInfo;
 use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
 
 /// What defined a trade-off: the task, the space, the design, the durations and the capacity
 /// searches' settings.
@@ -48,7 +51,27 @@ impl crate::store::document::Document for TradeoffDocument {
     const SCHEMA: crate::store::document::Schema = crate::store::document::Schema::Tradeoff;
 }
 
+/// Where the plot of a trade-off written to `out` goes: beside it, its extension replaced by
+/// `.svg`; why not, in words, when that is `out` itself.
+pub fn plot_beside(out: &Path) -> Result<PathBuf, String> {
+    let plot = out.with_extension("svg");
+    if plot == out {
+        return Err(
+            "the result is JSON and its plot is written beside it as .svg; name the \
+                    result FILE.json"
+                .to_owned(),
+        );
+    }
+    Ok(plot)
+}
+
 impl TradeoffDocument {
+    /// Writes the document to `out` (whole or not at all) and its plot to `plot`.
+    pub fn write_with_plot(&self, out: &Path, plot: &Path) -> Result<(), String> {
+        write_document(out, self).map_err(|e| e.to_string())?;
+        self.chart().write(plot).map_err(|e| e.to_string())
+    }
+
     /// The plot: the capacity, kg, against the duration, s, through the durations with a
     /// capacity (a duration in which not even the unloaded arm moves has none and is left out).
     pub fn chart(&self) -> Chart {

@@ -118,9 +118,18 @@ fn open_log(
     Ok((log, finished))
 }
 
+/// The best and the original design solved again in full: one solve each, or each motion of a
+/// task with several, or each payload of a range.
+struct SolvedAgain {
+    best_result: Option<TrajectoryResult>,
+    original_result: Option<TrajectoryResult>,
+    payload_costs: Option<RangeCosts>,
+    motion_costs: Option<MotionCosts>,
+}
+
 /// The result document of a run: the method's outcome with full solves of the best and the
-/// original design (at every payload of a range, for every motion of a task with several). The wall time and the earlier invocations'
-/// time are the caller's to set.
+/// original design (at every payload of a range, for every motion of a task with several). The
+/// wall time and the earlier invocations' time are the caller's to set.
 fn document(
     case: &Case,
     formulation: &Formulation,
@@ -129,51 +138,12 @@ fn document(
     outcome: DesignOutcome,
 ) -> Result<OptimizeDocument, RunError> {
     let original_ratios = formulation.transmission().original().to_vec();
-    // The designs are solved again as they were scored: the elastic problem for a graded
-    // penalty, so that the reported cost is the one behind `best_cost`.
-    let elastic;
-    let scored = match case.settings.grading {
-        Grading::Flat => formulation,
-        Grading::Graded => {
-            elastic = formulation.elastic();
-            &elastic
-        }
-    };
-    let fitness = || {
-        Fitness::new(
-            formulation.task(),
-            settings,
-            formulation.space(),
-            *formulation.modes(),
-            &case.settings.objective,
-            case.settings.penalty(),
-        )
-    };
-    let mut motion_costs = None;
-    let (best_result, original_result, payload_costs) = match &case.settings.objective {
-        _ if formulation.task().has_motions() => {
-            let fitness = fitness()?;
-            motion_costs = Some(MotionCosts {
-                score: formulation.task().motions_score,
-                best: each_motion(&fitness, settings, &outcome.best_ratios),
-                original: each_motion(&fitness, settings, &original_ratios),
-            });
-            (None, None, None)
-        }
-        Objective::Range(_) => {
-            let fitness = fitness()?;
-            let best = payload_costs(&fitness, settings, &outcome.best_ratios);
-            let original = payload_costs(&fitness, settings, &original_ratios);
-            (None, None, Some(RangeCosts { best, original }))
-        }
-        // Started as its evaluation was: where the gradient method's solve of it began or from
-        // its generation's anchor, so that the reported trajectory is the one behind `best_cost`.
-        _ => (
-            solve_best(scored, settings, &outcome),
-            solve_design(scored, &original_ratios, settings).ok(),
-            None,
-        ),
-    };
+    let SolvedAgain {
+        best_result,
+        original_result,
+        payload_costs,
+        motion_costs,
+    } = solve_again(case, formulation, settings, &outcome, &original_ratios)?;
     let original_cost = match &motion_costs {
         Some(costs) => motions_cost(&costs.original, costs.score).unwrap_or(case.settings.penalty),
         None => original_cost(case, original_result.as_ref(), payload_costs.as_ref()),
@@ -211,6 +181,72 @@ fn document(
         payload_costs,
         motion_costs,
         at_max,
+    })
+}
+
+/// `outcome`'s best design and the original one (`original_ratios`) solved again for the
+/// document, as the case scored them.
+fn solve_again(
+    case: &Case,
+    formulation: &Formulation,
+    settings: &SolveSettings,
+    outcome: &DesignOutcome,
+    original_ratios: &[f64],
+) -> Result<SolvedAgain, RunError> {
+    // The designs are solved again as they were scored: the elastic problem for a graded
+    // penalty, so that the reported cost is the one behind `best_cost`.
+    let elastic;
+    let scored = match case.settings.grading {
+        Grading::Flat => formulation,
+        Grading::Graded => {
+            elastic = formulation.elastic();
+            &elastic
+        }
+    };
+    let fitness = || {
+        Fitness::new(
+            formulation.task(),
+            settings,
+            formulation.space(),
+            *formulation.modes(),
+            &case.settings.objective,
+            case.settings.penalty(),
+        )
+    };
+    let none = SolvedAgain {
+        best_result: None,
+        original_result: None,
+        payload_costs: None,
+        motion_costs: None,
+    };
+    Ok(match &case.settings.objective {
+        _ if formulation.task().has_motions() => {
+            let fitness = fitness()?;
+            SolvedAgain {
+                motion_costs: Some(MotionCosts {
+                    score: formulation.task().motions_score,
+                    best: each_motion(&fitness, settings, &outcome.best_ratios),
+                    original: each_motion(&fitness, settings, original_ratios),
+                }),
+                ..none
+            }
+        }
+        Objective::Range(_) => {
+            let fitness = fitness()?;
+            let best = payload_costs(&fitness, settings, &outcome.best_ratios);
+            let original = payload_costs(&fitness, settings, original_ratios);
+            SolvedAgain {
+                payload_costs: Some(RangeCosts { best, original }),
+                ..none
+            }
+        }
+        // Started as its evaluation was: where the gradient method's solve of it began or from
+        // its generation's anchor, so that the reported trajectory is the one behind `best_cost`.
+        _ => SolvedAgain {
+            best_result: solve_best(scored, settings, outcome),
+            original_result: solve_design(scored, original_ratios, settings).ok(),
+            ..none
+        },
     })
 }
 
