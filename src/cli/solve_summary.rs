@@ -177,7 +177,9 @@ pub(super) fn print_summary(formulation: &Formulation, result: &TrajectoryResult
         let beyond = result.violations.get("goal_tcp").unwrap_or(0.0);
         say!(
             "  TCP goal ({}) m within {} m: q_N = ({}) rad{}",
-            codesign_core::text::numbers(&goal.tcp),
+            (goal.tcp.iter().map(|p| format!("{p:.4}")))
+                .collect::<Vec<_>>()
+                .join(", "),
             goal.tol_m,
             (pose.iter().map(|q| format!("{q:.4}")))
                 .collect::<Vec<_>>()
