@@ -29,7 +29,7 @@ fn two_motions(score: MotionsScore) -> Task {
     task.payload.mass_kg = 0.0;
     task.motion.steps = 20;
     let place = MotionEntry {
-        goal: Some(vec![-2.5, -1.2, -1.2, 0.3]),
+        goal: Some(vec![-2.5, -1.2, -1.2, 0.3].into()),
         payload_kg: Some(0.25),
         ..entry("place", 2.0)
     };

@@ -8,7 +8,7 @@
 use super::family::{At, Emit, Family, Place, Shape};
 use crate::model::task::Horizon;
 use crate::problem::design_data::DesignData;
-use crate::problem::layout::{Layout, Nodes, RowBlock};
+use crate::problem::layout::{Nodes, RowBlock};
 use crate::problem::node::NodeEval;
 use std::sync::Arc;
 
@@ -94,11 +94,12 @@ impl Family for Integration {
 
     fn wide_hessian(
         &self,
-        layout: &Layout,
+        at: &At<'_>,
         Place { k, .. }: Place,
         multipliers: &[f64],
         emit: &mut Emit<'_>,
     ) {
+        let layout = at.setting().layout();
         let Some(t) = layout.horizon() else {
             return;
         };
