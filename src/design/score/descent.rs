@@ -30,8 +30,8 @@ impl Fitness {
     /// is then not solved; with the graded one it is, for the elastic merit that moves the
     /// descent toward designs that hold it. Only the cost, energy, time and range objectives
     /// have a merit (one payload's optimal cost, a task's motions' or a range's payloads'); the
-    /// capacity scores as [`Fitness::evaluate`] does, with none. A start that does not fit the problems is a
-    /// solver error.
+    /// capacity scores as [`Fitness::evaluate`] does, with none. A start that does not fit the
+    /// problems is a solver error.
     pub fn descend_from(&self, ratios: &[f64], start: &[StartPoint]) -> Descent {
         let unsolved = |verdict: Verdict| Descent {
             evaluation: Evaluation::new(ratios, &Score::unsolved(verdict), &self.penalty),

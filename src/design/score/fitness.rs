@@ -125,7 +125,8 @@ impl Fitness {
     /// The solution the designs of a generation start from (a warm start): the cost objective's
     /// problem of `anchor` (the CMA-ES mean, in the design space) solved under the one rule,
     /// when it is feasible. None for the other objectives (motions and a range have one problem
-    /// per motion or payload, a capacity search its own warm starts) and for an anchor that is invalid or infeasible.
+    /// per motion or payload, a capacity search its own warm starts) and for an anchor that is
+    /// invalid or infeasible.
     pub fn anchor(&self, anchor: &[f64]) -> Option<Solution> {
         let Scored::Cost(formulation) = &self.scored else {
             return None;

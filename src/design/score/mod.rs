@@ -8,8 +8,9 @@
 //! the evaluation log and the worker protocol write it. Its modules: `objective` (what co-design
 //! minimises), `fitness` (what is solved per design: the cost, the payload capacity, elastic
 //! solves for a graded penalty), `solves` (one solve judged), `motions` (one design over a
-//! task's several motions, or over a range's payloads, their mean), `descent` and `merit` (a design scored for a gradient
-//! descent), `record` (the evaluation record and its status texts).
+//! task's several motions, or over a range's payloads, their mean), `descent` and `merit` (a
+//! design scored for a gradient descent), `record` (the evaluation record and its status
+//! texts).
 
 mod descent;
 mod fitness;

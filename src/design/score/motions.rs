@@ -190,9 +190,9 @@ impl Motions {
 
     /// The score of the motions' scores in order (a flat penalty's list may end at its first
     /// motion not feasible): feasible with the weighted sum, the worst weighted cost or the mean
-    /// when each is feasible; with the flat penalty the first verdict that is not; with the graded one
-    /// infeasible by the summed shortfall, unless a solve judged nothing. Reasons name the
-    /// motion.
+    /// when each is feasible; with the flat penalty the first verdict that is not; with the
+    /// graded one infeasible by the summed shortfall, unless a solve judged nothing. Reasons
+    /// name the motion (or the payload).
     fn combine(&self, scores: &[Score], graded: bool) -> Score {
         let iterations = scores.iter().map(|s| s.iterations).sum();
         let seconds = scores.iter().map(|s| s.seconds).sum();
