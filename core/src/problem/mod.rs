@@ -19,6 +19,7 @@ mod design_data;
 mod error;
 mod families;
 mod formulation;
+mod grid;
 mod hessian;
 mod hold;
 #[cfg(test)]
@@ -39,6 +40,8 @@ mod terms;
 pub(crate) mod tests;
 #[cfg(test)]
 mod via_tests;
+#[cfg(test)]
+mod window_tests;
 
 pub use crate::transmission::Space;
 pub use cost::{CostTerms, Criterion};
@@ -47,6 +50,7 @@ pub use error::FormulationError;
 pub use families::elastic::{penalty_weights, relaxation, PenaltyWeights, Relaxation};
 pub use families::FamilyId;
 pub use formulation::Formulation;
+pub use grid::Grid;
 pub use hold::{margins, EndHold, HoldRows, StaticHold};
 pub use kind::ProblemKind;
 pub use layout::{BlockId, Layout, Nodes, RowBlock};
@@ -55,5 +59,5 @@ pub use nlp::TrajectoryProblem;
 pub use pose_rules::check_modes;
 pub use sensitivity::cost_gradient;
 pub use setting::{Setting, DEFAULT_HOLD_TOLERANCE_NM};
-pub use targets::{JointTarget, Targets, TcpTarget, UprightTarget};
+pub use targets::{Boundary, JointTarget, Targets, TcpTarget, UprightTarget};
 pub use terms::{NodeConstraint, NodeContext, NodeCost};

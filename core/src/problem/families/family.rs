@@ -7,7 +7,7 @@ use crate::ipopt::Solution;
 use crate::model::task::LimitModes;
 use crate::problem::design_data::DesignData;
 use crate::problem::kind::ProblemKind;
-use crate::problem::layout::{BlockId, Layout, RowBlock};
+use crate::problem::layout::{BlockId, RowBlock};
 use crate::problem::node::NodeEval;
 use crate::problem::setting::Setting;
 use crate::problem::targets::Targets;
@@ -237,7 +237,7 @@ pub(in crate::problem) trait Family: fmt::Debug + Send + Sync {
     /// 0 for the structure).
     fn wide_hessian(
         &self,
-        _layout: &Layout,
+        _setting: &Setting,
         _place: Place,
         _multipliers: &[f64],
         _emit: &mut Emit<'_>,
@@ -334,11 +334,12 @@ pub(in crate::problem) fn visit_jacobian<'n>(
 /// and each node's families in order, with the rows' multipliers `lambda` (None: zeros, for the
 /// structure).
 pub(in crate::problem) fn visit_wide_hessian(
-    layout: &Layout,
+    setting: &Setting,
     families: &Families,
     lambda: Option<&[f64]>,
     emit: &mut Emit<'_>,
 ) {
+    let layout = setting.layout();
     let mut zeros = Vec::new();
     for k in 0..layout.steps {
         for (id, family) in families {
@@ -353,7 +354,7 @@ pub(in crate::problem) fn visit_wide_hessian(
                     &zeros[..]
                 }
             };
-            family.wide_hessian(layout, Place { k, row }, multipliers, emit);
+            family.wide_hessian(setting, Place { k, row }, multipliers, emit);
         }
     }
 }
