@@ -376,7 +376,8 @@ impl Formulation {
     }
 
     /// Whether a problem keeps the primal point it evaluated last, for the Jacobians that read
-    /// it: those of terms added from outside the core, and of the rows that read a free T.
+    /// it: those of terms added from outside the core, and of the rows that read a problem-wide
+    /// variable (a free T, a via time).
     pub(super) fn keeps_point(&self) -> bool {
         self.has_added_terms() || self.layout().has_wide()
     }
@@ -483,11 +484,6 @@ impl Formulation {
     /// free one, unless the via points split the grid into phases (docs/model.md, section 6).
     pub fn step_at(&self, x: &[f64], k: usize) -> f64 {
         self.setting.step_at(x, k)
-    }
-
-    /// Each node's time t_k at the primal point x, k = 0..=N, s.
-    pub fn times_at(&self, x: &[f64]) -> Vec<f64> {
-        self.setting.times_at(x)
     }
 
     /// Number of structural non-zeros of the constraint Jacobian.

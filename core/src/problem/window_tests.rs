@@ -182,3 +182,58 @@ fn a_window_around_a_via_time_gives_no_larger_cost() {
         at.cost, within.cost, within.iterations, cold.cost, cold.via_times_s[0]
     );
 }
+
+/// Under a free horizon (the built-in arm's pure minimum-time problem at 0 kg, 20 steps, T in
+/// [0.3, 1.2] s), a TCP via point 5 cm above the straight path's point at 0.25 s: within [0.15,
+/// 0.29] s, solved from the solution at 0.25 s, the least duration is no longer, and the time
+/// the solve chose lies in the window.
+#[test]
+fn a_window_under_a_free_horizon_gives_no_longer_minimum_time() {
+    let mut task = testing::task().minimum_time();
+    task.motion.steps = 20;
+    task.motion.horizon = Horizon::Free {
+        min_s: 0.3,
+        max_s: 1.2,
+    };
+    let design = [6.0, 3.0, 1.0, 1.0];
+    let formulation = |task: &Task| {
+        let robot = Robot::load(task).unwrap();
+        Formulation::new(task, robot, Space::Actuation, task.limit_modes).unwrap()
+    };
+    let (start, goal) = (&task.motion.start, &task.motion.goal);
+    let pose: Vec<f64> = (start.iter().zip(goal))
+        .map(|(s, g)| 0.6 * s + 0.4 * g)
+        .collect();
+    let dynamics = crate::dynamics::Dynamics::new(Robot::load(&task).unwrap());
+    let point = dynamics.tcp_position(&mut dynamics.workspace(), &pose);
+    let target = point + nalgebra::Vector3::new(0.0, 0.0, 0.05);
+    let via = |time| {
+        Via::Tcp(crate::model::task::TcpVia {
+            time,
+            tcp: target.into(),
+            tol_m: 0.01,
+        })
+    };
+    let settings = SolveSettings::default();
+    task.motion.via = vec![via(ViaTime::At(0.25))];
+    let f = formulation(&task);
+    assert_eq!(f.setting().targets().nodes, [4]);
+    let (at, mut warm) = solve_design_from(&f, &design, &settings, None).unwrap();
+    assert!(at.feasible, "{:?}", at.reason);
+    assert!((at.via_times_s[0] - 0.25).abs() < 1e-15);
+    task.motion.via = vec![via(ViaTime::Within([0.15, 0.29]))];
+    let f = formulation(&task);
+    assert_eq!(WindowColumn::Joint.column(&f), Some(warm.x.len()));
+    warm.x.push(0.25);
+    warm.z_lower.push(0.0);
+    warm.z_upper.push(0.0);
+    let (within, _) = solve_design_from(&f, &design, &settings, Some(&warm)).unwrap();
+    assert!(within.feasible, "{:?}", within.reason);
+    let t = within.via_times_s[0];
+    assert!((0.15..=0.29).contains(&t), "{t}");
+    let (t_at, t_within) = (at.horizon_s.unwrap(), within.horizon_s.unwrap());
+    assert!(t_within <= t_at + 1e-9, "{t_within} > {t_at}");
+    eprintln!(
+        "T* with the via point at 0.25 s: {t_at}, within [0.15, 0.29] s: {t_within} (at {t} s)"
+    );
+}
