@@ -4,7 +4,9 @@
 //! variable (a via's t_v within its window, a free T). In phase j, from boundary node k_j to
 //! k_(j+1), every interval has the step
 //!
-//!     h_k = (t_(j+1) - t_j) / (k_(j+1) - k_j),   k_j <= k < k_(j+1),
+//! ```text
+//! h_k = (t_(j+1) - t_j) / (k_(j+1) - k_j),   k_j <= k < k_(j+1),
+//! ```
 //!
 //! affine in the problem-wide variables: its first derivatives are the constants
 //! +-1/(k_(j+1) - k_j) and its second derivatives 0. Without a phased via point the grid has one
