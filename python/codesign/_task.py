@@ -246,14 +246,18 @@ class Task:
         steps: Optional[int] = None,
         elastic: bool = False,
         motion: Optional[str] = None,
+        minimum_time: bool = False,
+        free_horizon: Optional[str] = None,
     ) -> Solution:
         """Solves the trajectory problem of design ``ratios`` (default: the task's original).
 
         ``space`` is ``"actuation"`` (the paper's method) or ``"joint"``. ``start`` warm-starts
         from an earlier solution of the same task, space and kind (its point and multipliers;
         the payload may differ). A task with several motions (:attr:`motions`) solves the one
-        ``motion`` names (``solve --motion``). The GIL is released while IPOPT runs; Ctrl-C
-        stops it.
+        ``motion`` names (``solve --motion``). ``minimum_time=True`` solves the task's pure
+        minimum-time problem instead (``solve --minimum-time``: J* = T*, s), and
+        ``free_horizon`` (``"local"`` or ``"descend"``) chooses how a free horizon is searched
+        (``solve --free-horizon``). The GIL is released while IPOPT runs; Ctrl-C stops it.
         """
         if start is not None and not isinstance(start, Solution):
             raise InputError(
@@ -274,6 +278,8 @@ class Task:
             flag("elastic", elastic),
             native_start,
             text("motion", motion),
+            flag("minimum_time", minimum_time),
+            text("free_horizon", free_horizon),
         )
         return Solution(native)
 

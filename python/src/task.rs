@@ -13,11 +13,14 @@ use codesign::report::codesign::{CapacityDocument, CapacityInputs};
 use codesign::report::solve_document::{SolveDocument, StartRecord};
 use codesign::report::tradeoff::{plot_beside, TradeoffDocument, TradeoffInputs};
 use codesign::store::document::{document_json, Document};
+use codesign_core::choice::Choice;
 use codesign_core::model::task::BUILT_IN_TASK;
 use codesign_core::model::task::{
     check_horizon, check_steps, GivenTask, Horizon, TaskFile, TaskSource,
 };
-use codesign_core::solve::{solve_design_from, SolveError, StartPoint, ToolInfo};
+use codesign_core::solve::{
+    solve_design_from, FreeHorizonSearch, SolveError, StartPoint, ToolInfo,
+};
 use codesign_core::text::number;
 use pyo3::prelude::*;
 use std::path::PathBuf;
@@ -133,7 +136,7 @@ impl NativeTask {
     /// One solve, as `codesign solve --out` writes it, and where it ended (see `Task.solve`).
     #[pyo3(signature = (space, payload=None, ends=None, torque_mode=None, speed_mode=None,
         linear_solver=None, ratios=None, duration=None, steps=None, elastic=false, start=None,
-        motion=None))]
+        motion=None, minimum_time=false, free_horizon=None))]
     #[allow(clippy::too_many_arguments)]
     fn solve(
         &self,
@@ -150,7 +153,19 @@ impl NativeTask {
         elastic: bool,
         start: Option<Py<NativeSolution>>,
         motion: Option<String>,
+        minimum_time: bool,
+        free_horizon: Option<&str>,
     ) -> PyResult<NativeSolution> {
+        let free_horizon = (free_horizon.map(|name| {
+            FreeHorizonSearch::from_name(name).ok_or_else(|| {
+                Failure::input(format!(
+                    "free_horizon={name:?}: must be one of {}",
+                    FreeHorizonSearch::names().join(", ")
+                ))
+            })
+        }))
+        .transpose()
+        .map_err(|f| f.into_py(py))?;
         let keywords = Keywords {
             space,
             payload,
@@ -168,6 +183,8 @@ impl NativeTask {
             elastic,
             start,
             motion,
+            minimum_time,
+            free_horizon,
         };
         interrupt::run(py, move |_| request.solve(), |_, _, _, _| Ok(()))
     }
@@ -284,6 +301,10 @@ struct SolveRequest {
     start: Option<Py<NativeSolution>>,
     /// The motion of the task's `motions` list to solve (None: the task's one motion).
     motion: Option<String>,
+    /// Solve the task's pure minimum-time problem instead (`solve --minimum-time`).
+    minimum_time: bool,
+    /// How a free horizon is searched, where given (`solve --free-horizon`).
+    free_horizon: Option<FreeHorizonSearch>,
 }
 
 impl SolveRequest {
@@ -302,7 +323,13 @@ impl SolveRequest {
             check_steps(steps).map_err(|why| Failure::input(format!("steps={steps}: {why}")))?;
             loaded.task.motion.steps = steps;
         }
-        let hard = self.posed.formulation(&loaded)?;
+        if let Some(search) = self.free_horizon {
+            loaded.settings.free_horizon = search;
+        }
+        let hard = match self.minimum_time {
+            true => self.posed.minimum_time_formulation(&loaded)?,
+            false => self.posed.formulation(&loaded)?,
+        };
         let formulation = if self.elastic { hard.elastic() } else { hard };
         let ratios = self.posed.design(&formulation, self.ratios)?;
         let given = self.start.as_ref().map(|start| start.get());

@@ -321,3 +321,28 @@ def test_a_free_duration_is_the_command_lines_free_horizon(binary, tmp_path):
     for bad, words in [((1.2, 0.3), "T_min must be below T_max"), ((0.3,), "a pair")]:
         with pytest.raises(cd.InputError, match=words):
             cd.Task.load(fixed).solve(duration=bad)
+
+
+def test_the_minimum_time_problem_is_the_command_lines(binary, tmp_path):
+    """minimum_time=True solves the task's pure minimum-time problem as `solve --minimum-time`
+    does, to the bit; free_horizon="descend" shortens it (issue 52), and a search of another
+    name is refused naming the keyword."""
+    task = cd.Task.builtin()
+    out = tmp_path / "out.json"
+    for search in ["local", "descend"]:
+        python = task.solve(steps=10, minimum_time=True, free_horizon=search).to_dict()
+        assert python["feasible"] and python["horizon_s"] == python["cost"]
+        subprocess.run(
+            [binary, "solve", "--steps", "10", "--minimum-time", "--free-horizon", search,
+             "--out", out],
+            check=True,
+            capture_output=True,
+        )
+        cli = json.loads(out.read_text())
+        for key in ["cost", "horizon_s", "trajectory", "cost_gradient", "iterations"]:
+            assert python[key] == cli[key], (search, key)
+        if search == "local":
+            local = python["cost"]
+    assert python["cost"] <= local
+    with pytest.raises(cd.InputError, match="free_horizon="):
+        task.solve(steps=10, minimum_time=True, free_horizon="shortest")

@@ -2,7 +2,9 @@
 //! several: `solve_motions`).
 
 use super::failure::{Failure, INFEASIBLE_EXIT};
-use super::solve_args::{design, formulate, refuse_unwritable, solve_error, with_flags, Args};
+use super::solve_args::{
+    configure, design, formulate, refuse_unwritable, solve_error, with_flags, Args,
+};
 use super::solve_motions::{pick_motion, solve_each};
 use super::solve_summary::print_summary;
 use super::store_hints::check_output;
@@ -88,8 +90,7 @@ fn solve_one(args: &Args, loaded: Loaded) -> Result<(), Failure> {
         mut settings,
         task_hash,
     } = loaded;
-    args.problem.configure(&mut settings);
-    settings.verbose = args.verbose;
+    configure(args, &mut settings);
     let task = with_flags(args, task);
     check_outputs(args, &task)?;
     let formulation = formulate(args, &task, robot, &settings)?;

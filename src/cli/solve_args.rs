@@ -1,13 +1,14 @@
 //! The flags of `codesign solve` and what they make of a task: the design they name, the task's
 //! motion with `--duration` and `--steps`, its problem, and a solve's errors in their words.
 
+use super::choice::choice;
 use super::common::{finite_ratio, ModelArgs, ProblemArgs};
 use super::export::ExportArgs;
 use super::failure::Failure;
 use codesign_core::model::task::{Horizon, Task};
 use codesign_core::model::Robot;
 use codesign_core::problem::Formulation;
-use codesign_core::solve::{SolveError, SolveSettings, TrajectoryResult};
+use codesign_core::solve::{FreeHorizonSearch, SolveError, SolveSettings, TrajectoryResult};
 use codesign_core::text::listed;
 use std::path::PathBuf;
 
@@ -34,6 +35,17 @@ pub struct Args {
     /// Number of intervals N; default: the task's steps.
     #[arg(long, value_name = "N")]
     pub(super) steps: Option<usize>,
+    /// Solve the task's pure minimum-time problem instead, as `optimize --objective time` does
+    /// for each design: its horizon freed (a fixed T to [0.3 T, 1.5 T]), J = T, no box; where
+    /// the horizon is shortened (`--free-horizon descend`), through fixed-horizon problems
+    /// with the task's own weights and box.
+    #[arg(long, conflicts_with = "duration")]
+    pub(super) minimum_time: bool,
+    /// How a free horizon's duration is searched: `local`, the optimum the rule's first
+    /// feasible start reaches; `descend`, that optimum shortened by the fixed-horizon rule
+    /// (docs/model.md, section 6); default: the task's `solver.free_horizon`, else local.
+    #[arg(long, value_parser = choice::<FreeHorizonSearch>(), value_name = "SEARCH")]
+    pub(super) free_horizon: Option<FreeHorizonSearch>,
     /// Solve only this motion of the task's `motions` list, by its name, with every other flag;
     /// without it a task with a `motions` list solves each motion in turn, and takes none of
     /// `--out`, `--plot`, `--export`, `--start`, `--check-derivatives` (each is of one motion).
@@ -111,6 +123,15 @@ pub(super) fn design(args: &Args, task: &Task) -> (Vec<f64>, String) {
     }
 }
 
+/// The solve settings with the flags applied: `--linear-solver`, `--free-horizon`, `--verbose`.
+pub(super) fn configure(args: &Args, settings: &mut SolveSettings) {
+    args.problem.configure(settings);
+    if let Some(search) = args.free_horizon {
+        settings.free_horizon = search;
+    }
+    settings.verbose = args.verbose;
+}
+
 /// The task's motion with `--duration` and `--steps` applied.
 pub(super) fn with_flags(args: &Args, mut task: Task) -> Task {
     if let Some(duration) = args.duration {
@@ -120,7 +141,8 @@ pub(super) fn with_flags(args: &Args, mut task: Task) -> Task {
     task
 }
 
-/// The problem of `task` on `robot` in the flags' space and modes, elastic with `--elastic`.
+/// The problem of `task` on `robot` in the flags' space and modes, elastic with `--elastic`:
+/// its pure minimum-time problem with `--minimum-time`.
 pub(super) fn formulate(
     args: &Args,
     task: &Task,
@@ -128,9 +150,14 @@ pub(super) fn formulate(
     settings: &SolveSettings,
 ) -> Result<Formulation, Failure> {
     let modes = args.problem.modes(task);
-    let hard = Formulation::new(task, robot, args.problem.space, modes)
-        .map_err(|e| e.to_string())?
-        .with_hold_tolerance(settings.constraint_tolerance());
+    let hard = if args.minimum_time {
+        Formulation::new(&task.minimum_time(), robot, args.problem.space, modes)
+            .map(|pure| pure.shaped_by(task))
+    } else {
+        Formulation::new(task, robot, args.problem.space, modes)
+    };
+    let hard =
+        (hard.map_err(|e| e.to_string())?).with_hold_tolerance(settings.constraint_tolerance());
     Ok(if args.elastic { hard.elastic() } else { hard })
 }
 

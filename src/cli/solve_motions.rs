@@ -3,7 +3,9 @@
 //! section 10, "Several motions").
 
 use super::failure::{Failure, INFEASIBLE_EXIT};
-use super::solve_args::{design, formulate, refuse_unwritable, solve_error, with_flags, Args};
+use super::solve_args::{
+    configure, design, formulate, refuse_unwritable, solve_error, with_flags, Args,
+};
 use super::solve_summary::print_summary;
 use crate::design::run::Loaded;
 use codesign_core::choice::Choice;
@@ -54,8 +56,7 @@ pub(super) fn solve_each(args: &Args, loaded: Loaded) -> Result<(), Failure> {
         mut settings,
         ..
     } = loaded;
-    args.problem.configure(&mut settings);
-    settings.verbose = args.verbose;
+    configure(args, &mut settings);
     let (ratios, source) = design(args, &task);
     let (mut weighted, mut infeasible) = (Vec::new(), Vec::new());
     for motion in task.motion_tasks() {

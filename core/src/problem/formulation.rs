@@ -11,6 +11,7 @@ use super::layout::{BlockId, Layout, RowBlock, WideVariable};
 use super::memory::{self, MemoryNeed};
 use super::pose_rules;
 use super::setting::{Setting, DEFAULT_HOLD_TOLERANCE_NM};
+use super::shortening::Shaping;
 use super::targets::Targets;
 use super::terms::{AddedTerms, NodeConstraint, NodeCost};
 use crate::dynamics::Dynamics;
@@ -53,6 +54,9 @@ pub struct Formulation {
     families: Vec<(BlockId, Arc<dyn Family>)>,
     /// The constraints and cost terms added from outside the core, in the order added.
     added: AddedTerms,
+    /// The weights and box of the fixed-horizon problems that shorten a free horizon, where
+    /// they are not the task's own (`super::shortening`).
+    pub(super) shaping: Option<Shaping>,
     /// The stored entries of one node's Hessian block, in their order.
     node_hessian: Vec<hessian::Entry>,
     jacobian: Vec<(usize, usize)>,
@@ -164,6 +168,7 @@ impl Formulation {
             criterion: Criterion::Weighted,
             families: Vec::new(),
             added: AddedTerms::default(),
+            shaping: None,
             jacobian: Vec::new(),
             hessian: Vec::new(),
         };
@@ -254,10 +259,20 @@ impl Formulation {
     pub fn with_payload(&self, payload_kg: f64) -> Result<Formulation, FormulationError> {
         let mut task = self.task().clone();
         task.payload.mass_kg = payload_kg;
-        let robot = self.dynamics().robot().with_payload(payload_kg);
-        let mut hard = Formulation::new(&task, robot, self.space(), *self.modes())?
+        self.rebuilt(&task, self.dynamics().robot().with_payload(payload_kg))
+    }
+
+    /// The same formulation (space, modes, kind, criterion, added terms, hold tolerance,
+    /// shaping) of `task` for `robot`, which differ from its own in their numbers only.
+    pub(super) fn rebuilt(
+        &self,
+        task: &Task,
+        robot: Robot,
+    ) -> Result<Formulation, FormulationError> {
+        let mut hard = Formulation::new(task, robot, self.space(), *self.modes())?
             .with_hold_tolerance(self.hold_tolerance_nm());
         hard.criterion = self.criterion.clone();
+        hard.shaping = self.shaping.clone();
         if self.has_added_terms() {
             hard.added = self.added.clone();
             hard = hard.rebuild();

@@ -2,7 +2,8 @@
 //!
 //! A [`Formulation`] fixes everything but the design: its [`Setting`] (task, robot and payload,
 //! space and limit modes, motors, [`Layout`]), and with it the problem's constraint families
-//! (`families/`, one file each) and its sparsity patterns, built once. Its
+//! (`families/`, one file each) and its sparsity patterns, built once; `shortening.rs` derives
+//! the formulations that shorten a free horizon. Its
 //! [`Formulation::problem`] gives the [`TrajectoryProblem`] of one design r, which implements
 //! [`crate::ipopt::Nlp`] with exact, hand-derived sparse derivatives by walking the families
 //! node by node. A family reads the setting and, for one design, its [`DesignData`] (r, G(r)
@@ -34,6 +35,7 @@ mod pose_rules;
 mod pose_tests;
 mod sensitivity;
 mod setting;
+mod shortening;
 mod targets;
 mod terms;
 #[cfg(test)]
@@ -59,5 +61,6 @@ pub use nlp::TrajectoryProblem;
 pub use pose_rules::check_modes;
 pub use sensitivity::cost_gradient;
 pub use setting::{Setting, DEFAULT_HOLD_TOLERANCE_NM};
+pub use shortening::Shaping;
 pub use targets::{Boundary, JointTarget, Targets, TcpTarget, UprightTarget};
 pub use terms::{NodeConstraint, NodeContext, NodeCost};

@@ -16,6 +16,9 @@
 //! capacity search, which keeps the continuation's steps between its probes, tries the
 //! continuation first ([`solve_design_along`]).
 //!
+//! A free horizon's feasible trajectory is then shortened where the settings ask
+//! (`FreeHorizonSearch::Descend`, `shorten`); the verdict stays the rule's.
+//!
 //! It stops at the first feasible trajectory, and skips the rest when the motors cannot hold the
 //! load at rest at an end where the task's `motion.ends` judges the hold (no trajectory is then
 //! feasible).
@@ -23,7 +26,8 @@
 use super::continuation::PayloadChain;
 use super::result::{TrajectoryResult, VerdictBy};
 use super::run::{capped, Start, Tries};
-use super::settings::SolveSettings;
+use super::settings::{FreeHorizonSearch, SolveSettings};
+use super::shorten::shorten;
 use super::SolveError;
 use crate::ipopt::Solution;
 use crate::problem::{Formulation, ProblemKind};
@@ -124,7 +128,7 @@ fn rule(
         kept,
         tried: false,
     };
-    match formulation.kind() {
+    let found = match formulation.kind() {
         ProblemKind::Hard => hard_first(
             formulation,
             ratios,
@@ -141,8 +145,27 @@ fn rule(
             &mut continuation,
             tries,
         ),
+    }?;
+    let shortens = settings.free_horizon == FreeHorizonSearch::Descend
+        && formulation.kind() == ProblemKind::Hard
+        && formulation.layout().horizon().is_some()
+        && found.0.feasible;
+    if !shortens {
+        return Ok(found);
     }
+    let fixed_rule: Rule<'_> =
+        &|fixed, ratios, settings, tries| rule(fixed, ratios, settings, None, None, tries);
+    shorten(formulation, ratios, settings, found, fixed_rule, tries)
 }
+
+/// The rule from the standard guess, its work counted in the last argument: what shortening a
+/// free horizon solves at each fixed duration.
+pub(super) type Rule<'a> = &'a dyn Fn(
+    &Formulation,
+    &[f64],
+    &SolveSettings,
+    &mut Tries,
+) -> Result<(TrajectoryResult, Solution), SolveError>;
 
 /// Whether no start can help: the result is feasible, or its motors cannot hold the load at
 /// rest at an end where the task's ends judge the hold.

@@ -100,3 +100,42 @@ fn the_minimum_times_gradient_matches_resolved_differences_with_a_via_window() {
     let modes = task.limit_modes;
     assert_time_gradient(&task, Space::Actuation, modes, &[7.0, 4.0, 2.0, 2.0]);
 }
+
+/// Issue 52's first test of done: on the built-in arm (actuation space, original design, pure
+/// minimum time) at 0 and 1 kg, T* shortened by the fixed-horizon rule (`free_horizon` =
+/// `descend`, shaped by the task's weights and box) is no longer than the shortest duration a
+/// bisection to 1 ms of the fixed-horizon rule finds feasible (`codesign solve --space actuation
+/// --payload P --duration T` on the repository's task: 0.5408 s at 0 kg, 0.7131 s at 1 kg; the
+/// standard guess alone gives 0.5541 s and 0.7381 s), and at 0.97 T* the fixed-horizon rule
+/// finds no feasible trajectory.
+#[test]
+fn the_shortened_minimum_time_is_no_longer_than_the_fixed_horizon_bisection() {
+    use crate::model::task::Horizon;
+    let settings = SolveSettings {
+        free_horizon: super::FreeHorizonSearch::Descend,
+        ..SolveSettings::default()
+    };
+    for (payload_kg, bisected_s) in [(0.0, 0.5408), (1.0, 0.7131)] {
+        let mut task = Task::built_in().unwrap();
+        task.payload.mass_kg = payload_kg;
+        let ratios = task.transmission.original.clone();
+        let pure = task.minimum_time();
+        let robot = Robot::load(&pure).unwrap();
+        let free = Formulation::new(&pure, robot.clone(), Space::Actuation, task.limit_modes)
+            .unwrap()
+            .shaped_by(&task);
+        let (result, _) = solve_design_from(&free, &ratios, &settings, None).unwrap();
+        let t_star = result.horizon_s.unwrap();
+        assert!(result.feasible && result.cost == t_star, "{payload_kg} kg");
+        assert!(t_star <= bisected_s, "{payload_kg} kg: T* = {t_star} s");
+        let mut shorter = task.clone();
+        shorter.motion.horizon = Horizon::Fixed(0.97 * t_star);
+        let fixed = Formulation::new(&shorter, robot, Space::Actuation, task.limit_modes).unwrap();
+        let (verdict, _) = solve_design_from(&fixed, &ratios, &settings, None).unwrap();
+        assert!(
+            !verdict.feasible,
+            "{payload_kg} kg: feasible at 0.97 T* = {}",
+            0.97 * t_star
+        );
+    }
+}

@@ -11,7 +11,7 @@
 //!
 //! The modules: `settings` (IPOPT's settings, read from a task file's `solver` section), `run`
 //! (one IPOPT solve), `certify` (the rule, over several solves), `continuation` (its payload
-//! continuation), `result` (the result and its file schema), `trajectory` (the solution node by
+//! continuation), `shorten` (a free horizon shortened by the fixed-horizon rule), `result` (the result and its file schema), `trajectory` (the solution node by
 //! node), `figures` (its physical figures), `readback` (a primal point read back as a
 //! trajectory), `result_checks` (whether it judges its design and holds finite numbers only),
 //! `verify` (the constraint residuals evaluated again on the trajectory), `keyed` (their
@@ -32,6 +32,7 @@ mod result;
 mod result_checks;
 mod run;
 mod settings;
+mod shorten;
 mod start;
 mod trajectory;
 mod verify;
@@ -46,7 +47,10 @@ pub use figures::{MotorFigures, PhysicalFigures};
 pub use keyed::{Keyed, Violations};
 pub use result::{ElasticMeasures, SolveSeconds, ToolInfo, TrajectoryResult, VerdictBy};
 pub use run::WARM_MAX_ITER;
-pub use settings::{SettingsError, SolveSettings, TaskRecord, DEFAULT_MAX_ITER, DEFAULT_TOL};
+pub use settings::{
+    FreeHorizonSearch, SettingsError, SolveSettings, TaskRecord, DEFAULT_MAX_ITER, DEFAULT_TOL,
+};
+pub use shorten::MAX_SHORTENING_ROUNDS;
 pub use start::{StartError, StartPart, StartPoint};
 pub use trajectory::Trajectory;
 pub use verify::{envelope_margins, least_envelope_margin, EnvelopeMargin};

@@ -37,9 +37,48 @@ pub struct SolveSettings {
     /// options, strings string options (e.g. `"mumps_pivot_order": 6`).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub options: BTreeMap<String, Value>,
+    /// How a free horizon's duration is searched: the local optimum of the free problem, or
+    /// that optimum shortened by the fixed-horizon rule ([`FreeHorizonSearch`]). Absent:
+    /// [`FreeHorizonSearch::Local`].
+    #[serde(default, skip_serializing_if = "FreeHorizonSearch::is_local")]
+    pub free_horizon: FreeHorizonSearch,
     /// Show IPOPT's iteration log (a flag of the command, never read from a file).
     #[serde(skip)]
     pub verbose: bool,
+}
+
+/// How the solve of a problem with a free horizon (`{"free": [T_min, T_max]}`) searches its
+/// duration (docs/model.md, section 6, "Shortening a free horizon").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FreeHorizonSearch {
+    /// The local optimum the rule's first feasible start reaches (one solve where the standard
+    /// guess succeeds).
+    #[default]
+    Local,
+    /// That optimum, then shortened in rounds: the fixed-horizon rule at the current duration
+    /// T, with the task's weights and box, starts the free problem bounded to [T_min, T], kept
+    /// while J falls; several solves more, each round's last verdict typically infeasible.
+    Descend,
+}
+
+impl crate::choice::Choice for FreeHorizonSearch {
+    const ALL: &'static [FreeHorizonSearch] =
+        &[FreeHorizonSearch::Local, FreeHorizonSearch::Descend];
+
+    fn name(self) -> &'static str {
+        match self {
+            FreeHorizonSearch::Local => "local",
+            FreeHorizonSearch::Descend => "descend",
+        }
+    }
+}
+
+impl FreeHorizonSearch {
+    /// Whether it is the default, [`FreeHorizonSearch::Local`].
+    pub fn is_local(&self) -> bool {
+        *self == FreeHorizonSearch::Local
+    }
 }
 
 fn default_tol() -> f64 {
@@ -57,6 +96,7 @@ impl Default for SolveSettings {
             max_iter: default_max_iter(),
             linear_solver: None,
             options: BTreeMap::new(),
+            free_horizon: FreeHorizonSearch::Local,
             verbose: false,
         }
     }

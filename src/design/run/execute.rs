@@ -367,10 +367,12 @@ fn formulate(
     modes: LimitModes,
     settings: &SolveSettings,
 ) -> Result<Formulation, RunError> {
-    let task = &case.settings.objective.task(task);
-    let formulation = Formulation::new(task, robot, case.problem.space, modes)
-        .map_err(|e| RunError::Load(e.to_string()))?
-        .with_hold_tolerance(settings.constraint_tolerance());
+    let objective = &case.settings.objective;
+    let solved = &objective.task(task);
+    let formulation = Formulation::new(solved, robot, case.problem.space, modes)
+        .map_err(|e| RunError::Load(e.to_string()))?;
+    let formulation =
+        (objective.shape(formulation, task)).with_hold_tolerance(settings.constraint_tolerance());
     match case.settings.objective {
         Objective::Energy => formulation
             .minimising_copper_loss()

@@ -57,7 +57,8 @@ impl Fitness {
         objective: &Objective,
         penalty: Penalty,
     ) -> Result<Fitness, ScoreError> {
-        let task = &objective.task(task);
+        let source = task;
+        let task = &objective.task(source);
         let robot = Robot::load(task)?;
         let task_hash = task_hash(task, robot.urdf_hash());
         if task.has_motions() {
@@ -76,7 +77,7 @@ impl Fitness {
                 task_hash,
             });
         }
-        let hard = Formulation::new(task, robot, space, modes)?
+        let hard = (objective.shape(Formulation::new(task, robot, space, modes)?, source))
             .with_hold_tolerance(solve.constraint_tolerance());
         let hard = match objective {
             Objective::Energy => hard.minimising_copper_loss()?,

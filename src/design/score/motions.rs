@@ -55,7 +55,8 @@ impl Motions {
     ) -> Result<Motions, ScoreError> {
         let problem = |motion: codesign_core::model::task::MotionTask| {
             let task = objective.task(&motion.task);
-            let hard = Formulation::new(&task, robot.clone(), space, modes)?
+            let hard = Formulation::new(&task, robot.clone(), space, modes)?;
+            let hard = (objective.shape(hard, &motion.task))
                 .with_hold_tolerance(solve.constraint_tolerance());
             let hard = match objective {
                 Objective::Energy => hard.minimising_copper_loss()?,

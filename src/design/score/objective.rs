@@ -6,7 +6,7 @@
 use crate::design::capacity::CapacitySettings;
 use codesign_core::model::task::Task;
 use codesign_core::model::ModelError;
-use codesign_core::problem::FormulationError;
+use codesign_core::problem::{Formulation, FormulationError};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -37,6 +37,16 @@ impl Objective {
         match self {
             Objective::Time => task.minimum_time(),
             _ => task.clone(),
+        }
+    }
+
+    /// `formulation`, of [`Objective::task`]`(source)`: for [`Objective::Time`], its free
+    /// horizon shortened through fixed-horizon problems shaped by `source`'s weights and box
+    /// (where the solve settings ask it, `solver.free_horizon`), else as it is.
+    pub fn shape(&self, formulation: Formulation, source: &Task) -> Formulation {
+        match self {
+            Objective::Time => formulation.shaped_by(source),
+            _ => formulation,
         }
     }
 }
