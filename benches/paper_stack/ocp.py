@@ -364,6 +364,9 @@ class TrajectoryOCP:
         N = self.N = int(motion["steps"])
         T = float(motion["horizon_s"])
         h = T / N
+        if not isinstance(motion["goal"], list):
+            raise ValueError("motion.goal: this reference stack takes the goal as joint angles, "
+                             "not a TCP position")
         q_start, q_goal = np.array(motion["start"]), np.array(motion["goal"])
         wts = task["weights"]
         box = task["cartesian_box"]

@@ -91,7 +91,7 @@ pub fn posed_task(row: &str) -> Task {
     let mut task = Task::load(&path).expect("the planar example loads");
     task.transmission.matrix[1] = serde_json::from_str(row).expect("the linkage row parses");
     task.motion.start[1] = -1.0;
-    task.motion.goal[1] = 1.0;
+    task.motion.goal.joints_mut().expect("a joint goal")[1] = 1.0;
     task
 }
 

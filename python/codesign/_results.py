@@ -156,6 +156,13 @@ class Solution:
         return None if text is None else json.loads(text)
 
     @property
+    def goal_pose(self) -> Optional[np.ndarray]:
+        """The last node's joint angles q_N the solve chose, rad, shape (n,), where the task's
+        goal is a TCP position (:class:`codesign.sections.TcpGoal`); None for a joint goal."""
+        pose = self.to_dict().get("goal_pose")
+        return None if pose is None else np.asarray(pose, dtype=float)
+
+    @property
     def cost_gradient(self) -> Optional[np.ndarray]:
         """dJ*/dr, the exact sensitivity of the optimal cost to each ratio; None when infeasible."""
         gradient = self._native.cost_gradient()

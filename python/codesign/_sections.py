@@ -70,6 +70,16 @@ class ViaTcp:
 
 
 @dataclass
+class TcpGoal:
+    """A goal given as a TCP position: the TCP within ``tol_m`` (m, at least 1e-6) of the world
+    point ``tcp`` (m) at the last node, whose joint angles the solve chooses within the joint
+    limits; the motion rests there."""
+
+    tcp: Tuple[Number, Number, Number]
+    tol_m: Number
+
+
+@dataclass
 class Upright:
     """``link``'s ``axis`` (in the link's frame) within ``tol_rad`` of the world's vertical at
     every node."""
@@ -81,13 +91,14 @@ class Upright:
 
 @dataclass
 class Motion:
-    """The motion: from ``start`` to ``goal`` (joint positions, rad) in ``horizon_s`` seconds (or
+    """The motion: from ``start`` to ``goal`` (joint positions, rad, or a :class:`TcpGoal`) in
+    ``horizon_s`` seconds (or
     a free duration, ``{"free": [T_min, T_max]}``) on ``steps`` intervals, with what it asks at its
     ends, the points it passes (``via``: :class:`ViaJoints` or :class:`ViaTcp`, each at a time of
     a fixed duration) and a link it holds ``upright`` (:class:`Upright`)."""
 
     start: Sequence[Number]
-    goal: Sequence[Number]
+    goal: Union[Sequence[Number], TcpGoal]
     horizon_s: Union[Number, Dict[str, Sequence[Number]]]
     steps: int = 50
     ends: Union[Ends, str] = Ends.HOLD
@@ -105,7 +116,7 @@ class MotionEntry:
     weight: Number = 1.0
     payload_kg: Optional[Number] = None
     start: Optional[Sequence[Number]] = None
-    goal: Optional[Sequence[Number]] = None
+    goal: Union[None, Sequence[Number], TcpGoal] = None
     horizon_s: Union[None, Number, Dict[str, Sequence[Number]]] = None
     steps: Optional[int] = None
     ends: Union[None, Ends, str] = None

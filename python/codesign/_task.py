@@ -316,10 +316,12 @@ class Task:
 
     def tradeoff(
         self,
-        durations: Sequence[float],
+        durations: Optional[Sequence[float]] = None,
         space: str = "actuation",
         ratios: Optional[Sequence[float]] = None,
         *,
+        payloads: Optional[Sequence[float]] = None,
+        compare: Optional[Sequence[Sequence[float]]] = None,
         ends: Optional[str] = None,
         torque_mode: Optional[str] = None,
         speed_mode: Optional[str] = None,
@@ -334,10 +336,25 @@ class Task:
         it, as :meth:`capacity` with ``duration=`` finds it. Returns the document's data (a
         dict: ``inputs`` with ``durations_s``, and ``points``, one per duration, each with its
         ``duration_s``, ``capacity_kg`` and search); given ``out`` (``NAME.json``), writes it
-        there with its plot beside it (``NAME.svg``)."""
+        there with its plot beside it (``NAME.svg``).
+
+        Given ``payloads`` (kg, increasing) instead of ``durations``, the other way round
+        (``codesign tradeoff --payloads``): the least duration T* of design ``ratios`` and of
+        each design of ``compare`` at each payload, each its pure minimum-time problem solved as
+        :meth:`solve` solves it; the first payload a design cannot move within T_max ends its
+        curve. Returns the document's data: ``inputs`` with ``payloads_kg`` and ``horizon_s``,
+        and ``curves``, one per design, each with its ``ratios``, its ``points`` (each with
+        ``payload_kg``, ``feasible``, ``minimum_time_s``) and ``ends_at_kg``."""
+        if payloads is not None:
+            return self._time_curve(
+                durations, space, ratios, payloads, compare, ends, torque_mode, speed_mode,
+                linear_solver, (resolution, first_step, max), out
+            )
+        if compare is not None:
+            raise InputError("compare=: only with payloads=")
         listed = design("durations", durations)
         if listed is None:
-            raise InputError("durations=None: must be a list of durations in s")
+            raise InputError("durations=None: must be a list of durations in s, or give payloads=")
         found = self._native.tradeoff(
             text("space", space),
             listed,
@@ -349,6 +366,37 @@ class Task:
             number("resolution", resolution),
             number("first_step", first_step),
             number("max", max),
+            path("out", out),
+        )
+        return json.loads(found)
+
+    def _time_curve(
+        self, durations, space, ratios, payloads, compare, ends, torque_mode, speed_mode,
+        linear_solver, search, out
+    ) -> Dict[str, Any]:
+        """:meth:`tradeoff` with ``payloads``: T* against payload."""
+        if durations is not None:
+            raise InputError("durations= and payloads=: give one, the trade-off's axis")
+        if any(value is not None for value in search):
+            raise InputError("resolution=, first_step=, max=: capacity searches, not with payloads=")
+        listed = design("payloads", payloads)
+        if listed is None:
+            raise InputError("payloads=None: must be a list of payloads in kg")
+        designs = None
+        if ratios is not None or compare is not None:
+            first = design("ratios", ratios) if ratios is not None else None
+            if first is None:
+                first = self.to_dict()["transmission"]["original"]
+            others = [design(f"compare[{i}]", each) for i, each in enumerate(compare or [])]
+            designs = [first] + others
+        found = self._native.time_curve(
+            text("space", space),
+            listed,
+            text("ends", ends),
+            text("torque_mode", torque_mode),
+            text("speed_mode", speed_mode),
+            text("linear_solver", linear_solver),
+            designs,
             path("out", out),
         )
         return json.loads(found)

@@ -15,6 +15,7 @@ mod robot;
 mod runs;
 mod solution;
 mod task;
+mod tradeoff;
 
 use pyo3::prelude::*;
 

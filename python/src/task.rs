@@ -5,13 +5,14 @@ use crate::errors::{Failure, Outcome};
 use crate::interrupt;
 use crate::options::{Keywords, Posed, ReadTask};
 use crate::solution::NativeSolution;
+use crate::tradeoff::{TimeCurveAsked, TradeoffAsked};
 use codesign::design::capacity::{payload_capacity, CapacitySettings};
 use codesign::design::run::RecordedHash;
-use codesign::design::tradeoff::{capacity_tradeoff, check_durations, TradeoffProblem};
+use codesign::design::time_curve::check_payloads;
+use codesign::design::tradeoff::check_durations;
 use codesign::report::check::TaskInspection;
 use codesign::report::codesign::{CapacityDocument, CapacityInputs};
 use codesign::report::solve_document::{SolveDocument, StartRecord};
-use codesign::report::tradeoff::{plot_beside, TradeoffDocument, TradeoffInputs};
 use codesign::store::document::{document_json, Document};
 use codesign_core::choice::Choice;
 use codesign_core::model::task::BUILT_IN_TASK;
@@ -65,7 +66,7 @@ pub fn task_text(py: Python<'_>, path: Option<PathBuf>) -> PyResult<String> {
 }
 
 /// The document `document` as JSON, an encoding error a solver error.
-fn json<D: Document>(document: &D) -> Outcome<String> {
+pub(crate) fn json<D: Document>(document: &D) -> Outcome<String> {
     document_json(document).map_err(|e| Failure::solver(format!("result not encoded: {e}")))
 }
 
@@ -264,6 +265,43 @@ impl NativeTask {
         };
         interrupt::run(py, move |_| asked.run(&posed), |_, _, _, _| Ok(()))
     }
+
+    /// The least duration T* of each design at each payload, as `codesign tradeoff --payloads
+    /// --out` writes it (and, given `out`, written there with its plot beside it); `designs`
+    /// none: the original design alone.
+    #[pyo3(signature = (space, payloads, ends=None, torque_mode=None, speed_mode=None,
+        linear_solver=None, designs=None, out=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn time_curve(
+        &self,
+        py: Python<'_>,
+        space: &str,
+        payloads: Vec<f64>,
+        ends: Option<&str>,
+        torque_mode: Option<&str>,
+        speed_mode: Option<&str>,
+        linear_solver: Option<&str>,
+        designs: Option<Vec<Vec<f64>>>,
+        out: Option<PathBuf>,
+    ) -> PyResult<String> {
+        let keywords = Keywords {
+            space,
+            payload: None,
+            ends,
+            torque_mode,
+            speed_mode,
+            linear_solver,
+        };
+        let posed = self.posed(&keywords).map_err(|f| f.into_py(py))?;
+        check_payloads(&payloads)
+            .map_err(|e| Failure::input(format!("payloads: {e}")).into_py(py))?;
+        let asked = TimeCurveAsked {
+            designs,
+            payloads,
+            out,
+        };
+        interrupt::run(py, move |_| asked.run(&posed), |_, _, _, _| Ok(()))
+    }
 }
 
 /// The settings of a capacity search from its keywords (None: the default), checked, an error
@@ -435,59 +473,6 @@ fn capacity(
         capacity,
     };
     json(&document)
-}
-
-/// What a trade-off was asked.
-struct TradeoffAsked {
-    ratios: Option<Vec<f64>>,
-    durations: Vec<f64>,
-    settings: CapacitySettings,
-    /// Where to write the document, its plot beside it (`.svg`).
-    out: Option<PathBuf>,
-}
-
-impl TradeoffAsked {
-    /// The capacities at every duration of design `ratios` (None: the original), the document
-    /// as JSON, written with its plot where asked.
-    fn run(self, posed: &Posed) -> Outcome<String> {
-        let loaded = posed.load()?;
-        let formulation = posed.formulation(&loaded)?;
-        let ratios = posed.design(&formulation, self.ratios)?;
-        let plot = (self.out.as_deref())
-            .map(|out| {
-                plot_beside(out)
-                    .map_err(|why| Failure::input(format!("out={}: {why}", out.display())))
-            })
-            .transpose()?;
-        let problem = TradeoffProblem {
-            task: &loaded.task,
-            robot: &loaded.robot,
-            space: formulation.space(),
-            modes: *formulation.modes(),
-            solve: &loaded.settings,
-        };
-        let points = capacity_tradeoff(&problem, &ratios, &self.durations, &self.settings)
-            .map_err(|e| Failure::solver(format!("{}: {e}", posed.model.source())))?;
-        let document = TradeoffDocument {
-            tool: ToolInfo::current(loaded.settings.linear_solver()),
-            inputs: TradeoffInputs {
-                task_file: posed.model.source().label(),
-                task_hash: RecordedHash(Some(loaded.task_hash.clone())),
-                space: formulation.space(),
-                ratios,
-                limit_modes: *formulation.modes(),
-                ends: loaded.task.motion.ends,
-                settings: self.settings,
-                durations_s: self.durations,
-            },
-            points,
-        };
-        if let (Some(out), Some(plot)) = (&self.out, &plot) {
-            (document.write_with_plot(out, plot))
-                .map_err(|e| Failure::input(format!("out=: {e}")))?;
-        }
-        json(&document)
-    }
 }
 
 /// The horizon of `duration=`: [T] fixed, [T_min, T_max] free, each within the task's range.

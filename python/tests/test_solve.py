@@ -265,6 +265,32 @@ def test_a_tradeoff_is_the_capacity_within_each_duration(planar, tmp_path):
         planar.tradeoff([])
 
 
+def test_a_time_curve_is_the_minimum_time_solve_at_each_payload(planar, tmp_path):
+    """T* against payload (``tradeoff(payloads=)``): each point is the pure minimum-time solve
+    at its payload, T* does not fall as the payload grows, and the compared design has its own
+    curve."""
+    out = tmp_path / "curve.json"
+    data = planar.tradeoff(payloads=[0.0, 0.5], ratios=[50, 12], compare=[[60, 10]], out=out)
+    assert data["schema"] == "codesign/time_curve" and data["version"] == 1
+    assert json.loads(out.read_text()) == data
+    assert "<svg" in (tmp_path / "curve.svg").read_text()
+    assert [c["ratios"] for c in data["curves"]] == [[50.0, 12.0], [60.0, 10.0]]
+    lo, hi = data["inputs"]["horizon_s"]["free"]
+    no_box = {axis: None for axis in planar.to_dict()["cartesian_box"]}
+    fastest = planar.with_changes(
+        weights={"position": 0, "velocity": 0, "control": 0, "time": 1}, cartesian_box=no_box)
+    times = [p["minimum_time_s"] for p in data["curves"][0]["points"]]
+    assert times == sorted(times) and None not in times
+    for point in data["curves"][0]["points"]:
+        sol = fastest.solve(payload=point["payload_kg"], ratios=[50, 12], duration=(lo, hi))
+        assert sol.feasible
+        assert point["minimum_time_s"] == pytest.approx(sol.to_dict()["horizon_s"], rel=1e-9)
+    with pytest.raises(cd.InputError, match="payloads"):
+        planar.tradeoff(payloads=[1.0, 0.5])
+    with pytest.raises(cd.InputError, match="durations= and payloads="):
+        planar.tradeoff([1.0], payloads=[0.5])
+
+
 def test_the_built_in_task_solves_in_both_spaces():
     task = cd.Task.builtin()
     for space in ("joint", "actuation"):

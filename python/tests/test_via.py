@@ -1,6 +1,7 @@
-"""Via points and an upright link (``motion.via``, ``motion.upright``) from Python: typed
-sections and plain dicts give one task, ``check`` refuses a TCP via point out of reach naming its
-field, and a solve passes a reachable one within its tolerance."""
+"""Via points, an upright link and a TCP goal (``motion.via``, ``motion.upright``,
+``motion.goal``) from Python: typed sections and plain dicts give one task, ``check`` refuses a TCP
+via point or goal out of reach naming its field, and a solve passes a reachable one within its
+tolerance."""
 
 import math
 
@@ -65,3 +66,23 @@ def test_a_via_point_within_a_window_is_passed_at_a_time_the_solve_chooses():
     assert "motion.via[1].t_s = 0.45 must begin after motion.via[0] ends" in " ".join(
         report.problems
     )
+
+
+def test_a_tcp_goal_ends_the_motion_inside_its_ball_and_check_flags_one_out_of_reach():
+    task = cd.Task.builtin()
+    goal = s.TcpGoal(tcp=(0.0, -0.25, 0.15), tol_m=0.005)
+    typed = task.with_changes(motion={"goal": goal})
+    plain = task.with_changes(motion={"goal": {"tcp": [0.0, -0.25, 0.15], "tol_m": 0.005}})
+    assert typed.to_dict()["motion"]["goal"] == plain.to_dict()["motion"]["goal"]
+    checked = typed.check()
+    assert checked.ok and not any("motion.goal" in w for w in checked.warnings)
+    sol = typed.solve(payload=1.0, steps=20)
+    assert sol.feasible, sol.reason
+    node = sol.to_dict()["trajectory"]
+    end = [node[axis][-1] for axis in ("tcp_x", "tcp_y", "tcp_z")]
+    assert math.dist(end, goal.tcp) <= goal.tol_m + 1e-6
+    assert sol.goal_pose == pytest.approx(sol.q[-1])
+    far = task.with_changes(motion={"goal": s.TcpGoal(tcp=(0.0, 1.5, 0.0), tol_m=0.01)})
+    report = far.check()
+    assert not report.ok
+    assert any("motion.goal.tcp" in problem and "reach" in problem for problem in report.problems)

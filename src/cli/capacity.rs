@@ -190,7 +190,11 @@ fn print_capacity(
         " (not required: ends paper)"
     };
     if let Some(kg) = capacity.hold_kg {
-        say!("  the motors hold at most {kg:.3} kg at rest at both ends{judged}");
+        let ends = match formulation.task().motion.goal.tcp() {
+            Some(_) => "the start (a TCP goal's pose is the solve's choice)",
+            None => "both ends",
+        };
+        say!("  the motors hold at most {kg:.3} kg at rest at {ends}{judged}");
     }
     say!("  {} solves in {seconds:.1} s", capacity.probes.len());
     Ok(())

@@ -77,6 +77,7 @@ mod solve_summary;
 mod store_hints;
 mod table;
 mod task;
+mod time_curve;
 mod tradeoff;
 mod worker;
 

@@ -176,6 +176,23 @@ pub(super) fn print_summary(formulation: &Formulation, result: &TrajectoryResult
     if let Some(text) = via_times_text(formulation, result) {
         say!("  {text}");
     }
+    if let (Some(pose), Some(goal)) = (&result.goal_pose, task.motion.goal.tcp()) {
+        let beyond = result.violations.get("goal_tcp").unwrap_or(0.0);
+        say!(
+            "  TCP goal ({}) m within {} m: q_N = ({}) rad{}",
+            (goal.tcp.iter().map(|p| format!("{p:.4}")))
+                .collect::<Vec<_>>()
+                .join(", "),
+            goal.tol_m,
+            (pose.iter().map(|q| format!("{q:.4}")))
+                .collect::<Vec<_>>()
+                .join(", "),
+            match beyond > 0.0 {
+                true => format!(", its TCP {beyond:.2e} m beyond the ball"),
+                false => String::new(),
+            }
+        );
+    }
     if let Some(t) = &result.cost_terms {
         say!("  {}", cost_terms_text(t));
     }

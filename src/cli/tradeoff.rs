@@ -1,10 +1,13 @@
 //! `codesign tradeoff`: the payload capacity of one design against the duration of its motion,
-//! each point the capacity `codesign capacity --duration T` finds, written as JSON with its plot.
+//! each point the capacity `codesign capacity --duration T` finds, written as JSON with its plot;
+//! with `--payloads`, the other way round: the least duration T* of one or more designs against
+//! the payload (`time_curve`).
 
 use super::capacity::capacity_settings;
 use super::common::{finite_ratio, listed_number, ModelArgs, ProblemArgs};
 use super::failure::Failure;
 use super::store_hints::check_output;
+use super::time_curve;
 use crate::design::capacity::{CapacityLimit, CapacitySettings};
 use crate::design::run::{Loaded, RecordedHash};
 use crate::design::tradeoff::{
@@ -19,20 +22,36 @@ use std::path::PathBuf;
 #[derive(Debug, clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    model: ModelArgs,
+    pub(super) model: ModelArgs,
     #[command(flatten)]
-    problem: ProblemArgs,
+    pub(super) problem: ProblemArgs,
     /// Durations T of the motion, s: at each, the heaviest payload the design moves within T
     /// (as `capacity --duration T`).
     #[arg(
         long,
-        required = true,
+        required_unless_present = "payloads",
+        conflicts_with = "payloads",
         value_name = "S,S,..",
         value_delimiter = ',',
         num_args = 1..,
         value_parser = listed_number
     )]
     durations: Vec<f64>,
+    /// Payloads, kg, increasing: at each, the least duration T* of the design's motion (its
+    /// pure minimum-time problem); the first payload it cannot move within T_max ends its curve.
+    #[arg(
+        long,
+        conflicts_with_all = ["resolution", "first_step", "max"],
+        value_name = "KG,KG,..",
+        value_delimiter = ',',
+        num_args = 1..,
+        value_parser = listed_number
+    )]
+    pub(super) payloads: Option<Vec<f64>>,
+    /// With `--payloads`: another design whose curve the file and its plot hold too (R1,R2,..);
+    /// repeatable.
+    #[arg(long, value_name = "R1,R2,..", action = clap::ArgAction::Append)]
+    pub(super) compare: Vec<String>,
     /// Gear ratios of the design, one per ratio of the task's transmission (r1,r2,..); default:
     /// the task's original design.
     #[arg(
@@ -42,7 +61,7 @@ pub struct Args {
         num_args = 1..,
         value_parser = finite_ratio
     )]
-    ratios: Option<Vec<f64>>,
+    pub(super) ratios: Option<Vec<f64>>,
     /// Width of the final bracket of each search, kg.
     #[arg(long, value_name = "KG", default_value_t = CapacitySettings::default().resolution_kg)]
     resolution: f64,
@@ -55,7 +74,7 @@ pub struct Args {
     /// Write the trade-off as JSON to this file and its plot beside it as the same name ending
     /// in .svg (both checked before the searches, as `capacity --out`).
     #[arg(long, value_name = "FILE.json")]
-    out: Option<PathBuf>,
+    pub(super) out: Option<PathBuf>,
 }
 
 /// Searches the capacity at every duration, prints them, writes the file and its plot.
@@ -63,6 +82,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if args.model.payload.is_some() {
         return Err(Failure::Usage(
             "--payload: tradeoff searches the payload itself; leave it out".to_owned(),
+        ));
+    }
+    if let Some(payloads) = &args.payloads {
+        return time_curve::run(args, payloads);
+    }
+    if !args.compare.is_empty() {
+        return Err(Failure::Usage(
+            "--compare: a design to compare on T* against payload; only with --payloads".to_owned(),
         ));
     }
     check_durations(&args.durations).map_err(|e| Failure::Usage(format!("--durations: {e}")))?;

@@ -12,6 +12,7 @@ pub mod outcome;
 pub mod penalty;
 pub mod run;
 pub mod score;
+pub mod time_curve;
 pub mod tradeoff;
 pub mod verdicts;
 pub mod warm;

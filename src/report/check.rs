@@ -1,7 +1,8 @@
 //! The inspection of a robot and its task before any solve (`codesign check`, Python's
 //! `Task.check`): the chain, the TCP at the start and the goal, G at a design and its inverse,
 //! the static gravity torques at both ends against each motor's own torque limit, the design
-//! space, the limit modes, the linkages' readings, the via points and the upright link, and a
+//! space, the limit modes, the linkages' readings, the via points, the upright link and a TCP
+//! goal (its pose the initial guess's, by inverse kinematics, where a check needs one), and a
 //! verdict per check, each finding an error (a solve refuses the task, or its result would mean
 //! nothing) or a warning; a task with several motions is inspected motion by motion (`motions`).
 
@@ -245,20 +246,25 @@ impl Inspection {
             parts: part_reports(task),
             ..Inspection::of_robot(robot)
         };
-        inspection.check_motion(task, robot);
-        let parts = (task, &dynamics, &transmission);
+        // The checks that read the goal as a pose take a TCP goal's pose of the initial guess.
+        let posed = targets::goal_posed(task, &dynamics);
+        inspection.check_motion(&posed, robot);
+        let parts = (&*posed, &dynamics, &transmission);
         inspection.check_design(parts, ratios, hold_tolerance_nm);
+        if task.motion.goal.tcp().is_some() {
+            inspection.guessed_goal_hold();
+        }
         inspection.check_envelope();
         inspection.check_limit_modes(task, &transmission);
         inspection.check_memory(task, robot);
-        inspection.check_box(task, &dynamics);
+        inspection.check_box(&posed, &dynamics);
         inspection.check_targets(task, &dynamics);
         // The linkages at the design inspected where it is valid (a verdict names it otherwise).
         let design = match transmission.check_design(ratios) {
             Ok(()) => ratios,
             Err(_) => &task.transmission.original,
         };
-        inspection.linkages = linkage_reports(task, (&dynamics, &transmission), design);
+        inspection.linkages = linkage_reports(&posed, (&dynamics, &transmission), design);
         inspection.conclude();
         Ok(inspection)
     }

@@ -49,7 +49,8 @@ pub enum ReadFailure {
     Table,
     /// It is a document of this kind where a table was asked for.
     NotATable(Schema),
-    /// It is a trade-off of capacity against cycle time, which no table places.
+    /// It is a trade-off of capacity against cycle time (or of T* against payload), which no
+    /// table places.
     Tradeoff,
     /// It is a document of an older version (0: written before the envelope), which
     /// `codesign migrate` brings to this build's.
@@ -97,7 +98,7 @@ impl fmt::Display for ReportError {
                     ),
                     ReadFailure::Tradeoff => write!(
                         f,
-                        "{path}: a trade-off of capacity against cycle time, which a table does \
+                        "{path}: a trade-off of payload and cycle time, which a table does \
                          not place: give solve, optimize or capacity results"
                     ),
                     ReadFailure::Old { schema, version } => {

@@ -68,13 +68,23 @@ pub fn linkage_reports(
             .and_then(|names| names.get(row.motor).cloned())
             .unwrap_or_else(|| format!("motor {}", row.motor + 1));
         let mut report = read((task, dynamics, design), &row.linkage, (row.motor, motor));
-        for (reading, q) in (report.poses.iter_mut()).zip([&task.motion.start, &task.motion.goal]) {
+        for (reading, (_, q)) in (report.poses.iter_mut()).zip(ends(task)) {
             reading.static_torque_nm =
                 static_torque(transmission, (dynamics, design), q, row.motor);
         }
         reports.push(report);
     }
     reports
+}
+
+/// The task's start and goal poses by name, rad: the goal where it is joint angles (`check`
+/// gives a TCP goal's pose of the initial guess in its place).
+fn ends(task: &Task) -> Vec<(&'static str, &[f64])> {
+    let goal = task.motion.goal.joints().map(|q| ("goal", q));
+    [Some(("start", &task.motion.start[..])), goal]
+        .into_iter()
+        .flatten()
+        .collect()
 }
 
 /// Motor `row`'s torque holding the robot at rest at pose q through G(q) at `design`, N m; None
@@ -105,7 +115,7 @@ fn read(
     };
     let names = dynamics.robot().joint_names();
     let mut data = dynamics.workspace();
-    let poses = [("start", &task.motion.start), ("goal", &task.motion.goal)]
+    let poses = (ends(task).into_iter())
         .map(|(pose, q)| {
             let reading = reading(dynamics, &mut data, linkage, q, design, &variables);
             match reading {
@@ -125,7 +135,7 @@ fn read(
                 },
             }
         })
-        .to_vec();
+        .collect();
     let range = over_range(
         (dynamics, &mut data),
         (&task.motion.start, design),

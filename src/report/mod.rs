@@ -13,6 +13,7 @@ pub mod poses;
 pub mod solve_document;
 pub mod start;
 pub mod table;
+pub mod time_curve;
 pub mod tradeoff;
 pub mod trajectory;
 pub mod world;

@@ -23,16 +23,19 @@ pub enum Schema {
     Table,
     /// A design's payload capacity against cycle time (`codesign tradeoff`).
     Tradeoff,
+    /// Designs' least duration T* against payload (`codesign tradeoff --payloads`).
+    TimeCurve,
 }
 
 impl Schema {
     /// Every kind.
-    pub const ALL: [Schema; 5] = [
+    pub const ALL: [Schema; 6] = [
         Schema::Solve,
         Schema::Optimize,
         Schema::Capacity,
         Schema::Table,
         Schema::Tradeoff,
+        Schema::TimeCurve,
     ];
 
     /// The tag a document of this kind carries as `schema`, e.g. `codesign/solve`.
@@ -43,11 +46,12 @@ impl Schema {
             Schema::Capacity => "codesign/capacity",
             Schema::Table => "codesign/table",
             Schema::Tradeoff => "codesign/tradeoff",
+            Schema::TimeCurve => "codesign/time_curve",
         }
     }
 
     /// The kind's name, as the command that writes it: `solve`, `optimize`, `capacity`, `table`,
-    /// `tradeoff`.
+    /// `tradeoff`; `time_curve` for `tradeoff --payloads`.
     pub fn name(self) -> &'static str {
         &self.tag()["codesign/".len()..]
     }
@@ -56,13 +60,13 @@ impl Schema {
     /// results are at 2: `reason` always written (null when feasible), each motor's peaks and
     /// margins in `motors_execute`, and a capacity search's inputs under `inputs`; a co-design
     /// run's at 3: `best_cost` null without a best design, and a table at 2: a seed's cost null
-    /// then. A trade-off, which came later, is at 1.
+    /// then. A trade-off and a time curve, which came later, are at 1.
     pub fn version(self) -> u32 {
         match self {
             Schema::Solve | Schema::Capacity => 2,
             Schema::Optimize => 3,
             Schema::Table => 2,
-            Schema::Tradeoff => 1,
+            Schema::Tradeoff | Schema::TimeCurve => 1,
         }
     }
 

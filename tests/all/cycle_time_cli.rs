@@ -138,3 +138,81 @@ fn each_point_of_a_tradeoff_is_the_capacity_within_its_duration() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `tradeoff --payloads` (issue 52, item 5; the repository's task, the original design and one
+/// compared): schema `codesign/time_curve` with its plot; each point's T* equals
+/// `solve` of the task's pure minimum-time problem at that payload, written as a task file;
+/// the original's T* does not fall as the payload grows; a payload it cannot move ends its curve.
+/// Durations with payloads, payloads that do not increase and `--compare` alone are refused.
+#[test]
+fn each_point_of_a_time_curve_is_the_minimum_time_solve_at_its_payload() {
+    let dir = scratch("cycle_time_curve");
+    let task = task_with(&dir, |_| {});
+    let fastest = dir.join("fastest.json");
+    let mut pure = read_json(&task);
+    pure["motion"]["horizon_s"] = json!({"free": [0.3 * 0.8, 1.5 * 0.8]});
+    pure["weights"] = json!({"position": 0, "velocity": 0, "control": 0, "time": 1});
+    pure["cartesian_box"] = json!({});
+    std::fs::write(&fastest, pure.to_string()).unwrap();
+    let out = dir.join("curve.json");
+    let task = task.to_str().unwrap();
+    let args = ["tradeoff", "--payloads", "0,1,2,6", "--task", task];
+    let compare = ["--compare", "9,3,1,2", "--out", out.to_str().unwrap()];
+    let text = succeed(&[&args[..], &compare[..]].concat());
+    assert!(text.contains("least duration T* against payload"), "{text}");
+    let document = read_json(&out);
+    assert_eq!(document["schema"], "codesign/time_curve");
+    assert_eq!(document["version"], 1);
+    assert_eq!(
+        document["inputs"]["payloads_kg"],
+        json!([0.0, 1.0, 2.0, 6.0])
+    );
+    let svg = std::fs::read_to_string(dir.join("curve.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("r = (9.000, 3.000, 1.000, 2.000)"));
+    let curves = document["curves"].as_array().unwrap();
+    assert_eq!(curves.len(), 2);
+    assert_eq!(curves[0]["ratios"], json!([6.0, 3.0, 1.0, 1.0]));
+    let original = curves[0]["points"].as_array().unwrap();
+    assert_eq!(curves[0]["ends_at_kg"], json!(6.0), "{document}");
+    assert_eq!(original.len(), 4);
+    assert_eq!(original[3]["feasible"], json!(false));
+    assert_eq!(original[3]["minimum_time_s"], Value::Null);
+    let mut previous = 0.0;
+    for point in &original[..3] {
+        let kg = point["payload_kg"].as_f64().unwrap();
+        let t_star = point["minimum_time_s"].as_f64().unwrap();
+        assert!(
+            t_star >= previous,
+            "T* falls to {t_star} s at {kg} kg: {document}"
+        );
+        previous = t_star;
+        let alone = dir.join(format!("solve-{kg}.json"));
+        let payload = kg.to_string();
+        let fastest = fastest.to_str().unwrap();
+        let solve = ["solve", "--task", fastest, "--payload", &payload, "--out"];
+        succeed(&[&solve[..], &[alone.to_str().unwrap()]].concat());
+        let alone = read_json(&alone);
+        assert_eq!(alone["feasible"], json!(true), "{kg} kg");
+        assert_eq!(point["minimum_time_s"], alone["horizon_s"], "{kg} kg");
+        assert_eq!(point["iterations"], alone["iterations"], "{kg} kg");
+    }
+    for (bad, expected) in [
+        (
+            &["--payloads", "0,1", "--durations", "0.6"][..],
+            "--durations",
+        ),
+        (
+            &["--payloads", "1,0.5"][..],
+            "--payloads: payload 0.5 after 1",
+        ),
+        (&["--payloads", "0", "--max", "2"][..], "--max"),
+        (
+            &["--durations", "0.6", "--compare", "9,3,1,2"][..],
+            "--compare",
+        ),
+    ] {
+        let output = codesign(&[&["tradeoff"][..], bad].concat());
+        support::refused_as_usage(&output, expected);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -42,5 +42,6 @@ mod run_summary_cli;
 mod solve_cli;
 mod start_cli;
 mod table_cli;
+mod tcp_goal_cli;
 mod urdf_idioms;
 mod via_cli;

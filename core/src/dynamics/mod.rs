@@ -24,6 +24,7 @@
 mod derivatives;
 mod hessian;
 mod inverse;
+mod inverse_kinematics;
 mod kinematics;
 mod point_jet;
 mod spatial;

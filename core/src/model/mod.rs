@@ -5,6 +5,7 @@ pub mod chain;
 mod ends;
 mod error;
 pub mod experiment;
+mod goal;
 mod horizon;
 pub mod identity;
 pub mod matrix_row;

@@ -7,7 +7,7 @@
 //! layer below co-design solves each of them as the task it is.
 
 use super::ranges::{check_payload, Bounds, FieldError, MAX_WEIGHT};
-use super::task::{Ends, Horizon, Motion, Task, Upright, Via};
+use super::task::{Ends, Goal, Horizon, Motion, Task, Upright, Via};
 use crate::choice::Choice;
 use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serialize};
@@ -31,9 +31,10 @@ pub struct MotionEntry {
     /// Joint positions at t = 0, rad (absent: the task's `motion.start`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub start: Option<Vec<f64>>,
-    /// Joint positions at t = T, rad (absent: the task's `motion.goal`).
+    /// Where it ends, joint positions at t = T, rad, or a TCP position within a tolerance
+    /// (absent: the task's `motion.goal`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub goal: Option<Vec<f64>>,
+    pub goal: Option<Goal>,
     /// Its duration, s, fixed or free (absent: the task's `motion.horizon_s`).
     #[serde(default, rename = "horizon_s", skip_serializing_if = "Option::is_none")]
     pub horizon: Option<Horizon>,
@@ -242,7 +243,14 @@ impl Task {
                 .map_err(|why| FieldError::out_of_range(&format!("{field}.payload_kg"), kg, why))?;
         }
         let joints = self.motion.start.len();
-        let points = [("start", &entry.start), ("goal", &entry.goal)];
+        if let Some(goal) = &entry.goal {
+            goal.validate(&format!("{field}.goal"))?;
+        }
+        let goal = entry
+            .goal
+            .as_ref()
+            .and_then(|goal| goal.joints().map(<[f64]>::to_vec));
+        let points = [("start", &entry.start), ("goal", &goal)];
         for (key, point) in points {
             if let Some(point) = point.as_ref().filter(|p| p.len() != joints) {
                 return Err(FieldError::new(
@@ -289,7 +297,7 @@ mod tests {
         let each = task.motion_tasks();
         assert_eq!(each.len(), 2);
         assert_eq!((each[0].name.as_str(), each[0].weight), ("low", 1.0));
-        assert_eq!(each[0].task.motion.goal, [-3.0, -1.5, -1.5, 0.0]);
+        assert_eq!(each[0].task.motion.goal, vec![-3.0, -1.5, -1.5, 0.0].into());
         assert_eq!(each[0].task.motion.start, task.motion.start);
         assert_eq!(each[0].task.payload.mass_kg, 1.0);
         assert_eq!(each[1].weight, 2.0);

@@ -23,6 +23,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+pub use super::goal::{Goal, TcpGoal};
 pub use super::motions::{MotionEntry, MotionTask, MotionsScore, MAX_MOTION_NAME};
 pub use super::motors::{Motors, PartChoice, PerMotor};
 pub use super::ranges::{
@@ -52,7 +53,7 @@ pub const BUILT_IN_TASK: &str = include_str!("../../../robots/tasks/pick_place.j
 ///     payload: Payload { mass_kg: 1.0, at: tool },
 ///     motion: Motion {
 ///         start: vec![0.0, 1.885, 0.0, 0.0],
-///         goal: vec![-3.1416, -1.5708, -1.5708, 0.0],
+///         goal: vec![-3.1416, -1.5708, -1.5708, 0.0].into(),
 ///         horizon: Horizon::Fixed(0.8),
 ///         steps: 20,
 ///         ends: Ends::Paper,
@@ -160,8 +161,9 @@ pub struct Payload {
 pub struct Motion {
     /// Joint positions at t = 0, rad (joint order of the URDF chain from the root).
     pub start: Vec<f64>,
-    /// Joint positions at t = horizon, rad.
-    pub goal: Vec<f64>,
+    /// Where the motion ends: joint positions at t = horizon, rad, or a TCP position within a
+    /// tolerance (`{"tcp": [x, y, z], "tol_m": tol}`), the last node's angles then free.
+    pub goal: Goal,
     /// Duration T, s: fixed, or free within bounds (`{"free": [T_min, T_max]}`).
     #[serde(rename = "horizon_s")]
     pub horizon: Horizon,

@@ -33,14 +33,18 @@ impl Motion {
     /// `name` names the motion in errors (`motion`, `motions[1]`).
     pub(super) fn validate(&self, name: &str) -> Result<(), FieldError> {
         check_finite(&format!("{name}.start"), &self.start)?;
-        check_finite(&format!("{name}.goal"), &self.goal)?;
-        if self.start.len() != self.goal.len() {
+        self.goal.validate(&format!("{name}.goal"))?;
+        if let Some(goal) = self
+            .goal
+            .joints()
+            .filter(|goal| goal.len() != self.start.len())
+        {
             return Err(FieldError::new(
                 format!("{name}.start"),
                 format!(
                     " has {} joints but {name}.goal has {}",
                     self.start.len(),
-                    self.goal.len()
+                    goal.len()
                 ),
             ));
         }

@@ -3,7 +3,7 @@
 
 use super::cost::Criterion;
 use super::error::FormulationError;
-use super::families::{self, added, Families, Family, Shape};
+use super::families::{self, added, At, Families, Family, Shape};
 use super::grid::Grid;
 use super::hessian;
 use super::kind::ProblemKind;
@@ -118,10 +118,14 @@ impl Formulation {
         task.motors
             .validate(n)
             .map_err(|error| FormulationError(format!("task: {error}")))?;
-        for (name, pose) in [
-            ("motion.start", &task.motion.start),
-            ("motion.goal", &task.motion.goal),
-        ] {
+        let ends = [
+            ("motion.start", Some(&task.motion.start[..])),
+            ("motion.goal", task.motion.goal.joints()),
+        ];
+        for (name, pose) in ends
+            .into_iter()
+            .filter_map(|(name, pose)| Some((name, pose?)))
+        {
             if pose.len() != n {
                 return Err(FormulationError(format!(
                     "task: {name} has {} values but the robot has {n} joints",
@@ -391,10 +395,10 @@ impl Formulation {
     }
 
     /// Whether a problem keeps the primal point it evaluated last, for the Jacobians that read
-    /// it: those of terms added from outside the core, and of the rows that read a problem-wide
-    /// variable (a free T, a via time).
+    /// it: those of terms added from outside the core, of the rows that read a problem-wide
+    /// variable (a free T, a via time) and of a TCP goal.
     pub(super) fn keeps_point(&self) -> bool {
-        self.has_added_terms() || self.layout().has_wide()
+        self.has_added_terms() || self.layout().has_wide() || self.setting.targets().goal.is_some()
     }
 
     /// The families, layout and patterns built again after a term was added.
@@ -416,7 +420,7 @@ impl Formulation {
     fn hessian_pattern(&self) -> Vec<(usize, usize)> {
         let mut pattern = hessian::pattern(self.layout(), &self.node_hessian);
         let emit = &mut |row, column, _| pattern.push((row, column));
-        families::visit_wide_hessian(&self.setting, &self.families, None, emit);
+        families::visit_wide_hessian(&At::Structure(&self.setting), &self.families, None, emit);
         pattern
     }
 

@@ -8,7 +8,7 @@ use super::formulation::Formulation;
 use super::nlp::TrajectoryProblem;
 use crate::dynamics::Dynamics;
 use crate::transmission::Space;
-use crate::transmission::{Coupling, DesignError, JointLimits};
+use crate::transmission::{Coupling, Depth, DesignError, JointLimits, PoseError};
 use serde::{Deserialize, Serialize};
 
 /// What the rows of the control limits are, and so what a margin belongs to.
@@ -68,6 +68,11 @@ pub struct StaticHold {
     pub start: EndHold,
     /// At the goal pose.
     pub goal: EndHold,
+    /// Whether the goal's entry is at a TCP goal's pose of the initial guess, before any solve
+    /// (the solve chooses q_N): reported, never judged (absent: false, the goal's own pose or
+    /// the solved q_N).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub goal_guessed: bool,
 }
 
 /// Each row of `limits` at control u: (value, lower, upper), N m. A box's rows are u's elements,
@@ -195,8 +200,14 @@ impl StaticHold {
     /// at the start: motor 2 needs 2.794 N m (limit 1.7)`; none when it is held. Judged or not:
     /// [`StaticHold::failure`] is the verdict's.
     pub fn reason(&self) -> Option<String> {
+        self.reason_of(true)
+    }
+
+    /// [`StaticHold::reason`], of the start alone unless `goal`.
+    fn reason_of(&self, goal: bool) -> Option<String> {
         let ends: Vec<String> = [("start", &self.start), ("goal", &self.goal)]
             .into_iter()
+            .take(if goal { 2 } else { 1 })
             .filter(|(_, end)| !end.holds)
             .map(|(name, end)| {
                 format!(
@@ -209,30 +220,64 @@ impl StaticHold {
     }
 
     /// Why the design is infeasible by the hold: [`StaticHold::reason`] where the hold is
-    /// judged, else none.
+    /// judged (of the start alone where the goal's pose is a guess), else none.
     pub fn failure(&self) -> Option<String> {
-        self.reason().filter(|_| self.judged)
+        self.reason_of(!self.goal_guessed).filter(|_| self.judged)
     }
 
-    /// What the judged hold lacks, N m: [`StaticHold::deficit_nm`] where the hold is judged,
-    /// else 0 (it is no constraint of the problem).
+    /// Why the design is infeasible by the hold at the start alone, judged as
+    /// [`StaticHold::failure`]: what no start of a solve can change where the goal's pose is
+    /// the solve's choice (a TCP goal).
+    pub fn start_failure(&self) -> Option<String> {
+        self.reason_of(false).filter(|_| self.judged)
+    }
+
+    /// What the judged hold lacks, N m: [`StaticHold::deficit_nm`] where the hold is judged
+    /// (the start's alone where the goal's pose is a guess), else 0 (it is no constraint of
+    /// the problem).
     pub fn judged_deficit_nm(&self) -> f64 {
-        if self.judged {
-            self.deficit_nm()
-        } else {
-            0.0
+        match (self.judged, self.goal_guessed) {
+            (false, _) => 0.0,
+            (true, true) => self.start.deficit_nm(),
+            (true, false) => self.deficit_nm(),
         }
     }
 }
 
 impl TrajectoryProblem<'_> {
     /// The load held at rest at the task's start and goal, against this problem's control
-    /// limits ([`TrajectoryProblem::control_limits`]).
+    /// limits ([`TrajectoryProblem::control_limits`]); a TCP goal's at the pose of the initial
+    /// guess, not judged ([`StaticHold::goal_guessed`]).
     pub fn static_hold(&self) -> StaticHold {
+        let [_, goal] = self.end_couplings();
+        let guessed = self.formulation().setting().targets().goal.is_some();
+        self.hold_with_goal((self.formulation().setting().goal_pose(), goal), guessed)
+    }
+
+    /// The same with the goal at the solved last pose `q_n`, rad (for a TCP goal, whose pose
+    /// the solve chooses; the task's goal itself otherwise), or why the linkages do not close
+    /// there.
+    pub fn static_hold_at(&self, q_n: &[f64]) -> Result<StaticHold, PoseError> {
+        let f = self.formulation();
+        if f.setting().targets().goal.is_none() {
+            return Ok(self.static_hold());
+        }
+        let mut data = f.dynamics().workspace();
+        let at = (f.transmission()).at_pose(
+            self.ratios(),
+            (f.dynamics(), &mut data),
+            q_n,
+            Depth::First,
+        )?;
+        Ok(self.hold_with_goal((q_n, &at.coupling), false))
+    }
+
+    /// The hold at the task's start and at `goal`, its pose and G there.
+    fn hold_with_goal(&self, goal: (&[f64], &Coupling), guessed: bool) -> StaticHold {
         let f = self.formulation();
         let motion = &f.task().motion;
         let tolerance_nm = f.hold_tolerance_nm();
-        let [start, goal] = self.end_couplings();
+        let [start, _] = self.end_couplings();
         let end = |q: &[f64], coupling: &Coupling| {
             let limits = self.control_limits_with(coupling);
             EndHold::at(
@@ -248,7 +293,8 @@ impl TrajectoryProblem<'_> {
             tolerance_nm,
             rows: HoldRows::of(f.space(), &self.control_limits_with(start)),
             start: end(&motion.start, start),
-            goal: end(&motion.goal, goal),
+            goal: end(goal.0, goal.1),
+            goal_guessed: guessed,
         }
     }
 }
@@ -276,8 +322,13 @@ impl Formulation {
         };
         let motion = &self.task().motion;
         let mut largest = f64::INFINITY;
-        let ends = [&motion.start, &motion.goal].into_iter();
-        for (q, coupling) in ends.zip(problem.end_couplings()) {
+        // A TCP goal's pose is the solve's choice: the start alone bounds the payload.
+        let goal = motion.goal.joints();
+        let ends = [Some(&motion.start[..]), goal].into_iter();
+        let ends = ends
+            .zip(problem.end_couplings())
+            .filter_map(|(q, g)| Some((q?, g)));
+        for (q, coupling) in ends {
             for ((value, lo, hi), (at_unit, _, _)) in rows_at(&empty, q, coupling)
                 .into_iter()
                 .zip(rows_at(&unit, q, coupling))

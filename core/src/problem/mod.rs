@@ -20,6 +20,8 @@ mod design_data;
 mod error;
 mod families;
 mod formulation;
+#[cfg(test)]
+mod goal_tests;
 mod grid;
 mod hessian;
 mod hold;

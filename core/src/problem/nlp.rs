@@ -50,7 +50,14 @@ impl<'a> TrajectoryProblem<'a> {
         let (transmission, motion) = (formulation.transmission(), &formulation.task().motion);
         let dynamics = formulation.dynamics();
         let start = transmission.coupling_at(ratios, (dynamics, &motion.start), "the start")?;
-        let goal = transmission.coupling_at(ratios, (dynamics, &motion.goal), "the goal")?;
+        let goal_pose = formulation.setting().goal_pose();
+        let goal = transmission.coupling_at(ratios, (dynamics, goal_pose), "the goal");
+        // A TCP goal's pose is the guess's, no condition of the design: where a linkage does not
+        // close there, its (unjudged) hold is read through G at the start.
+        let goal = match (goal, formulation.setting().targets().goal.is_some()) {
+            (Err(_), true) => start.clone(),
+            (goal, _) => goal?,
+        };
         let (n, steps) = (formulation.layout().dof, formulation.layout().steps);
         Ok(TrajectoryProblem {
             formulation,
@@ -325,12 +332,13 @@ impl Nlp for TrajectoryProblem<'_> {
         }
     }
 
-    /// The standard initial guess (docs/model.md, section 6): q linear from start to goal; v the
-    /// mean speed at inner nodes, 0 at the ends; u = 0; a = 0. Or the trajectory given to
-    /// [`TrajectoryProblem::start_at`], slacks at 0.
+    /// The standard initial guess (docs/model.md, section 6): q linear from start to goal (a TCP
+    /// goal's pose of the inverse kinematics); v the mean speed at inner nodes, 0 at the ends;
+    /// u = 0; a = 0. Or the trajectory given to [`TrajectoryProblem::start_at`], slacks at 0.
     fn initial_point(&self, x: &mut [f64]) {
         let f = self.formulation;
         let (layout, motion) = (f.layout(), &f.task().motion);
+        let goal_pose = f.setting().goal_pose();
         x.fill(0.0);
         if let Some(start) = &self.start {
             x[..start.len()].copy_from_slice(start);
@@ -351,7 +359,7 @@ impl Nlp for TrajectoryProblem<'_> {
         for k in 0..=layout.steps {
             let s = k as f64 / layout.steps as f64;
             for i in 0..layout.dof {
-                let (start, goal) = (motion.start[i], motion.goal[i]);
+                let (start, goal) = (motion.start[i], goal_pose[i]);
                 x[layout.q(k, i)] = start + s * (goal - start);
                 if k > 0 && k < layout.steps {
                     x[layout.v(k, i)] = (goal - start) / motion.horizon.initial_s();
@@ -443,7 +451,7 @@ impl Nlp for TrajectoryProblem<'_> {
             values[next] = value;
             next += 1;
         };
-        families::visit_wide_hessian(f.setting(), f.families(), Some(lambda), emit);
+        families::visit_wide_hessian(&At::Design(&self.design), f.families(), Some(lambda), emit);
         Ok(())
     }
 }

@@ -123,6 +123,12 @@ impl Setting {
         &self.targets
     }
 
+    /// The pose the motion's standard initial guess ends at, rad: the goal's angles, or a TCP
+    /// goal's pose of the inverse kinematics ([`Targets::goal_pose`]).
+    pub fn goal_pose(&self) -> &[f64] {
+        self.targets.goal_pose(self.task())
+    }
+
     /// The index layout.
     pub fn layout(&self) -> &Layout {
         &self.layout

@@ -1,8 +1,9 @@
-//! The task's via points and upright link (`motion.via`, `motion.upright`; docs/model.md,
-//! section 6) resolved against the robot and the grid: each via point on its node, the upright
-//! link on its body with its axis in the body's frame. [`Targets::resolve`] lists every problem
-//! it finds, each naming its field; the families `families/via.rs` and `families/upright.rs`
-//! pose the rows, and a result measures them again ([`Targets::violations`]).
+//! The task's via points, upright link and TCP goal (`motion.via`, `motion.upright`,
+//! `motion.goal`; docs/model.md, section 6) resolved against the robot and the grid: each via
+//! point on its node, the upright link on its body with its axis in the body's frame, a TCP goal
+//! with the pose of the initial guess that reaches it. [`Targets::resolve`] lists every problem
+//! it finds, each naming its field; the families `families/via.rs`, `families/upright.rs` and
+//! `families/goal.rs` pose the rows, and a result measures them again ([`Targets::violations`]).
 
 use crate::dynamics::{Dynamics, Workspace};
 use crate::model::task::{Task, Via, ViaTime};
@@ -37,6 +38,19 @@ impl TcpTarget {
     pub fn row(&self, p: &Vector3<f64>) -> f64 {
         ((p - self.point).norm_squared() - self.tol_m * self.tol_m) / (2.0 * self.tol_m)
     }
+}
+
+/// A TCP goal: |p(q_N) - point| <= tol at the last node N, whose angles are otherwise free.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GoalTarget {
+    /// The ball as a TCP target (its `node` is the last node N).
+    pub ball: TcpTarget,
+    /// The pose the initial guess ends at: damped least squares from the start towards the
+    /// point, within the joint limits ([`Dynamics::tcp_pose_near`]), rad.
+    pub pose: Vec<f64>,
+    /// How far that pose's TCP lies from the point, m (more than tol: the iteration found no
+    /// pose inside the ball).
+    pub distance_m: f64,
 }
 
 /// A link held upright: its axis's world z, w_z = (R_b(q) a)_z, at least cos(tol) at every node.
@@ -105,6 +119,8 @@ pub struct Targets {
     pub tcp: Vec<TcpTarget>,
     /// The upright link.
     pub upright: Option<UprightTarget>,
+    /// The TCP goal, None where the goal is joint angles.
+    pub goal: Option<GoalTarget>,
 }
 
 impl Targets {
@@ -162,6 +178,7 @@ impl Targets {
             }
         }
         targets.tcp.sort_by_key(|t| t.node);
+        targets.goal = goal_target(task, dynamics);
         if let Some(upright) = &motion.upright {
             match upright_target(task, dynamics, upright) {
                 Ok(target) => targets.upright = Some(target),
@@ -174,9 +191,22 @@ impl Targets {
         }
     }
 
-    /// Whether the task has neither via points nor an upright link.
+    /// Whether the task has neither via points nor an upright link nor a TCP goal.
     pub fn is_empty(&self) -> bool {
-        self.joints.is_empty() && self.tcp.is_empty() && self.upright.is_none()
+        self.joints.is_empty()
+            && self.tcp.is_empty()
+            && self.upright.is_none()
+            && self.goal.is_none()
+    }
+
+    /// The pose the standard initial guess ends at: the task's goal angles, or a TCP goal's
+    /// pose of the inverse kinematics, rad.
+    pub fn goal_pose<'t>(&'t self, task: &'t Task) -> &'t [f64] {
+        match (&self.goal, task.motion.goal.joints()) {
+            (Some(goal), _) => &goal.pose,
+            (None, Some(q)) => q,
+            (None, None) => unreachable!("a TCP goal is resolved into Targets::goal"),
+        }
     }
 
     /// The via points with a window: (position in `motion.via`, [t_a, t_b] in s), in time order.
@@ -195,8 +225,9 @@ impl Targets {
 
     /// How far the trajectory `q` (a pose per node 0..=N) lies outside each kind of target:
     /// (`via_joints`, rad: the largest |q_k,i - q_i| beyond tol; `via_tcp`, m: the largest
-    /// distance of the TCP beyond the ball; `upright`, rad: the largest tilt beyond tol), each
-    /// where the task has targets of its kind.
+    /// distance of the TCP beyond the ball; `goal_tcp`, m: the last node's TCP beyond the goal's
+    /// ball; `upright`, rad: the largest tilt beyond tol), each where the task has targets of
+    /// its kind.
     pub fn violations(&self, dynamics: &Dynamics, q: &[Vec<f64>]) -> Vec<(&'static str, f64)> {
         let mut data = dynamics.workspace();
         let mut found = Vec::new();
@@ -214,12 +245,41 @@ impl Targets {
             });
             found.push(("via_tcp", beyond.fold(0.0, f64::max)));
         }
+        if let (Some(goal), Some(last)) = (&self.goal, q.last()) {
+            let p = dynamics.tcp_position(&mut data, last);
+            found.push((
+                "goal_tcp",
+                ((p - goal.ball.point).norm() - goal.ball.tol_m).max(0.0),
+            ));
+        }
         if let Some(upright) = &self.upright {
             let beyond = (q.iter()).map(|q| upright.tilt(dynamics, &mut data, q) - upright.tol_rad);
             found.push(("upright", beyond.fold(0.0, f64::max)));
         }
         found
     }
+}
+
+/// The TCP goal of `task` with the pose of its initial guess, None for a joint goal (or a
+/// start of the wrong length, which the formulation refuses).
+fn goal_target(task: &Task, dynamics: &Dynamics) -> Option<GoalTarget> {
+    let goal = task.motion.goal.tcp()?;
+    let start = &task.motion.start;
+    if start.len() != dynamics.dof() {
+        return None;
+    }
+    let point = Vector3::from(goal.tcp);
+    let mut data = dynamics.workspace();
+    let (pose, distance_m) = dynamics.tcp_pose_near(&mut data, start, (&point, goal.tol_m));
+    Some(GoalTarget {
+        ball: TcpTarget {
+            node: task.motion.steps,
+            point,
+            tol_m: goal.tol_m,
+        },
+        pose,
+        distance_m,
+    })
 }
 
 /// What is wrong with a joint via point `q` of `field` on `robot`: its length, or a joint
@@ -270,7 +330,10 @@ fn upright_target(
     };
     let mut data = dynamics.workspace();
     let motion = &task.motion;
-    for (end, q) in [("start", &motion.start), ("goal", &motion.goal)] {
+    // A TCP goal's last pose is free: the row at node N-1 holds it, as the motion rests there.
+    let goal = motion.goal.joints();
+    let ends = [("start", Some(&motion.start[..])), ("goal", goal)];
+    for (end, q) in ends.into_iter().filter_map(|(end, q)| Some((end, q?))) {
         if q.len() != dynamics.dof() {
             continue;
         }

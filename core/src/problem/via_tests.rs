@@ -28,7 +28,10 @@ fn bisecting_axis(task: &Task, link: &str) -> ([f64; 3], f64) {
         let pose = dynamics.body_pose(&mut data, q, frame.body);
         (pose.rotation * frame.placement.rotation).transpose() * Vector3::z()
     };
-    let (start, goal) = (up(&task.motion.start), up(&task.motion.goal));
+    let (start, goal) = (
+        up(&task.motion.start),
+        up(task.motion.goal.joints().unwrap()),
+    );
     let axis = (start + goal).normalize();
     (axis.into(), axis.dot(&start).clamp(-1.0, 1.0).acos())
 }
@@ -38,7 +41,7 @@ fn bisecting_axis(task: &Task, link: &str) -> ([f64; 3], f64) {
 pub(super) fn with_targets(mut task: Task, link: &str) -> Task {
     task.motion.steps = 5;
     let horizon = task.motion.horizon.fixed_s().unwrap();
-    let (start, goal) = (&task.motion.start, &task.motion.goal);
+    let (start, goal) = (&task.motion.start, task.motion.goal.joints().unwrap());
     let middle: Vec<f64> = start
         .iter()
         .zip(goal)

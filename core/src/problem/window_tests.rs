@@ -200,7 +200,7 @@ fn a_window_under_a_free_horizon_gives_no_longer_minimum_time() {
         let robot = Robot::load(task).unwrap();
         Formulation::new(task, robot, Space::Actuation, task.limit_modes).unwrap()
     };
-    let (start, goal) = (&task.motion.start, &task.motion.goal);
+    let (start, goal) = (&task.motion.start, task.motion.goal.joints().unwrap());
     let pose: Vec<f64> = (start.iter().zip(goal))
         .map(|(s, g)| 0.6 * s + 0.4 * g)
         .collect();

@@ -168,13 +168,17 @@ pub(super) type Rule<'a> = &'a dyn Fn(
 ) -> Result<(TrajectoryResult, Solution), SolveError>;
 
 /// Whether no start can help: the result is feasible, or its motors cannot hold the load at
-/// rest at an end where the task's ends judge the hold.
+/// rest at an end where the task's ends judge the hold (the start alone for a TCP goal, whose
+/// last pose another start may change).
 fn settled(result: &TrajectoryResult) -> bool {
     result.feasible
-        || result
-            .static_hold
-            .as_ref()
-            .is_some_and(|hold| hold.failure().is_some())
+        || result.static_hold.as_ref().is_some_and(|hold| {
+            match result.goal_pose {
+                Some(_) => hold.start_failure(),
+                None => hold.failure(),
+            }
+            .is_some()
+        })
 }
 
 /// The payload continuation of one rule's solve: its chain, whether the chain is kept between

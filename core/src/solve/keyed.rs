@@ -17,7 +17,8 @@ use std::fmt;
 /// mode (N m), `cartesian_box` the soft box (penalised, not enforced; m), and, where the motors
 /// have a torque-speed envelope, `motor_envelope` (N m, docs/model.md, section 5); where the
 /// task has them, `via_joints` (rad) and `via_tcp` (m), how far the via points' nodes lie beyond
-/// their tolerances, and `upright` (rad), how far the upright link tilts beyond its own.
+/// their tolerances, `goal_tcp` (m), how far a TCP goal's last node lies beyond its ball, and
+/// `upright` (rad), how far the upright link tilts beyond its own.
 pub type Violations = Keyed;
 
 /// Numbers keyed by name, in the order they were pushed; written as a JSON object in that order.

@@ -86,7 +86,7 @@ fn the_minimum_times_gradient_matches_resolved_differences_with_a_via_window() {
     use crate::model::task::{TcpVia, Via, ViaTime};
     let mut task = testing::task();
     task.payload.mass_kg = 0.0;
-    let (start, goal) = (&task.motion.start, &task.motion.goal);
+    let (start, goal) = (&task.motion.start, task.motion.goal.joints().unwrap());
     let pose: Vec<f64> = (start.iter().zip(goal))
         .map(|(s, g)| 0.75 * s + 0.25 * g)
         .collect();

@@ -187,6 +187,10 @@ pub struct TrajectoryResult {
     /// (absent without via points): for a via point with a window, the time the solve chose.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub via_times_s: Vec<f64>,
+    /// The last node's pose q_N the solve chose, rad, where the task's goal is a TCP position;
+    /// absent for a joint goal, which fixes it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub goal_pose: Option<Vec<f64>>,
     /// The moving joints' names in the URDF, from the base outward (the order of every
     /// per-joint vector; empty in files written before it was recorded).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -211,7 +215,11 @@ pub(super) fn read_result(
     let violations = Violations::of(problem, &solution.x, &trajectory);
     let (cost, elastic) = cost_and_measures(problem, solution);
     let f = problem.formulation();
-    let static_hold = problem.static_hold();
+    let last = trajectory.q.last().map_or(&[][..], Vec::as_slice);
+    let static_hold = (problem.static_hold_at(last)).map_err(|error| SolveError::Pose {
+        node: trajectory.q.len() - 1,
+        error,
+    })?;
     let dead_points = dead_points(&trajectory.ratio);
     let crossings = dead_points
         .iter()
@@ -276,6 +284,7 @@ pub(super) fn read_result(
         via_times_s: (f.setting().targets().nodes.iter())
             .map(|&k| trajectory.time[k])
             .collect(),
+        goal_pose: (f.task().motion.goal.tcp()).map(|_| last.to_vec()),
         joints: f.dynamics().robot().joint_names().to_vec(),
         figures: PhysicalFigures::of(&trajectory, electrical.as_deref()),
         trajectory,

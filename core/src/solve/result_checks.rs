@@ -104,6 +104,7 @@ impl TrajectoryResult {
             ("cost_terms", terms),
             ("motors_execute", execute),
             ("static_hold", hold),
+            ("goal_pose", some(&self.goal_pose)),
             ("trajectory", trajectory),
         ];
         parts.iter().find(|(_, fine)| !fine).map(|(name, _)| *name)

@@ -178,24 +178,24 @@ fn integration_residual(steps: &[f64], trajectory: &Trajectory) -> f64 {
     largest
 }
 
-/// The largest distance of the first and last states from the task's start and goal at rest,
-/// and under `ends` `rest` of the accelerations at nodes 0 and N-1 from zero.
+/// The largest distance of the first and last states from the task's start and goal at rest
+/// (a TCP goal's last pose is free: its ball is `goal_tcp` of the violations), and under `ends`
+/// `rest` of the accelerations at nodes 0 and N-1 from zero (at N-1 under a TCP goal too).
 fn boundary_residual(motion: &Motion, trajectory: &Trajectory) -> f64 {
     let last = trajectory.q.len() - 1;
     let mut largest: f64 = 0.0;
-    if motion.ends.rests() {
-        for a in [trajectory.a.first(), trajectory.a.last()]
-            .into_iter()
-            .flatten()
-        {
-            largest = largest.max(max_abs(a.iter().copied()));
-        }
+    let goal = motion.goal.joints();
+    let rests = [motion.ends.rests(), motion.ends.rests() || goal.is_none()];
+    let ends = [trajectory.a.first(), trajectory.a.last()];
+    for a in (ends.into_iter().zip(rests)).filter_map(|(a, rests)| a.filter(|_| rests)) {
+        largest = largest.max(max_abs(a.iter().copied()));
     }
-    for (k, pose) in [(0, &motion.start), (last, &motion.goal)] {
+    for (k, pose) in [(0, Some(&motion.start[..])), (last, goal)] {
+        let off = pose.map_or(0.0, |pose| {
+            max_abs(trajectory.q[k].iter().zip(pose).map(|(q, p)| q - p))
+        });
         largest = largest
-            .max(max_abs(
-                trajectory.q[k].iter().zip(pose.iter()).map(|(q, p)| q - p),
-            ))
+            .max(off)
             .max(max_abs(trajectory.v[k].iter().copied()));
     }
     largest

@@ -302,19 +302,18 @@ fn solve_best(
         .map(|(result, _)| result)
 }
 
-/// `ratios` solved at every payload of a range `fitness` (none when `ratios` is empty: no
-/// feasible design was found).
+/// `ratios` solved at every payload of a range `fitness`, as its motions (none when `ratios` is
+/// empty: no feasible design was found).
 fn payload_costs(fitness: &Fitness, settings: &SolveSettings, ratios: &[f64]) -> Vec<PayloadCost> {
-    if ratios.is_empty() {
+    let Some(motions) = fitness.motions().filter(|_| !ratios.is_empty()) else {
         return Vec::new();
-    }
-    fitness
-        .payloads()
-        .iter()
-        .map(|(payload_kg, formulation)| {
+    };
+    (motions.problems.iter())
+        .map(|problem| {
+            let formulation = &problem.formulation;
             let solved = solve_design(formulation, ratios, settings);
             PayloadCost {
-                payload_kg: *payload_kg,
+                payload_kg: formulation.task().payload.mass_kg,
                 feasible: solved.as_ref().is_ok_and(|r| r.feasible),
                 cost: solved.as_ref().map_or(f64::NAN, |r| r.cost),
                 status: solved.map_or_else(|e| e.to_string(), |r| r.status),

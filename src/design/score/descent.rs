@@ -28,10 +28,10 @@ impl Fitness {
     /// solves. Its verdict is the one [`Fitness::evaluate`] gives: a design whose motors cannot
     /// hold the load at rest is infeasible by the hold's deficit alone. With the flat penalty it
     /// is then not solved; with the graded one it is, for the elastic merit that moves the
-    /// descent toward designs that hold it. Only the cost and energy objectives have a merit
-    /// (one payload's optimal cost, or a task's motions'); the others score as
-    /// [`Fitness::evaluate`] does, with none. A start that does not fit the problems is a
-    /// solver error.
+    /// descent toward designs that hold it. Only the cost, energy, time and range objectives
+    /// have a merit (one payload's optimal cost, a task's motions' or a range's payloads'); the
+    /// capacity scores as [`Fitness::evaluate`] does, with none. A start that does not fit the
+    /// problems is a solver error.
     pub fn descend_from(&self, ratios: &[f64], start: &[StartPoint]) -> Descent {
         let unsolved = |verdict: Verdict| Descent {
             evaluation: Evaluation::new(ratios, &Score::unsolved(verdict), &self.penalty),
@@ -72,7 +72,7 @@ impl Fitness {
         match &self.scored {
             Scored::Cost(formulation) => Some(vec![formulation]),
             Scored::Motions(motions) => Some(motions.formulations()),
-            Scored::Capacity(..) | Scored::Range(_) => None,
+            Scored::Capacity(..) => None,
         }
     }
 

@@ -37,18 +37,18 @@ pub(super) enum Scored {
     Cost(Formulation),
     /// Minus the capacity; the formulation's payload is ignored.
     Capacity(Formulation, CapacitySettings),
-    /// The mean cost over the payloads, each with its formulation.
-    Range(Vec<(f64, Formulation)>),
-    /// The cost (or copper losses) of each of a task's motions, made one.
+    /// The cost (or copper losses, or duration) of each of a task's motions, made one; or the
+    /// cost at each payload of a range, their mean.
     Motions(Motions),
 }
 
 impl Fitness {
     /// The fitness of `objective` for `task` (its payload used by `Cost` and `Capacity`) in
     /// `space` with limit `modes`, solved with `solve`; with a graded `penalty` the problems are
-    /// the elastic ones. A task with a `motions` list is scored over its motions by the cost
-    /// and energy objectives, and refused by the others
-    /// ([`ScoreError::SeveralMotions`]).
+    /// the elastic ones. A task with a `motions` list is scored over its motions by the cost,
+    /// energy and time objectives, and refused by the others
+    /// ([`ScoreError::SeveralMotions`]); a payload range is scored as the motions of the task's
+    /// motion at each payload ([`Motions::new`]).
     pub fn new(
         task: &Task,
         solve: &SolveSettings,
@@ -61,12 +61,12 @@ impl Fitness {
         let task = &objective.task(source);
         let robot = Robot::load(task)?;
         let task_hash = task_hash(task, robot.urdf_hash());
-        if task.has_motions() {
-            let objective = match objective {
-                Objective::Cost | Objective::Energy | Objective::Time => objective,
+        if task.has_motions() || matches!(objective, Objective::Range(_)) {
+            match objective {
                 Objective::Capacity(_) => return Err(several("capacity", task)),
-                Objective::Range(_) => return Err(several("range", task)),
-            };
+                Objective::Range(_) if task.has_motions() => return Err(several("range", task)),
+                _ => {}
+            }
             let grading = penalty.grading;
             let motions = Motions::new(task, &robot, space, modes, solve, objective, grading)?;
             return Ok(Fitness {
@@ -89,19 +89,11 @@ impl Fitness {
         };
         let formulation = |payload_kg: f64| base.with_payload(payload_kg);
         let scored = match objective {
-            Objective::Cost | Objective::Energy | Objective::Time => {
-                Scored::Cost(formulation(task.payload.mass_kg)?)
-            }
             Objective::Capacity(settings) => {
                 Scored::Capacity(formulation(task.payload.mass_kg)?, *settings)
             }
-            Objective::Range(range) => Scored::Range(
-                range
-                    .payloads_kg
-                    .iter()
-                    .map(|&kg| formulation(kg).map(|f| (kg, f)))
-                    .collect::<Result<_, _>>()?,
-            ),
+            // The cost, energy and time objectives (a range is scored as motions above).
+            _ => Scored::Cost(formulation(task.payload.mass_kg)?),
         };
         Ok(Fitness {
             scored,
@@ -122,7 +114,8 @@ impl Fitness {
         self.solve.linear_solver()
     }
 
-    /// The problems of a task's several motions (None for a task of one motion).
+    /// The problems of a task's several motions, or of a payload range's payloads (None for
+    /// the other objectives of a task of one motion).
     pub fn motions(&self) -> Option<&Motions> {
         match &self.scored {
             Scored::Motions(motions) => Some(motions),
@@ -130,18 +123,11 @@ impl Fitness {
         }
     }
 
-    /// The range's payloads with their formulations (empty for another objective).
-    pub fn payloads(&self) -> &[(f64, Formulation)] {
-        match &self.scored {
-            Scored::Range(formulations) => formulations,
-            _ => &[],
-        }
-    }
-
     /// The solution the designs of a generation start from (a warm start): the cost objective's
     /// problem of `anchor` (the CMA-ES mean, in the design space) solved under the one rule,
-    /// when it is feasible. None for the other objectives (a range has one problem per payload,
-    /// a capacity search its own warm starts) and for an anchor that is invalid or infeasible.
+    /// when it is feasible. None for the other objectives (motions and a range have one problem
+    /// per motion or payload, a capacity search its own warm starts) and for an anchor that is
+    /// invalid or infeasible.
     pub fn anchor(&self, anchor: &[f64]) -> Option<Solution> {
         let Scored::Cost(formulation) = &self.scored else {
             return None;
@@ -160,17 +146,10 @@ impl Fitness {
     pub fn score_from(&self, ratios: &[f64], warm: Option<&Solution>) -> Score {
         let graded = self.penalty.grading == Grading::Graded;
         if let Err(verdict) = validate(&self.transmission, ratios) {
-            // A flat range names the payload an evaluation stops at: the first.
-            return Score::unsolved(match (&self.scored, self.payloads().first()) {
-                (Scored::Range(_), Some((payload_kg, _))) if !graded => verdict.at(*payload_kg),
-                _ => verdict,
-            });
+            return Score::unsolved(verdict);
         }
         let held: Vec<(String, &Formulation)> = match &self.scored {
             Scored::Cost(formulation) => vec![(String::new(), formulation)],
-            Scored::Range(formulations) => (formulations.iter())
-                .map(|(kg, f)| (format!("at {kg} kg"), f))
-                .collect(),
             Scored::Motions(motions) => motions.labelled(),
             // The capacity search solves no payload its motors cannot hold.
             Scored::Capacity(..) => Vec::new(),
@@ -183,16 +162,8 @@ impl Fitness {
             Scored::Capacity(formulation, settings) => {
                 capacity(formulation, solve, ratios, settings)
             }
-            Scored::Cost(formulation) if graded => {
-                elastic(&[(0.0, formulation)], solve, ratios, warm)
-            }
-            Scored::Cost(formulation) => cost(formulation, solve, ratios, warm),
-            Scored::Range(formulations) if graded => {
-                let each: Vec<(f64, &Formulation)> =
-                    formulations.iter().map(|(kg, f)| (*kg, f)).collect();
-                elastic(&each, solve, ratios, None)
-            }
-            Scored::Range(formulations) => range(formulations, solve, ratios),
+            Scored::Cost(formulation) if graded => elastic(formulation, solve, ratios, warm),
+            Scored::Cost(formulation) => solved(formulation, solve, ratios, warm).0,
             Scored::Motions(motions) => motions.score(solve, ratios, graded),
         }
     }
@@ -220,114 +191,36 @@ pub fn anchor_solution(
     result.feasible.then_some(solution)
 }
 
-/// The score of one solve of valid `ratios` (first from `warm`): its optimal cost J, or why it
-/// is infeasible.
-fn cost(
+/// The score of valid `ratios` by the elastic problem `formulation`, first solved from `warm`:
+/// its cost when feasible, else infeasible by its shortfall.
+fn elastic(
     formulation: &Formulation,
     settings: &SolveSettings,
     ratios: &[f64],
     warm: Option<&Solution>,
 ) -> Score {
-    solved(formulation, settings, ratios, warm).0
-}
-
-/// The score of valid `ratios` over the payloads of `formulations`: the mean of the optimal
-/// costs (summed in order), or the first payload's verdict that is not feasible, that payload
-/// named in its reason.
-fn range(formulations: &[(f64, Formulation)], settings: &SolveSettings, ratios: &[f64]) -> Score {
-    let (mut iterations, mut seconds, mut sum) = (0, 0.0, 0.0);
-    for (payload_kg, formulation) in formulations {
-        let one = cost(formulation, settings, ratios, None);
-        iterations += one.iterations;
-        seconds += one.seconds;
-        match one.verdict {
-            Verdict::Feasible { cost, .. } => sum += cost,
-            verdict => {
-                return Score {
-                    verdict: verdict.at(*payload_kg),
-                    iterations,
-                    seconds,
-                }
-            }
-        }
-    }
-    Score {
-        verdict: Verdict::Feasible {
-            cost: sum / formulations.len() as f64,
+    let result = match solve(formulation, settings, ratios, warm) {
+        Ok((result, _)) => result,
+        Err(verdict) => return Score::unsolved(verdict),
+    };
+    let verdict = match judge(formulation, &result) {
+        Verdict::Feasible { .. } => Verdict::Feasible {
+            cost: result.cost,
             status: SolveStatus::Ipopt(ipopt::Status::SolveSucceeded.name()),
         },
-        iterations,
-        seconds,
-    }
-}
-
-/// The score of valid `ratios` by the elastic problems of `formulations` (one per payload, the
-/// payload named in reasons when there are several; a single one first solved from `warm`): the
-/// mean cost when every one is feasible, else infeasible by the summed shortfall.
-fn elastic(
-    formulations: &[(f64, &Formulation)],
-    settings: &SolveSettings,
-    ratios: &[f64],
-    warm: Option<&Solution>,
-) -> Score {
-    let (mut iterations, mut seconds, mut sum, mut short) = (0, 0.0, 0.0, 0.0);
-    let mut reasons = Vec::new();
-    for (payload_kg, formulation) in formulations {
-        let result = match solve(formulation, settings, ratios, warm) {
-            Ok((result, _)) => result,
-            Err(verdict) => {
-                return Score {
-                    verdict,
-                    iterations,
-                    seconds,
-                }
-            }
-        };
-        iterations += result.iterations;
-        seconds += result.solve_seconds.total;
-        let (shortfall, reason) = match judge(formulation, &result) {
-            Verdict::Feasible { .. } => {
-                sum += result.cost;
-                continue;
-            }
-            Verdict::Infeasible {
-                shortfall, reason, ..
-            } => (shortfall, reason),
-            // A solve that judged nothing leaves the design unjudged at every payload.
-            verdict => {
-                let verdict = match formulations.len() {
-                    1 => verdict,
-                    _ => verdict.at(*payload_kg),
-                };
-                return Score {
-                    verdict,
-                    iterations,
-                    seconds,
-                };
-            }
-        };
-        short += shortfall;
-        reasons.push(match formulations.len() {
-            1 => reason,
-            _ => format!("at {payload_kg} kg: {reason}"),
-        });
-    }
-    let verdict = if reasons.is_empty() {
-        Verdict::Feasible {
-            cost: sum / formulations.len() as f64,
-            status: SolveStatus::Ipopt(ipopt::Status::SolveSucceeded.name()),
-        }
-    } else {
         Verdict::Infeasible {
-            shortfall: short,
-            reason: reasons.join("; "),
+            shortfall, reason, ..
+        } => Verdict::Infeasible {
+            shortfall,
+            reason,
             status: SolveStatus::ElasticDeficit,
-        }
+        },
+        verdict => verdict,
     };
     Score {
         verdict,
-        iterations,
-        seconds,
+        iterations: result.iterations,
+        seconds: result.solve_seconds.total,
     }
 }
 

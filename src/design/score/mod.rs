@@ -6,10 +6,11 @@
 //! invalid at a distance from the design space, or not judged (a solver error, a failed worker).
 //! [`Verdict::fitness`] is the one rule turning it into a number; [`Evaluation`] is its record as
 //! the evaluation log and the worker protocol write it. Its modules: `objective` (what co-design
-//! minimises), `fitness` (what is solved per design: the cost, a range's mean cost, the payload
-//! capacity, elastic solves for a graded penalty), `solves` (one solve judged), `motions` (one
-//! design over a task's several motions), `descent` and `merit` (a design scored for a gradient
-//! descent), `record` (the evaluation record and its status texts).
+//! minimises), `fitness` (what is solved per design: the cost, the payload capacity, elastic
+//! solves for a graded penalty), `solves` (one solve judged), `motions` (one design over a
+//! task's several motions, or over a range's payloads, their mean), `descent` and `merit` (a
+//! design scored for a gradient descent), `record` (the evaluation record and its status
+//! texts).
 
 mod descent;
 mod fitness;
@@ -27,7 +28,7 @@ mod tests;
 pub use descent::Descent;
 pub use fitness::{anchor_solution, Fitness};
 pub use merit::Merit;
-pub use motions::{MotionProblem, Motions};
+pub use motions::{Aggregate, MotionProblem, Motions};
 pub use objective::{Objective, PayloadRange, ScoreError};
 pub use plausible::MAX_REASON_BYTES;
 pub use record::{Evaluation, SolveStatus, Status};
@@ -121,11 +122,6 @@ impl Verdict {
             Verdict::Infeasible { reason, .. } | Verdict::Invalid { reason, .. } => Some(reason),
             Verdict::SolverError { message } | Verdict::WorkerFailed { message } => Some(message),
         }
-    }
-
-    /// The verdict with its reason prefixed by the payload it was reached at, kg.
-    fn at(self, payload_kg: f64) -> Verdict {
-        self.labelled(&format!("at {payload_kg} kg"))
     }
 
     /// The verdict with its reason prefixed by `label` (`at 1 kg`, `motion low`) and a colon.

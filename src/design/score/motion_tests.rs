@@ -29,7 +29,7 @@ fn two_motions(score: MotionsScore) -> Task {
     task.payload.mass_kg = 0.0;
     task.motion.steps = 20;
     let place = MotionEntry {
-        goal: Some(vec![-2.5, -1.2, -1.2, 0.3]),
+        goal: Some(vec![-2.5, -1.2, -1.2, 0.3].into()),
         payload_kg: Some(0.25),
         ..entry("place", 2.0)
     };
@@ -169,4 +169,61 @@ fn the_graded_penalty_scores_feasible_motions_as_the_flat_one() {
         "{merit:?}"
     );
     assert_eq!(merit.feasible_cost, Some(descent.evaluation.cost));
+}
+
+/// The fitness of `objective` for `task` in actuation space with `penalty` (`flat`, `graded`).
+fn fitness_of(task: &Task, objective: &Objective, penalty: &str) -> Fitness {
+    let settings = testing::settings();
+    let (modes, penalty) = (task.limit_modes, penalty.parse().unwrap());
+    Fitness::new(task, &settings, Space::Actuation, modes, objective, penalty).unwrap()
+}
+
+/// Issue 52, item 4: a payload range is the motions of its payloads, each of weight 1, and
+/// their mean: its J is the mean of the single-payload solves to the last bit (summed in order,
+/// then divided, as the range always summed), flat and graded, and its merit's dJ*/dr the mean
+/// of theirs (the elastic ones' under the graded penalty).
+#[test]
+fn a_payload_range_scores_the_mean_of_its_payloads_solves() {
+    let ratios = [7.0, 5.0, 2.0, 2.0];
+    let mut task = testing::held_task();
+    task.motion.steps = 20;
+    let payloads = [0.0, 0.25];
+    let range = Objective::Range(PayloadRange {
+        payloads_kg: payloads.to_vec(),
+    });
+    for penalty in ["flat", "graded"] {
+        let singles: Vec<Descent> = (payloads.iter())
+            .map(|&kg| {
+                let mut one = task.clone();
+                one.payload.mass_kg = kg;
+                fitness_of(&one, &Objective::Cost, penalty).descend_from(&ratios, &[])
+            })
+            .collect();
+        assert!(singles.iter().all(|d| d.evaluation.feasible), "{singles:?}");
+        let costs: Vec<f64> = singles.iter().map(|d| d.evaluation.cost).collect();
+        let fitness = fitness_of(&task, &range, penalty);
+        let evaluation = fitness.evaluate(&ratios);
+        assert!(evaluation.feasible, "{penalty}: {evaluation:?}");
+        assert_eq!(
+            evaluation.cost,
+            (costs[0] + costs[1]) / 2.0,
+            "{penalty}: {costs:?}"
+        );
+        let motions = fitness.motions().expect("a range is scored as motions");
+        let labels: Vec<String> = motions.labelled().into_iter().map(|(l, _)| l).collect();
+        assert_eq!(labels, ["at 0 kg", "at 0.25 kg"]);
+        let descent = fitness.descend_from(&ratios, &[]);
+        let merit = descent.merit.expect("a range's merit");
+        for j in 0..ratios.len() {
+            let mean = (singles.iter())
+                .map(|d| d.merit.as_ref().expect("a merit").gradient[j])
+                .sum::<f64>()
+                / 2.0;
+            assert!(
+                close(merit.gradient[j], mean),
+                "{penalty}: r{j}: {mean} {merit:?}"
+            );
+        }
+        assert_eq!(merit.starts.len(), 2);
+    }
 }

@@ -1,11 +1,12 @@
 //! One design scored over a task's several motions (docs/model.md, "Several motions"): each
 //! motion's problem solved and judged as a task of one motion, their verdicts made one, and
 //! for a descent their merits: J = sum_i w_i J_i* (or max_i w_i J_i*), dJ/dr = sum_i w_i dJ_i*/dr
-//! (or the active motion's).
+//! (or the active motion's). A payload range (`--objective range`) is such a set: the task's
+//! motion once per payload, each of weight 1, their costs' mean J = (1/n) sum_i J_i*.
 //!
 //! A design infeasible for any motion is infeasible: with the flat penalty by the first such
 //! motion (the rest are not solved), with the graded one by the summed shortfall of every
-//! motion, as a payload range's payloads are.
+//! motion.
 
 use super::merit::Merit;
 use super::objective::{Objective, ScoreError};
@@ -13,7 +14,7 @@ use super::solves::{solved, unheld};
 use super::{Score, SolveStatus, Verdict};
 use crate::design::penalty::Grading;
 use codesign_core::ipopt;
-use codesign_core::model::task::{LimitModes, MotionsScore, Task};
+use codesign_core::model::task::{LimitModes, MotionTask, MotionsScore, Task};
 use codesign_core::model::Robot;
 use codesign_core::problem::{Formulation, Space};
 use codesign_core::solve::{SolveSettings, StartPoint};
@@ -22,28 +23,62 @@ use codesign_core::transmission::Transmission;
 /// One motion's problem.
 #[derive(Debug)]
 pub struct MotionProblem {
-    /// The motion's name.
+    /// The motion's name (a payload range's: its payload, `1 kg`).
     pub name: String,
+    /// What reasons call it: `motion NAME`, or a payload range's `at 1 kg`.
+    pub label: String,
     /// Its weight w_i.
     pub weight: f64,
     /// Its trajectory problem (elastic for a graded penalty), at its payload.
     pub formulation: Formulation,
 }
 
-/// The problems of a task's motions, in the task's order, and how their costs make one.
+/// How the weighted costs w_i J_i* of the problems make one score.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Aggregate {
+    /// A task's `motions_score`: the weighted sum or the worst.
+    Motions(MotionsScore),
+    /// The mean of a payload range: the sum in order divided by the number of payloads (so
+    /// that it gives the bits the range's mean always gave).
+    Mean,
+}
+
+impl Aggregate {
+    /// The score of `weighted` (in order) with the index of the active problem of the worst;
+    /// None for an empty list.
+    pub fn combine(self, weighted: &[f64]) -> Option<(f64, Option<usize>)> {
+        match self {
+            Aggregate::Motions(score) => score.combine(weighted),
+            Aggregate::Mean => (MotionsScore::Sum.combine(weighted))
+                .map(|(sum, _)| (sum / weighted.len() as f64, None)),
+        }
+    }
+
+    /// The factor of the weighted sum of gradients: 1 / n for the mean of n, else 1.
+    fn scale(self, problems: usize) -> f64 {
+        match self {
+            Aggregate::Mean => 1.0 / problems as f64,
+            Aggregate::Motions(_) => 1.0,
+        }
+    }
+}
+
+/// The problems of a task's motions, in the task's order (or of a payload range, in its
+/// order), and how their costs make one.
 #[derive(Debug)]
 pub struct Motions {
     /// One per motion.
     pub problems: Vec<MotionProblem>,
-    /// Their weighted sum or the worst.
-    pub score: MotionsScore,
+    /// Their weighted sum, the worst, or a payload range's mean.
+    pub score: Aggregate,
 }
 
 impl Motions {
     /// The problems of `task`'s motions on `robot` in `space` under `modes`, solved with
     /// `solve`: each motion's task formulated as a task of one motion, minimising its copper
     /// losses for the energy `objective` and its duration for the time objective (its pure
-    /// minimum-time problem), elastic for a graded penalty.
+    /// minimum-time problem), elastic for a graded penalty. For the range `objective` the
+    /// motions are the task's one motion at each of its payloads, of weight 1, and their mean.
     pub fn new(
         task: &Task,
         robot: &Robot,
@@ -53,7 +88,7 @@ impl Motions {
         objective: &Objective,
         grading: Grading,
     ) -> Result<Motions, ScoreError> {
-        let problem = |motion: codesign_core::model::task::MotionTask| {
+        let problem = |(label, motion): (String, MotionTask)| {
             let task = objective.task(&motion.task);
             let hard = Formulation::new(&task, robot.clone(), space, modes)?;
             let hard = (objective.shape(hard, &motion.task))
@@ -69,16 +104,23 @@ impl Motions {
             Ok(MotionProblem {
                 formulation: base.with_payload(task.payload.mass_kg)?,
                 name: motion.name,
+                label,
                 weight: motion.weight,
             })
         };
-        let problems = (task.motion_tasks().into_iter())
+        let (motions, score) = match objective {
+            Objective::Range(range) => (payloads(task, &range.payloads_kg), Aggregate::Mean),
+            _ => (
+                (task.motion_tasks().into_iter())
+                    .map(|motion| (format!("motion {}", motion.name), motion))
+                    .collect(),
+                Aggregate::Motions(task.motions_score),
+            ),
+        };
+        let problems = (motions.into_iter())
             .map(problem)
             .collect::<Result<Vec<_>, ScoreError>>()?;
-        Ok(Motions {
-            problems,
-            score: task.motions_score,
-        })
+        Ok(Motions { problems, score })
     }
 
     /// The design space (every motion's problem has the task's).
@@ -86,10 +128,10 @@ impl Motions {
         self.problems[0].formulation.transmission()
     }
 
-    /// Each problem with its label in reasons, `motion NAME`.
+    /// Each problem with its label in reasons, `motion NAME` (or `at 1 kg`).
     pub fn labelled(&self) -> Vec<(String, &Formulation)> {
         (self.problems.iter())
-            .map(|p| (format!("motion {}", p.name), &p.formulation))
+            .map(|p| (p.label.clone(), &p.formulation))
             .collect()
     }
 
@@ -148,16 +190,16 @@ impl Motions {
     }
 
     /// The score of the motions' scores in order (a flat penalty's list may end at its first
-    /// motion not feasible): feasible with the weighted sum or the worst weighted cost when each
-    /// is feasible; with the flat penalty the first verdict that is not; with the graded one
-    /// infeasible by the summed shortfall, unless a solve judged nothing. Reasons name the
-    /// motion.
+    /// motion not feasible): feasible with the weighted sum, the worst weighted cost or the mean
+    /// when each is feasible; with the flat penalty the first verdict that is not; with the
+    /// graded one infeasible by the summed shortfall, unless a solve judged nothing. Reasons
+    /// name the motion (or the payload).
     fn combine(&self, scores: &[Score], graded: bool) -> Score {
         let iterations = scores.iter().map(|s| s.iterations).sum();
         let seconds = scores.iter().map(|s| s.seconds).sum();
         let (mut weighted, mut short, mut reasons, mut status) = (Vec::new(), 0.0, vec![], None);
         for (problem, score) in self.problems.iter().zip(scores) {
-            let label = format!("motion {}", problem.name);
+            let label = &problem.label;
             match &score.verdict {
                 Verdict::Feasible { cost, .. } => weighted.push(problem.weight * cost),
                 Verdict::Infeasible {
@@ -171,7 +213,7 @@ impl Motions {
                 }
                 verdict => {
                     return Score {
-                        verdict: verdict.clone().labelled(&label),
+                        verdict: verdict.clone().labelled(label),
                         iterations,
                         seconds,
                     }
@@ -200,9 +242,9 @@ impl Motions {
         }
     }
 
-    /// The merit of the motions' merits when every motion has one: the weighted sum of their
-    /// values and gradients, or the worst weighted value with the active motion's weighted
-    /// gradient; its feasible cost the cost of `verdict` when feasible; its starts each
+    /// The merit of the motions' merits when every motion has one: the weighted sum (or mean)
+    /// of their values and gradients, or the worst weighted value with the active motion's
+    /// weighted gradient; its feasible cost the cost of `verdict` when feasible; its starts each
     /// motion's, in order.
     fn merit(&self, merits: Vec<Option<Merit>>, verdict: &Verdict) -> Option<Merit> {
         if merits.len() != self.problems.len() {
@@ -215,13 +257,15 @@ impl Motions {
             .collect();
         let (value, active) = self.score.combine(&weighted)?;
         let ratios = merits[0].gradient.len();
+        let scale = self.score.scale(merits.len());
         let gradient = match active {
             Some(a) => merits[a].gradient.iter().map(|g| weights[a] * g).collect(),
             None => (0..ratios)
                 .map(|j| {
-                    (weights.iter().zip(&merits))
+                    let sum: f64 = (weights.iter().zip(&merits))
                         .map(|(w, m)| w * m.gradient[j])
-                        .sum()
+                        .sum();
+                    sum * scale
                 })
                 .collect(),
         };
@@ -236,4 +280,21 @@ impl Motions {
             starts: merits.into_iter().flat_map(|m| m.starts).collect(),
         })
     }
+}
+
+/// The task's one motion at each of `payloads_kg` (in order), each of weight 1 and named by its
+/// payload, labelled `at 1 kg` in reasons.
+fn payloads(task: &Task, payloads_kg: &[f64]) -> Vec<(String, MotionTask)> {
+    (payloads_kg.iter())
+        .map(|&kg| {
+            let mut task = task.clone();
+            task.payload.mass_kg = kg;
+            let motion = MotionTask {
+                name: format!("{kg} kg"),
+                weight: 1.0,
+                task,
+            };
+            (format!("at {kg} kg"), motion)
+        })
+        .collect()
 }

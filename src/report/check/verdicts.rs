@@ -26,7 +26,7 @@ impl Finding {
         }
     }
 
-    fn warning(detail: impl ToString) -> Finding {
+    pub(super) fn warning(detail: impl ToString) -> Finding {
         Finding {
             severity: Severity::Warning,
             detail: detail.to_string(),
@@ -37,7 +37,17 @@ impl Finding {
 /// Whether the start and the goal each have one position per moving joint.
 fn poses_fit(task: &Task, dynamics: &Dynamics) -> bool {
     let dof = dynamics.robot().dof();
-    task.motion.start.len() == dof && task.motion.goal.len() == dof
+    end_poses(task).iter().all(|(_, q)| q.len() == dof)
+}
+
+/// The start and the goal by name, rad: the goal where it is joint angles (`check` gives a TCP
+/// goal's pose of the initial guess in its place).
+fn end_poses(task: &Task) -> Vec<(&'static str, &[f64])> {
+    let goal = task.motion.goal.joints().map(|q| ("goal", q));
+    [Some(("start", &task.motion.start[..])), goal]
+        .into_iter()
+        .flatten()
+        .collect()
 }
 
 /// The verdict on the static torques `end` against each motor's own limit in `limits`, N m:
@@ -95,7 +105,7 @@ impl Inspection {
     pub(super) fn check_motion(&mut self, task: &Task, robot: &Robot) {
         let limits = robot.position_limits();
         let mut problems = Vec::new();
-        for (pose, q) in [("start", &task.motion.start), ("goal", &task.motion.goal)] {
+        for (pose, q) in end_poses(task) {
             if q.len() != limits.len() {
                 problems.push(format!(
                     "motion.{pose} has {} angles for {} moving joints",
@@ -176,7 +186,7 @@ impl Inspection {
             lower: self.torque_limits_nm.iter().map(|l| -l).collect(),
             upper: self.torque_limits_nm.clone(),
         };
-        for (pose, q) in [("start", &task.motion.start), ("goal", &task.motion.goal)] {
+        for (pose, q) in end_poses(task) {
             let coupling = match t.coupling_at(ratios, (dynamics, q), &format!("the {pose}")) {
                 Ok(coupling) => coupling,
                 Err(error) => {
@@ -206,7 +216,7 @@ impl Inspection {
             );
             self.holds.push(HoldReport {
                 pose: pose.to_owned(),
-                q: q.clone(),
+                q: q.to_vec(),
                 tcp_m: [tcp[0], tcp[1], tcp[2]],
                 joint_torques_nm: end.joint_torques_nm,
                 motor_torques_nm: end.motor_torques_nm,
@@ -308,7 +318,7 @@ impl Inspection {
         }
         let mut data = dynamics.workspace();
         let mut outside = Vec::new();
-        for (pose, q) in [("start", &task.motion.start), ("goal", &task.motion.goal)] {
+        for (pose, q) in end_poses(task) {
             let tcp = dynamics.tcp_position(&mut data, q);
             for &(i, axis, [low, high]) in &axes {
                 let (by, side) = match (low - tcp[i], tcp[i] - high) {

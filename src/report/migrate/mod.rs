@@ -9,6 +9,7 @@ pub mod steps;
 use super::codesign::CapacityDocument;
 use super::solve_document::SolveDocument;
 use super::table::PaperTable;
+use super::time_curve::TimeCurveDocument;
 use super::tradeoff::TradeoffDocument;
 use super::{ReadFailure, ReportError};
 use crate::design::run::OptimizeDocument;
@@ -172,6 +173,7 @@ fn rewritten(schema: Schema, value: Value, before: &str) -> Result<String, serde
         Schema::Capacity => text_of::<CapacityDocument>(&text),
         Schema::Table => text_of::<PaperTable>(&text),
         Schema::Tradeoff => text_of::<TradeoffDocument>(&text),
+        Schema::TimeCurve => text_of::<TimeCurveDocument>(&text),
     }
 }
 

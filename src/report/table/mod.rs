@@ -90,7 +90,9 @@ pub fn read_result_file(path: &Path) -> Result<ResultFile, ReportError> {
         }
         Schema::Solve => serde_json::from_value(value).map(|d| ResultFile::Solve(Box::new(d))),
         Schema::Table => return Err(read_failure(path, ReadFailure::Table)),
-        Schema::Tradeoff => return Err(read_failure(path, ReadFailure::Tradeoff)),
+        Schema::Tradeoff | Schema::TimeCurve => {
+            return Err(read_failure(path, ReadFailure::Tradeoff))
+        }
     };
     parsed.map_err(|e| {
         let kind = schema.name();

@@ -40,6 +40,8 @@ pub enum FamilyId {
     Strokes,
     /// The via points of the motion: joint bounds and TCP rows at their nodes.
     Via,
+    /// A TCP goal: its row on the last node's positions.
+    Goal,
     /// A link held upright.
     Upright,
     /// The elastic kind's slacks, non-negative and penalised.
@@ -48,7 +50,7 @@ pub enum FamilyId {
 
 impl FamilyId {
     /// Every family, in order.
-    pub const ALL: [FamilyId; 11] = [
+    pub const ALL: [FamilyId; 12] = [
         FamilyId::Dynamics,
         FamilyId::Integration,
         FamilyId::MotorSpeed,
@@ -58,6 +60,7 @@ impl FamilyId {
         FamilyId::Ends,
         FamilyId::Strokes,
         FamilyId::Via,
+        FamilyId::Goal,
         FamilyId::Upright,
         FamilyId::Slacks,
     ];
@@ -231,13 +234,14 @@ pub(in crate::problem) trait Family: fmt::Debug + Send + Sync {
     /// joint); linear families add nothing.
     fn hessian(&self, _node: NodeSecondOrder<'_>, _blocks: Blocks<'_>) {}
 
-    /// Visits the entries of lambda . its rows' second derivatives at `place` that couple a
-    /// node's variable with a problem-wide one (the free horizon T), (row, column, value) in the
+    /// Visits the entries of lambda . its rows' second derivatives at `place` outside node k's
+    /// blocks: those that couple a node's variable with a problem-wide one (the free horizon T),
+    /// or the last node's positions among themselves (a TCP goal), (row, column, value) in the
     /// Hessian's lower triangle, in a fixed order; `multipliers` are its rows' at the node (all
-    /// 0 for the structure).
+    /// 0 for the structure), `at` gives the point evaluated last at a design.
     fn wide_hessian(
         &self,
-        _setting: &Setting,
+        _at: &At<'_>,
         _place: Place,
         _multipliers: &[f64],
         _emit: &mut Emit<'_>,
@@ -334,12 +338,12 @@ pub(in crate::problem) fn visit_jacobian<'n>(
 /// and each node's families in order, with the rows' multipliers `lambda` (None: zeros, for the
 /// structure).
 pub(in crate::problem) fn visit_wide_hessian(
-    setting: &Setting,
+    at: &At<'_>,
     families: &Families,
     lambda: Option<&[f64]>,
     emit: &mut Emit<'_>,
 ) {
-    let layout = setting.layout();
+    let layout = at.setting().layout();
     let mut zeros = Vec::new();
     for k in 0..layout.steps {
         for (id, family) in families {
@@ -354,7 +358,7 @@ pub(in crate::problem) fn visit_wide_hessian(
                     &zeros[..]
                 }
             };
-            family.wide_hessian(setting, Place { k, row }, multipliers, emit);
+            family.wide_hessian(at, Place { k, row }, multipliers, emit);
         }
     }
 }

@@ -14,7 +14,6 @@ use crate::model::task::Horizon;
 use crate::problem::design_data::DesignData;
 use crate::problem::layout::{Nodes, RowBlock};
 use crate::problem::node::NodeEval;
-use crate::problem::setting::Setting;
 use std::sync::Arc;
 
 /// The integration rows of n joints.
@@ -99,12 +98,12 @@ impl Family for Integration {
 
     fn wide_hessian(
         &self,
-        setting: &Setting,
+        at: &At<'_>,
         Place { k, .. }: Place,
         multipliers: &[f64],
         emit: &mut Emit<'_>,
     ) {
-        let (layout, grid) = (setting.layout(), setting.grid());
+        let (layout, grid) = (at.setting().layout(), at.setting().grid());
         let (speeds, positions) = multipliers.split_at(layout.dof);
         for (w, dh) in grid.step_gradient(k) {
             for (i, lambda) in speeds.iter().enumerate() {

@@ -20,6 +20,7 @@ pub(super) mod elastic;
 mod ends;
 mod envelope;
 mod family;
+mod goal;
 mod integration;
 mod joint_limits;
 mod motor_load;
@@ -53,6 +54,7 @@ fn build(id: FamilyId, shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
         FamilyId::Ends => ends::of(shape),
         FamilyId::Strokes => strokes::of(shape),
         FamilyId::Via => via::of(shape),
+        FamilyId::Goal => goal::of(shape),
         FamilyId::Upright => upright::of(shape),
         FamilyId::Slacks => elastic::of(shape),
     }
