@@ -142,6 +142,13 @@ class Solution:
         return None if terms is None else dict(zip(_TERMS, terms))
 
     @property
+    def via_times_s(self) -> List[float]:
+        """Each via point's time on the solved grid, s, in the order of ``motion.via`` (empty
+        without via points): for a via point with a window (``window_s``), the time the solve
+        chose within it."""
+        return self.to_dict().get("via_times_s", [])
+
+    @property
     def figures(self) -> Optional[Dict[str, Any]]:
         """Physical figures per motor (``motors[i]``) and in total: int tau_u^2 dt, RMS and peak
         torque, peak speed, peak power and work (docs/results.md, section 3)."""

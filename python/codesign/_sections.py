@@ -48,21 +48,25 @@ class Payload:
 @dataclass
 class ViaJoints:
     """Joint angles the motion passes: each joint within ``tol_rad`` of ``q`` (rad, one per moving
-    joint) at the node nearest ``t_s`` seconds."""
+    joint) at the node nearest ``t_s`` seconds, or, with ``t_s=None`` and ``window_s=(t_a,
+    t_b)``, at a time the solve chooses within that window."""
 
-    t_s: Number
+    t_s: Optional[Number]
     q: Sequence[Number]
     tol_rad: Number
+    window_s: Optional[Tuple[Number, Number]] = None
 
 
 @dataclass
 class ViaTcp:
     """A TCP position the motion passes: the TCP within ``tol_m`` of the world point ``tcp`` (m)
-    at the node nearest ``t_s`` seconds."""
+    at the node nearest ``t_s`` seconds, or, with ``t_s=None`` and ``window_s=(t_a, t_b)``, at a
+    time the solve chooses within that window."""
 
-    t_s: Number
+    t_s: Optional[Number]
     tcp: Tuple[Number, Number, Number]
     tol_m: Number
+    window_s: Optional[Tuple[Number, Number]] = None
 
 
 @dataclass

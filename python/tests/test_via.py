@@ -50,6 +50,24 @@ def test_a_via_point_of_neither_kind_is_refused_naming_its_field():
         cd.Task.builtin().with_changes(motion={"via": [{"t_s": 0.4, "q": [0, 0, 0, 0]}]})
 
 
+def test_a_via_point_within_a_window_is_passed_at_a_time_the_solve_chooses():
+    within = s.ViaTcp(t_s=None, tcp=THROUGH.tcp, tol_m=0.01, window_s=(0.3, 0.5))
+    task = cd.Task.builtin().with_changes(motion={"via": [within]})
+    assert task.to_dict()["motion"]["via"] == [
+        {"window_s": [0.3, 0.5], "tcp": [0.0, -0.7, -0.1], "tol_m": 0.01}
+    ]
+    sol = task.solve(payload=1.0, steps=20)
+    assert sol.feasible
+    (t,) = sol.via_times_s
+    assert 0.3 <= t <= 0.5
+    assert sol.to_dict()["trajectory"]["time"][10] == t
+    overlapping = [within, s.ViaTcp(t_s=0.45, tcp=(0.0, -0.6, 0.0), tol_m=0.01)]
+    report = cd.Task.builtin().with_changes(motion={"via": overlapping}).check()
+    assert "motion.via[1].t_s = 0.45 must begin after motion.via[0] ends" in " ".join(
+        report.problems
+    )
+
+
 def test_a_tcp_goal_ends_the_motion_inside_its_ball_and_check_flags_one_out_of_reach():
     task = cd.Task.builtin()
     goal = s.TcpGoal(tcp=(0.0, -0.25, 0.15), tol_m=0.005)

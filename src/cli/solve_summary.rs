@@ -1,7 +1,7 @@
 //! What `codesign solve` prints about a result: its verdict, peaks against the limits, the
 //! envelope, the static hold, the elastic measures, J by term and the solve's time.
 
-use codesign_core::model::task::PerMotor;
+use codesign_core::model::task::{PerMotor, ViaTime};
 use codesign_core::problem::{EndHold, Formulation, Space, StaticHold};
 use codesign_core::solve::{least_envelope_margin, CostTerms, ElasticMeasures, TrajectoryResult};
 use codesign_core::text::rounded;
@@ -173,6 +173,9 @@ pub(super) fn print_summary(formulation: &Formulation, result: &TrajectoryResult
     if let Some(horizon) = result.horizon_s {
         say!("  free horizon: T* = {horizon:.6} s");
     }
+    if let Some(text) = via_times_text(formulation, result) {
+        say!("  {text}");
+    }
     if let (Some(pose), Some(goal)) = (&result.goal_pose, task.motion.goal.tcp()) {
         let beyond = result.violations.get("goal_tcp").unwrap_or(0.0);
         say!(
@@ -200,6 +203,24 @@ pub(super) fn print_summary(formulation: &Formulation, result: &TrajectoryResult
         s.callbacks * 1e3,
         s.ipopt * 1e3
     );
+}
+
+/// "via points passed at: via[0] 0.400 s, via[1] 0.512 s (window [0.45, 0.6])", where the
+/// task has via points.
+fn via_times_text(formulation: &Formulation, result: &TrajectoryResult) -> Option<String> {
+    let via = &formulation.task().motion.via;
+    if result.via_times_s.is_empty() {
+        return None;
+    }
+    let each =
+        (via.iter().zip(&result.via_times_s).enumerate()).map(|(i, (via, t))| match via.time() {
+            ViaTime::At(_) => format!("via[{i}] {t:.4} s"),
+            window => format!("via[{i}] {t:.4} s (window {} s)", window.text()),
+        });
+    Some(format!(
+        "via points passed at: {}",
+        each.collect::<Vec<_>>().join(", ")
+    ))
 }
 
 /// "J by term: ..." with the largest named; the duration's term only where it counts.

@@ -84,17 +84,19 @@ pub fn grid_rows(rate_hz: f64, duration_s: f64) -> Result<usize, ExportError> {
     Ok(intervals as usize + 1)
 }
 
-/// Where time `t` (s) falls among the nodes at `time` (s, k h): the node k and the time since
-/// it, s; exactly 0 at a node, and at the last node only there.
+/// Where time `t` (s) falls among the nodes at `time` (s, ascending; k h, or the phases' times
+/// of a motion with via windows): the node k and the time since it, s; exactly 0 at a node
+/// (within [`AT_NODE`] of its interval), and at the last node only there.
 fn locate(time: &[f64], t: f64) -> (usize, f64) {
     let steps = time.len() - 1;
-    let h = time[steps] / steps as f64;
-    let x = t / h;
-    let nearest = x.round();
-    if (x - nearest).abs() <= AT_NODE {
-        return ((nearest.max(0.0) as usize).min(steps), 0.0);
+    let k = (time[..steps].partition_point(|&node| node <= t)).saturating_sub(1);
+    let x = (t - time[k]) / (time[k + 1] - time[k]);
+    if x.abs() <= AT_NODE {
+        return (k, 0.0);
     }
-    let k = (x.floor().max(0.0) as usize).min(steps - 1);
+    if (x - 1.0).abs() <= AT_NODE {
+        return (k + 1, 0.0);
+    }
     (k, t - time[k])
 }
 
@@ -285,6 +287,15 @@ mod tests {
         let (k, s) = locate(&time, 117.0 / 1000.0);
         assert_eq!(k, 7);
         assert!((s - 0.005).abs() < 1e-15);
+        // The phases of a via point's window: steps of 0.1, 0.15 and 0.3 s.
+        let phased = [0.0, 0.1, 0.2, 0.35, 0.5, 0.8];
+        assert_eq!(locate(&phased, 0.35), (3, 0.0));
+        assert_eq!(locate(&phased, 0.2 + 1e-12), (2, 0.0));
+        assert_eq!(locate(&phased, 0.5 - 1e-12), (4, 0.0));
+        assert_eq!(locate(&phased, 0.8), (5, 0.0));
+        let (k, s) = locate(&phased, 0.6);
+        assert_eq!(k, 4);
+        assert!((s - 0.1).abs() < 1e-15);
         assert_eq!(grid_rows(1000.0, 0.8), Ok(801));
         assert_eq!(grid_rows(30.0, 0.8), Ok(25));
         assert!(grid_rows(0.1, 0.8) == Ok(1));

@@ -51,3 +51,41 @@ fn check_refuses_unreachable_via_points_and_a_solve_passes_a_reachable_one() {
         (at("tcp_x").powi(2) + (at("tcp_y") + 0.7).powi(2) + (at("tcp_z") + 0.1).powi(2)).sqrt();
     assert!(distance <= 0.01 + 1e-6, "{distance}");
 }
+
+/// A via point within a window of time: `check` refuses windows that overlap, naming the field,
+/// before any solve; `solve` reports the time it chose within the window, in its summary and its
+/// result, where the node's time is.
+#[test]
+fn a_window_is_checked_and_the_time_a_solve_chose_is_reported() {
+    let dir = scratch("via_window_cli");
+    let overlapping = task_with(&dir, |task| {
+        task["motion"]["via"] = json!([
+            {"window_s": [0.3, 0.5], "tcp": [0.0, -0.7, -0.1], "tol_m": 0.01},
+            {"window_s": [0.45, 0.6], "tcp": [0.0, -0.6, 0.0], "tol_m": 0.01}
+        ]);
+    });
+    fails_saying(
+        &codesign(&["check", "--task", overlapping.to_str().unwrap()]),
+        "motion.via[1].window_s = [0.45, 0.6] must begin after motion.via[0] ends at 0.5 s",
+    );
+    let windowed = task_with(&dir, |task| {
+        task["motion"]["via"] =
+            json!([{"window_s": [0.3, 0.5], "tcp": [0.0, -0.7, -0.1], "tol_m": 0.01}]);
+    });
+    let args = [
+        "solve",
+        "--task",
+        windowed.to_str().unwrap(),
+        "--steps",
+        "20",
+    ];
+    let (out, result) = succeed_with_out(&args, &dir.join("window.json"));
+    assert_eq!(result["feasible"], true, "{result}");
+    let t = result["via_times_s"][0].as_f64().unwrap();
+    assert!((0.3..=0.5).contains(&t), "{t}");
+    assert_eq!(result["trajectory"]["time"][10].as_f64(), Some(t));
+    assert!(
+        out.contains("via points passed at: via[0] ") && out.contains("(window [0.3, 0.5] s)"),
+        "{out}"
+    );
+}

@@ -20,6 +20,7 @@ pub mod task;
 mod urdf;
 mod validate;
 mod via;
+mod via_nodes;
 
 pub use error::ModelError;
 pub use robot::{Robot, BUILT_IN_URDF};

@@ -30,7 +30,7 @@ pub use super::ranges::{
     check_horizon, check_payload, check_steps, FieldError, OutOfRange, MAX_GRAVITY, MAX_HORIZON_S,
     MAX_PAYLOAD_KG, MAX_POINT_M, MAX_STEPS, MIN_HORIZON_S,
 };
-pub use super::via::{JointVia, TcpVia, Upright, Via};
+pub use super::via::{JointVia, TcpVia, Upright, Via, ViaTime};
 
 /// The built-in task: the text of `robots/tasks/pick_place.json`, compiled in.
 pub const BUILT_IN_TASK: &str = include_str!("../../../robots/tasks/pick_place.json");
@@ -474,10 +474,14 @@ impl Task {
         TaskFile::built_in().map(|file| file.task)
     }
 
-    /// The time step h = T / N of a fixed horizon, s; None where T is free (a free T's step is
-    /// the problem's, [`crate::problem::Setting::step_at`]).
+    /// The time step h = T / N of a fixed horizon, s; None where T is free or the via points
+    /// split the grid into phases (the steps are then the problem's,
+    /// [`crate::problem::Setting::step_at`]).
     pub fn step_s(&self) -> Option<f64> {
         let fixed = self.motion.horizon.fixed_s()?;
+        if self.motion.phased() {
+            return None;
+        }
         Some(fixed / self.motion.steps as f64)
     }
 }

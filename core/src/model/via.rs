@@ -3,9 +3,8 @@
 //! of the TCP in the world, and `motion.upright`, a link's axis kept within a tolerance of the
 //! world's vertical at every node.
 //!
-//! A via point's time t_s falls on the node k = round(t_s N / T) nearest it, which must be an
-//! inner node 0 < k < N (the task's start and goal fix nodes 0 and N); [`Motion::via_node`] maps
-//! it, and refuses a free horizon, whose nodes move in time as T changes.
+//! A via point is passed at a time t_s or within a window [t_a, t_b] ([`ViaTime`]); the nodes
+//! and the phases of the grid they make are `via_nodes.rs`'s.
 
 use super::ranges::{FieldError, MAX_POINT_M};
 use super::task::Motion;
@@ -23,26 +22,63 @@ pub enum Via {
     Tcp(TcpVia),
 }
 
-/// Joint angles the motion passes: |q_k,i - q_i| <= tol_rad for every joint at the node k
-/// nearest t_s (bounds on the node's variables).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+/// When a via point is passed: at a given time or within a window of time.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub enum ViaTime {
+    /// At t_s, s from the start (`"t_s"`).
+    #[serde(rename = "t_s")]
+    At(f64),
+    /// At a time the solve chooses within [t_a, t_b], s from the start (`"window_s"`).
+    #[serde(rename = "window_s")]
+    Within([f64; 2]),
+}
+
+impl ViaTime {
+    /// The earliest and the latest time, s (equal for a given time).
+    pub fn span(self) -> (f64, f64) {
+        match self {
+            ViaTime::At(t) => (t, t),
+            ViaTime::Within([a, b]) => (a, b),
+        }
+    }
+
+    /// The name of its field: `t_s` or `window_s`.
+    pub fn key(self) -> &'static str {
+        match self {
+            ViaTime::At(_) => "t_s",
+            ViaTime::Within(_) => "window_s",
+        }
+    }
+
+    /// As written: `0.4` or `[0.3, 0.5]`.
+    pub fn text(self) -> String {
+        match self {
+            ViaTime::At(t) => number(t).to_string(),
+            ViaTime::Within([a, b]) => format!("[{}, {}]", number(a), number(b)),
+        }
+    }
+}
+
+/// Joint angles the motion passes: |q_k,i - q_i| <= tol_rad for every joint at the via's node
+/// (bounds on the node's variables).
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct JointVia {
-    /// The time, s, from the start.
-    pub t_s: f64,
+    /// When, s from the start.
+    #[serde(flatten)]
+    pub time: ViaTime,
     /// The joint angles, rad (m for a prismatic joint), one per moving joint.
     pub q: Vec<f64>,
     /// The tolerance on each joint, rad (m), >= 0 (0: exactly).
     pub tol_rad: f64,
 }
 
-/// A TCP position the motion passes: |p(q_k) - tcp| <= tol_m at the node k nearest t_s, p the
+/// A TCP position the motion passes: |p(q_k) - tcp| <= tol_m at the via's node k, p the
 /// TCP's world position.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct TcpVia {
-    /// The time, s, from the start.
-    pub t_s: f64,
+    /// When, s from the start.
+    #[serde(flatten)]
+    pub time: ViaTime,
     /// The point in the world frame, m.
     pub tcp: [f64; 3],
     /// The radius of the ball around it, m, > 0.
@@ -66,7 +102,8 @@ pub struct Upright {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct ViaFields {
-    t_s: f64,
+    t_s: Option<f64>,
+    window_s: Option<[f64; 2]>,
     q: Option<Vec<f64>>,
     tol_rad: Option<f64>,
     tcp: Option<[f64; 3]>,
@@ -77,13 +114,22 @@ impl TryFrom<ViaFields> for Via {
     type Error = String;
 
     fn try_from(fields: ViaFields) -> Result<Via, String> {
-        let t_s = fields.t_s;
+        let time = match (fields.t_s, fields.window_s) {
+            (Some(t_s), None) => ViaTime::At(t_s),
+            (None, Some(window)) => ViaTime::Within(window),
+            _ => {
+                return Err("a via point has exactly one of \"t_s\" (a time, s) and \
+                            \"window_s\" ([t_a, t_b], a window of time, s)"
+                    .to_owned())
+            }
+        };
         match (fields.q, fields.tol_rad, fields.tcp, fields.tol_m) {
-            (Some(q), Some(tol_rad), None, None) => Ok(Via::Joints(JointVia { t_s, q, tol_rad })),
-            (None, None, Some(tcp), Some(tol_m)) => Ok(Via::Tcp(TcpVia { t_s, tcp, tol_m })),
+            (Some(q), Some(tol_rad), None, None) => Ok(Via::Joints(JointVia { time, q, tol_rad })),
+            (None, None, Some(tcp), Some(tol_m)) => Ok(Via::Tcp(TcpVia { time, tcp, tol_m })),
             _ => Err(
                 "a via point is {\"t_s\", \"q\", \"tol_rad\"} (joint angles, rad) or \
-                      {\"t_s\", \"tcp\", \"tol_m\"} (a TCP position in the world, m)"
+                      {\"t_s\", \"tcp\", \"tol_m\"} (a TCP position in the world, m), with \
+                      \"window_s\": [t_a, t_b] in place of \"t_s\" for a window of time"
                     .to_owned(),
             ),
         }
@@ -91,20 +137,27 @@ impl TryFrom<ViaFields> for Via {
 }
 
 impl Via {
-    /// Its time, s.
-    pub fn t_s(&self) -> f64 {
+    /// When it is passed.
+    pub fn time(&self) -> ViaTime {
         match self {
-            Via::Joints(via) => via.t_s,
-            Via::Tcp(via) => via.t_s,
+            Via::Joints(via) => via.time,
+            Via::Tcp(via) => via.time,
         }
     }
 
     /// Checks its numbers, `field` naming it (`motion.via[2]`).
     fn validate(&self, field: &str) -> Result<(), FieldError> {
-        if !self.t_s().is_finite() {
+        let (time, (a, b)) = (self.time(), self.time().span());
+        if !(a.is_finite() && b.is_finite()) {
             return Err(FieldError::new(
-                format!("{field}.t_s"),
+                format!("{field}.{}", time.key()),
                 " is not a finite time",
+            ));
+        }
+        if a >= b && matches!(time, ViaTime::Within(_)) {
+            return Err(FieldError::new(
+                format!("{field}.window_s"),
+                format!(" = {} must give t_a < t_b", time.text()),
             ));
         }
         match self {
@@ -200,65 +253,20 @@ impl Motion {
         }
         (self.upright.as_ref()).map_or(Ok(()), |up| up.validate(&format!("{name}.upright")))
     }
-
-    /// The node k = round(t_s N / T) of via point `i`, nearest its time: an error naming its
-    /// field where the horizon is free, t_s lies outside [0, T], or k is node 0 or N (the start
-    /// and the goal, which the task fixes).
-    pub fn via_node(&self, i: usize) -> Result<usize, FieldError> {
-        let field = format!("motion.via[{i}].t_s");
-        let t_s = self.via[i].t_s();
-        let Some(horizon) = self.horizon.fixed_s() else {
-            return Err(FieldError::new(
-                field,
-                " needs a fixed motion.horizon_s: under a free horizon the nodes move in time as \
-                 T changes, so a time has no node (not supported yet)",
-            ));
-        };
-        if !(0.0..=horizon).contains(&t_s) {
-            return Err(FieldError::new(
-                field,
-                format!(
-                    " = {} lies outside the motion's [0, {}] s",
-                    number(t_s),
-                    number(horizon)
-                ),
-            ));
-        }
-        let steps = self.steps;
-        let k = (t_s * steps as f64 / horizon).round() as usize;
-        if k == 0 || k >= steps {
-            let (end, pose) = if k == 0 {
-                ("node 0", "motion.start")
-            } else {
-                ("the last node", "motion.goal")
-            };
-            let h = horizon / steps as f64;
-            return Err(FieldError::new(
-                field,
-                format!(
-                    " = {} falls on {end}, which {pose} fixes: a via point lies at an inner \
-                     node, t_s from {} to {} s (h = {} s)",
-                    number(t_s),
-                    number(h / 2.0),
-                    number(horizon - h / 2.0),
-                    number(h)
-                ),
-            ));
-        }
-        Ok(k)
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::task::{Horizon, Task};
+    use crate::model::task::Task;
 
     #[test]
     fn a_via_point_reads_as_joints_or_tcp_and_writes_back() {
         for text in [
             r#"{"t_s":0.4,"q":[0.0,1.0],"tol_rad":0.05}"#,
             r#"{"t_s":0.4,"tcp":[0.1,0.2,0.3],"tol_m":0.01}"#,
+            r#"{"window_s":[0.3,0.5],"tcp":[0.1,0.2,0.3],"tol_m":0.01}"#,
+            r#"{"window_s":[0.3,0.5],"q":[0.0,1.0],"tol_rad":0.05}"#,
         ] {
             let via: Via = serde_json::from_str(text).unwrap();
             assert_eq!(serde_json::to_string(&via).unwrap(), text);
@@ -271,6 +279,13 @@ mod tests {
             let error = serde_json::from_str::<Via>(bad).unwrap_err().to_string();
             assert!(error.contains("a via point is"), "{bad}: {error}");
         }
+        for bad in [
+            r#"{"t_s":0.4,"window_s":[0.3,0.5],"q":[0.0],"tol_rad":0.1}"#,
+            r#"{"q":[0.0],"tol_rad":0.1}"#,
+        ] {
+            let error = serde_json::from_str::<Via>(bad).unwrap_err().to_string();
+            assert!(error.contains("exactly one of"), "{bad}: {error}");
+        }
         assert!(
             serde_json::from_str::<Via>(r#"{"t_s":0.4,"q":[0.0],"tol_rad":0.1,"x":1}"#)
                 .unwrap_err()
@@ -280,50 +295,25 @@ mod tests {
     }
 
     #[test]
-    fn a_via_time_falls_on_the_nearest_inner_node_of_a_fixed_horizon() {
-        let mut motion = Task::built_in().unwrap().motion;
-        motion.steps = 5;
-        let at = |t_s| {
-            Via::Tcp(TcpVia {
-                t_s,
-                tcp: [0.0; 3],
-                tol_m: 0.01,
-            })
-        };
-        motion.via = vec![at(0.4), at(0.25), at(0.05), at(0.75), at(0.9), at(-0.1)];
-        assert_eq!(motion.via_node(0).unwrap(), 3);
-        assert_eq!(motion.via_node(1).unwrap(), 2);
-        for (i, words) in [
-            (2, "falls on node 0"),
-            (3, "falls on the last node"),
-            (4, "outside the motion's [0, 0.8] s"),
-            (5, "outside"),
-        ] {
-            let error = motion.via_node(i).unwrap_err().to_string();
-            assert!(
-                error.starts_with(&format!("motion.via[{i}].t_s")),
-                "{error}"
-            );
-            assert!(error.contains(words), "{error}");
-        }
-        motion.horizon = Horizon::Free {
-            min_s: 0.3,
-            max_s: 1.2,
-        };
-        let error = motion.via_node(0).unwrap_err().to_string();
-        assert!(error.contains("fixed motion.horizon_s"), "{error}");
-    }
-
-    #[test]
     fn the_targets_numbers_are_checked_naming_their_fields() {
         let mut motion = Task::built_in().unwrap().motion;
         motion.via = vec![Via::Tcp(TcpVia {
-            t_s: 0.4,
+            time: ViaTime::At(0.4),
             tcp: [0.0; 3],
             tol_m: 0.0,
         })];
         let error = motion.validate_targets("motion").unwrap_err().to_string();
         assert!(error.starts_with("motion.via[0].tol_m = 0"), "{error}");
+        motion.via = vec![Via::Tcp(TcpVia {
+            time: ViaTime::Within([0.5, 0.3]),
+            tcp: [0.0; 3],
+            tol_m: 0.01,
+        })];
+        let error = motion.validate_targets("motion").unwrap_err().to_string();
+        assert!(
+            error.starts_with("motion.via[0].window_s = [0.5, 0.3] must give t_a < t_b"),
+            "{error}"
+        );
         motion.via.clear();
         motion.upright = Some(Upright {
             link: "link_4".into(),

@@ -4,6 +4,7 @@
 use super::cost::Criterion;
 use super::error::FormulationError;
 use super::families::{self, added, At, Families, Family, Shape};
+use super::grid::Grid;
 use super::hessian;
 use super::kind::ProblemKind;
 use super::layout::{BlockId, Layout, RowBlock, WideVariable};
@@ -147,6 +148,7 @@ impl Formulation {
         let posed = transmission.is_pose_dependent();
         let envelope = Envelope::of(&task.motors, n);
         let loss = TransmissionLoss::of(&task.motors, n);
+        let layout = Layout::new(n, task.motion.steps, &[], ProblemKind::Hard, &[]);
         let setting = Setting {
             task: task.clone(),
             transmission,
@@ -161,7 +163,8 @@ impl Formulation {
             hold_tolerance_nm: DEFAULT_HOLD_TOLERANCE_NM,
             g_pattern,
             targets,
-            layout: Layout::new(n, task.motion.steps, &[], ProblemKind::Hard, &[]),
+            grid: Grid::new(&layout, task.motion.horizon, &[]),
+            layout,
         };
         let mut formulation = Formulation {
             node_hessian: hessian::node_entries(n, setting.loss.is_some(), posed, false),
@@ -242,12 +245,17 @@ impl Formulation {
             kind,
             &self.wide_variables(),
         );
+        let (horizon, targets) = (self.task().motion.horizon, &self.setting.targets);
+        self.setting.grid = Grid::new(&self.setting.layout, horizon, &targets.boundaries);
     }
 
-    /// The problem-wide variables: the duration T where the task's horizon is free.
+    /// The problem-wide variables: the duration T where the task's horizon is free, then the
+    /// time of each via point with a window.
     fn wide_variables(&self) -> Vec<WideVariable> {
         let free = self.task().motion.horizon.is_free();
-        free.then_some(WideVariable::Horizon).into_iter().collect()
+        let horizon = free.then_some(WideVariable::Horizon).into_iter();
+        let windows = (self.setting.targets.windows()).map(|(via, _)| WideVariable::ViaTime(via));
+        horizon.chain(windows).collect()
     }
 
     /// The same formulation (space, modes, kind) for the robot carrying `payload_kg` kg at the
@@ -300,8 +308,9 @@ impl Formulation {
         }
         let Some(h) = self.task().step_s() else {
             return refuse(
-                "weighs the losses by the step h = T/N, which a free horizon makes a variable: \
-                 give motion.horizon_s a fixed duration",
+                "weighs the losses by the step h, which a free horizon or a via point's window \
+                 makes a variable: give motion.horizon_s a fixed duration and the via points \
+                 their times (t_s)",
             );
         };
         let n = self.setting.layout.dof;
@@ -348,7 +357,9 @@ impl Formulation {
     pub(super) fn hessian_parts(&self, x: &[f64]) -> hessian::Parts<'_> {
         hessian::Parts {
             setting: &self.setting,
-            step_s: self.step_at(x),
+            steps_s: (0..self.layout().steps)
+                .map(|k| self.step_at(x, k))
+                .collect(),
             families: &self.families,
             added: &self.added,
         }
@@ -384,11 +395,10 @@ impl Formulation {
     }
 
     /// Whether a problem keeps the primal point it evaluated last, for the Jacobians that read
-    /// it: those of terms added from outside the core, of the rows that read a free T and of a TCP goal.
+    /// it: those of terms added from outside the core, of the rows that read a problem-wide
+    /// variable (a free T, a via time) and of a TCP goal.
     pub(super) fn keeps_point(&self) -> bool {
-        self.has_added_terms()
-            || self.layout().horizon().is_some()
-            || self.setting.targets().goal.is_some()
+        self.has_added_terms() || self.layout().has_wide() || self.setting.targets().goal.is_some()
     }
 
     /// The families, layout and patterns built again after a term was added.
@@ -489,10 +499,10 @@ impl Formulation {
         self.setting.layout()
     }
 
-    /// Time step h = T/N at the primal point x, s: the task's for a fixed horizon, T/N of x's
-    /// T for a free one.
-    pub fn step_at(&self, x: &[f64]) -> f64 {
-        self.setting.step_at(x)
+    /// The step h_k of interval k at the primal point x, s: T/N, of the task's T or of x's
+    /// free one, unless the via points split the grid into phases (docs/model.md, section 6).
+    pub fn step_at(&self, x: &[f64], k: usize) -> f64 {
+        self.setting.step_at(x, k)
     }
 
     /// Number of structural non-zeros of the constraint Jacobian.

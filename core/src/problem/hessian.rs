@@ -139,8 +139,8 @@ pub(super) fn pattern(layout: &Layout, entries: &[Entry]) -> Vec<(usize, usize)>
 /// terms added from outside the core.
 pub(super) struct Parts<'p> {
     pub(super) setting: &'p Setting,
-    /// The step h = T/N at the point evaluated, s.
-    pub(super) step_s: f64,
+    /// Each interval's step h_k at the point evaluated, s.
+    pub(super) steps_s: Vec<f64>,
     pub(super) families: &'p Families,
     pub(super) added: &'p AddedTerms,
 }
@@ -232,7 +232,7 @@ impl NodeHessian {
             let mut node = NodeContext {
                 k,
                 steps: layout.steps,
-                step_s: parts.step_s,
+                step_s: parts.steps_s[k],
                 q,
                 v,
                 a,

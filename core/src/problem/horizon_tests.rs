@@ -71,7 +71,7 @@ fn a_free_horizon_is_a_bounded_variable_that_starts_at_its_longest() {
     let mut x = vec![0.0; lower.len()];
     crate::ipopt::Nlp::initial_point(&problem, &mut x);
     assert_eq!(x[column], 1.2);
-    assert_eq!(f.step_at(&x), 1.2 / 5.0);
+    assert_eq!(f.step_at(&x, 0), 1.2 / 5.0);
 }
 
 #[test]

@@ -7,8 +7,8 @@
 //! the inner nodes 0 < k < N (where v is free), or at the nodes it lists ([`Nodes`]). The layout knows the blocks' sizes, not what
 //! their rows mean: that is each family's own file.
 //!
-//! Problem-wide variables ([`WideVariable`]: the free horizon T) follow the node blocks, in the
-//! order given.
+//! Problem-wide variables ([`WideVariable`]: the free horizon T, the times of the via points
+//! with a window) follow the node blocks, in the order given.
 //!
 //! The elastic kind (docs/model.md, section 14) appends its slack columns after the
 //! trajectory's: for each relaxed block in the families' order, for each node where it is
@@ -26,8 +26,10 @@ pub struct BlockId(pub usize);
 /// A variable of the whole problem, beside the node blocks.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum WideVariable {
-    /// The duration T of a free horizon, s (the step is h = T/N).
+    /// The duration T of a free horizon, s (the step is h = T/N on an unphased grid).
     Horizon,
+    /// The time t_v of the via point at this position in `motion.via`, s, within its window.
+    ViaTime(usize),
 }
 
 /// The nodes k < N where a row block has its rows.
@@ -177,6 +179,11 @@ impl Layout {
     pub fn wide(&self, variable: WideVariable) -> Option<usize> {
         let position = self.wide.iter().position(|&v| v == variable)?;
         Some(self.trajectory_variables() + position)
+    }
+
+    /// Whether the problem has problem-wide variables (the rows that read them read the point).
+    pub fn has_wide(&self) -> bool {
+        !self.wide.is_empty()
     }
 
     /// The column of the free horizon T, where the horizon is free.

@@ -22,6 +22,7 @@ mod families;
 mod formulation;
 #[cfg(test)]
 mod goal_tests;
+mod grid;
 mod hessian;
 mod hold;
 #[cfg(test)]
@@ -43,6 +44,8 @@ mod terms;
 pub(crate) mod tests;
 #[cfg(test)]
 mod via_tests;
+#[cfg(test)]
+mod window_tests;
 
 pub use crate::transmission::Space;
 pub use cost::{CostTerms, Criterion};
@@ -51,6 +54,7 @@ pub use error::FormulationError;
 pub use families::elastic::{penalty_weights, relaxation, PenaltyWeights, Relaxation};
 pub use families::FamilyId;
 pub use formulation::Formulation;
+pub use grid::Grid;
 pub use hold::{margins, EndHold, HoldRows, StaticHold};
 pub use kind::ProblemKind;
 pub use layout::{BlockId, Layout, Nodes, RowBlock};
@@ -60,5 +64,5 @@ pub use pose_rules::check_modes;
 pub use sensitivity::cost_gradient;
 pub use setting::{Setting, DEFAULT_HOLD_TOLERANCE_NM};
 pub use shortening::Shaping;
-pub use targets::{JointTarget, Targets, TcpTarget, UprightTarget};
+pub use targets::{Boundary, JointTarget, Targets, TcpTarget, UprightTarget};
 pub use terms::{NodeConstraint, NodeContext, NodeCost};

@@ -9,6 +9,7 @@ use super::families::{self, elastic, At, Place};
 use super::formulation::Formulation;
 use super::hessian::NodeHessian;
 use super::kind::ProblemKind;
+use super::layout::WideVariable;
 use super::node::{Level, NodeEval, NodePose};
 use super::terms;
 use crate::dynamics::Workspace;
@@ -345,6 +346,15 @@ impl Nlp for TrajectoryProblem<'_> {
         }
         if let Some(column) = layout.horizon() {
             x[column] = motion.horizon.initial_s();
+        }
+        // A via time at its node's time on the uniform grid of the initial T, within its window.
+        for boundary in &f.setting().targets().boundaries {
+            if let Some(column) = layout.wide(WideVariable::ViaTime(boundary.via)) {
+                let (t_a, t_b) = boundary.time.span();
+                let uniform =
+                    boundary.node as f64 * motion.horizon.initial_s() / layout.steps as f64;
+                x[column] = uniform.clamp(t_a, t_b);
+            }
         }
         for k in 0..=layout.steps {
             let s = k as f64 / layout.steps as f64;

@@ -4,6 +4,7 @@
 //! (and, for one design, a [`DesignData`](super::DesignData) over it), never the whole
 //! formulation.
 
+use super::grid::Grid;
 use super::layout::Layout;
 use super::targets::Targets;
 use crate::dynamics::Dynamics;
@@ -45,6 +46,8 @@ pub struct Setting {
     /// The task's via points and upright link, on their nodes and bodies.
     pub(super) targets: Targets,
     pub(super) layout: Layout,
+    /// The node times over the layout's problem-wide variables.
+    pub(super) grid: Grid,
 }
 
 impl Setting {
@@ -131,17 +134,25 @@ impl Setting {
         &self.layout
     }
 
+    /// The node times, the steps and their derivatives in the problem-wide variables.
+    pub fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
     /// The duration T at the primal point x, s: the task's fixed T, or x's T where the horizon
     /// is free (a column of the layout).
     pub fn horizon_at(&self, x: &[f64]) -> f64 {
-        match self.layout.horizon() {
-            Some(column) => x[column],
-            None => self.task.motion.horizon.initial_s(),
-        }
+        self.grid.horizon(x)
     }
 
-    /// Time step h = T/N at the primal point x, s.
-    pub fn step_at(&self, x: &[f64]) -> f64 {
-        self.horizon_at(x) / self.layout.steps as f64
+    /// The step h_k of interval k at the primal point x, s: T/N unless the via points split the
+    /// grid into phases ([`Grid`]).
+    pub fn step_at(&self, x: &[f64], k: usize) -> f64 {
+        self.grid.step(x, k)
+    }
+
+    /// Each node's time t_k at the primal point x, k = 0..=N, s.
+    pub fn times_at(&self, x: &[f64]) -> Vec<f64> {
+        self.grid.times(x)
     }
 }

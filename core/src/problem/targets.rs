@@ -6,7 +6,7 @@
 //! `families/goal.rs` pose the rows, and a result measures them again ([`Targets::violations`]).
 
 use crate::dynamics::{Dynamics, Workspace};
-use crate::model::task::{Task, Via};
+use crate::model::task::{Task, Via, ViaTime};
 use crate::text::number;
 use nalgebra::{DMatrix, Vector3};
 
@@ -94,9 +94,25 @@ impl UprightTarget {
     }
 }
 
+/// A via point that bounds two phases of a phased motion's grid (docs/model.md, section 6).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Boundary {
+    /// The via point's position in `motion.via`.
+    pub via: usize,
+    /// Its node k, 0 < k < N.
+    pub node: usize,
+    /// Its time: given, or a variable within its window.
+    pub time: ViaTime,
+}
+
 /// The via points and the upright link of a task, resolved.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Targets {
+    /// Every via point's node, in the order of `motion.via`.
+    pub nodes: Vec<usize>,
+    /// The via points as phase boundaries, in time order: every one where the motion is phased
+    /// (a window, or a free horizon), none where it is not.
+    pub boundaries: Vec<Boundary>,
     /// The joint via points.
     pub joints: Vec<JointTarget>,
     /// The TCP via points, by node ascending (at most one per node).
@@ -109,21 +125,27 @@ pub struct Targets {
 
 impl Targets {
     /// The targets of `task` on `dynamics`'s robot and the task's grid, or every problem found,
-    /// each naming its field: a via time off the inner nodes or under a free horizon, a joint
+    /// each naming its field: a via time or window off the inner nodes or out of order, a joint
     /// via point of the wrong length or outside the joint limits, two via points of one kind on
     /// one node, an upright link the URDF lacks or that the start or goal tilts beyond tol.
     pub fn resolve(task: &Task, dynamics: &Dynamics) -> Result<Targets, Vec<String>> {
         let (motion, robot) = (&task.motion, dynamics.robot());
         let mut problems = Vec::new();
         let mut targets = Targets::default();
-        for (i, via) in motion.via.iter().enumerate() {
-            let node = match motion.via_node(i) {
+        let phased = motion.phased();
+        for (i, (via, node)) in motion.via.iter().zip(motion.via_nodes()).enumerate() {
+            let node = match node {
                 Ok(node) => node,
                 Err(error) => {
                     problems.push(error.to_string());
                     continue;
                 }
             };
+            targets.nodes.push(node);
+            if phased {
+                let time = via.time();
+                targets.boundaries.push(Boundary { via: i, node, time });
+            }
             let taken = match via {
                 Via::Joints(_) => targets.joints.iter().any(|t| t.node == node),
                 Via::Tcp(_) => targets.tcp.iter().any(|t| t.node == node),
@@ -132,7 +154,7 @@ impl Targets {
                 problems.push(format!(
                     "motion.via[{i}].t_s = {} falls on node {node} as an earlier via point of its \
                      kind does: merge them or give more motion.steps",
-                    number(via.t_s())
+                    via.time().text()
                 ));
                 continue;
             }
@@ -185,6 +207,14 @@ impl Targets {
             (None, Some(q)) => q,
             (None, None) => unreachable!("a TCP goal is resolved into Targets::goal"),
         }
+    }
+
+    /// The via points with a window: (position in `motion.via`, [t_a, t_b] in s), in time order.
+    pub fn windows(&self) -> impl Iterator<Item = (usize, [f64; 2])> + '_ {
+        (self.boundaries.iter()).filter_map(|b| match b.time {
+            ViaTime::Within(window) => Some((b.via, window)),
+            ViaTime::At(_) => None,
+        })
     }
 
     /// The TCP via point at node k, if any.

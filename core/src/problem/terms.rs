@@ -4,7 +4,7 @@
 //! [`Formulation::with_cost`](super::Formulation::with_cost).
 //!
 //! A term sees node k < N: its joint positions q_k (rad), speeds v_k (rad/s), accelerations
-//! a_k (rad/s^2) and controls u_k (N m), the step h = T/N and the robot's dynamics, and gives its
+//! a_k (rad/s^2) and controls u_k (N m), the step h_k of its interval and the robot's dynamics, and gives its
 //! values with exact first and second derivatives over the node's 4n variables, ordered
 //! [q_k, v_k, a_k, u_k]. A term must not depend on the design r: dJ*/dr takes none of its terms.
 //! Its rows are hard in both kinds of problem, and a result reports each constraint's largest
@@ -24,7 +24,8 @@ pub struct NodeContext<'a> {
     pub k: usize,
     /// The number of intervals N.
     pub steps: usize,
-    /// The step h = T/N, s.
+    /// The step h_k of the interval from node k, s (T/N unless the via points split the grid
+    /// into phases).
     pub step_s: f64,
     /// Joint positions q_k, rad (m for a prismatic joint).
     pub q: &'a [f64],
@@ -116,7 +117,7 @@ pub(super) fn at_node<R>(
     f(&mut NodeContext {
         k,
         steps: layout.steps,
-        step_s: setting.step_at(x),
+        step_s: setting.step_at(x, k),
         q,
         v,
         a,

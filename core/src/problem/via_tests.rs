@@ -6,7 +6,9 @@
 use super::tests::{assert_checker_finds_nothing, assert_derivatives_match};
 use super::*;
 use crate::dynamics::Dynamics;
-use crate::model::task::{Horizon, JointVia, LimitMode, LimitModes, Task, TcpVia, Upright, Via};
+use crate::model::task::{
+    Horizon, JointVia, LimitMode, LimitModes, Task, TcpVia, Upright, Via, ViaTime,
+};
 use crate::model::Robot;
 use crate::solve::{solve_design, SolveSettings};
 use crate::testing::{self, posed_task, SCREW_ROW};
@@ -36,7 +38,7 @@ fn bisecting_axis(task: &Task, link: &str) -> ([f64; 3], f64) {
 
 /// `task` on 5 steps (h = T/5) with a joint via point at node 2, a TCP via point at node 3 and
 /// `link` held upright.
-fn with_targets(mut task: Task, link: &str) -> Task {
+pub(super) fn with_targets(mut task: Task, link: &str) -> Task {
     task.motion.steps = 5;
     let horizon = task.motion.horizon.fixed_s().unwrap();
     let (start, goal) = (&task.motion.start, task.motion.goal.joints().unwrap());
@@ -55,12 +57,12 @@ fn with_targets(mut task: Task, link: &str) -> Task {
         .collect();
     task.motion.via = vec![
         Via::Tcp(TcpVia {
-            t_s: 0.6 * horizon,
+            time: ViaTime::At(0.6 * horizon),
             tcp: tcp.into(),
             tol_m: 0.02,
         }),
         Via::Joints(JointVia {
-            t_s: 0.4 * horizon,
+            time: ViaTime::At(0.4 * horizon),
             q: quarter,
             tol_rad: 0.1,
         }),
@@ -76,7 +78,7 @@ fn with_targets(mut task: Task, link: &str) -> Task {
 
 /// `task`'s formulations in both spaces (the joint space under the modes `exact`), hard and
 /// elastic.
-fn formulations(task: &Task) -> Vec<Formulation> {
+pub(super) fn formulations(task: &Task) -> Vec<Formulation> {
     let exact = LimitModes {
         torque: LimitMode::Exact,
         speed: LimitMode::Exact,
@@ -156,7 +158,7 @@ fn a_via_point_moves_the_solution_through_it() {
     let passed = dynamics.tcp_position(&mut data, &free.trajectory.q[k]);
     let target = passed + Vector3::new(0.0, 0.0, 0.1);
     task.motion.via = vec![Via::Tcp(TcpVia {
-        t_s: 0.4,
+        time: ViaTime::At(0.4),
         tcp: target.into(),
         tol_m: tol,
     })];
@@ -186,7 +188,7 @@ fn a_formulation_refuses_targets_that_cannot_hold() {
     };
     let via = |t_s, q: Vec<f64>| {
         Via::Joints(JointVia {
-            t_s,
+            time: ViaTime::At(t_s),
             q,
             tol_rad: 0.1,
         })
@@ -211,7 +213,10 @@ fn a_formulation_refuses_targets_that_cannot_hold() {
             max_s: 1.2,
         };
     });
-    assert!(error.contains("needs a fixed motion.horizon_s"), "{error}");
+    assert!(
+        error.contains("motion.via[0].t_s = 0.4 lies outside the motion's (0, 0.3) s, T_min"),
+        "{error}"
+    );
     let upright = |link: &str, tol_rad| Upright {
         link: link.into(),
         axis: [0.0, 0.0, 1.0],
@@ -260,7 +265,7 @@ fn an_unreachable_via_point_is_judged_infeasible_by_the_one_rule() {
     let mut task = testing::task();
     task.motion.steps = 10;
     task.motion.via = vec![Via::Tcp(TcpVia {
-        t_s: 0.4,
+        time: ViaTime::At(0.4),
         tcp: [0.0, 0.5, 0.0],
         tol_m: 0.01,
     })];

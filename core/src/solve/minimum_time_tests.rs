@@ -77,6 +77,30 @@ fn the_minimum_times_gradient_matches_resolved_differences_on_a_ball_screw() {
     assert_time_gradient(&task, Space::Actuation, modes, &[40.0, 15.0]);
 }
 
+/// The built-in arm at 0 kg with a TCP via point within a window, [0.1, 0.2] s (its time a
+/// variable of the problem, as T is): the TCP point of the straight joint path a quarter of the
+/// way, 3 cm higher. dT*/dr keeps its form (no row that depends on r reads a via time), and
+/// matches re-solved differences in the actuation space.
+#[test]
+fn the_minimum_times_gradient_matches_resolved_differences_with_a_via_window() {
+    use crate::model::task::{TcpVia, Via, ViaTime};
+    let mut task = testing::task();
+    task.payload.mass_kg = 0.0;
+    let (start, goal) = (&task.motion.start, task.motion.goal.joints().unwrap());
+    let pose: Vec<f64> = (start.iter().zip(goal))
+        .map(|(s, g)| 0.75 * s + 0.25 * g)
+        .collect();
+    let dynamics = crate::dynamics::Dynamics::new(Robot::load(&task).unwrap());
+    let point = dynamics.tcp_position(&mut dynamics.workspace(), &pose);
+    task.motion.via = vec![Via::Tcp(TcpVia {
+        time: ViaTime::Within([0.1, 0.2]),
+        tcp: (point + nalgebra::Vector3::new(0.0, 0.0, 0.03)).into(),
+        tol_m: 0.01,
+    })];
+    let modes = task.limit_modes;
+    assert_time_gradient(&task, Space::Actuation, modes, &[7.0, 4.0, 2.0, 2.0]);
+}
+
 /// Issue 52's first test of done: on the built-in arm (actuation space, original design, pure
 /// minimum time) at 0 and 1 kg, T* shortened by the fixed-horizon rule (`free_horizon` =
 /// `descend`, shaped by the task's weights and box) is no longer than the shortest duration a

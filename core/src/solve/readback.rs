@@ -14,17 +14,17 @@ pub(super) fn read_trajectory(
 ) -> Result<Trajectory, (usize, PoseError)> {
     let f = problem.formulation();
     let layout = f.layout();
-    let (n, steps, h) = (layout.dof, layout.steps, f.step_at(x));
+    let (n, steps) = (layout.dof, layout.steps);
     let slice = |start: usize| x[start..start + n].to_vec();
     let dynamics = f.dynamics();
     let posed = f.transmission().is_pose_dependent();
     let mut data = dynamics.workspace();
     let mut trajectory = Trajectory::default();
-    for k in 0..=steps {
+    for (k, time) in f.setting().times_at(x).into_iter().enumerate() {
         let (q, v) = (slice(layout.q(k, 0)), slice(layout.v(k, 0)));
         let actuation = problem.actuation_at(&q).map_err(|error| (k, error))?;
         let tcp = dynamics.tcp_position(&mut data, &q);
-        trajectory.time.push(k as f64 * h);
+        trajectory.time.push(time);
         trajectory.tcp_x.push(tcp[0]);
         trajectory.tcp_y.push(tcp[1]);
         trajectory.tcp_z.push(tcp[2]);

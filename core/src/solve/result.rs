@@ -183,6 +183,10 @@ pub struct TrajectoryResult {
     /// T_max]}`); absent for a fixed horizon, whose T is the task's.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub horizon_s: Option<f64>,
+    /// The time of each via point's node on the solved grid, s, in the order of `motion.via`
+    /// (absent without via points): for a via point with a window, the time the solve chose.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub via_times_s: Vec<f64>,
     /// The last node's pose q_N the solve chose, rad, where the task's goal is a TCP position;
     /// absent for a joint goal, which fixes it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -277,6 +281,9 @@ pub(super) fn read_result(
         elastic,
         cost_terms: Some(cost_terms(problem, &solution.x, &trajectory)),
         horizon_s: (f.layout().horizon()).map(|_| f.setting().horizon_at(&solution.x)),
+        via_times_s: (f.setting().targets().nodes.iter())
+            .map(|&k| trajectory.time[k])
+            .collect(),
         goal_pose: (f.task().motion.goal.tcp()).map(|_| last.to_vec()),
         joints: f.dynamics().robot().joint_names().to_vec(),
         figures: PhysicalFigures::of(&trajectory, electrical.as_deref()),

@@ -38,7 +38,8 @@ impl Violations {
     fn built_in(problem: &TrajectoryProblem<'_>, x: &[f64], trajectory: &Trajectory) -> Violations {
         let f = problem.formulation();
         let layout = f.layout();
-        let (n, h) = (layout.dof, f.step_at(x));
+        let n = layout.dof;
+        let steps: Vec<f64> = (0..layout.steps).map(|k| f.step_at(x, k)).collect();
         let limits = f.dynamics().robot().position_limits();
         let speed = problem.speed_limits();
         let control = problem.control_limits();
@@ -51,7 +52,7 @@ impl Violations {
         };
         let mut violations = Violations::default();
         violations.push("dynamics", dynamics_residual(problem, trajectory));
-        violations.push("integration", integration_residual(h, trajectory));
+        violations.push("integration", integration_residual(&steps, trajectory));
         violations.push("boundary", boundary_residual(&f.task().motion, trajectory));
         violations.push(
             "joint_position",
@@ -162,11 +163,12 @@ fn dynamics_residual(problem: &TrajectoryProblem<'_>, trajectory: &Trajectory) -
     largest
 }
 
-/// The largest semi-implicit Euler residual over the intervals (time step h, s), rad/s or rad.
-fn integration_residual(h: f64, trajectory: &Trajectory) -> f64 {
+/// The largest semi-implicit Euler residual over the intervals (each with its step h_k, s in
+/// `steps`), rad/s or rad.
+fn integration_residual(steps: &[f64], trajectory: &Trajectory) -> f64 {
     let (q, v) = (&trajectory.q, &trajectory.v);
     let mut largest: f64 = 0.0;
-    for (k, a) in trajectory.a.iter().enumerate() {
+    for (k, (a, h)) in trajectory.a.iter().zip(steps).enumerate() {
         for i in 0..a.len() {
             largest = largest
                 .max((v[k + 1][i] - v[k][i] - h * a[i]).abs())

@@ -1,9 +1,9 @@
 //! The checks of a task's via points and upright link (`motion.via`, `motion.upright`;
 //! docs/model.md, section 6) before any solve: what a solve refuses ([`Targets::resolve`]: a
-//! time off the grid's inner nodes or under a free horizon, joint angles outside the joint
-//! limits, a link the URDF lacks, a start or goal that tilts the link beyond its tolerance),
-//! a TCP via point or goal out of the arm's reach, which no motion passes, and a TCP goal that
-//! the inverse kinematics of the initial guess does not reach.
+//! time or a window off the grid's inner nodes, windows out of order or overlapping, joint
+//! angles outside the joint limits, a link the URDF lacks, a start or goal that tilts the link
+//! beyond its tolerance), a TCP via point or goal out of the arm's reach, which no motion passes,
+//! and a TCP goal that the inverse kinematics of the initial guess does not reach.
 
 use super::{Finding, Inspection};
 use codesign_core::dynamics::Dynamics;

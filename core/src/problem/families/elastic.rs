@@ -123,7 +123,7 @@ pub(in crate::problem) fn penalty_gradient(setting: &Setting, gradient: &mut [f6
 /// What the slacks of the primal point x of a formulation of `setting` relax
 /// ([`Formulation::setting`](crate::problem::Formulation::setting)), or None in the hard kind.
 pub fn relaxation(setting: &Setting, x: &[f64]) -> Option<Relaxation> {
-    let (layout, h) = (setting.layout(), setting.step_at(x));
+    let layout = setting.layout();
     if layout.kind == ProblemKind::Hard {
         return None;
     }
@@ -132,6 +132,7 @@ pub fn relaxation(setting: &Setting, x: &[f64]) -> Option<Relaxation> {
         ..Relaxation::default()
     };
     for k in 0..layout.steps {
+        let h = setting.step_at(x, k);
         for i in 0..layout.dof {
             if let Some([plus, minus]) = layout.slack(FamilyId::Dynamics, k, i) {
                 relaxation.torque_deficit += h * (x[plus] - x[minus]).abs();

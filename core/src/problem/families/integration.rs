@@ -1,9 +1,13 @@
 //! The integration from node k to node k+1 (docs/model.md, section 6), 2n rows per node k < N:
-//! the speeds by explicit Euler, v_{k+1} - v_k - h a_k = 0, then the positions by implicit
-//! Euler, q_{k+1} - q_k - h v_{k+1} = 0, with h = T/N. Linear for a fixed horizon: no Hessian,
-//! no design sensitivity. A free horizon makes T a variable of the problem, bounded here to
-//! [T_min, T_max]: the rows gain the entries -a_k/N and -v_{k+1}/N in T's column, and the
-//! Lagrangian the cross terms -lambda/N between T and a_k, v_{k+1}.
+//! the speeds by explicit Euler, v_{k+1} - v_k - h_k a_k = 0, then the positions by implicit
+//! Euler, q_{k+1} - q_k - h_k v_{k+1} = 0, with h_k the interval's step ([`Grid`]: T/N on an
+//! unphased grid). Linear where the steps are constants: no Hessian, no design sensitivity. A
+//! free horizon or a via point's window makes h_k affine in problem-wide variables w (T is
+//! bounded here to [T_min, T_max], a via time by the via family): the rows gain the entries
+//! -a_k dh_k/dw and -v_{k+1} dh_k/dw in w's column, and the Lagrangian the cross terms
+//! -lambda dh_k/dw between w and a_k, v_{k+1}.
+//!
+//! [`Grid`]: crate::problem::Grid
 
 use super::family::{At, Emit, Family, Place, Shape};
 use crate::model::task::Horizon;
@@ -51,7 +55,7 @@ impl Family for Integration {
         g: &mut [f64],
     ) {
         let f = p.setting();
-        let (layout, h) = (f.layout(), f.step_at(x));
+        let (layout, h) = (f.layout(), f.step_at(x, k));
         let n = layout.dof;
         for i in 0..n {
             g[row + i] = x[layout.v(k + 1, i)] - x[layout.v(k, i)] - h * x[layout.a(k, i)];
@@ -66,29 +70,29 @@ impl Family for Integration {
         Place { k, row }: Place,
         emit: &mut Emit<'_>,
     ) {
-        let layout = at.setting().layout();
+        let (layout, grid) = (at.setting().layout(), at.setting().grid());
         let (h, x) = match at {
             At::Structure(_) => (0.0, None),
-            At::Design(p) => (p.setting().step_at(p.point()), Some(p.point())),
+            At::Design(p) => (p.setting().step_at(p.point(), k), Some(p.point())),
         };
         let n = layout.dof;
-        // d(row)/dT = -(the variable h multiplies)/N, where T is free.
-        let by_horizon = |column: usize| x.map_or(0.0, |x| -x[column] / layout.steps as f64);
+        // d(row)/dw = -(the variable h multiplies) dh_k/dw, w a problem-wide variable.
+        let wide = |row: usize, column: usize, emit: &mut Emit<'_>| {
+            for (w, dh) in grid.step_gradient(k) {
+                emit(row, w, x.map_or(0.0, |x| -x[column] * dh));
+            }
+        };
         for i in 0..n {
             emit(row + i, layout.v(k, i), -1.0);
             emit(row + i, layout.a(k, i), -h);
             emit(row + i, layout.v(k + 1, i), 1.0);
-            if let Some(t) = layout.horizon() {
-                emit(row + i, t, by_horizon(layout.a(k, i)));
-            }
+            wide(row + i, layout.a(k, i), emit);
         }
         for i in 0..n {
             emit(row + n + i, layout.q(k, i), -1.0);
             emit(row + n + i, layout.q(k + 1, i), 1.0);
             emit(row + n + i, layout.v(k + 1, i), -h);
-            if let Some(t) = layout.horizon() {
-                emit(row + n + i, t, by_horizon(layout.v(k + 1, i)));
-            }
+            wide(row + n + i, layout.v(k + 1, i), emit);
         }
     }
 
@@ -99,17 +103,15 @@ impl Family for Integration {
         multipliers: &[f64],
         emit: &mut Emit<'_>,
     ) {
-        let layout = at.setting().layout();
-        let Some(t) = layout.horizon() else {
-            return;
-        };
-        let (n, steps) = (layout.dof, layout.steps as f64);
-        let (speeds, positions) = multipliers.split_at(n);
-        for (i, lambda) in speeds.iter().enumerate() {
-            emit(t, layout.a(k, i), -lambda / steps);
-        }
-        for (i, lambda) in positions.iter().enumerate() {
-            emit(t, layout.v(k + 1, i), -lambda / steps);
+        let (layout, grid) = (at.setting().layout(), at.setting().grid());
+        let (speeds, positions) = multipliers.split_at(layout.dof);
+        for (w, dh) in grid.step_gradient(k) {
+            for (i, lambda) in speeds.iter().enumerate() {
+                emit(w, layout.a(k, i), -lambda * dh);
+            }
+            for (i, lambda) in positions.iter().enumerate() {
+                emit(w, layout.v(k + 1, i), -lambda * dh);
+            }
         }
     }
 }

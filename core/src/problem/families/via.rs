@@ -6,11 +6,14 @@
 //!   (a block of [`Nodes::Listed`] nodes), with dc/dq = d^T J / tol and
 //!   d^2 c / dq^2 = (J^T J + sum_c d_c H_c) / tol, d = p - p*, J = dp/dq, H_c the Hessian of p_c.
 //!
+//! A via point with a window [t_a, t_b] has its time t_v as a problem-wide variable, which this
+//! family bounds to the window (the steps it enters are the integration family's).
+//!
 //! Neither depends on the design, so neither has a term of dJ*/dr.
 
 use super::family::{At, Blocks, Emit, Family, NodeSecondOrder, Place, Shape};
 use crate::problem::design_data::DesignData;
-use crate::problem::layout::{Nodes, RowBlock};
+use crate::problem::layout::{Nodes, RowBlock, WideVariable};
 use crate::problem::node::NodeEval;
 use crate::problem::targets::{JointTarget, TcpTarget};
 use nalgebra::DMatrix;
@@ -22,6 +25,8 @@ struct Via {
     joints: Vec<JointTarget>,
     /// By node ascending, one per node.
     tcp: Vec<TcpTarget>,
+    /// The windows [t_a, t_b] of the via points with one, s, by position in `motion.via`.
+    windows: Vec<(usize, [f64; 2])>,
 }
 
 /// Where the task has via points.
@@ -31,6 +36,7 @@ pub(super) fn of(shape: &Shape<'_>) -> Option<Arc<dyn Family>> {
         Arc::new(Via {
             joints: joints.clone(),
             tcp: tcp.clone(),
+            windows: shape.targets.windows().collect(),
         }) as Arc<dyn Family>
     })
 }
@@ -59,6 +65,11 @@ impl Family for Via {
                 let column = layout.q(target.node, i);
                 lower[column] = lower[column].max(want - target.tol_rad);
                 upper[column] = upper[column].min(want + target.tol_rad);
+            }
+        }
+        for &(via, [t_a, t_b]) in &self.windows {
+            if let Some(column) = layout.wide(WideVariable::ViaTime(via)) {
+                (lower[column], upper[column]) = (t_a, t_b);
             }
         }
     }
