@@ -51,8 +51,13 @@ pub(super) fn shorten(
         if !shaped.feasible {
             break;
         }
+        // The fixed problem's point lacks T alone: its problem-wide variables (via times) follow
+        // the trajectory in the free problem's order, after T's column.
+        let Some(column) = bounded.layout().horizon() else {
+            break;
+        };
         let mut start = trajectory.x;
-        start.push(horizon_s);
+        start.insert(column, horizon_s);
         let shorter = tries.solve(&bounded, ratios, settings, Start::Trajectory(&start))?;
         let falls = shorter.0.cost < best.0.cost - LEAST_FALL * best.0.cost.abs();
         if !(shorter.0.feasible && falls) {
