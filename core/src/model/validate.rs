@@ -109,6 +109,7 @@ impl Task {
         self.validate_motions()?;
         self.weights.validate()?;
         self.cartesian_box.validate()?;
+        super::carried::validate(&self.carried, self.transmission.original.len())?;
         self.motors.validate(self.transmission.matrix.len())
     }
 }

@@ -13,6 +13,7 @@ use super::setting::{Setting, DEFAULT_HOLD_TOLERANCE_NM};
 use super::targets::Targets;
 use super::terms::{AddedTerms, NodeConstraint, NodeCost};
 use crate::dynamics::Dynamics;
+use crate::model::carried::CarriedModel;
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;
 use crate::transmission::{Envelope, MotorDynamics, Space, Transmission, TransmissionLoss};
@@ -139,8 +140,12 @@ impl Formulation {
         let posed = transmission.is_pose_dependent();
         let envelope = Envelope::of(&task.motors, n);
         let loss = TransmissionLoss::of(&task.motors, n);
+        let carried =
+            CarriedModel::on_chain(&task.carried, robot.chain(), transmission.num_ratios())
+                .map_err(|message| FormulationError(format!("task: {message}")))?;
         let setting = Setting {
             task: task.clone(),
+            carried,
             transmission,
             dynamics,
             space,
@@ -324,11 +329,16 @@ impl Formulation {
         &self.families
     }
 
-    /// What a node's Hessian sums at the primal point x: the setting, the families and the
-    /// added terms.
-    pub(super) fn hessian_parts(&self, x: &[f64]) -> hessian::Parts<'_> {
+    /// What a node's Hessian sums at the primal point x of a design whose dynamics are
+    /// `dynamics`: the setting, the families and the added terms.
+    pub(super) fn hessian_parts<'p>(
+        &'p self,
+        x: &[f64],
+        dynamics: &'p Dynamics,
+    ) -> hessian::Parts<'p> {
         hessian::Parts {
             setting: &self.setting,
+            dynamics,
             step_s: self.step_at(x),
             families: &self.families,
             added: &self.added,
