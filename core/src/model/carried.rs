@@ -19,7 +19,8 @@
 use super::catalogue::Catalogue;
 use super::chain::{Chain, MassProperties};
 use super::motor_parts::PartChoice;
-use super::ranges::{Bounds, FieldError, MAX_POINT_M};
+use super::ranges::{FieldError, MAX_POINT_M};
+use super::validate::{check_finite, check_norm};
 use crate::json_keys::read_value;
 use crate::text::{number, shown};
 use nalgebra::{Matrix3, Vector3};
@@ -239,20 +240,19 @@ pub fn resolve(task: &mut Value, folder: Option<&Path>) -> Result<(), String> {
 }
 
 /// Checks the parts of a task of `ratios` design parameters, as read ([`resolve`] set their
-/// numbers): points within [`MAX_POINT_M`], axes non-zero, `teeth_of` a ratio, numbers set.
+/// numbers): points finite and within [`MAX_POINT_M`] of their link's origin, axes finite and
+/// non-zero, `teeth_of` a ratio, numbers set.
 pub fn validate(parts: &[CarriedPart], ratios: usize) -> Result<(), FieldError> {
-    let point = Bounds {
-        zero: true,
-        least: f64::MIN_POSITIVE,
-        most: MAX_POINT_M,
-        unit: "m",
-        why: "a part on its link",
-    };
     for (i, part) in parts.iter().enumerate() {
         let field = format!("carried[{i}]");
-        for (x, axis) in part.at.iter().zip(["x", "y", "z"]) {
-            point.check(&format!("{field}.at.{axis}"), x.abs())?;
-        }
+        let at = format!("{field}.at");
+        check_finite(&at, &part.at)?;
+        check_norm(
+            &at,
+            &part.at,
+            MAX_POINT_M,
+            "m from its link: beyond any robot's reach",
+        )?;
         if let Some(pulley) = &part.pulley {
             let at = format!("{field}.pulley");
             if ratio_index(&pulley.teeth_of, ratios).is_none() {
@@ -265,6 +265,7 @@ pub fn validate(parts: &[CarriedPart], ratios: usize) -> Result<(), FieldError> 
                 ));
             }
             let axis = pulley.axis.unwrap_or([0.0, 0.0, 1.0]);
+            check_finite(&format!("{at}.axis"), &axis)?;
             let norm = Vector3::from(axis).norm();
             if !(norm.is_finite() && norm > 1e-9) {
                 return Err(FieldError::new(
@@ -484,6 +485,67 @@ impl PartOnBody {
             mass,
             com: self.centre,
             inertia,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::model::task::TaskFile;
+    use crate::testing;
+    use serde_json::{json, Value};
+
+    /// The example with carried parts, `carried[0]` changed by `edit`, read from its folder.
+    fn read(edit: impl FnOnce(&mut Value)) -> Result<TaskFile, String> {
+        let path = testing::repository().join("robots/examples/planar_2dof/carried_pulley.json");
+        let mut value: Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        edit(&mut value["carried"][0]);
+        let folder = path.parent().unwrap();
+        TaskFile::from_text(&value.to_string(), "t", folder).map_err(|e| e.to_string())
+    }
+
+    /// Reading sets the series' numbers and the motor's mass; the hash leaves the catalogue's
+    /// path out; bad entries are refused naming the field.
+    #[test]
+    fn parts_are_read_from_their_catalogues_and_checked() {
+        let task = read(|_| {}).unwrap().task;
+        let pulley = task.carried[0].pulley.as_ref().unwrap();
+        assert_eq!(pulley.pitch_mm, Some(2.0));
+        assert_eq!(pulley.density_kg_m3, Some(2700.0));
+        assert_eq!(task.carried[1].motor.as_ref().unwrap().mass_kg, Some(0.38));
+        let written = serde_json::to_string(&task).unwrap();
+        let again: crate::model::task::Task = serde_json::from_str(&written).unwrap();
+        assert_eq!(again, task);
+        let mut moved = task.clone();
+        moved.carried[0].pulley.as_mut().unwrap().catalogue = "/elsewhere/parts.json".into();
+        let hash = |t| crate::model::identity::task_hash(t, "u");
+        assert_eq!(hash(&moved), hash(&task));
+        let cases: [(fn(&mut Value), &str); 5] = [
+            (
+                |p| p["pulley"]["teeth_of"] = json!("r3"),
+                "carried[0].pulley.teeth_of = 'r3' names no ratio",
+            ),
+            (
+                |p| p["pulley"]["driver_teeth"] = json!(8),
+                "carried[0].pulley.driver_teeth = 8 must be at least the series' 12 teeth",
+            ),
+            (
+                |p| p["pulley"]["series"] = json!("HTD"),
+                "carried[0].pulley.series = 'HTD' is no belt series",
+            ),
+            (
+                |p| p["pulley"]["width_mm"] = json!(9),
+                "carried[0].pulley.width_mm = 9 conflicts with the catalogue's 6",
+            ),
+            (
+                |p| p["motor"] = json!({"catalogue": "x.json", "name": "m"}),
+                "carried[0] must give exactly one of pulley, motor and gearbox",
+            ),
+        ];
+        for (edit, expected) in cases {
+            let error = read(edit).unwrap_err();
+            assert!(error.contains(expected), "{error}");
         }
     }
 }
