@@ -183,7 +183,8 @@ pub fn resolve(task: &mut Value, folder: Option<&Path>) -> Result<(), String> {
                     shown(&pulley.catalogue.display().to_string())
                 ));
             };
-            if !(pulley.driver_teeth >= f64::from(series.min_teeth)) || pulley.driver_teeth > 1e4 {
+            let teeth = f64::from(series.min_teeth)..=1e4;
+            if !teeth.contains(&pulley.driver_teeth) {
                 return Err(format!(
                     "{at}.driver_teeth = {} must be at least the series' {} teeth (and at most \
                      1e4)",
@@ -521,7 +522,8 @@ mod tests {
         moved.carried[0].pulley.as_mut().unwrap().catalogue = "/elsewhere/parts.json".into();
         let hash = |t| crate::model::identity::task_hash(t, "u");
         assert_eq!(hash(&moved), hash(&task));
-        let cases: [(fn(&mut Value), &str); 5] = [
+        type Edit = fn(&mut Value);
+        let cases: [(Edit, &str); 5] = [
             (
                 |p| p["pulley"]["teeth_of"] = json!("r3"),
                 "carried[0].pulley.teeth_of = 'r3' names no ratio",

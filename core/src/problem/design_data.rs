@@ -1,6 +1,6 @@
 //! [`DesignData`]: what the constraint families read of one design, over the formulation's
-//! [`Setting`]: the design r, its actuation (G(r) and the controls' map to torques) and the
-//! primal point evaluated last.
+//! [`Setting`]: the design r, its actuation (G(r) and the controls' map to torques), the
+//! robot's dynamics carrying the task's parts at r, and the primal point evaluated last.
 
 use super::node::NodeEval;
 use super::setting::Setting;
