@@ -23,6 +23,13 @@ pub fn task() -> Task {
     Task::load(&task_path()).expect("the repository's task loads")
 }
 
+/// The planar example with a pulley whose teeth follow r2 and a motor on its upper arm
+/// (`robots/examples/planar_2dof/carried_pulley.json`).
+pub fn carried_task() -> Task {
+    Task::load(&repository().join("robots/examples/planar_2dof/carried_pulley.json"))
+        .expect("the example with carried parts loads")
+}
+
 /// The repository's task with the load held at rest at its ends (`motion.ends` `hold`), where
 /// its own ends are the paper's: the fixture of the tests of the hold as a condition.
 pub fn held_task() -> Task {

@@ -221,9 +221,10 @@ def task_document(
     solver: Optional[Dict[str, Any]],
     motions: Optional[Sequence[MotionEntry]] = None,
     motions_score: Union[None, MotionsScore, str] = None,
+    carried: Optional[Sequence[Dict[str, Any]]] = None,
 ) -> Dict[str, Any]:
-    """The task file's JSON data of these sections (``motions`` and ``motions_score`` written
-    only where given)."""
+    """The task file's JSON data of these sections (``motions``, ``motions_score`` and
+    ``carried`` written only where given)."""
     document = {
         "robot": robot,
         "gravity": list(gravity),
@@ -240,6 +241,8 @@ def task_document(
         document["motions"] = [asdict(entry) for entry in motions]
     if motions_score is not None:
         document["motions_score"] = motions_score
+    if carried is not None:
+        document["carried"] = [dict(part) for part in carried]
     document = _plain(document)
     if not document["motion"]["via"]:
         del document["motion"]["via"]

@@ -146,13 +146,17 @@ class Task:
         folder: Optional[Union[str, os.PathLike]] = None,
         motions: Optional[Sequence["MotionEntry"]] = None,
         motions_score: Union[None, "MotionsScore", str] = None,
+        carried: Optional[Sequence[Dict[str, Any]]] = None,
     ) -> "Task":
         """A task written in code from its typed sections (``codesign.sections``), checked as a
         file is: ``robot`` is the URDF's path (relative to ``folder``, default the working
         folder), or None for the built-in arm. Sections left out take their defaults (the
         paper's weights, no box, limit modes ``paper`` and ``exact``). ``motions`` makes one
         design serve several motions (each a :class:`~codesign.sections.MotionEntry` changing
-        ``motion``), scored by ``motions_score``: ``"sum"`` (the default) or ``"worst"``."""
+        ``motion``), scored by ``motions_score``: ``"sum"`` (the default) or ``"worst"``.
+        ``carried`` lists parts fixed to links, as the task file's ``carried`` entries (dicts:
+        ``link``, ``at`` and one of ``pulley``, ``motor``, ``gearbox``; docs/guide/catalogue.md),
+        their catalogues relative to ``folder``."""
         document = task_document(
             None if robot is None else os.fspath(robot),
             tcp,
@@ -167,6 +171,7 @@ class Task:
             solver,
             motions,
             motions_score,
+            carried,
         )
         folder = os.getcwd() if folder is None else os.path.abspath(os.fspath(folder))
         native = _native.NativeTask.given(json.dumps(document), "a task from sections", folder)

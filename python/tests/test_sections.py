@@ -63,3 +63,25 @@ def test_motors_chosen_from_a_catalogue_set_the_motor_figures():
     real = cd.Task.load(ROOT / "robots" / "tasks" / "pick_place_parts.json")
     with pytest.raises(cd.InputError, match=r"motors.torque_limit_nm = 1 conflicts with motors.parts\[0\]"):
         real.with_changes(motors={"torque_limit_nm": 1.0})
+
+
+def test_carried_parts_pass_through_a_task_dict():
+    """A task's ``carried`` parts read from its file, changed as a dict and given as sections:
+    each solve records every part's mass at its design and the actuator mass, and the pulley's
+    mass grows with the ratio its teeth follow."""
+    path = ROOT / "robots" / "examples" / "planar_2dof" / "carried_pulley.json"
+    task = cd.Task.load(path)
+    document = task.to_dict()
+    assert [part["link"] for part in document["carried"]] == ["upper_arm", "upper_arm"]
+    small = task.solve(ratios=[50.0, 12.0], steps=8).to_dict()
+    large = task.solve(ratios=[50.0, 24.0], steps=8).to_dict()
+    assert [p["kind"] for p in small["carried"]] == ["pulley", "motor"]
+    assert large["carried"][0]["mass_kg"] == pytest.approx(4 * small["carried"][0]["mass_kg"])
+    assert small["actuator_mass_kg"] == pytest.approx(small["carried"][0]["mass_kg"] + 0.38)
+    catalogue = str(ROOT / "robots" / "catalogue" / "parts.json")
+    motor_only = [{"link": "upper_arm", "at": [0.05, 0.0, 0.0],
+                   "motor": {"catalogue": catalogue, "name": "Allied Motion HT02501-A00"}}]
+    changed = task.with_changes(carried=motor_only).solve(steps=8).to_dict()
+    assert changed["actuator_mass_kg"] == pytest.approx(0.38)
+    with pytest.raises(cd.InputError, match=r"carried\[0\]\.link = 'nowhere' is no link"):
+        task.with_changes(carried=[dict(motor_only[0], link="nowhere")]).solve(steps=8)

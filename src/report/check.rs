@@ -14,11 +14,12 @@ pub use motions::{MotionInspection, TaskInspection};
 use verdicts::Finding;
 
 use codesign_core::dynamics::Dynamics;
+use codesign_core::model::carried::{CarriedMassAt, CarriedModel};
 use codesign_core::model::catalogue::Catalogue;
 use codesign_core::model::chain::JointKind;
 use codesign_core::model::task::{Ends, Task};
 use codesign_core::model::Robot;
-use codesign_core::text::{number, numbers, shown};
+use codesign_core::text::{number, numbers, rounded, shown};
 use codesign_core::transmission::Transmission;
 
 use super::mechanism::{linkage_reports, linkages_text, LinkageReport};
@@ -156,6 +157,10 @@ pub struct Inspection {
     /// Each motor's catalogue part, where the task chooses them (`motors.parts`).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub parts: Vec<PartReport>,
+    /// The parts the links carry (the task's `carried`) with their masses at the design
+    /// inspected.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub carried: Vec<CarriedMassAt>,
     /// Every check, in order.
     pub verdicts: Vec<Verdict>,
     /// The linkage rows' readings (docs/model.md, section 17), at the design inspected where
@@ -223,6 +228,8 @@ impl Inspection {
         let dynamics = Dynamics::new(robot.clone());
         let transmission =
             Transmission::on_chain(&task.transmission, &dynamics).map_err(|e| e.to_string())?;
+        let carried =
+            CarriedModel::on_chain(&task.carried, robot.chain(), transmission.num_ratios())?;
         if transmission.dof() != robot.dof() {
             return Err(format!(
                 "transmission.matrix is {0}x{0} but the robot has {1} moving joints",
@@ -231,6 +238,8 @@ impl Inspection {
             ));
         }
         let ratios = ratios.unwrap_or(&task.transmission.original);
+        // The robot carrying the task's parts at the design inspected.
+        let dynamics = dynamics.with_carried(&carried.mass_properties(ratios));
         let mut inspection = Inspection {
             ratios: ratios.to_vec(),
             bounds: transmission.bounds().to_vec(),
@@ -244,6 +253,7 @@ impl Inspection {
             no_load_speeds_rad_s: (task.motors.no_load_speed_rad_s.as_ref())
                 .map_or_else(Vec::new, |speeds| speeds.values(transmission.dof())),
             parts: part_reports(task),
+            carried: carried.masses_at(&task.carried, ratios),
             ..Inspection::of_robot(robot)
         };
         // The checks that read the goal as a pose take a TCP goal's pose of the initial guess.
@@ -289,6 +299,7 @@ impl Inspection {
             speed_limits_rad_s: Vec::new(),
             no_load_speeds_rad_s: Vec::new(),
             parts: Vec::new(),
+            carried: Vec::new(),
             verdicts: Vec::new(),
             linkages: Vec::new(),
             problems: Vec::new(),
@@ -386,6 +397,7 @@ impl Inspection {
             text.push('\n');
         }
         text.push_str(&parts_text(&self.parts));
+        text.push_str(&carried_text(&self.carried));
         for hold in &self.holds {
             let _ = writeln!(
                 text,
@@ -434,6 +446,24 @@ fn parts_text(parts: &[PartReport]) -> String {
     if let Some(masses) = masses.filter(|m| !m.is_empty()) {
         let total: f64 = masses.iter().sum();
         let _ = writeln!(text, "motor parts: {} kg in all", number(total));
+    }
+    text
+}
+
+/// The lines of the carried parts: `carried 1: pulley 'GT2 ...' on upper_arm, 0.107 kg at
+/// this design`; empty without.
+fn carried_text(parts: &[CarriedMassAt]) -> String {
+    let mut text = String::new();
+    for (i, part) in parts.iter().enumerate() {
+        let _ = writeln!(
+            text,
+            "carried {}: {} '{}' on {}, {} kg at this design",
+            i + 1,
+            part.kind,
+            shown(&part.name),
+            shown(&part.link),
+            rounded(part.mass_kg)
+        );
     }
     text
 }

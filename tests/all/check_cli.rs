@@ -333,3 +333,58 @@ fn check_lists_the_motors_chosen_from_a_catalogue() {
         "motors.no_load_speed_rad_s = 150 conflicts with motors.parts[0] ('Allied Motion HT02502-A00' of catalogue",
     );
 }
+
+/// A task whose links carry parts: `check` lists each with its mass at the design inspected
+/// (the pulley's grows with r2: 0.107 kg of 144 teeth at the original r2 = 12, 0.297 kg of
+/// 240 at r2 = 20), and a part on a link the robot does not have fails naming it.
+#[test]
+fn check_lists_the_parts_the_links_carry() {
+    let task = "robots/examples/planar_2dof/carried_pulley.json";
+    let output = codesign(&["check", "--task", task]);
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    for line in [
+        "carried 1: pulley 'GT2 6 mm, aluminium pulleys' on upper_arm, 0.107 kg at this design",
+        "carried 2: motor 'Allied Motion HT02501-A00' on upper_arm, 0.38 kg at this design",
+    ] {
+        assert!(text.contains(line), "{line}: {text}");
+    }
+    let larger = codesign(&["check", "--task", task, "--ratios", "50,20", "--json"]);
+    let value: serde_json::Value = serde_json::from_slice(&larger.stdout).unwrap();
+    let mass = value["carried"][0]["mass_kg"].as_f64().unwrap();
+    assert!((mass - 0.29703).abs() < 1e-5, "{mass}");
+    let dir = scratch("carried");
+    let text = std::fs::read_to_string(support::root().join(task)).unwrap();
+    let elsewhere = text
+        .replacen(
+            "\"link\": \"upper_arm\",\n      \"at\": [0.3",
+            "\"link\": \"nowhere\",\n      \"at\": [0.3",
+            1,
+        )
+        .replace(
+            "../../catalogue",
+            &support::root()
+                .join("robots/catalogue")
+                .display()
+                .to_string(),
+        )
+        .replace(
+            "\"robot.urdf\"",
+            &format!(
+                "{:?}",
+                support::root().join("robots/examples/planar_2dof/robot.urdf")
+            ),
+        );
+    let path = dir.join("elsewhere.json");
+    std::fs::write(&path, elsewhere).unwrap();
+    let output = codesign(&["check", "--task", path.to_str().unwrap()]);
+    fails_saying(
+        &output,
+        "carried[0].link = 'nowhere' is no link of the robot",
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -6,7 +6,8 @@
 //! tau_i = S_i . sum_(k >= i) f_k. CRBA: M_ij = S_i . IC_max(i,j) S_j with IC_i = sum_(k >= i) I_k.
 
 use super::spatial::{Force, Inertia, Motion};
-use super::{shape, Dynamics, Workspace};
+use super::{shape, BodyFrame, Dynamics, Workspace};
+use crate::model::chain::MassProperties;
 use nalgebra::DMatrix;
 
 impl Dynamics {
@@ -93,6 +94,31 @@ impl Dynamics {
         data.factor = factor;
     }
 
+    /// The derivative of RNEA(q, v, a) (N m) along a change of the bodies' inertial
+    /// parameters, `parts` giving each changed body's change (mass, first moment and rotational
+    /// inertia, in the body's frame; bodies not named do not change, a body named twice takes
+    /// the sum): RNEA is linear in the inertial parameters, so this is RNEA with the same
+    /// kinematics and gravity and the changes as the only inertias (docs/model.md, section 18).
+    pub fn rnea_inertia_derivative(
+        &self,
+        data: &mut Workspace,
+        (q, v, a): (&[f64], &[f64], &[f64]),
+        parts: &[(usize, MassProperties)],
+        tau: &mut [f64],
+    ) {
+        self.expect_joints("v", v);
+        self.expect_joints("a", a);
+        let mut change = vec![Inertia::default(); self.dof()];
+        for (body, part) in parts {
+            change[*body] += Inertia::of_body(part);
+        }
+        self.update_frames(data, q);
+        let world: Vec<Inertia> = (change.iter().zip(&data.frames))
+            .map(|(change, frame)| change.transformed(&frame.pose))
+            .collect();
+        self.recursion(data, (Some(v), Some(a)), |i, _| world[i], tau);
+    }
+
     /// RNEA at q with v and a, each 0 when None.
     fn inverse_dynamics(
         &self,
@@ -102,8 +128,20 @@ impl Dynamics {
         a: Option<&[f64]>,
         tau: &mut [f64],
     ) {
-        self.expect_joints("the torque output", tau);
         self.update_frames(data, q);
+        self.recursion(data, (v, a), |_, frame| frame.inertia, tau);
+    }
+
+    /// RNEA's passes at the workspace's frames with v and a (0 when None), body i's world
+    /// inertia `inertia(i, frame)`.
+    fn recursion(
+        &self,
+        data: &mut Workspace,
+        (v, a): (Option<&[f64]>, Option<&[f64]>),
+        inertia: impl Fn(usize, &BodyFrame) -> Inertia,
+        tau: &mut [f64],
+    ) {
+        self.expect_joints("the torque output", tau);
         let mut v_parent = Motion::default();
         let mut a_parent = self.base_acceleration;
         for (i, (frame, force)) in data.frames.iter().zip(&mut data.forces).enumerate() {
@@ -111,8 +149,9 @@ impl Dynamics {
             let velocity = v_parent + frame.s * speed;
             let acceleration =
                 a_parent + frame.s * a.map_or(0.0, |a| a[i]) + velocity.cross(&frame.s) * speed;
-            let momentum = frame.inertia.apply(&velocity);
-            *force = frame.inertia.apply(&acceleration) + velocity.cross_force(&momentum);
+            let inertia = inertia(i, frame);
+            let momentum = inertia.apply(&velocity);
+            *force = inertia.apply(&acceleration) + velocity.cross_force(&momentum);
             v_parent = velocity;
             a_parent = acceleration;
         }

@@ -31,7 +31,7 @@ mod spatial;
 
 pub use point_jet::Fixed;
 
-use crate::model::chain::{JointKind, Placement, PointOnBody};
+use crate::model::chain::{JointKind, MassProperties, Placement, PointOnBody};
 use crate::model::Robot;
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use spatial::{Force, Inertia, Motion};
@@ -169,7 +169,6 @@ impl Dynamics {
                 }
             })
             .collect::<Vec<_>>();
-        static NEXT_ID: AtomicU64 = AtomicU64::new(0);
         Dynamics {
             base_acceleration: Motion::new(Vector3::zeros(), -robot.gravity()),
             tcp: *robot.tcp(),
@@ -177,6 +176,18 @@ impl Dynamics {
             bodies,
             id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
         }
+    }
+
+    /// This model with `parts` added to their bodies (mass properties in the body's frame):
+    /// the robot carrying the task's parts at one design (docs/model.md, section 18). A model
+    /// of its own, whose workspaces are not this one's.
+    pub fn with_carried(&self, parts: &[(usize, MassProperties)]) -> Dynamics {
+        let mut carrying = self.clone();
+        for (body, part) in parts {
+            carrying.bodies[*body].inertia += Inertia::of_body(part);
+        }
+        carrying.id = NEXT_ID.fetch_add(1, Ordering::Relaxed);
+        carrying
     }
 
     /// A fresh workspace for evaluations of this model (the only allocation evaluations need).
@@ -223,6 +234,9 @@ impl Dynamics {
         );
     }
 }
+
+/// The id of the next model made.
+static NEXT_ID: AtomicU64 = AtomicU64::new(0);
 
 /// Gives `matrix` the shape rows x cols (allocating only if it has another shape).
 fn shape(matrix: &mut DMatrix<f64>, rows: usize, cols: usize) {

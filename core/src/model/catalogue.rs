@@ -116,7 +116,7 @@ pub struct BeltSeries {
     pub pitch_mm: f64,
     /// The belt's (and pulley's) width w, mm.
     pub width_mm: f64,
-    /// The density rho of the pulleys' material, kg/m^3.
+    /// The density rho of the pulleys' material, kg/m^3 (0: massless pulleys).
     pub density_kg_m3: f64,
     /// The fewest teeth a pulley of the series may have.
     pub min_teeth: u32,
@@ -334,7 +334,7 @@ impl BeltSeries {
         [
             ("pitch_mm", Some(self.pitch_mm), POSITIVE),
             ("width_mm", Some(self.width_mm), POSITIVE),
-            ("density_kg_m3", Some(self.density_kg_m3), POSITIVE),
+            ("density_kg_m3", Some(self.density_kg_m3), NON_NEGATIVE),
         ]
     }
 

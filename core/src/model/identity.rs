@@ -13,8 +13,8 @@ use serde_json::Value;
 /// `robot_urdf_fnv1a`, the URDF's hash. A task's file name and folder, its spacing, the order of
 /// its keys and the spelling of its numbers (`1` or `1.0`) leave it unchanged; so do its
 /// `solver` and `experiment` sections, which say how and which runs are made, not what they
-/// solve, `motors.names`, labels of plots, and `motors.parts`, whose figures the task holds
-/// once read (a catalogue's path is where it lies, not what is solved). `motion.ends` counts, but `hold`, what a task
+/// solve, `motors.names`, labels of plots, and `motors.parts` and the `catalogue` of each
+/// `carried` part, whose numbers the task holds once read (a catalogue's path is where it lies, not what is solved). `motion.ends` counts, but `hold`, what a task
 /// without the key means, hashes as that task did before the key existed, so that the results
 /// and logs of such a task keep their hash.
 pub fn task_hash(task: &Task, urdf_hash: &str) -> String {
@@ -26,6 +26,15 @@ pub fn task_hash(task: &Task, urdf_hash: &str) -> String {
         if let Some(Value::Object(motors)) = fields.get_mut("motors") {
             motors.remove("names");
             motors.remove("parts");
+        }
+        if let Some(Value::Array(carried)) = fields.get_mut("carried") {
+            let parts = carried.iter_mut().filter_map(Value::as_object_mut);
+            for part in parts
+                .flat_map(|p| p.values_mut())
+                .filter_map(Value::as_object_mut)
+            {
+                part.remove("catalogue");
+            }
         }
         if task.motion.ends == Ends::Hold {
             if let Some(Value::Object(motion)) = fields.get_mut("motion") {

@@ -1,5 +1,6 @@
 //! The robot model and the task: what is read from files before any computation.
 
+pub mod carried;
 pub mod catalogue;
 pub mod chain;
 mod ends;

@@ -10,6 +10,7 @@
 //! `robots/tasks/pick_place.json` is compiled into the binary as the built-in task
 //! ([`Task::built_in`]), so that every command works without files from any folder.
 
+pub use super::carried::{CarriedMass, CarriedPart, CarriedPulley};
 pub use super::ends::Ends;
 use super::experiment::Experiment;
 pub use super::horizon::Horizon;
@@ -77,6 +78,7 @@ pub const BUILT_IN_TASK: &str = include_str!("../../../robots/tasks/pick_place.j
 ///     limit_modes: LimitModes { torque: LimitMode::Paper, speed: LimitMode::Exact },
 ///     motions: Vec::new(), // one motion: `motion`
 ///     motions_score: MotionsScore::Sum,
+///     carried: vec![],
 /// };
 /// task.validate()?;
 /// // The same task as JSON reads back equal.
@@ -120,6 +122,10 @@ pub struct Task {
     /// not written) or the worst weighted one.
     #[serde(default, skip_serializing_if = "MotionsScore::is_sum")]
     pub motions_score: MotionsScore,
+    /// Parts carried by links: pulleys whose teeth follow a ratio, motors and gearboxes
+    /// (`super::carried`); empty (and not written) for none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub carried: Vec<CarriedPart>,
 }
 
 /// A task file as read: the task, its `solver` section as written (absent: none), which the
@@ -436,6 +442,7 @@ impl TaskFile {
                 let experiment = Experiment::from_section(section("experiment").as_ref())
                     .map_err(|e| e.to_string())?;
                 super::motor_parts::resolve(&mut value, folder)?;
+                super::carried::resolve(&mut value, folder)?;
                 let task = read_task(text, &value)?;
                 task.validate().map_err(|e| e.to_string())?;
                 Ok(TaskFile {

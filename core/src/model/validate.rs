@@ -5,7 +5,12 @@ use super::ranges::{check_payload, check_steps, Bounds, FieldError, MAX_GRAVITY,
 use super::task::{CartesianBox, Motion, SoftInterval, Task, Weights};
 
 /// Ok if the vector's length is at most `largest`; else an error naming `name` with `why`.
-fn check_norm(name: &str, values: &[f64; 3], largest: f64, why: &str) -> Result<(), FieldError> {
+pub(super) fn check_norm(
+    name: &str,
+    values: &[f64; 3],
+    largest: f64,
+    why: &str,
+) -> Result<(), FieldError> {
     let norm = values.iter().map(|v| v * v).sum::<f64>().sqrt();
     if norm <= largest {
         Ok(())
@@ -18,7 +23,7 @@ fn check_norm(name: &str, values: &[f64; 3], largest: f64, why: &str) -> Result<
 }
 
 /// Ok if every value is finite; else an error naming `name[i]` of the first that is not.
-fn check_finite(name: &str, values: &[f64]) -> Result<(), FieldError> {
+pub(super) fn check_finite(name: &str, values: &[f64]) -> Result<(), FieldError> {
     match values.iter().position(|v| !v.is_finite()) {
         Some(i) => Err(FieldError::new(
             format!("{name}[{i}]"),
@@ -113,6 +118,7 @@ impl Task {
         self.validate_motions()?;
         self.weights.validate()?;
         self.cartesian_box.validate()?;
+        super::carried::validate(&self.carried, self.transmission.original.len())?;
         self.motors.validate(self.transmission.matrix.len())
     }
 }

@@ -1,9 +1,10 @@
 //! [`DesignData`]: what the constraint families read of one design, over the formulation's
-//! [`Setting`]: the design r, its actuation (G(r) and the controls' map to torques) and the
-//! primal point evaluated last.
+//! [`Setting`]: the design r, its actuation (G(r) and the controls' map to torques), the
+//! robot's dynamics carrying the task's parts at r, and the primal point evaluated last.
 
 use super::node::NodeEval;
 use super::setting::Setting;
+use crate::dynamics::Dynamics;
 use crate::transmission::{Actuation, Coupling, JointLimits, PoseError, Space};
 
 /// One design of a formulation, as its families read it.
@@ -11,6 +12,9 @@ use crate::transmission::{Actuation, Coupling, JointLimits, PoseError, Space};
 pub struct DesignData<'a> {
     setting: &'a Setting,
     ratios: Vec<f64>,
+    /// The robot carrying the task's parts at this design; None without carried parts (the
+    /// setting's dynamics then serve).
+    carrying: Option<Dynamics>,
     /// G(r), its inverse, and the controls' map to joint and motor torques; G at the motion's
     /// start for a pose-dependent transmission, whose nodes hold their own.
     actuation: Actuation,
@@ -22,9 +26,15 @@ pub struct DesignData<'a> {
 impl<'a> DesignData<'a> {
     /// The data of design `ratios`, whose actuation (at the motion's start) is `actuation`.
     pub(super) fn new(setting: &'a Setting, ratios: &[f64], actuation: Actuation) -> Self {
+        let carried = setting.carried();
         DesignData {
             setting,
             ratios: ratios.to_vec(),
+            carrying: (!carried.is_empty()).then(|| {
+                setting
+                    .dynamics()
+                    .with_carried(&carried.mass_properties(ratios))
+            }),
             actuation,
             point: Vec::new(),
         }
@@ -38,6 +48,29 @@ impl<'a> DesignData<'a> {
     /// The design r.
     pub fn ratios(&self) -> &[f64] {
         &self.ratios
+    }
+
+    /// The robot's dynamics at this design: the setting's, carrying the task's parts at r
+    /// where it has any (docs/model.md, section 18).
+    pub fn dynamics(&self) -> &Dynamics {
+        self.carrying.as_ref().unwrap_or(self.setting.dynamics())
+    }
+
+    /// d(RNEA(q, v, a))/dr_l through the carried parts' mass and inertia, N m; None where no
+    /// part depends on r_l.
+    pub fn rnea_design_derivative(
+        &self,
+        state: (&[f64], &[f64], &[f64]),
+        l: usize,
+    ) -> Option<Vec<f64>> {
+        let parts = self.setting.carried().derivative(&self.ratios, l);
+        if parts.is_empty() {
+            return None;
+        }
+        let dynamics = self.setting.dynamics();
+        let mut tau = vec![0.0; dynamics.dof()];
+        dynamics.rnea_inertia_derivative(&mut dynamics.workspace(), state, &parts, &mut tau);
+        Some(tau)
     }
 
     /// The primal point evaluated last, where terms were added from outside the core (else

@@ -15,6 +15,7 @@ use super::shortening::Shaping;
 use super::targets::Targets;
 use super::terms::{AddedTerms, NodeConstraint, NodeCost};
 use crate::dynamics::Dynamics;
+use crate::model::carried::CarriedModel;
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;
 use crate::transmission::{Envelope, MotorDynamics, Space, Transmission, TransmissionLoss};
@@ -149,8 +150,12 @@ impl Formulation {
         let envelope = Envelope::of(&task.motors, n);
         let loss = TransmissionLoss::of(&task.motors, n);
         let layout = Layout::new(n, task.motion.steps, &[], ProblemKind::Hard, &[]);
+        let carried =
+            CarriedModel::on_chain(&task.carried, robot.chain(), transmission.num_ratios())
+                .map_err(|message| FormulationError(format!("task: {message}")))?;
         let setting = Setting {
             task: task.clone(),
+            carried,
             transmission,
             dynamics,
             space,
@@ -352,14 +357,19 @@ impl Formulation {
         &self.families
     }
 
-    /// What a node's Hessian sums at the primal point x: the setting, the families and the
-    /// added terms.
-    pub(super) fn hessian_parts(&self, x: &[f64]) -> hessian::Parts<'_> {
+    /// What a node's Hessian sums at the primal point x of a design whose dynamics are
+    /// `dynamics`: the setting, the families and the added terms.
+    pub(super) fn hessian_parts<'p>(
+        &'p self,
+        x: &[f64],
+        dynamics: &'p Dynamics,
+    ) -> hessian::Parts<'p> {
         hessian::Parts {
             setting: &self.setting,
             steps_s: (0..self.layout().steps)
                 .map(|k| self.step_at(x, k))
                 .collect(),
+            dynamics,
             families: &self.families,
             added: &self.added,
         }

@@ -18,7 +18,7 @@ use super::layout::Layout;
 use super::node::NodeEval;
 use super::setting::Setting;
 use super::terms::{AddedTerms, NodeContext};
-use crate::dynamics::Workspace;
+use crate::dynamics::{Dynamics, Workspace};
 use crate::transmission::Actuation;
 use nalgebra::DMatrix;
 
@@ -139,6 +139,8 @@ pub(super) fn pattern(layout: &Layout, entries: &[Entry]) -> Vec<(usize, usize)>
 /// terms added from outside the core.
 pub(super) struct Parts<'p> {
     pub(super) setting: &'p Setting,
+    /// The design's dynamics (with the parts the links carry at r).
+    pub(super) dynamics: &'p Dynamics,
     /// Each interval's step h_k at the point evaluated, s.
     pub(super) steps_s: Vec<f64>,
     pub(super) families: &'p Families,
@@ -198,7 +200,7 @@ impl NodeHessian {
         (node, actuation): (&NodeEval, &Actuation),
         lambda: &[f64],
     ) {
-        let (layout, dynamics) = (parts.setting.layout(), parts.setting.dynamics());
+        let (layout, dynamics) = (parts.setting.layout(), parts.dynamics);
         self.dynamics.fill(0.0);
         self.mixed.fill(0.0);
         for (id, family) in parts.families {

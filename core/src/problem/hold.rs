@@ -281,7 +281,7 @@ impl TrajectoryProblem<'_> {
         let end = |q: &[f64], coupling: &Coupling| {
             let limits = self.control_limits_with(coupling);
             EndHold::at(
-                f.dynamics(),
+                self.dynamics(),
                 coupling,
                 (f.space(), &limits),
                 q,
@@ -314,8 +314,10 @@ impl Formulation {
     pub fn hold_capacity(&self, ratios: &[f64]) -> Result<Option<f64>, DesignError> {
         let problem = self.problem(ratios)?;
         let robot = self.dynamics().robot();
-        let empty = Dynamics::new(robot.with_payload(0.0));
-        let unit = Dynamics::new(robot.with_payload(1.0));
+        // With the parts the links carry at this design.
+        let parts = self.setting().carried().mass_properties(ratios);
+        let empty = Dynamics::new(robot.with_payload(0.0)).with_carried(&parts);
+        let unit = Dynamics::new(robot.with_payload(1.0)).with_carried(&parts);
         let rows_at = |dynamics: &Dynamics, q: &[f64], coupling: &Coupling| {
             let u = control(self.space(), coupling, &gravity(dynamics, q));
             limit_rows(&problem.control_limits_with(coupling), &u)

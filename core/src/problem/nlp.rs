@@ -12,7 +12,7 @@ use super::kind::ProblemKind;
 use super::layout::WideVariable;
 use super::node::{Level, NodeEval, NodePose};
 use super::terms;
-use crate::dynamics::Workspace;
+use crate::dynamics::{Dynamics, Workspace};
 use crate::ipopt::{EvalError, Nlp};
 use crate::solve::Keyed;
 use crate::transmission::{
@@ -30,7 +30,7 @@ pub struct TrajectoryProblem<'a> {
     ends: [Coupling; 2],
     /// Each screw's motor and length per motor radian l / 2 pi at this design, m/rad.
     screws: Vec<(usize, f64)>,
-    /// One dynamics workspace per node k < N (all of the formulation's one model), so that each
+    /// One dynamics workspace per node k < N (all of the design's one model), so that each
     /// keeps its node's kinematics cached from one callback to the next (the Hessian reuses what
     /// the Jacobian computed at the same point).
     workspaces: Vec<Workspace>,
@@ -59,19 +59,18 @@ impl<'a> TrajectoryProblem<'a> {
             (goal, _) => goal?,
         };
         let (n, steps) = (formulation.layout().dof, formulation.layout().steps);
+        let design = DesignData::new(
+            formulation.setting(),
+            ratios,
+            formulation.setting().actuation(start.clone()),
+        );
         Ok(TrajectoryProblem {
             formulation,
-            design: DesignData::new(
-                formulation.setting(),
-                ratios,
-                formulation.setting().actuation(start.clone()),
-            ),
+            workspaces: (0..steps).map(|_| design.dynamics().workspace()).collect(),
+            design,
             ends: [start, goal],
             screws: (transmission.linkages().iter())
                 .filter_map(|row| Some((row.motor, row.linkage.length_per_angle(ratios)?)))
-                .collect(),
-            workspaces: (0..steps)
-                .map(|_| formulation.dynamics().workspace())
                 .collect(),
             nodes: vec![NodeEval::zeros(n); steps],
             level: Level::Nothing,
@@ -105,7 +104,7 @@ impl<'a> TrajectoryProblem<'a> {
     /// Each constraint added from outside the core's largest violation at x, by name.
     pub fn added_violations(&self, x: &[f64]) -> Keyed {
         let f = self.formulation;
-        terms::violations(f.setting(), f.added_constraints(), x)
+        terms::violations(&self.design, f.added_constraints(), x)
     }
 
     /// J at x by term ([`CostTerms`]), with the TCP's world position `tcp(k)` at each node
@@ -118,7 +117,7 @@ impl<'a> TrajectoryProblem<'a> {
     /// Each cost term added from outside the core at x, summed over the nodes, by name.
     pub fn added_costs(&self, x: &[f64]) -> Keyed {
         let f = self.formulation;
-        terms::costs(f.setting(), f.added_costs(), x)
+        terms::costs(&self.design, f.added_costs(), x)
     }
 
     /// The formulation this problem belongs to.
@@ -129,6 +128,12 @@ impl<'a> TrajectoryProblem<'a> {
     /// The design r.
     pub fn ratios(&self) -> &[f64] {
         self.design.ratios()
+    }
+
+    /// The robot's dynamics at this design: the formulation's, carrying the task's parts at
+    /// r where it has any (docs/model.md, section 18).
+    pub fn dynamics(&self) -> &Dynamics {
+        self.design.dynamics()
     }
 
     /// What the families read of this design.
@@ -261,13 +266,14 @@ impl<'a> TrajectoryProblem<'a> {
         let nodes = self.nodes.iter_mut().zip(&mut self.workspaces);
         for (k, (node, data)) in nodes.enumerate() {
             let state = f.layout().node_state(x, k);
-            node.evaluate(f.dynamics(), data, state, level);
+            let dynamics = self.design.dynamics();
+            node.evaluate(dynamics, data, state, level);
             if let Some(upright) = &f.setting().targets().upright {
-                node.upright = Some(upright.z_and_gradient(f.dynamics(), data, state.0));
+                node.upright = Some(upright.z_and_gradient(dynamics, data, state.0));
             }
             if f.transmission().is_pose_dependent() && !poses_current {
                 let at = (f.transmission())
-                    .at_pose(self.design.ratios(), (f.dynamics(), data), state.0, depth)
+                    .at_pose(self.design.ratios(), (dynamics, data), state.0, depth)
                     .map_err(|error| EvalError::outside_domain(format!("node {k}: {error}")))?;
                 node.pose = Some(NodePose {
                     actuation: f.setting().actuation(at.coupling),
@@ -373,7 +379,7 @@ impl Nlp for TrajectoryProblem<'_> {
         let f = self.formulation;
         let mut cost = Cost::new(f.criterion(), f.setting()).value(x, &self.nodes);
         if f.has_added_terms() {
-            cost += terms::cost(f.setting(), f.added_costs(), x);
+            cost += terms::cost(&self.design, f.added_costs(), x);
         }
         Ok(match f.layout().kind {
             ProblemKind::Hard => cost,
@@ -385,7 +391,7 @@ impl Nlp for TrajectoryProblem<'_> {
         self.evaluate(x, new_x, Level::Derivatives)?;
         let f = self.formulation;
         Cost::new(f.criterion(), f.setting()).gradient(x, &self.nodes, gradient);
-        terms::add_cost_gradient(f.setting(), f.added_costs(), x, gradient);
+        terms::add_cost_gradient(&self.design, f.added_costs(), x, gradient);
         elastic::penalty_gradient(f.setting(), gradient);
         Ok(())
     }
@@ -436,7 +442,7 @@ impl Nlp for TrajectoryProblem<'_> {
         let layout = f.layout();
         let cost = Cost::new(f.criterion(), f.setting());
         let per_node = f.node_hessian().len();
-        let parts = f.hessian_parts(x);
+        let parts = f.hessian_parts(x, self.design.dynamics());
         let nodes = self.nodes.iter().zip(&mut self.workspaces);
         for (k, ((node, data), values)) in nodes.zip(values.chunks_mut(per_node)).enumerate() {
             let state = (layout.node_state(x, k), layout.controls(x, k));

@@ -3,7 +3,9 @@
 //! At a primal-dual solution (x*, lambda*, z_L*, z_U*) of the trajectory problem,
 //! dJ*/dr = dL/dr, the partial derivative of the Lagrangian
 //! L = J(x) + lambda^T g(x, r) - z_L^T (x - x_L(r)) + z_U^T (x - x_U(r))
-//! with respect to r at fixed (x, lambda, z). The design enters through G(r), and each
+//! with respect to r at fixed (x, lambda, z). The design enters through G(r) (and, where the
+//! links carry parts that follow it, through their inertia in the dynamics rows: docs/model.md,
+//! section 18), and each
 //! constraint family gives its own terms (`families/`): the dynamics rows, the motor speed and
 //! torque rows of the `exact` modes, the torque-speed envelope's rows, and the variable bounds of
 //! the box modes `paper` and `interval`. This walks them: for each design parameter, every

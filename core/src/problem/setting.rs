@@ -8,6 +8,7 @@ use super::grid::Grid;
 use super::layout::Layout;
 use super::targets::Targets;
 use crate::dynamics::Dynamics;
+use crate::model::carried::{motor_parts_mass_kg, CarriedModel};
 use crate::model::task::{LimitModes, Task};
 use crate::transmission::{
     Actuation, Coupling, Envelope, MotorDynamics, Space, Transmission, TransmissionLoss,
@@ -25,7 +26,10 @@ pub const DEFAULT_HOLD_TOLERANCE_NM: f64 = 1e-4;
 pub struct Setting {
     pub(super) task: Task,
     pub(super) transmission: Transmission,
+    /// The robot's dynamics without the carried parts (with the payload).
     pub(super) dynamics: Dynamics,
+    /// The parts the links carry, whose mass may follow the design (empty: none).
+    pub(super) carried: CarriedModel,
     pub(super) space: Space,
     pub(super) modes: LimitModes,
     /// Each motor's torque limit (the task's `motors.torque_limit_nm`), N m, one per row of G.
@@ -67,9 +71,28 @@ impl Setting {
         &self.transmission
     }
 
-    /// The robot's dynamics model (with the payload), shared by every problem of the formulation.
+    /// The robot's dynamics model (with the payload), shared by every problem of the
+    /// formulation; without the parts the links carry, which a design's dynamics add
+    /// ([`DesignData::dynamics`](super::DesignData::dynamics)).
     pub fn dynamics(&self) -> &Dynamics {
         &self.dynamics
+    }
+
+    /// The parts the links carry (docs/model.md, section 18); empty for none.
+    pub fn carried(&self) -> &CarriedModel {
+        &self.carried
+    }
+
+    /// The actuators' mass at design r, kg: the motors of `motors.parts` and the parts the
+    /// links carry. None where the task has neither, or a motor part's mass is unknown.
+    pub fn actuator_mass_kg(&self, r: &[f64]) -> Option<f64> {
+        let parts = self.task.motors.parts.as_deref();
+        let carried: f64 = self.carried.masses(r).iter().sum();
+        match (parts, motor_parts_mass_kg(parts)) {
+            (Some(_), Some(motors)) => Some(motors + carried),
+            (Some(_), None) => None,
+            (None, _) => (!self.carried.is_empty()).then_some(carried),
+        }
     }
 
     /// Joint or actuation space.

@@ -10,8 +10,8 @@
 //! Its rows are hard in both kinds of problem, and a result reports each constraint's largest
 //! violation and each cost term's value under the term's name.
 
+use super::design_data::DesignData;
 use super::layout::Layout;
-use super::setting::Setting;
 use crate::dynamics::{Dynamics, Workspace};
 use crate::solve::Keyed;
 use nalgebra::DMatrix;
@@ -103,17 +103,18 @@ fn outside(value: f64, lower: f64, upper: f64) -> f64 {
     (lower - value).max(value - upper).max(0.0)
 }
 
-/// Runs `f` on node k of the primal point x of a formulation of `setting`, in a workspace of its
-/// own.
+/// Runs `f` on node k of the primal point x of the problem of `design`, with its dynamics (the
+/// parts the links carry at r included), in a workspace of its own.
 pub(super) fn at_node<R>(
-    setting: &Setting,
+    design: &DesignData<'_>,
     x: &[f64],
     k: usize,
     f: impl FnOnce(&mut NodeContext<'_>) -> R,
 ) -> R {
+    let setting = design.setting();
     let layout = setting.layout();
     let (q, v, a) = layout.node_state(x, k);
-    let mut workspace = setting.dynamics().workspace();
+    let mut workspace = design.dynamics().workspace();
     f(&mut NodeContext {
         k,
         steps: layout.steps,
@@ -122,23 +123,23 @@ pub(super) fn at_node<R>(
         v,
         a,
         u: layout.controls(x, k),
-        dynamics: setting.dynamics(),
+        dynamics: design.dynamics(),
         workspace: &mut workspace,
     })
 }
 
 /// The added cost terms' sum at x.
-pub(super) fn cost(setting: &Setting, terms: &[Arc<dyn NodeCost>], x: &[f64]) -> f64 {
-    let steps = setting.layout().steps;
+pub(super) fn cost(design: &DesignData<'_>, terms: &[Arc<dyn NodeCost>], x: &[f64]) -> f64 {
+    let steps = design.setting().layout().steps;
     let node_sum = |node: &mut NodeContext<'_>| terms.iter().map(|t| t.value(node)).sum::<f64>();
-    (0..steps).map(|k| at_node(setting, x, k, node_sum)).sum()
+    (0..steps).map(|k| at_node(design, x, k, node_sum)).sum()
 }
 
 /// Each added cost term's value at x, summed over the nodes, under its name.
-pub(super) fn costs(setting: &Setting, terms: &[Arc<dyn NodeCost>], x: &[f64]) -> Keyed {
+pub(super) fn costs(design: &DesignData<'_>, terms: &[Arc<dyn NodeCost>], x: &[f64]) -> Keyed {
     let mut sums = vec![0.0; terms.len()];
-    for k in 0..setting.layout().steps {
-        at_node(setting, x, k, |node| {
+    for k in 0..design.setting().layout().steps {
+        at_node(design, x, k, |node| {
             for (sum, term) in sums.iter_mut().zip(terms) {
                 *sum += term.value(node);
             }
@@ -153,19 +154,19 @@ pub(super) fn costs(setting: &Setting, terms: &[Arc<dyn NodeCost>], x: &[f64]) -
 
 /// Adds the added cost terms' gradient at x into `gradient` (over every variable).
 pub(super) fn add_cost_gradient(
-    setting: &Setting,
+    design: &DesignData<'_>,
     terms: &[Arc<dyn NodeCost>],
     x: &[f64],
     gradient: &mut [f64],
 ) {
-    let layout = setting.layout();
+    let layout = design.setting().layout();
     if terms.is_empty() {
         return;
     }
     let mut node_gradient = vec![0.0; 4 * layout.dof];
     for k in 0..layout.steps {
         node_gradient.fill(0.0);
-        at_node(setting, x, k, |node| {
+        at_node(design, x, k, |node| {
             terms
                 .iter()
                 .for_each(|term| term.gradient(node, &mut node_gradient))
@@ -178,12 +179,12 @@ pub(super) fn add_cost_gradient(
 
 /// Each added constraint's largest violation at x, under its name.
 pub(super) fn violations(
-    setting: &Setting,
+    design: &DesignData<'_>,
     constraints: &[Arc<dyn NodeConstraint>],
     x: &[f64],
 ) -> Keyed {
     let mut largest = Keyed::default();
-    let steps = setting.layout().steps;
+    let steps = design.setting().layout().steps;
     for constraint in constraints {
         let rows = constraint.rows();
         let (mut values, mut lower, mut upper) =
@@ -191,7 +192,7 @@ pub(super) fn violations(
         let mut worst = 0.0_f64;
         for k in 0..steps {
             constraint.bounds(k, steps, &mut lower, &mut upper);
-            at_node(setting, x, k, |node| constraint.values(node, &mut values));
+            at_node(design, x, k, |node| constraint.values(node, &mut values));
             for r in 0..rows {
                 worst = worst.max(outside(values[r], lower[r], upper[r]));
             }

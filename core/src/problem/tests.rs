@@ -832,3 +832,23 @@ fn invalid_designs_are_rejected() {
         assert!(f.problem(&ratios).is_err(), "{ratios:?} accepted");
     }
 }
+
+/// IPOPT's derivative checker finds nothing in the problem of the planar example carrying a
+/// pulley whose mass follows r2 and a motor (`carried_pulley.json`), in both spaces, lossless
+/// and lossy, at two designs: the rows and their Hessian use the inertia at the design.
+#[test]
+fn derivative_checker_finds_nothing_with_carried_parts() {
+    let mut task = crate::testing::carried_task();
+    task.motion.steps = 5;
+    let mut lossy = task.clone();
+    lossy.motors.efficiency = Some(crate::model::task::PerMotor::Each(vec![0.9, 0.8]));
+    for task in [task, lossy] {
+        for space in [Space::Actuation, Space::Joint] {
+            let robot = Robot::load(&task).unwrap();
+            let f = Formulation::new(&task, robot, space, task.limit_modes).unwrap();
+            for ratios in [[50.0, 12.0], [30.0, 30.0]] {
+                assert_checker_finds_nothing(&f, &ratios);
+            }
+        }
+    }
+}

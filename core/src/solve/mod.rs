@@ -56,6 +56,8 @@ pub use trajectory::Trajectory;
 pub use verify::{envelope_margins, least_envelope_margin, EnvelopeMargin};
 
 #[cfg(test)]
+mod carried_tests;
+#[cfg(test)]
 mod certify_tests;
 #[cfg(test)]
 mod envelope_tests;

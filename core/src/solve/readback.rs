@@ -16,7 +16,7 @@ pub(super) fn read_trajectory(
     let layout = f.layout();
     let (n, steps) = (layout.dof, layout.steps);
     let slice = |start: usize| x[start..start + n].to_vec();
-    let dynamics = f.dynamics();
+    let dynamics = problem.dynamics();
     let posed = f.transmission().is_pose_dependent();
     let mut data = dynamics.workspace();
     let mut trajectory = Trajectory::default();

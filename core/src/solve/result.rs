@@ -9,6 +9,7 @@ use super::readback::read_trajectory;
 use super::trajectory::Trajectory;
 use super::SolveError;
 use crate::ipopt::{LinearSolver, Nlp, Solution};
+use crate::model::carried::CarriedMassAt;
 use crate::problem::{
     cost_gradient, relaxation, CostTerms, Formulation, ProblemKind, StaticHold, TrajectoryProblem,
 };
@@ -199,6 +200,14 @@ pub struct TrajectoryResult {
     /// work (`solve::PhysicalFigures`; absent in files of version 1 and before).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub figures: Option<PhysicalFigures>,
+    /// The parts the links carry (the task's `carried`) with their masses at the design, in
+    /// the task's order; absent without.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub carried: Vec<CarriedMassAt>,
+    /// The actuators' mass at the design, kg: the motors of `motors.parts` and the carried
+    /// parts; absent where the task has neither or a motor part's mass is unknown.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub actuator_mass_kg: Option<f64>,
     /// The trajectory.
     pub trajectory: Trajectory,
 }
@@ -287,6 +296,8 @@ pub(super) fn read_result(
         goal_pose: (f.task().motion.goal.tcp()).map(|_| last.to_vec()),
         joints: f.dynamics().robot().joint_names().to_vec(),
         figures: PhysicalFigures::of(&trajectory, electrical.as_deref()),
+        carried: (f.setting().carried()).masses_at(&f.task().carried, problem.ratios()),
+        actuator_mass_kg: f.setting().actuator_mass_kg(problem.ratios()),
         trajectory,
     })
 }

@@ -147,7 +147,7 @@ pub fn least_envelope_margin(
 
 /// The largest |RNEA(q, v, a) - tau| over the intervals, N m.
 fn dynamics_residual(problem: &TrajectoryProblem<'_>, trajectory: &Trajectory) -> f64 {
-    let dynamics = problem.formulation().dynamics();
+    let dynamics = problem.dynamics();
     let mut data = dynamics.workspace();
     let mut rnea = vec![0.0; dynamics.dof()];
     let mut largest = 0.0;

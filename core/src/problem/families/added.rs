@@ -55,9 +55,7 @@ impl Family for Added {
         g: &mut [f64],
     ) {
         let rows = self.0.rows();
-        at_node(p.setting(), x, k, |node| {
-            self.0.values(node, &mut g[row..row + rows])
-        });
+        at_node(p, x, k, |node| self.0.values(node, &mut g[row..row + rows]));
     }
 
     fn jacobian(
@@ -70,9 +68,7 @@ impl Family for Added {
         let layout = at.setting().layout();
         let mut jacobian = DMatrix::zeros(self.0.rows(), 4 * layout.dof);
         if let At::Design(p) = at {
-            at_node(p.setting(), p.point(), k, |node| {
-                self.0.jacobian(node, &mut jacobian)
-            });
+            at_node(p, p.point(), k, |node| self.0.jacobian(node, &mut jacobian));
         }
         for r in 0..self.0.rows() {
             for (c, column) in node_columns(layout, k).enumerate() {

@@ -7,8 +7,9 @@
 //! transmissions' loss torques L(G^-T RNEA, G v_k) (absent where lossless). The elastic kind
 //! shifts each row by its torque deficit s-_k - s+_k. The rows' Jacobian is dense in (q, v, a)
 //! and C's pattern in u; their Hessian is lambda . RNEA's, plus the losses' (docs/model.md,
-//! sections 3 and 8); their design sensitivity is the actuation's residual derivative and the
-//! losses'.
+//! sections 3 and 8); their design sensitivity is the actuation's residual derivative, the
+//! losses' and, where the links carry parts that follow the design, RNEA's through their
+//! inertia (section 18).
 //!
 //! Where G depends on the pose (docs/model.md, section 17), C = G(q)^T in actuation space adds
 //! -sum_i u_i d^2 gamma_i/dq^2 to the q columns, and the Hessian's q-q block
@@ -26,7 +27,7 @@ use crate::ipopt::Solution;
 use crate::problem::design_data::DesignData;
 use crate::problem::layout::{Nodes, RowBlock};
 use crate::problem::node::NodeEval;
-use crate::transmission::{MotorDynamics, Space};
+use crate::transmission::{Actuation, MotorDynamics, NodeLoss, Space};
 use nalgebra::{DMatrix, DVector};
 use std::sync::Arc;
 
@@ -223,11 +224,34 @@ impl Family for Dynamics {
         if p.actuation().loss().is_some() {
             *total += lambda.dot(&loss_derivative(p, x, k, derivative));
         }
+        let lambda = &solution.lambda[row..row + layout.dof];
+        *total += carried_derivative(p, x, (k, lambda), derivative);
     }
 }
 
-/// d/dr_l of the losses' term G^T L of node k's rows at x, N m: RNEA evaluated again at the
-/// node, since the Lagrangian's partial derivative holds x fixed; at G(q_k) where G depends on
+/// The design's actuation at node k of x (G(q_k) where G depends on the pose), RNEA there
+/// and the transmissions' losses at it, None where lossless: the Lagrangian's partial
+/// derivative holds x fixed, so RNEA is evaluated again at the node.
+fn lossy_node(
+    p: &DesignData<'_>,
+    x: &[f64],
+    k: usize,
+    derivative: &DesignDerivative,
+) -> Option<(Actuation, NodeLoss, Vec<f64>)> {
+    let f = p.setting();
+    let (q, v, a) = f.layout().node_state(x, k);
+    let dynamics = p.dynamics();
+    let mut tau = vec![0.0; f.layout().dof];
+    dynamics.rnea(&mut dynamics.workspace(), q, v, a, &mut tau);
+    let actuation = match &derivative.coupling {
+        Some(at) => f.actuation(at.clone()),
+        None => p.actuation().clone(),
+    };
+    let loss = actuation.node_loss(&tau, v)?;
+    Some((actuation, loss, tau))
+}
+
+/// d/dr_l of the losses' term G^T L of node k's rows at x, N m, at G(q_k) where G depends on
 /// the pose.
 fn loss_derivative(
     p: &DesignData<'_>,
@@ -235,22 +259,30 @@ fn loss_derivative(
     k: usize,
     derivative: &DesignDerivative,
 ) -> DVector<f64> {
-    let f = p.setting();
-    let (q, v, a) = f.layout().node_state(x, k);
-    let dynamics = f.dynamics();
-    let mut tau = vec![0.0; f.layout().dof];
-    dynamics.rnea(&mut dynamics.workspace(), q, v, a, &mut tau);
-    let posed;
-    let actuation = match &derivative.coupling {
-        Some(at) => {
-            posed = f.actuation(at.clone());
-            &posed
-        }
-        None => p.actuation(),
-    };
-    let loss = actuation
-        .node_loss(&tau, v)
-        .expect("the actuation has losses");
+    let (actuation, loss, tau) = lossy_node(p, x, k, derivative).expect("the actuation has losses");
+    let v = p.setting().layout().node_state(x, k).1;
     let d = (&derivative.dg, &derivative.dg_inv);
     loss.design_derivative(actuation.coupling(), d, &tau, v)
+}
+
+/// lambda . d/dr_l of node k's rows through the carried parts' inertia (docs/model.md,
+/// section 18): RNEA's derivative in the inertial parameters along their change with r_l,
+/// under the multipliers that carry the losses' derivative in tau where there are losses; 0
+/// where no part follows r_l.
+fn carried_derivative(
+    p: &DesignData<'_>,
+    x: &[f64],
+    (k, lambda): (usize, &[f64]),
+    derivative: &DesignDerivative,
+) -> f64 {
+    let state = p.setting().layout().node_state(x, k);
+    let Some(d_rnea) = p.rnea_design_derivative(state, derivative.parameter) else {
+        return 0.0;
+    };
+    let through = p.actuation().loss().and_then(|_| {
+        let (actuation, loss, _) = lossy_node(p, x, k, derivative)?;
+        Some(loss.rnea_multipliers(actuation.coupling(), lambda))
+    });
+    let multipliers = through.as_deref().unwrap_or(lambda);
+    multipliers.iter().zip(&d_rnea).map(|(m, d)| m * d).sum()
 }

@@ -1,0 +1,553 @@
+//! Parts carried by links (the task's `carried`): a pulley of a catalogue belt series whose
+//! teeth follow a ratio of the design, and a catalogue motor or gearbox of fixed mass, each
+//! fixed at a point of a link (docs/model.md, section 18; docs/guide/catalogue.md).
+//!
+//! The section is read when the task is read ([`resolve`]): each catalogue path is joined to
+//! the task file's folder, each part is read from its catalogue and the numbers the problem
+//! uses are written into the entry (`pitch_mm`, `width_mm`, `density_kg_m3` of a pulley,
+//! `mass_kg` of a motor or gearbox), so that a task written back reads back and the task hash
+//! counts the numbers, not where the catalogue lies. [`CarriedModel`] places the parts on the
+//! robot's bodies and gives their mass properties at a design r, and their derivatives in r.
+//!
+//! A pulley is a solid disc of the belt's width w about its axis n: z = r_l z_d teeth (the
+//! ratio its design parameter r_l makes with a driver of z_d teeth, taken continuously), pitch
+//! radius R = z p / (2 pi), mass m = rho pi w R^2, inertia about its centre
+//! I = I_axis n n^T + I_diam (E - n n^T) with I_axis = m R^2 / 2 and
+//! I_diam = m (3 R^2 + w^2) / 12. A motor or a gearbox is a point mass: a catalogue gives no
+//! housing's dimensions (a motor's rotor inertia is the motor model's, reflected by G).
+
+use super::catalogue::Catalogue;
+use super::chain::{Chain, MassProperties};
+use super::motor_parts::PartChoice;
+use super::ranges::{FieldError, MAX_POINT_M};
+use super::validate::{check_finite, check_norm};
+use crate::json_keys::read_value;
+use crate::text::{number, shown};
+use nalgebra::{Matrix3, Vector3};
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+
+/// One part carried by a link: where it sits and what it is (exactly one of `pulley`,
+/// `motor`, `gearbox`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CarriedPart {
+    /// The URDF link it is fixed to.
+    pub link: String,
+    /// Its centre in the link's frame, m.
+    pub at: [f64; 3],
+    /// A pulley whose teeth follow a ratio of the design.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pulley: Option<CarriedPulley>,
+    /// A catalogue motor (a point mass).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motor: Option<CarriedMass>,
+    /// A catalogue gearbox (a point mass).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gearbox: Option<CarriedMass>,
+}
+
+/// A pulley of a catalogue belt series, its teeth z = r_l z_d.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CarriedPulley {
+    /// The catalogue file (relative to the task file's folder when written; joined when read).
+    pub catalogue: PathBuf,
+    /// The belt series' `name` in that catalogue.
+    pub series: String,
+    /// The ratio its teeth follow, `r<i>` (1-based, as in `transmission.matrix`).
+    pub teeth_of: String,
+    /// The driver pulley's teeth z_d: the pulley has r_i z_d teeth.
+    pub driver_teeth: f64,
+    /// Its axis in the link's frame (normalised); absent: the axis of the joint that moves the
+    /// link.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axis: Option<[f64; 3]>,
+    /// The series' tooth pitch, mm (set from the catalogue when read).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pitch_mm: Option<f64>,
+    /// The series' width, mm (set from the catalogue when read).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub width_mm: Option<f64>,
+    /// The pulleys' density, kg/m^3 (set from the catalogue when read).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density_kg_m3: Option<f64>,
+}
+
+/// A catalogue motor or gearbox carried as a point mass.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CarriedMass {
+    /// The catalogue file (relative to the task file's folder when written; joined when read).
+    pub catalogue: PathBuf,
+    /// The part's `name` in that catalogue.
+    pub name: String,
+    /// Its mass, kg (set from the catalogue when read).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_kg: Option<f64>,
+}
+
+impl CarriedPart {
+    /// What it is, in words: `pulley`, `motor` or `gearbox`.
+    pub fn kind(&self) -> &'static str {
+        match (&self.pulley, &self.motor) {
+            (Some(_), _) => "pulley",
+            (None, Some(_)) => "motor",
+            (None, None) => "gearbox",
+        }
+    }
+
+    /// Its name: the belt series' or the part's.
+    pub fn name(&self) -> &str {
+        match (&self.pulley, &self.motor, &self.gearbox) {
+            (Some(pulley), _, _) => &pulley.series,
+            (None, Some(part), _) | (None, None, Some(part)) => &part.name,
+            (None, None, None) => "",
+        }
+    }
+}
+
+/// The 0-based index of the ratio `r<i>` among `count`, None if it names none.
+fn ratio_index(name: &str, count: usize) -> Option<usize> {
+    let digits = name.trim().strip_prefix('r')?;
+    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    let i: usize = digits.parse().ok()?;
+    (1..=count).contains(&i).then(|| i - 1)
+}
+
+/// A number set from the catalogue: the catalogue's, unless the task gives another.
+fn set_from(field: String, given: &mut Option<f64>, part: f64) -> Result<(), String> {
+    match *given {
+        Some(value) if value != part => Err(format!(
+            "{field} = {} conflicts with the catalogue's {}",
+            number(value),
+            number(part)
+        )),
+        _ => {
+            *given = Some(part);
+            Ok(())
+        }
+    }
+}
+
+/// Reads the catalogue at `path` joined to `folder` (None: absolute paths only).
+fn catalogue_at(
+    field: &str,
+    path: &mut PathBuf,
+    folder: Option<&Path>,
+) -> Result<Catalogue, String> {
+    if path.is_relative() {
+        let Some(folder) = folder else {
+            return Err(format!(
+                "{field}.catalogue = {} is relative, and this task has no folder: give an \
+                 absolute path",
+                shown(&path.display().to_string())
+            ));
+        };
+        *path = folder.join(&*path);
+    }
+    Catalogue::load(path).map_err(|e| format!("{field}.catalogue: {e}"))
+}
+
+/// Resolves the `carried` section of the task JSON `task` in place (see the module's
+/// documentation); without it the task is left as it is. The error names the field.
+pub fn resolve(task: &mut Value, folder: Option<&Path>) -> Result<(), String> {
+    let Some(given) = task.get("carried") else {
+        return Ok(());
+    };
+    let mut parts: Vec<CarriedPart> =
+        read_value(given).map_err(|e| format!("{}: {}", e.field("carried"), e.message))?;
+    for (i, part) in parts.iter_mut().enumerate() {
+        let field = format!("carried[{i}]");
+        let kinds = [
+            part.pulley.is_some(),
+            part.motor.is_some(),
+            part.gearbox.is_some(),
+        ];
+        if kinds.iter().filter(|&&k| k).count() != 1 {
+            return Err(format!(
+                "{field} must give exactly one of pulley, motor and gearbox"
+            ));
+        }
+        if let Some(pulley) = &mut part.pulley {
+            let at = format!("{field}.pulley");
+            let catalogue = catalogue_at(&at, &mut pulley.catalogue, folder)?;
+            let Some(series) = catalogue.belts.iter().find(|b| b.name == pulley.series) else {
+                return Err(format!(
+                    "{at}.series = '{}' is no belt series of catalogue {}",
+                    shown(&pulley.series),
+                    shown(&pulley.catalogue.display().to_string())
+                ));
+            };
+            let teeth = f64::from(series.min_teeth)..=1e4;
+            if !teeth.contains(&pulley.driver_teeth) {
+                return Err(format!(
+                    "{at}.driver_teeth = {} must be at least the series' {} teeth (and at most \
+                     1e4)",
+                    number(pulley.driver_teeth),
+                    series.min_teeth
+                ));
+            }
+            set_from(
+                format!("{at}.pitch_mm"),
+                &mut pulley.pitch_mm,
+                series.pitch_mm,
+            )?;
+            set_from(
+                format!("{at}.width_mm"),
+                &mut pulley.width_mm,
+                series.width_mm,
+            )?;
+            let density = series.density_kg_m3;
+            set_from(
+                format!("{at}.density_kg_m3"),
+                &mut pulley.density_kg_m3,
+                density,
+            )?;
+        }
+        let (kind, part) = match (&mut part.motor, &mut part.gearbox) {
+            (Some(motor), _) => ("motor", motor),
+            (None, Some(gearbox)) => ("gearbox", gearbox),
+            (None, None) => continue,
+        };
+        let at = format!("{field}.{kind}");
+        let catalogue = catalogue_at(&at, &mut part.catalogue, folder)?;
+        let mass = match kind {
+            "motor" => catalogue.motor(&part.name).map(|m| m.mass_kg),
+            _ => (catalogue.gearboxes.iter().find(|g| g.name == part.name)).map(|g| g.mass_kg),
+        };
+        let Some(mass) = mass else {
+            return Err(format!(
+                "{at}.name = '{}' is no {kind} of catalogue {}",
+                shown(&part.name),
+                shown(&part.catalogue.display().to_string())
+            ));
+        };
+        let Some(mass) = mass else {
+            return Err(format!(
+                "{at}: the catalogue gives no mass_kg of '{}'",
+                shown(&part.name)
+            ));
+        };
+        set_from(format!("{at}.mass_kg"), &mut part.mass_kg, mass)?;
+    }
+    let written = serde_json::to_value(parts).map_err(|e| e.to_string())?;
+    task["carried"] = written;
+    Ok(())
+}
+
+/// Checks the parts of a task of `ratios` design parameters, as read ([`resolve`] set their
+/// numbers): points finite and within [`MAX_POINT_M`] of their link's origin, axes finite and
+/// non-zero, `teeth_of` a ratio, numbers set.
+pub fn validate(parts: &[CarriedPart], ratios: usize) -> Result<(), FieldError> {
+    for (i, part) in parts.iter().enumerate() {
+        let field = format!("carried[{i}]");
+        let at = format!("{field}.at");
+        check_finite(&at, &part.at)?;
+        check_norm(
+            &at,
+            &part.at,
+            MAX_POINT_M,
+            "m from its link: beyond any robot's reach",
+        )?;
+        if let Some(pulley) = &part.pulley {
+            let at = format!("{field}.pulley");
+            if ratio_index(&pulley.teeth_of, ratios).is_none() {
+                return Err(FieldError::new(
+                    format!("{at}.teeth_of"),
+                    format!(
+                        " = '{}' names no ratio: give r1 to r{ratios}",
+                        shown(&pulley.teeth_of)
+                    ),
+                ));
+            }
+            let axis = pulley.axis.unwrap_or([0.0, 0.0, 1.0]);
+            check_finite(&format!("{at}.axis"), &axis)?;
+            let norm = Vector3::from(axis).norm();
+            if !(norm.is_finite() && norm > 1e-9) {
+                return Err(FieldError::new(
+                    format!("{at}.axis"),
+                    " must be a non-zero direction",
+                ));
+            }
+            let numbers = [pulley.pitch_mm, pulley.width_mm, pulley.density_kg_m3];
+            if numbers
+                .iter()
+                .any(|n| !n.is_some_and(|n| n.is_finite() && n >= 0.0))
+            {
+                return Err(FieldError::new(
+                    at,
+                    " has no pitch_mm, width_mm and density_kg_m3: the task was not read",
+                ));
+            }
+        }
+        let mass = (part.motor.as_ref().or(part.gearbox.as_ref())).map(|m| m.mass_kg);
+        if mass.is_some_and(|m| !m.is_some_and(|m| m.is_finite() && m >= 0.0)) {
+            return Err(FieldError::new(
+                field,
+                " has no mass_kg: the task was not read",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A carried part's mass at one design, as results and `check` record it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CarriedMassAt {
+    /// The link it is fixed to.
+    pub link: String,
+    /// `pulley`, `motor` or `gearbox`.
+    pub kind: String,
+    /// The belt series' or the part's name.
+    pub name: String,
+    /// Its mass at the design, kg.
+    pub mass_kg: f64,
+}
+
+/// The mass of the motors a task chooses from catalogues (`motors.parts`), kg: None without
+/// parts, or where a catalogue cannot be read (a task of another machine) or gives no mass.
+pub fn motor_parts_mass_kg(parts: Option<&[PartChoice]>) -> Option<f64> {
+    let mut total = 0.0;
+    for part in parts? {
+        let catalogue = Catalogue::load(&part.catalogue).ok()?;
+        total += catalogue.motor(&part.name)?.mass_kg?;
+    }
+    Some(total)
+}
+
+/// How a part's mass follows the design.
+#[derive(Clone, Debug, PartialEq)]
+enum Mass {
+    /// A point mass, kg.
+    Fixed(f64),
+    /// A disc of radius R = r_l * `radius_per_ratio` (m), width `width_m` and density
+    /// `density` (kg/m^3) about the unit `axis` (body frame).
+    Pulley {
+        ratio: usize,
+        radius_per_ratio: f64,
+        width_m: f64,
+        density: f64,
+        axis: Vector3<f64>,
+    },
+}
+
+/// A part placed on a body of the chain.
+#[derive(Clone, Debug, PartialEq)]
+struct PartOnBody {
+    body: usize,
+    /// Its centre in the body's frame, m.
+    centre: Vector3<f64>,
+    mass: Mass,
+}
+
+/// The task's carried parts on the robot's bodies: their mass properties at a design and
+/// their derivatives in it. Empty for a task without `carried`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CarriedModel {
+    parts: Vec<PartOnBody>,
+}
+
+impl CarriedModel {
+    /// Places `parts` (as read) on the bodies of `chain`: an error names a link the chain does
+    /// not have or one fixed to the base, where a part moves nothing.
+    pub fn on_chain(
+        parts: &[CarriedPart],
+        chain: &Chain,
+        ratios: usize,
+    ) -> Result<CarriedModel, String> {
+        let mut placed = Vec::with_capacity(parts.len());
+        for (i, part) in parts.iter().enumerate() {
+            let field = format!("carried[{i}]");
+            let frame = chain.links.iter().find(|l| l.name == part.link);
+            let Some(frame) = frame else {
+                return Err(format!(
+                    "{field}.link = '{}' is no link of the robot",
+                    shown(&part.link)
+                ));
+            };
+            let Some(body) = frame.body else {
+                return Err(format!(
+                    "{field}.link = '{}' is fixed to the base: a part there moves nothing; \
+                     leave it out",
+                    shown(&part.link)
+                ));
+            };
+            let centre = frame.placement.apply(&Vector3::from(part.at));
+            let mass = match (&part.pulley, &part.motor, &part.gearbox) {
+                (Some(p), _, _) => {
+                    let given = p.axis.map(|a| frame.placement.rotation * Vector3::from(a));
+                    let axis = given.unwrap_or(chain.bodies[body].axis).normalize();
+                    let read = |n: Option<f64>| n.ok_or_else(|| format!("{field}: not read"));
+                    Mass::Pulley {
+                        ratio: ratio_index(&p.teeth_of, ratios)
+                            .ok_or_else(|| format!("{field}.pulley.teeth_of names no ratio"))?,
+                        radius_per_ratio: p.driver_teeth * read(p.pitch_mm)? * 1e-3 / (2.0 * PI),
+                        width_m: read(p.width_mm)? * 1e-3,
+                        density: read(p.density_kg_m3)?,
+                        axis,
+                    }
+                }
+                (None, Some(m), _) | (None, None, Some(m)) => {
+                    Mass::Fixed(m.mass_kg.ok_or_else(|| format!("{field}: not read"))?)
+                }
+                (None, None, None) => return Err(format!("{field} gives no part")),
+            };
+            placed.push(PartOnBody { body, centre, mass });
+        }
+        Ok(CarriedModel { parts: placed })
+    }
+
+    /// Whether there are no parts.
+    pub fn is_empty(&self) -> bool {
+        self.parts.is_empty()
+    }
+
+    /// Each part's mass at design r, kg, in the task's order.
+    pub fn masses(&self, r: &[f64]) -> Vec<f64> {
+        (self.parts.iter())
+            .map(|part| part.properties(r, None).mass)
+            .collect()
+    }
+
+    /// Each of `parts` (the task's, which this model places) with its mass at design r.
+    pub fn masses_at(&self, parts: &[CarriedPart], r: &[f64]) -> Vec<CarriedMassAt> {
+        (parts.iter().zip(self.masses(r)))
+            .map(|(part, mass_kg)| CarriedMassAt {
+                link: part.link.clone(),
+                kind: part.kind().to_owned(),
+                name: part.name().to_owned(),
+                mass_kg,
+            })
+            .collect()
+    }
+
+    /// Each part's body and mass properties (in the body's frame) at design r.
+    pub fn mass_properties(&self, r: &[f64]) -> Vec<(usize, MassProperties)> {
+        (self.parts.iter())
+            .map(|part| (part.body, part.properties(r, None)))
+            .collect()
+    }
+
+    /// The derivative in r_l of the parts' mass properties at design r, for the parts that
+    /// depend on r_l (empty if none): the mass and inertia fields hold dm/dr_l and dI/dr_l at
+    /// the unchanged centre, as the spatial inertia is linear in them.
+    pub fn derivative(&self, r: &[f64], l: usize) -> Vec<(usize, MassProperties)> {
+        (self.parts.iter())
+            .filter(|part| matches!(part.mass, Mass::Pulley { ratio, .. } if ratio == l))
+            .map(|part| (part.body, part.properties(r, Some(l))))
+            .collect()
+    }
+}
+
+impl PartOnBody {
+    /// Its mass properties at r, or with `derivative` their derivative in that r_l.
+    fn properties(&self, r: &[f64], derivative: Option<usize>) -> MassProperties {
+        let (mass, inertia) = match &self.mass {
+            Mass::Fixed(mass) => match derivative {
+                None => (*mass, Matrix3::zeros()),
+                Some(_) => (0.0, Matrix3::zeros()),
+            },
+            Mass::Pulley {
+                ratio,
+                radius_per_ratio: c,
+                width_m: w,
+                density,
+                axis,
+            } => {
+                let radius = r[*ratio] * c;
+                let m = density * PI * w * radius * radius;
+                let (axial, diametral) = (
+                    m * radius * radius / 2.0,
+                    m * (3.0 * radius * radius + w * w) / 12.0,
+                );
+                let (m, axial, diametral) = match derivative {
+                    None => (m, axial, diametral),
+                    Some(_) => {
+                        // dR/dr_l = c.
+                        let dm = 2.0 * density * PI * w * radius * c;
+                        let d_axial = (dm * radius * radius + 2.0 * m * radius * c) / 2.0;
+                        let d_diametral =
+                            (dm * (3.0 * radius * radius + w * w) + 6.0 * m * radius * c) / 12.0;
+                        (dm, d_axial, d_diametral)
+                    }
+                };
+                let along = axis * axis.transpose();
+                let inertia = along * axial + (Matrix3::identity() - along) * diametral;
+                (m, inertia)
+            }
+        };
+        MassProperties {
+            mass,
+            com: self.centre,
+            inertia,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::model::task::TaskFile;
+    use crate::testing;
+    use serde_json::{json, Value};
+
+    /// The example with carried parts, `carried[0]` changed by `edit`, read from its folder.
+    fn read(edit: impl FnOnce(&mut Value)) -> Result<TaskFile, String> {
+        let path = testing::repository().join("robots/examples/planar_2dof/carried_pulley.json");
+        let mut value: Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        edit(&mut value["carried"][0]);
+        let folder = path.parent().unwrap();
+        TaskFile::from_text(&value.to_string(), "t", folder).map_err(|e| e.to_string())
+    }
+
+    /// Reading sets the series' numbers and the motor's mass; the hash leaves the catalogue's
+    /// path out; bad entries are refused naming the field.
+    #[test]
+    fn parts_are_read_from_their_catalogues_and_checked() {
+        let task = read(|_| {}).unwrap().task;
+        let pulley = task.carried[0].pulley.as_ref().unwrap();
+        assert_eq!(pulley.pitch_mm, Some(2.0));
+        assert_eq!(pulley.density_kg_m3, Some(2700.0));
+        assert_eq!(task.carried[1].motor.as_ref().unwrap().mass_kg, Some(0.38));
+        let written = serde_json::to_string(&task).unwrap();
+        let again: crate::model::task::Task = serde_json::from_str(&written).unwrap();
+        assert_eq!(again, task);
+        let mut moved = task.clone();
+        moved.carried[0].pulley.as_mut().unwrap().catalogue = "/elsewhere/parts.json".into();
+        let hash = |t| crate::model::identity::task_hash(t, "u");
+        assert_eq!(hash(&moved), hash(&task));
+        type Edit = fn(&mut Value);
+        let cases: [(Edit, &str); 5] = [
+            (
+                |p| p["pulley"]["teeth_of"] = json!("r3"),
+                "carried[0].pulley.teeth_of = 'r3' names no ratio",
+            ),
+            (
+                |p| p["pulley"]["driver_teeth"] = json!(8),
+                "carried[0].pulley.driver_teeth = 8 must be at least the series' 12 teeth",
+            ),
+            (
+                |p| p["pulley"]["series"] = json!("HTD"),
+                "carried[0].pulley.series = 'HTD' is no belt series",
+            ),
+            (
+                |p| p["pulley"]["width_mm"] = json!(9),
+                "carried[0].pulley.width_mm = 9 conflicts with the catalogue's 6",
+            ),
+            (
+                |p| p["motor"] = json!({"catalogue": "x.json", "name": "m"}),
+                "carried[0] must give exactly one of pulley, motor and gearbox",
+            ),
+        ];
+        for (edit, expected) in cases {
+            let error = read(edit).unwrap_err();
+            assert!(error.contains(expected), "{error}");
+        }
+    }
+}
