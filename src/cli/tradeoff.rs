@@ -77,21 +77,26 @@ pub struct Args {
     pub(super) out: Option<PathBuf>,
 }
 
-/// Searches the capacity at every duration, prints them, writes the file and its plot.
+/// Runs the trade-off the flags ask: capacity against duration, or T* against payload
+/// (`--payloads`).
 pub fn run(args: &Args) -> Result<(), Failure> {
     if args.model.payload.is_some() {
         return Err(Failure::Usage(
             "--payload: tradeoff searches the payload itself; leave it out".to_owned(),
         ));
     }
-    if let Some(payloads) = &args.payloads {
-        return time_curve::run(args, payloads);
-    }
-    if !args.compare.is_empty() {
-        return Err(Failure::Usage(
+    match &args.payloads {
+        Some(payloads) => time_curve::run(args, payloads),
+        None if !args.compare.is_empty() => Err(Failure::Usage(
             "--compare: a design to compare on T* against payload; only with --payloads".to_owned(),
-        ));
+        )),
+        None => capacity_against_duration(args),
     }
+}
+
+/// `tradeoff --durations`: the capacity within each duration, printed and, with `--out`, written
+/// with its plot.
+fn capacity_against_duration(args: &Args) -> Result<(), Failure> {
     check_durations(&args.durations).map_err(|e| Failure::Usage(format!("--durations: {e}")))?;
     let settings =
         capacity_settings(args.resolution, args.first_step, args.max).map_err(Failure::Usage)?;

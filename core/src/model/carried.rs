@@ -174,40 +174,7 @@ pub fn resolve(task: &mut Value, folder: Option<&Path>) -> Result<(), String> {
             ));
         }
         if let Some(pulley) = &mut part.pulley {
-            let at = format!("{field}.pulley");
-            let catalogue = catalogue_at(&at, &mut pulley.catalogue, folder)?;
-            let Some(series) = catalogue.belts.iter().find(|b| b.name == pulley.series) else {
-                return Err(format!(
-                    "{at}.series = '{}' is no belt series of catalogue {}",
-                    shown(&pulley.series),
-                    shown(&pulley.catalogue.display().to_string())
-                ));
-            };
-            let teeth = f64::from(series.min_teeth)..=1e4;
-            if !teeth.contains(&pulley.driver_teeth) {
-                return Err(format!(
-                    "{at}.driver_teeth = {} must be at least the series' {} teeth (and at most \
-                     1e4)",
-                    number(pulley.driver_teeth),
-                    series.min_teeth
-                ));
-            }
-            set_from(
-                format!("{at}.pitch_mm"),
-                &mut pulley.pitch_mm,
-                series.pitch_mm,
-            )?;
-            set_from(
-                format!("{at}.width_mm"),
-                &mut pulley.width_mm,
-                series.width_mm,
-            )?;
-            let density = series.density_kg_m3;
-            set_from(
-                format!("{at}.density_kg_m3"),
-                &mut pulley.density_kg_m3,
-                density,
-            )?;
+            resolve_pulley(&format!("{field}.pulley"), pulley, folder)?;
         }
         let (kind, part) = match (&mut part.motor, &mut part.gearbox) {
             (Some(motor), _) => ("motor", motor),
@@ -237,6 +204,49 @@ pub fn resolve(task: &mut Value, folder: Option<&Path>) -> Result<(), String> {
     }
     let written = serde_json::to_value(parts).map_err(|e| e.to_string())?;
     task["carried"] = written;
+    Ok(())
+}
+
+/// Sets `pulley`'s numbers from its belt series in its catalogue, `at` naming it
+/// (`carried[0].pulley`); the catalogue's path is joined to `folder`.
+fn resolve_pulley(
+    at: &str,
+    pulley: &mut CarriedPulley,
+    folder: Option<&Path>,
+) -> Result<(), String> {
+    let catalogue = catalogue_at(at, &mut pulley.catalogue, folder)?;
+    let Some(series) = catalogue.belts.iter().find(|b| b.name == pulley.series) else {
+        return Err(format!(
+            "{at}.series = '{}' is no belt series of catalogue {}",
+            shown(&pulley.series),
+            shown(&pulley.catalogue.display().to_string())
+        ));
+    };
+    let teeth = f64::from(series.min_teeth)..=1e4;
+    if !teeth.contains(&pulley.driver_teeth) {
+        return Err(format!(
+            "{at}.driver_teeth = {} must be at least the series' {} teeth (and at most \
+                 1e4)",
+            number(pulley.driver_teeth),
+            series.min_teeth
+        ));
+    }
+    set_from(
+        format!("{at}.pitch_mm"),
+        &mut pulley.pitch_mm,
+        series.pitch_mm,
+    )?;
+    set_from(
+        format!("{at}.width_mm"),
+        &mut pulley.width_mm,
+        series.width_mm,
+    )?;
+    let density = series.density_kg_m3;
+    set_from(
+        format!("{at}.density_kg_m3"),
+        &mut pulley.density_kg_m3,
+        density,
+    )?;
     Ok(())
 }
 

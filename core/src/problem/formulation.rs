@@ -10,38 +10,17 @@ use super::kind::ProblemKind;
 use super::layout::{BlockId, Layout, RowBlock, WideVariable};
 use super::memory::{self, MemoryNeed};
 use super::pose_rules;
+use super::setting::g_pattern;
 use super::setting::{Setting, DEFAULT_HOLD_TOLERANCE_NM};
 use super::shortening::Shaping;
-use super::targets::Targets;
+use super::targets::{check_end_poses, Targets};
 use super::terms::{AddedTerms, NodeConstraint, NodeCost};
 use crate::dynamics::Dynamics;
 use crate::model::carried::CarriedModel;
 use crate::model::task::{LimitModes, Task};
 use crate::model::Robot;
 use crate::transmission::{Envelope, MotorDynamics, Space, Transmission, TransmissionLoss};
-use nalgebra::DMatrix;
 use std::sync::Arc;
-
-/// The structural non-zeros of G (row = motor, column = joint) over the whole design space and
-/// every pose: the entries of G(r) at the original design, those some ratio moves, and a linkage
-/// row's joints.
-fn g_pattern(transmission: &Transmission) -> DMatrix<f64> {
-    let mut pattern = transmission
-        .matrix(transmission.original())
-        .map(|g| f64::from(u8::from(g != 0.0)));
-    for i in 0..transmission.num_ratios() {
-        let derivative = transmission.matrix_derivative(i);
-        pattern.zip_apply(&derivative, |p, d| {
-            if d != 0.0 {
-                *p = 1.0;
-            }
-        });
-    }
-    for row in transmission.linkages() {
-        row.joints().for_each(|j| pattern[(row.motor, j)] = 1.0);
-    }
-    pattern
-}
 
 /// Everything of a trajectory problem except the design: built once, then
 /// [`Formulation::problem`] for each design.
@@ -119,29 +98,7 @@ impl Formulation {
         task.motors
             .validate(n)
             .map_err(|error| FormulationError(format!("task: {error}")))?;
-        let ends = [
-            ("motion.start", Some(&task.motion.start[..])),
-            ("motion.goal", task.motion.goal.joints()),
-        ];
-        for (name, pose) in ends
-            .into_iter()
-            .filter_map(|(name, pose)| Some((name, pose?)))
-        {
-            if pose.len() != n {
-                return Err(FormulationError(format!(
-                    "task: {name} has {} values but the robot has {n} joints",
-                    pose.len()
-                )));
-            }
-            for (i, (&value, &(lo, hi))) in pose.iter().zip(robot.position_limits()).enumerate() {
-                if value < lo || value > hi {
-                    return Err(FormulationError(format!(
-                        "task: {name}[{i}] = {value} lies outside the joint limits [{lo}, {hi}] of {}",
-                        robot.joint_names()[i]
-                    )));
-                }
-            }
-        }
+        check_end_poses(task, robot)?;
         pose_rules::check_modes(&transmission, space, &modes)?;
         let targets = Targets::resolve(task, &dynamics)
             .map_err(|problems| FormulationError(format!("task: {}", problems.join("; "))))?;

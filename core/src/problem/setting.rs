@@ -179,3 +179,24 @@ impl Setting {
         self.grid.times(x)
     }
 }
+
+/// The structural non-zeros of G (row = motor, column = joint) over the whole design space and
+/// every pose: the entries of G(r) at the original design, those some ratio moves, and a linkage
+/// row's joints.
+pub(super) fn g_pattern(transmission: &Transmission) -> DMatrix<f64> {
+    let mut pattern = transmission
+        .matrix(transmission.original())
+        .map(|g| f64::from(u8::from(g != 0.0)));
+    for i in 0..transmission.num_ratios() {
+        let derivative = transmission.matrix_derivative(i);
+        pattern.zip_apply(&derivative, |p, d| {
+            if d != 0.0 {
+                *p = 1.0;
+            }
+        });
+    }
+    for row in transmission.linkages() {
+        row.joints().for_each(|j| pattern[(row.motor, j)] = 1.0);
+    }
+    pattern
+}

@@ -5,8 +5,10 @@
 //! it finds, each naming its field; the families `families/via.rs`, `families/upright.rs` and
 //! `families/goal.rs` pose the rows, and a result measures them again ([`Targets::violations`]).
 
+use super::error::FormulationError;
 use crate::dynamics::{Dynamics, Workspace};
 use crate::model::task::{Task, Via, ViaTime};
+use crate::model::Robot;
 use crate::text::number;
 use nalgebra::{DMatrix, Vector3};
 
@@ -349,4 +351,34 @@ fn upright_target(
         }
     }
     Ok(target)
+}
+
+/// Ok where the task's start and joint goal each give one angle per joint of `robot`, within its
+/// joint limits; else the error naming the field (`motion.goal[1]`) and the joint.
+pub(super) fn check_end_poses(task: &Task, robot: &Robot) -> Result<(), FormulationError> {
+    let n = robot.dof();
+    let ends = [
+        ("motion.start", Some(&task.motion.start[..])),
+        ("motion.goal", task.motion.goal.joints()),
+    ];
+    for (name, pose) in ends
+        .into_iter()
+        .filter_map(|(name, pose)| Some((name, pose?)))
+    {
+        if pose.len() != n {
+            return Err(FormulationError(format!(
+                "task: {name} has {} values but the robot has {n} joints",
+                pose.len()
+            )));
+        }
+        for (i, (&value, &(lo, hi))) in pose.iter().zip(robot.position_limits()).enumerate() {
+            if value < lo || value > hi {
+                return Err(FormulationError(format!(
+                    "task: {name}[{i}] = {value} lies outside the joint limits [{lo}, {hi}] of {}",
+                    robot.joint_names()[i]
+                )));
+            }
+        }
+    }
+    Ok(())
 }

@@ -225,24 +225,9 @@ pub(super) fn read_result(
     let (cost, elastic) = cost_and_measures(problem, solution);
     let f = problem.formulation();
     let last = trajectory.q.last().map_or(&[][..], Vec::as_slice);
-    let static_hold = (problem.static_hold_at(last)).map_err(|error| SolveError::Pose {
-        node: trajectory.q.len() - 1,
-        error,
-    })?;
-    let dead_points = dead_points(&trajectory.ratio);
-    let crossings = dead_points
-        .iter()
-        .map(|crossing| crossing.text(&trajectory.q));
-    let reasons: Vec<String> = [
-        static_hold.failure(),
-        infeasibility(f, solution, elastic.as_ref(), tol),
-    ]
-    .into_iter()
-    .flatten()
-    .chain(crossings)
-    .collect();
-    let feasible = reasons.is_empty();
-    let reason = (!feasible).then(|| reasons.join("; "));
+    let (static_hold, dead_points, reason) =
+        judged(problem, solution, elastic.as_ref(), tol, &trajectory)?;
+    let feasible = reason.is_none();
     let electrical =
         (f.task().motors).electrical(trajectory.motor_torque.first().map_or(0, Vec::len));
     Ok(TrajectoryResult {
@@ -300,6 +285,36 @@ pub(super) fn read_result(
         actuator_mass_kg: f.setting().actuator_mass_kg(problem.ratios()),
         trajectory,
     })
+}
+
+/// What judges `solution`'s design: the static hold at its last node, the linkages' dead points
+/// crossed, and why the design is infeasible (None where it is feasible).
+fn judged(
+    problem: &mut TrajectoryProblem<'_>,
+    solution: &Solution,
+    elastic: Option<&ElasticMeasures>,
+    tol: f64,
+    trajectory: &Trajectory,
+) -> Result<(StaticHold, Vec<DeadPoint>, Option<String>), SolveError> {
+    let last = trajectory.q.last().map_or(&[][..], Vec::as_slice);
+    let static_hold = (problem.static_hold_at(last)).map_err(|error| SolveError::Pose {
+        node: trajectory.q.len() - 1,
+        error,
+    })?;
+    let dead_points = dead_points(&trajectory.ratio);
+    let crossings = dead_points
+        .iter()
+        .map(|crossing| crossing.text(&trajectory.q));
+    let reasons: Vec<String> = [
+        static_hold.failure(),
+        infeasibility(problem.formulation(), solution, elastic, tol),
+    ]
+    .into_iter()
+    .flatten()
+    .chain(crossings)
+    .collect();
+    let reason = (!reasons.is_empty()).then(|| reasons.join("; "));
+    Ok((static_hold, dead_points, reason))
 }
 
 /// The cost J at `solution` and, for an elastic problem, what its slacks relax. IPOPT's objective
