@@ -1,6 +1,7 @@
 //! Failures as Python exceptions: the classes of `codesign._errors`, with the command line's
 //! messages.
 
+use codesign::store::document::{document_json, Document};
 use pyo3::prelude::*;
 
 /// Which exception of `codesign._errors` a failure raises.
@@ -57,3 +58,8 @@ impl Failure {
 
 /// The result of native work.
 pub type Outcome<T> = Result<T, Failure>;
+
+/// The document `document` as JSON, an encoding error a solver error.
+pub(crate) fn json<D: Document>(document: &D) -> Outcome<String> {
+    document_json(document).map_err(|e| Failure::solver(format!("result not encoded: {e}")))
+}

@@ -1,7 +1,7 @@
 //! `NativeTask`: a task, where it comes from, and what the package does with it: check, solve,
 //! capacity and its trade-off against cycle time here, optimize in `runs`. Each answers with the command line's JSON document.
 
-use crate::errors::{Failure, Outcome};
+use crate::errors::{json, Failure, Outcome};
 use crate::interrupt;
 use crate::options::{Keywords, Posed, ReadTask};
 use crate::solution::NativeSolution;
@@ -13,7 +13,6 @@ use codesign::design::tradeoff::check_durations;
 use codesign::report::check::TaskInspection;
 use codesign::report::codesign::{CapacityDocument, CapacityInputs};
 use codesign::report::solve_document::{SolveDocument, StartRecord};
-use codesign::store::document::{document_json, Document};
 use codesign_core::choice::Choice;
 use codesign_core::model::task::BUILT_IN_TASK;
 use codesign_core::model::task::{
@@ -63,11 +62,6 @@ pub fn task_text(py: Python<'_>, path: Option<PathBuf>) -> PyResult<String> {
     };
     codesign_core::input::read_text(&path, codesign_core::input::MAX_TASK_BYTES)
         .map_err(|e| Failure::input(format!("task file {}: {e}", path.display())).into_py(py))
-}
-
-/// The document `document` as JSON, an encoding error a solver error.
-pub(crate) fn json<D: Document>(document: &D) -> Outcome<String> {
-    document_json(document).map_err(|e| Failure::solver(format!("result not encoded: {e}")))
 }
 
 #[pymethods]

@@ -2,9 +2,8 @@
 //! (`codesign tradeoff`) and least duration T* against payload (`codesign tradeoff --payloads`),
 //! each answering with the command line's document.
 
-use crate::errors::{Failure, Outcome};
+use crate::errors::{json, Failure, Outcome};
 use crate::options::Posed;
-use crate::task::json;
 use codesign::design::capacity::CapacitySettings;
 use codesign::design::run::RecordedHash;
 use codesign::design::time_curve::minimum_time_curve;

@@ -79,6 +79,7 @@ mod table;
 mod task;
 mod time_curve;
 mod tradeoff;
+mod tradeoff_args;
 mod worker;
 
 use clap::{Parser, Subcommand};
@@ -111,7 +112,7 @@ enum Command {
     Capacity(capacity::Args),
     /// A design's payload capacity against the duration of its motion: the capacity within each
     /// of several durations, as JSON with its plot.
-    Tradeoff(tradeoff::Args),
+    Tradeoff(tradeoff_args::Args),
     /// Co-design: search the gear ratios with CMA-ES, solving each design in worker processes.
     Optimize(optimize::Args),
     /// Run the task's experiment, by default the paper's (and more): original designs, co-design, capacities, table, plots.

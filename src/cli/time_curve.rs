@@ -5,7 +5,7 @@
 use super::common::finite_ratio;
 use super::failure::Failure;
 use super::store_hints::check_output;
-use super::tradeoff::Args;
+use super::tradeoff_args::Args;
 use crate::design::run::{Loaded, RecordedHash};
 use crate::design::time_curve::{
     check_payloads, minimum_time_curve, minimum_time_problem, TimeCurve, TimeCurveError,

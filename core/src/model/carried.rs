@@ -19,8 +19,7 @@
 use super::catalogue::Catalogue;
 use super::chain::{Chain, MassProperties};
 use super::motor_parts::PartChoice;
-use super::ranges::{FieldError, MAX_POINT_M};
-use super::validate::{check_finite, check_norm};
+use super::ranges::{check_finite, check_norm, FieldError, MAX_POINT_M};
 use crate::json_keys::read_value;
 use crate::text::{number, shown};
 use nalgebra::{Matrix3, Vector3};

@@ -182,3 +182,32 @@ pub fn check_payload(kg: f64) -> Result<(), OutOfRange> {
         Err(OutOfRange::Payload)
     }
 }
+
+/// Ok if the vector's length is at most `largest`; else an error naming `name` with `why`.
+pub(super) fn check_norm(
+    name: &str,
+    values: &[f64; 3],
+    largest: f64,
+    why: &str,
+) -> Result<(), FieldError> {
+    let norm = values.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if norm <= largest {
+        Ok(())
+    } else {
+        Err(FieldError::new(
+            name,
+            format!(" = {values:?} is longer than {largest} ({why})"),
+        ))
+    }
+}
+
+/// Ok if every value is finite; else an error naming `name[i]` of the first that is not.
+pub(super) fn check_finite(name: &str, values: &[f64]) -> Result<(), FieldError> {
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(i) => Err(FieldError::new(
+            format!("{name}[{i}]"),
+            " is not a finite number",
+        )),
+        None => Ok(()),
+    }
+}

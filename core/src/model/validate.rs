@@ -1,37 +1,11 @@
 //! The checks of a task's numbers, each error naming its field (the ranges and the errors are
 //! `super::ranges`'s).
 
-use super::ranges::{check_payload, check_steps, Bounds, FieldError, MAX_GRAVITY, MAX_POINT_M};
+use super::ranges::{
+    check_finite, check_norm, check_payload, check_steps, Bounds, FieldError, MAX_GRAVITY,
+    MAX_POINT_M,
+};
 use super::task::{CartesianBox, Motion, SoftInterval, Task, Weights};
-
-/// Ok if the vector's length is at most `largest`; else an error naming `name` with `why`.
-pub(super) fn check_norm(
-    name: &str,
-    values: &[f64; 3],
-    largest: f64,
-    why: &str,
-) -> Result<(), FieldError> {
-    let norm = values.iter().map(|v| v * v).sum::<f64>().sqrt();
-    if norm <= largest {
-        Ok(())
-    } else {
-        Err(FieldError::new(
-            name,
-            format!(" = {values:?} is longer than {largest} ({why})"),
-        ))
-    }
-}
-
-/// Ok if every value is finite; else an error naming `name[i]` of the first that is not.
-pub(super) fn check_finite(name: &str, values: &[f64]) -> Result<(), FieldError> {
-    match values.iter().position(|v| !v.is_finite()) {
-        Some(i) => Err(FieldError::new(
-            format!("{name}[{i}]"),
-            " is not a finite number",
-        )),
-        None => Ok(()),
-    }
-}
 
 impl Motion {
     /// Checks the end points (finite, one value per joint each), the horizon and the steps;

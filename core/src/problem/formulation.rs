@@ -12,15 +12,35 @@ use super::memory::{self, MemoryNeed};
 use super::pose_rules;
 use super::setting::g_pattern;
 use super::setting::{Setting, DEFAULT_HOLD_TOLERANCE_NM};
-use super::shortening::Shaping;
 use super::targets::{check_end_poses, Targets};
 use super::terms::{AddedTerms, NodeConstraint, NodeCost};
 use crate::dynamics::Dynamics;
 use crate::model::carried::CarriedModel;
-use crate::model::task::{LimitModes, Task};
+use crate::model::task::{CartesianBox, LimitModes, Task, Weights};
 use crate::model::Robot;
 use crate::transmission::{Envelope, MotorDynamics, Space, Transmission, TransmissionLoss};
 use std::sync::Arc;
+
+/// The weights and soft box of the fixed-horizon problems that shorten a free horizon: those of
+/// the task a pure minimum-time problem was made from (whose own weights are 0 but w_T, and
+/// which has no box).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Shaping {
+    /// The weights of J, per rad^2, (rad/s)^2, (N m)^2 and s.
+    pub weights: Weights,
+    /// The soft Cartesian box.
+    pub cartesian_box: CartesianBox,
+}
+
+impl Shaping {
+    /// The weights and box of `task`.
+    pub fn of(task: &Task) -> Shaping {
+        Shaping {
+            weights: task.weights.clone(),
+            cartesian_box: task.cartesian_box.clone(),
+        }
+    }
+}
 
 /// Everything of a trajectory problem except the design: built once, then
 /// [`Formulation::problem`] for each design.

@@ -3,29 +3,8 @@
 //! the trajectory the rule finds, and the free problem bounded above by T, started from it.
 
 use super::error::FormulationError;
-use super::formulation::Formulation;
-use crate::model::task::{CartesianBox, Horizon, Task, Weights};
-
-/// The weights and soft box of the fixed-horizon problems that shorten a free horizon: those of
-/// the task a pure minimum-time problem was made from (whose own weights are 0 but w_T, and
-/// which has no box).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Shaping {
-    /// The weights of J, per rad^2, (rad/s)^2, (N m)^2 and s.
-    pub weights: Weights,
-    /// The soft Cartesian box.
-    pub cartesian_box: CartesianBox,
-}
-
-impl Shaping {
-    /// The weights and box of `task`.
-    pub fn of(task: &Task) -> Shaping {
-        Shaping {
-            weights: task.weights.clone(),
-            cartesian_box: task.cartesian_box.clone(),
-        }
-    }
-}
+use super::formulation::{Formulation, Shaping};
+use crate::model::task::{Horizon, Task};
 
 impl Formulation {
     /// The same formulation, its free horizon shortened through fixed-horizon problems shaped by

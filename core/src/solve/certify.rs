@@ -27,7 +27,7 @@ use super::continuation::PayloadChain;
 use super::result::{TrajectoryResult, VerdictBy};
 use super::run::{capped, Start, Tries};
 use super::settings::{FreeHorizonSearch, SolveSettings};
-use super::shorten::shorten;
+use super::shorten::{shorten, Rule};
 use super::SolveError;
 use crate::ipopt::Solution;
 use crate::problem::{Formulation, ProblemKind};
@@ -157,15 +157,6 @@ fn rule(
         &|fixed, ratios, settings, tries| rule(fixed, ratios, settings, None, None, tries);
     shorten(formulation, ratios, settings, found, fixed_rule, tries)
 }
-
-/// The rule from the standard guess, its work counted in the last argument: what shortening a
-/// free horizon solves at each fixed duration.
-pub(super) type Rule<'a> = &'a dyn Fn(
-    &Formulation,
-    &[f64],
-    &SolveSettings,
-    &mut Tries,
-) -> Result<(TrajectoryResult, Solution), SolveError>;
 
 /// Whether no start can help: the result is feasible, or its motors cannot hold the load at
 /// rest at an end where the task's ends judge the hold (the start alone for a TCP goal, whose

@@ -10,13 +10,21 @@
 //! shape trajectories that its starts (the payload continuation among them) reach where the free
 //! problem's guess does not, and a bounded free solve from such a trajectory cannot end above it.
 
-use super::certify::Rule;
 use super::result::TrajectoryResult;
 use super::run::{Start, Tries};
 use super::settings::SolveSettings;
 use super::SolveError;
 use crate::ipopt::Solution;
 use crate::problem::Formulation;
+
+/// The rule from the standard guess, its work counted in the last argument: what shortening a
+/// free horizon solves at each fixed duration.
+pub(super) type Rule<'a> = &'a dyn Fn(
+    &Formulation,
+    &[f64],
+    &SolveSettings,
+    &mut Tries,
+) -> Result<(TrajectoryResult, Solution), SolveError>;
 
 /// The most rounds of shortening: each costs a fixed-horizon rule and a bounded free solve; the
 /// built-in arm's rounds end by a verdict of infeasibility after 2 to 3 (0, 1 and 3 kg).
@@ -26,7 +34,7 @@ pub const MAX_SHORTENING_ROUNDS: usize = 6;
 const LEAST_FALL: f64 = 1e-6;
 
 /// Shortens `found`, a feasible solve of the free-horizon formulation `free` at design `ratios`,
-/// in rounds: each solves the fixed-horizon rule at the current T (`rule`, its work counted in
+/// in rounds: each solves the fixed-horizon rule at the current T (`fixed_rule`, its work counted in
 /// `tries`) and, where it finds a feasible trajectory, the free problem bounded to [T_min, T]
 /// from it. Returns the result and solution of least J; a round whose rule finds nothing, or
 /// whose bounded solve fails or does not lower J, ends the rounds.
@@ -35,7 +43,7 @@ pub(super) fn shorten(
     ratios: &[f64],
     settings: &SolveSettings,
     found: (TrajectoryResult, Solution),
-    rule: Rule<'_>,
+    fixed_rule: Rule<'_>,
     tries: &mut Tries,
 ) -> Result<(TrajectoryResult, Solution), SolveError> {
     let mut best = found;
@@ -47,7 +55,7 @@ pub(super) fn shorten(
             break;
         };
         let fixed = free.fixed_at(horizon_s)?;
-        let (shaped, trajectory) = rule(&fixed, ratios, settings, tries)?;
+        let (shaped, trajectory) = fixed_rule(&fixed, ratios, settings, tries)?;
         if !shaped.feasible {
             break;
         }
