@@ -5,9 +5,9 @@ use crate::errors::{Failure, Outcome};
 use codesign::design::run::{Loaded, ModelChoice, ProblemChoice};
 use codesign_core::choice::Choice;
 use codesign_core::ipopt::LinearSolver;
-use codesign_core::model::task::{Ends, LimitMode, Task, TaskFile, TaskSource};
+use codesign_core::model::task::{Ends, LimitMode, TaskFile, TaskSource};
 use codesign_core::model::Robot;
-use codesign_core::problem::{Formulation, Space};
+use codesign_core::problem::{Formulation, FormulationError, Space};
 use codesign_core::text::{listed, number};
 use std::sync::Arc;
 
@@ -118,22 +118,34 @@ impl Posed {
 
     /// The hard formulation of `loaded`'s task in this problem's space and limit modes.
     pub fn formulation(&self, loaded: &Loaded) -> Outcome<Formulation> {
-        self.formulation_of(&loaded.task, loaded)
+        let modes = self.problem.modes(&loaded.task);
+        let robot = loaded.robot.clone();
+        self.checked(
+            loaded,
+            Formulation::new(&loaded.task, robot, self.problem.space, modes),
+        )
     }
 
     /// The formulation of `loaded`'s pure minimum-time problem (`Task::minimum_time`), its
     /// free horizon shortened, where the settings ask it, through fixed-horizon problems with
     /// the task's own weights and box (`solve --minimum-time`).
     pub fn minimum_time_formulation(&self, loaded: &Loaded) -> Outcome<Formulation> {
-        let pure = self.formulation_of(&loaded.task.minimum_time(), loaded)?;
-        Ok(pure.shaped_by(&loaded.task))
+        let modes = self.problem.modes(&loaded.task);
+        let robot = loaded.robot.clone();
+        self.checked(
+            loaded,
+            Formulation::minimum_time_of(&loaded.task, robot, self.problem.space, modes),
+        )
     }
 
-    /// The formulation of `task` (`loaded`'s, or one made from it) on `loaded`'s robot.
-    fn formulation_of(&self, task: &Task, loaded: &Loaded) -> Outcome<Formulation> {
-        let modes = self.problem.modes(task);
-        let formulation = Formulation::new(task, loaded.robot.clone(), self.problem.space, modes)
-            .map_err(|e| Failure::input(format!("{}: {e}", self.model.source())))?;
+    /// `formulation` with `loaded`'s hold tolerance, its error naming the task.
+    fn checked(
+        &self,
+        loaded: &Loaded,
+        formulation: Result<Formulation, FormulationError>,
+    ) -> Outcome<Formulation> {
+        let formulation =
+            formulation.map_err(|e| Failure::input(format!("{}: {e}", self.model.source())))?;
         Ok(formulation.with_hold_tolerance(loaded.settings.constraint_tolerance()))
     }
 

@@ -151,8 +151,7 @@ pub(super) fn formulate(
 ) -> Result<Formulation, Failure> {
     let modes = args.problem.modes(task);
     let hard = if args.minimum_time {
-        Formulation::new(&task.minimum_time(), robot, args.problem.space, modes)
-            .map(|pure| pure.shaped_by(task))
+        Formulation::minimum_time_of(task, robot, args.problem.space, modes)
     } else {
         Formulation::new(task, robot, args.problem.space, modes)
     };

@@ -4,7 +4,6 @@
 
 use super::common::finite_ratio;
 use super::failure::Failure;
-use super::store_hints::check_output;
 use super::tradeoff_args::Args;
 use crate::design::run::{Loaded, RecordedHash};
 use crate::design::time_curve::{
@@ -12,7 +11,6 @@ use crate::design::time_curve::{
 };
 use crate::design::tradeoff::TradeoffProblem;
 use crate::report::time_curve::{TimeCurveDocument, TimeCurveInputs};
-use crate::report::tradeoff::plot_beside;
 use codesign_core::solve::{SolveError, ToolInfo};
 use codesign_core::text::{listed, number, numbers};
 
@@ -30,18 +28,7 @@ pub fn run(args: &Args, payloads: &[f64]) -> Result<(), Failure> {
         task_hash,
     } = args.model.load()?;
     args.problem.configure(&mut solve);
-    let plot = (args.out.as_deref())
-        .map(|out| {
-            plot_beside(out)
-                .map_err(|why| Failure::Usage(format!("--out {}: {why}", out.display())))
-        })
-        .transpose()?;
-    if let (Some(out), Some(plot)) = (&args.out, &plot) {
-        let choice = args.model.choice();
-        let inputs = choice.inputs(&task);
-        check_output("--out", out, &inputs)?;
-        check_output("--out", plot, &inputs)?;
-    }
+    let outputs = args.outputs(&task)?;
     let modes = args.problem.modes(&task);
     let first = (args.ratios.clone()).unwrap_or_else(|| task.transmission.original.clone());
     let problem = TradeoffProblem {
@@ -68,7 +55,7 @@ pub fn run(args: &Args, payloads: &[f64]) -> Result<(), Failure> {
         say!("{}", curve_text(args, &curve));
         curves.push(curve);
     }
-    let (Some(out), Some(plot)) = (&args.out, &plot) else {
+    let Some((out, plot)) = &outputs else {
         return Ok(());
     };
     let document = TimeCurveDocument {

@@ -5,7 +5,6 @@
 
 use super::capacity::capacity_settings;
 use super::failure::Failure;
-use super::store_hints::check_output;
 use super::time_curve;
 use super::tradeoff_args::Args;
 use crate::design::capacity::CapacityLimit;
@@ -13,7 +12,7 @@ use crate::design::run::{Loaded, RecordedHash};
 use crate::design::tradeoff::{
     capacity_tradeoff, check_durations, TradeoffError, TradeoffPoint, TradeoffProblem,
 };
-use crate::report::tradeoff::{plot_beside, TradeoffDocument, TradeoffInputs};
+use crate::report::tradeoff::{TradeoffDocument, TradeoffInputs};
 use codesign_core::solve::ToolInfo;
 use codesign_core::text::{listed, numbers};
 
@@ -48,18 +47,7 @@ fn capacity_against_duration(args: &Args) -> Result<(), Failure> {
         task_hash,
     } = args.model.load()?;
     args.problem.configure(&mut solve);
-    let plot = (args.out.as_deref())
-        .map(|out| {
-            plot_beside(out)
-                .map_err(|why| Failure::Usage(format!("--out {}: {why}", out.display())))
-        })
-        .transpose()?;
-    if let (Some(out), Some(plot)) = (&args.out, &plot) {
-        let choice = args.model.choice();
-        let inputs = choice.inputs(&task);
-        check_output("--out", out, &inputs)?;
-        check_output("--out", plot, &inputs)?;
-    }
+    let outputs = args.outputs(&task)?;
     let modes = args.problem.modes(&task);
     let ratios = args
         .ratios
@@ -82,7 +70,7 @@ fn capacity_against_duration(args: &Args) -> Result<(), Failure> {
     for point in &points {
         say!("  {}", point_text(point));
     }
-    let (Some(out), Some(plot)) = (&args.out, &plot) else {
+    let Some((out, plot)) = &outputs else {
         return Ok(());
     };
     let document = TradeoffDocument {

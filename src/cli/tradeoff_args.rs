@@ -1,11 +1,12 @@
 //! The flags of `codesign tradeoff`: the design, the durations of its capacity against duration
 //! or the payloads of its T* against payload, the capacity search's settings and the output.
 
-use super::common::finite_ratio;
-use super::common::listed_number;
-use super::common::ModelArgs;
-use super::common::ProblemArgs;
+use super::common::{finite_ratio, listed_number, ModelArgs, ProblemArgs};
+use super::failure::Failure;
+use super::store_hints::check_output;
 use crate::design::capacity::CapacitySettings;
+use crate::report::tradeoff::plot_beside;
+use codesign_core::model::task::Task;
 use std::path::PathBuf;
 
 /// Flags of `codesign tradeoff`.
@@ -65,4 +66,21 @@ pub struct Args {
     /// in .svg (both checked before the searches, as `capacity --out`).
     #[arg(long, value_name = "FILE.json")]
     pub(super) out: Option<PathBuf>,
+}
+
+impl Args {
+    /// The `--out` file and the plot beside it (the same name ending in .svg), each checked as
+    /// an output of a run on `task`; None without `--out`.
+    pub(super) fn outputs(&self, task: &Task) -> Result<Option<(PathBuf, PathBuf)>, Failure> {
+        let Some(out) = &self.out else {
+            return Ok(None);
+        };
+        let plot = plot_beside(out)
+            .map_err(|why| Failure::Usage(format!("--out {}: {why}", out.display())))?;
+        let choice = self.model.choice();
+        let inputs = choice.inputs(task);
+        check_output("--out", out, &inputs)?;
+        check_output("--out", &plot, &inputs)?;
+        Ok(Some((out.clone(), plot)))
+    }
 }

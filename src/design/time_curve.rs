@@ -6,7 +6,7 @@
 //! cannot move it in the longest duration allowed.
 
 use super::tradeoff::TradeoffProblem;
-use codesign_core::model::task::{check_payload, OutOfRange, Task};
+use codesign_core::model::task::{check_payload, OutOfRange};
 use codesign_core::problem::{Formulation, FormulationError};
 use codesign_core::solve::{solve_design, SolveError, TrajectoryResult};
 use codesign_core::text::number;
@@ -97,9 +97,8 @@ pub fn minimum_time_problem(
 ) -> Result<Formulation, FormulationError> {
     let mut source = problem.task.clone();
     source.payload.mass_kg = payload_kg;
-    let task: Task = source.minimum_time();
     let robot = problem.robot.with_payload(payload_kg);
-    let pure = Formulation::new(&task, robot, problem.space, problem.modes)?.shaped_by(&source);
+    let pure = Formulation::minimum_time_of(&source, robot, problem.space, problem.modes)?;
     Ok(pure.with_hold_tolerance(problem.solve.constraint_tolerance()))
 }
 

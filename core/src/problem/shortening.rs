@@ -4,9 +4,23 @@
 
 use super::error::FormulationError;
 use super::formulation::{Formulation, Shaping};
-use crate::model::task::{Horizon, Task};
+use crate::model::task::{Horizon, LimitModes, Task};
+use crate::model::Robot;
+use crate::transmission::Space;
 
 impl Formulation {
+    /// The hard formulation of `task`'s pure minimum-time problem ([`Task::minimum_time`]) for
+    /// `robot` in `space` with `modes`, its free horizon shortened through fixed-horizon
+    /// problems with `task`'s own weights and box.
+    pub fn minimum_time_of(
+        task: &Task,
+        robot: Robot,
+        space: Space,
+        modes: LimitModes,
+    ) -> Result<Formulation, FormulationError> {
+        Ok(Formulation::new(&task.minimum_time(), robot, space, modes)?.shaped_by(task))
+    }
+
     /// The same formulation, its free horizon shortened through fixed-horizon problems shaped by
     /// `source`'s weights and box instead of its own (the pure minimum-time problem of
     /// `source`, `Task::minimum_time`).
