@@ -160,6 +160,7 @@ pub fn resolve(task: &mut Value, folder: Option<&Path>) -> Result<(), String> {
     };
     let mut parts: Vec<CarriedPart> =
         read_value(given).map_err(|e| format!("{}: {}", e.field("carried"), e.message))?;
+    let bounds = design_bounds(task);
     for (i, part) in parts.iter_mut().enumerate() {
         let field = format!("carried[{i}]");
         let kinds = [
@@ -173,7 +174,12 @@ pub fn resolve(task: &mut Value, folder: Option<&Path>) -> Result<(), String> {
             ));
         }
         if let Some(pulley) = &mut part.pulley {
-            resolve_pulley(&format!("{field}.pulley"), pulley, folder)?;
+            resolve_pulley(
+                &format!("{field}.pulley"),
+                pulley,
+                folder,
+                bounds.as_deref(),
+            )?;
         }
         let (kind, part) = match (&mut part.motor, &mut part.gearbox) {
             (Some(motor), _) => ("motor", motor),
@@ -206,12 +212,23 @@ pub fn resolve(task: &mut Value, folder: Option<&Path>) -> Result<(), String> {
     Ok(())
 }
 
+/// The design space's bounds `[lower, upper]` of the task JSON `task`, one per ratio; None
+/// where `transmission.bounds` is absent or not a list of pairs of numbers, which the task's
+/// reader refuses naming it.
+fn design_bounds(task: &Value) -> Option<Vec<[f64; 2]>> {
+    let bounds = task.get("transmission")?.get("bounds")?;
+    serde_json::from_value(bounds.clone()).ok()
+}
+
 /// Sets `pulley`'s numbers from its belt series in its catalogue, `at` naming it
-/// (`carried[0].pulley`); the catalogue's path is joined to `folder`.
+/// (`carried[0].pulley`); the catalogue's path is joined to `folder`. Its teeth are checked
+/// over the design space `bounds` (None: not read, left to the task's reader): its driver has
+/// at least the series' `min_teeth`, and so has the pulley at the lower bound of its ratio.
 fn resolve_pulley(
     at: &str,
     pulley: &mut CarriedPulley,
     folder: Option<&Path>,
+    bounds: Option<&[[f64; 2]]>,
 ) -> Result<(), String> {
     let catalogue = catalogue_at(at, &mut pulley.catalogue, folder)?;
     let Some(series) = catalogue.belts.iter().find(|b| b.name == pulley.series) else {
@@ -230,6 +247,9 @@ fn resolve_pulley(
             series.min_teeth
         ));
     }
+    if let Some(bounds) = bounds {
+        check_teeth_over_bounds(at, pulley, series.min_teeth, bounds)?;
+    }
     set_from(
         format!("{at}.pitch_mm"),
         &mut pulley.pitch_mm,
@@ -247,6 +267,44 @@ fn resolve_pulley(
         density,
     )?;
     Ok(())
+}
+
+/// Checks that `pulley` (named `at`) has at least `min_teeth` teeth over the design space
+/// `bounds`: z = r_l z_d is least at the lower bound of r_l. A ratio `teeth_of` does not name,
+/// or a lower bound that is not a positive number, is left to the task's checks, which name
+/// them.
+fn check_teeth_over_bounds(
+    at: &str,
+    pulley: &CarriedPulley,
+    min_teeth: u32,
+    bounds: &[[f64; 2]],
+) -> Result<(), String> {
+    let Some(l) = ratio_index(&pulley.teeth_of, bounds.len()) else {
+        return Ok(());
+    };
+    let lower = bounds[l][0];
+    if !(lower.is_finite() && lower > 0.0) {
+        return Ok(());
+    }
+    let (least, min) = (lower * pulley.driver_teeth, f64::from(min_teeth));
+    if least >= min {
+        return Ok(());
+    }
+    Err(format!(
+        "{at}.driver_teeth = {} makes too few teeth at the lower bound of r{}: \
+         transmission.bounds[{l}] = [{}, {}] gives the pulley {} x {} = {} teeth, fewer than \
+         the series' {min_teeth}; raise that lower bound to at least {}, or driver_teeth to at \
+         least {}",
+        number(pulley.driver_teeth),
+        l + 1,
+        number(lower),
+        number(bounds[l][1]),
+        number(lower),
+        number(pulley.driver_teeth),
+        number(least),
+        number(min / pulley.driver_teeth),
+        number(min / lower),
+    ))
 }
 
 /// Checks the parts of a task of `ratios` design parameters, as read ([`resolve`] set their
@@ -507,12 +565,43 @@ mod tests {
 
     /// The example with carried parts, `carried[0]` changed by `edit`, read from its folder.
     fn read(edit: impl FnOnce(&mut Value)) -> Result<TaskFile, String> {
+        read_task(|task| edit(&mut task["carried"][0]))
+    }
+
+    /// The example with carried parts changed by `edit`, read from its folder.
+    fn read_task(edit: impl FnOnce(&mut Value)) -> Result<TaskFile, String> {
         let path = testing::repository().join("robots/examples/planar_2dof/carried_pulley.json");
         let mut value: Value =
             serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
-        edit(&mut value["carried"][0]);
+        edit(&mut value);
         let folder = path.parent().unwrap();
         TaskFile::from_text(&value.to_string(), "t", folder).map_err(|e| e.to_string())
+    }
+
+    /// A pulley has at least its series' teeth over the whole design space: its driver has
+    /// them, and so has the pulley at the lower bound of its ratio (r2 of [0.5, 40] with a
+    /// 12-tooth driver makes 6 of the GT2 series' 12); equal counts are accepted.
+    #[test]
+    fn a_pulley_has_its_series_teeth_over_the_design_space() {
+        let driver = read(|p| p["pulley"]["driver_teeth"] = json!(11)).unwrap_err();
+        let expected = "carried[0].pulley.driver_teeth = 11 must be at least the series' 12";
+        assert!(driver.contains(expected), "{driver}");
+        let low = |task: &mut Value| task["transmission"]["bounds"][1] = json!([0.5, 40]);
+        let error = read_task(low).unwrap_err();
+        let expected = "task t: carried[0].pulley.driver_teeth = 12 makes too few teeth at the \
+                        lower bound of r2: transmission.bounds[1] = [0.5, 40] gives the pulley \
+                        0.5 x 12 = 6 teeth, fewer than the series' 12; raise that lower bound \
+                        to at least 1, or driver_teeth to at least 24";
+        assert_eq!(error, expected);
+        let read = read_task(|task| {
+            low(task);
+            task["carried"][0]["pulley"]["driver_teeth"] = json!(24);
+        });
+        let pulley = read.unwrap().task.carried[0].pulley.clone().unwrap();
+        assert_eq!(pulley.driver_teeth, 24.0);
+        // A ratio the pulley does not follow may go below 1.
+        let other = |task: &mut Value| task["transmission"]["bounds"][0] = json!([0.5, 100]);
+        assert!(read_task(other).is_ok());
     }
 
     /// Reading sets the series' numbers and the motor's mass; the hash leaves the catalogue's
