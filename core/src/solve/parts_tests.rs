@@ -26,6 +26,7 @@ fn catalogue_path() -> PathBuf {
 
 /// One case of the harness: its task, how it is solved, and where its pulley sits.
 struct Case {
+    /// What the case exercises, for messages.
     label: &'static str,
     /// The task file, under `robots/`.
     file: &'static str,
@@ -133,7 +134,6 @@ fn motor_terms(task: &mut Task) {
 fn cases() -> Vec<Case> {
     use LimitMode::{Exact, Interval, Paper};
     use Space::{Actuation, Joint};
-    let planar = ("upper_arm", "r1");
     vec![
         arm("original design, 0 kg", Joint, 0.0),
         arm("original design, 0 kg", Actuation, 0.0),
@@ -179,7 +179,7 @@ fn cases() -> Vec<Case> {
             "planar arm, elbow on a ball screw",
             "examples/planar_2dof/ball_screw.json",
             Actuation,
-            planar,
+            ("upper_arm", "r1"),
         ),
         example(
             "SCARA",
