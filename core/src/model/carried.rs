@@ -19,6 +19,7 @@
 
 pub use super::carried_mass::{motor_parts_mass_kg, CarriedMassAt, CarriedModel};
 use super::catalogue::Catalogue;
+use super::motor_parts::PartChoice;
 use super::ranges::{check_finite, check_norm, FieldError, MAX_POINT_M};
 use crate::json_keys::read_value;
 use crate::text::{number, shown};
@@ -78,10 +79,17 @@ pub struct CarriedPulley {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CarriedMass {
-    /// The catalogue file (relative to the task file's folder when written; joined when read).
+    /// The catalogue file (relative to the task file's folder when written; joined when read;
+    /// for `of_motor`, that motor's, set when read).
+    #[serde(default)]
     pub catalogue: PathBuf,
-    /// The part's `name` in that catalogue.
+    /// The part's `name` in that catalogue (for `of_motor`, that motor's, set when read).
+    #[serde(default)]
     pub name: String,
+    /// A motor of the task's own: entry K (from 0) of `motors.parts`, whose part this is, so
+    /// that a search over candidates carries the part it chose, and its mass counts once.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub of_motor: Option<usize>,
     /// Its mass, kg (set from the catalogue when read).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mass_kg: Option<f64>,
@@ -186,7 +194,11 @@ pub fn resolve(task: &mut Value, folder: Option<&Path>) -> Result<(), String> {
             (None, None) => continue,
         };
         let at = format!("{field}.{kind}");
-        let catalogue = catalogue_at(&at, &mut part.catalogue, folder)?;
+        let catalogue = match part.of_motor {
+            Some(entry) if kind == "motor" => motor_of(&at, part, entry, task)?,
+            Some(_) => return Err(format!("{at}.of_motor names a motor: carry it as `motor`")),
+            None => catalogue_at(&at, &mut part.catalogue, folder)?,
+        };
         let mass = match kind {
             "motor" => catalogue.motor(&part.name).map(|m| m.mass_kg),
             _ => (catalogue.gearboxes.iter().find(|g| g.name == part.name)).map(|g| g.mass_kg),
@@ -209,6 +221,37 @@ pub fn resolve(task: &mut Value, folder: Option<&Path>) -> Result<(), String> {
     let written = serde_json::to_value(parts).map_err(|e| e.to_string())?;
     task["carried"] = written;
     Ok(())
+}
+
+/// Sets `part`, at `at`, to the part of entry `entry` of the task's `motors.parts` (already
+/// read, its catalogue's path joined), and reads that catalogue. A catalogue or name the entry
+/// also gives (a task written back) must be the motor's.
+fn motor_of(
+    at: &str,
+    part: &mut CarriedMass,
+    entry: usize,
+    task: &Value,
+) -> Result<Catalogue, String> {
+    let parts = task.get("motors").and_then(|m| m.get("parts"));
+    let chosen = parts.and_then(|p| p.get(entry)).cloned();
+    let Some(chosen) = chosen.and_then(|c| serde_json::from_value::<PartChoice>(c).ok()) else {
+        return Err(format!(
+            "{at}.of_motor = {entry} names no entry of motors.parts (counted from 0)"
+        ));
+    };
+    let given = (!part.name.is_empty() || !part.catalogue.as_os_str().is_empty())
+        .then(|| (part.name.clone(), part.catalogue.clone()));
+    if given.is_some_and(|(name, _)| name != chosen.name) {
+        return Err(format!(
+            "{at}.name = '{}' is not the part of motors.parts[{entry}], '{}': give of_motor \
+             alone",
+            shown(&part.name),
+            shown(&chosen.name)
+        ));
+    }
+    part.catalogue = chosen.catalogue;
+    part.name = chosen.name;
+    Catalogue::load(&part.catalogue).map_err(|e| format!("{at}.catalogue: {e}"))
 }
 
 /// The design space's bounds `[lower, upper]` of the task JSON `task`, one per ratio; None
@@ -407,6 +450,52 @@ mod tests {
         // A ratio the pulley does not follow may go below 1.
         let other = |task: &mut Value| task["transmission"]["bounds"][0] = json!([0.5, 100]);
         assert!(read_task(other).is_ok());
+    }
+
+    /// A carried motor of the task's own (`of_motor`) is the part its `motors.parts` entry
+    /// chooses, its mass counted once in the actuator mass; written back it reads back; an
+    /// entry that names no motor, or another part, is refused naming the field.
+    #[test]
+    fn a_carried_motor_of_the_tasks_own_is_its_part() {
+        use crate::model::Robot;
+        use crate::problem::{Formulation, Space};
+        let own = |task: &mut Value| {
+            let part =
+                |name: &str| json!({"catalogue": "../../catalogue/parts.json", "name": name});
+            let parts = [
+                part("Allied Motion HT02501-A00"),
+                part("Allied Motion HT02003-A00"),
+            ];
+            task["motors"] = json!({"speed_limit_rad_s": 100.0, "parts": parts});
+            task["carried"][1]["motor"] = json!({"of_motor": 1});
+        };
+        let task = read_task(own).unwrap().task;
+        let motor = task.carried[1].motor.as_ref().unwrap();
+        assert_eq!(motor.name, "Allied Motion HT02003-A00");
+        assert_eq!(motor.mass_kg, Some(0.43));
+        let written = serde_json::to_string(&task).unwrap();
+        let folder = std::path::Path::new("/");
+        let again = crate::model::task::TaskFile::from_text(&written, "t", folder).unwrap();
+        assert_eq!(again.task, task);
+        let robot = Robot::load(&task).unwrap();
+        let f = Formulation::new(&task, robot, Space::Actuation, task.limit_modes).unwrap();
+        let r = &task.transmission.original;
+        let pulley = f.setting().carried().masses(r)[0];
+        let total = f.setting().actuator_mass_kg(r).unwrap();
+        assert!((total - (0.38 + 0.43 + pulley)).abs() < 1e-12, "{total}");
+        let none = read_task(|task| {
+            own(task);
+            task["carried"][1]["motor"]["of_motor"] = json!(2);
+        });
+        let expected = "carried[1].motor.of_motor = 2 names no entry of motors.parts";
+        assert!(none.as_ref().unwrap_err().contains(expected), "{none:?}");
+        let other = read_task(|task| {
+            own(task);
+            task["carried"][1]["motor"]["name"] = json!("Allied Motion HT02501-A00");
+        });
+        let expected = "carried[1].motor.name = 'Allied Motion HT02501-A00' is not the part of \
+                        motors.parts[1], 'Allied Motion HT02003-A00'";
+        assert!(other.as_ref().unwrap_err().contains(expected), "{other:?}");
     }
 
     /// Reading sets the series' numbers and the motor's mass; the hash leaves the catalogue's

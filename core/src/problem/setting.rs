@@ -8,7 +8,7 @@ use super::grid::Grid;
 use super::layout::Layout;
 use super::targets::Targets;
 use crate::dynamics::Dynamics;
-use crate::model::carried::{motor_parts_mass_kg, CarriedModel};
+use crate::model::carried::{motor_parts_mass_kg, CarriedModel, CarriedPart};
 use crate::model::task::{LimitModes, Task};
 use crate::transmission::{
     Actuation, Coupling, Envelope, MotorDynamics, Space, Transmission, TransmissionLoss,
@@ -87,7 +87,12 @@ impl Setting {
     /// links carry. None where the task has neither, or a motor part's mass is unknown.
     pub fn actuator_mass_kg(&self, r: &[f64]) -> Option<f64> {
         let parts = self.task.motors.parts.as_deref();
-        let carried: f64 = self.carried.masses(r).iter().sum();
+        // A carried motor of `motors.parts` (`of_motor`) is counted there.
+        let own = |part: &CarriedPart| part.motor.as_ref().is_some_and(|m| m.of_motor.is_some());
+        let carried: f64 = (self.task.carried.iter().zip(self.carried.masses(r)))
+            .filter(|(part, _)| !own(part))
+            .map(|(_, mass)| mass)
+            .sum();
         match (parts, motor_parts_mass_kg(parts)) {
             (Some(_), Some(motors)) => Some(motors + carried),
             (Some(_), None) => None,
