@@ -87,50 +87,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     args.model.validate()?;
     let search = args.search()?;
     search.validate().map_err(case_error)?;
-    let mut observe = |event: PartsEvent<'_>| match event {
-        PartsEvent::Started {
-            index,
-            total,
-            combination,
-        } => say!(
-            "[{}/{total}] {} ({:.3} kg of motors)",
-            index + 1,
-            combination.parts.join(", "),
-            combination.motor_mass_kg
-        ),
-        PartsEvent::Done {
-            point, replayed, ..
-        } => {
-            let how = if replayed {
-                " (read from the folder)"
-            } else {
-                ""
-            };
-            match (point.placed(), &point.file) {
-                (Some((mass, value)), _) => say!(
-                    "  {} = {} at r = ({}), actuator mass {mass:.3} kg; {} solves, {} \
-                     iterations, {:.1} s{how}",
-                    args.objective_name(),
-                    rounded(value),
-                    point
-                        .ratios
-                        .iter()
-                        .map(|r| format!("{r:.4}"))
-                        .collect::<Vec<_>>()
-                        .join(", "),
-                    point.solves,
-                    point.iterations,
-                    point.wall_seconds
-                ),
-                _ => say!(
-                    "  infeasible: {}; {} solves, {:.1} s{how}",
-                    point.stop_reason,
-                    point.solves,
-                    point.wall_seconds
-                ),
-            }
-        }
-    };
+    let mut observe = |event: PartsEvent<'_>| tell(args, event);
     let document = run_parts(&search, &args.out, &progress_line, &mut observe).map_err(
         |error| match error {
             PartsError::Case(error) => case_error(error),
@@ -165,6 +122,51 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         PARETO_SVG
     );
     Ok(())
+}
+
+/// Prints a line for `event`: the combination starting, or its objective, r*, actuator mass
+/// and work (or why it is infeasible).
+fn tell(args: &Args, event: PartsEvent<'_>) {
+    match event {
+        PartsEvent::Started {
+            index,
+            total,
+            combination,
+        } => say!(
+            "[{}/{total}] {} ({:.3} kg of motors)",
+            index + 1,
+            combination.parts.join(", "),
+            combination.motor_mass_kg
+        ),
+        PartsEvent::Done {
+            point, replayed, ..
+        } => {
+            let how = if replayed {
+                " (read from the folder)"
+            } else {
+                ""
+            };
+            let ratios: Vec<String> = point.ratios.iter().map(|r| format!("{r:.4}")).collect();
+            match point.placed() {
+                Some((mass, value)) => say!(
+                    "  {} = {} at r = ({}), actuator mass {mass:.3} kg; {} solves, {} \
+                     iterations, {:.1} s{how}",
+                    args.objective_name(),
+                    rounded(value),
+                    ratios.join(", "),
+                    point.solves,
+                    point.iterations,
+                    point.wall_seconds
+                ),
+                None => say!(
+                    "  infeasible: {}; {} solves, {:.1} s{how}",
+                    point.stop_reason,
+                    point.solves,
+                    point.wall_seconds
+                ),
+            }
+        }
+    }
 }
 
 impl Args {

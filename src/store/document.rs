@@ -5,6 +5,9 @@
 
 use super::files::write_json;
 use super::StoreError;
+use codesign_core::input::{read_text, MAX_RESULT_BYTES};
+use codesign_core::json_keys::check_unique_keys;
+use serde::de::DeserializeOwned;
 use serde::Serialize;
 use serde_json::Value;
 use std::fmt;
@@ -85,6 +88,27 @@ impl Schema {
 pub trait Document: Serialize {
     /// Its kind.
     const SCHEMA: Schema;
+}
+
+/// Reads the document of kind `D` at `path`, of the version this build writes: a file of at
+/// most [`MAX_RESULT_BYTES`], no key given twice, its envelope `D`'s. The error says why, not
+/// naming the file.
+pub fn read_document<D: Document + DeserializeOwned>(path: &Path) -> Result<D, String> {
+    let text = read_text(path, MAX_RESULT_BYTES).map_err(|e| e.to_string())?;
+    check_unique_keys(&text)?;
+    let mut value: Value = serde_json::from_str(&text).map_err(|e| e.to_string())?;
+    let schema = D::SCHEMA;
+    match open(&mut value) {
+        Ok(Tagged::Kind(kind, version)) if kind == schema && version == schema.version() => {
+            serde_json::from_value(value).map_err(|e| e.to_string())
+        }
+        Ok(_) => Err(format!(
+            "no {} document of version {}",
+            schema.tag(),
+            schema.version()
+        )),
+        Err(error) => Err(error.to_string()),
+    }
 }
 
 /// `schema` and `version`, then the document's own fields.

@@ -4,6 +4,7 @@
 
 use super::pareto::{dominates, front, Better};
 use crate::design::run::RecordedHash;
+use crate::store::document::read_document;
 use codesign_core::problem::Space;
 use codesign_core::solve::ToolInfo;
 use serde::{Deserialize, Serialize};
@@ -227,6 +228,14 @@ pub fn check_front(document: &ParetoDocument) -> Result<usize, String> {
         ));
     }
     Ok(points.len())
+}
+
+/// Reads the `pareto.json` at `path` and checks its front ([`check_front`]); the number of
+/// points on the front. The error names the file.
+pub fn check_front_file(path: &std::path::Path) -> Result<usize, String> {
+    let named = |why: String| format!("{}: {why}", path.display());
+    let document = read_document::<ParetoDocument>(path).map_err(named)?;
+    check_front(&document).map_err(named)
 }
 
 #[cfg(test)]

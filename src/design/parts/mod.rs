@@ -10,7 +10,8 @@ mod pareto;
 mod search;
 
 pub use document::{
-    check_front, Axes, Axis, ParetoDocument, ParetoInputs, PartsObjective, PartsPoint,
+    check_front, check_front_file, Axes, Axis, ParetoDocument, ParetoInputs, PartsObjective,
+    PartsPoint,
 };
 pub use pareto::{dominates, front, Better};
 pub use search::{combination_files, run_parts, PartsError, PartsEvent, PartsSearch};

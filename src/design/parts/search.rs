@@ -11,12 +11,10 @@ use crate::design::run::{
     ProblemChoice, ProgressDisplay, RecordedHash, RunError,
 };
 use crate::design::score::Objective;
-use crate::store::document::{open, Schema, Tagged};
+use crate::store::document::read_document;
 use crate::store::log::Start;
 use codesign_core::hash::fnv1a;
-use codesign_core::input::{read_text, MAX_RESULT_BYTES};
 use codesign_core::ipopt::LinearSolver;
-use codesign_core::json_keys::check_unique_keys;
 use codesign_core::model::part_family::{Combination, PartsFamily};
 use codesign_core::model::task::{GivenTask, TaskFile, TaskSource};
 use codesign_core::problem::Formulation;
@@ -309,7 +307,7 @@ fn read_finished(case: &Case, loaded: &Loaded, path: &Path) -> Result<Run, RunEr
             path.display()
         ))
     };
-    let document = read_optimize(path).map_err(refused)?;
+    let document = read_document::<OptimizeDocument>(path).map_err(refused)?;
     let mut differences = case.differences(&document.inputs);
     let recorded = &document.inputs.task_hash;
     if recorded.0.as_deref() != Some(loaded.task_hash.as_str()) {
@@ -330,24 +328,6 @@ fn read_finished(case: &Case, loaded: &Loaded, path: &Path) -> Result<Run, RunEr
         why_none: None,
         started: Instant::now(),
     })
-}
-
-/// The co-design result (`codesign/optimize`, this build's version) at `path`.
-fn read_optimize(path: &Path) -> Result<OptimizeDocument, String> {
-    let text = read_text(path, MAX_RESULT_BYTES).map_err(|e| e.to_string())?;
-    check_unique_keys(&text)?;
-    let mut value: serde_json::Value = serde_json::from_str(&text).map_err(|e| e.to_string())?;
-    let optimize = Tagged::Kind(Schema::Optimize, Schema::Optimize.version());
-    match open(&mut value) {
-        Ok(tagged) if tagged == optimize => {
-            serde_json::from_value(value).map_err(|e| e.to_string())
-        }
-        _ => Err(format!(
-            "no co-design result of this version ({} version {})",
-            Schema::Optimize.tag(),
-            Schema::Optimize.version()
-        )),
-    }
 }
 
 /// The point of `combination` (its result file `file`) from its `run`: r*, the actuator mass
