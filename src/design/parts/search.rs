@@ -132,7 +132,8 @@ pub fn combination_files(
     Ok(files)
 }
 
-/// `name` in lower-case ASCII letters and digits, every other run of characters one `-`.
+/// `name` in lower-case ASCII letters and digits, every other run of characters one `-`
+/// (`part` for a name of neither).
 fn slug(name: &str) -> String {
     let mut slug = String::with_capacity(name.len());
     for c in name.chars() {
@@ -142,7 +143,10 @@ fn slug(name: &str) -> String {
             slug.push('-');
         }
     }
-    slug.trim_end_matches('-').to_owned()
+    match slug.trim_end_matches('-') {
+        "" => "part".to_owned(),
+        slug => slug.to_owned(),
+    }
 }
 
 impl PartsSearch {
@@ -399,4 +403,19 @@ fn point_of(
     }
     point.ratios = ratios;
     Ok(point)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::slug;
+
+    #[test]
+    fn a_parts_name_becomes_letters_digits_and_dashes() {
+        assert_eq!(
+            slug("Allied Motion HT02501-A00"),
+            "allied-motion-ht02501-a00"
+        );
+        assert_eq!(slug("  Faulhaber 42GPT 3.6:1 "), "faulhaber-42gpt-3-6-1");
+        assert_eq!(slug("---"), "part");
+    }
 }
