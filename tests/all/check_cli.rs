@@ -388,3 +388,80 @@ fn check_lists_the_parts_the_links_carry() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The paper's arm with its belt pulleys (`robots/tasks/pick_place_pulleys.json`, and with the
+/// paper's ideal motors `pick_place_pulleys_ideal.json`): `check` weighs each pulley as a solid
+/// GT2 disc, rho pi w R^2 with R = 12 r_l p / (2 pi), at two designs; the twin whose pulleys
+/// are the test catalogue's massless series weighs them 0 and solves as the task without them
+/// (`pick_place_parts.json`), bit for bit.
+#[test]
+fn the_arm_weighs_its_pulleys_and_its_massless_twin_solves_as_without_them() {
+    let (rho, width, pitch) = (2700.0, 6e-3, 2e-3);
+    // The ratio each carried pulley follows, in the task's order.
+    let ratio_of = [0, 1, 2, 2, 3, 3];
+    for task in ["pick_place_pulleys.json", "pick_place_pulleys_ideal.json"] {
+        let task = format!("robots/tasks/{task}");
+        for ratios in [[6.0, 3.0, 1.0, 1.0], [8.0, 7.5, 2.5, 1.5]] {
+            let given = ratios.map(|r| r.to_string()).join(",");
+            let output = codesign(&["check", "--task", &task, "--ratios", &given, "--json"]);
+            let value: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+            let carried = value["carried"].as_array().unwrap();
+            assert_eq!(carried.len(), ratio_of.len(), "{task}");
+            for (part, &l) in carried.iter().zip(&ratio_of) {
+                let radius = 12.0 * ratios[l] * pitch / (2.0 * std::f64::consts::PI);
+                let expected = rho * std::f64::consts::PI * width * radius * radius;
+                let mass = part["mass_kg"].as_f64().unwrap();
+                assert!(
+                    (mass - expected).abs() <= 1e-12 * expected,
+                    "{task}: {part}"
+                );
+            }
+        }
+    }
+    let dir = scratch("pulleys");
+    let root = support::root();
+    let text = std::fs::read_to_string(root.join("robots/tasks/pick_place_pulleys.json")).unwrap();
+    let massless = format!(
+        "{:?}, \"series\": \"GT2 6 mm, massless\"",
+        root.join("tests/data/catalogue/ideal.json")
+    );
+    let twin = text
+        .replace(
+            "\"../catalogue/parts.json\", \"series\": \"GT2 6 mm, aluminium pulleys\"",
+            &massless,
+        )
+        .replace(
+            "\"../catalogue",
+            &format!("\"{}", root.join("robots/catalogue").display()),
+        )
+        .replace(
+            "\"../belt_arm.urdf\"",
+            &format!("{:?}", root.join("robots/belt_arm.urdf")),
+        );
+    let twin_path = dir.join("twin.json");
+    std::fs::write(&twin_path, twin).unwrap();
+    let solve = |task: &str, out: &str| -> serde_json::Value {
+        let out = dir.join(out);
+        let args = ["solve", "--task", task, "--payload", "1", "--out"];
+        let output = codesign(&[&args[..], &[out.to_str().unwrap()]].concat());
+        assert!(output.status.success(), "{output:?}");
+        serde_json::from_str(&std::fs::read_to_string(out).unwrap()).unwrap()
+    };
+    let found = solve(twin_path.to_str().unwrap(), "twin-result.json");
+    let expected = solve("robots/tasks/pick_place_parts.json", "parts-result.json");
+    assert!(found["carried"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|p| p["mass_kg"] == 0.0));
+    for key in [
+        "cost",
+        "iterations",
+        "cost_gradient",
+        "cost_terms",
+        "trajectory",
+    ] {
+        assert_eq!(found[key], expected[key], "{key}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -6,8 +6,9 @@
 //! the task file's folder, each part is read from its catalogue and the numbers the problem
 //! uses are written into the entry (`pitch_mm`, `width_mm`, `density_kg_m3` of a pulley,
 //! `mass_kg` of a motor or gearbox), so that a task written back reads back and the task hash
-//! counts the numbers, not where the catalogue lies. [`CarriedModel`] places the parts on the
-//! robot's bodies and gives their mass properties at a design r, and their derivatives in r.
+//! counts the numbers, not where the catalogue lies. [`CarriedModel`] (`super::carried_mass`)
+//! places the parts on the robot's bodies and gives their mass properties at a design r, and
+//! their derivatives in r.
 //!
 //! A pulley is a solid disc of the belt's width w about its axis n: z = r_l z_d teeth (the
 //! ratio its design parameter r_l makes with a driver of z_d teeth, taken continuously), pitch
@@ -16,16 +17,14 @@
 //! I_diam = m (3 R^2 + w^2) / 12. A motor or a gearbox is a point mass: a catalogue gives no
 //! housing's dimensions (a motor's rotor inertia is the motor model's, reflected by G).
 
+pub use super::carried_mass::{motor_parts_mass_kg, CarriedMassAt, CarriedModel};
 use super::catalogue::Catalogue;
-use super::chain::{Chain, MassProperties};
-use super::motor_parts::PartChoice;
 use super::ranges::{check_finite, check_norm, FieldError, MAX_POINT_M};
 use crate::json_keys::read_value;
 use crate::text::{number, shown};
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
-use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
 /// One part carried by a link: where it sits and what it is (exactly one of `pulley`,
@@ -109,7 +108,7 @@ impl CarriedPart {
 }
 
 /// The 0-based index of the ratio `r<i>` among `count`, None if it names none.
-fn ratio_index(name: &str, count: usize) -> Option<usize> {
+pub(super) fn ratio_index(name: &str, count: usize) -> Option<usize> {
     let digits = name.trim().strip_prefix('r')?;
     if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
         return None;
@@ -160,6 +159,7 @@ pub fn resolve(task: &mut Value, folder: Option<&Path>) -> Result<(), String> {
     };
     let mut parts: Vec<CarriedPart> =
         read_value(given).map_err(|e| format!("{}: {}", e.field("carried"), e.message))?;
+    let bounds = design_bounds(task);
     for (i, part) in parts.iter_mut().enumerate() {
         let field = format!("carried[{i}]");
         let kinds = [
@@ -173,7 +173,12 @@ pub fn resolve(task: &mut Value, folder: Option<&Path>) -> Result<(), String> {
             ));
         }
         if let Some(pulley) = &mut part.pulley {
-            resolve_pulley(&format!("{field}.pulley"), pulley, folder)?;
+            resolve_pulley(
+                &format!("{field}.pulley"),
+                pulley,
+                folder,
+                bounds.as_deref(),
+            )?;
         }
         let (kind, part) = match (&mut part.motor, &mut part.gearbox) {
             (Some(motor), _) => ("motor", motor),
@@ -206,12 +211,23 @@ pub fn resolve(task: &mut Value, folder: Option<&Path>) -> Result<(), String> {
     Ok(())
 }
 
+/// The design space's bounds `[lower, upper]` of the task JSON `task`, one per ratio; None
+/// where `transmission.bounds` is absent or not a list of pairs of numbers, which the task's
+/// reader refuses naming it.
+fn design_bounds(task: &Value) -> Option<Vec<[f64; 2]>> {
+    let bounds = task.get("transmission")?.get("bounds")?;
+    serde_json::from_value(bounds.clone()).ok()
+}
+
 /// Sets `pulley`'s numbers from its belt series in its catalogue, `at` naming it
-/// (`carried[0].pulley`); the catalogue's path is joined to `folder`.
+/// (`carried[0].pulley`); the catalogue's path is joined to `folder`. Its teeth are checked
+/// over the design space `bounds` (None: not read, left to the task's reader): its driver has
+/// at least the series' `min_teeth`, and so has the pulley at the lower bound of its ratio.
 fn resolve_pulley(
     at: &str,
     pulley: &mut CarriedPulley,
     folder: Option<&Path>,
+    bounds: Option<&[[f64; 2]]>,
 ) -> Result<(), String> {
     let catalogue = catalogue_at(at, &mut pulley.catalogue, folder)?;
     let Some(series) = catalogue.belts.iter().find(|b| b.name == pulley.series) else {
@@ -230,6 +246,9 @@ fn resolve_pulley(
             series.min_teeth
         ));
     }
+    if let Some(bounds) = bounds {
+        check_teeth_over_bounds(at, pulley, series.min_teeth, bounds)?;
+    }
     set_from(
         format!("{at}.pitch_mm"),
         &mut pulley.pitch_mm,
@@ -247,6 +266,44 @@ fn resolve_pulley(
         density,
     )?;
     Ok(())
+}
+
+/// Checks that `pulley` (named `at`) has at least `min_teeth` teeth over the design space
+/// `bounds`: z = r_l z_d is least at the lower bound of r_l. A ratio `teeth_of` does not name,
+/// or a lower bound that is not a positive number, is left to the task's checks, which name
+/// them.
+fn check_teeth_over_bounds(
+    at: &str,
+    pulley: &CarriedPulley,
+    min_teeth: u32,
+    bounds: &[[f64; 2]],
+) -> Result<(), String> {
+    let Some(l) = ratio_index(&pulley.teeth_of, bounds.len()) else {
+        return Ok(());
+    };
+    let lower = bounds[l][0];
+    if !(lower.is_finite() && lower > 0.0) {
+        return Ok(());
+    }
+    let (least, min) = (lower * pulley.driver_teeth, f64::from(min_teeth));
+    if least >= min {
+        return Ok(());
+    }
+    Err(format!(
+        "{at}.driver_teeth = {} makes too few teeth at the lower bound of r{}: \
+         transmission.bounds[{l}] = [{}, {}] gives the pulley {} x {} = {} teeth, fewer than \
+         the series' {min_teeth}; raise that lower bound to at least {}, or driver_teeth to at \
+         least {}",
+        number(pulley.driver_teeth),
+        l + 1,
+        number(lower),
+        number(bounds[l][1]),
+        number(lower),
+        number(pulley.driver_teeth),
+        number(least),
+        number(min / pulley.driver_teeth),
+        number(min / lower),
+    ))
 }
 
 /// Checks the parts of a task of `ratios` design parameters, as read ([`resolve`] set their
@@ -305,200 +362,6 @@ pub fn validate(parts: &[CarriedPart], ratios: usize) -> Result<(), FieldError> 
     Ok(())
 }
 
-/// A carried part's mass at one design, as results and `check` record it.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CarriedMassAt {
-    /// The link it is fixed to.
-    pub link: String,
-    /// `pulley`, `motor` or `gearbox`.
-    pub kind: String,
-    /// The belt series' or the part's name.
-    pub name: String,
-    /// Its mass at the design, kg.
-    pub mass_kg: f64,
-}
-
-/// The mass of the motors a task chooses from catalogues (`motors.parts`), kg: None without
-/// parts, or where a catalogue cannot be read (a task of another machine) or gives no mass.
-pub fn motor_parts_mass_kg(parts: Option<&[PartChoice]>) -> Option<f64> {
-    let mut total = 0.0;
-    for part in parts? {
-        let catalogue = Catalogue::load(&part.catalogue).ok()?;
-        total += catalogue.motor(&part.name)?.mass_kg?;
-    }
-    Some(total)
-}
-
-/// How a part's mass follows the design.
-#[derive(Clone, Debug, PartialEq)]
-enum Mass {
-    /// A point mass, kg.
-    Fixed(f64),
-    /// A disc of radius R = r_l * `radius_per_ratio` (m), width `width_m` and density
-    /// `density` (kg/m^3) about the unit `axis` (body frame).
-    Pulley {
-        ratio: usize,
-        radius_per_ratio: f64,
-        width_m: f64,
-        density: f64,
-        axis: Vector3<f64>,
-    },
-}
-
-/// A part placed on a body of the chain.
-#[derive(Clone, Debug, PartialEq)]
-struct PartOnBody {
-    body: usize,
-    /// Its centre in the body's frame, m.
-    centre: Vector3<f64>,
-    mass: Mass,
-}
-
-/// The task's carried parts on the robot's bodies: their mass properties at a design and
-/// their derivatives in it. Empty for a task without `carried`.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct CarriedModel {
-    parts: Vec<PartOnBody>,
-}
-
-impl CarriedModel {
-    /// Places `parts` (as read) on the bodies of `chain`: an error names a link the chain does
-    /// not have or one fixed to the base, where a part moves nothing.
-    pub fn on_chain(
-        parts: &[CarriedPart],
-        chain: &Chain,
-        ratios: usize,
-    ) -> Result<CarriedModel, String> {
-        let mut placed = Vec::with_capacity(parts.len());
-        for (i, part) in parts.iter().enumerate() {
-            let field = format!("carried[{i}]");
-            let frame = chain.links.iter().find(|l| l.name == part.link);
-            let Some(frame) = frame else {
-                return Err(format!(
-                    "{field}.link = '{}' is no link of the robot",
-                    shown(&part.link)
-                ));
-            };
-            let Some(body) = frame.body else {
-                return Err(format!(
-                    "{field}.link = '{}' is fixed to the base: a part there moves nothing; \
-                     leave it out",
-                    shown(&part.link)
-                ));
-            };
-            let centre = frame.placement.apply(&Vector3::from(part.at));
-            let mass = match (&part.pulley, &part.motor, &part.gearbox) {
-                (Some(p), _, _) => {
-                    let given = p.axis.map(|a| frame.placement.rotation * Vector3::from(a));
-                    let axis = given.unwrap_or(chain.bodies[body].axis).normalize();
-                    let read = |n: Option<f64>| n.ok_or_else(|| format!("{field}: not read"));
-                    Mass::Pulley {
-                        ratio: ratio_index(&p.teeth_of, ratios)
-                            .ok_or_else(|| format!("{field}.pulley.teeth_of names no ratio"))?,
-                        radius_per_ratio: p.driver_teeth * read(p.pitch_mm)? * 1e-3 / (2.0 * PI),
-                        width_m: read(p.width_mm)? * 1e-3,
-                        density: read(p.density_kg_m3)?,
-                        axis,
-                    }
-                }
-                (None, Some(m), _) | (None, None, Some(m)) => {
-                    Mass::Fixed(m.mass_kg.ok_or_else(|| format!("{field}: not read"))?)
-                }
-                (None, None, None) => return Err(format!("{field} gives no part")),
-            };
-            placed.push(PartOnBody { body, centre, mass });
-        }
-        Ok(CarriedModel { parts: placed })
-    }
-
-    /// Whether there are no parts.
-    pub fn is_empty(&self) -> bool {
-        self.parts.is_empty()
-    }
-
-    /// Each part's mass at design r, kg, in the task's order.
-    pub fn masses(&self, r: &[f64]) -> Vec<f64> {
-        (self.parts.iter())
-            .map(|part| part.properties(r, None).mass)
-            .collect()
-    }
-
-    /// Each of `parts` (the task's, which this model places) with its mass at design r.
-    pub fn masses_at(&self, parts: &[CarriedPart], r: &[f64]) -> Vec<CarriedMassAt> {
-        (parts.iter().zip(self.masses(r)))
-            .map(|(part, mass_kg)| CarriedMassAt {
-                link: part.link.clone(),
-                kind: part.kind().to_owned(),
-                name: part.name().to_owned(),
-                mass_kg,
-            })
-            .collect()
-    }
-
-    /// Each part's body and mass properties (in the body's frame) at design r.
-    pub fn mass_properties(&self, r: &[f64]) -> Vec<(usize, MassProperties)> {
-        (self.parts.iter())
-            .map(|part| (part.body, part.properties(r, None)))
-            .collect()
-    }
-
-    /// The derivative in r_l of the parts' mass properties at design r, for the parts that
-    /// depend on r_l (empty if none): the mass and inertia fields hold dm/dr_l and dI/dr_l at
-    /// the unchanged centre, as the spatial inertia is linear in them.
-    pub fn derivative(&self, r: &[f64], l: usize) -> Vec<(usize, MassProperties)> {
-        (self.parts.iter())
-            .filter(|part| matches!(part.mass, Mass::Pulley { ratio, .. } if ratio == l))
-            .map(|part| (part.body, part.properties(r, Some(l))))
-            .collect()
-    }
-}
-
-impl PartOnBody {
-    /// Its mass properties at r, or with `derivative` their derivative in that r_l.
-    fn properties(&self, r: &[f64], derivative: Option<usize>) -> MassProperties {
-        let (mass, inertia) = match &self.mass {
-            Mass::Fixed(mass) => match derivative {
-                None => (*mass, Matrix3::zeros()),
-                Some(_) => (0.0, Matrix3::zeros()),
-            },
-            Mass::Pulley {
-                ratio,
-                radius_per_ratio: c,
-                width_m: w,
-                density,
-                axis,
-            } => {
-                let radius = r[*ratio] * c;
-                let m = density * PI * w * radius * radius;
-                let (axial, diametral) = (
-                    m * radius * radius / 2.0,
-                    m * (3.0 * radius * radius + w * w) / 12.0,
-                );
-                let (m, axial, diametral) = match derivative {
-                    None => (m, axial, diametral),
-                    Some(_) => {
-                        // dR/dr_l = c.
-                        let dm = 2.0 * density * PI * w * radius * c;
-                        let d_axial = (dm * radius * radius + 2.0 * m * radius * c) / 2.0;
-                        let d_diametral =
-                            (dm * (3.0 * radius * radius + w * w) + 6.0 * m * radius * c) / 12.0;
-                        (dm, d_axial, d_diametral)
-                    }
-                };
-                let along = axis * axis.transpose();
-                let inertia = along * axial + (Matrix3::identity() - along) * diametral;
-                (m, inertia)
-            }
-        };
-        MassProperties {
-            mass,
-            com: self.centre,
-            inertia,
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use crate::model::task::TaskFile;
@@ -507,12 +370,43 @@ mod tests {
 
     /// The example with carried parts, `carried[0]` changed by `edit`, read from its folder.
     fn read(edit: impl FnOnce(&mut Value)) -> Result<TaskFile, String> {
+        read_task(|task| edit(&mut task["carried"][0]))
+    }
+
+    /// The example with carried parts changed by `edit`, read from its folder.
+    fn read_task(edit: impl FnOnce(&mut Value)) -> Result<TaskFile, String> {
         let path = testing::repository().join("robots/examples/planar_2dof/carried_pulley.json");
         let mut value: Value =
             serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
-        edit(&mut value["carried"][0]);
+        edit(&mut value);
         let folder = path.parent().unwrap();
         TaskFile::from_text(&value.to_string(), "t", folder).map_err(|e| e.to_string())
+    }
+
+    /// A pulley has at least its series' teeth over the whole design space: its driver has
+    /// them, and so has the pulley at the lower bound of its ratio (r2 of [0.5, 40] with a
+    /// 12-tooth driver makes 6 of the GT2 series' 12); equal counts are accepted.
+    #[test]
+    fn a_pulley_has_its_series_teeth_over_the_design_space() {
+        let driver = read(|p| p["pulley"]["driver_teeth"] = json!(11)).unwrap_err();
+        let expected = "carried[0].pulley.driver_teeth = 11 must be at least the series' 12";
+        assert!(driver.contains(expected), "{driver}");
+        let low = |task: &mut Value| task["transmission"]["bounds"][1] = json!([0.5, 40]);
+        let error = read_task(low).unwrap_err();
+        let expected = "task t: carried[0].pulley.driver_teeth = 12 makes too few teeth at the \
+                        lower bound of r2: transmission.bounds[1] = [0.5, 40] gives the pulley \
+                        0.5 x 12 = 6 teeth, fewer than the series' 12; raise that lower bound \
+                        to at least 1, or driver_teeth to at least 24";
+        assert_eq!(error, expected);
+        let read = read_task(|task| {
+            low(task);
+            task["carried"][0]["pulley"]["driver_teeth"] = json!(24);
+        });
+        let pulley = read.unwrap().task.carried[0].pulley.clone().unwrap();
+        assert_eq!(pulley.driver_teeth, 24.0);
+        // A ratio the pulley does not follow may go below 1.
+        let other = |task: &mut Value| task["transmission"]["bounds"][0] = json!([0.5, 100]);
+        assert!(read_task(other).is_ok());
     }
 
     /// Reading sets the series' numbers and the motor's mass; the hash leaves the catalogue's

@@ -1,6 +1,7 @@
 //! The robot model and the task: what is read from files before any computation.
 
 pub mod carried;
+mod carried_mass;
 pub mod catalogue;
 pub mod chain;
 mod ends;
