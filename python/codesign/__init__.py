@@ -14,6 +14,7 @@ every failure raises a :class:`codesign.Error` (:class:`InputError` for a bad in
 from codesign._choices import Ends, LimitMode, LinearSolver, Method, Space
 from codesign._errors import Error, InputError, SolverError
 from codesign._native import versions as _versions
+from codesign._parts import parts
 from codesign._results import Capacity, CheckReport, Run, Solution
 from codesign._robot import Robot, Transmission
 from codesign import _sections as sections
@@ -39,5 +40,6 @@ __all__ = [
     "Task",
     "Transmission",
     "__version__",
+    "parts",
     "sections",
 ]

@@ -108,6 +108,23 @@ def optimize(
     overwrite: bool = False,
     progress: Optional[Callable[[int, int, float], object]] = None,
 ) -> str: ...
+def parts(
+    task: str,
+    space: str,
+    out: str,
+    worker_command: str,
+    payload: Optional[float] = None,
+    ends: Optional[str] = None,
+    torque_mode: Optional[str] = None,
+    speed_mode: Optional[str] = None,
+    linear_solver: Optional[str] = None,
+    objective: str = "cost",
+    gradient_iterations: Optional[int] = None,
+    workers: Optional[int] = None,
+    resume: bool = False,
+    overwrite: bool = False,
+    progress: Optional[Callable[[int, int, float], object]] = None,
+) -> str: ...
 def log_beside(out: str) -> pathlib.Path: ...
 def serve_worker() -> None: ...
 def task_text(path: Optional[str] = None) -> str: ...

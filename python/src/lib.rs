@@ -11,6 +11,7 @@
 mod errors;
 mod interrupt;
 mod options;
+mod parts;
 mod robot;
 mod runs;
 mod solution;
@@ -54,5 +55,6 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(task::task_text, module)?)?;
     module.add_function(wrap_pyfunction!(runs::optimize, module)?)?;
     module.add_function(wrap_pyfunction!(runs::log_beside, module)?)?;
+    module.add_function(wrap_pyfunction!(parts::parts, module)?)?;
     Ok(())
 }

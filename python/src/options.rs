@@ -75,14 +75,11 @@ pub struct Keywords<'a> {
     pub linear_solver: Option<&'a str>,
 }
 
-impl Posed {
-    /// Reads the keywords for the task from `source`; an unknown name or a payload out of range
-    /// is an input error naming the keyword.
-    pub fn read(
-        source: TaskSource,
-        read: Arc<ReadTask>,
-        keywords: &Keywords<'_>,
-    ) -> Outcome<Posed> {
+impl Keywords<'_> {
+    /// The model (the task from `source`) and problem these keywords choose; an unknown name or
+    /// a payload out of range is an input error naming the keyword.
+    pub fn choices(&self, source: TaskSource) -> Outcome<(ModelChoice, ProblemChoice)> {
+        let keywords = self;
         let model = ModelChoice {
             task: source,
             robot: None,
@@ -99,6 +96,19 @@ impl Posed {
             speed_mode: optional::<LimitMode>("speed_mode", keywords.speed_mode)?,
             linear_solver: optional::<LinearSolver>("linear_solver", keywords.linear_solver)?,
         };
+        Ok((model, problem))
+    }
+}
+
+impl Posed {
+    /// Reads the keywords for the task from `source`; an unknown name or a payload out of range
+    /// is an input error naming the keyword.
+    pub fn read(
+        source: TaskSource,
+        read: Arc<ReadTask>,
+        keywords: &Keywords<'_>,
+    ) -> Outcome<Posed> {
+        let (model, problem) = keywords.choices(source)?;
         Ok(Posed {
             model,
             problem,

@@ -67,6 +67,7 @@ mod export;
 mod failure;
 mod migrate;
 mod optimize;
+mod parts;
 mod progress;
 mod reproduce;
 mod run_flags;
@@ -115,6 +116,10 @@ enum Command {
     Tradeoff(tradeoff_args::Args),
     /// Co-design: search the gear ratios with CMA-ES, solving each design in worker processes.
     Optimize(optimize::Args),
+    /// Co-design every combination of a task's candidate parts (motors.parts[i].candidates) in
+    /// its ratios with the gradient method, and write the front of actuator mass against the
+    /// objective (pareto.json, pareto.svg).
+    Parts(parts::Args),
     /// Run the task's experiment, by default the paper's (and more): original designs, co-design, capacities, table, plots.
     Reproduce(reproduce::Args),
     /// Rebuild the table from result files of `solve`, `optimize` and `capacity` of one task.
@@ -155,6 +160,7 @@ pub fn main(stdout_closed: bool) -> ExitCode {
         Command::Dynamics(args) => dynamics::run(&args),
         Command::Solve(args) => solve::run(&args),
         Command::Optimize(args) => optimize::run(&args),
+        Command::Parts(args) => parts::run(&args),
         Command::Capacity(args) => capacity::run(&args),
         Command::Tradeoff(args) => tradeoff::run(&args),
         Command::Reproduce(args) => reproduce::run(&args),

@@ -49,9 +49,8 @@ pub struct Args {
     /// --max`: designs that carry it tie there [default: 64].
     #[arg(long, value_name = "KG")]
     pub max: Option<f64>,
-    /// Iterations per start of the gradient method.
-    #[arg(long, value_name = "N", default_value_t = GradientSettings::default().max_iterations)]
-    pub gradient_iterations: usize,
+    #[command(flatten)]
+    pub gradient: GradientArgs,
     #[command(flatten)]
     pub problem: ProblemArgs,
     /// Seed of CMA-ES's random numbers.
@@ -67,13 +66,6 @@ pub struct Args {
     /// range).
     #[arg(long, default_value_t = CmaesSettings::default().sigma0)]
     pub sigma: f64,
-    /// How invalid or infeasible designs score: `flat` (the paper's 1e6 for every one),
-    /// `graded` (infeasible designs 1e6 to 2e6 by their torque deficit and speed excess from the
-    /// elastic problem, invalid ones 2e6 to 3e6 by their distance from the design space, so that
-    /// CMA-ES moves toward feasibility; the gradient method then descends on the elastic
-    /// problem's objective, from infeasible starts too), or a number (flat, of that value).
-    #[arg(long, value_name = "flat|graded|VALUE", default_value_t = Penalty::PAPER)]
-    pub penalty: Penalty,
     #[command(flatten)]
     pub run: RunArgs,
     /// Result file (JSON); the evaluation log is written beside it as FILE.log.jsonl and locked
@@ -88,6 +80,32 @@ pub struct Args {
     /// Start afresh even if the evaluation log of an earlier run exists (it is deleted).
     #[arg(long, conflicts_with = "resume")]
     pub overwrite: bool,
+}
+
+/// The gradient method's flags, which `optimize` and `parts` share (`--penalty` scores
+/// CMA-ES's designs too).
+#[derive(Debug, Clone, clap::Args)]
+pub struct GradientArgs {
+    /// Iterations per start of the gradient method.
+    #[arg(long, value_name = "N", default_value_t = GradientSettings::default().max_iterations)]
+    pub gradient_iterations: usize,
+    /// How invalid or infeasible designs score: `flat` (the paper's 1e6 for every one),
+    /// `graded` (infeasible designs 1e6 to 2e6 by their torque deficit and speed excess from the
+    /// elastic problem, invalid ones 2e6 to 3e6 by their distance from the design space, so that
+    /// CMA-ES moves toward feasibility; the gradient method then descends on the elastic
+    /// problem's objective, from infeasible starts too), or a number (flat, of that value).
+    #[arg(long, value_name = "flat|graded|VALUE", default_value_t = Penalty::PAPER)]
+    pub penalty: Penalty,
+}
+
+impl GradientArgs {
+    /// The gradient method's settings these flags give.
+    pub fn settings(&self) -> GradientSettings {
+        GradientSettings {
+            max_iterations: self.gradient_iterations,
+            ..GradientSettings::default()
+        }
+    }
 }
 
 impl Args {
@@ -115,9 +133,9 @@ impl Args {
             seed: self.seed,
             ..CmaesSettings::default()
         };
-        settings.set_penalty(self.penalty);
+        settings.set_penalty(self.gradient.penalty);
         self.run.apply(settings);
-        case.gradient.max_iterations = self.gradient_iterations;
+        case.gradient = self.gradient.settings();
         case.execution = self
             .run
             .execution(Start::from_flags(self.resume, self.overwrite));

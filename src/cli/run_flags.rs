@@ -30,6 +30,14 @@ pub struct RunArgs {
     /// starts every design from the standard guess (the paper's).
     #[arg(long, value_parser = choice::<WarmStart>(), default_value_t = WarmStart::default())]
     pub warm_start: WarmStart,
+    #[command(flatten)]
+    pub execution: ExecutionArgs,
+}
+
+/// The flags of how a run's evaluations run, which change no result: `optimize`, `reproduce`
+/// and `parts` share them.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ExecutionArgs {
     /// Worker processes of CMA-ES; threads of the gradient method's candidate starts and
     /// descents (its worker processes with --worker-command) and of `reproduce`'s capacity
     /// searches (default: one per core).
@@ -45,6 +53,18 @@ pub struct RunArgs {
     pub worker_command: Option<String>,
 }
 
+impl ExecutionArgs {
+    /// How the evaluations run, with `start`.
+    pub fn execution(&self, start: Start) -> Execution {
+        Execution {
+            workers: self.workers,
+            solve_timeout_s: self.solve_timeout,
+            worker_command: self.worker_command.clone(),
+            start,
+        }
+    }
+}
+
 impl RunArgs {
     /// Sets the CMA-ES settings these flags give.
     pub fn apply(&self, settings: &mut RunSettings) {
@@ -54,12 +74,7 @@ impl RunArgs {
 
     /// How the evaluations run, with `start`.
     pub fn execution(&self, start: Start) -> Execution {
-        Execution {
-            workers: self.workers,
-            solve_timeout_s: self.solve_timeout,
-            worker_command: self.worker_command.clone(),
-            start,
-        }
+        self.execution.execution(start)
     }
 }
 

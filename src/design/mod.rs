@@ -9,6 +9,7 @@ pub mod evaluate;
 pub mod gradient;
 pub mod optimize;
 pub mod outcome;
+pub mod parts;
 pub mod penalty;
 pub mod run;
 pub mod score;

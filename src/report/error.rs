@@ -52,6 +52,8 @@ pub enum ReadFailure {
     /// It is a trade-off of capacity against cycle time (or of T* against payload), which no
     /// table places.
     Tradeoff,
+    /// It is a front of parts (`codesign parts`), whose combinations' results lie beside it.
+    Pareto,
     /// It is a document of an older version (0: written before the envelope), which
     /// `codesign migrate` brings to this build's.
     Old {
@@ -100,6 +102,11 @@ impl fmt::Display for ReportError {
                         f,
                         "{path}: a trade-off of payload and cycle time, which a table does \
                          not place: give solve, optimize or capacity results"
+                    ),
+                    ReadFailure::Pareto => write!(
+                        f,
+                        "{path}: a front of parts (codesign parts), which a table does not \
+                         place: give the combinations' optimize results beside it"
                     ),
                     ReadFailure::Old { schema, version } => {
                         let kind = schema.map_or("a codesign document", |s| s.tag());

@@ -8,6 +8,7 @@ pub mod export;
 pub mod mechanism;
 pub mod migrate;
 pub mod motor_plots;
+pub mod pareto;
 pub mod plots;
 pub mod poses;
 pub mod solve_document;

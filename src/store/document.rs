@@ -5,6 +5,9 @@
 
 use super::files::write_json;
 use super::StoreError;
+use codesign_core::input::{read_text, MAX_RESULT_BYTES};
+use codesign_core::json_keys::check_unique_keys;
+use serde::de::DeserializeOwned;
 use serde::Serialize;
 use serde_json::Value;
 use std::fmt;
@@ -25,17 +28,21 @@ pub enum Schema {
     Tradeoff,
     /// Designs' least duration T* against payload (`codesign tradeoff --payloads`).
     TimeCurve,
+    /// The front of actuator mass against an objective over combinations of parts
+    /// (`codesign parts`, `pareto.json`).
+    Pareto,
 }
 
 impl Schema {
     /// Every kind.
-    pub const ALL: [Schema; 6] = [
+    pub const ALL: [Schema; 7] = [
         Schema::Solve,
         Schema::Optimize,
         Schema::Capacity,
         Schema::Table,
         Schema::Tradeoff,
         Schema::TimeCurve,
+        Schema::Pareto,
     ];
 
     /// The tag a document of this kind carries as `schema`, e.g. `codesign/solve`.
@@ -47,11 +54,12 @@ impl Schema {
             Schema::Table => "codesign/table",
             Schema::Tradeoff => "codesign/tradeoff",
             Schema::TimeCurve => "codesign/time_curve",
+            Schema::Pareto => "codesign/pareto",
         }
     }
 
     /// The kind's name, as the command that writes it: `solve`, `optimize`, `capacity`, `table`,
-    /// `tradeoff`; `time_curve` for `tradeoff --payloads`.
+    /// `tradeoff`; `time_curve` for `tradeoff --payloads`; `pareto` for `parts`.
     pub fn name(self) -> &'static str {
         &self.tag()["codesign/".len()..]
     }
@@ -60,13 +68,13 @@ impl Schema {
     /// results are at 2: `reason` always written (null when feasible), each motor's peaks and
     /// margins in `motors_execute`, and a capacity search's inputs under `inputs`; a co-design
     /// run's at 3: `best_cost` null without a best design, and a table at 2: a seed's cost null
-    /// then. A trade-off and a time curve, which came later, are at 1.
+    /// then. A trade-off, a time curve and a front of parts, which came later, are at 1.
     pub fn version(self) -> u32 {
         match self {
             Schema::Solve | Schema::Capacity => 2,
             Schema::Optimize => 3,
             Schema::Table => 2,
-            Schema::Tradeoff | Schema::TimeCurve => 1,
+            Schema::Tradeoff | Schema::TimeCurve | Schema::Pareto => 1,
         }
     }
 
@@ -80,6 +88,27 @@ impl Schema {
 pub trait Document: Serialize {
     /// Its kind.
     const SCHEMA: Schema;
+}
+
+/// Reads the document of kind `D` at `path`, of the version this build writes: a file of at
+/// most [`MAX_RESULT_BYTES`], no key given twice, its envelope `D`'s. The error says why, not
+/// naming the file.
+pub fn read_document<D: Document + DeserializeOwned>(path: &Path) -> Result<D, String> {
+    let text = read_text(path, MAX_RESULT_BYTES).map_err(|e| e.to_string())?;
+    check_unique_keys(&text)?;
+    let mut value: Value = serde_json::from_str(&text).map_err(|e| e.to_string())?;
+    let schema = D::SCHEMA;
+    match open(&mut value) {
+        Ok(Tagged::Kind(kind, version)) if kind == schema && version == schema.version() => {
+            serde_json::from_value(value).map_err(|e| e.to_string())
+        }
+        Ok(_) => Err(format!(
+            "no {} document of version {}",
+            schema.tag(),
+            schema.version()
+        )),
+        Err(error) => Err(error.to_string()),
+    }
 }
 
 /// `schema` and `version`, then the document's own fields.

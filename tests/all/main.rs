@@ -34,6 +34,7 @@ mod motors_cli;
 mod ocp_reference;
 mod optimize_cli;
 mod outputs_cli;
+mod parts_cli;
 mod plot_figures_cli;
 mod plots_cli;
 mod poses_cli;

@@ -15,6 +15,8 @@ mod minimum_time;
 mod motions;
 pub mod motor_parts;
 mod motors;
+pub mod part_family;
+mod part_slots;
 mod ranges;
 mod read_experiment;
 mod robot;

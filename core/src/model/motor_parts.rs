@@ -12,7 +12,7 @@
 
 use super::catalogue::{Catalogue, CatalogueMotor};
 use super::motors::PerMotor;
-use crate::json_keys::read_value;
+use super::part_slots::{one_task, read_slots};
 use crate::text::{number, shown};
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
@@ -131,15 +131,7 @@ pub fn resolve(task: &mut Value, folder: Option<&Path>) -> Result<(), String> {
     let Some(given) = motors.get("parts") else {
         return Ok(());
     };
-    let choices: Vec<PartChoice> =
-        read_value(given).map_err(|e| format!("{}: {}", e.field("motors.parts"), e.message))?;
-    if choices.is_empty() {
-        return Err(
-            "motors.parts is empty: name one catalogue motor per motor (row of G), \
-                    or leave the key out"
-                .to_owned(),
-        );
-    }
+    let choices = one_task(&read_slots(given)?)?;
     let chosen = read_parts(choices, folder)?;
     for figure in &FIGURES {
         set_figure(motors, figure, &chosen)?;
@@ -157,16 +149,7 @@ fn read_parts(choices: Vec<PartChoice>, folder: Option<&Path>) -> Result<Vec<Cho
     let mut chosen = Vec::with_capacity(choices.len());
     for (slot, mut choice) in choices.into_iter().enumerate() {
         let field = format!("motors.parts[{slot}]");
-        if choice.catalogue.is_relative() {
-            let Some(folder) = folder else {
-                return Err(format!(
-                    "{field}.catalogue = {} is relative, and this task has no folder: give \
-                     an absolute path",
-                    shown(&choice.catalogue.display().to_string())
-                ));
-            };
-            choice.catalogue = folder.join(&choice.catalogue);
-        }
+        choice.catalogue = catalogue_path(&field, &choice.catalogue, folder)?;
         let known = catalogues
             .iter()
             .position(|(path, _)| *path == choice.catalogue);
@@ -181,22 +164,47 @@ fn read_parts(choices: Vec<PartChoice>, folder: Option<&Path>) -> Result<Vec<Cho
         };
         let catalogue = &catalogues[index].1;
         let Some(motor) = catalogue.motor(&choice.name) else {
-            let names: Vec<&str> = catalogue.motors.iter().map(|m| m.name.as_str()).collect();
-            return Err(format!(
-                "{field}.name = '{}' is no motor of catalogue {} (its motors: {})",
-                shown(&choice.name),
-                shown(&choice.catalogue.display().to_string()),
-                if names.is_empty() {
-                    "none".to_owned()
-                } else {
-                    names.join(", ")
-                }
+            let field = format!("{field}.name");
+            return Err(no_such_motor(
+                &field,
+                &choice.name,
+                &choice.catalogue,
+                catalogue,
             ));
         };
         let motor = motor.clone();
         chosen.push(Chosen { choice, motor });
     }
     Ok(chosen)
+}
+
+/// The catalogue `path` that the entry `field` of a task names, joined to `folder` (the task
+/// file's; None: only an absolute path is accepted).
+pub fn catalogue_path(field: &str, path: &Path, folder: Option<&Path>) -> Result<PathBuf, String> {
+    match (path.is_relative(), folder) {
+        (false, _) => Ok(path.to_owned()),
+        (true, Some(folder)) => Ok(folder.join(path)),
+        (true, None) => Err(format!(
+            "{field}.catalogue = {} is relative, and this task has no folder: give an absolute \
+             path",
+            shown(&path.display().to_string())
+        )),
+    }
+}
+
+/// The error of `name`, given as `field`, naming no motor of `catalogue` (read from `path`):
+/// it names the catalogue and lists its motors.
+pub fn no_such_motor(field: &str, name: &str, path: &Path, catalogue: &Catalogue) -> String {
+    let names: Vec<&str> = catalogue.motors.iter().map(|m| m.name.as_str()).collect();
+    format!(
+        "{field} = '{}' is no motor of catalogue {} (its motors: {})",
+        shown(name),
+        shown(&path.display().to_string()),
+        match names.is_empty() {
+            true => "none".to_owned(),
+            false => names.join(", "),
+        }
+    )
 }
 
 /// Sets `figure` in the `motors` section for every motor of `chosen` by the rule of this

@@ -174,6 +174,7 @@ fn rewritten(schema: Schema, value: Value, before: &str) -> Result<String, serde
         Schema::Table => text_of::<PaperTable>(&text),
         Schema::Tradeoff => text_of::<TradeoffDocument>(&text),
         Schema::TimeCurve => text_of::<TimeCurveDocument>(&text),
+        Schema::Pareto => text_of::<crate::design::parts::ParetoDocument>(&text),
     }
 }
 

@@ -75,7 +75,7 @@ pub fn upgrade(schema: Schema, version: u32, value: &mut Value, built_in: Option
             Schema::Capacity => capacity_to_2(object, &mut changes),
             Schema::Table => table_fill(object, &mut changes),
             // Its first version is current.
-            Schema::Tradeoff | Schema::TimeCurve => {}
+            Schema::Tradeoff | Schema::TimeCurve | Schema::Pareto => {}
         }
     }
     if let (0, Some(hash), Some(inputs)) = (version, built_in, object_at(object, "inputs")) {

@@ -26,8 +26,11 @@ use std::path::Path;
 pub enum Mark {
     /// A line through the points in order.
     Line,
-    /// A dot at each point (many unordered samples).
+    /// A dot at each point (many unordered samples), in a lighter shade.
     Dots,
+    /// A disc ringed in black at each point, in full colour: a few points that matter (a
+    /// front's designs), each series usually one point with its own legend entry.
+    Point,
 }
 
 /// One named curve of (x, y) points.
@@ -59,6 +62,14 @@ impl Series {
     pub fn path(name: impl Into<String>, points: Vec<(f64, f64)>) -> Series {
         Series {
             ends: true,
+            ..Series::line(name, points)
+        }
+    }
+
+    /// A series drawn as discs ringed in black.
+    pub fn points(name: impl Into<String>, points: Vec<(f64, f64)>) -> Series {
+        Series {
+            mark: Mark::Point,
             ..Series::line(name, points)
         }
     }
@@ -162,7 +173,7 @@ fn dashed(i: usize) -> bool {
 fn colour(i: usize, mark: Mark) -> RGBAColor {
     let colour = palette(i);
     match mark {
-        Mark::Line => colour,
+        Mark::Line | Mark::Point => colour,
         Mark::Dots => colour.mix(0.45),
     }
 }
@@ -298,7 +309,7 @@ impl Chart {
             let (colour, dashed) = self.style(i);
             let key = match series.mark {
                 Mark::Line => Key::Line(colour, dashed),
-                Mark::Dots => Key::Dot(colour),
+                Mark::Dots | Mark::Point => Key::Dot(colour),
             };
             legend.add(key, &series.name);
         }
@@ -336,6 +347,7 @@ impl Chart {
             let mark = match series.mark {
                 Mark::Line => "line",
                 Mark::Dots => "dots",
+                Mark::Point => "points",
             };
             json!({
                 "name": series.name, "points": series.points, "mark": mark,
@@ -413,9 +425,13 @@ impl Chart {
             let colours = self.guide_colours(guide);
             draw_dashes(&mut chart, guide.line.ends(x, y), &colours, width)?;
         }
-        // Dots first, so that lines are drawn over them.
+        // Dots first, so that lines are drawn over them, and discs over the lines.
         let mut order: Vec<usize> = (0..self.series.len()).collect();
-        order.sort_by_key(|&i| self.series[i].mark == Mark::Line);
+        order.sort_by_key(|&i| match self.series[i].mark {
+            Mark::Dots => 0,
+            Mark::Line => 1,
+            Mark::Point => 2,
+        });
         for i in order {
             let series = &self.series[i];
             let points = series.points.iter().copied();
@@ -436,6 +452,13 @@ impl Chart {
                 Mark::Dots => {
                     let dots = points.map(|p| Circle::new(p, 2, colour.filled()));
                     chart.draw_series(dots)?;
+                }
+                Mark::Point => {
+                    let ring = BLACK.stroke_width(1);
+                    let discs = points.flat_map(|p| {
+                        [Circle::new(p, 5, colour.filled()), Circle::new(p, 5, ring)]
+                    });
+                    chart.draw_series(discs)?;
                 }
             }
         }

@@ -93,6 +93,7 @@ pub fn read_result_file(path: &Path) -> Result<ResultFile, ReportError> {
         Schema::Tradeoff | Schema::TimeCurve => {
             return Err(read_failure(path, ReadFailure::Tradeoff))
         }
+        Schema::Pareto => return Err(read_failure(path, ReadFailure::Pareto)),
     };
     parsed.map_err(|e| {
         let kind = schema.name();
