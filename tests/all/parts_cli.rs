@@ -139,3 +139,27 @@ fn a_task_with_candidates_is_refused_elsewhere() {
     );
     fails_saying(&searched, "(its motors: Allied Motion HT02501-A00, ");
 }
+
+/// Every committed front (`results/catalogue/*/pareto.json`) holds only points that no other
+/// feasible combination of its search dominates, and has its plot beside it (a search whose
+/// every combination is infeasible has an empty front: at least two are not empty).
+#[test]
+fn every_committed_front_is_non_dominated() {
+    let folder = root().join("results/catalogue");
+    let mut fronts = 0;
+    for entry in std::fs::read_dir(&folder).unwrap() {
+        let search = entry.unwrap().path();
+        let file = search.join("pareto.json");
+        if !file.is_file() {
+            continue;
+        }
+        let points = check_front_file(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        assert!(search.join("pareto.svg").is_file(), "{}", search.display());
+        fronts += usize::from(points > 0);
+    }
+    assert!(
+        fronts >= 2,
+        "{fronts} fronts with points under {}",
+        folder.display()
+    );
+}

@@ -12,21 +12,11 @@
 
 use super::catalogue::{Catalogue, CatalogueMotor};
 use super::motors::PerMotor;
+pub use super::part_slots::PartChoice;
 use super::part_slots::{one_task, read_slots};
 use crate::text::{number, shown};
-use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 use std::path::{Path, PathBuf};
-
-/// One motor's part: a motor of a catalogue file.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct PartChoice {
-    /// The catalogue file, relative to the task file's folder (resolved when the task is read).
-    pub catalogue: PathBuf,
-    /// The motor's `name` in that catalogue.
-    pub name: String,
-}
 
 /// A figure of the motor model that a catalogue motor may set: the task's key in `motors`,
 /// the catalogue's number for it, the number in words, and the value of a motor whose part and

@@ -7,12 +7,21 @@
 //! combination of parts ([`super::part_family::PartsFamily`]), which only `codesign parts`
 //! reads. This module reads and checks the entries; it reads no catalogue.
 
-use super::motor_parts::PartChoice;
 use crate::json_keys::read_value;
 use crate::text::shown;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::path::PathBuf;
+
+/// One motor's part: a motor of a catalogue file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PartChoice {
+    /// The catalogue file, relative to the task file's folder (resolved when the task is read).
+    pub catalogue: PathBuf,
+    /// The motor's `name` in that catalogue.
+    pub name: String,
+}
 
 /// One entry of `motors.parts` as written; exactly one of `name`, `candidates` and `same_as`.
 #[derive(Clone, Debug, Deserialize, Serialize)]
