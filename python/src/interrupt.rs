@@ -23,6 +23,17 @@ pub enum Message<T> {
     Done(Outcome<T>),
 }
 
+/// The progress of [`run`] handed to the Python callable `progress(done, total, best)`, where
+/// one is given.
+pub fn calling(
+    progress: Option<Py<PyAny>>,
+) -> impl FnMut(Python<'_>, u64, u64, f64) -> PyResult<()> {
+    move |py, done, total, best| match &progress {
+        Some(callback) => callback.call1(py, (done, total, best)).map(|_| ()),
+        None => Ok(()),
+    }
+}
+
 /// Runs `work` on a thread of its own (handing it a sender for its progress), calls `progress`
 /// with the GIL for each progress message, and returns its outcome; a Python signal (Ctrl-C)
 /// stops the work and is raised once the work has stopped.

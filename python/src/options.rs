@@ -3,6 +3,7 @@
 
 use crate::errors::{Failure, Outcome};
 use codesign::design::run::{Loaded, ModelChoice, ProblemChoice};
+use codesign::store::log::Start;
 use codesign_core::choice::Choice;
 use codesign_core::ipopt::LinearSolver;
 use codesign_core::model::task::{Ends, LimitMode, TaskFile, TaskSource};
@@ -10,6 +11,14 @@ use codesign_core::model::Robot;
 use codesign_core::problem::{Formulation, FormulationError, Space};
 use codesign_core::text::{listed, number};
 use std::sync::Arc;
+
+/// The start of a run from the keywords `resume` and `overwrite`, which exclude each other.
+pub fn start_of(resume: bool, overwrite: bool) -> Outcome<Start> {
+    if resume && overwrite {
+        return Err(Failure::input("resume=True and overwrite=True: choose one"));
+    }
+    Ok(Start::from_flags(resume, overwrite))
+}
 
 /// The value of keyword `name` among the values of `T` (the command line's names), or an error
 /// listing them.

@@ -5,7 +5,7 @@
 
 use crate::errors::{json, Failure, Outcome};
 use crate::interrupt::{self, Message};
-use crate::options::Keywords;
+use crate::options::{start_of, Keywords};
 use codesign::design::gradient::GradientSettings;
 use codesign::design::optimize::Progress;
 use codesign::design::parts::{
@@ -15,7 +15,6 @@ use codesign::design::penalty::Penalty;
 use codesign::design::run::{Execution, RunError};
 use codesign::design::score::Evaluation;
 use codesign::report::pareto::write_pareto;
-use codesign::store::log::Start;
 use codesign_core::model::part_family::PartsFamily;
 use codesign_core::model::task::TaskSource;
 use pyo3::prelude::*;
@@ -124,9 +123,7 @@ pub fn parts(
         linear_solver,
     };
     let search = || -> Outcome<PartsSearch> {
-        if resume && overwrite {
-            return Err(Failure::input("resume=True and overwrite=True: choose one"));
-        }
+        let start = start_of(resume, overwrite)?;
         let (model, problem) = keywords.choices(TaskSource::File(task.clone()))?;
         let family = PartsFamily::load(&task).map_err(|e| Failure::input(e.to_string()))?;
         let defaults = GradientSettings::default();
@@ -144,7 +141,7 @@ pub fn parts(
             execution: Execution {
                 workers,
                 worker_command: Some(worker_command.clone()),
-                start: Start::from_flags(resume, overwrite),
+                start,
                 ..Execution::default()
             },
         })
@@ -153,9 +150,6 @@ pub fn parts(
     interrupt::run(
         py,
         move |sender| run(&search, &out, sender),
-        |py, done, total, best| match &progress {
-            Some(callback) => callback.call1(py, (done, total, best)).map(|_| ()),
-            None => Ok(()),
-        },
+        interrupt::calling(progress),
     )
 }

@@ -3,7 +3,7 @@
 
 use crate::errors::{Failure, Outcome};
 use crate::interrupt::{self, Message};
-use crate::options::{choice, Keywords, Posed};
+use crate::options::{choice, start_of, Keywords, Posed};
 use crate::task::NativeTask;
 use codesign::design::optimize::Progress;
 use codesign::design::run::{run_case, Case, CaseError, Method, RunError};
@@ -169,10 +169,7 @@ pub fn optimize(
     };
     let settings = |py| -> PyResult<Case> {
         let posed = task.posed(&keywords).map_err(|f| f.into_py(py))?;
-        if resume && overwrite {
-            let both = "resume=True and overwrite=True: choose one";
-            return Err(Failure::input(both).into_py(py));
-        }
+        let start = start_of(resume, overwrite).map_err(|f| f.into_py(py))?;
         let run = RunKeywords {
             method: choice("method", method).map_err(|f| f.into_py(py))?,
             objective: objective_of(objective).map_err(|f| f.into_py(py))?,
@@ -184,7 +181,7 @@ pub fn optimize(
             warm_start: warm_start.map(|on| if on { WarmStart::On } else { WarmStart::Off }),
             workers,
             worker_command,
-            start: Start::from_flags(resume, overwrite),
+            start,
         };
         Ok(run.case(posed))
     };
@@ -192,9 +189,6 @@ pub fn optimize(
     interrupt::run(
         py,
         move |sender| run(&case, &out, sender),
-        |py, done, total, best| match &progress {
-            Some(callback) => callback.call1(py, (done, total, best)).map(|_| ()),
-            None => Ok(()),
-        },
+        interrupt::calling(progress),
     )
 }
