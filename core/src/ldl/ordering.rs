@@ -1,5 +1,6 @@
-//! The elimination order of a KKT matrix: approximate minimum degree (faer's AMD) on the symmetric
-//! pattern, then every row with a zero diagonal moved behind a partner of its own.
+//! The elimination order of a KKT matrix: approximate minimum degree (SuiteSparse's AMD, by the
+//! `amd` crate) on the symmetric pattern, then every row with a zero diagonal moved behind a
+//! partner of its own.
 //!
 //! With 1x1 pivots and no pivoting, every leading block of the permuted matrix must be regular.
 //! A row whose diagonal is zero (a constraint row of `[[H, Jᵀ], [J, 0]]`, or a variable that
@@ -12,10 +13,6 @@
 //! determinant (pair each zero row's chain from its end). Constraint rows are matched to regular
 //! rows first, by a maximum bipartite matching; the rest are chained on in passes. Both prefer
 //! the earliest neighbour in the minimum degree order, so that rows move little.
-
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::linalg::amd;
-use faer::sparse::SymbolicSparseColMatRef;
 
 /// The symmetric pattern of a matrix without its diagonal: `neighbours[ptr[i]..ptr[i + 1]]` are
 /// the columns `j != i` with a structural non-zero in row `i`, sorted, without repeats.
@@ -83,28 +80,22 @@ pub fn elimination_order(pattern: &Pattern, kinds: &[RowKind]) -> Vec<usize> {
     defer_zero_rows(&partner, &order, &position)
 }
 
-/// faer's approximate minimum degree order of the pattern.
+/// The approximate minimum degree order of the pattern (AMD's default control: dense rows above
+/// 10 sqrt(n) neighbours, aggressive absorption).
 fn minimum_degree(pattern: &Pattern) -> Vec<usize> {
     let n = pattern.n();
-    let (mut order, mut inverse) = (vec![0usize; n], vec![0usize; n]);
-    let structure =
-        SymbolicSparseColMatRef::new_checked(n, n, &pattern.ptr, None, &pattern.neighbours);
-    let mut memory = MemBuffer::new(amd::order_scratch::<usize>(n, pattern.neighbours.len()));
     // The pattern is square, sorted and within bounds by construction, and AMD's only other
-    // failure is an integer overflow of sizes far beyond any KKT matrix IPOPT can hold; the
+    // failure is running out of memory for sizes far beyond any KKT matrix IPOPT can hold; the
     // identity order is a correct (if slower) fallback all the same.
-    if amd::order(
-        &mut order,
-        &mut inverse,
-        structure,
-        amd::Control::default(),
-        MemStack::new(&mut memory),
-    )
-    .is_err()
-    {
-        return (0..n).collect();
+    match amd::order::<usize>(
+        n,
+        &pattern.ptr,
+        &pattern.neighbours,
+        &amd::Control::default(),
+    ) {
+        Ok((order, _, _)) => order,
+        Err(_) => (0..n).collect(),
     }
-    order
 }
 
 /// Partners for the zero rows (see the module's documentation): `partner[z]` for each matched
