@@ -51,6 +51,16 @@ def number(name: str, value: Any) -> Optional[float]:
         raise InputError(f"{name}={shown(value)}: too large for a number of 64 bits") from None
 
 
+def penalty(name: str, value: Any) -> Optional[str]:
+    """None; ``"flat"`` (the paper's), ``"graded"``; or a number, a flat penalty of that value:
+    as the command line's ``--penalty`` spells it."""
+    if value is None or isinstance(value, str):
+        return value
+    if _is_bool(value) or not isinstance(value, numbers.Real):
+        raise _refused(name, value, '"flat", "graded" or a number')
+    return repr(float(value))
+
+
 def duration(name: str, value: Any) -> Optional[List[float]]:
     """None; a number of seconds as ``[T]`` (a fixed duration); or a pair ``(T_min, T_max)`` as
     ``[T_min, T_max]`` (a free duration)."""

@@ -8,7 +8,7 @@ from typing import Any, Dict, Optional, Union
 
 from codesign import _native
 from codesign._errors import InputError
-from codesign._keywords import flag, number, path, text, whole
+from codesign._keywords import flag, number, path, penalty as penalty_text, text, whole
 from codesign._task import Progress, _progress, _worker_command
 
 
@@ -19,6 +19,7 @@ def parts(
     payload: Optional[float] = None,
     *,
     objective: str = "cost",
+    penalty: Union[str, float, None] = None,
     gradient_iterations: Optional[int] = None,
     workers: Optional[int] = None,
     resume: bool = False,
@@ -36,7 +37,9 @@ def parts(
 
     ``objective`` judges each combination's design: ``"cost"`` (J* at the payload),
     ``"time"`` (the least duration T*), or ``"capacity"`` (the payload capacity of the design
-    co-designed for the cost). ``resume=True`` reads the combinations an interrupted search
+    co-designed for the cost). ``penalty`` scores the descents' infeasible designs: ``"flat"``
+    (the default), ``"graded"`` (which descends from infeasible starts toward feasibility, the
+    choice at the edge of feasibility) or a number. ``resume=True`` reads the combinations an interrupted search
     finished; ``overwrite=True`` runs them all again. ``progress(done, total, best)`` is called
     after each combination (by default a tqdm bar where tqdm is installed).
 
@@ -58,6 +61,7 @@ def parts(
         speed_mode=text("speed_mode", speed_mode),
         linear_solver=text("linear_solver", linear_solver),
         objective=text("objective", objective),
+        penalty=penalty_text("penalty", penalty),
         gradient_iterations=whole("gradient_iterations", gradient_iterations),
         workers=whole("workers", workers),
         resume=flag("resume", resume),

@@ -21,6 +21,7 @@ from codesign._keywords import (
     number,
     optional_flag,
     path,
+    penalty as penalty_text,
     plain,
     shown,
     text,
@@ -413,6 +414,8 @@ class Task:
         *,
         method: str = "cmaes",
         objective: str = "cost",
+        penalty: Union[str, float, None] = None,
+        bounds: Optional[str] = None,
         population: Optional[int] = None,
         generations: Optional[int] = None,
         seed: Optional[int] = None,
@@ -439,6 +442,12 @@ class Task:
         motion (each design solves the task's pure minimum-time problem, J* = T*, and the
         gradient method descends on the exact dT*/dr).
 
+        ``penalty`` scores an infeasible design: ``"flat"`` (the paper's 1e6, the default),
+        ``"graded"`` (by how far the design is from feasibility, through the elastic problem)
+        or a number (a flat penalty of that value). ``bounds`` says what CMA-ES does with a
+        sample outside the design space: ``"penalty"`` (the paper's rule, the default),
+        ``"clip"`` or ``"map"`` (every sample drawn in the unit box and mapped onto the space).
+
         The result is written to ``out`` and a CMA-ES run's evaluation log to ``log``
         (``NAME.log.jsonl`` beside ``NAME.json``; give either); ``resume=True`` continues an
         interrupted run from its log. Without either the run goes to a temporary folder.
@@ -455,6 +464,8 @@ class Task:
             linear_solver=text("linear_solver", linear_solver),
             method=text("method", method),
             objective=text("objective", objective),
+            penalty=penalty_text("penalty", penalty),
+            bounds=text("bounds", bounds),
             population=whole("population", population),
             generations=whole("generations", generations),
             seed=whole("seed", seed),

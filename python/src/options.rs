@@ -2,6 +2,7 @@
 //! comes from with its payload and ends, and the space, limit modes and linear solver.
 
 use crate::errors::{Failure, Outcome};
+use codesign::design::penalty::Penalty;
 use codesign::design::run::{Loaded, ModelChoice, ProblemChoice};
 use codesign::store::log::Start;
 use codesign_core::choice::Choice;
@@ -29,6 +30,16 @@ pub fn choice<T: Choice>(name: &str, text: &str) -> Outcome<T> {
             T::names().join(", ")
         ))
     })
+}
+
+/// The penalty of `penalty=` (`"flat"`, the paper's; `"graded"`; or a number, a flat penalty of
+/// that value), as the command line's `--penalty` reads it.
+pub fn penalty_of(text: Option<&str>) -> Outcome<Option<Penalty>> {
+    text.map(|text| {
+        text.parse::<Penalty>()
+            .map_err(|error| Failure::input(format!("penalty={text:?}: {error}")))
+    })
+    .transpose()
 }
 
 /// `choice` of an optional keyword.

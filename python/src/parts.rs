@@ -5,7 +5,7 @@
 
 use crate::errors::{json, Failure, Outcome};
 use crate::interrupt::{self, Message};
-use crate::options::{start_of, Keywords};
+use crate::options::{penalty_of, start_of, Keywords};
 use codesign::design::gradient::GradientSettings;
 use codesign::design::optimize::Progress;
 use codesign::design::parts::{
@@ -93,7 +93,7 @@ fn run(search: &PartsSearch, out: &Path, sender: Sender<Message<String>>) -> Out
 /// best)` is called after each combination.
 #[pyfunction]
 #[pyo3(signature = (task, space, out, worker_command, payload=None, ends=None, torque_mode=None,
-    speed_mode=None, linear_solver=None, objective="cost", gradient_iterations=None,
+    speed_mode=None, linear_solver=None, objective="cost", penalty=None, gradient_iterations=None,
     workers=None, resume=false, overwrite=false, progress=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn parts(
@@ -108,6 +108,7 @@ pub fn parts(
     speed_mode: Option<&str>,
     linear_solver: Option<&str>,
     objective: &str,
+    penalty: Option<&str>,
     gradient_iterations: Option<usize>,
     workers: Option<usize>,
     resume: bool,
@@ -133,7 +134,7 @@ pub fn parts(
             model,
             problem,
             objective: objective_of(objective)?,
-            penalty: Penalty::PAPER,
+            penalty: penalty_of(penalty)?.unwrap_or(Penalty::PAPER),
             gradient: GradientSettings {
                 max_iterations: gradient_iterations.unwrap_or(defaults.max_iterations),
                 ..defaults

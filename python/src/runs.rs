@@ -3,9 +3,11 @@
 
 use crate::errors::{Failure, Outcome};
 use crate::interrupt::{self, Message};
-use crate::options::{choice, start_of, Keywords, Posed};
+use crate::options::{choice, optional, penalty_of, start_of, Keywords, Posed};
 use crate::task::NativeTask;
+use codesign::design::bounds::BoundHandling;
 use codesign::design::optimize::Progress;
+use codesign::design::penalty::Penalty;
 use codesign::design::run::{run_case, Case, CaseError, Method, RunError};
 use codesign::design::score::{Evaluation, Objective};
 use codesign::design::warm::WarmStart;
@@ -20,6 +22,8 @@ use std::sync::mpsc::Sender;
 pub struct RunKeywords {
     method: Method,
     objective: Objective,
+    penalty: Option<Penalty>,
+    bounds: Option<BoundHandling>,
     population: Option<usize>,
     generations: Option<usize>,
     seed: Option<u64>,
@@ -36,6 +40,10 @@ impl RunKeywords {
     fn case(&self, posed: Posed) -> Case {
         let mut case = Case::new(posed.model, posed.problem, self.method);
         case.settings.objective = self.objective.clone();
+        if let Some(penalty) = self.penalty {
+            case.settings.set_penalty(penalty);
+        }
+        case.settings.bounds = self.bounds.unwrap_or(case.settings.bounds);
         let cmaes = &mut case.settings.cmaes;
         cmaes.population = self.population.unwrap_or(cmaes.population);
         cmaes.generations = self.generations.unwrap_or(cmaes.generations);
@@ -131,7 +139,8 @@ pub fn log_beside(out: PathBuf) -> PathBuf {
 /// after each evaluation of a CMA-ES run.
 #[pyfunction]
 #[pyo3(signature = (task, space, out, worker_command, payload=None, ends=None, torque_mode=None,
-    speed_mode=None, linear_solver=None, method="cmaes", objective="cost", population=None, generations=None,
+    speed_mode=None, linear_solver=None, method="cmaes", objective="cost", penalty=None, bounds=None,
+    population=None, generations=None,
     seed=None, sigma=None, gradient_iterations=None, warm_start=None, workers=None, resume=false,
     overwrite=false, progress=None))]
 #[allow(clippy::too_many_arguments)]
@@ -148,6 +157,8 @@ pub fn optimize(
     linear_solver: Option<&str>,
     method: &str,
     objective: &str,
+    penalty: Option<&str>,
+    bounds: Option<&str>,
     population: Option<usize>,
     generations: Option<usize>,
     seed: Option<u64>,
@@ -173,6 +184,8 @@ pub fn optimize(
         let run = RunKeywords {
             method: choice("method", method).map_err(|f| f.into_py(py))?,
             objective: objective_of(objective).map_err(|f| f.into_py(py))?,
+            penalty: penalty_of(penalty).map_err(|f| f.into_py(py))?,
+            bounds: optional("bounds", bounds).map_err(|f| f.into_py(py))?,
             population,
             generations,
             seed,

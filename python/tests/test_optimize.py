@@ -81,6 +81,28 @@ def test_run_settings_are_checked(planar, tmp_path):
         planar.optimize(space="actuation", population=10000, generations=30000, progress=False)
 
 
+def test_the_penalty_and_the_bounds_run_as_the_command_lines(planar, tmp_path, binary):
+    # Python and the command line alike: --penalty graded --bounds map.
+    run = planar.optimize(**SMALL, penalty="graded", bounds="map", out=tmp_path / "py.json",
+                          progress=False)
+    subprocess.run(
+        [str(binary), "optimize", "--task", str(PLANAR), "--space", "actuation", "--payload",
+         "1", "--population", "8", "--generations", "2", "--seed", "0", "--workers", "2",
+         "--penalty", "graded", "--bounds", "map", "--out", str(tmp_path / "cli.json")],
+        check=True, capture_output=True,
+    )
+    cli = json.loads((tmp_path / "cli.json").read_text())
+    assert cli["inputs"]["grading"] == "graded" and cli["inputs"]["bounds"] == "map"
+    assert run.to_dict()["inputs"] == cli["inputs"]
+    assert list(run.best_ratios) == cli["best_ratios"] and run.best_cost == cli["best_cost"]
+    with pytest.raises(cd.InputError, match='^penalty="steep": expected flat, graded or a'):
+        planar.optimize(**SMALL, penalty="steep", progress=False)
+    with pytest.raises(cd.InputError, match="^penalty=True: must be"):
+        planar.optimize(**SMALL, penalty=True, progress=False)
+    with pytest.raises(cd.InputError, match='^bounds="wrap": must be one of penalty, clip, map'):
+        planar.optimize(**SMALL, bounds="wrap", progress=False)
+
+
 def test_a_progress_callback_that_raises_stops_the_run(planar, tmp_path):
     def fail(done, total, best):
         raise RuntimeError("enough")

@@ -52,6 +52,7 @@ def test_parts_writes_the_command_lines_front(tmp_path, binary):
         out=tmp_path / "python",
         payload=0.5,
         objective="time",
+        penalty="graded",
         gradient_iterations=1,
         progress=lambda done, total, best: seen.append((done, total)),
     )
@@ -61,10 +62,12 @@ def test_parts_writes_the_command_lines_front(tmp_path, binary):
     assert (tmp_path / "python" / "pareto.svg").exists()
     subprocess.run(
         [str(binary), "parts", "--task", str(task), "--payload", "0.5", "--objective", "time",
-         "--gradient-iterations", "1", "--out", str(tmp_path / "cli")],
+         "--penalty", "graded", "--gradient-iterations", "1", "--out", str(tmp_path / "cli")],
         check=True, capture_output=True,
     )
     command_line = json.loads((tmp_path / "cli" / "pareto.json").read_text())
     assert without_times(command_line) == without_times(written)
+    with pytest.raises(cd.InputError, match='^penalty="steep": expected flat, graded or a'):
+        cd.parts(task, out=tmp_path / "other", payload=0.5, penalty="steep")
     with pytest.raises(cd.InputError, match="holds .* of an earlier search"):
         cd.parts(task, out=tmp_path / "python", payload=0.5, objective="time")
