@@ -335,8 +335,9 @@ fn check_lists_the_motors_chosen_from_a_catalogue() {
 }
 
 /// A task whose links carry parts: `check` lists each with its mass at the design inspected
-/// (the pulley's grows with r2: 0.107 kg of 144 teeth at the original r2 = 12, 0.297 kg of
-/// 240 at r2 = 20), and a part on a link the robot does not have fails naming it.
+/// (the elbow pulley's grows with r2, `teeth_of` 2*r2: 0.428 kg of 288 teeth at the original
+/// r2 = 12, 1.188 kg of 480 at r2 = 20), and a part on a link the robot does not have fails
+/// naming it.
 #[test]
 fn check_lists_the_parts_the_links_carry() {
     let task = "robots/examples/planar_2dof/carried_pulley.json";
@@ -348,7 +349,7 @@ fn check_lists_the_parts_the_links_carry() {
         String::from_utf8_lossy(&output.stderr)
     );
     for line in [
-        "carried 1: pulley 'GT2 6 mm, aluminium pulleys' on upper_arm, 0.107 kg at this design",
+        "carried 1: pulley 'GT2 6 mm, aluminium pulleys' on upper_arm, 0.428 kg at this design",
         "carried 2: motor 'Allied Motion HT02501-A00' on upper_arm, 0.38 kg at this design",
     ] {
         assert!(text.contains(line), "{line}: {text}");
@@ -356,7 +357,7 @@ fn check_lists_the_parts_the_links_carry() {
     let larger = codesign(&["check", "--task", task, "--ratios", "50,20", "--json"]);
     let value: serde_json::Value = serde_json::from_slice(&larger.stdout).unwrap();
     let mass = value["carried"][0]["mass_kg"].as_f64().unwrap();
-    assert!((mass - 0.29703).abs() < 1e-5, "{mass}");
+    assert!((mass - 1.18809).abs() < 1e-5, "{mass}");
     let dir = scratch("carried");
     let text = std::fs::read_to_string(support::root().join(task)).unwrap();
     let elsewhere = text

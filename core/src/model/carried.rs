@@ -48,7 +48,7 @@ pub struct CarriedPart {
     pub gearbox: Option<CarriedMass>,
 }
 
-/// A pulley of a catalogue belt series, its teeth z = r_l z_d.
+/// A pulley of a catalogue belt series, its teeth z = c r_l z_d.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CarriedPulley {
@@ -56,9 +56,10 @@ pub struct CarriedPulley {
     pub catalogue: PathBuf,
     /// The belt series' `name` in that catalogue.
     pub series: String,
-    /// The ratio its teeth follow, `r<i>` (1-based, as in `transmission.matrix`).
+    /// The entry of G its teeth follow: `r<l>` (1-based, as in `transmission.matrix`) or
+    /// `c*r<l>` (c > 0, such as `2*r2`).
     pub teeth_of: String,
-    /// The driver pulley's teeth z_d: the pulley has r_i z_d teeth.
+    /// The driver pulley's teeth z_d: the pulley has c r_l z_d teeth.
     pub driver_teeth: f64,
     /// Its axis in the link's frame (normalised); absent: the axis of the joint that moves the
     /// link.
@@ -115,8 +116,23 @@ impl CarriedPart {
     }
 }
 
+/// What a pulley's `teeth_of` names: the 0-based index of the ratio r_l among `count`, and the
+/// factor c of `c*r<l>` (1 for `r<l>`), an entry of G: the pulley has c r_l times its driver's
+/// teeth. None if it names no ratio or c is not a positive number.
+pub(super) fn teeth_ratio(name: &str, count: usize) -> Option<(usize, f64)> {
+    let (factor, ratio) = match name.split_once('*') {
+        Some((factor, ratio)) => (factor.trim().parse::<f64>().ok()?, ratio),
+        None => (1.0, name),
+    };
+    let sane = factor.is_finite() && factor > 0.0 && factor <= MAX_TEETH_FACTOR;
+    Some((ratio_index(ratio, count)?, factor)).filter(|_| sane)
+}
+
+/// The largest factor c of a `teeth_of` of the form `c*r<l>`.
+const MAX_TEETH_FACTOR: f64 = 1e3;
+
 /// The 0-based index of the ratio `r<i>` among `count`, None if it names none.
-pub(super) fn ratio_index(name: &str, count: usize) -> Option<usize> {
+fn ratio_index(name: &str, count: usize) -> Option<usize> {
     let digits = name.trim().strip_prefix('r')?;
     if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
         return None;
@@ -312,7 +328,7 @@ fn resolve_pulley(
 }
 
 /// Checks that `pulley` (named `at`) has at least `min_teeth` teeth over the design space
-/// `bounds`: z = r_l z_d is least at the lower bound of r_l. A ratio `teeth_of` does not name,
+/// `bounds`: z = c r_l z_d is least at the lower bound of r_l. A ratio `teeth_of` does not name,
 /// or a lower bound that is not a positive number, is left to the task's checks, which name
 /// them.
 fn check_teeth_over_bounds(
@@ -321,31 +337,39 @@ fn check_teeth_over_bounds(
     min_teeth: u32,
     bounds: &[[f64; 2]],
 ) -> Result<(), String> {
-    let Some(l) = ratio_index(&pulley.teeth_of, bounds.len()) else {
+    let Some((l, factor)) = teeth_ratio(&pulley.teeth_of, bounds.len()) else {
         return Ok(());
     };
     let lower = bounds[l][0];
     if !(lower.is_finite() && lower > 0.0) {
         return Ok(());
     }
-    let (least, min) = (lower * pulley.driver_teeth, f64::from(min_teeth));
+    let per_ratio = factor * pulley.driver_teeth;
+    let (least, min) = (lower * per_ratio, f64::from(min_teeth));
     if least >= min {
         return Ok(());
     }
+    let product = match factor {
+        1.0 => format!("{} x {}", number(lower), number(pulley.driver_teeth)),
+        _ => format!(
+            "{} x {} x {}",
+            number(lower),
+            number(factor),
+            number(pulley.driver_teeth)
+        ),
+    };
     Err(format!(
         "{at}.driver_teeth = {} makes too few teeth at the lower bound of r{}: \
-         transmission.bounds[{l}] = [{}, {}] gives the pulley {} x {} = {} teeth, fewer than \
+         transmission.bounds[{l}] = [{}, {}] gives the pulley {product} = {} teeth, fewer than \
          the series' {min_teeth}; raise that lower bound to at least {}, or driver_teeth to at \
          least {}",
         number(pulley.driver_teeth),
         l + 1,
         number(lower),
         number(bounds[l][1]),
-        number(lower),
-        number(pulley.driver_teeth),
         number(least),
-        number(min / pulley.driver_teeth),
-        number(min / lower),
+        number(min / per_ratio),
+        number(min / (lower * factor)),
     ))
 }
 
@@ -365,12 +389,14 @@ pub fn validate(parts: &[CarriedPart], ratios: usize) -> Result<(), FieldError> 
         )?;
         if let Some(pulley) = &part.pulley {
             let at = format!("{field}.pulley");
-            if ratio_index(&pulley.teeth_of, ratios).is_none() {
+            if teeth_ratio(&pulley.teeth_of, ratios).is_none() {
                 return Err(FieldError::new(
                     format!("{at}.teeth_of"),
                     format!(
-                        " = '{}' names no ratio: give r1 to r{ratios}",
-                        shown(&pulley.teeth_of)
+                        " = '{}' names no ratio: give r1 to r{ratios}, or c*r<l> with c a \
+                         positive number up to {}",
+                        shown(&pulley.teeth_of),
+                        number(MAX_TEETH_FACTOR)
                     ),
                 ));
             }
@@ -427,20 +453,30 @@ mod tests {
     }
 
     /// A pulley has at least its series' teeth over the whole design space: its driver has
-    /// them, and so has the pulley at the lower bound of its ratio (r2 of [0.5, 40] with a
-    /// 12-tooth driver makes 6 of the GT2 series' 12); equal counts are accepted.
+    /// them, and so has the pulley at the lower bound of its ratio (the example's 2 r2 teeth per
+    /// driver tooth, r2 of [0.25, 40] and a 12-tooth driver make 6 of the GT2 series' 12; r1
+    /// of [0.5, 100] with `r1` would too); equal counts are accepted.
     #[test]
     fn a_pulley_has_its_series_teeth_over_the_design_space() {
         let driver = read(|p| p["pulley"]["driver_teeth"] = json!(11)).unwrap_err();
         let expected = "carried[0].pulley.driver_teeth = 11 must be at least the series' 12";
         assert!(driver.contains(expected), "{driver}");
-        let low = |task: &mut Value| task["transmission"]["bounds"][1] = json!([0.5, 40]);
+        let low = |task: &mut Value| task["transmission"]["bounds"][1] = json!([0.25, 40]);
         let error = read_task(low).unwrap_err();
         let expected = "task t: carried[0].pulley.driver_teeth = 12 makes too few teeth at the \
-                        lower bound of r2: transmission.bounds[1] = [0.5, 40] gives the pulley \
-                        0.5 x 12 = 6 teeth, fewer than the series' 12; raise that lower bound \
-                        to at least 1, or driver_teeth to at least 24";
+                        lower bound of r2: transmission.bounds[1] = [0.25, 40] gives the pulley \
+                        0.25 x 2 x 12 = 6 teeth, fewer than the series' 12; raise that lower \
+                        bound to at least 0.5, or driver_teeth to at least 24";
         assert_eq!(error, expected);
+        let plain = read_task(|task| {
+            task["carried"][0]["pulley"]["teeth_of"] = json!("r1");
+            task["transmission"]["bounds"][0] = json!([0.5, 100]);
+        });
+        let expected = "gives the pulley 0.5 x 12 = 6 teeth, fewer than the series' 12; raise \
+                        that lower bound to at least 1, or driver_teeth to at least 24";
+        assert!(plain.as_ref().unwrap_err().contains(expected), "{plain:?}");
+        let even = |task: &mut Value| task["transmission"]["bounds"][1] = json!([0.5, 40]);
+        assert!(read_task(even).is_ok());
         let read = read_task(|task| {
             low(task);
             task["carried"][0]["pulley"]["driver_teeth"] = json!(24);
@@ -448,8 +484,27 @@ mod tests {
         let pulley = read.unwrap().task.carried[0].pulley.clone().unwrap();
         assert_eq!(pulley.driver_teeth, 24.0);
         // A ratio the pulley does not follow may go below 1.
-        let other = |task: &mut Value| task["transmission"]["bounds"][0] = json!([0.5, 100]);
+        let other = |task: &mut Value| task["transmission"]["bounds"][0] = json!([0.1, 100]);
         assert!(read_task(other).is_ok());
+    }
+
+    /// `c*r<l>` gives the pulley c times the teeth of `r<l>`: at 2, twice the radius and four
+    /// times the mass (a disc of the belt's width); ` 2 * r2 ` reads as `2*r2`.
+    #[test]
+    fn a_factor_of_the_ratio_scales_the_pulleys_teeth() {
+        use crate::model::Robot;
+        use crate::problem::{Formulation, Space};
+        let mass = |teeth_of: &str| {
+            let task = read(|p| p["pulley"]["teeth_of"] = json!(teeth_of))
+                .unwrap()
+                .task;
+            let robot = Robot::load(&task).unwrap();
+            let f = Formulation::new(&task, robot, Space::Actuation, task.limit_modes).unwrap();
+            f.setting().carried().masses(&task.transmission.original)[0]
+        };
+        let (one, two) = (mass("r2"), mass("2*r2"));
+        assert!((two - 4.0 * one).abs() <= 1e-12 * two, "{one} {two}");
+        assert_eq!(mass(" 2 * r2 "), two);
     }
 
     /// A carried motor of the task's own (`of_motor`) is the part its `motors.parts` entry
@@ -515,10 +570,23 @@ mod tests {
         let hash = |t| crate::model::identity::task_hash(t, "u");
         assert_eq!(hash(&moved), hash(&task));
         type Edit = fn(&mut Value);
-        let cases: [(Edit, &str); 5] = [
+        let cases: [(Edit, &str); 8] = [
             (
                 |p| p["pulley"]["teeth_of"] = json!("r3"),
                 "carried[0].pulley.teeth_of = 'r3' names no ratio",
+            ),
+            (
+                |p| p["pulley"]["teeth_of"] = json!("0*r2"),
+                "carried[0].pulley.teeth_of = '0*r2' names no ratio: give r1 to r2, or c*r<l> \
+                 with c a positive number up to 1000",
+            ),
+            (
+                |p| p["pulley"]["teeth_of"] = json!("2*r3"),
+                "carried[0].pulley.teeth_of = '2*r3' names no ratio",
+            ),
+            (
+                |p| p["pulley"]["teeth_of"] = json!("r2*2"),
+                "carried[0].pulley.teeth_of = 'r2*2' names no ratio",
             ),
             (
                 |p| p["pulley"]["driver_teeth"] = json!(8),

@@ -9,7 +9,7 @@
 //! I_diam = m (3 R^2 + w^2) / 12. A motor or a gearbox is a point mass (docs/model.md,
 //! section 18).
 
-use super::carried::{ratio_index, CarriedPart};
+use super::carried::{teeth_ratio, CarriedPart};
 use super::catalogue::Catalogue;
 use super::chain::{Chain, MassProperties};
 use super::motor_parts::PartChoice;
@@ -106,10 +106,12 @@ impl CarriedModel {
                     let given = p.axis.map(|a| frame.placement.rotation * Vector3::from(a));
                     let axis = given.unwrap_or(chain.bodies[body].axis).normalize();
                     let read = |n: Option<f64>| n.ok_or_else(|| format!("{field}: not read"));
+                    let (ratio, factor) = teeth_ratio(&p.teeth_of, ratios)
+                        .ok_or_else(|| format!("{field}.pulley.teeth_of names no ratio"))?;
+                    let teeth_per_ratio = factor * p.driver_teeth;
                     Mass::Pulley {
-                        ratio: ratio_index(&p.teeth_of, ratios)
-                            .ok_or_else(|| format!("{field}.pulley.teeth_of names no ratio"))?,
-                        radius_per_ratio: p.driver_teeth * read(p.pitch_mm)? * 1e-3 / (2.0 * PI),
+                        ratio,
+                        radius_per_ratio: teeth_per_ratio * read(p.pitch_mm)? * 1e-3 / (2.0 * PI),
                         width_m: read(p.width_mm)? * 1e-3,
                         density: read(p.density_kg_m3)?,
                         axis,

@@ -92,7 +92,7 @@ fn a_massless_pulley_reproduces_the_task_without_parts_bit_for_bit() {
 }
 
 /// The results record each carried part's mass at the design: the pulley's
-/// rho pi w R^2 with R = r2 z_d p / (2 pi), the motor's catalogue mass, and their sum as the
+/// rho pi w R^2 with R = 2 r2 z_d p / (2 pi), the motor's catalogue mass, and their sum as the
 /// actuator mass (the task chooses no motor parts).
 #[test]
 fn results_record_the_carried_masses_at_the_design() {
@@ -103,7 +103,8 @@ fn results_record_the_carried_masses_at_the_design() {
         &testing::settings(),
     )
     .unwrap();
-    let radius = 20.0 * 12.0 * 2e-3 / (2.0 * std::f64::consts::PI);
+    // `teeth_of` 2*r2: 2 x 20 x 12 teeth of 2 mm pitch.
+    let radius = 2.0 * 20.0 * 12.0 * 2e-3 / (2.0 * std::f64::consts::PI);
     let pulley = 2700.0 * std::f64::consts::PI * 6e-3 * radius * radius;
     assert_eq!(result.carried.len(), 2);
     assert_eq!(
