@@ -81,18 +81,25 @@ pub fn elimination_order(pattern: &Pattern, kinds: &[RowKind]) -> Vec<usize> {
 }
 
 /// The approximate minimum degree order of the pattern (AMD's default control: dense rows above
-/// 10 sqrt(n) neighbours, aggressive absorption).
+/// 10 sqrt(n) neighbours, aggressive absorption). AMD ignores the diagonal, but the `amd` crate
+/// checks (in builds with debug assertions) that its entries are at least as many as its rows,
+/// which a pattern without its diagonal need not be: it is given the diagonal too.
 fn minimum_degree(pattern: &Pattern) -> Vec<usize> {
     let n = pattern.n();
+    let (mut ptr, mut entries) = (Vec::with_capacity(n + 1), Vec::new());
+    ptr.push(0);
+    for i in 0..n {
+        let row = pattern.row(i);
+        let before = row.partition_point(|&j| j < i);
+        entries.extend_from_slice(&row[..before]);
+        entries.push(i);
+        entries.extend_from_slice(&row[before..]);
+        ptr.push(entries.len());
+    }
     // The pattern is square, sorted and within bounds by construction, and AMD's only other
     // failure is running out of memory for sizes far beyond any KKT matrix IPOPT can hold; the
     // identity order is a correct (if slower) fallback all the same.
-    match amd::order::<usize>(
-        n,
-        &pattern.ptr,
-        &pattern.neighbours,
-        &amd::Control::default(),
-    ) {
+    match amd::order::<usize>(n, &ptr, &entries, &amd::Control::default()) {
         Ok((order, _, _)) => order,
         Err(_) => (0..n).collect(),
     }
@@ -253,6 +260,17 @@ mod tests {
         let p = pattern(3, &[(2, 0), (2, 1)]);
         let order = elimination_order(&p, &[Z, R, C]);
         assert_eq!(order, vec![1, 2, 0]);
+    }
+
+    /// A pattern with fewer entries than rows (isolated rows, or none at all) is ordered, also
+    /// where debug assertions are on (the `amd` crate's check of its entries).
+    #[test]
+    fn a_pattern_sparser_than_its_rows_is_ordered() {
+        for (n, edges) in [(4, vec![(0, 1)]), (3, vec![]), (0, vec![])] {
+            let mut order = minimum_degree(&pattern(n, &edges));
+            order.sort_unstable();
+            assert_eq!(order, (0..n).collect::<Vec<_>>());
+        }
     }
 
     #[test]
